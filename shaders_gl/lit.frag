@@ -1,0 +1,67 @@
+// Legacy tier: colour = Ke + Ka*ambient + sum of visibility * (Kd*Lc*diffuse + Ks*Lc*spec),
+// clamped; a texture multiplies Ka and Kd. Back faces use the flipped normal.
+IN vec3 vEyePos;
+IN vec2 vUv;
+#ifdef GOURAUD
+#if NUM_LIGHTS > 0
+IN vec4 vFactors[NUM_LIGHTS];
+uniform vec3 uLightColor[NUM_LIGHTS];
+#endif
+#else
+IN vec3 vNormal;
+#if NUM_LIGHTS > 0
+#include "lighting.glsl"
+#endif
+#endif
+#if NUM_SHADOWS > 0
+#include "shadow.glsl"
+#endif
+
+uniform vec3 uKa;
+uniform vec3 uKd;
+uniform vec3 uKs;
+uniform vec3 uKe;
+uniform float uOpacity;
+uniform vec3 uAmbient;
+uniform vec3 uTerms;   // ambient, diffuse, specular switches (0 or 1)
+#ifdef HAS_TEXTURE
+uniform sampler2D uDiffuseMap;
+#endif
+
+void main() {
+    vec3 tex = vec3(1.0);
+#ifdef HAS_TEXTURE
+    tex = TEX2D(uDiffuseMap, vUv).rgb;
+#endif
+    vec3 color = uKe + uTerms.x * uKa * tex * uAmbient;
+#if NUM_LIGHTS > 0
+    float vis[NUM_LIGHTS];
+    for (int i = 0; i < NUM_LIGHTS; ++i) vis[i] = 1.0;
+#if NUM_SHADOWS > 0
+    vis[0] = shadowLookup(uShadowMap0, uShadowMatrix[0] * vec4(vEyePos, 1.0));
+#endif
+#if NUM_SHADOWS > 1
+    vis[1] = shadowLookup(uShadowMap1, uShadowMatrix[1] * vec4(vEyePos, 1.0));
+#endif
+#if NUM_SHADOWS > 2
+    vis[2] = shadowLookup(uShadowMap2, uShadowMatrix[2] * vec4(vEyePos, 1.0));
+#endif
+#if NUM_SHADOWS > 3
+    vis[3] = shadowLookup(uShadowMap3, uShadowMatrix[3] * vec4(vEyePos, 1.0));
+#endif
+#ifndef GOURAUD
+    vec3 n = safeNormalize(vNormal);
+    if (!gl_FrontFacing) n = -n;
+    vec3 v = normalize(-vEyePos);
+#endif
+    for (int i = 0; i < NUM_LIGHTS; ++i) {
+#ifdef GOURAUD
+        vec2 f = gl_FrontFacing ? vFactors[i].xy : vFactors[i].zw;
+#else
+        vec2 f = lightFactors(toLight(uLightPos[i], vEyePos), n, v);
+#endif
+        color += vis[i] * uLightColor[i] * (uTerms.y * uKd * tex * f.x + uTerms.z * uKs * f.y);
+    }
+#endif
+    FRAG_COLOR = vec4(clamp(color, 0.0, 1.0), uOpacity);
+}

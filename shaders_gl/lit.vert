@@ -1,0 +1,40 @@
+// Legacy tier: positions to eye space; with GOURAUD the lighting factors are evaluated here,
+// per vertex, for the front and the flipped (back-face) normal.
+IN vec3 aPosition;
+IN vec3 aNormal;
+IN vec2 aUv;
+
+uniform mat4 uModelView;
+uniform mat4 uProjection;
+uniform mat3 uNormalMatrix;
+
+OUT vec3 vEyePos;
+OUT vec2 vUv;
+#ifdef GOURAUD
+#if NUM_LIGHTS > 0
+#include "lighting.glsl"
+OUT vec4 vFactors[NUM_LIGHTS];   // xy: front face, zw: back face
+#endif
+#else
+OUT vec3 vNormal;
+#endif
+
+void main() {
+    vec4 eye = uModelView * vec4(aPosition, 1.0);
+    vEyePos = eye.xyz;
+    vUv = aUv;
+    vec3 n = uNormalMatrix * aNormal;
+#ifdef GOURAUD
+#if NUM_LIGHTS > 0
+    n = safeNormalize(n);
+    vec3 v = normalize(-eye.xyz);
+    for (int i = 0; i < NUM_LIGHTS; ++i) {
+        vec3 l = toLight(uLightPos[i], eye.xyz);
+        vFactors[i] = vec4(lightFactors(l, n, v), lightFactors(l, -n, v));
+    }
+#endif
+#else
+    vNormal = n;
+#endif
+    gl_Position = uProjection * eye;
+}

@@ -1,0 +1,148 @@
+//! The command line (clap). Every option here is in `--help` and the README.
+use crate::platform::{Backend, GlRequest};
+use crate::render::Shading;
+use clap::{Parser, ValueEnum};
+use std::path::PathBuf;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Diffuse {
+    /// max(N·L, 0)
+    Lambert,
+    /// Half-Lambert: (1 + N·L)/2.
+    Wrap,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Show {
+    /// The lit scene.
+    Scene,
+    /// Light 0's shadow depth map as grey (near = dark).
+    ShadowMap,
+}
+
+#[derive(Debug, Parser)]
+#[command(name = "glview", version, about = "Legacy-compatible OpenGL OBJ/MTL viewer: per-fragment Phong and shadow mapping on GL 2.1, GL ES 3.0 and GL 3.3 core.", after_help = crate::keys::help_text())]
+pub struct Args {
+    /// OBJ file to show (default: the built-in glass-holder scene).
+    pub model: Option<PathBuf>,
+    /// Render headless into this PNG instead of opening a window.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Output or window size, WxH.
+    #[arg(long, default_value = "1024x768", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Camera yaw in degrees (0 looks from +Z).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub yaw: f32,
+    /// Camera pitch in degrees (positive looks down from above).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub pitch: f32,
+    /// Camera distance from the target (default: fits the model).
+    #[arg(long)]
+    pub distance: Option<f32>,
+    /// Orbit target X,Y,Z in the file's coordinates (default: the bounding-box centre).
+    #[arg(long, allow_hyphen_values = true)]
+    pub target: Option<String>,
+    /// Vertical field of view in degrees.
+    #[arg(long, default_value_t = 45.0)]
+    pub fov: f32,
+    /// Orthographic view of this height instead of perspective.
+    #[arg(long)]
+    pub ortho: Option<f32>,
+    /// A light: point:X,Y,Z (file coordinates), dir:X,Y,Z (direction it travels) or none.
+    /// Repeat for several lights (at most 4). Default: one directional light from above.
+    #[arg(long = "light", allow_hyphen_values = true)]
+    pub lights: Vec<String>,
+    /// Light colour R,G,B in 0..1; repeat to colour lights in order (the last one repeats).
+    #[arg(long = "light-color")]
+    pub light_colors: Vec<String>,
+    /// Global ambient light R,G,B (multiplies Ka).
+    #[arg(long, default_value = "0.2,0.2,0.2")]
+    pub ambient: String,
+    /// Background colour R,G,B.
+    #[arg(long, default_value = "0.1,0.1,0.12")]
+    pub background: String,
+    /// Per-fragment Phong, or the same formula per vertex (Gouraud).
+    #[arg(long, value_enum, default_value_t = Shading::Phong)]
+    pub shading: Shading,
+    /// Diffuse term: lambert, or wrap (half-Lambert).
+    #[arg(long, value_enum, default_value_t = Diffuse::Lambert)]
+    pub diffuse: Diffuse,
+    /// Key presses to replay before rendering, e.g. "Left Left Up" (the window's mapping).
+    #[arg(long)]
+    pub keys: Option<String>,
+    /// Which OpenGL context to create.
+    #[arg(long, value_enum, default_value_t = GlRequest::Auto)]
+    pub gl: GlRequest,
+    /// Headless rendering path: EGL (device platform), OSMesa, or auto (EGL, then OSMesa).
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    pub backend: Backend,
+    /// Print one JSON object per frame: passes, draw calls, triangles, programs, milliseconds.
+    #[arg(long)]
+    pub stats: bool,
+    /// Print what the driver provides (version, GLSL, extensions that matter) and exit.
+    #[arg(long)]
+    pub info: bool,
+    /// Frames to render headless (the last one is written); >1 shows cached passes at work.
+    #[arg(long, default_value_t = 1)]
+    pub frames: u32,
+    /// Turn shadow mapping off.
+    #[arg(long)]
+    pub no_shadows: bool,
+    /// Shadow map size in texels (clamped to the driver's maximum).
+    #[arg(long, default_value_t = 2048)]
+    pub shadow_size: u32,
+    /// Percentage-closer filtering taps per lookup: 1, 4, 9 or 16.
+    #[arg(long, default_value_t = 4, value_parser = parse_pcf)]
+    pub pcf: u8,
+    /// Constant shadow depth bias in depth-buffer units [0, 1] (added to a slope-scaled
+    /// polygon offset).
+    #[arg(long, default_value_t = 0.0005)]
+    pub shadow_bias: f32,
+    /// What to draw: the scene, or the shadow map (teaching view).
+    #[arg(long, value_enum, default_value_t = Show::Scene)]
+    pub show: Show,
+    /// Read textures even where their path leaves the model's folder.
+    #[arg(long)]
+    pub allow_outside_paths: bool,
+    /// Folder for F12 screenshots in the window.
+    #[arg(long, default_value = ".")]
+    pub screenshot_dir: PathBuf,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or("size must be WxH, e.g. 800x600")?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("bad width {w:?}"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("bad height {h:?}"))?;
+    if w == 0 || h == 0 || w > 32768 || h > 32768 {
+        return Err(format!("size {w}x{h} out of range (1..32768)"));
+    }
+    Ok((w, h))
+}
+
+fn parse_pcf(s: &str) -> Result<u8, String> {
+    match s {
+        "1" | "4" | "9" | "16" => Ok(s.parse().unwrap_or(1)),
+        _ => Err("PCF taps must be 1, 4, 9 or 16".into()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes() {
+        assert_eq!(parse_size("640x480"), Ok((640, 480)));
+        assert!(parse_size("0x480").is_err());
+        assert!(parse_size("640").is_err());
+    }
+
+    #[test]
+    fn cli_is_consistent() {
+        use clap::CommandFactory;
+        Args::command().debug_assert();
+    }
+}

@@ -1,0 +1,198 @@
+//! What the driver actually gave, read from the context (never from what was requested).
+//! Every feature decision in the renderer gates on this.
+use glow::HasContext;
+use serde::Serialize;
+
+/// The GLSL dialect shaders are assembled for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+pub enum Dialect {
+    /// GLSL 1.20 (OpenGL 2.1 and compatibility profiles).
+    Glsl120,
+    /// GLSL ES 3.00 (OpenGL ES 3.0).
+    Glsl300Es,
+    /// GLSL 3.30 (OpenGL 3.3 core).
+    Glsl330,
+}
+
+impl Dialect {
+    pub fn name(self) -> &'static str {
+        match self {
+            Dialect::Glsl120 => "GLSL 1.20",
+            Dialect::Glsl300Es => "GLSL ES 3.00",
+            Dialect::Glsl330 => "GLSL 3.30",
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Caps {
+    pub version: String,
+    pub glsl_version: String,
+    pub renderer: String,
+    pub vendor: String,
+    pub major: u32,
+    pub minor: u32,
+    pub embedded: bool,
+    pub core_profile: bool,
+    pub glsl: (u32, u32),
+    pub dialect: Dialect,
+    /// Framebuffer objects: GL >= 3.0, ES, ARB_ or EXT_framebuffer_object.
+    pub fbo: bool,
+    pub vao: bool,
+    pub depth_texture: bool,
+    pub shadow_compare: bool,
+    pub float_textures: bool,
+    pub texture_lod: bool,
+    pub uint_indices: bool,
+    /// `samplerCubeShadow` lookups (GLSL 1.30+ / ES 3.00; not in GLSL 1.20).
+    pub cube_shadow: bool,
+    pub generate_mipmap: bool,
+    pub max_texture_size: u32,
+    pub max_renderbuffer_size: u32,
+    pub max_viewport: (u32, u32),
+    pub max_varying_floats: u32,
+    pub extension_count: usize,
+}
+
+fn parse_version(s: &str) -> Option<(u32, u32)> {
+    let start = s.find(|c: char| c.is_ascii_digit())?;
+    let mut it = s[start..].split(|c: char| !c.is_ascii_digit());
+    let major = it.next()?.parse().ok()?;
+    let minor = it
+        .next()?
+        .get(..2.min(2))
+        .and_then(|m| m.parse().ok())
+        .unwrap_or(0);
+    Some((major, minor))
+}
+
+impl Caps {
+    pub fn probe(gl: &glow::Context) -> Caps {
+        // SAFETY: plain queries on a current context.
+        unsafe {
+            let v = gl.version();
+            let (major, minor, embedded) = (v.major, v.minor, v.is_embedded);
+            let ext = gl.supported_extensions();
+            let has = |names: &[&str]| names.iter().any(|n| ext.contains(*n));
+            let glsl_version = gl.get_parameter_string(glow::SHADING_LANGUAGE_VERSION);
+            let glsl = parse_version(&glsl_version).unwrap_or((1, 10));
+            let glsl = (glsl.0, if glsl.1 >= 10 { glsl.1 } else { glsl.1 * 10 });
+            let desktop_at_least = |a: u32, b: u32| !embedded && (major, minor) >= (a, b);
+            let es3 = embedded && major >= 3;
+            let core_profile = desktop_at_least(3, 2)
+                && gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK) as u32
+                    & glow::CONTEXT_CORE_PROFILE_BIT
+                    != 0;
+            let dialect = if embedded {
+                Dialect::Glsl300Es
+            } else if core_profile {
+                Dialect::Glsl330
+            } else {
+                Dialect::Glsl120
+            };
+            let fbo = es3
+                || desktop_at_least(3, 0)
+                || has(&["GL_ARB_framebuffer_object", "GL_EXT_framebuffer_object"]);
+            let mut vp = [0i32; 2];
+            gl.get_parameter_i32_slice(glow::MAX_VIEWPORT_DIMS, &mut vp);
+            let max_varying_floats = if embedded || core_profile {
+                gl.get_parameter_i32(glow::MAX_VARYING_VECTORS) as u32 * 4
+            } else {
+                gl.get_parameter_i32(glow::MAX_VARYING_FLOATS) as u32
+            };
+            let max_renderbuffer_size = if fbo {
+                gl.get_parameter_i32(glow::MAX_RENDERBUFFER_SIZE) as u32
+            } else {
+                0
+            };
+            // Drain errors from queries a profile does not know (e.g. profile mask on 2.1).
+            while gl.get_error() != glow::NO_ERROR {}
+            Caps {
+                version: gl.get_parameter_string(glow::VERSION),
+                renderer: gl.get_parameter_string(glow::RENDERER),
+                vendor: gl.get_parameter_string(glow::VENDOR),
+                glsl_version,
+                major,
+                minor,
+                embedded,
+                core_profile,
+                glsl,
+                dialect,
+                fbo,
+                vao: es3
+                    || desktop_at_least(3, 0)
+                    || has(&["GL_ARB_vertex_array_object", "GL_APPLE_vertex_array_object"]),
+                // Depth textures and shadow comparison are core since GL 1.4 (ARB_depth_texture,
+                // ARB_shadow), so they are not always listed as extensions.
+                depth_texture: es3
+                    || desktop_at_least(1, 4)
+                    || has(&["GL_ARB_depth_texture", "GL_OES_depth_texture"]),
+                shadow_compare: es3
+                    || desktop_at_least(1, 4)
+                    || has(&["GL_ARB_shadow", "GL_EXT_shadow_samplers"]),
+                float_textures: es3 || desktop_at_least(3, 0) || has(&["GL_ARB_texture_float"]),
+                texture_lod: es3
+                    || glsl >= (1, 30)
+                    || has(&["GL_ARB_shader_texture_lod", "GL_EXT_shader_texture_lod"]),
+                uint_indices: !embedded || es3 || has(&["GL_OES_element_index_uint"]),
+                cube_shadow: es3 || (!embedded && glsl >= (1, 30)),
+                generate_mipmap: fbo,
+                max_texture_size: gl.get_parameter_i32(glow::MAX_TEXTURE_SIZE) as u32,
+                max_renderbuffer_size,
+                max_viewport: (vp[0] as u32, vp[1] as u32),
+                max_varying_floats,
+                extension_count: ext.len(),
+            }
+        }
+    }
+
+    /// One line per fact, for `glview --info`.
+    pub fn report(&self) -> String {
+        let yes = |b: bool| if b { "yes" } else { "no" };
+        format!(
+            "GL_VERSION: {}\nGLSL: {} (dialect {})\nrenderer: {} ({})\nprofile: {}\n\
+             framebuffer objects: {}\nvertex array objects: {}\ndepth textures: {}\n\
+             shadow compare: {}\nfloat textures: {}\nexplicit-LOD lookups: {}\n\
+             32-bit indices: {}\ncube shadow lookups: {}\nmax texture size: {}\n\
+             max viewport: {}x{}\nmax varying floats: {}\nextensions: {}",
+            self.version,
+            self.glsl_version,
+            self.dialect.name(),
+            self.renderer,
+            self.vendor,
+            if self.embedded {
+                "ES"
+            } else if self.core_profile {
+                "core"
+            } else {
+                "compatibility"
+            },
+            yes(self.fbo),
+            yes(self.vao),
+            yes(self.depth_texture),
+            yes(self.shadow_compare),
+            yes(self.float_textures),
+            yes(self.texture_lod),
+            yes(self.uint_indices),
+            yes(self.cube_shadow),
+            self.max_texture_size,
+            self.max_viewport.0,
+            self.max_viewport.1,
+            self.max_varying_floats,
+            self.extension_count
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_version;
+
+    #[test]
+    fn versions() {
+        assert_eq!(parse_version("1.20"), Some((1, 20)));
+        assert_eq!(parse_version("OpenGL ES GLSL ES 3.00"), Some((3, 0)));
+        assert_eq!(parse_version("4.50"), Some((4, 50)));
+        assert_eq!(parse_version("2.1 Mesa 22.3.6"), Some((2, 1)));
+    }
+}

@@ -1,0 +1,140 @@
+//! Framebuffer objects: the headless colour+depth target, and depth-only shadow targets.
+use super::texture::Texture2d;
+use super::GpuRef;
+use crate::{Error, Result};
+use glow::HasContext;
+
+pub struct Renderbuffer {
+    gpu: GpuRef,
+    raw: glow::Renderbuffer,
+}
+
+impl Drop for Renderbuffer {
+    fn drop(&mut self) {
+        // SAFETY: deleting our own renderbuffer once.
+        unsafe { self.gpu.gl.delete_renderbuffer(self.raw) };
+        self.gpu.deleted();
+    }
+}
+
+fn renderbuffer(gpu: &GpuRef, format: u32, w: u32, h: u32) -> Result<Renderbuffer> {
+    // SAFETY: creating and allocating a new renderbuffer.
+    unsafe {
+        let raw = gpu.gl.create_renderbuffer().map_err(Error::Unsupported)?;
+        gpu.created();
+        gpu.gl.bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
+        gpu.gl
+            .renderbuffer_storage(glow::RENDERBUFFER, format, w as i32, h as i32);
+        Ok(Renderbuffer {
+            gpu: gpu.clone(),
+            raw,
+        })
+    }
+}
+
+pub struct Framebuffer {
+    gpu: GpuRef,
+    pub raw: glow::Framebuffer,
+    _attachments: Vec<Renderbuffer>,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Framebuffer {
+    fn create(gpu: &GpuRef, w: u32, h: u32) -> Result<Framebuffer> {
+        if !gpu.caps.fbo {
+            return Err(Error::Unsupported(
+                "this driver has no framebuffer objects (GL_ARB/EXT_framebuffer_object)".into(),
+            ));
+        }
+        // SAFETY: creating and binding a new framebuffer.
+        unsafe {
+            let raw = gpu.gl.create_framebuffer().map_err(Error::Unsupported)?;
+            gpu.created();
+            gpu.gl.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            Ok(Framebuffer {
+                gpu: gpu.clone(),
+                raw,
+                _attachments: Vec::new(),
+                width: w,
+                height: h,
+            })
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        // SAFETY: status query of the bound framebuffer.
+        let status = unsafe { self.gpu.gl.check_framebuffer_status(glow::FRAMEBUFFER) };
+        if status == glow::FRAMEBUFFER_COMPLETE {
+            Ok(())
+        } else {
+            Err(Error::Unsupported(format!(
+                "framebuffer incomplete (status {status:#x})"
+            )))
+        }
+    }
+
+    /// RGBA8 colour + 24-bit depth renderbuffers: the headless render target.
+    pub fn color_depth(gpu: &GpuRef, w: u32, h: u32) -> Result<Framebuffer> {
+        let mut fb = Self::create(gpu, w, h)?;
+        let color = renderbuffer(gpu, glow::RGBA8, w, h)?;
+        let depth = renderbuffer(gpu, glow::DEPTH_COMPONENT24, w, h)?;
+        // SAFETY: attaching our renderbuffers to the bound framebuffer.
+        unsafe {
+            let gl = &gpu.gl;
+            gl.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0,
+                glow::RENDERBUFFER,
+                Some(color.raw),
+            );
+            gl.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                glow::DEPTH_ATTACHMENT,
+                glow::RENDERBUFFER,
+                Some(depth.raw),
+            );
+        }
+        fb._attachments = vec![color, depth];
+        fb.check()?;
+        Ok(fb)
+    }
+
+    /// A depth-only target writing into `depth` (no colour: draw and read buffers NONE).
+    pub fn depth_only(gpu: &GpuRef, depth: &Texture2d) -> Result<Framebuffer> {
+        let fb = Self::create(gpu, depth.width, depth.height)?;
+        // SAFETY: attaching a live depth texture; DrawBuffers(NONE) exists in every context
+        // that has FBOs (GL 2.0+, ES 3.0).
+        unsafe {
+            let gl = &gpu.gl;
+            gl.framebuffer_texture_2d(
+                glow::FRAMEBUFFER,
+                glow::DEPTH_ATTACHMENT,
+                glow::TEXTURE_2D,
+                Some(depth.raw),
+                0,
+            );
+            gl.draw_buffers(&[glow::NONE]);
+            gl.read_buffer(glow::NONE);
+        }
+        fb.check()?;
+        Ok(fb)
+    }
+
+    pub fn bind(&self) {
+        // SAFETY: binding our own framebuffer.
+        unsafe {
+            self.gpu
+                .gl
+                .bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw))
+        }
+    }
+}
+
+impl Drop for Framebuffer {
+    fn drop(&mut self) {
+        // SAFETY: deleting our own framebuffer once; attachments are dropped after it.
+        unsafe { self.gpu.gl.delete_framebuffer(self.raw) };
+        self.gpu.deleted();
+    }
+}

@@ -1,0 +1,109 @@
+//! The only layer that calls GL (and so the only `unsafe` besides `platform`). Every GL object
+//! is owned by one wrapper that deletes it in `Drop`; wrappers hold an `Rc<Gpu>`, so the
+//! context's function table outlives them. The platform context itself must outlive the
+//! `Gpu` (the caller drops renderers before the platform context).
+pub mod buffer;
+pub mod caps;
+pub mod framebuffer;
+pub mod mesh;
+pub mod program;
+pub mod state;
+pub mod texture;
+
+pub use caps::{Caps, Dialect};
+use glow::HasContext;
+use std::cell::Cell;
+use std::rc::Rc;
+
+/// A GL context's functions plus what the driver can do and a count of live GL objects
+/// (for leak tests: it must return to its start value when resources are dropped).
+pub struct Gpu {
+    pub gl: glow::Context,
+    pub caps: Caps,
+    live: Cell<i64>,
+}
+
+pub type GpuRef = Rc<Gpu>;
+
+impl Gpu {
+    pub fn new(gl: glow::Context) -> Rc<Gpu> {
+        let caps = Caps::probe(&gl);
+        Rc::new(Gpu {
+            gl,
+            caps,
+            live: Cell::new(0),
+        })
+    }
+
+    /// GL objects created through this layer and not yet deleted.
+    pub fn live_objects(&self) -> i64 {
+        self.live.get()
+    }
+
+    pub(crate) fn created(&self) {
+        self.live.set(self.live.get() + 1);
+    }
+
+    pub(crate) fn deleted(&self) {
+        self.live.set(self.live.get() - 1);
+    }
+
+    /// Checks `glGetError` once, at a pass boundary (never after every call: it stalls).
+    pub fn check_error(&self, pass: &str) -> crate::Result<()> {
+        // SAFETY: glGetError has no preconditions on a current context.
+        let code = unsafe { self.gl.get_error() };
+        if code == glow::NO_ERROR {
+            Ok(())
+        } else {
+            Err(crate::Error::Gl {
+                code,
+                pass: pass.to_string(),
+            })
+        }
+    }
+
+    pub fn finish(&self) {
+        // SAFETY: no preconditions.
+        unsafe { self.gl.finish() }
+    }
+
+    /// Reads the bound read framebuffer as RGBA8, top row first (GL's rows are bottom-up).
+    pub fn read_rgba(&self, width: u32, height: u32) -> Vec<u8> {
+        let (w, h) = (width as usize, height as usize);
+        let mut buf = vec![0u8; w * h * 4];
+        // SAFETY: buf holds exactly w*h RGBA8 pixels; PACK_ALIGNMENT 1 makes rows tight.
+        unsafe {
+            self.gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            self.gl.read_pixels(
+                0,
+                0,
+                width as i32,
+                height as i32,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(Some(&mut buf)),
+            );
+        }
+        flip_rows(&mut buf, w * 4);
+        buf
+    }
+}
+
+/// Flips an image vertically in place (GL bottom-up ↔ PNG top-down).
+pub fn flip_rows(buf: &mut [u8], row_bytes: usize) {
+    let rows = buf.len() / row_bytes.max(1);
+    for y in 0..rows / 2 {
+        let (top, bottom) = buf.split_at_mut((rows - 1 - y) * row_bytes);
+        top[y * row_bytes..(y + 1) * row_bytes].swap_with_slice(&mut bottom[..row_bytes]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn flip() {
+        let mut b = vec![1, 2, 3, 4, 5, 6];
+        super::flip_rows(&mut b, 2);
+        assert_eq!(b, vec![5, 6, 3, 4, 1, 2]);
+    }
+}

@@ -1,0 +1,163 @@
+//! Linked GLSL programs with cached uniform locations. A uniform the compiler optimised away is
+//! normal across feature permutations, so setting it is a no-op, never an error.
+use super::GpuRef;
+use crate::{Error, Result};
+use glow::HasContext;
+use std::cell::RefCell;
+use std::collections::HashMap;
+
+/// Attribute locations, bound before linking so every program shares one vertex layout.
+pub const ATTRIBUTES: [(u32, &str); 3] = [(0, "aPosition"), (1, "aNormal"), (2, "aUv")];
+
+pub struct Program {
+    gpu: GpuRef,
+    pub raw: glow::Program,
+    uniforms: RefCell<HashMap<String, Option<glow::UniformLocation>>>,
+}
+
+fn numbered(source: &str) -> String {
+    source
+        .lines()
+        .enumerate()
+        .map(|(i, l)| format!("{:4} {l}\n", i + 1))
+        .collect()
+}
+
+impl Program {
+    pub fn new(gpu: &GpuRef, name: &str, vertex: &str, fragment: &str) -> Result<Program> {
+        let gl = &gpu.gl;
+        let dialect = gpu.caps.dialect.name().to_string();
+        // SAFETY: standard compile/link sequence on objects we create and delete here.
+        unsafe {
+            let mut shaders = Vec::new();
+            for (stage, kind, src) in [
+                ("compile the vertex shader", glow::VERTEX_SHADER, vertex),
+                (
+                    "compile the fragment shader",
+                    glow::FRAGMENT_SHADER,
+                    fragment,
+                ),
+            ] {
+                let sh = gl.create_shader(kind).map_err(Error::Unsupported)?;
+                gl.shader_source(sh, src);
+                gl.compile_shader(sh);
+                if !gl.get_shader_compile_status(sh) {
+                    let log = gl.get_shader_info_log(sh);
+                    gl.delete_shader(sh);
+                    for s in shaders {
+                        gl.delete_shader(s);
+                    }
+                    return Err(Error::Shader {
+                        name: name.into(),
+                        dialect,
+                        stage,
+                        log,
+                        numbered_source: numbered(src),
+                    });
+                }
+                shaders.push(sh);
+            }
+            let raw = gl.create_program().map_err(Error::Unsupported)?;
+            for &s in &shaders {
+                gl.attach_shader(raw, s);
+            }
+            for (loc, attr) in ATTRIBUTES {
+                gl.bind_attrib_location(raw, loc, attr);
+            }
+            gl.link_program(raw);
+            for s in shaders {
+                gl.detach_shader(raw, s);
+                gl.delete_shader(s);
+            }
+            if !gl.get_program_link_status(raw) {
+                let log = gl.get_program_info_log(raw);
+                gl.delete_program(raw);
+                return Err(Error::Shader {
+                    name: name.into(),
+                    dialect,
+                    stage: "link",
+                    log,
+                    numbered_source: format!("{}\n{}", numbered(vertex), numbered(fragment)),
+                });
+            }
+            gpu.created();
+            Ok(Program {
+                gpu: gpu.clone(),
+                raw,
+                uniforms: RefCell::new(HashMap::new()),
+            })
+        }
+    }
+
+    pub fn bind(&self) {
+        // SAFETY: using our own linked program.
+        unsafe { self.gpu.gl.use_program(Some(self.raw)) }
+    }
+
+    fn location(&self, name: &str) -> Option<glow::UniformLocation> {
+        self.uniforms
+            .borrow_mut()
+            .entry(name.to_string())
+            // SAFETY: query on our own program.
+            .or_insert_with(|| unsafe { self.gpu.gl.get_uniform_location(self.raw, name) })
+            .clone()
+    }
+
+    pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {
+        if let Some(l) = self.location(name) {
+            // SAFETY: the program is bound by the caller; 16 floats.
+            unsafe {
+                self.gpu
+                    .gl
+                    .uniform_matrix_4_f32_slice(Some(&l), false, &m.to_cols_array())
+            }
+        }
+    }
+
+    pub fn set_mat3(&self, name: &str, m: &glam::Mat3) {
+        if let Some(l) = self.location(name) {
+            // SAFETY: as above; 9 floats.
+            unsafe {
+                self.gpu
+                    .gl
+                    .uniform_matrix_3_f32_slice(Some(&l), false, &m.to_cols_array())
+            }
+        }
+    }
+
+    pub fn set_vec3(&self, name: &str, v: glam::Vec3) {
+        if let Some(l) = self.location(name) {
+            // SAFETY: as above.
+            unsafe { self.gpu.gl.uniform_3_f32(Some(&l), v.x, v.y, v.z) }
+        }
+    }
+
+    pub fn set_vec4(&self, name: &str, v: glam::Vec4) {
+        if let Some(l) = self.location(name) {
+            // SAFETY: as above.
+            unsafe { self.gpu.gl.uniform_4_f32(Some(&l), v.x, v.y, v.z, v.w) }
+        }
+    }
+
+    pub fn set_f32(&self, name: &str, v: f32) {
+        if let Some(l) = self.location(name) {
+            // SAFETY: as above.
+            unsafe { self.gpu.gl.uniform_1_f32(Some(&l), v) }
+        }
+    }
+
+    pub fn set_i32(&self, name: &str, v: i32) {
+        if let Some(l) = self.location(name) {
+            // SAFETY: as above.
+            unsafe { self.gpu.gl.uniform_1_i32(Some(&l), v) }
+        }
+    }
+}
+
+impl Drop for Program {
+    fn drop(&mut self) {
+        // SAFETY: deleting our own program once.
+        unsafe { self.gpu.gl.delete_program(self.raw) };
+        self.gpu.deleted();
+    }
+}

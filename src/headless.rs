@@ -1,0 +1,152 @@
+//! Headless rendering: a context from EGL (device platform, own framebuffer object) or OSMesa
+//! (client memory, no framebuffer object needed), one renderer, PNG out.
+use crate::error::{Error, Result};
+use crate::gpu::framebuffer::Framebuffer;
+use crate::gpu::{Gpu, GpuRef};
+use crate::image_out::Rgba;
+use crate::platform::egl::EglHeadless;
+use crate::platform::osmesa::{OsMesaContext, OsMesaProfile};
+use crate::platform::{Backend, GlRequest};
+use crate::render::Target;
+
+enum Platform {
+    Egl(EglHeadless),
+    OsMesa(OsMesaContext),
+}
+
+/// A current headless context with a render target of a fixed size. Field order is drop
+/// order: the target and the `Gpu` go before the platform context they live in.
+pub struct Headless {
+    fbo: Option<Framebuffer>,
+    pub gpu: GpuRef,
+    platform: Platform,
+    pub width: u32,
+    pub height: u32,
+}
+
+fn osmesa_profile(r: GlRequest) -> Option<OsMesaProfile> {
+    match r {
+        GlRequest::Core => Some(OsMesaProfile::Core33),
+        GlRequest::Gl21 | GlRequest::Auto => Some(OsMesaProfile::Compat21),
+        GlRequest::Es3 => None,
+    }
+}
+
+impl Headless {
+    pub fn new(backend: Backend, gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
+        let mut errors = Vec::new();
+        if matches!(backend, Backend::Auto | Backend::Egl) {
+            match Self::egl(gl, width, height) {
+                Ok(h) => return Ok(h),
+                Err(e) => errors.push(e.to_string()),
+            }
+        }
+        if matches!(backend, Backend::Auto | Backend::Osmesa) {
+            match Self::osmesa(gl, width, height) {
+                Ok(h) => return Ok(h),
+                Err(e) => errors.push(e.to_string()),
+            }
+        }
+        Err(Error::Context(errors.join("; ")))
+    }
+
+    fn egl(gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
+        let egl = EglHeadless::new(gl)?;
+        let gpu = Gpu::new(egl.glow_context());
+        if !gpu.caps.fbo {
+            return Err(Error::Unsupported(format!(
+                "EGL headless renders into a framebuffer object, and this {} driver has none; \
+                 use --backend osmesa",
+                gpu.caps.version
+            )));
+        }
+        check_size(&gpu, width, height)?;
+        let fbo = Framebuffer::color_depth(&gpu, width, height)?;
+        Ok(Headless {
+            fbo: Some(fbo),
+            gpu,
+            platform: Platform::Egl(egl),
+            width,
+            height,
+        })
+    }
+
+    fn osmesa(gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
+        let mut errors = Vec::new();
+        let candidates: Vec<OsMesaProfile> = gl
+            .candidates()
+            .iter()
+            .filter_map(|r| osmesa_profile(*r))
+            .collect();
+        if candidates.is_empty() {
+            return Err(Error::Unsupported(
+                "OSMesa offers desktop GL only, not GL ES".into(),
+            ));
+        }
+        for profile in candidates {
+            match OsMesaContext::new(profile, width, height) {
+                Ok(ctx) => {
+                    let gpu = Gpu::new(ctx.glow_context());
+                    check_size(&gpu, width, height)?;
+                    return Ok(Headless {
+                        fbo: None,
+                        gpu,
+                        platform: Platform::OsMesa(ctx),
+                        width,
+                        height,
+                    });
+                }
+                Err(e) => errors.push(e.to_string()),
+            }
+        }
+        Err(Error::Context(format!("OSMesa: {}", errors.join("; "))))
+    }
+
+    pub fn target(&self) -> Target {
+        Target {
+            fbo: self.fbo.as_ref().map(|f| f.raw),
+            width: self.width,
+            height: self.height,
+        }
+    }
+
+    pub fn backend_name(&self) -> &'static str {
+        match self.platform {
+            Platform::Egl(_) => "egl",
+            Platform::OsMesa(_) => "osmesa",
+        }
+    }
+
+    /// The rendered frame, top row first.
+    pub fn read(&self) -> Rgba {
+        let data = match &self.platform {
+            Platform::OsMesa(ctx) => ctx.read_rgba(&self.gpu.gl),
+            Platform::Egl(_) => {
+                if let Some(f) = &self.fbo {
+                    f.bind();
+                }
+                self.gpu.read_rgba(self.width, self.height)
+            }
+        };
+        Rgba {
+            width: self.width,
+            height: self.height,
+            data,
+        }
+    }
+}
+
+fn check_size(gpu: &Gpu, w: u32, h: u32) -> Result<()> {
+    let c = &gpu.caps;
+    let max = if c.fbo && c.max_renderbuffer_size > 0 {
+        c.max_renderbuffer_size.min(c.max_viewport.0)
+    } else {
+        c.max_viewport.0.min(c.max_viewport.1)
+    };
+    if w > max || h > max {
+        return Err(Error::Unsupported(format!(
+            "size {w}x{h} exceeds the driver's maximum of {max}x{max}"
+        )));
+    }
+    Ok(())
+}

@@ -1,0 +1,87 @@
+//! PNG output with text chunks that say how the picture was made, so any screenshot can be
+//! reproduced, plus the frame checks every render gets (no NaN-black speckles, no blank frame).
+use crate::{Error, Result};
+use std::path::Path;
+
+/// An RGBA8 image, row 0 at the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rgba {
+    pub width: u32,
+    pub height: u32,
+    pub data: Vec<u8>,
+}
+
+impl Rgba {
+    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
+        let i = ((y * self.width + x) * 4) as usize;
+        [
+            self.data[i],
+            self.data[i + 1],
+            self.data[i + 2],
+            self.data[i + 3],
+        ]
+    }
+
+    /// Whether every pixel has the same colour (a blank frame).
+    pub fn is_uniform(&self) -> bool {
+        self.data.chunks_exact(4).all(|p| p == &self.data[..4])
+    }
+
+    pub fn save_png(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
+        let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+        let mut enc = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        let err = |e: png::EncodingError| Error::Image {
+            path: path.into(),
+            message: e.to_string(),
+        };
+        for (k, v) in text {
+            enc.add_text_chunk(k.to_string(), v.clone()).map_err(err)?;
+        }
+        let mut w = enc.write_header().map_err(err)?;
+        w.write_image_data(&self.data).map_err(err)?;
+        w.finish().map_err(err)
+    }
+
+    pub fn load_png(path: &Path) -> Result<Rgba> {
+        let img = image::open(path)
+            .map_err(|e| Error::Image {
+                path: path.into(),
+                message: e.to_string(),
+            })?
+            .to_rgba8();
+        Ok(Rgba {
+            width: img.width(),
+            height: img.height(),
+            data: img.into_raw(),
+        })
+    }
+}
+
+/// Reads the PNG's text chunks (tEXt, zTXt and iTXt) as (keyword, text).
+pub fn png_text(path: &Path) -> Result<Vec<(String, String)>> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let decoder = png::Decoder::new(std::io::BufReader::new(file));
+    let reader = decoder.read_info().map_err(|e| Error::Image {
+        path: path.into(),
+        message: e.to_string(),
+    })?;
+    let info = reader.info();
+    let mut out: Vec<(String, String)> = info
+        .uncompressed_latin1_text
+        .iter()
+        .map(|t| (t.keyword.clone(), t.text.clone()))
+        .collect();
+    for t in &info.compressed_latin1_text {
+        if let Ok(s) = t.get_text() {
+            out.push((t.keyword.clone(), s));
+        }
+    }
+    for t in &info.utf8_text {
+        if let Ok(s) = t.get_text() {
+            out.push((t.keyword.clone(), s));
+        }
+    }
+    Ok(out)
+}

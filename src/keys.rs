@@ -1,0 +1,161 @@
+//! The key mapping, shared by the window and `--keys` (which replays it headless).
+use crate::camera::{CameraMove, OrbitCamera, KEY_STEP_DEG, ZOOM_STEP};
+use crate::render::{FrameSettings, Shading};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Action {
+    Camera(CameraMove),
+    Reset,
+    Fit,
+    ToggleShadows,
+    ToggleGouraud,
+    ToggleWrap,
+    /// 0 = ambient, 1 = diffuse, 2 = specular.
+    ToggleTerm(u8),
+    Screenshot,
+    Help,
+    Quit,
+}
+
+/// (key names, action, description) — the table `H`/`F1` prints and the README shows.
+pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
+    (
+        &["Left"],
+        Action::Camera(CameraMove::Yaw(-KEY_STEP_DEG)),
+        "orbit: yaw -5°",
+    ),
+    (
+        &["Right"],
+        Action::Camera(CameraMove::Yaw(KEY_STEP_DEG)),
+        "orbit: yaw +5°",
+    ),
+    (
+        &["Up"],
+        Action::Camera(CameraMove::Pitch(KEY_STEP_DEG)),
+        "orbit: pitch +5°",
+    ),
+    (
+        &["Down"],
+        Action::Camera(CameraMove::Pitch(-KEY_STEP_DEG)),
+        "orbit: pitch -5°",
+    ),
+    (
+        &["Plus", "+", "PageUp"],
+        Action::Camera(CameraMove::Zoom(1.0 / ZOOM_STEP)),
+        "zoom in",
+    ),
+    (
+        &["Minus", "-", "PageDown"],
+        Action::Camera(CameraMove::Zoom(ZOOM_STEP)),
+        "zoom out",
+    ),
+    (&["R", "Home"], Action::Reset, "reset the view"),
+    (&["F"], Action::Fit, "fit the model in view"),
+    (&["S"], Action::ToggleShadows, "shadows on/off"),
+    (&["G"], Action::ToggleGouraud, "Phong / Gouraud shading"),
+    (
+        &["W"],
+        Action::ToggleWrap,
+        "half-Lambert (wrap) diffuse on/off",
+    ),
+    (&["1"], Action::ToggleTerm(0), "ambient term on/off"),
+    (&["2"], Action::ToggleTerm(1), "diffuse term on/off"),
+    (&["3"], Action::ToggleTerm(2), "specular term on/off"),
+    (
+        &["F12"],
+        Action::Screenshot,
+        "save a screenshot (PNG of the window's framebuffer)",
+    ),
+    (&["H", "F1"], Action::Help, "print this key table"),
+    (&["Escape", "Esc", "Q"], Action::Quit, "quit"),
+];
+
+/// Looks up a key by name (case-insensitive for letters).
+pub fn action_for(name: &str) -> Option<Action> {
+    KEY_TABLE
+        .iter()
+        .find(|(names, _, _)| names.iter().any(|n| n.eq_ignore_ascii_case(name)))
+        .map(|(_, a, _)| *a)
+}
+
+/// Parses `--keys "Left Left Up"`.
+pub fn parse_keys(s: &str) -> Result<Vec<Action>, String> {
+    s.split_whitespace()
+        .map(|k| {
+            action_for(k).ok_or_else(|| format!("unknown key {k:?} in --keys (see --help-keys)"))
+        })
+        .collect()
+}
+
+pub fn help_text() -> String {
+    let mut s = String::from("keys:\n");
+    for (names, _, what) in KEY_TABLE {
+        s += &format!("  {:<22} {what}\n", names.join(" / "));
+    }
+    s += "  left-drag              orbit\n  mouse wheel            zoom\n";
+    s
+}
+
+/// What the caller must do after an action.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Effect {
+    Redraw,
+    Screenshot,
+    Help,
+    Quit,
+}
+
+/// Applies an action to the frame settings; `home` is the view `R` returns to.
+pub fn apply(
+    action: Action,
+    s: &mut FrameSettings,
+    home: &OrbitCamera,
+    bounds: &crate::scene::Bounds,
+    aspect: f32,
+) -> Effect {
+    match action {
+        Action::Camera(m) => s.camera.apply(m),
+        Action::Reset => s.camera = *home,
+        Action::Fit => {
+            s.camera.target = bounds.center();
+            s.camera.distance = s.camera.fit_distance(bounds, aspect);
+        }
+        Action::ToggleShadows => s.shadows.enabled = !s.shadows.enabled,
+        Action::ToggleGouraud => {
+            s.shading = match s.shading {
+                Shading::Phong => Shading::Gouraud,
+                Shading::Gouraud => Shading::Phong,
+            }
+        }
+        Action::ToggleWrap => s.lighting.wrap = !s.lighting.wrap,
+        Action::ToggleTerm(t) => {
+            let terms = &mut s.lighting.terms;
+            let b = match t {
+                0 => &mut terms.ambient,
+                1 => &mut terms.diffuse,
+                _ => &mut terms.specular,
+            };
+            *b = !*b;
+        }
+        Action::Screenshot => return Effect::Screenshot,
+        Action::Help => return Effect::Help,
+        Action::Quit => return Effect::Quit,
+    }
+    Effect::Redraw
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse() {
+        let k = parse_keys("Left left UP + F12 esc").unwrap();
+        assert_eq!(k[0], Action::Camera(CameraMove::Yaw(-5.0)));
+        assert_eq!(k[1], k[0]);
+        assert_eq!(k[2], Action::Camera(CameraMove::Pitch(5.0)));
+        assert_eq!(k[4], Action::Screenshot);
+        assert_eq!(k[5], Action::Quit);
+        assert!(parse_keys("Left Banana").is_err());
+    }
+}

@@ -1,0 +1,27 @@
+//! glview: a legacy-compatible OpenGL OBJ/MTL viewer.
+//!
+//! Dependencies point one way: `app`/`headless` → `render` → {`scene`, `camera`, `light`,
+//! `shader`, `gpu`} → `platform`. Only `gpu` and `platform` contain `unsafe`.
+#![deny(unsafe_code)]
+
+pub mod camera;
+pub mod cli;
+pub mod error;
+pub mod image_out;
+pub mod keys;
+pub mod light;
+pub mod scene;
+pub mod shading;
+
+#[allow(unsafe_code)]
+pub mod gpu;
+#[allow(unsafe_code)]
+pub mod platform;
+pub mod render;
+pub mod shader;
+
+pub mod app;
+pub mod headless;
+pub mod run;
+
+pub use error::{Error, Result};

@@ -1,0 +1,97 @@
+//! Lights, in the scene's local (re-centred) coordinates.
+use glam::{DVec3, Vec3};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightKind {
+    /// A point light at this position.
+    Point(Vec3),
+    /// A directional light travelling in this (unit) direction: `dir:0,-1,0` shines down.
+    Directional(Vec3),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    pub kind: LightKind,
+    pub color: Vec3,
+}
+
+/// The most lights a frame draws (each may cast a shadow); more is an error at the CLI.
+pub const MAX_LIGHTS: usize = 4;
+
+/// A light as given on the command line: positions in the file's coordinates, in f64 so a
+/// model far from the origin keeps its light exactly where it was put.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightSpec {
+    Point(DVec3),
+    Directional(DVec3),
+}
+
+impl LightSpec {
+    pub fn parse(s: &str) -> Result<Option<LightSpec>, String> {
+        if s == "none" {
+            return Ok(None);
+        }
+        let (kind, rest) = s
+            .split_once(':')
+            .ok_or_else(|| format!("light {s:?}: expected point:X,Y,Z, dir:X,Y,Z or none"))?;
+        let v = parse_vec3(rest).map_err(|e| format!("light {s:?}: {e}"))?;
+        match kind {
+            "point" => Ok(Some(LightSpec::Point(v))),
+            "dir" if v.length_squared() > 0.0 => Ok(Some(LightSpec::Directional(v.normalize()))),
+            "dir" => Err(format!("light {s:?}: direction is zero")),
+            _ => Err(format!("light {s:?}: kind must be point or dir")),
+        }
+    }
+
+    /// The default light when none is given: from above, to the right and in front.
+    pub fn default_light() -> LightSpec {
+        LightSpec::Directional(DVec3::new(-0.45, -1.0, -0.6).normalize())
+    }
+
+    pub fn to_local(self, origin: DVec3, color: Vec3) -> Light {
+        let kind = match self {
+            LightSpec::Point(p) => LightKind::Point((p - origin).as_vec3()),
+            LightSpec::Directional(d) => LightKind::Directional(d.as_vec3().normalize()),
+        };
+        Light { kind, color }
+    }
+}
+
+/// Parses `X,Y,Z` of finite numbers.
+pub fn parse_vec3(s: &str) -> Result<DVec3, String> {
+    let parts: Vec<f64> = s
+        .split(',')
+        .map(|p| {
+            p.trim()
+                .parse::<f64>()
+                .map_err(|_| format!("{p:?} is not a number"))
+        })
+        .collect::<Result<_, _>>()?;
+    match parts[..] {
+        [x, y, z] if parts.iter().all(|v| v.is_finite()) => Ok(DVec3::new(x, y, z)),
+        [_, _, _] => Err("values must be finite".into()),
+        _ => Err(format!("{s:?}: expected three comma-separated numbers")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parse_lights() {
+        assert_eq!(LightSpec::parse("none").unwrap(), None);
+        assert_eq!(
+            LightSpec::parse("dir:0,-2,0").unwrap(),
+            Some(LightSpec::Directional(DVec3::new(0.0, -1.0, 0.0)))
+        );
+        assert_eq!(
+            LightSpec::parse("point:1,2,3").unwrap(),
+            Some(LightSpec::Point(DVec3::new(1.0, 2.0, 3.0)))
+        );
+        assert!(LightSpec::parse("dir:0,0,0").is_err());
+        assert!(LightSpec::parse("spot:0,0,0").is_err());
+        assert!(LightSpec::parse("point:1,2").is_err());
+        assert!(LightSpec::parse("point:1,nan,2").is_err());
+    }
+}

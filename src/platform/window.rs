@@ -1,0 +1,1 @@
+//! Window contexts (winit + glutin-winit); see `app` for the event loop.

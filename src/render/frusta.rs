@@ -1,0 +1,144 @@
+//! Light frusta for shadow maps (pure math, no GL): the view-projection a light's depth map
+//! is rendered with, fitted to the scene's bounds.
+use crate::light::{Light, LightKind};
+use crate::scene::Bounds;
+use glam::{Mat4, Vec3};
+
+/// How a light's shadow is stored.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShadowProjection {
+    /// Directional light: orthographic, fitted tightly to the bounds seen from the light.
+    Ortho,
+    /// Point light outside the bounding sphere: one perspective frustum aimed at the scene.
+    Perspective,
+}
+
+/// An up vector that is never parallel to `dir` (a light shining straight down must not
+/// break `look_at`).
+pub fn stable_up(dir: Vec3) -> Vec3 {
+    if dir.normalize().dot(Vec3::Y).abs() > 0.99 {
+        Vec3::Z
+    } else {
+        Vec3::Y
+    }
+}
+
+/// The light's view-projection (to GL clip space) and its kind, or None for a point light
+/// inside the bounding sphere (see `point_inside`).
+pub fn light_view_proj(light: &Light, bounds: &Bounds) -> Option<(Mat4, ShadowProjection)> {
+    let c = bounds.center();
+    let r = bounds.radius();
+    match light.kind {
+        LightKind::Directional(d) => {
+            let d = d.normalize();
+            let eye = c - d * (2.0 * r);
+            let view = Mat4::look_at_rh(eye, c, stable_up(d));
+            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+            for p in bounds.corners() {
+                let q = view.transform_point3(p);
+                lo = lo.min(q);
+                hi = hi.max(q);
+            }
+            // A hair of padding so geometry on the boundary is inside the map, not clamped.
+            let pad = (hi - lo).max_element() * 1e-3 + 1e-6;
+            let (lo, hi) = (lo - Vec3::splat(pad), hi + Vec3::splat(pad));
+            let proj = Mat4::orthographic_rh_gl(lo.x, hi.x, lo.y, hi.y, -hi.z, -lo.z);
+            Some((proj * view, ShadowProjection::Ortho))
+        }
+        LightKind::Point(p) => {
+            let to_c = c - p;
+            let dist = to_c.length();
+            if dist <= r * 1.0001 {
+                return None;
+            }
+            let view = Mat4::look_at_rh(p, c, stable_up(to_c));
+            let half = (r / dist).asin() * 1.02;
+            let near = (dist - r).max(dist * 1e-4);
+            let far = dist + r * 1.01;
+            let proj = Mat4::perspective_rh_gl(2.0 * half, 1.0, near, far);
+            Some((proj * view, ShadowProjection::Perspective))
+        }
+    }
+}
+
+/// Whether a point light sits inside the bounding sphere (a single frustum cannot see all
+/// of the scene from there).
+pub fn point_inside(light: &Light, bounds: &Bounds) -> bool {
+    matches!(light.kind, LightKind::Point(p) if (bounds.center() - p).length() <= bounds.radius() * 1.0001)
+}
+
+/// Maps clip space [-1, 1]³ to texture space [0, 1]³.
+pub fn bias_matrix() -> Mat4 {
+    Mat4::from_translation(Vec3::splat(0.5)) * Mat4::from_scale(Vec3::splat(0.5))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bounds() -> Bounds {
+        Bounds {
+            min: Vec3::new(-3.0, 0.0, -3.0),
+            max: Vec3::new(3.0, 2.0, 3.0),
+        }
+    }
+
+    fn inside_clip(m: Mat4, p: Vec3) -> bool {
+        let q = m.project_point3(p);
+        q.abs().max_element() <= 1.0 + 1e-5
+    }
+
+    #[test]
+    fn directional_frustum_holds_every_corner_tightly() {
+        for dir in [
+            Vec3::NEG_Y,
+            Vec3::new(0.3, -1.0, 0.2),
+            Vec3::X,
+            Vec3::new(0.0, 1.0, 0.0),
+        ] {
+            let l = Light {
+                kind: LightKind::Directional(dir),
+                color: Vec3::ONE,
+            };
+            let (m, kind) = light_view_proj(&l, &bounds()).unwrap();
+            assert_eq!(kind, ShadowProjection::Ortho);
+            assert!(m.is_finite(), "{dir}");
+            let mut max = 0.0f32;
+            for c in bounds().corners() {
+                assert!(inside_clip(m, c), "{dir} {c}");
+                max = max.max(m.project_point3(c).truncate().abs().max_element());
+            }
+            // Tight: some corner touches the frustum's edge.
+            assert!(max > 0.99, "{dir}: {max}");
+        }
+    }
+
+    #[test]
+    fn point_light_outside_sees_the_whole_scene() {
+        let l = Light {
+            kind: LightKind::Point(Vec3::new(4.0, 8.0, 3.0)),
+            color: Vec3::ONE,
+        };
+        let (m, kind) = light_view_proj(&l, &bounds()).unwrap();
+        assert_eq!(kind, ShadowProjection::Perspective);
+        for c in bounds().corners() {
+            assert!(inside_clip(m, c), "{c}");
+        }
+        // Straight above: the up vector must not be parallel to the view direction.
+        let above = Light {
+            kind: LightKind::Point(Vec3::new(0.0, 20.0, 0.0)),
+            color: Vec3::ONE,
+        };
+        assert!(light_view_proj(&above, &bounds()).unwrap().0.is_finite());
+    }
+
+    #[test]
+    fn point_light_inside_has_no_single_frustum() {
+        let l = Light {
+            kind: LightKind::Point(Vec3::new(0.0, 1.0, 0.0)),
+            color: Vec3::ONE,
+        };
+        assert!(light_view_proj(&l, &bounds()).is_none());
+        assert!(point_inside(&l, &bounds()));
+    }
+}

@@ -1,0 +1,172 @@
+//! 2. Lit pass (legacy tier): every mesh with the Phong (or Gouraud) program matching its
+//! features; opaque meshes first, then translucent ones back to front with blending (each
+//! drawn back faces first, then front faces, so a glass shows its far wall behind its near
+//! wall).
+use super::shadow::eye_to_shadow;
+use super::{FrameSettings, FrameStats, Renderer, Shading, Target};
+use crate::gpu::program::Program;
+use crate::gpu::state::Cull;
+use crate::light::LightKind;
+use crate::shader::cache::{ProgramKey, ProgramKind};
+use crate::Result;
+use glam::{Mat3, Vec3, Vec4};
+
+/// Texture unit of shadow map i is SHADOW_UNIT + i; unit 0 is the diffuse map.
+const SHADOW_UNIT: u32 = 1;
+
+pub(crate) fn run(
+    r: &mut Renderer,
+    s: &FrameSettings,
+    target: &Target,
+    stats: &mut FrameStats,
+) -> Result<()> {
+    let aspect = target.width as f32 / target.height.max(1) as f32;
+    let view = s.camera.view();
+    let proj = s.camera.projection(&r.scene.bounds, aspect);
+    let normal_matrix = Mat3::from_mat4(view);
+    let gpu = r.gpu.clone();
+    gpu.bind_target(target.fbo, target.width, target.height);
+    gpu.clear(Some(s.background.to_array()));
+    gpu.depth(true, true);
+    gpu.cull(Cull::None);
+    gpu.blend(false);
+    let lights = s.lights.len() as u8;
+    // The shader pairs shadow map i with light i, so only a prefix of lights can cast.
+    let shadows = r
+        .shadow
+        .maps
+        .iter()
+        .enumerate()
+        .take_while(|(i, m)| m.light == *i)
+        .count() as u8;
+    let light_pos: Vec<Vec4> = s
+        .lights
+        .iter()
+        .map(|l| match l.kind {
+            LightKind::Point(p) => view.transform_point3(p).extend(1.0),
+            LightKind::Directional(d) => view.transform_vector3(-d).normalize().extend(0.0),
+        })
+        .collect();
+    let shadow_matrices: Vec<glam::Mat4> = r.shadow.maps[..shadows as usize]
+        .iter()
+        .map(|m| eye_to_shadow(&m.view_proj, &view))
+        .collect();
+    for (i, m) in r.shadow.maps[..shadows as usize].iter().enumerate() {
+        m.texture.bind(SHADOW_UNIT + i as u32);
+        stats.textures_bound += 1;
+    }
+    // The copy path may have shrunk the maps to the target's size.
+    let texel = r
+        .shadow
+        .maps
+        .first()
+        .map_or(0.0, |m| 1.0 / m.texture.width as f32);
+    let mut order: Vec<usize> = (0..r.meshes.len())
+        .filter(|&i| !r.meshes[i].translucent)
+        .collect();
+    let mut translucent: Vec<(f32, usize)> = (0..r.meshes.len())
+        .filter(|&i| r.meshes[i].translucent)
+        .map(|i| (view.transform_point3(r.meshes[i].center).z, i))
+        .collect();
+    // Most negative eye-space z is farthest: draw those first.
+    translucent.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let first_translucent = order.len();
+    order.extend(translucent.iter().map(|&(_, i)| i));
+
+    let mut bound_texture = None;
+    for (n, &i) in order.iter().enumerate() {
+        let dm = &r.meshes[i];
+        let key = ProgramKey {
+            kind: ProgramKind::Lit,
+            lights,
+            shadows,
+            pcf: s.shadows.pcf,
+            textured: dm.texture.is_some(),
+            gouraud: s.shading == Shading::Gouraud,
+        };
+        let program = r.programs.get(key)?;
+        stats.program(key.label());
+        program.bind();
+        set_frame_uniforms(
+            &program,
+            s,
+            &view,
+            &proj,
+            &normal_matrix,
+            &light_pos,
+            &shadow_matrices,
+        );
+        program.set_f32("uShadowTexel", texel);
+        let mat = &r.scene.materials[dm.material];
+        program.set_vec3("uKa", Vec3::from(mat.ambient));
+        program.set_vec3("uKd", Vec3::from(mat.diffuse));
+        program.set_vec3("uKs", Vec3::from(mat.specular));
+        program.set_vec3("uKe", Vec3::from(mat.emissive));
+        program.set_f32("uNs", mat.shininess);
+        program.set_f32("uOpacity", mat.opacity);
+        if let Some(t) = dm.texture {
+            if bound_texture != Some(t) {
+                r.textures[t].bind(0);
+                bound_texture = Some(t);
+                stats.textures_bound += 1;
+            }
+            program.set_i32("uDiffuseMap", 0);
+        }
+        if n == first_translucent {
+            gpu.blend(true);
+            gpu.depth(true, false);
+        }
+        if dm.translucent {
+            for face in [Cull::Front, Cull::Back] {
+                gpu.cull(face);
+                dm.mesh.draw();
+                stats.draw_calls += 1;
+                stats.triangles += dm.triangles;
+            }
+        } else {
+            dm.mesh.draw();
+            stats.draw_calls += 1;
+            stats.triangles += dm.triangles;
+        }
+    }
+    gpu.blend(false);
+    gpu.cull(Cull::None);
+    gpu.depth(true, true);
+    stats.passes.push("lit".into());
+    Ok(())
+}
+
+fn set_frame_uniforms(
+    p: &Program,
+    s: &FrameSettings,
+    view: &glam::Mat4,
+    proj: &glam::Mat4,
+    normal_matrix: &Mat3,
+    light_pos: &[Vec4],
+    shadow_matrices: &[glam::Mat4],
+) {
+    p.set_mat4("uModelView", view);
+    p.set_mat4("uProjection", proj);
+    p.set_mat3("uNormalMatrix", normal_matrix);
+    let amb = s.lighting.ambient.as_vec3();
+    p.set_vec3("uAmbient", amb);
+    let t = s.lighting.terms;
+    p.set_vec3(
+        "uTerms",
+        Vec3::new(
+            f32::from(u8::from(t.ambient)),
+            f32::from(u8::from(t.diffuse)),
+            f32::from(u8::from(t.specular)),
+        ),
+    );
+    p.set_f32("uWrap", if s.lighting.wrap { 1.0 } else { 0.0 });
+    for (i, (pos, l)) in light_pos.iter().zip(&s.lights).enumerate() {
+        p.set_vec4(&format!("uLightPos[{i}]"), *pos);
+        p.set_vec3(&format!("uLightColor[{i}]"), l.color);
+    }
+    for (i, m) in shadow_matrices.iter().enumerate() {
+        p.set_mat4(&format!("uShadowMatrix[{i}]"), m);
+        p.set_i32(&format!("uShadowMap{i}"), SHADOW_UNIT as i32 + i as i32);
+    }
+    p.set_f32("uShadowBias", s.shadows.bias);
+}

@@ -1,0 +1,193 @@
+//! The frame: which passes run and why. `shadow` fills depth maps (skipped when nothing needs
+//! them or nothing changed), `lit` draws the legacy tier, `show` draws the teaching view.
+//! Every frame reports what it did in [`FrameStats`].
+pub mod frusta;
+pub mod lit;
+pub mod shadow;
+
+use crate::camera::OrbitCamera;
+use crate::gpu::mesh::GpuMesh;
+use crate::gpu::texture::Texture2d;
+use crate::gpu::GpuRef;
+use crate::light::Light;
+use crate::scene::Scene;
+use crate::shader::cache::ProgramCache;
+use crate::shading::LightingParams;
+use crate::Result;
+use glam::Vec3;
+use serde::Serialize;
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
+pub enum Shading {
+    Phong,
+    Gouraud,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ShadowSettings {
+    pub enabled: bool,
+    /// Depth map size in texels (square).
+    pub size: u32,
+    /// Compared taps per lookup: 1, 4, 9 or 16.
+    pub pcf: u8,
+    /// Constant depth bias in [0, 1] depth units, on top of the slope-scaled polygon offset.
+    pub bias: f32,
+    /// glPolygonOffset(factor, units) in the depth pass: the slope-scaled part of the bias.
+    pub slope_bias: f32,
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        ShadowSettings {
+            enabled: true,
+            size: 2048,
+            pcf: 4,
+            bias: 0.0005,
+            slope_bias: 2.0,
+        }
+    }
+}
+
+/// Everything a frame depends on besides the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameSettings {
+    pub camera: OrbitCamera,
+    pub lights: Vec<Light>,
+    pub lighting: LightingParams,
+    pub shading: Shading,
+    pub background: Vec3,
+    pub shadows: ShadowSettings,
+    /// Draw light 0's depth map instead of the scene (teaching view).
+    pub show_shadow_map: bool,
+}
+
+/// Where a frame goes: a framebuffer object, or the default framebuffer (None).
+#[derive(Clone, Copy, Debug)]
+pub struct Target {
+    pub fbo: Option<glow::Framebuffer>,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// What one frame did; `--stats` prints it as one JSON line.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct FrameStats {
+    pub frame: u64,
+    pub passes: Vec<String>,
+    pub shadow: String,
+    pub draw_calls: u32,
+    pub triangles: u64,
+    pub programs: Vec<String>,
+    pub textures_bound: u32,
+    pub ms: f64,
+}
+
+impl FrameStats {
+    fn program(&mut self, label: String) {
+        if !self.programs.contains(&label) {
+            self.programs.push(label);
+        }
+    }
+}
+
+pub(crate) struct DrawMesh {
+    pub mesh: GpuMesh,
+    pub material: usize,
+    pub texture: Option<usize>,
+    pub center: Vec3,
+    pub triangles: u64,
+    pub translucent: bool,
+}
+
+/// The scene on the GPU plus the passes' cached state.
+pub struct Renderer {
+    pub gpu: GpuRef,
+    pub(crate) scene: Scene,
+    pub(crate) meshes: Vec<DrawMesh>,
+    pub(crate) textures: Vec<Texture2d>,
+    pub(crate) programs: ProgramCache,
+    pub(crate) shadow: shadow::ShadowPass,
+    pub(crate) quad: Option<GpuMesh>,
+    frame: u64,
+}
+
+impl Renderer {
+    /// Uploads the scene once (static buffers; textures deduplicated by file).
+    pub fn new(gpu: &GpuRef, scene: Scene) -> Result<Renderer> {
+        let mut textures: Vec<Texture2d> = Vec::new();
+        let mut texture_paths = Vec::new();
+        let mut meshes = Vec::with_capacity(scene.meshes.len());
+        for m in &scene.meshes {
+            let mat = &scene.materials[m.material];
+            let texture = match (&mat.diffuse_map, m.has_uv) {
+                (Some(t), true) => Some(match texture_paths.iter().position(|p| p == &t.path) {
+                    Some(i) => i,
+                    None => {
+                        textures.push(Texture2d::from_rgba(gpu, t.width, t.height, &t.rgba)?);
+                        texture_paths.push(t.path.clone());
+                        textures.len() - 1
+                    }
+                }),
+                _ => None,
+            };
+            let center = m
+                .vertices
+                .iter()
+                .fold(Vec3::ZERO, |a, v| a + Vec3::from(v.position))
+                / m.vertices.len().max(1) as f32;
+            meshes.push(DrawMesh {
+                mesh: GpuMesh::new(gpu, &m.vertices, &m.indices)?,
+                material: m.material,
+                texture,
+                center,
+                triangles: m.triangle_count() as u64,
+                translucent: mat.is_translucent(),
+            });
+        }
+        gpu.check_error("upload")?;
+        Ok(Renderer {
+            gpu: gpu.clone(),
+            scene,
+            meshes,
+            textures,
+            programs: ProgramCache::new(gpu),
+            shadow: shadow::ShadowPass::default(),
+            quad: None,
+            frame: 0,
+        })
+    }
+
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Draws one frame into `target`.
+    pub fn render(&mut self, s: &FrameSettings, target: &Target) -> Result<FrameStats> {
+        let start = Instant::now();
+        self.frame += 1;
+        let mut stats = FrameStats {
+            frame: self.frame,
+            ..Default::default()
+        };
+        // 1. shadow depth pass (or the reason it is skipped)
+        shadow::run(self, s, target, &mut stats)?;
+        // 2. lit pass
+        lit::run(self, s, target, &mut stats)?;
+        // 3. teaching view
+        if s.show_shadow_map {
+            shadow::show_map(self, target, &mut stats)?;
+        }
+        if cfg!(debug_assertions) {
+            self.gpu.check_error("frame")?;
+        }
+        self.gpu.finish();
+        stats.ms = start.elapsed().as_secs_f64() * 1e3;
+        Ok(stats)
+    }
+
+    /// Drops the cached shadow maps (e.g. after the scene changed).
+    pub fn invalidate_shadows(&mut self) {
+        self.shadow = shadow::ShadowPass::default();
+    }
+}

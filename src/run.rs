@@ -1,0 +1,218 @@
+//! From parsed arguments to a scene and frame settings; shared by the window and headless
+//! paths so `--keys` headless and the keys in a window give the same view.
+use crate::camera::OrbitCamera;
+use crate::cli::{Args, Diffuse, Show};
+use crate::error::{Error, Result};
+use crate::keys::{self, Effect};
+use crate::light::{parse_vec3, LightSpec, MAX_LIGHTS};
+use crate::render::{FrameSettings, ShadowSettings};
+use crate::scene::material::TextureOptions;
+use crate::scene::obj::{self, LoadOptions};
+use crate::scene::Scene;
+use crate::shading::LightingParams;
+use glam::{DVec3, Vec3};
+use std::path::Path;
+
+/// The built-in scene: the committed output of `src/scene/generate.rs`.
+pub const BUILTIN_OBJ: &str = include_str!("../models/glass_holder.obj");
+pub const BUILTIN_MTL: &str = include_str!("../models/glass_holder.mtl");
+
+pub fn load_scene(args: &Args) -> Result<Scene> {
+    let opts = LoadOptions {
+        textures: TextureOptions {
+            allow_outside_paths: args.allow_outside_paths,
+            max_dimension: 0,
+        },
+    };
+    match &args.model {
+        Some(path) => obj::load(path, &opts),
+        None => obj::load_embedded(
+            Path::new("glass_holder.obj"),
+            BUILTIN_OBJ.as_bytes(),
+            BUILTIN_MTL.as_bytes(),
+            &opts,
+        ),
+    }
+}
+
+fn color(s: &str, what: &str) -> Result<Vec3> {
+    let v = parse_vec3(s).map_err(|e| Error::Usage(format!("{what}: {e}")))?;
+    Ok(v.as_vec3())
+}
+
+/// The frame settings the arguments describe, with `--keys` already applied.
+pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, OrbitCamera)> {
+    let (w, h) = args.size;
+    let aspect = w as f32 / h as f32;
+    if !(args.fov > 0.0 && args.fov < 180.0) {
+        return Err(Error::Usage(format!(
+            "--fov {} must be between 0 and 180",
+            args.fov
+        )));
+    }
+    let mut camera = OrbitCamera::fit(&scene.bounds, args.fov, aspect);
+    camera.yaw_deg = args.yaw;
+    camera.pitch_deg = args.pitch;
+    if let Some(t) = &args.target {
+        let t = parse_vec3(t).map_err(|e| Error::Usage(format!("--target: {e}")))?;
+        camera.target = scene.to_local(t);
+    }
+    if let Some(d) = args.distance {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(Error::Usage(format!("--distance {d} must be positive")));
+        }
+        camera.distance = d;
+    }
+    if let Some(h) = args.ortho {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(Error::Usage(format!("--ortho {h} must be positive")));
+        }
+        camera.ortho_height = Some(h);
+    }
+    let mut specs = Vec::new();
+    for l in &args.lights {
+        if let Some(spec) = LightSpec::parse(l).map_err(Error::Usage)? {
+            specs.push(spec);
+        }
+    }
+    if args.lights.is_empty() {
+        specs.push(LightSpec::default_light());
+    }
+    if specs.len() > MAX_LIGHTS {
+        return Err(Error::Usage(format!(
+            "{} lights given; at most {MAX_LIGHTS}",
+            specs.len()
+        )));
+    }
+    let colors: Vec<Vec3> = args
+        .light_colors
+        .iter()
+        .map(|c| color(c, "--light-color"))
+        .collect::<Result<_>>()?;
+    let lights = specs
+        .iter()
+        .enumerate()
+        .map(|(i, spec)| {
+            let c = colors
+                .get(i)
+                .or(colors.last())
+                .copied()
+                .unwrap_or(Vec3::ONE);
+            spec.to_local(scene.origin, c)
+        })
+        .collect();
+    let ambient = DVec3::from(color(&args.ambient, "--ambient")?.as_dvec3());
+    let mut settings = FrameSettings {
+        camera,
+        lights,
+        lighting: LightingParams {
+            ambient,
+            wrap: args.diffuse == Diffuse::Wrap,
+            ..Default::default()
+        },
+        shading: args.shading,
+        background: color(&args.background, "--background")?,
+        shadows: ShadowSettings {
+            enabled: !args.no_shadows,
+            size: args.shadow_size,
+            pcf: args.pcf,
+            bias: args.shadow_bias,
+            ..Default::default()
+        },
+        show_shadow_map: args.show == Show::ShadowMap,
+    };
+    let home = settings.camera;
+    if let Some(k) = &args.keys {
+        for action in keys::parse_keys(k).map_err(Error::Usage)? {
+            if keys::apply(action, &mut settings, &home, &scene.bounds, aspect) == Effect::Quit {
+                break;
+            }
+        }
+    }
+    Ok((settings, home))
+}
+
+/// PNG text chunks that let anyone reproduce a picture.
+pub fn png_text(
+    caps: &crate::gpu::Caps,
+    s: &FrameSettings,
+    scene: &Scene,
+    backend: &str,
+) -> Vec<(&'static str, String)> {
+    let c = &s.camera;
+    let target = scene.origin + c.target.as_dvec3();
+    vec![
+        ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
+        ("glview.renderer", caps.renderer.clone()),
+        ("glview.gl_version", caps.version.clone()),
+        ("glview.dialect", caps.dialect.name().into()),
+        ("glview.backend", backend.into()),
+        ("glview.tier", "legacy".into()),
+        ("glview.shading", format!("{:?}", s.shading).to_lowercase()),
+        ("glview.model", scene.name.clone()),
+        (
+            "glview.camera",
+            format!(
+                "--yaw {} --pitch {} --distance {} --target {},{},{} --fov {}{}",
+                c.yaw_deg,
+                c.pitch_deg,
+                c.distance,
+                target.x,
+                target.y,
+                target.z,
+                c.fov_y_deg,
+                c.ortho_height
+                    .map(|h| format!(" --ortho {h}"))
+                    .unwrap_or_default()
+            ),
+        ),
+    ]
+}
+
+/// Renders headless into `path` (`--frames` times; the last frame is written).
+pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
+    let scene = load_scene(args)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    let (settings, _) = frame_settings(args, &scene)?;
+    let (w, h) = args.size;
+    let hl = crate::headless::Headless::new(args.backend, args.gl, w, h)?;
+    let text = png_text(&hl.gpu.caps, &settings, &scene, hl.backend_name());
+    let mut renderer = crate::render::Renderer::new(&hl.gpu, scene)?;
+    for _ in 0..args.frames.max(1) {
+        let stats = renderer.render(&settings, &hl.target())?;
+        if args.stats {
+            println!("{}", serde_json::to_string(&stats).unwrap_or_default());
+        }
+    }
+    let img = hl.read();
+    drop(renderer);
+    img.save_png(path, &text)
+}
+
+/// `glview --info`: what the driver gave.
+pub fn print_info(args: &Args) -> Result<()> {
+    let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
+    println!("backend: {}\n{}", hl.backend_name(), hl.gpu.caps.report());
+    Ok(())
+}
+
+pub fn main(args: &Args) -> Result<()> {
+    if args.info {
+        return print_info(args);
+    }
+    if let Some(out) = &args.output {
+        return render_headless(args, out);
+    }
+    if crate::app::display_available() {
+        match crate::app::run_window(args) {
+            Err(Error::Context(e)) => eprintln!("warning: no window ({e}); rendering headless"),
+            other => return other,
+        }
+    }
+    let out = Path::new("glview.png");
+    render_headless(args, out)?;
+    eprintln!("no display: wrote {}", out.display());
+    Ok(())
+}

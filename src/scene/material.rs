@@ -1,0 +1,283 @@
+//! Materials from MTL, with the fixed-function GL defaults where a value is not given, and
+//! diffuse textures decoded to RGBA8 (no GL here; the renderer uploads them).
+use super::Warning;
+use std::path::{Path, PathBuf};
+
+/// A decoded texture, RGBA8, row 0 at the top (image order).
+#[derive(Clone, Debug)]
+pub struct Texture {
+    pub path: PathBuf,
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub ambient: [f32; 3],
+    pub diffuse: [f32; 3],
+    pub specular: [f32; 3],
+    pub emissive: [f32; 3],
+    /// Phong exponent; Ns <= 0 means "specular factor 1 wherever N·L > 0" (the limit x^0 = 1
+    /// of the fixed-function formula), evaluated without calling pow.
+    pub shininess: f32,
+    /// Opacity (`d`, or 1 - `Tr`).
+    pub opacity: f32,
+    pub illum: Option<u8>,
+    pub diffuse_map: Option<std::sync::Arc<Texture>>,
+}
+
+impl PartialEq for Texture {
+    fn eq(&self, other: &Self) -> bool {
+        self.path == other.path
+    }
+}
+
+impl Default for Material {
+    /// The fixed-function OpenGL material defaults.
+    fn default() -> Self {
+        Material {
+            name: "default".into(),
+            ambient: [0.2; 3],
+            diffuse: [0.8; 3],
+            specular: [0.0; 3],
+            emissive: [0.0; 3],
+            shininess: 0.0,
+            opacity: 1.0,
+            illum: None,
+            diffuse_map: None,
+        }
+    }
+}
+
+impl Material {
+    pub fn is_translucent(&self) -> bool {
+        self.opacity < 1.0
+    }
+}
+
+/// Options that make texture loading safe; see `--allow-outside-paths`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TextureOptions {
+    pub allow_outside_paths: bool,
+    /// Largest width/height accepted from a file header; larger images are refused before
+    /// decoding (decompression bombs) and images above the driver limit are downscaled later.
+    pub max_dimension: u32,
+}
+
+fn to_rgb(v: Option<[f64; 3]>, default: [f32; 3]) -> [f32; 3] {
+    v.map(|c| c.map(|x| if x.is_finite() { x as f32 } else { 0.0 }))
+        .unwrap_or(default)
+}
+
+/// Builds our material from tobj's, loading the diffuse map relative to `dir`.
+pub fn from_tobj(
+    m: &tobj::Material,
+    dir: &Path,
+    mtl_file: &Path,
+    opts: TextureOptions,
+    warnings: &mut Vec<Warning>,
+) -> Material {
+    let d = Material::default();
+    let opacity = m
+        .dissolve
+        .map(|x| x as f32)
+        .or_else(|| {
+            m.unknown_param
+                .get("Tr")
+                .and_then(|t| t.trim().parse::<f32>().ok())
+                .map(|t| 1.0 - t)
+        })
+        .filter(|x| x.is_finite())
+        .unwrap_or(1.0)
+        .clamp(0.0, 1.0);
+    let shininess = m
+        .shininess
+        .map(|x| x as f32)
+        .filter(|x| x.is_finite())
+        .unwrap_or(d.shininess);
+    let diffuse_map =
+        m.diffuse_texture
+            .as_deref()
+            .and_then(|spec| match load_texture(spec, dir, opts) {
+                Ok(t) => Some(std::sync::Arc::new(t)),
+                Err(msg) => {
+                    warnings.push(Warning {
+                        file: mtl_file.to_path_buf(),
+                        line: None,
+                        message: format!(
+                            "material {}: map_Kd {spec:?}: {msg}; using its colours",
+                            m.name
+                        ),
+                    });
+                    None
+                }
+            });
+    Material {
+        name: m.name.clone(),
+        ambient: to_rgb(m.ambient, d.ambient),
+        diffuse: to_rgb(m.diffuse, d.diffuse),
+        specular: to_rgb(m.specular, d.specular),
+        emissive: to_rgb(m.emissive, d.emissive),
+        shininess,
+        opacity,
+        illum: m.illumination_model,
+        diffuse_map,
+    }
+}
+
+/// Options of MTL texture statements and how many arguments each takes.
+fn option_arity(opt: &str) -> Option<usize> {
+    Some(match opt {
+        "-blendu" | "-blendv" | "-cc" | "-clamp" | "-imfchan" | "-type" | "-bm" | "-boost"
+        | "-texres" | "-colorspace" => 1,
+        "-mm" => 2,
+        "-o" | "-s" | "-t" => 3,
+        _ => return None,
+    })
+}
+
+/// Strips MTL texture options (`-s 1 1 1 file.png`) and returns the file name. `-o`, `-s` and
+/// `-t` take 1 to 3 numbers, so numeric words after them are consumed greedily.
+pub fn strip_texture_options(spec: &str) -> String {
+    let words: Vec<&str> = spec.split_whitespace().collect();
+    let mut i = 0;
+    while i < words.len() {
+        let Some(n) = option_arity(words[i]) else {
+            break;
+        };
+        i += 1;
+        let mut taken = 0;
+        while taken < n && i < words.len() - 1 {
+            if n == 3 && taken > 0 && words[i].parse::<f64>().is_err() {
+                break;
+            }
+            i += 1;
+            taken += 1;
+        }
+    }
+    words[i.min(words.len())..].join(" ")
+}
+
+/// Finds a texture file: as written, with backslashes as separators, then by case-insensitive
+/// match of each component. Refuses paths that leave `dir` unless allowed.
+pub fn resolve_texture_path(
+    spec: &str,
+    dir: &Path,
+    allow_outside: bool,
+) -> Result<PathBuf, String> {
+    let name = strip_texture_options(spec).replace('\\', "/");
+    if name.is_empty() {
+        return Err("no file name".into());
+    }
+    let rel = Path::new(&name);
+    let candidate = if rel.exists() && rel.is_absolute() {
+        rel.to_path_buf()
+    } else {
+        let direct = dir.join(rel);
+        if direct.exists() {
+            direct
+        } else {
+            find_case_insensitive(dir, rel)
+                .ok_or_else(|| format!("file not found ({})", direct.display()))?
+        }
+    };
+    let real = candidate
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", candidate.display()))?;
+    let base = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    if !allow_outside && !real.starts_with(&base) {
+        return Err(format!(
+            "resolves to {} outside the model's folder; not read (use --allow-outside-paths)",
+            real.display()
+        ));
+    }
+    Ok(real)
+}
+
+fn find_case_insensitive(dir: &Path, rel: &Path) -> Option<PathBuf> {
+    let mut cur = dir.to_path_buf();
+    for comp in rel.components() {
+        let want = comp.as_os_str().to_string_lossy().to_lowercase();
+        if want == ".." || want == "." {
+            cur.push(comp);
+            continue;
+        }
+        let found = std::fs::read_dir(&cur)
+            .ok()?
+            .flatten()
+            .find(|e| e.file_name().to_string_lossy().to_lowercase() == want)?;
+        cur = found.path();
+    }
+    Some(cur)
+}
+
+fn load_texture(spec: &str, dir: &Path, opts: TextureOptions) -> Result<Texture, String> {
+    let path = resolve_texture_path(spec, dir, opts.allow_outside_paths)?;
+    let reader = image::ImageReader::open(&path)
+        .map_err(|e| e.to_string())?
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    let (w, h) = reader
+        .into_dimensions()
+        .map_err(|e| format!("unreadable image: {e}"))?;
+    let max = if opts.max_dimension == 0 {
+        16384
+    } else {
+        opts.max_dimension
+    };
+    if w == 0 || h == 0 || w > max * 4 || h > max * 4 {
+        return Err(format!(
+            "image header says {w}x{h}: refused before decoding"
+        ));
+    }
+    let mut reader = image::ImageReader::open(&path)
+        .map_err(|e| e.to_string())?
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(1 << 30);
+    reader.limits(limits);
+    let mut img = reader.decode().map_err(|e| format!("cannot decode: {e}"))?;
+    if w > max || h > max {
+        let scale = max as f64 / w.max(h) as f64;
+        img = img.resize(
+            ((w as f64 * scale) as u32).max(1),
+            ((h as f64 * scale) as u32).max(1),
+            image::imageops::FilterType::Triangle,
+        );
+    }
+    let rgba = img.to_rgba8();
+    Ok(Texture {
+        path,
+        width: rgba.width(),
+        height: rgba.height(),
+        rgba: rgba.into_raw(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn options_are_stripped() {
+        assert_eq!(strip_texture_options("-s 1 1 1 tex.png"), "tex.png");
+        assert_eq!(
+            strip_texture_options("-bm 2 -clamp on bump 01.png"),
+            "bump 01.png"
+        );
+        assert_eq!(strip_texture_options("-o 0.1 tex.png"), "tex.png");
+        assert_eq!(strip_texture_options("texture 01.png"), "texture 01.png");
+    }
+
+    #[test]
+    fn defaults_are_fixed_function() {
+        let m = Material::default();
+        assert_eq!(
+            (m.ambient, m.diffuse, m.specular, m.shininess),
+            ([0.2; 3], [0.8; 3], [0.0; 3], 0.0)
+        );
+    }
+}

@@ -1,0 +1,140 @@
+//! Scene data: meshes, materials and bounds, loaded from OBJ/MTL. No GL, no windowing, so the
+//! GPU renderer, the CPU reference renderer and the tests share it.
+pub mod generate;
+pub mod material;
+pub mod normals;
+pub mod obj;
+pub mod repair;
+
+use glam::{DVec3, Vec3};
+pub use material::{Material, Texture};
+
+/// One interleaved vertex as uploaded to the vertex buffer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+}
+
+/// A triangle mesh with one material. Positions are relative to [`Scene::origin`].
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub name: String,
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+    pub material: usize,
+    pub has_uv: bool,
+    /// Whether some or all normals were generated rather than read from the file.
+    pub generated_normals: usize,
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+    /// The largest index, which decides whether 16-bit indices suffice.
+    pub fn max_index(&self) -> u32 {
+        self.indices.iter().copied().max().unwrap_or(0)
+    }
+}
+
+/// Axis-aligned bounds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Bounds {
+    pub fn empty() -> Self {
+        Bounds {
+            min: Vec3::splat(f32::INFINITY),
+            max: Vec3::splat(f32::NEG_INFINITY),
+        }
+    }
+    pub fn include(&mut self, p: Vec3) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+    pub fn is_empty(&self) -> bool {
+        self.min.x > self.max.x
+    }
+    pub fn center(&self) -> Vec3 {
+        (self.min + self.max) * 0.5
+    }
+    /// Radius of the sphere around [`Bounds::center`] that holds the box; never zero, so a
+    /// single point or a flat model still gets a usable camera.
+    pub fn radius(&self) -> f32 {
+        let r = (self.max - self.min).length() * 0.5;
+        if r.is_finite() && r > 0.0 {
+            r
+        } else {
+            1.0
+        }
+    }
+    pub fn corners(&self) -> [Vec3; 8] {
+        let (a, b) = (self.min, self.max);
+        [
+            Vec3::new(a.x, a.y, a.z),
+            Vec3::new(b.x, a.y, a.z),
+            Vec3::new(a.x, b.y, a.z),
+            Vec3::new(b.x, b.y, a.z),
+            Vec3::new(a.x, a.y, b.z),
+            Vec3::new(b.x, a.y, b.z),
+            Vec3::new(a.x, b.y, b.z),
+            Vec3::new(b.x, b.y, b.z),
+        ]
+    }
+}
+
+/// A problem the loader worked around; printed as one warning line each.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Warning {
+    pub file: std::path::PathBuf,
+    pub line: Option<usize>,
+    pub message: String,
+}
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if let Some(l) = self.line {
+            write!(f, ":{l}")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+/// A loaded model, re-centred: vertex positions are relative to `origin` (the bounding-box
+/// centre in file coordinates, kept in f64) so that far-from-origin models keep f32 precision.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    /// Bounds in local (re-centred) coordinates.
+    pub bounds: Bounds,
+    /// Where local (0,0,0) is in the file's coordinates.
+    pub origin: DVec3,
+    pub warnings: Vec<Warning>,
+}
+
+impl Scene {
+    pub fn triangle_count(&self) -> usize {
+        self.meshes.iter().map(Mesh::triangle_count).sum()
+    }
+    pub fn vertex_count(&self) -> usize {
+        self.meshes.iter().map(|m| m.vertices.len()).sum()
+    }
+    /// Converts a point in file coordinates to local coordinates, in f64 before rounding.
+    pub fn to_local(&self, p: DVec3) -> Vec3 {
+        (p - self.origin).as_vec3()
+    }
+    pub fn has_textures(&self) -> bool {
+        self.meshes
+            .iter()
+            .any(|m| m.has_uv && self.materials[m.material].diffuse_map.is_some())
+    }
+}

@@ -1,0 +1,335 @@
+//! A pre-pass over the raw OBJ bytes, before tobj sees them. tobj rejects files users expect to
+//! open (non-UTF-8 names, backslash continuations, empty `usemtl`) and reports errors without a
+//! line number; this pass repairs what is unambiguous (with a warning) and finds the line of
+//! anything that is really wrong.
+use super::Warning;
+use crate::error::Error;
+use std::path::Path;
+
+/// The OBJ text ready for tobj, and what was repaired.
+pub struct Repaired {
+    pub text: String,
+    pub warnings: Vec<Warning>,
+    /// Faces dropped because they had fewer than three distinct corners.
+    pub dropped_faces: usize,
+}
+
+#[derive(Default)]
+struct Counts {
+    v: usize,
+    vt: usize,
+    vn: usize,
+}
+
+/// Statements whose arguments are names, where a non-UTF-8 byte can be replaced safely.
+fn is_name_statement(keyword: &[u8]) -> bool {
+    matches!(
+        keyword,
+        b"#" | b"o" | b"g" | b"s" | b"usemtl" | b"mtllib" | b"newmtl"
+    ) || keyword.starts_with(b"#")
+}
+
+fn keyword(line: &[u8]) -> &[u8] {
+    let trimmed = line.trim_ascii_start();
+    let end = trimmed
+        .iter()
+        .position(|b| b.is_ascii_whitespace())
+        .unwrap_or(trimmed.len());
+    &trimmed[..end]
+}
+
+/// Joins backslash continuations and splits into (first line number, text bytes).
+fn logical_lines(bytes: &[u8]) -> (Vec<(usize, Vec<u8>)>, usize) {
+    let mut out = Vec::new();
+    let mut joined = 0;
+    let mut pending: Option<(usize, Vec<u8>)> = None;
+    for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
+        let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
+        let (start, mut buf) = pending.take().unwrap_or((i + 1, Vec::new()));
+        if let Some(body) = raw.trim_ascii_end().strip_suffix(b"\\") {
+            buf.extend_from_slice(body);
+            buf.push(b' ');
+            joined += 1;
+            pending = Some((start, buf));
+        } else {
+            buf.extend_from_slice(raw);
+            out.push((start, buf));
+        }
+    }
+    if let Some(p) = pending {
+        out.push(p);
+    }
+    (out, joined)
+}
+
+fn count_elements(lines: &[(usize, Vec<u8>)]) -> Counts {
+    let mut c = Counts::default();
+    for (_, l) in lines {
+        match keyword(l) {
+            b"v" => c.v += 1,
+            b"vt" => c.vt += 1,
+            b"vn" => c.vn += 1,
+            _ => {}
+        }
+    }
+    c
+}
+
+/// Resolves one OBJ index (1-based, or negative = relative to the elements so far).
+fn resolve(index: i64, so_far: usize) -> Option<usize> {
+    match index {
+        0 => None,
+        i if i > 0 => Some(i as usize - 1),
+        i => (so_far as i64 + i).try_into().ok(),
+    }
+}
+
+pub fn repair_obj(path: &Path, bytes: &[u8]) -> Result<Repaired, Error> {
+    let err = |line: usize, msg: String| Error::model(path, Some(line), msg);
+    let warn = |line: Option<usize>, msg: String| Warning {
+        file: path.to_path_buf(),
+        line,
+        message: msg,
+    };
+    if bytes.iter().take(4096).filter(|&&b| b == 0).count() > 0 {
+        return Err(err(1, "not an OBJ file (binary data)".into()));
+    }
+    let (lines, joined) = logical_lines(bytes);
+    let total = count_elements(&lines);
+    let mut warnings = Vec::new();
+    if joined > 0 {
+        warnings.push(warn(
+            None,
+            format!("joined {joined} backslash line continuation(s)"),
+        ));
+    }
+    let mut seen = Counts::default();
+    let mut text = String::with_capacity(bytes.len());
+    let mut lossy_lines = 0usize;
+    let mut dropped_faces = 0usize;
+    let mut missing_refs = 0usize;
+    let mut unknown = 0usize;
+    for (lineno, raw) in &lines {
+        let lineno = *lineno;
+        let kw = keyword(raw);
+        let line: std::borrow::Cow<str> = match std::str::from_utf8(raw) {
+            Ok(s) => s.into(),
+            Err(_) if is_name_statement(kw) => {
+                lossy_lines += 1;
+                String::from_utf8_lossy(raw).into_owned().into()
+            }
+            Err(_) => {
+                return Err(err(
+                    lineno,
+                    "non-UTF-8 bytes where a number should be".into(),
+                ))
+            }
+        };
+        let mut words = line.split_whitespace();
+        let first = words.next().unwrap_or("");
+        match first {
+            "v" => {
+                seen.v += 1;
+                let nums: Vec<&str> = words.collect();
+                if nums.len() < 3 {
+                    return Err(err(
+                        lineno,
+                        format!("vertex needs 3 coordinates: {}", line.trim()),
+                    ));
+                }
+                for w in nums.iter().take(3) {
+                    let x: f64 = w
+                        .parse()
+                        .map_err(|_| err(lineno, format!("not a number: {w:?}")))?;
+                    if !x.is_finite() {
+                        return Err(err(lineno, format!("vertex position is not finite: {w}")));
+                    }
+                }
+            }
+            "vt" => seen.vt += 1,
+            "vn" => seen.vn += 1,
+            "f" => {
+                let corners: Vec<&str> = words.collect();
+                let mut fixed = Vec::with_capacity(corners.len());
+                let mut positions = Vec::with_capacity(corners.len());
+                for c in &corners {
+                    let mut parts = c.split('/');
+                    let parse = |s: Option<&str>| -> Result<Option<i64>, Error> {
+                        match s {
+                            None | Some("") => Ok(None),
+                            Some(s) => s
+                                .parse::<i64>()
+                                .map(Some)
+                                .map_err(|_| err(lineno, format!("bad face index {s:?}"))),
+                        }
+                    };
+                    let v = parse(parts.next())?.ok_or_else(|| {
+                        err(lineno, format!("face corner without a vertex: {c:?}"))
+                    })?;
+                    let vt = parse(parts.next())?;
+                    let vn = parse(parts.next())?;
+                    let vi = match resolve(v, seen.v) {
+                        None if v == 0 => {
+                            return Err(err(lineno, "face index 0 (OBJ indices start at 1)".into()))
+                        }
+                        Some(i) if i < total.v => i,
+                        _ => {
+                            return Err(err(
+                                lineno,
+                                format!(
+                                    "face vertex index {v} out of range (file has {} vertices)",
+                                    total.v
+                                ),
+                            ))
+                        }
+                    };
+                    let ok = |i: Option<i64>, so_far: usize, n: usize| {
+                        i.and_then(|i| resolve(i, so_far)).filter(|&k| k < n)
+                    };
+                    let vt_ok = ok(vt, seen.vt, total.vt);
+                    let vn_ok = ok(vn, seen.vn, total.vn);
+                    missing_refs += usize::from(vt.is_some() && vt_ok.is_none())
+                        + usize::from(vn.is_some() && vn_ok.is_none());
+                    positions.push(vi);
+                    // Absolute 1-based indices: tobj then never sees a dangling reference.
+                    fixed.push(match (vt_ok, vn_ok) {
+                        (None, None) => format!("{}", vi + 1),
+                        (Some(t), None) => format!("{}/{}", vi + 1, t + 1),
+                        (None, Some(n)) => format!("{}//{}", vi + 1, n + 1),
+                        (Some(t), Some(n)) => format!("{}/{}/{}", vi + 1, t + 1, n + 1),
+                    });
+                }
+                let mut distinct = positions.clone();
+                distinct.sort_unstable();
+                distinct.dedup();
+                if distinct.len() < 3 {
+                    dropped_faces += 1;
+                    continue;
+                }
+                text.push_str("f ");
+                text.push_str(&fixed.join(" "));
+                text.push('\n');
+                continue;
+            }
+            "usemtl" if line.trim() == "usemtl" => {
+                warnings.push(warn(Some(lineno), "empty usemtl ignored".into()));
+                continue;
+            }
+            "" | "vp" | "o" | "g" | "s" | "usemtl" | "mtllib" | "l" | "p" => {}
+            w if w.starts_with('#') => {}
+            _ => {
+                unknown += 1;
+                continue;
+            }
+        }
+        text.push_str(&line);
+        text.push('\n');
+    }
+    if lossy_lines > 0 {
+        warnings.push(warn(
+            None,
+            format!("{lossy_lines} line(s) with non-UTF-8 names or comments: bytes replaced"),
+        ));
+    }
+    if dropped_faces > 0 {
+        warnings.push(warn(
+            None,
+            format!("dropped {dropped_faces} face(s) with fewer than 3 distinct corners"),
+        ));
+    }
+    if missing_refs > 0 {
+        warnings.push(warn(
+            None,
+            format!("{missing_refs} face corner(s) reference a missing normal or UV: ignored"),
+        ));
+    }
+    if unknown > 0 {
+        warnings.push(warn(
+            None,
+            format!("{unknown} unknown statement(s) ignored"),
+        ));
+    }
+    Ok(Repaired {
+        text,
+        warnings,
+        dropped_faces,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(s: &[u8]) -> Result<Repaired, Error> {
+        repair_obj(Path::new("t.obj"), s)
+    }
+
+    #[test]
+    fn nan_position_names_the_line() {
+        let e = run(b"v 0 0 0\nv nan 0 0\n").err().unwrap().to_string();
+        assert_eq!(e, "t.obj:2: vertex position is not finite: nan");
+    }
+
+    #[test]
+    fn overflow_is_not_finite() {
+        assert!(run(b"v 1e400 0 0\n").is_err());
+    }
+
+    #[test]
+    fn index_zero_and_out_of_range() {
+        let e = run(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n").err().unwrap();
+        assert!(e.to_string().starts_with("t.obj:4: face index 0"), "{e}");
+        let e = run(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n").err().unwrap();
+        assert!(e.to_string().contains("out of range"), "{e}");
+        let e = run(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n")
+            .err()
+            .unwrap();
+        assert!(e.to_string().contains(":4:"), "{e}");
+    }
+
+    #[test]
+    fn relative_indices_become_absolute() {
+        let r = run(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n").unwrap();
+        assert!(r.text.contains("f 1 2 3\n"));
+    }
+
+    #[test]
+    fn degenerate_faces_dropped_and_counted() {
+        let r = run(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nf 1 1 2\nf 1 2 3\n").unwrap();
+        assert_eq!(r.dropped_faces, 2);
+        assert!(r.text.contains("f 1 2 3"));
+    }
+
+    #[test]
+    fn continuation_crlf_and_empty_usemtl() {
+        let r = run(b"v 0 0 0\r\nv 1 0 \\\r\n 0\r\nv 0 1 0\r\nusemtl\r\nf 1 2 3\r\n").unwrap();
+        assert!(r.text.contains("v 1 0   0"), "{}", r.text);
+        assert_eq!(r.warnings.len(), 2);
+    }
+
+    #[test]
+    fn non_utf8_names_repaired_numbers_refused() {
+        let r = run(b"# caf\xe9\no caf\xe9\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        assert!(r.warnings[0].message.contains("non-UTF-8"));
+        let e = run(b"v 0 \xff 0\n").err().unwrap();
+        assert_eq!(
+            e.to_string(),
+            "t.obj:1: non-UTF-8 bytes where a number should be"
+        );
+    }
+
+    #[test]
+    fn missing_normal_reference_dropped() {
+        let r = run(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n").unwrap();
+        assert!(r.text.contains("f 1 2 3\n"));
+        assert!(r
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("missing normal")));
+    }
+
+    #[test]
+    fn binary_garbage_refused() {
+        assert!(run(b"\x00\x01\x02garbage").is_err());
+    }
+}
