@@ -31,11 +31,11 @@ pub struct Args {
     /// Output or window size, WxH.
     #[arg(long, default_value = "1024x768", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Camera yaw in degrees (0 looks from +Z).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Camera yaw in degrees (0 looks from +Z towards -Z; positive moves the eye towards +X).
+    #[arg(long, default_value_t = 30.0, allow_hyphen_values = true)]
     pub yaw: f32,
     /// Camera pitch in degrees (positive looks down from above).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 25.0, allow_hyphen_values = true)]
     pub pitch: f32,
     /// Camera distance from the target (default: fits the model).
     #[arg(long)]

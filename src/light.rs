@@ -43,9 +43,9 @@ impl LightSpec {
         }
     }
 
-    /// The default light when none is given: from above, to the right and in front.
+    /// The default light when none is given: from above, in front and to the left of the default view.
     pub fn default_light() -> LightSpec {
-        LightSpec::Directional(DVec3::new(-0.45, -1.0, -0.6).normalize())
+        LightSpec::Directional(DVec3::new(0.3, -0.8, -0.55).normalize())
     }
 
     pub fn to_local(self, origin: DVec3, color: Vec3) -> Light {

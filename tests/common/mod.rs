@@ -1,0 +1,172 @@
+//! Shared helpers for the integration tests: run the binary, read and compare images, and
+//! write the output plus a diff image when a comparison fails.
+#![allow(dead_code)]
+use glview::image_out::Rgba;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+pub fn bin() -> &'static str {
+    env!("CARGO_BIN_EXE_glview")
+}
+
+pub fn in_ci() -> bool {
+    std::env::var("CI").is_ok_and(|v| v == "true")
+}
+
+/// Where failing tests leave their images.
+pub fn out_dir(test: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test);
+    std::fs::create_dir_all(&d).expect("create test output dir");
+    d
+}
+
+/// The shared test data folder (../shared beside the repository).
+pub fn shared() -> PathBuf {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
+    assert!(
+        p.join("MANIFEST.md").exists(),
+        "../shared is missing: the tests need the shared models and conformance files at {}",
+        p.display()
+    );
+    p
+}
+
+pub fn models() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("models")
+}
+
+/// Runs glview with arguments and extra environment variables.
+pub fn run(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(bin());
+    c.args(args);
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("run glview")
+}
+
+/// Renders to `dir/name.png` and reads it back; panics with glview's stderr on failure.
+pub fn render(dir: &Path, name: &str, args: &[&str], env: &[(&str, &str)]) -> Rgba {
+    let out = dir.join(format!("{name}.png"));
+    let mut all = vec!["--output", out.to_str().unwrap()];
+    all.extend_from_slice(args);
+    let o = run(&all, env);
+    assert!(
+        o.status.success(),
+        "glview {all:?} failed:\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let img = Rgba::load_png(&out).expect("read output");
+    check_frame(&img, name);
+    img
+}
+
+/// Every render: not blank, and no pure-black pixel (the scenes used in tests have a
+/// non-black background and non-zero ambient, so (0,0,0) can only come from NaN or Inf
+/// reaching the framebuffer).
+pub fn check_frame(img: &Rgba, name: &str) {
+    assert!(!img.is_uniform(), "{name}: blank frame");
+    let black = img
+        .data
+        .chunks_exact(4)
+        .filter(|p| p[..3] == [0, 0, 0])
+        .count();
+    assert_eq!(black, 0, "{name}: {black} black (NaN/Inf) pixels");
+}
+
+pub struct Diff {
+    pub max: u8,
+    /// Pixels whose largest channel difference exceeds the threshold given to `diff`.
+    pub over: usize,
+    pub mean: f64,
+}
+
+pub fn diff(a: &Rgba, b: &Rgba, threshold: u8) -> Diff {
+    assert_eq!(
+        (a.width, a.height),
+        (b.width, b.height),
+        "image sizes differ"
+    );
+    let mut max = 0u8;
+    let mut over = 0;
+    let mut sum = 0u64;
+    for (p, q) in a.data.chunks_exact(4).zip(b.data.chunks_exact(4)) {
+        let d = (0..3).map(|i| p[i].abs_diff(q[i])).max().unwrap();
+        max = max.max(d);
+        sum += u64::from(d);
+        over += usize::from(d > threshold);
+    }
+    Diff {
+        max,
+        over,
+        mean: sum as f64 / (a.width * a.height) as f64,
+    }
+}
+
+/// Writes both images and an amplified difference image for a failed comparison.
+pub fn write_diff(dir: &Path, name: &str, a: &Rgba, b: &Rgba) -> PathBuf {
+    let mut d = a.clone();
+    for (i, (p, q)) in a
+        .data
+        .chunks_exact(4)
+        .zip(b.data.chunks_exact(4))
+        .enumerate()
+    {
+        let m = (0..3).map(|k| p[k].abs_diff(q[k])).max().unwrap();
+        let v = m.saturating_mul(16);
+        d.data[i * 4..i * 4 + 4].copy_from_slice(&[v, v, v, 255]);
+    }
+    let (pa, pb, pd) = (
+        dir.join(format!("{name}-a.png")),
+        dir.join(format!("{name}-b.png")),
+        dir.join(format!("{name}-diff.png")),
+    );
+    a.save_png(&pa, &[]).unwrap();
+    b.save_png(&pb, &[]).unwrap();
+    d.save_png(&pd, &[]).unwrap();
+    pd
+}
+
+/// Asserts that two renders agree: at most `max_over` pixels differ by more than
+/// `threshold`, and none by more than `hard_max`.
+pub fn assert_close(
+    dir: &Path,
+    name: &str,
+    a: &Rgba,
+    b: &Rgba,
+    threshold: u8,
+    max_over: usize,
+    hard_max: u8,
+) {
+    let d = diff(a, b, threshold);
+    if d.over > max_over || d.max > hard_max {
+        let p = write_diff(dir, name, a, b);
+        panic!(
+            "{name}: {} pixels differ by more than {threshold} (allowed {max_over}), max {} (allowed {hard_max}), mean {:.4}; see {}",
+            d.over,
+            d.max,
+            d.mean,
+            p.display()
+        );
+    }
+    eprintln!(
+        "{name}: max diff {}, {} pixels > {threshold}, mean {:.4}",
+        d.max, d.over, d.mean
+    );
+}
+
+/// Environment that makes Mesa pretend to be an old GL 2.1 driver (GLSL 1.20).
+pub const GL21: &[(&str, &str)] = &[
+    ("MESA_GL_VERSION_OVERRIDE", "2.1"),
+    ("MESA_GLSL_VERSION_OVERRIDE", "120"),
+];
+
+/// GL 2.1 without framebuffer objects or vertex array objects (OSMesa's own buffer).
+pub const GL21_NO_FBO: &[(&str, &str)] = &[
+    ("MESA_GL_VERSION_OVERRIDE", "2.1"),
+    ("MESA_GLSL_VERSION_OVERRIDE", "120"),
+    (
+        "MESA_EXTENSION_OVERRIDE",
+        "-GL_ARB_framebuffer_object -GL_EXT_framebuffer_object -GL_ARB_vertex_array_object",
+    ),
+];
