@@ -2,14 +2,16 @@
 // clamped; a texture multiplies Ka and Kd. Back faces use the flipped normal.
 IN vec3 vEyePos;
 IN vec2 vUv;
-#ifdef GOURAUD
-#if NUM_LIGHTS > 0
-IN vec4 vFactors[NUM_LIGHTS];
-uniform vec3 uLightColor[NUM_LIGHTS];
-#endif
-#else
 IN vec3 vNormal;
 #if NUM_LIGHTS > 0
+#ifdef GOURAUD
+IN vec4 vFactors[NUM_LIGHTS];
+uniform vec3 uLightColor[NUM_LIGHTS];
+vec3 safeNormalize(vec3 n) {
+    float len = length(n);
+    return len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+}
+#else
 #include "lighting.glsl"
 #endif
 #endif
@@ -35,24 +37,25 @@ void main() {
 #endif
     vec3 color = uKe + uTerms.x * uKa * tex * uAmbient;
 #if NUM_LIGHTS > 0
-    float vis[NUM_LIGHTS];
-    for (int i = 0; i < NUM_LIGHTS; ++i) vis[i] = 1.0;
-#if NUM_SHADOWS > 0
-    vis[0] = shadowLookup(uShadowMap0, uShadowMatrix[0] * vec4(vEyePos, 1.0));
-#endif
-#if NUM_SHADOWS > 1
-    vis[1] = shadowLookup(uShadowMap1, uShadowMatrix[1] * vec4(vEyePos, 1.0));
-#endif
-#if NUM_SHADOWS > 2
-    vis[2] = shadowLookup(uShadowMap2, uShadowMatrix[2] * vec4(vEyePos, 1.0));
-#endif
-#if NUM_SHADOWS > 3
-    vis[3] = shadowLookup(uShadowMap3, uShadowMatrix[3] * vec4(vEyePos, 1.0));
-#endif
-#ifndef GOURAUD
     vec3 n = safeNormalize(vNormal);
     if (!gl_FrontFacing) n = -n;
     vec3 v = normalize(-vEyePos);
+    float vis[NUM_LIGHTS];
+    for (int i = 0; i < NUM_LIGHTS; ++i) vis[i] = 1.0;
+#if NUM_SHADOWS > 0
+    // Normal offset: look the shadow up a little off the surface, which removes acne on
+    // slopes without the large depth bias that would detach shadows from their casters.
+    vec4 ps = vec4(vEyePos + n * uShadowNormalOffset, 1.0);
+    vis[0] = shadowLookup(uShadowMap0, uShadowMatrix[0] * ps);
+#endif
+#if NUM_SHADOWS > 1
+    vis[1] = shadowLookup(uShadowMap1, uShadowMatrix[1] * ps);
+#endif
+#if NUM_SHADOWS > 2
+    vis[2] = shadowLookup(uShadowMap2, uShadowMatrix[2] * ps);
+#endif
+#if NUM_SHADOWS > 3
+    vis[3] = shadowLookup(uShadowMap3, uShadowMatrix[3] * ps);
 #endif
     for (int i = 0; i < NUM_LIGHTS; ++i) {
 #ifdef GOURAUD

@@ -10,13 +10,12 @@ uniform mat3 uNormalMatrix;
 
 OUT vec3 vEyePos;
 OUT vec2 vUv;
+OUT vec3 vNormal;   // also used by Gouraud: the shadow lookup is offset along it
 #ifdef GOURAUD
 #if NUM_LIGHTS > 0
 #include "lighting.glsl"
 OUT vec4 vFactors[NUM_LIGHTS];   // xy: front face, zw: back face
 #endif
-#else
-OUT vec3 vNormal;
 #endif
 
 void main() {
@@ -33,8 +32,7 @@ void main() {
         vFactors[i] = vec4(lightFactors(l, n, v), lightFactors(l, -n, v));
     }
 #endif
-#else
-    vNormal = n;
 #endif
+    vNormal = n;
     gl_Position = uProjection * eye;
 }

@@ -10,6 +10,8 @@ use crate::platform::{Backend, GlRequest};
 use crate::render::Target;
 
 enum Platform {
+    /// Held only to keep the context alive until the `Gpu` is dropped.
+    #[allow(dead_code)]
     Egl(EglHeadless),
     OsMesa(OsMesaContext),
 }

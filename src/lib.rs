@@ -17,6 +17,7 @@ pub mod shading;
 pub mod gpu;
 #[allow(unsafe_code)]
 pub mod platform;
+pub mod reference;
 pub mod render;
 pub mod shader;
 

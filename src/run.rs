@@ -10,7 +10,7 @@ use crate::scene::material::TextureOptions;
 use crate::scene::obj::{self, LoadOptions};
 use crate::scene::Scene;
 use crate::shading::LightingParams;
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use std::path::Path;
 
 /// The built-in scene: the committed output of `src/scene/generate.rs`.
@@ -101,7 +101,7 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
             spec.to_local(scene.origin, c)
         })
         .collect();
-    let ambient = DVec3::from(color(&args.ambient, "--ambient")?.as_dvec3());
+    let ambient = color(&args.ambient, "--ambient")?.as_dvec3();
     let mut settings = FrameSettings {
         camera,
         lights,

@@ -67,6 +67,7 @@ pub fn to_light(light: &Light, p: DVec3) -> DVec3 {
 /// Shades one point. `n` is the unit normal already flipped towards the viewer's side for
 /// back faces; `tex` multiplies Ka and Kd (white when there is no texture); `visibility[i]`
 /// is light i's shadow factor (1 = lit).
+#[allow(clippy::too_many_arguments)] // the formula's inputs, kept flat to mirror the GLSL
 pub fn shade(
     m: &Material,
     tex: DVec3,
@@ -138,7 +139,7 @@ mod tests {
             &LightingParams::default(),
         );
         // 0.2 * 0.2 ambient + 0.8 diffuse.
-        assert!((c - DVec3::splat(0.84)).length() < 1e-12);
+        assert!((c - DVec3::splat(0.84)).length() < 1e-6);
     }
 
     #[test]
@@ -162,7 +163,7 @@ mod tests {
             &[0.0],
             &LightingParams::default(),
         );
-        assert!((c - DVec3::splat(0.04)).length() < 1e-12);
+        assert!((c - DVec3::splat(0.04)).length() < 1e-6);
     }
 
     #[test]
@@ -182,6 +183,6 @@ mod tests {
             &[],
             &p,
         );
-        assert!((c.x - (0.04 + 0.4)).abs() < 1e-12);
+        assert!((c.x - (0.04 + 0.4)).abs() < 1e-6);
     }
 }

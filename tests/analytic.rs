@@ -107,7 +107,7 @@ fn compare_with_exact(
     let light = LightSpec::parse(s.light)
         .unwrap()
         .unwrap()
-        .to_local(DVec3::ZERO.into(), glam::Vec3::ONE);
+        .to_local(DVec3::ZERO, glam::Vec3::ONE);
     let mat = &scene.materials[scene.meshes[0].material];
     let params = LightingParams {
         wrap: s.args.contains(&"wrap"),

@@ -4,6 +4,7 @@
 uniform mat4 uShadowMatrix[NUM_SHADOWS];   // eye space -> shadow texture space (homogeneous)
 uniform float uShadowTexel;                // 1 / map size
 uniform float uShadowBias;                 // constant depth bias in [0,1] depth units
+uniform float uShadowNormalOffset;         // eye-space distance along the normal
 
 float shadowLookup(sampler2DShadow map, vec4 c) {
     if (c.w <= 0.0) return 1.0;

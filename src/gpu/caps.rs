@@ -58,11 +58,9 @@ fn parse_version(s: &str) -> Option<(u32, u32)> {
     let start = s.find(|c: char| c.is_ascii_digit())?;
     let mut it = s[start..].split(|c: char| !c.is_ascii_digit());
     let major = it.next()?.parse().ok()?;
-    let minor = it
-        .next()?
-        .get(..2.min(2))
-        .and_then(|m| m.parse().ok())
-        .unwrap_or(0);
+    // "1.20" → 20, "2.1" → 1, "3.00" → 0: at most two digits of minor version.
+    let minor = it.next().unwrap_or("0");
+    let minor = minor[..minor.len().min(2)].parse().unwrap_or(0);
     Some((major, minor))
 }
 

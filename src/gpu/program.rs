@@ -100,7 +100,7 @@ impl Program {
             .entry(name.to_string())
             // SAFETY: query on our own program.
             .or_insert_with(|| unsafe { self.gpu.gl.get_uniform_location(self.raw, name) })
-            .clone()
+            .to_owned()
     }
 
     pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {

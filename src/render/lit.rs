@@ -1,4 +1,4 @@
-//! 2. Lit pass (legacy tier): every mesh with the Phong (or Gouraud) program matching its
+//! Pass 2, lit (legacy tier): every mesh with the Phong (or Gouraud) program matching its
 //! features; opaque meshes first, then translucent ones back to front with blending (each
 //! drawn back faces first, then front faces, so a glass shows its far wall behind its near
 //! wall).
@@ -61,6 +61,9 @@ pub(crate) fn run(
         .maps
         .first()
         .map_or(0.0, |m| 1.0 / m.texture.width as f32);
+    // A map texel covers about 2r/size of the scene (frusta are fitted to the bounding
+    // sphere), so the normal offset is given in texels and converted here.
+    let normal_offset = s.shadows.normal_offset * 2.0 * r.scene.bounds.radius() * texel;
     let mut order: Vec<usize> = (0..r.meshes.len())
         .filter(|&i| !r.meshes[i].translucent)
         .collect();
@@ -97,6 +100,7 @@ pub(crate) fn run(
             &shadow_matrices,
         );
         program.set_f32("uShadowTexel", texel);
+        program.set_f32("uShadowNormalOffset", normal_offset);
         let mat = &r.scene.materials[dm.material];
         program.set_vec3("uKa", Vec3::from(mat.ambient));
         program.set_vec3("uKd", Vec3::from(mat.diffuse));

@@ -35,6 +35,8 @@ pub struct ShadowSettings {
     pub bias: f32,
     /// glPolygonOffset(factor, units) in the depth pass: the slope-scaled part of the bias.
     pub slope_bias: f32,
+    /// Offset of the lookup point along the surface normal, in shadow-map texels.
+    pub normal_offset: f32,
 }
 
 impl Default for ShadowSettings {
@@ -45,6 +47,7 @@ impl Default for ShadowSettings {
             pcf: 4,
             bias: 0.0005,
             slope_bias: 2.0,
+            normal_offset: 1.5,
         }
     }
 }

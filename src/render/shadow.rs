@@ -1,4 +1,4 @@
-//! 1. Shadow depth pass. Each shadow-casting light gets a depth texture rendered from the
+//! Pass 1, shadow depth. Each shadow-casting light gets a depth texture rendered from the
 //! light, either through a framebuffer object with the texture as depth attachment, or — on
 //! drivers without framebuffer objects — by drawing into the target's own depth buffer and
 //! copying it with glCopyTexSubImage2D (the map is then at most the target's size, and the
@@ -142,9 +142,14 @@ pub(crate) fn run(
             gpu.color_writes(true);
         }
     }
+    let kinds: Vec<String> = maps
+        .iter()
+        .map(|m| format!("{:?}", m.projection).to_lowercase())
+        .collect();
     stats.passes.push(format!(
-        "shadow({} map(s), {size}², {})",
+        "shadow({} map(s) [{}], {size}², {})",
         maps.len(),
+        kinds.join(","),
         if use_fbo { "fbo" } else { "copy" }
     ));
     stats.shadow = if notes.is_empty() {

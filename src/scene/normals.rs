@@ -98,7 +98,8 @@ mod tests {
         ];
         repair_normals(&mut v, &[0, 1, 2, 0, 3, 4], true);
         let n = Vec3::from(v[0].normal);
-        assert!(n.z > 0.99 && n.x > 0.0, "{n}");
+        // The big face dominates; the tiny one (facing -X) only tilts it slightly.
+        assert!(n.z > 0.99 && n.x < 0.0 && n.x > -0.01, "{n}");
     }
 
     #[test]

@@ -85,9 +85,9 @@ fn load_with(
     opts: &LoadOptions,
     mtl_source: MtlSource,
 ) -> Result<Scene> {
-    let repaired = repair::repair_obj(path, bytes)?;
+    let mut repaired = repair::repair_obj(path, bytes)?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let warnings = RefCell::new(repaired.warnings);
+    let warnings = RefCell::new(std::mem::take(&mut repaired.warnings));
     let load_opts = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -105,6 +105,16 @@ fn load_with(
         .iter()
         .map(|m| material::from_tobj(m, &dir, &mtl_file, opts.textures, &mut warnings))
         .collect();
+    let mut reported = std::collections::HashSet::new();
+    for (line, name) in &repaired.usemtl {
+        if !materials.iter().any(|m| &m.name == name) && reported.insert(name.clone()) {
+            warnings.push(Warning {
+                file: path.to_path_buf(),
+                line: Some(*line),
+                message: format!("material {name:?} is not defined; using the default material"),
+            });
+        }
+    }
     let default_index = materials.len();
     materials.push(Material::default());
 

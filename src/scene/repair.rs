@@ -12,6 +12,8 @@ pub struct Repaired {
     pub warnings: Vec<Warning>,
     /// Faces dropped because they had fewer than three distinct corners.
     pub dropped_faces: usize,
+    /// Every `usemtl` name with its line, to report names no MTL defines.
+    pub usemtl: Vec<(usize, String)>,
 }
 
 #[derive(Default)]
@@ -109,6 +111,7 @@ pub fn repair_obj(path: &Path, bytes: &[u8]) -> Result<Repaired, Error> {
     let mut dropped_faces = 0usize;
     let mut missing_refs = 0usize;
     let mut unknown = 0usize;
+    let mut usemtl = Vec::new();
     for (lineno, raw) in &lines {
         let lineno = *lineno;
         let kw = keyword(raw);
@@ -215,7 +218,8 @@ pub fn repair_obj(path: &Path, bytes: &[u8]) -> Result<Repaired, Error> {
                 warnings.push(warn(Some(lineno), "empty usemtl ignored".into()));
                 continue;
             }
-            "" | "vp" | "o" | "g" | "s" | "usemtl" | "mtllib" | "l" | "p" => {}
+            "usemtl" => usemtl.push((lineno, line.trim()[6..].trim().to_string())),
+            "" | "vp" | "o" | "g" | "s" | "mtllib" | "l" | "p" => {}
             w if w.starts_with('#') => {}
             _ => {
                 unknown += 1;
@@ -253,6 +257,7 @@ pub fn repair_obj(path: &Path, bytes: &[u8]) -> Result<Repaired, Error> {
         text,
         warnings,
         dropped_faces,
+        usemtl,
     })
 }
 

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the system packages glview needs at run time and for its tests, when missing.
+# Debian/Ubuntu (apt-get); run as root or with sudo available. Safe to run again.
+set -euo pipefail
+pkgs=(
+  libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 # EGL headless on Mesa (llvmpipe)
+  libosmesa6                                     # OSMesa fallback, loaded at run time
+  libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 # winit on X11
+)
+if [ "${1:-}" = "--tests" ]; then
+  pkgs+=(xvfb xdotool) # window tests under a virtual X server
+fi
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+if ! command -v apt-get >/dev/null; then
+  echo "glview: please install: ${missing[*]}" >&2
+  exit 1
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+echo "glview: installing ${missing[*]}" >&2
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null

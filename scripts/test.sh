@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs what the tests need on a fresh Debian machine, then runs every check:
+# formatting, clippy (warnings are errors) and the whole test suite on llvmpipe.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/deps.sh --tests
+if [ ! -f ../shared/MANIFEST.md ]; then
+  echo "error: ../shared (test models and conformance files) is missing beside the repository" >&2
+  exit 1
+fi
+cargo fmt --check
+cargo clippy --all-targets --quiet -- -D warnings
+cargo test --no-fail-fast 2>&1

@@ -1,0 +1,428 @@
+//! Bounding volume hierarchy over triangles, in f64: binned surface-area-heuristic build,
+//! Möller–Trumbore intersection, and the three queries the reference renderer needs (nearest
+//! hit, any hit for shadow rays, every hit for translucent layers).
+use glam::DVec3;
+
+/// Which scene triangle a BVH primitive is: mesh index and triangle index within the mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TriRef {
+    pub mesh: u32,
+    pub tri: u32,
+}
+
+/// A ray–triangle hit: ray parameter and the barycentric weights of vertices 1 and 2.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    pub t: f64,
+    pub u: f64,
+    pub v: f64,
+    pub tri: TriRef,
+}
+
+/// Vertex 0 and the two edges from it, as Möller–Trumbore wants them.
+#[derive(Clone, Copy, Debug)]
+struct Tri {
+    v0: DVec3,
+    e1: DVec3,
+    e2: DVec3,
+}
+
+/// `count == 0`: interior node whose left child follows it and whose right child is `first`;
+/// otherwise a leaf holding primitives `first..first + count`.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    min: DVec3,
+    max: DVec3,
+    first: u32,
+    count: u32,
+}
+
+pub struct Bvh {
+    nodes: Vec<Node>,
+    tris: Vec<Tri>,
+    refs: Vec<TriRef>,
+}
+
+/// Barycentric slack: a ray through a shared edge must hit at least one of its two triangles,
+/// and rounding may put it just outside both; a sliver of overlap is harmless for nearest
+/// hits and the translucent pass removes duplicate layers.
+const EDGE_SLACK: f64 = 1e-10;
+const LEAF_SIZE: usize = 4;
+const BINS: usize = 16;
+/// Past this depth the build splits at the object median, which bounds the depth (and the
+/// recursion) even for distributions that make SAH peel off one triangle at a time.
+const SAH_DEPTH: usize = 48;
+
+struct BuildPrim {
+    min: DVec3,
+    max: DVec3,
+    centroid: DVec3,
+}
+
+impl Bvh {
+    /// Builds over the given triangles (positions in f64); zero-area ones are kept but are
+    /// never hit (their determinant is zero).
+    pub fn build(input: Vec<([DVec3; 3], TriRef)>) -> Bvh {
+        let prims: Vec<BuildPrim> = input
+            .iter()
+            .map(|(p, _)| {
+                let (min, max) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+                BuildPrim {
+                    min,
+                    max,
+                    centroid: (min + max) * 0.5,
+                }
+            })
+            .collect();
+        let mut order: Vec<usize> = (0..input.len()).collect();
+        let mut nodes = Vec::with_capacity(2 * input.len() / LEAF_SIZE + 1);
+        if !input.is_empty() {
+            build_node(&prims, &mut order, 0, &mut nodes, 0);
+        }
+        let tris = order
+            .iter()
+            .map(|&i| {
+                let p = input[i].0;
+                Tri {
+                    v0: p[0],
+                    e1: p[1] - p[0],
+                    e2: p[2] - p[0],
+                }
+            })
+            .collect();
+        let refs = order.iter().map(|&i| input[i].1).collect();
+        Bvh { nodes, tris, refs }
+    }
+
+    /// The nearest hit with `t_min <= t <= t_max`.
+    pub fn closest(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<Hit> {
+        let mut best: Option<Hit> = None;
+        let mut t_max = t_max;
+        self.traverse(o, d, t_min, &mut t_max, |i, t, u, v, t_max| {
+            *t_max = t;
+            best = Some(Hit {
+                t,
+                u,
+                v,
+                tri: self.refs[i],
+            });
+            false
+        });
+        best
+    }
+
+    /// Whether anything lies on the ray within `t_min < t < t_max` (shadow rays).
+    pub fn occluded(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> bool {
+        let mut found = false;
+        let mut t_max = t_max;
+        self.traverse(o, d, t_min, &mut t_max, |_, _, _, _, _| {
+            found = true;
+            true
+        });
+        found
+    }
+
+    /// Appends every hit within `t_min <= t <= t_max`, unordered.
+    pub fn all(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64, out: &mut Vec<Hit>) {
+        let mut t_max = t_max;
+        self.traverse(o, d, t_min, &mut t_max, |i, t, u, v, _| {
+            out.push(Hit {
+                t,
+                u,
+                v,
+                tri: self.refs[i],
+            });
+            false
+        });
+    }
+
+    /// Visits every primitive hit within [t_min, t_max]; `on_hit` may shrink t_max and
+    /// returns true to stop.
+    fn traverse(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_min: f64,
+        t_max: &mut f64,
+        mut on_hit: impl FnMut(usize, f64, f64, f64, &mut f64) -> bool,
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let inv = d.recip();
+        // Depth is at most SAH_DEPTH + log2(n) + 1, and each level leaves at most one node behind.
+        let mut stack = [0u32; 128];
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let node = &self.nodes[stack[sp] as usize];
+            if slab(node, o, inv, t_min, *t_max).is_none() {
+                continue;
+            }
+            if node.count > 0 {
+                let start = node.first as usize;
+                for i in start..start + node.count as usize {
+                    if let Some((t, u, v)) = intersect(&self.tris[i], o, d, t_min, *t_max) {
+                        if on_hit(i, t, u, v, t_max) {
+                            return;
+                        }
+                    }
+                }
+                continue;
+            }
+            let (left, right) = (stack[sp] + 1, node.first);
+            let tl = slab(&self.nodes[left as usize], o, inv, t_min, *t_max);
+            let tr = slab(&self.nodes[right as usize], o, inv, t_min, *t_max);
+            // Push the farther child first so the nearer one is searched first and shrinks
+            // t_max early.
+            let (first, second) = match (tl, tr) {
+                (Some(a), Some(b)) if b < a => (Some(left), Some(right)),
+                (a, b) => (b.map(|_| right), a.map(|_| left)),
+            };
+            for child in [first, second].into_iter().flatten() {
+                stack[sp] = child;
+                sp += 1;
+            }
+        }
+    }
+}
+
+/// Entry distance of the ray into the node's box, if it enters within [t_min, t_max].
+/// Division by a zero direction gives ±inf, and `f64::min`/`max` drop the NaN of 0·inf.
+fn slab(n: &Node, o: DVec3, inv: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+    let (a, b) = ((n.min - o) * inv, (n.max - o) * inv);
+    let near = a.min(b).max_element().max(t_min);
+    // Widened by a few ulps so a hit exactly on a box face is not lost to rounding.
+    let far = a.max(b).min_element() * (1.0 + 1e-12);
+    (near <= far.min(t_max)).then_some(near)
+}
+
+fn intersect(tri: &Tri, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<(f64, f64, f64)> {
+    let p = d.cross(tri.e2);
+    let det = tri.e1.dot(p);
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - tri.v0;
+    let u = s.dot(p) * inv;
+    if !(-EDGE_SLACK..=1.0 + EDGE_SLACK).contains(&u) {
+        return None;
+    }
+    let q = s.cross(tri.e1);
+    let v = d.dot(q) * inv;
+    if v < -EDGE_SLACK || u + v > 1.0 + EDGE_SLACK {
+        return None;
+    }
+    let t = tri.e2.dot(q) * inv;
+    (t >= t_min && t <= t_max).then_some((t, u, v))
+}
+
+fn build_node(
+    prims: &[BuildPrim],
+    order: &mut [usize],
+    offset: usize,
+    nodes: &mut Vec<Node>,
+    depth: usize,
+) {
+    let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    let (mut cmin, mut cmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for &i in order.iter() {
+        min = min.min(prims[i].min);
+        max = max.max(prims[i].max);
+        cmin = cmin.min(prims[i].centroid);
+        cmax = cmax.max(prims[i].centroid);
+    }
+    let me = nodes.len();
+    nodes.push(Node {
+        min,
+        max,
+        first: offset as u32,
+        count: order.len() as u32,
+    });
+    let extent = cmax - cmin;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    if order.len() <= LEAF_SIZE || !(extent[axis] > 0.0) {
+        return;
+    }
+    let mid = if depth < SAH_DEPTH {
+        match sah_split(
+            prims,
+            order,
+            axis,
+            cmin[axis],
+            extent[axis],
+            area(max - min),
+        ) {
+            Some(mid) => mid,
+            None => return,
+        }
+    } else {
+        let mid = order.len() / 2;
+        order.select_nth_unstable_by(mid, |&a, &b| {
+            prims[a].centroid[axis].total_cmp(&prims[b].centroid[axis])
+        });
+        mid
+    };
+    let (left, right) = order.split_at_mut(mid);
+    nodes[me].count = 0;
+    build_node(prims, left, offset, nodes, depth + 1);
+    nodes[me].first = nodes.len() as u32;
+    build_node(prims, right, offset + mid, nodes, depth + 1);
+}
+
+fn area(e: DVec3) -> f64 {
+    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+}
+
+/// Partitions `order` at the cheapest of the bin boundaries along `axis` and returns the
+/// split index, or None when keeping a leaf is cheaper.
+fn sah_split(
+    prims: &[BuildPrim],
+    order: &mut [usize],
+    axis: usize,
+    start: f64,
+    extent: f64,
+    parent_area: f64,
+) -> Option<usize> {
+    let bin_of = |i: usize| {
+        let b = ((prims[i].centroid[axis] - start) / extent * BINS as f64) as usize;
+        b.min(BINS - 1)
+    };
+    let mut bins = [(0usize, DVec3::INFINITY, DVec3::NEG_INFINITY); BINS];
+    for &i in order.iter() {
+        let b = &mut bins[bin_of(i)];
+        b.0 += 1;
+        b.1 = b.1.min(prims[i].min);
+        b.2 = b.2.max(prims[i].max);
+    }
+    // Cost of the split after bin k: count · area on each side (sweeps from both ends).
+    let mut right_cost = [0.0; BINS];
+    let (mut n, mut lo, mut hi) = (0, DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for k in (1..BINS).rev() {
+        n += bins[k].0;
+        lo = lo.min(bins[k].1);
+        hi = hi.max(bins[k].2);
+        right_cost[k - 1] = if n > 0 { n as f64 * area(hi - lo) } else { 0.0 };
+    }
+    let (mut best, mut best_cost) = (None, f64::INFINITY);
+    let (mut n, mut lo, mut hi) = (0, DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for k in 0..BINS - 1 {
+        n += bins[k].0;
+        lo = lo.min(bins[k].1);
+        hi = hi.max(bins[k].2);
+        if n == 0 || n == order.len() {
+            continue;
+        }
+        let cost = n as f64 * area(hi - lo) + right_cost[k];
+        if cost < best_cost {
+            (best, best_cost) = (Some(k), cost);
+        }
+    }
+    let k = best?;
+    // Traversal step ≈ one triangle test; a leaf costs one test per triangle.
+    let leaf_cost = order.len() as f64 * parent_area;
+    if order.len() <= 16 && best_cost + parent_area >= leaf_cost {
+        return None;
+    }
+    let mut mid = 0;
+    for j in 0..order.len() {
+        if bin_of(order[j]) <= k {
+            order.swap(j, mid);
+            mid += 1;
+        }
+    }
+    Some(mid)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A grid of unit squares (two triangles each) in the z = 0 plane.
+    fn grid(n: u32) -> Vec<([DVec3; 3], TriRef)> {
+        let mut v = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                let p = |a: u32, b: u32| DVec3::new(f64::from(i + a), f64::from(j + b), 0.0);
+                let tri = 2 * (j * n + i);
+                v.push(([p(0, 0), p(1, 0), p(1, 1)], TriRef { mesh: 0, tri }));
+                v.push((
+                    [p(0, 0), p(1, 1), p(0, 1)],
+                    TriRef {
+                        mesh: 0,
+                        tri: tri + 1,
+                    },
+                ));
+            }
+        }
+        v
+    }
+
+    /// Compares the BVH with brute force on a grid, including rays exactly through shared
+    /// edges and vertices (which must never fall through a crack).
+    #[test]
+    fn matches_brute_force_and_has_no_cracks() {
+        let n = 20;
+        let bvh = Bvh::build(grid(n));
+        let d = DVec3::new(0.0, 0.0, -1.0);
+        for k in 0..=4 * n {
+            for l in 0..=4 * n {
+                let (x, y) = (f64::from(k) * 0.25, f64::from(l) * 0.25);
+                let o = DVec3::new(x, y, 5.0);
+                let h = bvh.closest(o, d, 0.0, 10.0).expect("crack in the grid");
+                assert!((h.t - 5.0).abs() < 1e-12);
+                if k % 4 != 0 && l % 4 != 0 {
+                    assert_eq!(h.tri.tri / 2, (l / 4) * n + k / 4, "at {x},{y}");
+                }
+                assert!(bvh.occluded(o, d, 0.0, 10.0));
+                assert!(!bvh.occluded(o, d, 0.0, 4.9));
+            }
+        }
+        assert!(bvh
+            .closest(DVec3::new(-0.1, 3.0, 5.0), d, 0.0, 10.0)
+            .is_none());
+        // A ray along the plane (zero determinant) hits nothing rather than NaN.
+        assert!(bvh
+            .closest(DVec3::new(-1.0, 3.0, 0.0), DVec3::X, 0.0, 100.0)
+            .is_none());
+    }
+
+    #[test]
+    fn all_hits_and_degenerate_input() {
+        let mut tris = grid(2);
+        let a = DVec3::new(0.5, 0.5, 1.0);
+        tris.push(([a, a, a], TriRef { mesh: 1, tri: 0 }));
+        tris.push((
+            [a, a + DVec3::X, a + 2.0 * DVec3::X],
+            TriRef { mesh: 1, tri: 1 },
+        ));
+        let mut layer = grid(2);
+        for (p, r) in &mut layer {
+            p.iter_mut().for_each(|q| q.z = 2.0);
+            r.mesh = 2;
+        }
+        tris.extend(layer);
+        let bvh = Bvh::build(tris);
+        let mut out = Vec::new();
+        bvh.all(
+            DVec3::new(0.3, 0.6, 9.0),
+            DVec3::NEG_Z,
+            0.0,
+            100.0,
+            &mut out,
+        );
+        let mut meshes: Vec<u32> = out.iter().map(|h| h.tri.mesh).collect();
+        meshes.sort();
+        assert_eq!(meshes, [0, 2]);
+        assert!(Bvh::build(Vec::new())
+            .closest(a, DVec3::X, 0.0, 1.0)
+            .is_none());
+    }
+}

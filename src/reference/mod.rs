@@ -1,0 +1,193 @@
+//! CPU reference renderer: the ground truth the GPU path is measured against. One ray per pixel
+//! centre, in f64 throughout, through a BVH; the shading formula of `shading.rs` on the
+//! interpolated normal; exact hard shadows by shadow rays (the limit a shadow map approaches).
+//!
+//! It means what the GPU frame means (see `render/lit.rs`): the same camera, near/far clipping,
+//! back faces shaded with the flipped normal, opaque surfaces first and translucent ones blended
+//! over them with (SRC_ALPHA, ONE_MINUS_SRC_ALPHA), translucent meshes casting no shadows.
+//! Known differences, all where the GPU approximates:
+//! - shadows are exact (no map resolution, PCF or bias);
+//! - translucent layers are composited per pixel, far to near, in f64. The GPU sorts whole
+//!   meshes by their centres, draws each mesh's back faces then front faces in index order, and
+//!   rounds to 8 bits after every blend, so interpenetrating translucent meshes or a translucent
+//!   mesh with several front-facing layers can differ;
+//! - textures are sampled at level 0 (the GPU may use mipmaps where the texture is minified).
+pub mod bvh;
+pub mod surface;
+pub mod view;
+
+use crate::image_out::Rgba;
+use crate::light::MAX_LIGHTS;
+use crate::render::FrameSettings;
+use crate::scene::Scene;
+use bvh::{Bvh, Hit, TriRef};
+use glam::DVec3;
+use rayon::prelude::*;
+use view::View;
+
+/// What the reference saw at one pixel.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PixelInfo {
+    /// Mesh of the nearest surface (opaque or translucent); None where the background shows.
+    pub mesh: Option<usize>,
+    /// Distance from the eye to that surface.
+    pub distance: f64,
+    /// Per light: whether that surface's shadow ray was blocked.
+    pub shadowed: [bool; MAX_LIGHTS],
+    /// Translucent layers blended over the opaque surface (or the background).
+    pub layers: u32,
+}
+
+impl PixelInfo {
+    pub fn hit(&self) -> bool {
+        self.mesh.is_some()
+    }
+}
+
+/// Everything shared by all pixels of one render.
+pub struct Context<'a> {
+    pub scene: &'a Scene,
+    pub settings: &'a FrameSettings,
+    pub view: View,
+    /// Output size in pixels.
+    pub size: (u32, u32),
+    /// Opaque triangles: primary hits and shadow casters.
+    pub opaque: Bvh,
+    /// Translucent triangles: blended layers only.
+    pub translucent: Bvh,
+    pub shadows: bool,
+    /// Shadow-ray offset; see `surface::light_visible`.
+    pub epsilon: f64,
+}
+
+impl<'a> Context<'a> {
+    pub fn new(scene: &'a Scene, settings: &'a FrameSettings, width: u32, height: u32) -> Self {
+        let (mut opaque, mut translucent) = (Vec::new(), Vec::new());
+        for (mi, mesh) in scene.meshes.iter().enumerate() {
+            let glass = scene
+                .materials
+                .get(mesh.material)
+                .is_some_and(|m| m.is_translucent());
+            let out = if glass { &mut translucent } else { &mut opaque };
+            for (ti, idx) in mesh.indices.chunks_exact(3).enumerate() {
+                let p =
+                    |k: usize| DVec3::from(mesh.vertices[idx[k] as usize].position.map(f64::from));
+                let tri = TriRef {
+                    mesh: mi as u32,
+                    tri: ti as u32,
+                };
+                out.push(([p(0), p(1), p(2)], tri));
+            }
+        }
+        Context {
+            scene,
+            settings,
+            view: View::new(&settings.camera, &scene.bounds, width, height),
+            size: (width, height),
+            opaque: Bvh::build(opaque),
+            translucent: Bvh::build(translucent),
+            shadows: settings.shadows.enabled && !settings.lights.is_empty(),
+            epsilon: 1e-7 * f64::from(scene.bounds.radius()),
+        }
+    }
+}
+
+/// Renders `scene` as the GPU would with settings `s`, at `width` × `height`.
+pub fn render(scene: &Scene, s: &FrameSettings, width: u32, height: u32) -> Rgba {
+    render_with_info(scene, s, width, height).0
+}
+
+/// [`render`], plus what each pixel saw (row-major, row 0 at the top).
+pub fn render_with_info(
+    scene: &Scene,
+    s: &FrameSettings,
+    width: u32,
+    height: u32,
+) -> (Rgba, Vec<PixelInfo>) {
+    let (w, h) = (width as usize, height as usize);
+    let mut data = vec![0u8; w * h * 4];
+    let mut info = vec![PixelInfo::default(); w * h];
+    if w == 0 || h == 0 {
+        return (
+            Rgba {
+                width,
+                height,
+                data,
+            },
+            info,
+        );
+    }
+    let ctx = Context::new(scene, s, width, height);
+    data.par_chunks_mut(w * 4)
+        .zip(info.par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(y, (row, row_info))| {
+            let mut scratch = Scratch::default();
+            for x in 0..w {
+                let (c, i) = trace(&ctx, x as u32, y as u32, &mut scratch);
+                let px = &mut row[4 * x..4 * x + 4];
+                px[..3].copy_from_slice(&to_unorm8(c));
+                px[3] = 255;
+                row_info[x] = i;
+            }
+        });
+    (
+        Rgba {
+            width,
+            height,
+            data,
+        },
+        info,
+    )
+}
+
+/// Per-thread buffers reused across pixels.
+#[derive(Default)]
+struct Scratch {
+    layers: Vec<Hit>,
+    visibility: Vec<f64>,
+}
+
+fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) {
+    let (o, d) = ctx.view.ray(x, y, ctx.size.0, ctx.size.1);
+    let mut info = PixelInfo::default();
+    let record = |hit: &Hit, shadowed: u32, info: &mut PixelInfo| {
+        let p = o + hit.t * d;
+        info.mesh = Some(hit.tri.mesh as usize);
+        info.distance = (p - ctx.view.eye).length();
+        info.shadowed = std::array::from_fn(|i| shadowed & (1 << i) != 0);
+    };
+    let opaque = ctx.opaque.closest(o, d, 0.0, 1.0);
+    let mut color = ctx.settings.background.as_dvec3();
+    if let Some(hit) = &opaque {
+        let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);
+        color = s.color;
+        record(hit, s.shadowed, &mut info);
+    }
+    // GL's depth test is LESS against the opaque depth: layers strictly in front count.
+    let t_end = opaque.map_or(1.0, |h| h.t);
+    sc.layers.clear();
+    ctx.translucent.all(o, d, 0.0, t_end, &mut sc.layers);
+    sc.layers.retain(|l| l.t < t_end);
+    sc.layers.sort_by(|a, b| b.t.total_cmp(&a.t));
+    // A ray through an edge shared by two triangles of one mesh hits both (see bvh's
+    // EDGE_SLACK); the rasterizer's fill rule draws such a point once.
+    sc.layers
+        .dedup_by(|a, b| a.tri.mesh == b.tri.mesh && (a.t - b.t).abs() <= 1e-12 * b.t.abs());
+    for hit in &sc.layers {
+        let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
+        let alpha = f64::from(ctx.scene.materials[mesh.material].opacity);
+        let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);
+        color = s.color * alpha + color * (1.0 - alpha);
+        record(hit, s.shadowed, &mut info);
+        info.layers += 1;
+    }
+    debug_assert!(color.is_finite(), "non-finite colour at {x},{y}");
+    (color, info)
+}
+
+/// GL's conversion to an 8-bit normalised channel: clamp, then round(x · 255).
+pub fn to_unorm8(c: DVec3) -> [u8; 3] {
+    c.to_array()
+        .map(|x| (x.clamp(0.0, 1.0) * 255.0).round() as u8)
+}
