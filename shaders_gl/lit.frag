@@ -6,6 +6,7 @@ IN vec3 vNormal;
 #if NUM_LIGHTS > 0
 #ifdef GOURAUD
 IN vec4 vFactors[NUM_LIGHTS];
+uniform vec4 uLightPos[NUM_LIGHTS];
 uniform vec3 uLightColor[NUM_LIGHTS];
 vec3 safeNormalize(vec3 n) {
     float len = length(n);
@@ -43,19 +44,16 @@ void main() {
     float vis[NUM_LIGHTS];
     for (int i = 0; i < NUM_LIGHTS; ++i) vis[i] = 1.0;
 #if NUM_SHADOWS > 0
-    // Normal offset: look the shadow up a little off the surface, which removes acne on
-    // slopes without the large depth bias that would detach shadows from their casters.
-    vec4 ps = vec4(vEyePos + n * uShadowNormalOffset, 1.0);
-    vis[0] = shadowLookup(uShadowMap0, uShadowMatrix[0] * ps);
+    vis[0] = shadowVisibility(uShadowMap0, 0, SHADOW_CUBE0, vEyePos, n);
 #endif
 #if NUM_SHADOWS > 1
-    vis[1] = shadowLookup(uShadowMap1, uShadowMatrix[1] * ps);
+    vis[1] = shadowVisibility(uShadowMap1, 1, SHADOW_CUBE1, vEyePos, n);
 #endif
 #if NUM_SHADOWS > 2
-    vis[2] = shadowLookup(uShadowMap2, uShadowMatrix[2] * ps);
+    vis[2] = shadowVisibility(uShadowMap2, 2, SHADOW_CUBE2, vEyePos, n);
 #endif
 #if NUM_SHADOWS > 3
-    vis[3] = shadowLookup(uShadowMap3, uShadowMatrix[3] * ps);
+    vis[3] = shadowVisibility(uShadowMap3, 3, SHADOW_CUBE3, vEyePos, n);
 #endif
     for (int i = 0; i < NUM_LIGHTS; ++i) {
 #ifdef GOURAUD

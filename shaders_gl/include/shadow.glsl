@@ -1,19 +1,29 @@
 // Hardware depth comparison (sampler2DShadow) with percentage-closer filtering: PCF_TAPS
-// compared lookups on a regular grid around the projected point, averaged. Each lookup is
+// compared lookups on a regular grid around the projected point, averaged; each lookup is
 // itself bilinearly filtered where the driver supports LINEAR on depth textures.
-uniform mat4 uShadowMatrix[NUM_SHADOWS];   // eye space -> shadow texture space (homogeneous)
-uniform float uShadowTexel;                // 1 / map size
-uniform float uShadowBias;                 // constant depth bias in [0,1] depth units
-uniform float uShadowNormalOffset;         // eye-space distance along the normal
+// Light i's matrices start at uShadowMatrix[i * SHADOW_STRIDE]: one for a directional or an
+// outside point light, six (a 3x2 atlas of 90-degree faces) for a point light inside the scene.
+uniform mat4 uShadowMatrix[NUM_SHADOWS * SHADOW_STRIDE]; // eye space -> map texture space
+uniform vec2 uShadowTexel[NUM_SHADOWS];                   // 1 / texture size
+uniform float uShadowNormalOffset[NUM_SHADOWS];           // eye-space distance along the normal
+uniform float uShadowBias;                                // constant bias in [0,1] depth units
+#if SHADOW_STRIDE > 1
+uniform mat3 uEyeToWorld;
+#endif
 
-float shadowLookup(sampler2DShadow map, vec4 c) {
+// tile: the part of the texture this lookup may read (x0, y0, x1, y1); clamp: keep taps
+// inside it (atlas faces) instead of treating points outside as lit (single maps, whose
+// frustum holds the whole scene).
+float shadowLookup(sampler2DShadow map, vec4 c, vec2 texel, vec4 tile, bool clampToTile) {
     if (c.w <= 0.0) return 1.0;
     vec3 q = c.xyz / c.w;
-    // Outside the light's frustum nothing was rendered into the map: treat as lit.
-    if (q.x < 0.0 || q.x > 1.0 || q.y < 0.0 || q.y > 1.0 || q.z > 1.0) return 1.0;
+    if (!clampToTile && (q.x < 0.0 || q.x > 1.0 || q.y < 0.0 || q.y > 1.0)) return 1.0;
+    if (q.z > 1.0) return 1.0;
     q.z -= uShadowBias;
+    vec2 lo = tile.xy + 0.5 * texel;
+    vec2 hi = tile.zw - 0.5 * texel;
 #if PCF_TAPS == 1
-    return SHADOW2D(map, q);
+    return SHADOW2D(map, vec3(clamp(q.xy, lo, hi), q.z));
 #else
 #if PCF_TAPS == 4
     const int N = 2;
@@ -26,12 +36,41 @@ float shadowLookup(sampler2DShadow map, vec4 c) {
     float start = -0.5 * float(N - 1);
     for (int i = 0; i < N; ++i) {
         for (int j = 0; j < N; ++j) {
-            vec2 o = vec2(start + float(i), start + float(j)) * uShadowTexel;
-            sum += SHADOW2D(map, vec3(q.xy + o, q.z));
+            vec2 o = vec2(start + float(i), start + float(j)) * texel;
+            sum += SHADOW2D(map, vec3(clamp(q.xy + o, lo, hi), q.z));
         }
     }
     return sum / float(N * N);
 #endif
+}
+
+// Visibility of light i at eye-space point p with unit normal n; cube > 0.5 for an atlas.
+float shadowVisibility(sampler2DShadow map, int i, float cube, vec3 p, vec3 n) {
+    // Normal offset: look the shadow up a little off the surface, which removes acne on
+    // slopes without the large depth bias that would detach shadows from their casters.
+    vec4 ps = vec4(p + n * uShadowNormalOffset[i], 1.0);
+    int m = i * SHADOW_STRIDE;
+    vec4 tile = vec4(0.0, 0.0, 1.0, 1.0);
+#if SHADOW_STRIDE > 1
+    if (cube > 0.5) {
+        // The face is the dominant axis of the world-space direction from the light.
+        vec3 d = uEyeToWorld * (ps.xyz - uLightPos[i].xyz);
+        vec3 a = abs(d);
+        float f;
+        if (a.x >= a.y && a.x >= a.z) {
+            f = d.x >= 0.0 ? 0.0 : 1.0;
+        } else if (a.y >= a.z) {
+            f = d.y >= 0.0 ? 2.0 : 3.0;
+        } else {
+            f = d.z >= 0.0 ? 4.0 : 5.0;
+        }
+        m += int(f);
+        float fx = mod(f, 3.0);
+        float fy = floor(f / 3.0);
+        tile = vec4(fx / 3.0, fy / 2.0, (fx + 1.0) / 3.0, (fy + 1.0) / 2.0);
+    }
+#endif
+    return shadowLookup(map, uShadowMatrix[m] * ps, uShadowTexel[i], tile, cube > 0.5);
 }
 
 #if NUM_SHADOWS > 0

@@ -132,6 +132,13 @@ impl Program {
         }
     }
 
+    pub fn set_vec2(&self, name: &str, v: glam::Vec2) {
+        if let Some(l) = self.location(name) {
+            // SAFETY: as above.
+            unsafe { self.gpu.gl.uniform_2_f32(Some(&l), v.x, v.y) }
+        }
+    }
+
     pub fn set_vec4(&self, name: &str, v: glam::Vec4) {
         if let Some(l) = self.location(name) {
             // SAFETY: as above.

@@ -20,9 +20,12 @@ impl Gpu {
         }
     }
 
-    pub fn viewport(&self, width: u32, height: u32) {
+    pub fn viewport(&self, x: u32, y: u32, width: u32, height: u32) {
         // SAFETY: no preconditions.
-        unsafe { self.gl.viewport(0, 0, width as i32, height as i32) }
+        unsafe {
+            self.gl
+                .viewport(x as i32, y as i32, width as i32, height as i32)
+        }
     }
 
     /// Clears depth, and colour too when given.

@@ -70,40 +70,38 @@ impl Texture2d {
         Ok(t)
     }
 
-    /// A depth texture set up for hardware comparison (`sampler2DShadow`): compare mode
-    /// COMPARE_REF_TO_TEXTURE, LEQUAL, linear filtering (the driver then blends the 2×2
-    /// compared results where it supports it), clamped to the edge.
-    pub fn depth(gpu: &GpuRef, size: u32, compare: bool) -> Result<Texture2d> {
-        let t = Self::create(gpu, size, size)?;
+    /// A `width` x `height` depth texture set up for hardware comparison
+    /// (`sampler2DShadow`): compare mode COMPARE_REF_TO_TEXTURE, LEQUAL, linear filtering
+    /// (the driver then blends the 2×2 compared results where it supports it), clamped to the
+    /// edge.
+    pub fn depth(gpu: &GpuRef, width: u32, height: u32) -> Result<Texture2d> {
+        let t = Self::create(gpu, width, height)?;
         // ES 3.0 needs a sized internal format paired with UNSIGNED_INT; desktop GL 1.4+
         // accepts the same pair, so one choice serves every dialect.
-        let (internal, ty) = (glow::DEPTH_COMPONENT24, glow::UNSIGNED_INT);
         // SAFETY: allocating storage for the bound texture with no initial data.
         unsafe {
             let gl = &gpu.gl;
             gl.tex_image_2d(
                 glow::TEXTURE_2D,
                 0,
-                internal as i32,
-                size as i32,
-                size as i32,
+                glow::DEPTH_COMPONENT24 as i32,
+                width as i32,
+                height as i32,
                 0,
                 glow::DEPTH_COMPONENT,
-                ty,
+                glow::UNSIGNED_INT,
                 glow::PixelUnpackData::Slice(None),
             );
-            if compare {
-                gl.tex_parameter_i32(
-                    glow::TEXTURE_2D,
-                    glow::TEXTURE_COMPARE_MODE,
-                    glow::COMPARE_REF_TO_TEXTURE as i32,
-                );
-                gl.tex_parameter_i32(
-                    glow::TEXTURE_2D,
-                    glow::TEXTURE_COMPARE_FUNC,
-                    glow::LEQUAL as i32,
-                );
-            }
+            gl.tex_parameter_i32(
+                glow::TEXTURE_2D,
+                glow::TEXTURE_COMPARE_MODE,
+                glow::COMPARE_REF_TO_TEXTURE as i32,
+            );
+            gl.tex_parameter_i32(
+                glow::TEXTURE_2D,
+                glow::TEXTURE_COMPARE_FUNC,
+                glow::LEQUAL as i32,
+            );
         }
         t.params(glow::LINEAR, glow::LINEAR, glow::CLAMP_TO_EDGE);
         Ok(t)
@@ -135,22 +133,23 @@ impl Texture2d {
         }
     }
 
-    /// Copies the bound read framebuffer's depth (from its lower-left corner) into level 0:
-    /// the shadow-map path for drivers without framebuffer objects.
-    pub fn copy_from_framebuffer(&self) {
-        // SAFETY: the texture has width x height storage; the caller made sure the framebuffer
-        // is at least that big.
+    /// Copies a `size`² square from the lower-left corner of the bound read framebuffer's
+    /// depth into level 0 at (x, y): the shadow-map path for drivers without framebuffer
+    /// objects.
+    pub fn copy_from_framebuffer(&self, x: u32, y: u32, size: u32) {
+        // SAFETY: the caller keeps (x, y, size) inside the texture and size within the
+        // framebuffer.
         unsafe {
             self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
             self.gpu.gl.copy_tex_sub_image_2d(
                 glow::TEXTURE_2D,
                 0,
+                x as i32,
+                y as i32,
                 0,
                 0,
-                0,
-                0,
-                self.width as i32,
-                self.height as i32,
+                size as i32,
+                size as i32,
             );
         }
     }

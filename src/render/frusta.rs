@@ -11,6 +11,37 @@ pub enum ShadowProjection {
     Ortho,
     /// Point light outside the bounding sphere: one perspective frustum aimed at the scene.
     Perspective,
+    /// Point light inside the bounding sphere: six 90° frusta (+X, −X, +Y, −Y, +Z, −Z), drawn
+    /// into a 3×2 atlas of one depth texture. One `sampler2DShadow` serves every dialect,
+    /// including GLSL 1.20, which has no cube shadow lookups.
+    Cube,
+}
+
+/// The six faces' view-projections of a point light at `p`, in the order the shader picks
+/// them: face = 2·axis + (negative ? 1 : 0) for the dominant axis of (fragment − light).
+pub fn cube_faces(p: Vec3, bounds: &Bounds) -> [Mat4; 6] {
+    let r = bounds.radius();
+    let far = ((bounds.center() - p).length() + r) * 1.01;
+    // The near plane only has to exclude the light itself; r·1e-3 keeps the depth precision
+    // of a 24-bit buffer (far/near ≈ 2·10³) for anything a visible distance away.
+    let near = (r * 1e-3).min(far * 1e-3);
+    let proj = Mat4::perspective_rh_gl(std::f32::consts::FRAC_PI_2, 1.0, near, far);
+    let dirs = [
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+    ];
+    dirs.map(|d| proj * Mat4::look_at_rh(p, p + d, stable_up(d)))
+}
+
+/// Maps a face's texture space [0, 1]² to its tile of the 3×2 atlas.
+pub fn atlas_tile(face: usize) -> Mat4 {
+    let (fx, fy) = ((face % 3) as f32, (face / 3) as f32);
+    Mat4::from_translation(Vec3::new(fx / 3.0, fy / 2.0, 0.0))
+        * Mat4::from_scale(Vec3::new(1.0 / 3.0, 0.5, 1.0))
 }
 
 /// An up vector that is never parallel to `dir` (a light shining straight down must not
@@ -130,6 +161,32 @@ mod tests {
             color: Vec3::ONE,
         };
         assert!(light_view_proj(&above, &bounds()).unwrap().0.is_finite());
+    }
+
+    #[test]
+    fn cube_faces_cover_every_direction() {
+        let p = Vec3::new(0.2, 1.0, -0.3);
+        let faces = cube_faces(p, &bounds());
+        for (i, d) in [
+            Vec3::X,
+            Vec3::NEG_X,
+            Vec3::Y,
+            Vec3::NEG_Y,
+            Vec3::Z,
+            Vec3::NEG_Z,
+        ]
+        .iter()
+        .enumerate()
+        {
+            // A point along the face's axis (slightly off it) projects into that face.
+            let q = faces[i].project_point3(p + *d * 2.0 + d.any_orthonormal_vector() * 0.5);
+            assert!(q.abs().max_element() <= 1.0, "face {i}: {q}");
+            assert!(faces[i].is_finite());
+        }
+        assert_eq!(
+            atlas_tile(4).transform_point3(Vec3::ZERO),
+            Vec3::new(1.0 / 3.0, 0.5, 0.0)
+        );
     }
 
     #[test]

@@ -2,14 +2,14 @@
 //! features; opaque meshes first, then translucent ones back to front with blending (each
 //! drawn back faces first, then front faces, so a glass shows its far wall behind its near
 //! wall).
-use super::shadow::eye_to_shadow;
+use super::frusta::ShadowProjection;
 use super::{FrameSettings, FrameStats, Renderer, Shading, Target};
 use crate::gpu::program::Program;
 use crate::gpu::state::Cull;
 use crate::light::LightKind;
 use crate::shader::cache::{ProgramKey, ProgramKind};
 use crate::Result;
-use glam::{Mat3, Vec3, Vec4};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 /// Texture unit of shadow map i is SHADOW_UNIT + i; unit 0 is the diffuse map.
 const SHADOW_UNIT: u32 = 1;
@@ -31,14 +31,16 @@ pub(crate) fn run(
     gpu.cull(Cull::None);
     gpu.blend(false);
     let lights = s.lights.len() as u8;
-    // The shader pairs shadow map i with light i, so only a prefix of lights can cast.
-    let shadows = r
-        .shadow
-        .maps
+    // The shader pairs shadow map i with light i; every light has a map when shadows run.
+    let maps = &r.shadow.maps;
+    debug_assert!(maps.iter().enumerate().all(|(i, m)| m.light == i));
+    let shadows = maps.len() as u8;
+    let cube_mask = maps
         .iter()
         .enumerate()
-        .take_while(|(i, m)| m.light == *i)
-        .count() as u8;
+        .filter(|(_, m)| m.projection == ShadowProjection::Cube)
+        .fold(0u8, |acc, (i, _)| acc | 1 << i);
+    let stride = if cube_mask != 0 { 6 } else { 1 };
     let light_pos: Vec<Vec4> = s
         .lights
         .iter()
@@ -47,23 +49,24 @@ pub(crate) fn run(
             LightKind::Directional(d) => view.transform_vector3(-d).normalize().extend(0.0),
         })
         .collect();
-    let shadow_matrices: Vec<glam::Mat4> = r.shadow.maps[..shadows as usize]
-        .iter()
-        .map(|m| eye_to_shadow(&m.view_proj, &view))
-        .collect();
-    for (i, m) in r.shadow.maps[..shadows as usize].iter().enumerate() {
+    let mut shadow = ShadowUniforms::default();
+    for (i, m) in maps.iter().enumerate() {
         m.texture.bind(SHADOW_UNIT + i as u32);
         stats.textures_bound += 1;
+        for (f, mat) in m.eye_to_texture(&view).into_iter().enumerate() {
+            shadow.matrices.push((i * stride + f, mat));
+        }
+        shadow.texels.push(Vec2::new(
+            1.0 / m.texture.width as f32,
+            1.0 / m.texture.height as f32,
+        ));
+        // A map texel covers about 2r/face of the scene (frusta are fitted to the bounding
+        // sphere), so the normal offset is given in texels and converted here.
+        shadow
+            .normal_offsets
+            .push(s.shadows.normal_offset * 2.0 * r.scene.bounds.radius() / m.face as f32);
     }
-    // The copy path may have shrunk the maps to the target's size.
-    let texel = r
-        .shadow
-        .maps
-        .first()
-        .map_or(0.0, |m| 1.0 / m.texture.width as f32);
-    // A map texel covers about 2r/size of the scene (frusta are fitted to the bounding
-    // sphere), so the normal offset is given in texels and converted here.
-    let normal_offset = s.shadows.normal_offset * 2.0 * r.scene.bounds.radius() * texel;
+    shadow.eye_to_world = Mat3::from_mat4(view).transpose();
     let mut order: Vec<usize> = (0..r.meshes.len())
         .filter(|&i| !r.meshes[i].translucent)
         .collect();
@@ -84,6 +87,7 @@ pub(crate) fn run(
             lights,
             shadows,
             pcf: s.shadows.pcf,
+            cube_mask,
             textured: dm.texture.is_some(),
             gouraud: s.shading == Shading::Gouraud,
         };
@@ -97,10 +101,8 @@ pub(crate) fn run(
             &proj,
             &normal_matrix,
             &light_pos,
-            &shadow_matrices,
+            &shadow,
         );
-        program.set_f32("uShadowTexel", texel);
-        program.set_f32("uShadowNormalOffset", normal_offset);
         let mat = &r.scene.materials[dm.material];
         program.set_vec3("uKa", Vec3::from(mat.ambient));
         program.set_vec3("uKd", Vec3::from(mat.diffuse));
@@ -140,37 +142,47 @@ pub(crate) fn run(
     Ok(())
 }
 
+/// Shadow lookup parameters, per light; matrices as (uniform array index, matrix).
+#[derive(Default)]
+struct ShadowUniforms {
+    matrices: Vec<(usize, Mat4)>,
+    texels: Vec<Vec2>,
+    normal_offsets: Vec<f32>,
+    eye_to_world: Mat3,
+}
+
 fn set_frame_uniforms(
     p: &Program,
     s: &FrameSettings,
-    view: &glam::Mat4,
-    proj: &glam::Mat4,
+    view: &Mat4,
+    proj: &Mat4,
     normal_matrix: &Mat3,
     light_pos: &[Vec4],
-    shadow_matrices: &[glam::Mat4],
+    shadow: &ShadowUniforms,
 ) {
     p.set_mat4("uModelView", view);
     p.set_mat4("uProjection", proj);
     p.set_mat3("uNormalMatrix", normal_matrix);
-    let amb = s.lighting.ambient.as_vec3();
-    p.set_vec3("uAmbient", amb);
+    p.set_vec3("uAmbient", s.lighting.ambient.as_vec3());
     let t = s.lighting.terms;
+    let on = |b: bool| if b { 1.0 } else { 0.0 };
     p.set_vec3(
         "uTerms",
-        Vec3::new(
-            f32::from(u8::from(t.ambient)),
-            f32::from(u8::from(t.diffuse)),
-            f32::from(u8::from(t.specular)),
-        ),
+        Vec3::new(on(t.ambient), on(t.diffuse), on(t.specular)),
     );
-    p.set_f32("uWrap", if s.lighting.wrap { 1.0 } else { 0.0 });
+    p.set_f32("uWrap", on(s.lighting.wrap));
     for (i, (pos, l)) in light_pos.iter().zip(&s.lights).enumerate() {
         p.set_vec4(&format!("uLightPos[{i}]"), *pos);
         p.set_vec3(&format!("uLightColor[{i}]"), l.color);
     }
-    for (i, m) in shadow_matrices.iter().enumerate() {
+    for (i, m) in &shadow.matrices {
         p.set_mat4(&format!("uShadowMatrix[{i}]"), m);
-        p.set_i32(&format!("uShadowMap{i}"), SHADOW_UNIT as i32 + i as i32);
     }
+    for (i, (texel, offset)) in shadow.texels.iter().zip(&shadow.normal_offsets).enumerate() {
+        p.set_i32(&format!("uShadowMap{i}"), SHADOW_UNIT as i32 + i as i32);
+        p.set_vec2(&format!("uShadowTexel[{i}]"), *texel);
+        p.set_f32(&format!("uShadowNormalOffset[{i}]"), *offset);
+    }
+    p.set_mat3("uEyeToWorld", &shadow.eye_to_world);
     p.set_f32("uShadowBias", s.shadows.bias);
 }

@@ -10,7 +10,7 @@ use crate::gpu::framebuffer::Framebuffer;
 use crate::gpu::mesh::GpuMesh;
 use crate::gpu::state::Cull;
 use crate::gpu::texture::Texture2d;
-use crate::light::Light;
+use crate::light::{Light, LightKind};
 use crate::scene::Vertex;
 use crate::shader::cache::{ProgramKey, ProgramKind};
 use crate::Result;
@@ -19,11 +19,32 @@ use glam::Mat4;
 pub(crate) struct ShadowMap {
     pub texture: Texture2d,
     fbo: Option<Framebuffer>,
-    /// Light view-projection (local coordinates → light clip space).
-    pub view_proj: Mat4,
+    /// Light view-projections (local coordinates → light clip space): one, or six faces.
+    pub views: Vec<Mat4>,
     pub projection: ShadowProjection,
     /// Index of the light this map belongs to.
     pub light: usize,
+    /// Side of one view's square in texels.
+    pub face: u32,
+}
+
+impl ShadowMap {
+    /// Eye space → texture space of each view (atlas tile included): what the lit pass needs.
+    pub fn eye_to_texture(&self, view: &Mat4) -> Vec<Mat4> {
+        let inv_view = view.inverse();
+        self.views
+            .iter()
+            .enumerate()
+            .map(|(f, vp)| {
+                let tile = if self.projection == ShadowProjection::Cube {
+                    frusta::atlas_tile(f)
+                } else {
+                    Mat4::IDENTITY
+                };
+                tile * frusta::bias_matrix() * *vp * inv_view
+            })
+            .collect()
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -92,13 +113,24 @@ pub(crate) fn run(
     let use_fbo = r.gpu.caps.fbo;
     let bounds = r.scene.bounds;
     let mut maps = Vec::new();
-    let mut notes = Vec::new();
     for (i, light) in s.lights.iter().enumerate() {
-        let Some((view_proj, projection)) = light_view_proj(light, &bounds) else {
-            notes.push(format!("light {i} inside the scene: no shadow"));
-            continue;
+        let (views, projection, face, w, h) = match (light_view_proj(light, &bounds), light.kind) {
+            (Some((vp, kind)), _) => (vec![vp], kind, size, size, size),
+            (None, LightKind::Point(p)) => {
+                // Six faces at half the size keep the atlas (3×2 faces) near the texel count
+                // of one full-size map.
+                let face = (size / 2).max(16);
+                (
+                    frusta::cube_faces(p, &bounds).to_vec(),
+                    ShadowProjection::Cube,
+                    face,
+                    face * 3,
+                    face * 2,
+                )
+            }
+            (None, LightKind::Directional(_)) => unreachable!("directional lights always fit"),
         };
-        let texture = Texture2d::depth(&r.gpu, size, true)?;
+        let texture = Texture2d::depth(&r.gpu, w, h)?;
         let fbo = if use_fbo {
             Some(Framebuffer::depth_only(&r.gpu, &texture)?)
         } else {
@@ -107,41 +139,54 @@ pub(crate) fn run(
         maps.push(ShadowMap {
             texture,
             fbo,
-            view_proj,
+            views,
             projection,
             light: i,
+            face,
         });
     }
-    let program = r.programs.get(ProgramKey::simple(ProgramKind::Depth))?;
-    stats.program(ProgramKey::simple(ProgramKind::Depth).label());
+    let key_depth = ProgramKey::simple(ProgramKind::Depth);
+    let program = r.programs.get(key_depth)?;
+    stats.program(key_depth.label());
     let gpu = r.gpu.clone();
     program.bind();
+    gpu.depth(true, true);
+    gpu.blend(false);
+    gpu.cull(Cull::None);
+    gpu.polygon_offset(Some((s.shadows.slope_bias, s.shadows.slope_bias)));
     for map in &maps {
-        match &map.fbo {
-            Some(fbo) => fbo.bind(),
-            None => {
-                gpu.bind_target(target.fbo, target.width, target.height);
-                gpu.color_writes(false);
+        if let Some(fbo) = &map.fbo {
+            fbo.bind();
+            gpu.clear(None);
+        } else {
+            gpu.bind_target(target.fbo, target.width, target.height);
+            gpu.color_writes(false);
+        }
+        for (f, vp) in map.views.iter().enumerate() {
+            let (tx, ty) = if map.views.len() > 1 {
+                ((f as u32 % 3) * map.face, (f as u32 / 3) * map.face)
+            } else {
+                (0, 0)
+            };
+            if map.fbo.is_some() {
+                gpu.viewport(tx, ty, map.face, map.face);
+            } else {
+                gpu.viewport(0, 0, map.face, map.face);
+                gpu.clear(None);
+            }
+            program.set_mat4("uLightMvp", vp);
+            for m in r.meshes.iter().filter(|m| !m.translucent) {
+                m.mesh.draw();
+                stats.draw_calls += 1;
+                stats.triangles += m.triangles;
+            }
+            if map.fbo.is_none() {
+                map.texture.copy_from_framebuffer(tx, ty, map.face);
             }
         }
-        gpu.viewport(size, size);
-        gpu.clear(None);
-        gpu.depth(true, true);
-        gpu.blend(false);
-        gpu.cull(Cull::None);
-        gpu.polygon_offset(Some((s.shadows.slope_bias, s.shadows.slope_bias)));
-        program.set_mat4("uLightMvp", &map.view_proj);
-        for m in r.meshes.iter().filter(|m| !m.translucent) {
-            m.mesh.draw();
-            stats.draw_calls += 1;
-            stats.triangles += m.triangles;
-        }
-        gpu.polygon_offset(None);
-        if map.fbo.is_none() {
-            map.texture.copy_from_framebuffer();
-            gpu.color_writes(true);
-        }
     }
+    gpu.polygon_offset(None);
+    gpu.color_writes(true);
     let kinds: Vec<String> = maps
         .iter()
         .map(|m| format!("{:?}", m.projection).to_lowercase())
@@ -152,22 +197,13 @@ pub(crate) fn run(
         kinds.join(","),
         if use_fbo { "fbo" } else { "copy" }
     ));
-    stats.shadow = if notes.is_empty() {
-        "rendered".into()
-    } else {
-        format!("rendered; {}", notes.join("; "))
-    };
+    stats.shadow = "rendered".into();
     r.gpu.check_error("shadow pass")?;
     r.shadow = ShadowPass {
         maps,
         key: Some(key),
     };
     Ok(())
-}
-
-/// The matrix from eye space to a map's texture space: bias · lightVP · view⁻¹.
-pub fn eye_to_shadow(view_proj: &Mat4, view: &Mat4) -> Mat4 {
-    frusta::bias_matrix() * *view_proj * view.inverse()
 }
 
 fn quad(r: &Renderer) -> Result<GpuMesh> {

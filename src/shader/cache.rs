@@ -21,6 +21,8 @@ pub struct ProgramKey {
     pub lights: u8,
     pub shadows: u8,
     pub pcf: u8,
+    /// Bit i set: light i's shadow is a six-face atlas (point light inside the scene).
+    pub cube_mask: u8,
     pub textured: bool,
     pub gouraud: bool,
 }
@@ -32,6 +34,7 @@ impl ProgramKey {
             lights: 0,
             shadows: 0,
             pcf: 1,
+            cube_mask: 0,
             textured: false,
             gouraud: false,
         }
@@ -42,6 +45,9 @@ impl ProgramKey {
         let mut s = format!("{:?}", self.kind).to_lowercase();
         if self.kind == ProgramKind::Lit {
             s += &format!("[l{},s{},pcf{}", self.lights, self.shadows, self.pcf);
+            if self.cube_mask != 0 {
+                s += &format!(",cube{:b}", self.cube_mask);
+            }
             if self.textured {
                 s += ",tex";
             }
@@ -58,7 +64,30 @@ impl ProgramKey {
             ("NUM_LIGHTS", self.lights.to_string()),
             ("NUM_SHADOWS", self.shadows.to_string()),
             ("PCF_TAPS", self.pcf.to_string()),
+            (
+                "SHADOW_STRIDE",
+                if self.cube_mask != 0 { "6" } else { "1" }.into(),
+            ),
         ];
+        for (i, name) in [
+            "SHADOW_CUBE0",
+            "SHADOW_CUBE1",
+            "SHADOW_CUBE2",
+            "SHADOW_CUBE3",
+        ]
+        .iter()
+        .enumerate()
+        {
+            d.push((
+                name,
+                if self.cube_mask & (1 << i) != 0 {
+                    "1.0"
+                } else {
+                    "0.0"
+                }
+                .into(),
+            ));
+        }
         if self.textured {
             d.push(("HAS_TEXTURE", "1".into()));
         }

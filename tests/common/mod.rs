@@ -170,3 +170,74 @@ pub const GL21_NO_FBO: &[(&str, &str)] = &[
         "-GL_ARB_framebuffer_object -GL_EXT_framebuffer_object -GL_ARB_vertex_array_object",
     ),
 ];
+
+/// The exact frame settings glview uses for these command-line arguments, and the scene.
+pub fn settings_for(args: &[&str]) -> (glview::render::FrameSettings, glview::scene::Scene) {
+    use clap::Parser;
+    let mut all = vec!["glview"];
+    all.extend_from_slice(args);
+    let a = glview::cli::Args::parse_from(all);
+    let scene = glview::run::load_scene(&a).expect("load scene");
+    let (s, _) = glview::run::frame_settings(&a, &scene).expect("settings");
+    (s, scene)
+}
+
+/// A ray (origin, unit direction) through the centre of pixel (x, y), y = 0 at the top, in
+/// the scene's local coordinates, computed in f64 from the camera's matrices.
+pub struct PixelRays {
+    inv: glam::DMat4,
+    w: u32,
+    h: u32,
+}
+
+impl PixelRays {
+    pub fn new(
+        s: &glview::render::FrameSettings,
+        scene: &glview::scene::Scene,
+        w: u32,
+        h: u32,
+    ) -> Self {
+        let aspect = w as f32 / h as f32;
+        let vp = (s.camera.projection(&scene.bounds, aspect) * s.camera.view()).as_dmat4();
+        PixelRays {
+            inv: vp.inverse(),
+            w,
+            h,
+        }
+    }
+
+    pub fn ray(&self, x: u32, y: u32) -> (glam::DVec3, glam::DVec3) {
+        use glam::DVec4;
+        let nx = 2.0 * (x as f64 + 0.5) / self.w as f64 - 1.0;
+        let ny = 1.0 - 2.0 * (y as f64 + 0.5) / self.h as f64;
+        let a = self.inv * DVec4::new(nx, ny, -1.0, 1.0);
+        let b = self.inv * DVec4::new(nx, ny, 1.0, 1.0);
+        let (a, b) = (a.truncate() / a.w, b.truncate() / b.w);
+        (a, (b - a).normalize())
+    }
+}
+
+/// Ray/box slab test: the entry distance if the ray (o, d) hits the box within (tmin, tmax).
+pub fn ray_box(
+    o: glam::DVec3,
+    d: glam::DVec3,
+    lo: glam::DVec3,
+    hi: glam::DVec3,
+    tmin: f64,
+    tmax: f64,
+) -> Option<f64> {
+    let (mut t0, mut t1) = (tmin, tmax);
+    for i in 0..3 {
+        let inv = 1.0 / d[i];
+        let (mut a, mut b) = ((lo[i] - o[i]) * inv, (hi[i] - o[i]) * inv);
+        if a > b {
+            std::mem::swap(&mut a, &mut b);
+        }
+        t0 = t0.max(a);
+        t1 = t1.min(b);
+        if t0 > t1 {
+            return None;
+        }
+    }
+    Some(t0)
+}
