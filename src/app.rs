@@ -1,6 +1,28 @@
-//! The interactive window loop.
+//! The interactive window loop: winit events → `keys::apply` → a redraw only when the frame
+//! settings, the window size or the OS (expose) asks for one. Between events the loop sleeps
+//! (`ControlFlow::Wait`), so an idle viewer draws nothing and uses no CPU.
+use crate::camera::{CameraMove, OrbitCamera, ZOOM_STEP};
 use crate::cli::Args;
-use crate::Result;
+use crate::gpu::{Gpu, GpuRef};
+use crate::keys::{self, Action, Effect};
+use crate::platform::window::WindowContext;
+use crate::render::{FrameSettings, Renderer, Shading, Target};
+use crate::scene::{Bounds, Scene};
+use crate::{run, Error, Result};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+use winit::application::ApplicationHandler;
+use winit::dpi::{PhysicalPosition, PhysicalSize};
+use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+/// Degrees of orbit per pixel of left-drag.
+const DRAG_DEG_PER_PIXEL: f32 = 0.4;
+/// Pixels of a touchpad scroll that count as one wheel notch.
+const PIXELS_PER_NOTCH: f64 = 40.0;
 
 /// Whether a display server is reachable (X11 or Wayland).
 pub fn display_available() -> bool {
@@ -8,8 +30,434 @@ pub fn display_available() -> bool {
         || std::env::var_os("WAYLAND_DISPLAY").is_some_and(|d| !d.is_empty())
 }
 
-pub fn run_window(_args: &Args) -> Result<()> {
-    Err(crate::Error::Unsupported(
-        "window not implemented yet".into(),
-    ))
+/// Opens the window and runs until Esc/Q or the window closes. A window or context that
+/// cannot be made is `Error::Context` (the caller then renders headless); a render error or a
+/// lost context later ends the loop with that error.
+pub fn run_window(args: &Args) -> Result<()> {
+    let scene = load_with_progress(args)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    let (settings, home) = run::frame_settings(args, &scene)?;
+    let event_loop = EventLoop::new()
+        .map_err(|e| Error::Context(format!("window: cannot connect to the display: {e}")))?;
+    event_loop.set_control_flow(ControlFlow::Wait);
+    let mut app = App {
+        args,
+        bounds: scene.bounds,
+        scene: Some(scene),
+        settings,
+        home,
+        live: None,
+        size: PhysicalSize::new(args.size.0, args.size.1),
+        cursor: None,
+        left_down: false,
+        screenshot: false,
+        error: None,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| Error::Window(format!("event loop failed: {e}")))?;
+    app.error.map_or(Ok(()), Err)
+}
+
+/// Loads the scene before the window opens; a load that takes over a second reports progress
+/// on stderr so a student knows the viewer is working.
+fn load_with_progress(args: &Args) -> Result<Scene> {
+    let name = args
+        .model
+        .as_ref()
+        .map_or("the built-in scene".into(), |p| p.display().to_string());
+    let bytes = args
+        .model
+        .as_ref()
+        .and_then(|p| std::fs::metadata(p).ok())
+        .map(|m| m.len());
+    let size = bytes
+        .map(|b| format!(" ({:.1} MB)", b as f64 / 1e6))
+        .unwrap_or_default();
+    let start = Instant::now();
+    let (done, ticks) = std::sync::mpsc::channel::<()>();
+    let scene = std::thread::scope(|s| {
+        s.spawn(move || {
+            let tty = std::io::stderr().is_terminal();
+            let mut said = false;
+            while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                ticks.recv_timeout(Duration::from_millis(250))
+            {
+                let t = start.elapsed().as_secs_f64();
+                if t >= 1.0 && tty {
+                    eprint!("\rloading {name}{size} … {t:.1} s");
+                } else if t >= 1.0 && !said {
+                    eprintln!("loading {name}{size} …");
+                }
+                said |= t >= 1.0;
+            }
+            if said && tty {
+                eprintln!();
+            }
+        });
+        let scene = run::load_scene(args);
+        drop(done);
+        scene
+    })?;
+    let t = start.elapsed().as_secs_f64();
+    if t >= 1.0 {
+        eprintln!(
+            "loaded {}: {} triangles in {t:.1} s",
+            scene.name,
+            scene.triangle_count()
+        );
+    }
+    Ok(scene)
+}
+
+/// The window, its context and the scene on the GPU. Field order is drop order: GL objects
+/// go while the context is still current, the context before the window.
+struct Live {
+    renderer: Renderer,
+    gpu: GpuRef,
+    window: WindowContext,
+}
+
+struct App<'a> {
+    args: &'a Args,
+    bounds: Bounds,
+    /// The scene until the renderer takes it.
+    scene: Option<Scene>,
+    settings: FrameSettings,
+    home: OrbitCamera,
+    live: Option<Live>,
+    /// The framebuffer size; 0×0 while minimised.
+    size: PhysicalSize<u32>,
+    /// The last cursor position in the window: where the next drag step starts.
+    cursor: Option<PhysicalPosition<f64>>,
+    left_down: bool,
+    /// F12 was pressed: the next frame is also saved.
+    screenshot: bool,
+    error: Option<Error>,
+}
+
+impl App<'_> {
+    fn start(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
+        let Some(scene) = self.scene.take() else {
+            return Ok(());
+        };
+        let attributes = Window::default_attributes()
+            .with_title(format!("glview — {} — loading", scene.name))
+            .with_inner_size(self.size);
+        let window = WindowContext::new(event_loop, attributes, self.args.gl)?;
+        let gpu = Gpu::new(window.glow_context());
+        let renderer = Renderer::new(&gpu, scene)?;
+        self.size = window.window.inner_size();
+        window.resize(self.size.width, self.size.height);
+        let live = Live {
+            renderer,
+            gpu,
+            window,
+        };
+        live.window.window.request_redraw();
+        self.live = Some(live);
+        self.update_title();
+        Ok(())
+    }
+
+    fn update_title(&self) {
+        if let Some(live) = &self.live {
+            let shading = match self.settings.shading {
+                Shading::Phong => "Phong",
+                Shading::Gouraud => "Gouraud",
+            };
+            let title = format!(
+                "glview — {} — legacy {shading} — {}",
+                live.renderer.scene().name,
+                live.gpu.caps.version
+            );
+            live.window.window.set_title(&title);
+        }
+    }
+
+    fn request_redraw(&self) {
+        if let Some(live) = &self.live {
+            live.window.window.request_redraw();
+        }
+    }
+
+    fn aspect(&self) -> f32 {
+        self.size.width.max(1) as f32 / self.size.height.max(1) as f32
+    }
+
+    fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
+        let before = self.settings.clone();
+        let aspect = self.aspect();
+        match keys::apply(action, &mut self.settings, &self.home, &self.bounds, aspect) {
+            Effect::Redraw => {
+                if self.settings != before {
+                    if self.settings.shading != before.shading {
+                        self.update_title();
+                    }
+                    self.request_redraw();
+                }
+            }
+            Effect::Screenshot => {
+                self.screenshot = true;
+                self.request_redraw();
+            }
+            Effect::Help => print!("{}", keys::help_text()),
+            Effect::Quit => event_loop.exit(),
+        }
+    }
+
+    fn key(&mut self, event_loop: &ActiveEventLoop, event: &KeyEvent) {
+        if event.state != ElementState::Pressed {
+            return;
+        }
+        let Some(action) = key_name(event).and_then(|n| keys::action_for(&n)) else {
+            return;
+        };
+        // Held keys repeat camera moves (smooth turning) but not toggles or screenshots.
+        if event.repeat && !matches!(action, Action::Camera(_)) {
+            return;
+        }
+        self.act(event_loop, action);
+    }
+
+    fn draw(&mut self) -> Result<()> {
+        let (w, h) = (self.size.width, self.size.height);
+        let Some(live) = &mut self.live else {
+            return Ok(());
+        };
+        if w == 0 || h == 0 {
+            if std::mem::take(&mut self.screenshot) {
+                eprintln!("screenshot: the window is minimised, nothing to save");
+            }
+            return Ok(());
+        }
+        let stats = live.renderer.render(
+            &self.settings,
+            &Target {
+                fbo: None,
+                width: w,
+                height: h,
+            },
+        )?;
+        if std::mem::take(&mut self.screenshot) {
+            let img = WindowContext::read_back_buffer(&live.gpu, w, h);
+            let backend = format!("window ({})", live.window.platform);
+            let text = run::png_text(
+                &live.gpu.caps,
+                &self.settings,
+                live.renderer.scene(),
+                &backend,
+            );
+            match next_screenshot_path(&self.args.screenshot_dir)
+                .and_then(|p| img.save_png(&p, &text).map(|_| p))
+            {
+                Ok(p) => println!("screenshot: {}", p.display()),
+                Err(e) => eprintln!("error: screenshot not saved: {e}"),
+            }
+        }
+        live.window.swap_buffers()?;
+        if self.args.stats {
+            println!("{}", serde_json::to_string(&stats).unwrap_or_default());
+        }
+        Ok(())
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, e: Error) {
+        self.error.get_or_insert(e);
+        event_loop.exit();
+    }
+}
+
+impl ApplicationHandler for App<'_> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if let Err(e) = self.start(event_loop) {
+            self.fail(event_loop, e);
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        match event {
+            WindowEvent::CloseRequested | WindowEvent::Destroyed => event_loop.exit(),
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.draw() {
+                    self.fail(event_loop, e);
+                }
+            }
+            WindowEvent::Resized(size) => {
+                self.size = size;
+                if let Some(live) = &self.live {
+                    live.window.resize(size.width, size.height);
+                }
+                self.request_redraw();
+            }
+            WindowEvent::KeyboardInput {
+                event,
+                is_synthetic: false,
+                ..
+            } => self.key(event_loop, &event),
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                self.left_down = state == ElementState::Pressed;
+            }
+            WindowEvent::CursorLeft { .. } => self.cursor = None,
+            WindowEvent::CursorMoved { position, .. } => {
+                let last = self.cursor.replace(position);
+                if let (true, Some(last)) = (self.left_down, last) {
+                    let (dx, dy) = ((position.x - last.x) as f32, (position.y - last.y) as f32);
+                    // Dragging right turns the model right: the camera goes the other way.
+                    self.act(
+                        event_loop,
+                        Action::Camera(CameraMove::Yaw(-dx * DRAG_DEG_PER_PIXEL)),
+                    );
+                    self.act(
+                        event_loop,
+                        Action::Camera(CameraMove::Pitch(dy * DRAG_DEG_PER_PIXEL)),
+                    );
+                }
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let notches = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y as f64,
+                    MouseScrollDelta::PixelDelta(p) => p.y / PIXELS_PER_NOTCH,
+                };
+                if notches != 0.0 {
+                    let factor = ZOOM_STEP.powf(-notches as f32);
+                    self.act(event_loop, Action::Camera(CameraMove::Zoom(factor)));
+                }
+            }
+            WindowEvent::Focused(false) => self.left_down = false,
+            _ => {}
+        }
+    }
+
+    fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
+        // The display connection closes when `run_app` returns: GL objects, the context and
+        // the window must go while it is still open.
+        self.live = None;
+    }
+}
+
+/// The key table's name for a key: the character it types (so `+` works however it is
+/// reached), or for layouts whose letters are not ASCII, the key's US position.
+fn key_name(event: &KeyEvent) -> Option<String> {
+    let named = |k: &NamedKey| {
+        Some(match k {
+            NamedKey::ArrowLeft => "Left",
+            NamedKey::ArrowRight => "Right",
+            NamedKey::ArrowUp => "Up",
+            NamedKey::ArrowDown => "Down",
+            NamedKey::PageUp => "PageUp",
+            NamedKey::PageDown => "PageDown",
+            NamedKey::Home => "Home",
+            NamedKey::Escape => "Escape",
+            NamedKey::F1 => "F1",
+            NamedKey::F12 => "F12",
+            _ => return None,
+        })
+    };
+    match &event.logical_key {
+        Key::Named(k) => named(k).map(String::from),
+        Key::Character(c) if c.is_ascii() => Some(c.to_string()),
+        _ => match event.physical_key {
+            PhysicalKey::Code(code) => physical_name(code).map(String::from),
+            PhysicalKey::Unidentified(_) => None,
+        },
+    }
+}
+
+fn physical_name(code: KeyCode) -> Option<&'static str> {
+    Some(match code {
+        KeyCode::KeyR => "R",
+        KeyCode::KeyF => "F",
+        KeyCode::KeyS => "S",
+        KeyCode::KeyG => "G",
+        KeyCode::KeyW => "W",
+        KeyCode::KeyH => "H",
+        KeyCode::KeyQ => "Q",
+        KeyCode::Digit1 => "1",
+        KeyCode::Digit2 => "2",
+        KeyCode::Digit3 => "3",
+        _ => return None,
+    })
+}
+
+/// `DIR/glview-0001.png`, `-0002`, ...: the first name not taken. The file is created here
+/// (create_new), so two viewers saving at once never write the same file.
+fn next_screenshot_path(dir: &Path) -> Result<PathBuf> {
+    for n in 1..=999_999u32 {
+        let path = dir.join(format!("glview-{n:04}.png"));
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&path)
+        {
+            Ok(_) => return Ok(path),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(Error::io(path, e)),
+        }
+    }
+    Err(Error::Unsupported(format!(
+        "{}: no free screenshot name",
+        dir.display()
+    )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn screenshot_names_never_overwrite() {
+        let dir = std::env::temp_dir().join(format!("glview-shots-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("glview-0001.png"), b"taken").unwrap();
+        std::fs::write(dir.join("glview-0003.png"), b"taken").unwrap();
+        let names: Vec<_> = (0..3)
+            .map(|_| next_screenshot_path(&dir).unwrap())
+            .collect();
+        let names: Vec<_> = names
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(
+            names,
+            ["glview-0002.png", "glview-0004.png", "glview-0005.png"]
+        );
+        assert_eq!(
+            std::fs::read(dir.join("glview-0001.png")).unwrap(),
+            b"taken"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn physical_fallback_covers_every_letter_key() {
+        for (names, _, _) in keys::KEY_TABLE {
+            for n in names
+                .iter()
+                .filter(|n| n.len() == 1 && n.chars().all(|c| c.is_ascii_alphanumeric()))
+            {
+                let found = [
+                    KeyCode::KeyR,
+                    KeyCode::KeyF,
+                    KeyCode::KeyS,
+                    KeyCode::KeyG,
+                    KeyCode::KeyW,
+                    KeyCode::KeyH,
+                    KeyCode::KeyQ,
+                    KeyCode::Digit1,
+                    KeyCode::Digit2,
+                    KeyCode::Digit3,
+                ]
+                .iter()
+                .any(|c| physical_name(*c) == Some(n));
+                assert!(found, "key {n} has no physical fallback");
+            }
+        }
+    }
 }

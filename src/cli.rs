@@ -83,6 +83,10 @@ pub struct Args {
     /// Print what the driver provides (version, GLSL, extensions that matter) and exit.
     #[arg(long)]
     pub info: bool,
+    /// Check MODEL without rendering: counts, every problem with file and line, textures,
+    /// generated normals, bounds. Exit 0 if it would render.
+    #[arg(long)]
+    pub check: bool,
     /// Frames to render headless (the last one is written); >1 shows cached passes at work.
     #[arg(long, default_value_t = 1)]
     pub frames: u32,

@@ -35,6 +35,9 @@ pub enum Error {
     /// Context creation failed on every path that was tried.
     #[error("could not create an OpenGL context: {0}")]
     Context(String),
+    /// The window or its context failed after it was open (no headless fallback then).
+    #[error("window: {0}")]
+    Window(String),
     #[error("GL error {code:#06x} after {pass}")]
     Gl { code: u32, pass: String },
     #[error("invalid option: {0}")]

@@ -202,6 +202,11 @@ pub fn main(args: &Args) -> Result<()> {
     if args.info {
         return print_info(args);
     }
+    if args.check {
+        let scene = load_scene(args)?;
+        print!("{}", crate::scene::report::report(&scene));
+        return Ok(());
+    }
     if let Some(out) = &args.output {
         return render_headless(args, out);
     }

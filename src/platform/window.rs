@@ -1,1 +1,256 @@
-//! Window contexts (winit + glutin-winit); see `app` for the event loop.
+//! A window with a current GL context on its surface (winit + glutin, through glutin-winit's
+//! `finalize_window`), for the event loop in `app`.
+//!
+//! Every platform display (GLX, then EGL) is tried with every candidate context of the request
+//! in order; the first pair that makes a context current wins, and a failure lists every
+//! attempt. This is the same chain glutin-winit's `DisplayBuilder` runs, written out because
+//! `DisplayBuilder` falls back from GLX to EGL only when the *display* fails, not when the
+//! context does (Mesa can offer GL ES through EGL but not through an old GLX), and because
+//! its config picker cannot report "no config" without panicking.
+use super::GlRequest;
+use crate::gpu::Gpu;
+use crate::image_out::Rgba;
+use crate::{Error, Result};
+use glow::HasContext;
+use glutin::config::{Api, Config, ConfigTemplateBuilder};
+use glutin::context::{
+    ContextApi, ContextAttributesBuilder, GlProfile, NotCurrentContext, PossiblyCurrentContext,
+    Version,
+};
+use glutin::display::{Display, DisplayApiPreference};
+use glutin::prelude::*;
+use glutin::surface::{Surface, SurfaceAttributesBuilder, SwapInterval, WindowSurface};
+use raw_window_handle::{HasDisplayHandle, HasWindowHandle, RawWindowHandle};
+use std::num::NonZeroU32;
+use winit::event_loop::ActiveEventLoop;
+use winit::window::{Window, WindowAttributes};
+
+/// A window whose GL context is current on this thread. Field order is drop order: the
+/// surface and context go before the window they draw into. Whatever was made with
+/// [`WindowContext::glow_context`] must be dropped before this.
+pub struct WindowContext {
+    surface: Surface<WindowSurface>,
+    context: PossiblyCurrentContext,
+    display: Display,
+    pub window: Window,
+    /// The candidate that worked.
+    pub request: GlRequest,
+    /// "glx" or "egl".
+    pub platform: &'static str,
+}
+
+fn preferences() -> Vec<(&'static str, DisplayApiPreference)> {
+    vec![
+        (
+            "glx",
+            DisplayApiPreference::Glx(Box::new(winit::platform::x11::register_xlib_error_hook)),
+        ),
+        ("egl", DisplayApiPreference::Egl),
+    ]
+}
+
+fn context_attributes(
+    request: GlRequest,
+    window: RawWindowHandle,
+) -> glutin::context::ContextAttributes {
+    let b = ContextAttributesBuilder::new();
+    match request {
+        GlRequest::Es3 => b.with_context_api(ContextApi::Gles(Some(Version::new(3, 0)))),
+        GlRequest::Core => b
+            .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
+            .with_profile(GlProfile::Core),
+        GlRequest::Gl21 | GlRequest::Auto => b
+            .with_context_api(ContextApi::OpenGl(Some(Version::new(2, 1))))
+            .with_profile(GlProfile::Compatibility),
+    }
+    .build(Some(window))
+}
+
+fn api_of(request: GlRequest) -> Api {
+    if request == GlRequest::Es3 {
+        Api::GLES3
+    } else {
+        Api::OPENGL
+    }
+}
+
+/// A single-sampled config (so a screenshot matches a headless render) with a 24-bit depth
+/// buffer that can run one of the candidates, preferring one that runs them all.
+fn pick_config(display: &Display, candidates: &[GlRequest]) -> Result<Config, String> {
+    // An empty API set lets EGL list desktop-GL-only and ES-only configs alike.
+    let template = ConfigTemplateBuilder::new()
+        .with_depth_size(24)
+        .with_api(Api::empty())
+        .build();
+    // SAFETY: the template holds no raw window handle.
+    let configs: Vec<Config> = unsafe { display.find_configs(template) }
+        .map_err(|e| e.to_string())?
+        .collect();
+    let runs = |c: &Config| {
+        candidates
+            .iter()
+            .filter(|r| c.api().contains(api_of(**r)))
+            .count()
+    };
+    let score = |c: &Config| {
+        (
+            runs(c),
+            c.num_samples() == 0,
+            c.depth_size() == 24,
+            c.alpha_size() == 0,
+            c.stencil_size() == 0,
+        )
+    };
+    configs
+        .into_iter()
+        .filter(|c| c.depth_size() >= 24 && runs(c) > 0)
+        .max_by_key(score)
+        .ok_or_else(|| format!("no config with a 24-bit depth buffer for {candidates:?}"))
+}
+
+impl WindowContext {
+    /// Creates the window (shown once a context works) and makes a context current on it.
+    pub fn new(
+        event_loop: &ActiveEventLoop,
+        attributes: WindowAttributes,
+        request: GlRequest,
+    ) -> Result<WindowContext> {
+        let raw_display = event_loop
+            .display_handle()
+            .map_err(|e| Error::Context(format!("window: no display handle: {e}")))?
+            .as_raw();
+        let mut tried = Vec::new();
+        for (name, preference) in preferences() {
+            // SAFETY: the handle comes from the live event loop, which outlives the display.
+            let display = match unsafe { Display::new(raw_display, preference) } {
+                Ok(d) => d,
+                Err(e) => {
+                    tried.push(format!("{name}: {e}"));
+                    continue;
+                }
+            };
+            let config = match pick_config(&display, request.candidates()) {
+                Ok(c) => c,
+                Err(e) => {
+                    tried.push(format!("{name}: {e}"));
+                    continue;
+                }
+            };
+            let attrs = attributes.clone().with_visible(false);
+            let window = match glutin_winit::finalize_window(event_loop, attrs, &config) {
+                Ok(w) => w,
+                Err(e) => {
+                    tried.push(format!("{name}: cannot create the window: {e}"));
+                    continue;
+                }
+            };
+            let surface = match create_surface(&display, &config, &window) {
+                Ok(s) => s,
+                Err(e) => {
+                    tried.push(format!("{name}: cannot create the window surface: {e}"));
+                    continue;
+                }
+            };
+            let raw_window = match window.window_handle() {
+                Ok(h) => h.as_raw(),
+                Err(e) => {
+                    tried.push(format!("{name}: no window handle: {e}"));
+                    continue;
+                }
+            };
+            for &candidate in request.candidates() {
+                if !config.api().contains(api_of(candidate)) {
+                    tried.push(format!("{name} {candidate:?}: the config cannot run it"));
+                    continue;
+                }
+                let made = create_context(&display, &config, candidate, raw_window)
+                    .and_then(|c| c.make_current(&surface).map_err(|e| e.to_string()));
+                match made {
+                    Ok(context) => {
+                        // Frames are drawn on demand, so waiting for vblank only adds latency;
+                        // not every platform can change it, which is harmless.
+                        let _ = surface.set_swap_interval(&context, SwapInterval::DontWait);
+                        window.set_visible(true);
+                        return Ok(WindowContext {
+                            surface,
+                            context,
+                            display,
+                            window,
+                            request: candidate,
+                            platform: name,
+                        });
+                    }
+                    Err(e) => tried.push(format!("{name} {candidate:?}: {e}")),
+                }
+            }
+        }
+        Err(Error::Context(format!("window: {}", tried.join("; "))))
+    }
+
+    pub fn glow_context(&self) -> glow::Context {
+        // SAFETY: the context is current on this thread and its display lives in self.
+        unsafe {
+            glow::Context::from_loader_function_cstr(|name| self.display.get_proc_address(name))
+        }
+    }
+
+    /// Follows a window resize; a 0×0 (minimised) window keeps its old surface size.
+    pub fn resize(&self, width: u32, height: u32) {
+        if let (Some(w), Some(h)) = (NonZeroU32::new(width), NonZeroU32::new(height)) {
+            self.surface.resize(&self.context, w, h);
+        }
+    }
+
+    /// Shows the back buffer. An error here usually means the context or window is gone.
+    pub fn swap_buffers(&self) -> Result<()> {
+        self.surface.swap_buffers(&self.context).map_err(|e| {
+            Error::Window(format!(
+                "cannot present the frame ({e}); the GL context or window was lost"
+            ))
+        })
+    }
+
+    /// Reads the back buffer of the default framebuffer (call before `swap_buffers`), top row
+    /// first. Alpha is forced opaque: a screenshot shows what the window shows, whatever
+    /// alpha the visual happens to store.
+    pub fn read_back_buffer(gpu: &Gpu, width: u32, height: u32) -> Rgba {
+        if gpu.caps.fbo {
+            // SAFETY: binding framebuffer 0 (the window's) is always valid.
+            unsafe { gpu.gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
+        }
+        let mut data = gpu.read_rgba(width, height);
+        for px in data.chunks_exact_mut(4) {
+            px[3] = 255;
+        }
+        Rgba {
+            width,
+            height,
+            data,
+        }
+    }
+}
+
+fn create_surface(
+    display: &Display,
+    config: &Config,
+    window: &Window,
+) -> Result<Surface<WindowSurface>, String> {
+    let size = window.inner_size();
+    let w = NonZeroU32::new(size.width.max(1)).unwrap_or(NonZeroU32::MIN);
+    let h = NonZeroU32::new(size.height.max(1)).unwrap_or(NonZeroU32::MIN);
+    let handle = window.window_handle().map_err(|e| e.to_string())?.as_raw();
+    let attrs = SurfaceAttributesBuilder::<WindowSurface>::new().build(handle, w, h);
+    // SAFETY: the window outlives the surface (field order in WindowContext).
+    unsafe { display.create_window_surface(config, &attrs) }.map_err(|e| e.to_string())
+}
+
+fn create_context(
+    display: &Display,
+    config: &Config,
+    request: GlRequest,
+    window: RawWindowHandle,
+) -> Result<NotCurrentContext, String> {
+    // SAFETY: the attributes name a window that is alive for the whole call.
+    unsafe { display.create_context(config, &context_attributes(request, window)) }
+        .map_err(|e| e.to_string())
+}

@@ -26,6 +26,8 @@ pub struct Material {
     pub opacity: f32,
     pub illum: Option<u8>,
     pub diffuse_map: Option<std::sync::Arc<Texture>>,
+    /// `map_Kd` as written in the MTL, whether or not it could be loaded.
+    pub diffuse_map_spec: Option<String>,
 }
 
 impl PartialEq for Texture {
@@ -47,6 +49,7 @@ impl Default for Material {
             opacity: 1.0,
             illum: None,
             diffuse_map: None,
+            diffuse_map_spec: None,
         }
     }
 }
@@ -124,6 +127,7 @@ pub fn from_tobj(
         opacity,
         illum: m.illumination_model,
         diffuse_map,
+        diffuse_map_spec: m.diffuse_texture.clone(),
     }
 }
 

@@ -5,6 +5,7 @@ pub mod material;
 pub mod normals;
 pub mod obj;
 pub mod repair;
+pub mod report;
 
 use glam::{DVec3, Vec3};
 pub use material::{Material, Texture};
@@ -118,6 +119,8 @@ pub struct Scene {
     pub bounds: Bounds,
     /// Where local (0,0,0) is in the file's coordinates.
     pub origin: DVec3,
+    /// Bounds in the file's coordinates, exactly (f64): (min, max).
+    pub file_bounds: (DVec3, DVec3),
     pub warnings: Vec<Warning>,
 }
 

@@ -200,6 +200,7 @@ fn load_with(
         materials,
         bounds,
         origin,
+        file_bounds: (lo, hi),
         warnings,
     })
 }

@@ -268,6 +268,18 @@ impl Viewer {
         Duration::from_secs_f64((f[11] + f[12]) as f64 / clock_ticks() as f64)
     }
 
+    /// CPU time of the live threads in nanoseconds (/proc/PID/task/*/schedstat), finer than
+    /// the 10 ms ticks of `cpu_time`; None where the kernel has no schedstat.
+    pub fn cpu_time_ns(&self) -> Option<u64> {
+        let tasks = std::fs::read_dir(format!("/proc/{}/task", self.pid())).ok()?;
+        let mut sum = 0;
+        for t in tasks.flatten() {
+            let s = std::fs::read_to_string(t.path().join("schedstat")).ok()?;
+            sum += s.split_whitespace().next()?.parse::<u64>().ok()?;
+        }
+        Some(sum)
+    }
+
     pub fn wait_exit(&mut self, timeout: Duration) -> Option<ExitStatus> {
         wait_deadline(&mut self.child.0, timeout)
     }

@@ -1,0 +1,69 @@
+//! `glview --check`: what the loader made of a model, without rendering.
+use super::Scene;
+use std::fmt::Write;
+
+pub fn report(s: &Scene) -> String {
+    let mut r = String::new();
+    let (lo, hi) = s.file_bounds;
+    let _ = writeln!(r, "model: {}", s.name);
+    let _ = writeln!(
+        r,
+        "objects: {}  triangles: {}  vertices: {}  materials: {}",
+        s.meshes.len(),
+        s.triangle_count(),
+        s.vertex_count(),
+        s.materials.len() - 1
+    );
+    let _ = writeln!(
+        r,
+        "bounds: ({:.6}, {:.6}, {:.6}) .. ({:.6}, {:.6}, {:.6})",
+        lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+    );
+    for m in &s.materials {
+        if let Some(spec) = &m.diffuse_map_spec {
+            match &m.diffuse_map {
+                Some(t) => {
+                    let _ = writeln!(
+                        r,
+                        "texture: material {}: map_Kd {spec:?} -> {} ({}x{})",
+                        m.name,
+                        t.path.display(),
+                        t.width,
+                        t.height
+                    );
+                }
+                None => {
+                    let _ = writeln!(
+                        r,
+                        "texture: material {}: map_Kd {spec:?} -> not loaded (see warnings)",
+                        m.name
+                    );
+                }
+            }
+        }
+    }
+    for m in &s.meshes {
+        if m.generated_normals > 0 {
+            let _ = writeln!(
+                r,
+                "normals: object {:?}: {} of {} generated",
+                m.name,
+                m.generated_normals,
+                m.vertices.len()
+            );
+        }
+    }
+    for w in &s.warnings {
+        let _ = writeln!(r, "warning: {w}");
+    }
+    let _ = writeln!(
+        r,
+        "result: renders{}",
+        if s.warnings.is_empty() {
+            ""
+        } else {
+            " with warnings"
+        }
+    );
+    r
+}
