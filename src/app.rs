@@ -9,9 +9,7 @@ use crate::platform::window::WindowContext;
 use crate::render::{FrameSettings, Renderer, Shading, Target};
 use crate::scene::{Bounds, Scene};
 use crate::{run, Error, Result};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::dpi::{PhysicalPosition, PhysicalSize};
 use winit::event::{ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent};
@@ -34,7 +32,7 @@ pub fn display_available() -> bool {
 /// cannot be made is `Error::Context` (the caller then renders headless); a render error or a
 /// lost context later ends the loop with that error.
 pub fn run_window(args: &Args) -> Result<()> {
-    let scene = load_with_progress(args)?;
+    let scene = run::load_scene(args)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
@@ -59,57 +57,6 @@ pub fn run_window(args: &Args) -> Result<()> {
         .run_app(&mut app)
         .map_err(|e| Error::Window(format!("event loop failed: {e}")))?;
     app.error.map_or(Ok(()), Err)
-}
-
-/// Loads the scene before the window opens; a load that takes over a second reports progress
-/// on stderr so a student knows the viewer is working.
-fn load_with_progress(args: &Args) -> Result<Scene> {
-    let name = args
-        .model
-        .as_ref()
-        .map_or("the built-in scene".into(), |p| p.display().to_string());
-    let bytes = args
-        .model
-        .as_ref()
-        .and_then(|p| std::fs::metadata(p).ok())
-        .map(|m| m.len());
-    let size = bytes
-        .map(|b| format!(" ({:.1} MB)", b as f64 / 1e6))
-        .unwrap_or_default();
-    let start = Instant::now();
-    let (done, ticks) = std::sync::mpsc::channel::<()>();
-    let scene = std::thread::scope(|s| {
-        s.spawn(move || {
-            let tty = std::io::stderr().is_terminal();
-            let mut said = false;
-            while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
-                ticks.recv_timeout(Duration::from_millis(250))
-            {
-                let t = start.elapsed().as_secs_f64();
-                if t >= 1.0 && tty {
-                    eprint!("\rloading {name}{size} … {t:.1} s");
-                } else if t >= 1.0 && !said {
-                    eprintln!("loading {name}{size} …");
-                }
-                said |= t >= 1.0;
-            }
-            if said && tty {
-                eprintln!();
-            }
-        });
-        let scene = run::load_scene(args);
-        drop(done);
-        scene
-    })?;
-    let t = start.elapsed().as_secs_f64();
-    if t >= 1.0 {
-        eprintln!(
-            "loaded {}: {} triangles in {t:.1} s",
-            scene.name,
-            scene.triangle_count()
-        );
-    }
-    Ok(scene)
 }
 
 /// The window, its context and the scene on the GPU. Field order is drop order: GL objects

@@ -17,14 +17,42 @@ use std::path::Path;
 pub const BUILTIN_OBJ: &str = include_str!("../models/glass_holder.obj");
 pub const BUILTIN_MTL: &str = include_str!("../models/glass_holder.mtl");
 
+/// Loads the model (or the built-in scene). Files that take a while show an indicatif bar
+/// on stderr (bytes scanned, then the triangle count); it stays hidden when stderr is not a
+/// terminal.
 pub fn load_scene(args: &Args) -> Result<Scene> {
+    let size = args
+        .model
+        .as_ref()
+        .and_then(|p| std::fs::metadata(p).ok())
+        .map_or(0, |m| m.len());
+    // About 1 s of loading on a slow machine: below that a bar would only flicker.
+    let bar = (size > 16 << 20).then(|| {
+        let b = indicatif::ProgressBar::new(size);
+        let style = indicatif::ProgressStyle::with_template(
+            "{msg} [{bar:30}] {bytes}/{total_bytes} {elapsed}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+        b.set_style(style);
+        let name = args
+            .model
+            .as_ref()
+            .map(|p| p.display().to_string())
+            .unwrap_or_default();
+        b.set_message(format!("loading {name}"));
+        b
+    });
+    let progress = bar.clone().map(|b| {
+        std::sync::Arc::new(move |done: u64, _total: u64| b.set_position(done)) as obj::ProgressFn
+    });
     let opts = LoadOptions {
         textures: TextureOptions {
             allow_outside_paths: args.allow_outside_paths,
             max_dimension: 0,
         },
+        progress,
     };
-    match &args.model {
+    let scene = match &args.model {
         Some(path) => obj::load(path, &opts),
         None => obj::load_embedded(
             Path::new("glass_holder.obj"),
@@ -32,7 +60,14 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
             BUILTIN_MTL.as_bytes(),
             &opts,
         ),
+    };
+    if let Some(b) = &bar {
+        match &scene {
+            Ok(s) => b.finish_with_message(format!("loaded {} triangles", s.triangle_count())),
+            Err(_) => b.finish_and_clear(),
+        }
     }
+    scene
 }
 
 fn color(s: &str, what: &str) -> Result<Vec3> {

@@ -7,9 +7,13 @@ use glam::DVec3;
 use std::cell::RefCell;
 use std::path::Path;
 
-#[derive(Clone, Copy, Debug, Default)]
+/// Called with (bytes scanned, total bytes) while a file is read.
+pub type ProgressFn = std::sync::Arc<dyn Fn(u64, u64) + Send + Sync>;
+
+#[derive(Clone, Default)]
 pub struct LoadOptions {
     pub textures: TextureOptions,
+    pub progress: Option<ProgressFn>,
 }
 
 /// Reads a file, refusing what is not a regular file (directories, devices, FIFOs would hang).
@@ -85,7 +89,13 @@ fn load_with(
     opts: &LoadOptions,
     mtl_source: MtlSource,
 ) -> Result<Scene> {
-    let mut repaired = repair::repair_obj(path, bytes)?;
+    let total = bytes.len() as u64;
+    let report = |done: u64| {
+        if let Some(p) = &opts.progress {
+            p(done, total)
+        }
+    };
+    let mut repaired = repair::repair_obj_with_progress(path, bytes, &report)?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let warnings = RefCell::new(std::mem::take(&mut repaired.warnings));
     let load_opts = tobj::LoadOptions {

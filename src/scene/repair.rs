@@ -87,6 +87,15 @@ fn resolve(index: i64, so_far: usize) -> Option<usize> {
 }
 
 pub fn repair_obj(path: &Path, bytes: &[u8]) -> Result<Repaired, Error> {
+    repair_obj_with_progress(path, bytes, &|_| {})
+}
+
+/// As [`repair_obj`], calling `progress(bytes scanned)` about every MiB.
+pub fn repair_obj_with_progress(
+    path: &Path,
+    bytes: &[u8],
+    progress: &dyn Fn(u64),
+) -> Result<Repaired, Error> {
     let err = |line: usize, msg: String| Error::model(path, Some(line), msg);
     let warn = |line: Option<usize>, msg: String| Warning {
         file: path.to_path_buf(),
@@ -112,8 +121,15 @@ pub fn repair_obj(path: &Path, bytes: &[u8]) -> Result<Repaired, Error> {
     let mut missing_refs = 0usize;
     let mut unknown = 0usize;
     let mut usemtl = Vec::new();
+    let mut scanned = 0u64;
+    let mut next_report = 0u64;
     for (lineno, raw) in &lines {
         let lineno = *lineno;
+        scanned += raw.len() as u64 + 1;
+        if scanned >= next_report {
+            progress(scanned);
+            next_report = scanned + (1 << 20);
+        }
         let kw = keyword(raw);
         let line: std::borrow::Cow<str> = match std::str::from_utf8(raw) {
             Ok(s) => s.into(),
