@@ -33,9 +33,6 @@ pub fn display_available() -> bool {
 /// lost context later ends the loop with that error.
 pub fn run_window(args: &Args) -> Result<()> {
     let scene = run::load_scene(args)?;
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
     let (settings, home) = run::frame_settings(args, &scene)?;
     let event_loop = EventLoop::new()
         .map_err(|e| Error::Context(format!("window: cannot connect to the display: {e}")))?;

@@ -82,7 +82,8 @@ pub fn action_for(name: &str) -> Option<Action> {
 pub fn parse_keys(s: &str) -> Result<Vec<Action>, String> {
     s.split_whitespace()
         .map(|k| {
-            action_for(k).ok_or_else(|| format!("unknown key {k:?} in --keys (see the key table in --help)"))
+            action_for(k)
+                .ok_or_else(|| format!("unknown key {k:?} in --keys (see the key table in --help)"))
         })
         .collect()
 }

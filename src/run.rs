@@ -67,6 +67,12 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
             Err(_) => b.finish_and_clear(),
         }
     }
+    // One warning line per problem worked around; `--check` lists them in its report instead.
+    if let (Ok(s), false) = (&scene, args.check) {
+        for w in &s.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
     scene
 }
 
@@ -207,9 +213,6 @@ pub fn png_text(
 /// Renders headless into `path` (`--frames` times; the last frame is written).
 pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     let scene = load_scene(args)?;
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
     let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;
     let hl = crate::headless::Headless::new(args.backend, args.gl, w, h)?;

@@ -149,7 +149,8 @@ impl Bvh {
         if self.nodes.is_empty() {
             return;
         }
-        let inv = d.recip();
+        // -0 becomes +0 so a zero component always gives +inf; see `slab` for the NaNs.
+        let inv = (d + DVec3::ZERO).recip();
         // Depth is at most SAH_DEPTH + log2(n) + 1, and each level leaves at most one node behind.
         let mut stack = [0u32; 128];
         let mut sp = 1;
@@ -188,9 +189,13 @@ impl Bvh {
 }
 
 /// Entry distance of the ray into the node's box, if it enters within [t_min, t_max].
-/// Division by a zero direction gives ±inf, and `f64::min`/`max` drop the NaN of 0·inf.
 fn slab(n: &Node, o: DVec3, inv: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
-    let (a, b) = ((n.min - o) * inv, (n.max - o) * inv);
+    // With a zero direction component the ray lies in a plane of that axis: 0·inf = NaN
+    // means it lies in the box's face plane, which must count as inside, not as a miss.
+    let a = (n.min - o) * inv;
+    let a = DVec3::select(a.is_nan_mask(), DVec3::NEG_INFINITY, a);
+    let b = (n.max - o) * inv;
+    let b = DVec3::select(b.is_nan_mask(), DVec3::INFINITY, b);
     let near = a.min(b).max_element().max(t_min);
     // Widened by a few ulps so a hit exactly on a box face is not lost to rounding.
     let far = a.max(b).min_element() * (1.0 + 1e-12);
@@ -376,7 +381,9 @@ mod tests {
             for l in 0..=4 * n {
                 let (x, y) = (f64::from(k) * 0.25, f64::from(l) * 0.25);
                 let o = DVec3::new(x, y, 5.0);
-                let h = bvh.closest(o, d, 0.0, 10.0).expect("crack in the grid");
+                let h = bvh
+                    .closest(o, d, 0.0, 10.0)
+                    .unwrap_or_else(|| panic!("crack at {x},{y}"));
                 assert!((h.t - 5.0).abs() < 1e-12);
                 if k % 4 != 0 && l % 4 != 0 {
                     assert_eq!(h.tri.tri / 2, (l / 4) * n + k / 4, "at {x},{y}");

@@ -58,6 +58,7 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
         let n = w[0] * normal_of(vtx[0].normal) + w[1] * normal_of(vtx[1].normal);
         let n = safe_normalize(n + w[2] * normal_of(vtx[2].normal), ctx.view.back);
         let n = if front { n } else { -n };
+        debug_assert!(n.is_normalized(), "normal {n} at {hit:?}");
         let params = &ctx.settings.lighting;
         shade(material, tex, p, n, ctx.view.eye, lights, vis, params)
     };
@@ -176,6 +177,7 @@ fn gouraud(
         for k in 0..3 {
             let n = safe_normalize(normal_of(normals[k]), ctx.view.back);
             let n = if front { n } else { -n };
+            debug_assert!(n.is_normalized(), "normal {n}");
             let v = (eye - pos[k]).normalize_or_zero();
             let l = to_light(light, pos[k]);
             let (d, sp) = light_factors(l, n, v, f64::from(m.shininess), s.lighting.wrap);

@@ -103,6 +103,31 @@ pub(crate) struct DrawMesh {
     pub translucent: bool,
 }
 
+/// Uploads a decoded texture, downscaled (with a warning) when it exceeds the driver's
+/// maximum texture size.
+fn upload_texture(gpu: &GpuRef, t: &crate::scene::Texture) -> Result<Texture2d> {
+    let max = gpu.caps.max_texture_size.max(1);
+    if t.width <= max && t.height <= max {
+        return Texture2d::from_rgba(gpu, t.width, t.height, &t.rgba);
+    }
+    let scale = f64::from(max) / f64::from(t.width.max(t.height));
+    let (w, h) = (
+        ((f64::from(t.width) * scale) as u32).clamp(1, max),
+        ((f64::from(t.height) * scale) as u32).clamp(1, max),
+    );
+    log::warn!(
+        "{}: {}x{} is larger than the driver's maximum texture size {max}: downscaled to {w}x{h}",
+        t.path.display(),
+        t.width,
+        t.height
+    );
+    let img = image::RgbaImage::from_raw(t.width, t.height, t.rgba.clone()).ok_or_else(|| {
+        crate::Error::Unsupported(format!("{}: bad pixel buffer", t.path.display()))
+    })?;
+    let small = image::imageops::resize(&img, w, h, image::imageops::FilterType::Triangle);
+    Texture2d::from_rgba(gpu, w, h, small.as_raw())
+}
+
 /// The scene on the GPU plus the passes' cached state.
 pub struct Renderer {
     pub gpu: GpuRef,
@@ -127,7 +152,7 @@ impl Renderer {
                 (Some(t), true) => Some(match texture_paths.iter().position(|p| p == &t.path) {
                     Some(i) => i,
                     None => {
-                        textures.push(Texture2d::from_rgba(gpu, t.width, t.height, &t.rgba)?);
+                        textures.push(upload_texture(gpu, t)?);
                         texture_paths.push(t.path.clone());
                         textures.len() - 1
                     }
@@ -149,6 +174,13 @@ impl Renderer {
             });
         }
         gpu.check_error("upload")?;
+        let caps = &gpu.caps;
+        if !caps.depth_texture || !caps.shadow_compare {
+            log::warn!(
+                "{}: no depth textures or shadow compare: shadows off",
+                caps.version
+            );
+        }
         Ok(Renderer {
             gpu: gpu.clone(),
             scene,

@@ -1,0 +1,405 @@
+//! Bad input: every broken file either renders (exit 0) with one warning per problem, or
+//! stops with one clear `error: FILE[:LINE]: ...` line and exit code 1. Never a panic, a hang
+//! or unbounded memory. The malformed files are written here, one per case.
+mod common;
+use common::*;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n";
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
+    let p = dir.join(name);
+    if let Some(parent) = p.parent() {
+        std::fs::create_dir_all(parent).unwrap();
+    }
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
+/// Runs glview under a 2 GiB address-space limit (`--check`, no GL) or with rendering, and
+/// a 60 s deadline; returns the output.
+fn glview(args: &[&str], render: bool) -> Output {
+    let start = Instant::now();
+    let mut cmd = if render {
+        let mut c = Command::new(bin());
+        c.args(args)
+            .args(["--output", "/dev/null.png", "--size", "32x24"]);
+        c
+    } else {
+        // llvmpipe reserves large address ranges, so only the GL-free check runs under ulimit.
+        let mut c = Command::new("sh");
+        let quoted: Vec<String> = args
+            .iter()
+            .map(|a| format!("'{}'", a.replace('\'', "'\\''")))
+            .collect();
+        c.args([
+            "-c",
+            &format!(
+                "ulimit -v 2097152; exec '{}' --check {}",
+                bin(),
+                quoted.join(" ")
+            ),
+        ]);
+        c
+    };
+    let child = cmd
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        start.elapsed() < Duration::from_secs(60),
+        "too slow: {args:?}"
+    );
+    out
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Loads with a warning containing `expect`, for `--check` and for a real render.
+fn renders_with_warning(file: &Path, expect: &str) {
+    let f = file.to_str().unwrap();
+    for render in [false, true] {
+        let o = glview(&[f], render);
+        // --check lists warnings in its report (stdout); a render prints them on stderr.
+        let err = if render {
+            stderr(&o)
+        } else {
+            String::from_utf8_lossy(&o.stdout).into_owned()
+        };
+        assert!(o.status.success(), "{f} (render {render}) failed: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+        let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning: ")).collect();
+        assert!(
+            warnings.iter().any(|w| w.contains(expect)),
+            "{f}: no warning containing {expect:?} in:\n{err}"
+        );
+    }
+}
+
+/// Refused with exactly one line `error: <prefix>...<expect>...`, exit code 1.
+fn clean_error(file: &str, prefix: &str, expect: &str) {
+    let o = glview(&[file], false);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{file}: {err}");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "{file}: expected one line, got:\n{err}");
+    assert!(
+        lines[0].starts_with(&format!("error: {prefix}")),
+        "{file}: {err}"
+    );
+    assert!(
+        lines[0].contains(expect),
+        "{file}: expected {expect:?} in {err}"
+    );
+}
+
+#[test]
+fn renders_with_a_warning() {
+    let dir = out_dir("bad-input-warn");
+    let d = |n: &str, b: &str| write(&dir, n, b.as_bytes());
+    let cases: Vec<(PathBuf, &str)> = vec![
+        (
+            d(
+                "nomtl.obj",
+                &format!("mtllib nowhere.mtl\n{TRI}usemtl a\nf 1 2 3\n"),
+            ),
+            "cannot read material library",
+        ),
+        (
+            d("undef.obj", &format!("{TRI}usemtl ghost\nf 1 2 3\n")),
+            "\"ghost\" is not defined",
+        ),
+        (
+            d("emptyuse.obj", &format!("{TRI}usemtl\nf 1 2 3\n")),
+            "empty usemtl",
+        ),
+        (
+            d("short.obj", &format!("{TRI}f 1 2\nf 1\nf 1 1 2\nf 1 2 3\n")),
+            "dropped 3 face(s)",
+        ),
+        (
+            d("refs.obj", &format!("{TRI}f 1/9/1 2/9/1 3/9/1\n")),
+            "missing normal or UV",
+        ),
+        (
+            d("unknown.obj", &format!("{TRI}frobnicate 1 2\nf 1 2 3\n")),
+            "unknown statement",
+        ),
+        (
+            d(
+                "crlf.obj",
+                "mtllib crlf.mtl\r\nv 0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nusemtl x\r\nf 1 2 3\r\n",
+            ),
+            "crlf.mtl",
+        ),
+        (
+            d("cont.obj", &format!("{TRI}f 1 \\\n 2 3\n")),
+            "backslash line continuation",
+        ),
+    ];
+    for (p, expect) in &cases {
+        renders_with_warning(p, expect);
+    }
+    // Non-UTF-8 bytes in a comment and an object name: repaired.
+    let mut b = b"# caf\xe9\no na\xefve\n".to_vec();
+    b.extend_from_slice(TRI.as_bytes());
+    b.extend_from_slice(b"f 1 2 3\n");
+    renders_with_warning(&write(&dir, "latin1.obj", &b), "non-UTF-8");
+}
+
+/// A PNG whose header promises `w` x `h` RGBA pixels, followed by a tiny IDAT: a
+/// decompression bomb's shape without its size.
+fn png_claiming(w: u32, h: u32) -> Vec<u8> {
+    fn crc32(data: &[u8]) -> u32 {
+        let mut c = 0xffff_ffffu32;
+        for &b in data {
+            c ^= u32::from(b);
+            for _ in 0..8 {
+                c = if c & 1 != 0 {
+                    0xedb8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
+            }
+        }
+        !c
+    }
+    fn chunk(out: &mut Vec<u8>, kind: &[u8], data: &[u8]) {
+        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+        let mut body = kind.to_vec();
+        body.extend_from_slice(data);
+        out.extend_from_slice(&body);
+        out.extend_from_slice(&crc32(&body).to_be_bytes());
+    }
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = w.to_be_bytes().to_vec();
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 6, 0, 0, 0]);
+    chunk(&mut out, b"IHDR", &ihdr);
+    chunk(
+        &mut out,
+        b"IDAT",
+        &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01],
+    );
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
+#[test]
+fn textures_that_fail_keep_the_material_colours() {
+    let dir = out_dir("bad-input-tex");
+    let obj = |name: &str, mtl: &str| {
+        write(
+            &dir,
+            &format!("{name}.mtl"),
+            format!("newmtl m\nKd 1 0 0\n{mtl}\n").as_bytes(),
+        );
+        write(
+            &dir,
+            &format!("{name}.obj"),
+            format!("mtllib {name}.mtl\n{TRI}usemtl m\nf 1/1/1 2/2/1 3/3/1\n").as_bytes(),
+        )
+    };
+    write(&dir, "garbage.png", b"\x89PNG\r\n\x1a\nthis is not a png");
+    write(&dir, "weird.xyz", b"0123456789");
+    // A PNG header that promises 100000 x 100000 pixels: refused before decoding.
+    write(&dir, "bomb.png", &png_claiming(100_000, 100_000));
+    renders_with_warning(&obj("missing", "map_Kd nothere.png"), "file not found");
+    renders_with_warning(&obj("corrupt", "map_Kd garbage.png"), "unreadable image");
+    renders_with_warning(&obj("unsupported", "map_Kd weird.xyz"), "map_Kd");
+    renders_with_warning(&obj("bomb", "map_Kd bomb.png"), "refused before decoding");
+}
+
+#[test]
+fn texture_paths_are_repaired_when_unambiguous() {
+    let dir = out_dir("bad-input-paths");
+    let (w, h, rgba) = glview::scene::generate::checker_png_rgba();
+    let img = glview::image_out::Rgba {
+        width: w,
+        height: h,
+        data: rgba,
+    };
+    std::fs::create_dir_all(dir.join("Tex")).unwrap();
+    img.save_png(&dir.join("Tex/Checker.png"), &[]).unwrap();
+    for (name, spec) in [
+        ("opts", "-s 1 1 1 -bm 2 -clamp on Tex/Checker.png"),
+        ("backslash", "Tex\\Checker.png"),
+        ("case", "tex/checker.PNG"),
+    ] {
+        write(
+            &dir,
+            &format!("{name}.mtl"),
+            format!("newmtl m\nmap_Kd {spec}\n").as_bytes(),
+        );
+        let p = write(
+            &dir,
+            &format!("{name}.obj"),
+            format!("mtllib {name}.mtl\n{TRI}usemtl m\nf 1/1/1 2/2/1 3/3/1\n").as_bytes(),
+        );
+        let o = glview(&[p.to_str().unwrap()], false);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            o.status.success() && out.contains("Checker.png (64x64)"),
+            "{name}: {out}{}",
+            stderr(&o)
+        );
+        assert!(!stderr(&o).contains("warning"), "{name}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn texture_paths_outside_the_model_folder_are_not_read() {
+    let root = out_dir("bad-input-escape");
+    let (w, h, rgba) = glview::scene::generate::checker_png_rgba();
+    glview::image_out::Rgba {
+        width: w,
+        height: h,
+        data: rgba,
+    }
+    .save_png(&root.join("secret.png"), &[])
+    .unwrap();
+    let model = root.join("model");
+    std::fs::create_dir_all(&model).unwrap();
+    let link = model.join("link.png");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(root.join("secret.png"), &link).unwrap();
+    let abs = root.join("secret.png");
+    for (name, spec) in [
+        ("dotdot", "../secret.png".to_string()),
+        ("absolute", abs.display().to_string()),
+        ("symlink", "link.png".into()),
+    ] {
+        write(
+            &model,
+            &format!("{name}.mtl"),
+            format!("newmtl m\nmap_Kd {spec}\n").as_bytes(),
+        );
+        let p = write(
+            &model,
+            &format!("{name}.obj"),
+            format!("mtllib {name}.mtl\n{TRI}usemtl m\nf 1/1/1 2/2/1 3/3/1\n").as_bytes(),
+        );
+        let p = p.to_str().unwrap();
+        renders_with_warning(Path::new(p), "outside the model's folder; not read");
+        let o = glview(&[p, "--allow-outside-paths"], false);
+        assert!(
+            String::from_utf8_lossy(&o.stdout).contains("secret.png (64x64)"),
+            "{name} with --allow-outside-paths: {}",
+            stderr(&o)
+        );
+    }
+}
+
+#[test]
+fn clean_errors_name_file_and_line() {
+    let dir = out_dir("bad-input-err");
+    let d = |n: &str, b: &[u8]| write(&dir, n, b).to_str().unwrap().to_string();
+    let cases: Vec<(String, Option<usize>, &str)> = vec![
+        (
+            d("zero.obj", format!("{TRI}f 0 1 2\n").as_bytes()),
+            Some(8),
+            "face index 0",
+        ),
+        (
+            d("range.obj", format!("{TRI}f 1 2 7\n").as_bytes()),
+            Some(8),
+            "out of range",
+        ),
+        (
+            d("nan.obj", b"v 0 0 0\nv nan 1 0\nv 0 1 0\nf 1 2 3\n"),
+            Some(2),
+            "not finite",
+        ),
+        (
+            d("overflow.obj", b"v 0 0 0\nv 1e999 1 0\nv 0 1 0\nf 1 2 3\n"),
+            Some(2),
+            "not finite",
+        ),
+        (
+            d("badnum.obj", b"v 0 0 0\nv 1,5 1 0\nv 0 1 0\nf 1 2 3\n"),
+            Some(2),
+            "not a number",
+        ),
+        (
+            d(
+                "latin1num.obj",
+                b"v 0 0 0\nv 1\xb75 1 0\nv 0 1 0\nf 1 2 3\n",
+            ),
+            Some(2),
+            "non-UTF-8",
+        ),
+        (d("empty.obj", b""), None, "no triangles"),
+        (
+            d("points.obj", b"v 0 0 0\nv 1 0 0\np 1 2\nl 1 2\n"),
+            None,
+            "no triangles",
+        ),
+        (
+            d(
+                "garbage.obj",
+                b"\x7fELF\x02\x01\x01\x00\x00\x00\x00\x00\x00\x00\x00\x00\x03\x00",
+            ),
+            Some(1),
+            "not an OBJ",
+        ),
+    ];
+    for (file, line, expect) in &cases {
+        let prefix = match line {
+            Some(l) => format!("{file}:{l}: "),
+            None => format!("{file}: "),
+        };
+        clean_error(file, &prefix, expect);
+    }
+    let missing = dir.join("does-not-exist.obj");
+    clean_error(
+        missing.to_str().unwrap(),
+        missing.to_str().unwrap(),
+        "No such file",
+    );
+    clean_error(
+        dir.to_str().unwrap(),
+        dir.to_str().unwrap(),
+        "is a directory",
+    );
+    clean_error("/dev/null", "/dev/null", "not a regular file");
+    // A FIFO would block a naive reader forever.
+    let fifo = dir.join("fifo.obj");
+    let _ = std::fs::remove_file(&fifo);
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    clean_error(
+        fifo.to_str().unwrap(),
+        fifo.to_str().unwrap(),
+        "not a regular file",
+    );
+}
+
+#[test]
+fn bad_options_are_clear_errors() {
+    for (args, expect) in [
+        (vec!["--light", "spot:1,2,3"], "kind must be point or dir"),
+        (vec!["--light", "dir:0,0,0"], "direction is zero"),
+        (vec!["--target", "1,2"], "--target"),
+        (vec!["--keys", "Left Banana"], "unknown key"),
+        (vec!["--fov", "0"], "--fov"),
+    ] {
+        let mut a = args.clone();
+        a.extend_from_slice(&["--output", "/tmp/x.png", "--size", "8x8"]);
+        let o = run(&a, &[]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.starts_with("error: ") && err.contains(expect) && err.lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
+}
