@@ -106,6 +106,9 @@ pub struct Args {
     /// What to draw: the scene, or the shadow map (teaching view).
     #[arg(long, value_enum, default_value_t = Show::Scene)]
     pub show: Show,
+    /// Do not use the mesh cache (a second load of a large unchanged OBJ skips parsing).
+    #[arg(long)]
+    pub no_cache: bool,
     /// Read textures even where their path leaves the model's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,

@@ -51,6 +51,7 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
             max_dimension: 0,
         },
         progress,
+        cache: !args.no_cache,
     };
     let scene = match &args.model {
         Some(path) => obj::load(path, &opts),

@@ -12,7 +12,7 @@ pub struct Texture {
     pub rgba: Vec<u8>,
 }
 
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Material {
     pub name: String,
     pub ambient: [f32; 3],
@@ -25,6 +25,9 @@ pub struct Material {
     /// Opacity (`d`, or 1 - `Tr`).
     pub opacity: f32,
     pub illum: Option<u8>,
+    /// Decoded pixels are not cached (see `scene::cache`): they are decoded again from the
+    /// resolved path.
+    #[serde(skip)]
     pub diffuse_map: Option<std::sync::Arc<Texture>>,
     /// `map_Kd` as written in the MTL, whether or not it could be loaded.
     pub diffuse_map_spec: Option<String>,
@@ -219,6 +222,11 @@ fn find_case_insensitive(dir: &Path, rel: &Path) -> Option<PathBuf> {
 
 fn load_texture(spec: &str, dir: &Path, opts: TextureOptions) -> Result<Texture, String> {
     let path = resolve_texture_path(spec, dir, opts.allow_outside_paths)?;
+    decode_texture(path, opts)
+}
+
+/// Decodes an image file already resolved (and checked against the folder rule).
+pub fn decode_texture(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
     let reader = image::ImageReader::open(&path)
         .map_err(|e| e.to_string())?
         .with_guessed_format()

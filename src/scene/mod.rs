@@ -1,5 +1,6 @@
 //! Scene data: meshes, materials and bounds, loaded from OBJ/MTL. No GL, no windowing, so the
 //! GPU renderer, the CPU reference renderer and the tests share it.
+pub mod cache;
 pub mod generate;
 pub mod material;
 pub mod normals;
@@ -42,7 +43,7 @@ impl Mesh {
 }
 
 /// Axis-aligned bounds.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Bounds {
     pub min: Vec3,
     pub max: Vec3,
@@ -91,7 +92,7 @@ impl Bounds {
 }
 
 /// A problem the loader worked around; printed as one warning line each.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Warning {
     pub file: std::path::PathBuf,
     pub line: Option<usize>,
@@ -121,6 +122,9 @@ pub struct Scene {
     pub origin: DVec3,
     /// Bounds in the file's coordinates, exactly (f64): (min, max).
     pub file_bounds: (DVec3, DVec3),
+    /// Other files the scene was built from (MTL libraries, textures): the mesh cache
+    /// checks them too.
+    pub dependencies: Vec<std::path::PathBuf>,
     pub warnings: Vec<Warning>,
 }
 

@@ -14,6 +14,8 @@ pub type ProgressFn = std::sync::Arc<dyn Fn(u64, u64) + Send + Sync>;
 pub struct LoadOptions {
     pub textures: TextureOptions,
     pub progress: Option<ProgressFn>,
+    /// Use the mesh cache (`scene::cache`) for large files.
+    pub cache: bool,
 }
 
 /// Reads a file, refusing what is not a regular file (directories, devices, FIFOs would hang).
@@ -69,7 +71,18 @@ fn load_mtl(
 /// Loads an OBJ file (and its MTL libraries and diffuse textures).
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
     let bytes = read_regular_file(path)?;
-    load_bytes(path, &bytes, opts)
+    let cached = opts.cache && bytes.len() as u64 >= super::cache::MIN_SIZE;
+    if cached {
+        if let Some(scene) = super::cache::get(path, &bytes, opts.textures) {
+            log::debug!("{}: loaded from the mesh cache", path.display());
+            return Ok(scene);
+        }
+    }
+    let scene = load_bytes(path, &bytes, opts)?;
+    if cached {
+        super::cache::put(path, &bytes, opts.textures, &scene);
+    }
+    Ok(scene)
 }
 
 /// Loads OBJ bytes as if they were the file `path` (MTL and textures are looked up beside it).
@@ -98,6 +111,7 @@ fn load_with(
     let mut repaired = repair::repair_obj_with_progress(path, bytes, &report)?;
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let warnings = RefCell::new(std::mem::take(&mut repaired.warnings));
+    let mtl_files = RefCell::new(Vec::new());
     let load_opts = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -105,10 +119,12 @@ fn load_with(
         ignore_lines: true,
     };
     let (models, mats) = tobj::load_obj_buf(&mut repaired.text.as_bytes(), &load_opts, |p| {
+        mtl_files.borrow_mut().push(dir.join(p));
         load_mtl(&dir, p, mtl_source, &warnings)
     })
     .map_err(|e| Error::model(path, None, e.to_string()))?;
     let mut warnings = warnings.into_inner();
+    let mut dependencies = mtl_files.into_inner();
     let tobj_mats = mats.unwrap_or_default();
     let mtl_file = path.with_extension("mtl");
     let mut materials: Vec<Material> = tobj_mats
@@ -125,6 +141,11 @@ fn load_with(
             });
         }
     }
+    dependencies.extend(
+        materials
+            .iter()
+            .filter_map(|m| m.diffuse_map.as_ref().map(|t| t.path.clone())),
+    );
     let default_index = materials.len();
     materials.push(Material::default());
 
@@ -211,6 +232,7 @@ fn load_with(
         bounds,
         origin,
         file_bounds: (lo, hi),
+        dependencies,
         warnings,
     })
 }
