@@ -67,10 +67,27 @@ pub(crate) fn run(
             .push(s.shadows.normal_offset * 2.0 * r.scene.bounds.radius() / m.face as f32);
     }
     shadow.eye_to_world = Mat3::from_mat4(view).transpose();
-    let mut order: Vec<usize> = (0..r.meshes.len())
+    // Off-screen meshes cost a program bind and a draw call each for nothing: a bounding
+    // sphere test against the six frustum planes is cheaper. (Back faces are lit, not
+    // culled: open meshes show both sides.)
+    let planes = frustum_planes(&(proj * view));
+    let visible: Vec<usize> = (0..r.meshes.len())
+        .filter(|&i| {
+            let m = &r.meshes[i];
+            planes
+                .iter()
+                .all(|p| p.truncate().dot(m.center) + p.w >= -m.radius * p.truncate().length())
+        })
+        .collect();
+    stats.culled = (r.meshes.len() - visible.len()) as u32;
+    let mut order: Vec<usize> = visible
+        .iter()
+        .copied()
         .filter(|&i| !r.meshes[i].translucent)
         .collect();
-    let mut translucent: Vec<(f32, usize)> = (0..r.meshes.len())
+    let mut translucent: Vec<(f32, usize)> = visible
+        .iter()
+        .copied()
         .filter(|&i| r.meshes[i].translucent)
         .map(|i| (view.transform_point3(r.meshes[i].center).z, i))
         .collect();
@@ -185,4 +202,18 @@ fn set_frame_uniforms(
     }
     p.set_mat3("uEyeToWorld", &shadow.eye_to_world);
     p.set_f32("uShadowBias", s.shadows.bias);
+}
+
+/// The six clip planes (a, b, c, d with a·x + b·y + c·z + d >= 0 inside) of a
+/// view-projection matrix (Gribb & Hartmann).
+fn frustum_planes(m: &Mat4) -> [Vec4; 6] {
+    let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
+    [
+        r[3] + r[0],
+        r[3] - r[0],
+        r[3] + r[1],
+        r[3] - r[1],
+        r[3] + r[2],
+        r[3] - r[2],
+    ]
 }

@@ -83,6 +83,8 @@ pub struct FrameStats {
     pub triangles: u64,
     pub programs: Vec<String>,
     pub textures_bound: u32,
+    /// Meshes skipped by the lit pass because their bounding sphere is outside the view.
+    pub culled: u32,
     pub ms: f64,
 }
 
@@ -99,6 +101,8 @@ pub(crate) struct DrawMesh {
     pub material: usize,
     pub texture: Option<usize>,
     pub center: Vec3,
+    /// Bounding sphere radius around `center`, for frustum culling.
+    pub radius: f32,
     pub triangles: u64,
     pub translucent: bool,
 }
@@ -159,16 +163,22 @@ impl Renderer {
                 }),
                 _ => None,
             };
-            let center = m
+            let mut b = crate::scene::Bounds::empty();
+            for v in &m.vertices {
+                b.include(v.position.into());
+            }
+            let center = b.center();
+            let radius = m
                 .vertices
                 .iter()
-                .fold(Vec3::ZERO, |a, v| a + Vec3::from(v.position))
-                / m.vertices.len().max(1) as f32;
+                .map(|v| (Vec3::from(v.position) - center).length())
+                .fold(0.0f32, f32::max);
             meshes.push(DrawMesh {
                 mesh: GpuMesh::new(gpu, &m.vertices, &m.indices)?,
                 material: m.material,
                 texture,
                 center,
+                radius,
                 triangles: m.triangle_count() as u64,
                 translucent: mat.is_translucent(),
             });

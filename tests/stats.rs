@@ -1,0 +1,148 @@
+//! Nothing a scene does not need is computed, and `--stats` says what ran: programs without
+//! texture lookups for untextured models, no depth pass without lights or shadows, reused
+//! shadow maps, off-screen meshes culled (without changing the picture).
+mod common;
+use common::*;
+use serde_json::Value;
+
+fn stats(args: &[&str]) -> Vec<Value> {
+    let out = out_dir("stats").join("s.png");
+    let mut a = vec![
+        "--output",
+        out.to_str().unwrap(),
+        "--size",
+        "96x72",
+        "--stats",
+    ];
+    a.extend_from_slice(args);
+    let o = run(&a, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect()
+}
+
+#[test]
+fn programs_carry_only_the_features_a_model_needs() {
+    let plain = stats(&[shared()
+        .join("models/suzanne/suzanne.obj")
+        .to_str()
+        .unwrap()]);
+    let progs = plain[0]["programs"].to_string();
+    assert!(progs.contains("lit[l1,s1,pcf4]"), "{progs}");
+    assert!(
+        !progs.contains("tex"),
+        "untextured model uses a texture program: {progs}"
+    );
+    assert_eq!(plain[0]["textures_bound"], 1, "only the shadow map"); // shadow map only
+
+    let tex = stats(&[models().join("textured_quad.obj").to_str().unwrap()]);
+    assert!(
+        tex[0]["programs"].to_string().contains(",tex]"),
+        "{}",
+        tex[0]["programs"]
+    );
+    assert_eq!(tex[0]["textures_bound"], 2, "diffuse map and shadow map");
+
+    let dark = stats(&["--light", "none"]);
+    assert!(
+        dark[0]["programs"].to_string().contains("lit[l0,s0"),
+        "{}",
+        dark[0]["programs"]
+    );
+
+    let gouraud = stats(&["--shading", "gouraud", "--pcf", "9"]);
+    assert!(
+        gouraud[0]["programs"].to_string().contains("pcf9,gouraud"),
+        "{}",
+        gouraud[0]["programs"]
+    );
+}
+
+#[test]
+fn off_screen_meshes_are_culled_without_changing_the_picture() {
+    let dir = out_dir("stats-cull");
+    let cube = |x: f64| {
+        let mut s = String::new();
+        for (i, p) in [
+            [0., 0., 0.],
+            [1., 0., 0.],
+            [1., 1., 0.],
+            [0., 1., 0.],
+            [0., 0., 1.],
+            [1., 0., 1.],
+            [1., 1., 1.],
+            [0., 1., 1.],
+        ]
+        .iter()
+        .enumerate()
+        {
+            let _ = i;
+            s += &format!("v {} {} {}\n", p[0] + x, p[1], p[2]);
+        }
+        s
+    };
+    let faces = |o: usize| {
+        [
+            [1, 3, 2],
+            [1, 4, 3],
+            [5, 6, 7],
+            [5, 7, 8],
+            [1, 2, 6],
+            [1, 6, 5],
+            [2, 3, 7],
+            [2, 7, 6],
+            [3, 4, 8],
+            [3, 8, 7],
+            [4, 1, 5],
+            [4, 5, 8],
+        ]
+        .iter()
+        .map(|f| format!("f {} {} {}\n", f[0] + o, f[1] + o, f[2] + o))
+        .collect::<String>()
+    };
+    let both = dir.join("both.obj");
+    std::fs::write(
+        &both,
+        format!(
+            "o left\n{}{}o right\n{}{}",
+            cube(-10.0),
+            faces(0),
+            cube(10.0),
+            faces(8)
+        ),
+    )
+    .unwrap();
+    let right = dir.join("right.obj");
+    std::fs::write(&right, format!("o right\n{}{}", cube(10.0), faces(0))).unwrap();
+    let view = [
+        "--target",
+        "10.5,0.5,0.5",
+        "--distance",
+        "4",
+        "--no-shadows",
+    ];
+    let s = stats(&[&[both.to_str().unwrap()][..], &view].concat());
+    assert_eq!(s[0]["culled"], 1);
+    assert_eq!(s[0]["draw_calls"], 1);
+    let a = render(
+        &dir,
+        "both",
+        &[&[both.to_str().unwrap()][..], &view].concat(),
+        &[],
+    );
+    let b = render(
+        &dir,
+        "right",
+        &[&[right.to_str().unwrap()][..], &view].concat(),
+        &[],
+    );
+    // The two files have different bounds, so a different re-centring origin and near/far
+    // planes: positions and depths round differently, by at most one step.
+    assert_close(&dir, "cull", &a, &b, 1, 0, 1);
+    // Looking at both, nothing is culled.
+    let s = stats(&[both.to_str().unwrap(), "--no-shadows"]);
+    assert_eq!(s[0]["culled"], 0);
+    assert_eq!(s[0]["draw_calls"], 2);
+}
