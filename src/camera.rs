@@ -71,8 +71,10 @@ impl OrbitCamera {
         Mat4::look_at_rh(self.eye(), self.target, self.up())
     }
 
-    /// Near and far planes that hold the whole bounding sphere; the near plane never reaches
-    /// zero (camera inside the model) so depth precision stays finite.
+    /// Near and far planes that hold the whole bounding sphere. Inside the sphere the near
+    /// plane is a tenth of the distance to the target (so what the camera looks at is never
+    /// clipped, even zoomed far into a detail), but never below far·10⁻⁷: the ratio can pass
+    /// 10⁶, which costs depth precision far away, never a NaN or a blank frame.
     pub fn near_far(&self, bounds: &Bounds) -> (f32, f32) {
         let r = bounds.radius();
         let d = (self.eye() - bounds.center()).length();
@@ -80,7 +82,8 @@ impl OrbitCamera {
         if self.ortho_height.is_some() {
             return (d - r * 1.01, far);
         }
-        let near = (d - r * 1.01).max(far * 1e-4);
+        let inside = (far * 1e-4).min(self.distance * 0.1).max(far * 1e-7);
+        let near = (d - r * 1.01).max(inside);
         (near, far)
     }
 

@@ -7,8 +7,13 @@ uniform vec3 uLightColor[NUM_LIGHTS];
 uniform float uWrap;
 uniform float uNs;
 
+// A point light exactly at the surface has no direction: no diffuse or specular there,
+// rather than normalize(0) = NaN.
 vec3 toLight(vec4 lp, vec3 p) {
-    return lp.w == 0.0 ? lp.xyz : normalize(lp.xyz - p);
+    if (lp.w == 0.0) return lp.xyz;
+    vec3 d = lp.xyz - p;
+    float len = length(d);
+    return len > 0.0 ? d / len : vec3(0.0);
 }
 
 vec2 lightFactors(vec3 l, vec3 n, vec3 v) {
