@@ -12,6 +12,7 @@ pub mod keys;
 pub mod light;
 pub mod scene;
 pub mod shading;
+pub mod soak;
 
 #[allow(unsafe_code)]
 pub mod gpu;
