@@ -9,7 +9,11 @@ use crate::Result;
 fn rss_kib() -> u64 {
     std::fs::read_to_string("/proc/self/statm")
         .ok()
-        .and_then(|s| s.split_whitespace().nth(1).and_then(|v| v.parse::<u64>().ok()))
+        .and_then(|s| {
+            s.split_whitespace()
+                .nth(1)
+                .and_then(|v| v.parse::<u64>().ok())
+        })
         .map_or(0, |pages| pages * 4)
 }
 
@@ -28,10 +32,15 @@ pub fn run(args: &Args, rounds: u32) -> Result<()> {
         let live = hl.gpu.live_objects() - base;
         rss.push(rss_kib());
         if live != 0 {
-            return Err(crate::Error::Unsupported(format!("round {round}: {live} GL objects leaked")));
+            return Err(crate::Error::Unsupported(format!(
+                "round {round}: {live} GL objects leaked"
+            )));
         }
         if round % 100 == 0 || round == rounds {
-            println!("round {round}: live GL objects {live}, RSS {} KiB", rss.last().unwrap_or(&0));
+            println!(
+                "round {round}: live GL objects {live}, RSS {} KiB",
+                rss.last().unwrap_or(&0)
+            );
         }
     }
     let warm = rss.get(rss.len() / 10).copied().unwrap_or(0);

@@ -57,14 +57,20 @@ impl Gpu {
         }
     }
 
-    /// Alpha blending (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) on or off.
+    /// Alpha blending of colour (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) on or off.
     pub fn blend(&self, on: bool) {
         // SAFETY: no preconditions.
         unsafe {
             if on {
                 self.gl.enable(glow::BLEND);
-                self.gl
-                    .blend_func(glow::SRC_ALPHA, glow::ONE_MINUS_SRC_ALPHA);
+                // Colour is blended; destination alpha stays 1, so PNGs and screenshots are
+                // opaque where glass was drawn (glBlendFuncSeparate is core since GL 1.4).
+                self.gl.blend_func_separate(
+                    glow::SRC_ALPHA,
+                    glow::ONE_MINUS_SRC_ALPHA,
+                    glow::ZERO,
+                    glow::ONE,
+                );
             } else {
                 self.gl.disable(glow::BLEND);
             }

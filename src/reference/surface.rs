@@ -86,8 +86,8 @@ fn safe_normalize(n: DVec3, fallback: DVec3) -> DVec3 {
 /// plane only up to rounding, and without the step the ray could re-hit its own triangle.
 /// The step, 1e-7 of the scene's radius, is orders of magnitude above f64 rounding of scene
 /// coordinates and orders below anything a pixel resolves. Stepping to the light's side
-/// means a surface never shadows itself — whether it faces away from the light is left to
-/// the N·L term, as the GPU's depth bias does.
+/// means a triangle never shadows itself; on a closed mesh a facet that faces away from the
+/// light is still shadowed by the mesh's lit side, as in the limit of a shadow map.
 fn light_visible(ctx: &Context, p: DVec3, ng: DVec3, light: &Light) -> bool {
     let towards = match light.kind {
         LightKind::Point(q) => q.as_dvec3() - p,

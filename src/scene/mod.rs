@@ -129,6 +129,24 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene built in code (tests, generators): local coordinates are file coordinates.
+    pub fn from_meshes(name: &str, meshes: Vec<Mesh>, materials: Vec<Material>) -> Scene {
+        let mut bounds = Bounds::empty();
+        for v in meshes.iter().flat_map(|m| &m.vertices) {
+            bounds.include(Vec3::from(v.position));
+        }
+        Scene {
+            name: name.into(),
+            meshes,
+            materials,
+            bounds,
+            origin: DVec3::ZERO,
+            file_bounds: (bounds.min.as_dvec3(), bounds.max.as_dvec3()),
+            dependencies: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(Mesh::triangle_count).sum()
     }

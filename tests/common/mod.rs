@@ -72,6 +72,11 @@ pub fn check_frame(img: &Rgba, name: &str) {
         .filter(|p| p[..3] == [0, 0, 0])
         .count();
     assert_eq!(black, 0, "{name}: {black} black (NaN/Inf) pixels");
+    let translucent = img.data.chunks_exact(4).filter(|p| p[3] != 255).count();
+    assert_eq!(
+        translucent, 0,
+        "{name}: {translucent} pixels are not opaque"
+    );
 }
 
 pub struct Diff {

@@ -1,7 +1,10 @@
 //! Bounding volume hierarchy over triangles, in f64: binned surface-area-heuristic build,
 //! Möller–Trumbore intersection, and the three queries the reference renderer needs (nearest
 //! hit, any hit for shadow rays, every hit for translucent layers).
+mod build;
+
 use glam::DVec3;
+use rayon::prelude::*;
 
 /// Which scene triangle a BVH primitive is: mesh index and triangle index within the mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,38 +50,14 @@ pub struct Bvh {
 /// and rounding may put it just outside both; a sliver of overlap is harmless for nearest
 /// hits and the translucent pass removes duplicate layers.
 const EDGE_SLACK: f64 = 1e-10;
-const LEAF_SIZE: usize = 4;
-const BINS: usize = 16;
-/// Past this depth the build splits at the object median, which bounds the depth (and the
-/// recursion) even for distributions that make SAH peel off one triangle at a time.
-const SAH_DEPTH: usize = 48;
-
-struct BuildPrim {
-    min: DVec3,
-    max: DVec3,
-    centroid: DVec3,
-}
+/// Deepest possible tree: SAH levels, then median splits of at most 2^32 primitives.
+const MAX_DEPTH: usize = build::SAH_DEPTH + 33;
 
 impl Bvh {
     /// Builds over the given triangles (positions in f64); zero-area ones are kept but are
     /// never hit (their determinant is zero).
     pub fn build(input: Vec<([DVec3; 3], TriRef)>) -> Bvh {
-        let prims: Vec<BuildPrim> = input
-            .iter()
-            .map(|(p, _)| {
-                let (min, max) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
-                BuildPrim {
-                    min,
-                    max,
-                    centroid: (min + max) * 0.5,
-                }
-            })
-            .collect();
-        let mut order: Vec<usize> = (0..input.len()).collect();
-        let mut nodes = Vec::with_capacity(2 * input.len() / LEAF_SIZE + 1);
-        if !input.is_empty() {
-            build_node(&prims, &mut order, 0, &mut nodes, 0);
-        }
+        let (nodes, order) = build::build(input.par_iter().map(|(p, _)| p));
         let tris = order
             .iter()
             .map(|&i| {
@@ -151,8 +130,8 @@ impl Bvh {
         }
         // -0 becomes +0 so a zero component always gives +inf; see `slab` for the NaNs.
         let inv = (d + DVec3::ZERO).recip();
-        // Depth is at most SAH_DEPTH + log2(n) + 1, and each level leaves at most one node behind.
-        let mut stack = [0u32; 128];
+        // Each level of the tree leaves at most one node on the stack.
+        let mut stack = [0u32; MAX_DEPTH + 1];
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
@@ -223,129 +202,6 @@ fn intersect(tri: &Tri, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<(f
     (t >= t_min && t <= t_max).then_some((t, u, v))
 }
 
-fn build_node(
-    prims: &[BuildPrim],
-    order: &mut [usize],
-    offset: usize,
-    nodes: &mut Vec<Node>,
-    depth: usize,
-) {
-    let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    let (mut cmin, mut cmax) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for &i in order.iter() {
-        min = min.min(prims[i].min);
-        max = max.max(prims[i].max);
-        cmin = cmin.min(prims[i].centroid);
-        cmax = cmax.max(prims[i].centroid);
-    }
-    let me = nodes.len();
-    nodes.push(Node {
-        min,
-        max,
-        first: offset as u32,
-        count: order.len() as u32,
-    });
-    let extent = cmax - cmin;
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    };
-    if order.len() <= LEAF_SIZE || !(extent[axis] > 0.0) {
-        return;
-    }
-    let mid = if depth < SAH_DEPTH {
-        match sah_split(
-            prims,
-            order,
-            axis,
-            cmin[axis],
-            extent[axis],
-            area(max - min),
-        ) {
-            Some(mid) => mid,
-            None => return,
-        }
-    } else {
-        let mid = order.len() / 2;
-        order.select_nth_unstable_by(mid, |&a, &b| {
-            prims[a].centroid[axis].total_cmp(&prims[b].centroid[axis])
-        });
-        mid
-    };
-    let (left, right) = order.split_at_mut(mid);
-    nodes[me].count = 0;
-    build_node(prims, left, offset, nodes, depth + 1);
-    nodes[me].first = nodes.len() as u32;
-    build_node(prims, right, offset + mid, nodes, depth + 1);
-}
-
-fn area(e: DVec3) -> f64 {
-    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-}
-
-/// Partitions `order` at the cheapest of the bin boundaries along `axis` and returns the
-/// split index, or None when keeping a leaf is cheaper.
-fn sah_split(
-    prims: &[BuildPrim],
-    order: &mut [usize],
-    axis: usize,
-    start: f64,
-    extent: f64,
-    parent_area: f64,
-) -> Option<usize> {
-    let bin_of = |i: usize| {
-        let b = ((prims[i].centroid[axis] - start) / extent * BINS as f64) as usize;
-        b.min(BINS - 1)
-    };
-    let mut bins = [(0usize, DVec3::INFINITY, DVec3::NEG_INFINITY); BINS];
-    for &i in order.iter() {
-        let b = &mut bins[bin_of(i)];
-        b.0 += 1;
-        b.1 = b.1.min(prims[i].min);
-        b.2 = b.2.max(prims[i].max);
-    }
-    // Cost of the split after bin k: count · area on each side (sweeps from both ends).
-    let mut right_cost = [0.0; BINS];
-    let (mut n, mut lo, mut hi) = (0, DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for k in (1..BINS).rev() {
-        n += bins[k].0;
-        lo = lo.min(bins[k].1);
-        hi = hi.max(bins[k].2);
-        right_cost[k - 1] = if n > 0 { n as f64 * area(hi - lo) } else { 0.0 };
-    }
-    let (mut best, mut best_cost) = (None, f64::INFINITY);
-    let (mut n, mut lo, mut hi) = (0, DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for k in 0..BINS - 1 {
-        n += bins[k].0;
-        lo = lo.min(bins[k].1);
-        hi = hi.max(bins[k].2);
-        if n == 0 || n == order.len() {
-            continue;
-        }
-        let cost = n as f64 * area(hi - lo) + right_cost[k];
-        if cost < best_cost {
-            (best, best_cost) = (Some(k), cost);
-        }
-    }
-    let k = best?;
-    // Traversal step ≈ one triangle test; a leaf costs one test per triangle.
-    let leaf_cost = order.len() as f64 * parent_area;
-    if order.len() <= 16 && best_cost + parent_area >= leaf_cost {
-        return None;
-    }
-    let mut mid = 0;
-    for j in 0..order.len() {
-        if bin_of(order[j]) <= k {
-            order.swap(j, mid);
-            mid += 1;
-        }
-    }
-    Some(mid)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -370,35 +226,35 @@ mod tests {
         v
     }
 
-    /// Compares the BVH with brute force on a grid, including rays exactly through shared
-    /// edges and vertices (which must never fall through a crack).
+    /// Every ray onto a grid finds the square it aims at, including rays exactly through
+    /// shared edges and vertices (which must never fall through a crack). 100 × 100 squares
+    /// are above PARALLEL_MIN, so the parallel build is covered too.
     #[test]
-    fn matches_brute_force_and_has_no_cracks() {
-        let n = 20;
-        let bvh = Bvh::build(grid(n));
-        let d = DVec3::new(0.0, 0.0, -1.0);
-        for k in 0..=4 * n {
-            for l in 0..=4 * n {
-                let (x, y) = (f64::from(k) * 0.25, f64::from(l) * 0.25);
-                let o = DVec3::new(x, y, 5.0);
-                let h = bvh
-                    .closest(o, d, 0.0, 10.0)
-                    .unwrap_or_else(|| panic!("crack at {x},{y}"));
-                assert!((h.t - 5.0).abs() < 1e-12);
-                if k % 4 != 0 && l % 4 != 0 {
-                    assert_eq!(h.tri.tri / 2, (l / 4) * n + k / 4, "at {x},{y}");
+    fn finds_every_grid_square_without_cracks() {
+        for n in [20, 100] {
+            let bvh = Bvh::build(grid(n));
+            let d = DVec3::new(0.0, 0.0, -1.0);
+            for k in 0..=4 * n {
+                for l in 0..=4 * n {
+                    let (x, y) = (f64::from(k) * 0.25, f64::from(l) * 0.25);
+                    let o = DVec3::new(x, y, 5.0);
+                    let h = bvh
+                        .closest(o, d, 0.0, 10.0)
+                        .unwrap_or_else(|| panic!("crack at {x},{y}"));
+                    assert!((h.t - 5.0).abs() < 1e-12);
+                    if k % 4 != 0 && l % 4 != 0 {
+                        assert_eq!(h.tri.tri / 2, (l / 4) * n + k / 4, "at {x},{y}");
+                    }
+                    assert!(bvh.occluded(o, d, 0.0, 10.0));
+                    assert!(!bvh.occluded(o, d, 0.0, 4.9));
                 }
-                assert!(bvh.occluded(o, d, 0.0, 10.0));
-                assert!(!bvh.occluded(o, d, 0.0, 4.9));
             }
+            let outside = DVec3::new(-0.1, 3.0, 5.0);
+            assert!(bvh.closest(outside, d, 0.0, 10.0).is_none());
+            // A ray along the plane (zero determinant) hits nothing rather than NaN.
+            let along = DVec3::new(-1.0, 3.0, 0.0);
+            assert!(bvh.closest(along, DVec3::X, 0.0, 100.0).is_none());
         }
-        assert!(bvh
-            .closest(DVec3::new(-0.1, 3.0, 5.0), d, 0.0, 10.0)
-            .is_none());
-        // A ray along the plane (zero determinant) hits nothing rather than NaN.
-        assert!(bvh
-            .closest(DVec3::new(-1.0, 3.0, 0.0), DVec3::X, 0.0, 100.0)
-            .is_none());
     }
 
     #[test]
