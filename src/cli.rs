@@ -106,6 +106,10 @@ pub struct Args {
     /// What to draw: the scene, or the shadow map (teaching view).
     #[arg(long, value_enum, default_value_t = Show::Scene)]
     pub show: Show,
+    /// Render with the CPU reference renderer (ray casting in f64, exact hard shadows)
+    /// instead of OpenGL; writes --output (default glview-reference.png).
+    #[arg(long)]
+    pub reference: bool,
     /// Do not use the mesh cache (a second load of a large unchanged OBJ skips parsing).
     #[arg(long)]
     pub no_cache: bool,

@@ -230,6 +230,40 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     img.save_png(path, &text)
 }
 
+/// `--reference`: the same scene, camera and lights through the CPU reference renderer.
+pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
+    let scene = load_scene(args)?;
+    let (settings, _) = frame_settings(args, &scene)?;
+    let (w, h) = args.size;
+    let start = std::time::Instant::now();
+    let img = crate::reference::render(&scene, &settings, w, h);
+    let c = &settings.camera;
+    let text = vec![
+        ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
+        (
+            "glview.renderer",
+            "reference (CPU ray casting, f64, exact shadows)".into(),
+        ),
+        ("glview.tier", "legacy".into()),
+        ("glview.model", scene.name.clone()),
+        (
+            "glview.camera",
+            format!(
+                "--yaw {} --pitch {} --distance {} --fov {}",
+                c.yaw_deg, c.pitch_deg, c.distance, c.fov_y_deg
+            ),
+        ),
+    ];
+    img.save_png(path, &text)?;
+    if args.stats {
+        println!(
+            "{}",
+            serde_json::json!({"reference": true, "ms": start.elapsed().as_secs_f64() * 1e3, "triangles": scene.triangle_count()})
+        );
+    }
+    Ok(())
+}
+
 /// `glview --info`: what the driver gave.
 pub fn print_info(args: &Args) -> Result<()> {
     let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
@@ -240,6 +274,13 @@ pub fn print_info(args: &Args) -> Result<()> {
 pub fn main(args: &Args) -> Result<()> {
     if args.info {
         return print_info(args);
+    }
+    if args.reference {
+        let out = args
+            .output
+            .clone()
+            .unwrap_or_else(|| "glview-reference.png".into());
+        return render_reference(args, &out);
     }
     if args.check {
         let scene = load_scene(args)?;

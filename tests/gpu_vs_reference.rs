@@ -108,3 +108,24 @@ fn shadow_maps_approximate_exact_shadows() {
         );
     }
 }
+
+#[test]
+fn reference_flag_writes_the_reference_picture() {
+    let dir = out_dir("gpu-vs-reference-cli");
+    let out = dir.join("ref.png");
+    let o = run(
+        &[
+            "--reference",
+            "--output",
+            out.to_str().unwrap(),
+            "--size",
+            "80x60",
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = glview::image_out::Rgba::load_png(&out).unwrap();
+    check_frame(&img, "reference");
+    let (s, scene) = settings_for(&["--size", "80x60"]);
+    assert_eq!(img, glview::reference::render(&scene, &s, 80, 60));
+}
