@@ -83,6 +83,10 @@ pub struct Args {
     /// Print what the driver provides (version, GLSL, extensions that matter) and exit.
     #[arg(long)]
     pub info: bool,
+    /// Compile every shader permutation for this driver's dialect and exit (a diagnostic for
+    /// old drivers; the tests run it in every dialect).
+    #[arg(long)]
+    pub compile_shaders: bool,
     /// Check MODEL without rendering: counts, every problem with file and line, textures,
     /// generated normals, bounds. Exit 0 if it would render.
     #[arg(long)]

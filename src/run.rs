@@ -264,6 +264,25 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// `--compile-shaders`: every program permutation through the driver's compiler.
+pub fn compile_shaders(args: &Args) -> Result<()> {
+    let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
+    let mut cache = crate::shader::cache::ProgramCache::new(&hl.gpu);
+    let keys = crate::shader::cache::all_keys(crate::light::MAX_LIGHTS as u8);
+    let start = std::time::Instant::now();
+    for key in &keys {
+        cache.get(*key)?;
+    }
+    println!(
+        "compiled and linked {} programs for {} ({}) in {:.1} s",
+        keys.len(),
+        hl.gpu.caps.dialect.name(),
+        hl.gpu.caps.version,
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
 /// `glview --info`: what the driver gave.
 pub fn print_info(args: &Args) -> Result<()> {
     let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
@@ -274,6 +293,9 @@ pub fn print_info(args: &Args) -> Result<()> {
 pub fn main(args: &Args) -> Result<()> {
     if args.info {
         return print_info(args);
+    }
+    if args.compile_shaders {
+        return compile_shaders(args);
     }
     if args.reference {
         let out = args

@@ -98,6 +98,28 @@ fn shadow_maps_approximate_exact_shadows() {
                 "dir:0.3,-1,-0.2",
             ],
         ),
+        // Three lights, three maps: a directional one, a point light outside the scene and
+        // one inside (six-face atlas), coloured so each shadow has its own tint.
+        (
+            "boxfloor-three-lights",
+            vec![
+                "models/box_floor.obj",
+                "--size",
+                "320x240",
+                "--light",
+                "dir:0.3,-1,-0.2",
+                "--light",
+                "point:2,4,3",
+                "--light",
+                "point:-1.2,2.5,0.8",
+                "--light-color",
+                "0.5,0.2,0.2",
+                "--light-color",
+                "0.2,0.5,0.2",
+                "--light-color",
+                "0.2,0.2,0.5",
+            ],
+        ),
     ] {
         let e = against_reference(name, &args);
         assert!(

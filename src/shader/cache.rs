@@ -144,3 +144,44 @@ impl ProgramCache {
         self.programs.is_empty()
     }
 }
+
+/// Every program key the renderer can ask for with up to `max_lights` lights: each light
+/// count with and without shadows, every PCF size, single maps and six-face atlases,
+/// textured or not, Phong or Gouraud, plus the depth and teaching-view programs.
+pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
+    let mut keys = vec![
+        ProgramKey::simple(ProgramKind::Depth),
+        ProgramKey::simple(ProgramKind::ShowDepth),
+    ];
+    for lights in 0..=max_lights {
+        let shadow_variants: Vec<(u8, u8, u8)> = if lights == 0 {
+            vec![(0, 1, 0)]
+        } else {
+            let all = (1u8 << lights) - 1;
+            let mut v = vec![(0, 1, 0)];
+            for pcf in [1, 4, 9, 16] {
+                for mask in [0, 1, all] {
+                    v.push((lights, pcf, mask));
+                }
+            }
+            v.dedup();
+            v
+        };
+        for (shadows, pcf, cube_mask) in shadow_variants {
+            for textured in [false, true] {
+                for gouraud in [false, true] {
+                    keys.push(ProgramKey {
+                        kind: ProgramKind::Lit,
+                        lights,
+                        shadows,
+                        pcf,
+                        cube_mask,
+                        textured,
+                        gouraud,
+                    });
+                }
+            }
+        }
+    }
+    keys
+}
