@@ -6,7 +6,6 @@ use glutin::api::egl::context::PossiblyCurrentContext;
 use glutin::api::egl::device::Device;
 use glutin::api::egl::display::Display;
 use glutin::config::{Api, ConfigSurfaceTypes, ConfigTemplateBuilder};
-use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
 use glutin::prelude::*;
 
 /// A current, surfaceless EGL context. Drop everything made with its `glow::Context` first.
@@ -14,20 +13,6 @@ pub struct EglHeadless {
     _context: PossiblyCurrentContext,
     display: Display,
     pub request: GlRequest,
-}
-
-fn attributes(request: GlRequest) -> glutin::context::ContextAttributes {
-    let b = ContextAttributesBuilder::new();
-    match request {
-        GlRequest::Es3 => b.with_context_api(ContextApi::Gles(Some(Version::new(3, 0)))),
-        GlRequest::Core => b
-            .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
-            .with_profile(GlProfile::Core),
-        GlRequest::Gl21 | GlRequest::Auto => b
-            .with_context_api(ContextApi::OpenGl(Some(Version::new(2, 1))))
-            .with_profile(GlProfile::Compatibility),
-    }
-    .build(None)
 }
 
 impl EglHeadless {
@@ -81,8 +66,9 @@ impl EglHeadless {
             .next()
             .ok_or("no matching EGL config")?;
         // SAFETY: attributes carry no window handle; the context is made current at once.
-        let not_current = unsafe { display.create_context(&config, &attributes(request)) }
-            .map_err(|e| e.to_string())?;
+        let not_current =
+            unsafe { display.create_context(&config, &super::context_attributes(request, None)) }
+                .map_err(|e| e.to_string())?;
         not_current
             .make_current_surfaceless()
             .map_err(|e| e.to_string())

@@ -41,3 +41,22 @@ pub enum Backend {
     Egl,
     Osmesa,
 }
+
+/// What glutin is asked for, per request; shared by the EGL headless and the window paths.
+pub(crate) fn context_attributes(
+    request: GlRequest,
+    window: Option<raw_window_handle::RawWindowHandle>,
+) -> glutin::context::ContextAttributes {
+    use glutin::context::{ContextApi, ContextAttributesBuilder, GlProfile, Version};
+    let b = ContextAttributesBuilder::new();
+    match request {
+        GlRequest::Es3 => b.with_context_api(ContextApi::Gles(Some(Version::new(3, 0)))),
+        GlRequest::Core => b
+            .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
+            .with_profile(GlProfile::Core),
+        GlRequest::Gl21 | GlRequest::Auto => b
+            .with_context_api(ContextApi::OpenGl(Some(Version::new(2, 1))))
+            .with_profile(GlProfile::Compatibility),
+    }
+    .build(window)
+}

@@ -13,10 +13,7 @@ use crate::image_out::Rgba;
 use crate::{Error, Result};
 use glow::HasContext;
 use glutin::config::{Api, Config, ConfigTemplateBuilder};
-use glutin::context::{
-    ContextApi, ContextAttributesBuilder, GlProfile, NotCurrentContext, PossiblyCurrentContext,
-    Version,
-};
+use glutin::context::{NotCurrentContext, PossiblyCurrentContext};
 use glutin::display::{Display, DisplayApiPreference};
 use glutin::prelude::*;
 use glutin::surface::{Surface, SurfaceAttributesBuilder, SwapInterval, WindowSurface};
@@ -47,23 +44,6 @@ fn preferences() -> Vec<(&'static str, DisplayApiPreference)> {
         ),
         ("egl", DisplayApiPreference::Egl),
     ]
-}
-
-fn context_attributes(
-    request: GlRequest,
-    window: RawWindowHandle,
-) -> glutin::context::ContextAttributes {
-    let b = ContextAttributesBuilder::new();
-    match request {
-        GlRequest::Es3 => b.with_context_api(ContextApi::Gles(Some(Version::new(3, 0)))),
-        GlRequest::Core => b
-            .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
-            .with_profile(GlProfile::Core),
-        GlRequest::Gl21 | GlRequest::Auto => b
-            .with_context_api(ContextApi::OpenGl(Some(Version::new(2, 1))))
-            .with_profile(GlProfile::Compatibility),
-    }
-    .build(Some(window))
 }
 
 fn api_of(request: GlRequest) -> Api {
@@ -251,6 +231,6 @@ fn create_context(
     window: RawWindowHandle,
 ) -> Result<NotCurrentContext, String> {
     // SAFETY: the attributes name a window that is alive for the whole call.
-    unsafe { display.create_context(config, &context_attributes(request, window)) }
+    unsafe { display.create_context(config, &super::context_attributes(request, Some(window))) }
         .map_err(|e| e.to_string())
 }
