@@ -21,8 +21,10 @@ pub enum Show {
 }
 
 #[derive(Debug, Parser)]
-#[command(name = "glview", version, about = "Legacy-compatible OpenGL OBJ/MTL viewer: per-fragment Phong and shadow mapping on GL 2.1, GL ES 3.0 and GL 3.3 core.", after_help = crate::keys::help_text())]
+#[command(name = "glview", version, args_conflicts_with_subcommands = true, about = "Legacy-compatible OpenGL OBJ/MTL viewer: per-fragment Phong and shadow mapping on GL 2.1, GL ES 3.0 and GL 3.3 core.", after_help = crate::keys::help_text())]
 pub struct Args {
+    #[command(subcommand)]
+    pub command: Option<Command>,
     /// OBJ file to show (default: the built-in glass-holder scene).
     pub model: Option<PathBuf>,
     /// Render headless into this PNG instead of opening a window.
@@ -97,15 +99,16 @@ pub struct Args {
     /// Turn shadow mapping off.
     #[arg(long)]
     pub no_shadows: bool,
-    /// Shadow map size in texels (clamped to the driver's maximum).
+    /// Shadow map size in texels (clamped to the driver's maximum). Default from the bench.
     #[arg(long, default_value_t = 2048)]
     pub shadow_size: u32,
-    /// Percentage-closer filtering taps per lookup: 1, 4, 9 or 16.
-    #[arg(long, default_value_t = 4, value_parser = parse_pcf)]
+    /// Percentage-closer filtering taps per lookup: 1, 4, 9 or 16 (each tap is itself a
+    /// bilinear 2×2 compare). Default from the bench's Pareto front (README, Shadows).
+    #[arg(long, default_value_t = 1, value_parser = parse_pcf)]
     pub pcf: u8,
     /// Constant shadow depth bias in depth-buffer units [0, 1] (added to a slope-scaled
     /// polygon offset).
-    #[arg(long, default_value_t = 0.0005)]
+    #[arg(long, default_value_t = 0.0002)]
     pub shadow_bias: f32,
     /// What to draw: the scene, or the shadow map (teaching view).
     #[arg(long, value_enum, default_value_t = Show::Scene)]
@@ -123,6 +126,23 @@ pub struct Args {
     /// Folder for F12 screenshots in the window.
     #[arg(long, default_value = ".")]
     pub screenshot_dir: PathBuf,
+}
+
+#[derive(Debug, clap::Subcommand)]
+pub enum Command {
+    /// Measure frame time against error for every quality knob (docs/bench/quality.*); with
+    /// --load, loading speed and memory against f3d (docs/bench/load.*); with --soak N, load,
+    /// render and drop the built-in scene N times and report GL objects and memory.
+    Bench(BenchCommand),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BenchCommand {
+    /// Load, render and drop the scene this many times in one context (leak soak).
+    #[arg(long)]
+    pub soak: Option<u32>,
+    #[command(flatten)]
+    pub bench: crate::bench::BenchArgs,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {

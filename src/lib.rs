@@ -23,6 +23,7 @@ pub mod render;
 pub mod shader;
 
 pub mod app;
+pub mod bench;
 pub mod headless;
 pub mod run;
 

@@ -291,6 +291,12 @@ pub fn print_info(args: &Args) -> Result<()> {
 }
 
 pub fn main(args: &Args) -> Result<()> {
+    if let Some(crate::cli::Command::Bench(b)) = &args.command {
+        return match b.soak {
+            Some(rounds) => crate::soak::run(args, rounds),
+            None => crate::bench::run(&b.bench),
+        };
+    }
     if args.info {
         return print_info(args);
     }

@@ -44,8 +44,8 @@ impl Default for ShadowSettings {
         ShadowSettings {
             enabled: true,
             size: 2048,
-            pcf: 4,
-            bias: 0.0005,
+            pcf: 1,
+            bias: 0.0002,
             slope_bias: 2.0,
             normal_offset: 1.5,
         }

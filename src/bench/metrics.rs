@@ -1,0 +1,209 @@
+//! Image error against the reference: the figures peers publish tolerances in (mean absolute
+//! error, a high percentile, the share of pixels off by more than a threshold) and a
+//! structural one (SSIM, image-compare's MSSIM over 8×8 windows, worst RGB channel).
+use crate::image_out::Rgba;
+use serde::Serialize;
+
+/// A pixel counts as wrong when some channel is off by more than this (of 255): the
+/// threshold the peers use (Filament accepts 5/255; 8/255 ignores rounding).
+pub const WRONG_THRESHOLD: u8 = 8;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct ImageError {
+    /// Mean absolute error over all pixels and RGB channels, 0–255.
+    pub mae: f64,
+    /// 99th percentile of the per-pixel largest channel error, 0–255.
+    pub p99: f64,
+    /// Largest channel error anywhere, 0–255.
+    pub max: f64,
+    /// Share of pixels (0–1) whose largest channel error exceeds [`WRONG_THRESHOLD`].
+    pub wrong: f64,
+    /// Mean SSIM (1 = identical), worst of the three channels.
+    pub ssim: f64,
+}
+
+/// Compares `image` with `reference` (same size, RGBA8; alpha is ignored). Pixels where
+/// `ignore` is true count as exact: they take the reference's value before any metric.
+pub fn compare(image: &Rgba, reference: &Rgba, ignore: &[bool]) -> crate::Result<ImageError> {
+    if (image.width, image.height) != (reference.width, reference.height) {
+        return Err(crate::Error::Usage(format!(
+            "cannot compare {}x{} with {}x{}",
+            image.width, image.height, reference.width, reference.height
+        )));
+    }
+    let masked;
+    let image = if ignore.iter().any(|&i| i) {
+        let mut m = image.clone();
+        for ((px, r), &skip) in m
+            .data
+            .chunks_exact_mut(4)
+            .zip(reference.data.chunks_exact(4))
+            .zip(ignore)
+        {
+            if skip {
+                px.copy_from_slice(r);
+            }
+        }
+        masked = m;
+        &masked
+    } else {
+        image
+    };
+    let n = (image.width as usize) * (image.height as usize);
+    let mut histogram = [0u64; 256];
+    let mut sum = 0u64;
+    for (a, b) in image
+        .data
+        .chunks_exact(4)
+        .zip(reference.data.chunks_exact(4))
+    {
+        let mut worst = 0u8;
+        for c in 0..3 {
+            let d = a[c].abs_diff(b[c]);
+            sum += u64::from(d);
+            worst = worst.max(d);
+        }
+        histogram[worst as usize] += 1;
+    }
+    let percentile = |q: f64| {
+        let rank = (q * n as f64).ceil().max(1.0) as u64;
+        let mut seen = 0;
+        for (value, count) in histogram.iter().enumerate() {
+            seen += count;
+            if seen >= rank {
+                return value as f64;
+            }
+        }
+        255.0
+    };
+    let wrong: u64 = histogram[usize::from(WRONG_THRESHOLD) + 1..].iter().sum();
+    let max = histogram.iter().rposition(|&c| c > 0).unwrap_or(0) as f64;
+    Ok(ImageError {
+        mae: sum as f64 / (3 * n.max(1)) as f64,
+        p99: percentile(0.99),
+        max,
+        wrong: wrong as f64 / n.max(1) as f64,
+        ssim: ssim(image, reference)?,
+    })
+}
+
+/// Averages each `k`×`k` block of `img` (a box filter, as a multisample resolve does),
+/// rounding to nearest.
+pub fn downsample(img: &Rgba, k: u32) -> Rgba {
+    let k = k.max(1);
+    let (w, h) = (img.width / k, img.height / k);
+    let mut data = Vec::with_capacity((w * h * 4) as usize);
+    let n = k * k;
+    for y in 0..h {
+        for x in 0..w {
+            let mut sum = [0u32; 4];
+            for dy in 0..k {
+                for dx in 0..k {
+                    let p = img.pixel(x * k + dx, y * k + dy);
+                    for c in 0..4 {
+                        sum[c] += u32::from(p[c]);
+                    }
+                }
+            }
+            data.extend(sum.map(|s| ((s + n / 2) / n) as u8));
+        }
+    }
+    Rgba {
+        width: w,
+        height: h,
+        data,
+    }
+}
+
+fn to_rgb(img: &Rgba) -> crate::Result<image::RgbImage> {
+    let rgb: Vec<u8> = img
+        .data
+        .chunks_exact(4)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    image::RgbImage::from_raw(img.width, img.height, rgb)
+        .ok_or_else(|| crate::Error::Usage("image buffer has the wrong length".into()))
+}
+
+fn ssim(a: &Rgba, b: &Rgba) -> crate::Result<f64> {
+    let alg = image_compare::Algorithm::MSSIMSimple;
+    image_compare::rgb_similarity_structure(&alg, &to_rgb(a)?, &to_rgb(b)?)
+        .map(|s| s.score)
+        .map_err(|e| crate::Error::Usage(format!("SSIM: {e}")))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 3]) -> Rgba {
+        let mut data = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                let [r, g, b] = f(x, y);
+                data.extend_from_slice(&[r, g, b, 255]);
+            }
+        }
+        Rgba {
+            width: w,
+            height: h,
+            data,
+        }
+    }
+
+    #[test]
+    fn identical_images_have_no_error() {
+        let a = image(32, 16, |x, y| [(x * 8) as u8, (y * 16) as u8, 77]);
+        let e = compare(&a, &a, &[]).unwrap();
+        assert_eq!((e.mae, e.p99, e.max, e.wrong), (0.0, 0.0, 0.0, 0.0));
+        assert!((e.ssim - 1.0).abs() < 1e-9, "{}", e.ssim);
+    }
+
+    #[test]
+    fn known_differences() {
+        let a = image(10, 10, |_, _| [100, 100, 100]);
+        // One pixel in ten is off by 30 in red only; the rest by 2 in blue.
+        let b = image(10, 10, |x, _| {
+            if x == 0 {
+                [130, 100, 100]
+            } else {
+                [100, 100, 102]
+            }
+        });
+        let e = compare(&b, &a, &[]).unwrap();
+        assert!((e.mae - (10.0 * 30.0 + 90.0 * 2.0) / 300.0).abs() < 1e-12);
+        assert_eq!(e.max, 30.0);
+        assert_eq!(e.p99, 30.0);
+        assert!((e.wrong - 0.1).abs() < 1e-12);
+        assert!(e.ssim < 1.0);
+    }
+
+    #[test]
+    fn ignored_pixels_count_as_exact() {
+        let a = image(10, 10, |_, _| [100, 100, 100]);
+        let b = image(
+            10,
+            10,
+            |x, _| if x == 0 { [200, 100, 100] } else { [100; 3] },
+        );
+        let ignore: Vec<bool> = (0..100).map(|i| i % 10 == 0).collect();
+        assert_eq!(compare(&b, &a, &ignore).unwrap().max, 0.0);
+    }
+
+    #[test]
+    fn box_downsample() {
+        let a = image(4, 2, |x, y| [(x * 10 + y) as u8, 0, 255]);
+        let d = downsample(&a, 2);
+        assert_eq!((d.width, d.height), (2, 1));
+        // (0 + 10 + 1 + 11) / 4 = 5.5 rounds to 6; (20 + 30 + 21 + 31) / 4 = 25.5 to 26.
+        assert_eq!(d.pixel(0, 0), [6, 0, 255, 255]);
+        assert_eq!(d.pixel(1, 0), [26, 0, 255, 255]);
+    }
+
+    #[test]
+    fn sizes_must_match() {
+        let a = image(4, 4, |_, _| [0; 3]);
+        let b = image(4, 5, |_, _| [0; 3]);
+        assert!(compare(&a, &b, &[]).is_err());
+    }
+}

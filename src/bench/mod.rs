@@ -1,0 +1,95 @@
+//! `glview bench`: the instruments that choose the defaults. `quality` measures frame time
+//! against error for every quality knob (error = distance from the CPU reference render);
+//! `load` measures parse, upload, time to first PNG and peak memory against f3d. Both print a
+//! table and write CSV/JSON (and a plot) into `docs/bench/` by default.
+pub mod child;
+pub mod f3d;
+pub mod knobs;
+pub mod load;
+pub mod load_report;
+pub mod metrics;
+pub mod plot;
+pub mod quality;
+pub mod scenes;
+pub mod sphere;
+pub mod summary;
+pub mod table;
+
+pub use load::{run_load, LoadOptions};
+pub use quality::{run_quality, QualityOptions};
+
+use std::path::PathBuf;
+
+/// Everything `glview bench [--load]` accepts: flatten this into a clap subcommand.
+#[derive(Clone, Debug, clap::Args)]
+pub struct BenchArgs {
+    /// Measure loading (parse, upload, time to PNG, memory) against f3d instead of quality.
+    #[arg(long)]
+    pub load: bool,
+    #[command(flatten)]
+    pub quality: QualityOptions,
+    #[command(flatten)]
+    pub load_options: LoadOptions,
+}
+
+/// Runs the benchmark `args` selects.
+pub fn run(args: &BenchArgs) -> crate::Result<()> {
+    if args.load {
+        let mut opts = args.load_options.clone();
+        // One --out-dir, --models-dir and --quick serve both benchmarks.
+        opts.out_dir = Some(args.quality.out_dir.clone());
+        opts.models_dir = Some(args.quality.models_dir.clone());
+        opts.quick |= args.quality.quick;
+        run_load(&opts)
+    } else {
+        run_quality(&args.quality)
+    }
+}
+
+/// The median of `v` (the mean of the middle two for an even count); NaN when empty.
+pub fn median(v: &[f64]) -> f64 {
+    let mut s: Vec<f64> = v.iter().copied().filter(|x| !x.is_nan()).collect();
+    if s.is_empty() {
+        return f64::NAN;
+    }
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        (s[n / 2 - 1] + s[n / 2]) / 2.0
+    }
+}
+
+/// The default folder of the shared test models, beside the repository.
+pub fn default_models_dir() -> PathBuf {
+    PathBuf::from("../shared/models")
+}
+
+/// Creates `dir` (and parents) or says which folder could not be made.
+pub(crate) fn ensure_dir(dir: &std::path::Path) -> crate::Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))
+}
+
+/// Writes `text` to `path`, mapping the error to the library's.
+pub(crate) fn write_file(path: &std::path::Path, text: &str) -> crate::Result<()> {
+    std::fs::write(path, text).map_err(|e| crate::Error::io(path, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn medians() {
+        assert_eq!(median(&[3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(&[]).is_nan());
+    }
+
+    #[test]
+    fn args_are_consistent() {
+        use clap::{Args, Command};
+        BenchArgs::augment_args(Command::new("bench")).debug_assert();
+    }
+}
