@@ -231,8 +231,9 @@ impl Renderer {
         Ok(stats)
     }
 
-    /// Drops the cached shadow maps (e.g. after the scene changed).
+    /// Makes the next frame render its shadow maps again (e.g. after the geometry changed);
+    /// the depth textures themselves are kept for reuse.
     pub fn invalidate_shadows(&mut self) {
-        self.shadow = shadow::ShadowPass::default();
+        self.shadow.invalidate();
     }
 }

@@ -60,6 +60,12 @@ pub(crate) struct ShadowPass {
     key: Option<ShadowKey>,
 }
 
+impl ShadowPass {
+    pub fn invalidate(&mut self) {
+        self.key = None;
+    }
+}
+
 /// Why there is no shadow pass this frame, if there is none.
 fn skip_reason(r: &Renderer, s: &FrameSettings) -> Option<&'static str> {
     let caps = &r.gpu.caps;
@@ -113,6 +119,12 @@ pub(crate) fn run(
     let use_fbo = r.gpu.caps.fbo;
     let bounds = r.scene.bounds;
     let mut maps = Vec::new();
+    // Depth textures (and their FBOs) of the right size are kept from the last pass:
+    // allocating a 2048² map costs more than drawing into it on llvmpipe.
+    let mut old: Vec<Option<ShadowMap>> = std::mem::take(&mut r.shadow.maps)
+        .into_iter()
+        .map(Some)
+        .collect();
     for (i, light) in s.lights.iter().enumerate() {
         let (views, projection, face, w, h) = match (light_view_proj(light, &bounds), light.kind) {
             (Some((vp, kind)), _) => (vec![vp], kind, size, size, size),
@@ -130,11 +142,24 @@ pub(crate) fn run(
             }
             (None, LightKind::Directional(_)) => unreachable!("directional lights always fit"),
         };
-        let texture = Texture2d::depth(&r.gpu, w, h)?;
-        let fbo = if use_fbo {
-            Some(Framebuffer::depth_only(&r.gpu, &texture)?)
-        } else {
-            None
+        let kept = old
+            .iter_mut()
+            .find(|m| {
+                m.as_ref()
+                    .is_some_and(|m| (m.texture.width, m.texture.height) == (w, h))
+            })
+            .and_then(Option::take);
+        let (texture, fbo) = match kept {
+            Some(m) => (m.texture, m.fbo),
+            None => {
+                let texture = Texture2d::depth(&r.gpu, w, h)?;
+                let fbo = if use_fbo {
+                    Some(Framebuffer::depth_only(&r.gpu, &texture)?)
+                } else {
+                    None
+                };
+                (texture, fbo)
+            }
         };
         maps.push(ShadowMap {
             texture,
