@@ -30,8 +30,9 @@ fn smooth_normals(vertices: &[Vertex], indices: &[u32]) -> HashMap<[u32; 3], Vec
         .collect()
 }
 
+/// In f64: a normal like (0, 0, 1e20) is finite in f32 but squares to infinity there.
 fn usable(n: [f32; 3]) -> bool {
-    let v = Vec3::from(n);
+    let v = Vec3::from(n).as_dvec3();
     v.is_finite() && v.length_squared() > 1e-20
 }
 
@@ -54,7 +55,7 @@ pub fn repair_normals(vertices: &mut [Vertex], indices: &[u32], all: bool) -> us
                 .into();
             generated += 1;
         } else {
-            v.normal = Vec3::from(v.normal).normalize().into();
+            v.normal = Vec3::from(v.normal).as_dvec3().normalize().as_vec3().into();
         }
     }
     generated
@@ -112,6 +113,18 @@ mod tests {
         assert_eq!(repair_normals(&mut v, &[0, 1, 2], false), 2);
         assert_eq!(v[0].normal, [0., 0., 1.]);
         assert_eq!(v[1].normal, [0., 0., 1.]);
+    }
+
+    #[test]
+    fn huge_normals_normalise() {
+        let mut v = vec![
+            vtx([0., 0., 0.], [0., 0., 1e20]),
+            vtx([1., 0., 0.], [0., 0., 1e20]),
+            vtx([0., 1., 0.], [3e38, 0., 0.]),
+        ];
+        assert_eq!(repair_normals(&mut v, &[0, 1, 2], false), 0);
+        assert_eq!(v[0].normal, [0., 0., 1.]);
+        assert_eq!(v[2].normal, [1., 0., 0.]);
     }
 
     #[test]

@@ -63,6 +63,9 @@ fn load_mtl(
             String::from_utf8_lossy(e.as_bytes()).into_owned()
         }
     };
+    let mut repairs = Vec::new();
+    let text = repair::repair_mtl(&path, &text, &mut repairs);
+    warnings.borrow_mut().extend(repairs);
     tobj::load_mtl_buf(&mut text.as_bytes()).inspect_err(|e| {
         warn(format!("{e}; using the default material"));
     })
@@ -184,10 +187,12 @@ fn load_with(
                     [0.0; 3]
                 };
                 // OBJ's v = 0 is the image's bottom row; textures are uploaded top row first.
+                // A non-finite coordinate would make the lookup undefined: 0 instead.
+                let finite = |x: f64| if x.is_finite() { x as f32 } else { 0.0 };
                 let uv = if has_uv {
                     [
-                        mesh.texcoords[i * 2] as f32,
-                        1.0 - mesh.texcoords[i * 2 + 1] as f32,
+                        finite(mesh.texcoords[i * 2]),
+                        1.0 - finite(mesh.texcoords[i * 2 + 1]),
                     ]
                 } else {
                     [0.0; 2]

@@ -163,6 +163,13 @@ pub fn repair_obj_with_progress(
                     if !x.is_finite() {
                         return Err(err(lineno, format!("vertex position is not finite: {w}")));
                     }
+                    // Positions become f32 on the GPU: beyond its range they would be ±inf.
+                    if x.abs() > f64::from(f32::MAX) {
+                        return Err(err(
+                            lineno,
+                            format!("vertex position out of range (beyond 32-bit float): {w}"),
+                        ));
+                    }
                 }
             }
             "vt" => seen.vt += 1,
@@ -277,6 +284,41 @@ pub fn repair_obj_with_progress(
     })
 }
 
+/// Repairs MTL text before tobj sees it: tobj 4.0.5 panics on a colour statement with fewer
+/// than three numbers. One number is a valid short form (g and b default to r); zero or two
+/// are dropped with a warning naming the line.
+pub fn repair_mtl(path: &Path, text: &str, warnings: &mut Vec<Warning>) -> String {
+    let mut out = String::with_capacity(text.len());
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        let kw = words.next().unwrap_or("");
+        if matches!(kw, "Ka" | "Kd" | "Ks" | "Ke" | "Kt" | "Tf") {
+            let nums: Vec<&str> = words.collect();
+            match nums.len() {
+                1 => {
+                    out.push_str(&format!("{kw} {0} {0} {0}\n", nums[0]));
+                    continue;
+                }
+                0 | 2 => {
+                    warnings.push(Warning {
+                        file: path.to_path_buf(),
+                        line: Some(i + 1),
+                        message: format!(
+                            "{kw} needs 1 or 3 numbers, has {}: line ignored",
+                            nums.len()
+                        ),
+                    });
+                    continue;
+                }
+                _ => {}
+            }
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -347,6 +389,32 @@ mod tests {
             .warnings
             .iter()
             .any(|w| w.message.contains("missing normal")));
+    }
+
+    #[test]
+    fn short_mtl_colours_repaired() {
+        let mut w = Vec::new();
+        let t = repair_mtl(
+            Path::new("m.mtl"),
+            "newmtl a\nKd 0.5\nKa\nKs 1 2\nNs 3\n",
+            &mut w,
+        );
+        assert_eq!(t, "newmtl a\nKd 0.5 0.5 0.5\nNs 3\n");
+        assert_eq!(w.len(), 2);
+        assert_eq!(
+            w[1].to_string(),
+            "m.mtl:4: Ks needs 1 or 3 numbers, has 2: line ignored"
+        );
+    }
+
+    #[test]
+    fn positions_beyond_f32_refused() {
+        let e = run(b"v 0 6.4e39 0\n").err().unwrap();
+        assert!(
+            e.to_string()
+                .contains("t.obj:1: vertex position out of range"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -1,0 +1,147 @@
+//! Shared by the fuzz target (`fuzz_targets/loader.rs`) and the regression tests
+//! (`tests/fuzz_regressions.rs` includes this file with `#[path]`), so both split inputs and
+//! check scenes in exactly the same way. Depends on nothing but glview and std.
+#![allow(dead_code)]
+
+use glview::scene::Scene;
+
+/// Separates the OBJ part from the MTL part of one fuzz input.
+pub const SEPARATOR: &[u8] = b"\xff\x00\xff";
+
+/// Splits a fuzz input at the first [`SEPARATOR`] into (OBJ bytes, MTL bytes). Without a
+/// separator the whole input is the OBJ and the MTL is empty.
+pub fn split_input(data: &[u8]) -> (&[u8], &[u8]) {
+    match data.windows(SEPARATOR.len()).position(|w| w == SEPARATOR) {
+        Some(i) => (&data[..i], &data[i + SEPARATOR.len()..]),
+        None => (data, &[]),
+    }
+}
+
+/// Joins an OBJ and an MTL into one fuzz input (the seed script does the same in shell).
+pub fn join_input(obj: &[u8], mtl: &[u8]) -> Vec<u8> {
+    let mut v = Vec::with_capacity(obj.len() + SEPARATOR.len() + mtl.len());
+    v.extend_from_slice(obj);
+    v.extend_from_slice(SEPARATOR);
+    v.extend_from_slice(mtl);
+    v
+}
+
+/// What every `Ok` scene must satisfy. Returns the first violation as text.
+pub fn check_scene(scene: &Scene) -> Result<(), String> {
+    if scene.triangle_count() == 0 {
+        return Err("Ok scene without triangles".into());
+    }
+    for (mi, mesh) in scene.meshes.iter().enumerate() {
+        let n = mesh.vertices.len();
+        if mesh.indices.len() % 3 != 0 {
+            return Err(format!(
+                "mesh {mi}: {} indices, not a multiple of 3",
+                mesh.indices.len()
+            ));
+        }
+        if let Some(&i) = mesh.indices.iter().find(|&&i| i as usize >= n) {
+            return Err(format!("mesh {mi}: index {i} >= vertex count {n}"));
+        }
+        if mesh.material >= scene.materials.len() {
+            return Err(format!(
+                "mesh {mi}: material {} >= material count {}",
+                mesh.material,
+                scene.materials.len()
+            ));
+        }
+        for (vi, v) in mesh.vertices.iter().enumerate() {
+            if !v.position.iter().all(|x| x.is_finite()) {
+                return Err(format!(
+                    "mesh {mi} vertex {vi}: position {:?} not finite",
+                    v.position
+                ));
+            }
+            if !v.normal.iter().all(|x| x.is_finite()) {
+                return Err(format!(
+                    "mesh {mi} vertex {vi}: normal {:?} not finite",
+                    v.normal
+                ));
+            }
+            let len = v
+                .normal
+                .iter()
+                .map(|&x| f64::from(x) * f64::from(x))
+                .sum::<f64>()
+                .sqrt();
+            if (len - 1.0).abs() > 1e-3 {
+                return Err(format!(
+                    "mesh {mi} vertex {vi}: normal {:?} has length {len}, not 1",
+                    v.normal
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// An empty folder for the fuzzed OBJ to "live" in: MTL bytes come from memory, and texture
+/// paths resolve against this folder (empty, so they are not found, and anything outside it is
+/// refused by the loader's path rule).
+pub fn model_path() -> &'static std::path::Path {
+    use std::sync::OnceLock;
+    static PATH: OnceLock<std::path::PathBuf> = OnceLock::new();
+    PATH.get_or_init(|| {
+        // One fixed name: nothing is ever written into it, so concurrent jobs can share it.
+        let dir = std::env::temp_dir().join("glview-fuzz-model");
+        std::fs::create_dir_all(&dir).expect("create the fuzz model folder");
+        dir.join("fuzz.obj")
+    })
+}
+
+/// Whether an input (OBJ bytes, MTL bytes) would hit a known crash.
+pub type Matcher = fn(&[u8], &[u8]) -> bool;
+
+/// Crashes found by fuzzing whose fix has not landed in the loader yet, one per entry:
+/// (what goes wrong, which inputs hit it). Each has a regression test in
+/// `tests/fuzz_regressions.rs`. With `GLVIEW_FUZZ_SKIP_KNOWN=1` the fuzz target skips inputs
+/// that match one, so a long run explores past them instead of stopping at the first; without
+/// it (the default) every input is loaded. Remove an entry once its fix has landed.
+pub const KNOWN_UNFIXED: &[(&str, Matcher)] = &[
+    // Empty: the three crashes found so far (short MTL colours, positions beyond f32,
+    // overflowing normals) are fixed; their regression tests are in tests/fuzz_regressions.rs.
+];
+
+/// Whether the fuzz target skips inputs that hit a [`KNOWN_UNFIXED`] crash.
+pub fn skip_known() -> bool {
+    use std::sync::OnceLock;
+    static SKIP: OnceLock<bool> = OnceLock::new();
+    *SKIP.get_or_init(|| std::env::var_os("GLVIEW_FUZZ_SKIP_KNOWN").is_some_and(|v| v == "1"))
+}
+
+/// The name of the known, unfixed crash this input would hit, if any.
+pub fn known_unfixed(data: &[u8]) -> Option<&'static str> {
+    let (obj, mtl) = split_input(data);
+    KNOWN_UNFIXED
+        .iter()
+        .find(|(_, hit)| hit(obj, mtl))
+        .map(|(name, _)| *name)
+}
+
+/// Loads one fuzz input and checks the outcome; panics (the fuzzer's "crash") on a violated
+/// invariant or an error that does not name the file.
+pub fn run_one(data: &[u8]) -> Result<Scene, glview::Error> {
+    let (obj, mtl) = split_input(data);
+    let path = model_path();
+    let opts = glview::scene::obj::LoadOptions::default();
+    let out = glview::scene::obj::load_embedded(path, obj, mtl, &opts);
+    match &out {
+        Ok(scene) => {
+            if let Err(e) = check_scene(scene) {
+                panic!("invariant violated: {e}");
+            }
+        }
+        Err(e) => {
+            let msg = e.to_string();
+            assert!(
+                msg.contains(&*path.to_string_lossy()),
+                "error does not name the file: {msg}"
+            );
+        }
+    }
+    out
+}
