@@ -146,3 +146,21 @@ fn off_screen_meshes_are_culled_without_changing_the_picture() {
     assert_eq!(s[0]["culled"], 0);
     assert_eq!(s[0]["draw_calls"], 2);
 }
+
+#[test]
+fn gpu_time_comes_from_timer_queries_where_the_driver_has_them() {
+    // GL 3.3 core has GL_TIME_ELAPSED; GL ES 3.0 does not (the field is then null).
+    let core = stats(&["--gl", "core", "--frames", "3"]);
+    for f in &core[1..] {
+        let (gpu, wall) = (
+            f["gpu_ms"].as_f64().expect("gpu_ms on GL 3.3"),
+            f["ms"].as_f64().unwrap(),
+        );
+        assert!(
+            gpu > 0.0 && gpu <= wall + 1.0,
+            "gpu {gpu} ms, wall {wall} ms"
+        );
+    }
+    let es = stats(&["--gl", "es3", "--frames", "2"]);
+    assert!(es.iter().all(|f| f["gpu_ms"].is_null()));
+}

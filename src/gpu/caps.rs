@@ -47,6 +47,8 @@ pub struct Caps {
     /// `samplerCubeShadow` lookups (GLSL 1.30+ / ES 3.00; not in GLSL 1.20).
     pub cube_shadow: bool,
     pub generate_mipmap: bool,
+    /// GL_TIME_ELAPSED queries (desktop GL 3.3 or ARB_timer_query).
+    pub timer_query: bool,
     pub max_texture_size: u32,
     pub max_renderbuffer_size: u32,
     pub max_viewport: (u32, u32),
@@ -135,6 +137,7 @@ impl Caps {
                 uint_indices: !embedded || es3 || has(&["GL_OES_element_index_uint"]),
                 cube_shadow: es3 || (!embedded && glsl >= (1, 30)),
                 generate_mipmap: fbo,
+                timer_query: desktop_at_least(3, 3) || has(&["GL_ARB_timer_query"]),
                 max_texture_size: gl.get_parameter_i32(glow::MAX_TEXTURE_SIZE) as u32,
                 max_renderbuffer_size,
                 max_viewport: (vp[0] as u32, vp[1] as u32),
@@ -151,7 +154,8 @@ impl Caps {
             "GL_VERSION: {}\nGLSL: {} (dialect {})\nrenderer: {} ({})\nprofile: {}\n\
              framebuffer objects: {}\nvertex array objects: {}\ndepth textures: {}\n\
              shadow compare: {}\nfloat textures: {}\nexplicit-LOD lookups: {}\n\
-             32-bit indices: {}\ncube shadow lookups: {}\nmax texture size: {}\n\
+             32-bit indices: {}\ncube shadow lookups: {}\ntimer queries: {}\n\
+             max texture size: {}\n\
              max viewport: {}x{}\nmax varying floats: {}\nextensions: {}",
             self.version,
             self.glsl_version,
@@ -173,6 +177,7 @@ impl Caps {
             yes(self.texture_lod),
             yes(self.uint_indices),
             yes(self.cube_shadow),
+            yes(self.timer_query),
             self.max_texture_size,
             self.max_viewport.0,
             self.max_viewport.1,

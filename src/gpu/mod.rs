@@ -7,6 +7,7 @@ pub mod caps;
 pub mod framebuffer;
 pub mod mesh;
 pub mod program;
+pub mod query;
 pub mod state;
 pub mod texture;
 

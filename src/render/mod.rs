@@ -85,7 +85,10 @@ pub struct FrameStats {
     pub textures_bound: u32,
     /// Meshes skipped by the lit pass because their bounding sphere is outside the view.
     pub culled: u32,
+    /// CPU wall time of the frame up to glFinish.
     pub ms: f64,
+    /// GPU time of the frame (GL_TIME_ELAPSED) where the driver has timer queries.
+    pub gpu_ms: Option<f64>,
 }
 
 impl FrameStats {
@@ -141,6 +144,7 @@ pub struct Renderer {
     pub(crate) programs: ProgramCache,
     pub(crate) shadow: shadow::ShadowPass,
     pub(crate) quad: Option<GpuMesh>,
+    timer: Option<crate::gpu::query::TimerQuery>,
     frame: u64,
 }
 
@@ -199,6 +203,7 @@ impl Renderer {
             programs: ProgramCache::new(gpu),
             shadow: shadow::ShadowPass::default(),
             quad: None,
+            timer: crate::gpu::query::TimerQuery::new(gpu)?,
             frame: 0,
         })
     }
@@ -215,6 +220,9 @@ impl Renderer {
             frame: self.frame,
             ..Default::default()
         };
+        if let Some(t) = &self.timer {
+            t.begin();
+        }
         // 1. shadow depth pass (or the reason it is skipped)
         shadow::run(self, s, target, &mut stats)?;
         // 2. lit pass
@@ -226,8 +234,18 @@ impl Renderer {
         if cfg!(debug_assertions) {
             self.gpu.check_error("frame")?;
         }
+        if let Some(t) = &self.timer {
+            t.end();
+        }
         self.gpu.finish();
         stats.ms = start.elapsed().as_secs_f64() * 1e3;
+        // llvmpipe answers the very first TIME_ELAPSED query of a context with the time since
+        // boot; GPU time cannot exceed the wall time up to glFinish, so such a value is dropped.
+        stats.gpu_ms = self
+            .timer
+            .as_ref()
+            .map(|t| t.result_ns() as f64 / 1e6)
+            .filter(|&g| g <= stats.ms + 1.0);
         Ok(stats)
     }
 
