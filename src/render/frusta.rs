@@ -17,6 +17,16 @@ pub enum ShadowProjection {
     Cube,
 }
 
+/// The atlas faces' view directions, in the order the shader picks them.
+pub const CUBE_DIRECTIONS: [Vec3; 6] = [
+    Vec3::X,
+    Vec3::NEG_X,
+    Vec3::Y,
+    Vec3::NEG_Y,
+    Vec3::Z,
+    Vec3::NEG_Z,
+];
+
 /// The six faces' view-projections of a point light at `p`, in the order the shader picks
 /// them: face = 2·axis + (negative ? 1 : 0) for the dominant axis of (fragment − light).
 pub fn cube_faces(p: Vec3, bounds: &Bounds) -> [Mat4; 6] {
@@ -26,15 +36,7 @@ pub fn cube_faces(p: Vec3, bounds: &Bounds) -> [Mat4; 6] {
     // of a 24-bit buffer (far/near ≈ 2·10³) for anything a visible distance away.
     let near = (r * 1e-3).min(far * 1e-3);
     let proj = Mat4::perspective_rh_gl(std::f32::consts::FRAC_PI_2, 1.0, near, far);
-    let dirs = [
-        Vec3::X,
-        Vec3::NEG_X,
-        Vec3::Y,
-        Vec3::NEG_Y,
-        Vec3::Z,
-        Vec3::NEG_Z,
-    ];
-    dirs.map(|d| proj * Mat4::look_at_rh(p, p + d, stable_up(d)))
+    CUBE_DIRECTIONS.map(|d| proj * Mat4::look_at_rh(p, p + d, stable_up(d)))
 }
 
 /// Maps a face's texture space [0, 1]² to its tile of the 3×2 atlas.
@@ -167,17 +169,7 @@ mod tests {
     fn cube_faces_cover_every_direction() {
         let p = Vec3::new(0.2, 1.0, -0.3);
         let faces = cube_faces(p, &bounds());
-        for (i, d) in [
-            Vec3::X,
-            Vec3::NEG_X,
-            Vec3::Y,
-            Vec3::NEG_Y,
-            Vec3::Z,
-            Vec3::NEG_Z,
-        ]
-        .iter()
-        .enumerate()
-        {
+        for (i, d) in CUBE_DIRECTIONS.iter().enumerate() {
             // A point along the face's axis (slightly off it) projects into that face.
             let q = faces[i].project_point3(p + *d * 2.0 + d.any_orthonormal_vector() * 0.5);
             assert!(q.abs().max_element() <= 1.0, "face {i}: {q}");
