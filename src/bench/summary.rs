@@ -140,11 +140,12 @@ pub fn summarize(knobs: &[Knob], rows: &[Row]) -> Vec<Summary> {
     out
 }
 
-pub fn scene_table(info: &SceneInfo, rows: &[Row]) -> String {
-    let mut t = Table::new(&[
+/// The columns of both tables; `ratio` names the time ratio column.
+fn columns(ratio: &'static str, pareto: bool) -> Vec<&'static str> {
+    let mut c = vec![
         "setting",
         "ms",
-        "x off",
+        ratio,
         "reused",
         "MAE",
         "p99",
@@ -152,21 +153,47 @@ pub fn scene_table(info: &SceneInfo, rows: &[Row]) -> String {
         "1-SSIM",
         "AA >8 %",
         "AA 1-SSIM",
-    ]);
+    ];
+    if pareto {
+        c.push("Pareto");
+    }
+    c
+}
+
+/// One row: label, [ms, ratio, reused ms], then the exact and anti-aliased error measures.
+fn cells(
+    label: String,
+    times: [f64; 3],
+    e: &ImageError,
+    aa: &ImageError,
+    p99_digits: usize,
+) -> Vec<String> {
+    vec![
+        label,
+        num(times[0], 1),
+        num(times[1], 2),
+        num(times[2], 1),
+        num(e.mae, 2),
+        num(e.p99, p99_digits),
+        num(100.0 * e.wrong, 2),
+        num(1.0 - e.ssim, 4),
+        num(100.0 * aa.wrong, 2),
+        num(1.0 - aa.ssim, 4),
+    ]
+}
+
+pub fn scene_table(info: &SceneInfo, rows: &[Row]) -> String {
+    let mut t = Table::new(&columns("x off", false));
     for r in rows {
         let mark = if r.default { " *" } else { "" };
-        t.row(vec![
-            format!("{}{mark}", r.knob.label),
-            num(r.ms, 1),
-            num(r.ms_vs_off, 2),
-            num(r.ms_reused, 1),
-            num(r.error.mae, 2),
-            num(r.error.p99, 0),
-            num(100.0 * r.error.wrong, 2),
-            num(1.0 - r.error.ssim, 4),
-            num(100.0 * r.error_aa.wrong, 2),
-            num(1.0 - r.error_aa.ssim, 4),
-        ]);
+        let label = format!("{}{mark}", r.knob.label);
+        t.row(cells(
+            label,
+            [r.ms, r.ms_vs_off, r.ms_reused],
+            &r.error,
+            &r.error_aa,
+            0,
+        ));
     }
     format!(
         "== {} ({} triangles): glview {}\n{}",
@@ -178,19 +205,7 @@ pub fn scene_table(info: &SceneInfo, rows: &[Row]) -> String {
 }
 
 pub fn summary_table(summary: &[Summary]) -> String {
-    let mut t = Table::new(&[
-        "setting",
-        "ms",
-        "x default",
-        "reused",
-        "MAE",
-        "p99",
-        ">8/255 %",
-        "1-SSIM",
-        "AA >8 %",
-        "AA 1-SSIM",
-        "Pareto",
-    ]);
+    let mut t = Table::new(&columns("x default", true));
     for s in summary {
         let mark = if s.default { " *" } else { "" };
         let p: String = s
@@ -198,19 +213,15 @@ pub fn summary_table(summary: &[Summary]) -> String {
             .iter()
             .map(|&p| if p { 'P' } else { '.' })
             .collect();
-        t.row(vec![
+        let mut row = cells(
             format!("{}{mark}", s.label),
-            num(s.ms, 1),
-            num(s.ms_vs_default, 2),
-            num(s.ms_reused, 1),
-            num(s.error.mae, 2),
-            num(s.error.p99, 1),
-            num(100.0 * s.error.wrong, 2),
-            num(1.0 - s.error.ssim, 4),
-            num(100.0 * s.error_aa.wrong, 2),
-            num(1.0 - s.error_aa.ssim, 4),
-            p,
-        ]);
+            [s.ms, s.ms_vs_default, s.ms_reused],
+            &s.error,
+            &s.error_aa,
+            1,
+        );
+        row.push(p);
+        t.row(row);
     }
     let mut out = String::from("== mean over scenes\n");
     out.push_str(&t.render());
