@@ -188,12 +188,11 @@ impl App<'_> {
         if std::mem::take(&mut self.screenshot) {
             let img = WindowContext::read_back_buffer(&live.gpu, w, h);
             let backend = format!("window ({})", live.window.platform);
-            let text = run::png_text(
-                &live.gpu.caps,
-                &self.settings,
-                live.renderer.scene(),
-                &backend,
-            );
+            let gpu = run::Renderer::Gpu {
+                caps: &live.gpu.caps,
+                backend: &backend,
+            };
+            let text = run::png_text(gpu, &self.settings, live.renderer.scene());
             match next_screenshot_path(&self.args.screenshot_dir)
                 .and_then(|p| img.save_png(&p, &text).map(|_| p))
             {

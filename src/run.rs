@@ -174,21 +174,34 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
     Ok((settings, home))
 }
 
-/// PNG text chunks that let anyone reproduce a picture.
-pub fn png_text(
-    caps: &crate::gpu::Caps,
-    s: &FrameSettings,
-    scene: &Scene,
-    backend: &str,
-) -> Vec<(&'static str, String)> {
+/// Who drew a picture, for its PNG text chunks.
+pub enum Renderer<'a> {
+    Gpu {
+        caps: &'a crate::gpu::Caps,
+        backend: &'a str,
+    },
+    Reference,
+}
+
+/// PNG text chunks that let anyone reproduce a picture: renderer, context and the camera as
+/// command-line options.
+pub fn png_text(r: Renderer, s: &FrameSettings, scene: &Scene) -> Vec<(&'static str, String)> {
+    let mut text = vec![("Software", format!("glview {}", env!("CARGO_PKG_VERSION")))];
+    match r {
+        Renderer::Gpu { caps, backend } => text.extend([
+            ("glview.renderer", caps.renderer.clone()),
+            ("glview.gl_version", caps.version.clone()),
+            ("glview.dialect", caps.dialect.name().into()),
+            ("glview.backend", backend.into()),
+        ]),
+        Renderer::Reference => text.push((
+            "glview.renderer",
+            "reference (CPU ray casting, f64, exact shadows)".into(),
+        )),
+    }
     let c = &s.camera;
     let target = scene.origin + c.target.as_dvec3();
-    vec![
-        ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
-        ("glview.renderer", caps.renderer.clone()),
-        ("glview.gl_version", caps.version.clone()),
-        ("glview.dialect", caps.dialect.name().into()),
-        ("glview.backend", backend.into()),
+    text.extend([
         ("glview.tier", "legacy".into()),
         ("glview.shading", format!("{:?}", s.shading).to_lowercase()),
         ("glview.model", scene.name.clone()),
@@ -208,7 +221,8 @@ pub fn png_text(
                     .unwrap_or_default()
             ),
         ),
-    ]
+    ]);
+    text
 }
 
 /// Renders headless into `path` (`--frames` times; the last frame is written).
@@ -217,7 +231,11 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;
     let hl = crate::headless::Headless::new(args.backend, args.gl, w, h)?;
-    let text = png_text(&hl.gpu.caps, &settings, &scene, hl.backend_name());
+    let gpu = Renderer::Gpu {
+        caps: &hl.gpu.caps,
+        backend: hl.backend_name(),
+    };
+    let text = png_text(gpu, &settings, &scene);
     let mut renderer = crate::render::Renderer::new(&hl.gpu, scene)?;
     for _ in 0..args.frames.max(1) {
         let stats = renderer.render(&settings, &hl.target())?;
@@ -237,23 +255,7 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
     let (w, h) = args.size;
     let start = std::time::Instant::now();
     let img = crate::reference::render(&scene, &settings, w, h);
-    let c = &settings.camera;
-    let text = vec![
-        ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
-        (
-            "glview.renderer",
-            "reference (CPU ray casting, f64, exact shadows)".into(),
-        ),
-        ("glview.tier", "legacy".into()),
-        ("glview.model", scene.name.clone()),
-        (
-            "glview.camera",
-            format!(
-                "--yaw {} --pitch {} --distance {} --fov {}",
-                c.yaw_deg, c.pitch_deg, c.distance, c.fov_y_deg
-            ),
-        ),
-    ];
+    let text = png_text(Renderer::Reference, &settings, &scene);
     img.save_png(path, &text)?;
     if args.stats {
         println!(

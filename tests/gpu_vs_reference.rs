@@ -150,4 +150,14 @@ fn reference_flag_writes_the_reference_picture() {
     check_frame(&img, "reference");
     let (s, scene) = settings_for(&["--size", "80x60"]);
     assert_eq!(img, glview::reference::render(&scene, &s, 80, 60));
+    // Its text chunks reproduce the view like a GPU render's do.
+    let text = glview::image_out::png_text(&out).unwrap();
+    let get = |k: &str| {
+        text.iter()
+            .find(|(key, _)| key == k)
+            .map(|(_, v)| v.clone())
+            .unwrap_or_default()
+    };
+    assert!(get("glview.renderer").starts_with("reference"), "{text:?}");
+    assert!(get("glview.camera").contains("--target"), "{text:?}");
 }
