@@ -33,7 +33,6 @@ pub(crate) fn run(
     let lights = s.lights.len() as u8;
     // The shader pairs shadow map i with light i; every light has a map when shadows run.
     let maps = &r.shadow.maps;
-    debug_assert!(maps.iter().enumerate().all(|(i, m)| m.light == i));
     let shadows = maps.len() as u8;
     let cube_mask = maps
         .iter()

@@ -22,8 +22,6 @@ pub(crate) struct ShadowMap {
     /// Light view-projections (local coordinates → light clip space): one, or six faces.
     pub views: Vec<Mat4>,
     pub projection: ShadowProjection,
-    /// Index of the light this map belongs to.
-    pub light: usize,
     /// Side of one view's square in texels.
     pub face: u32,
 }
@@ -125,7 +123,7 @@ pub(crate) fn run(
         .into_iter()
         .map(Some)
         .collect();
-    for (i, light) in s.lights.iter().enumerate() {
+    for light in &s.lights {
         let (views, projection, face, w, h) = match (light_view_proj(light, &bounds), light.kind) {
             (Some((vp, kind)), _) => (vec![vp], kind, size, size, size),
             (None, LightKind::Point(p)) => {
@@ -166,7 +164,6 @@ pub(crate) fn run(
             fbo,
             views,
             projection,
-            light: i,
             face,
         });
     }

@@ -157,9 +157,4 @@ impl Scene {
     pub fn to_local(&self, p: DVec3) -> Vec3 {
         (p - self.origin).as_vec3()
     }
-    pub fn has_textures(&self) -> bool {
-        self.meshes
-            .iter()
-            .any(|m| m.has_uv && self.materials[m.material].diffuse_map.is_some())
-    }
 }
