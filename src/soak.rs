@@ -6,7 +6,8 @@ use crate::headless::Headless;
 use crate::render::Renderer;
 use crate::Result;
 
-fn rss_kib() -> u64 {
+/// Resident memory of this process in KiB (0 where /proc is missing).
+pub fn rss_kib() -> u64 {
     std::fs::read_to_string("/proc/self/statm")
         .ok()
         .and_then(|s| {
@@ -15,6 +16,24 @@ fn rss_kib() -> u64 {
                 .and_then(|v| v.parse::<u64>().ok())
         })
         .map_or(0, |pages| pages * 4)
+}
+
+/// Least-squares slope of `samples` against their index: resident memory on llvmpipe jumps
+/// between levels 16 MiB apart from round to round, so a before/after pair says nothing and a
+/// trend over every round does.
+pub fn trend_per_round(samples: &[u64]) -> f64 {
+    let n = samples.len() as f64;
+    if samples.len() < 2 {
+        return 0.0;
+    }
+    let mx = (n - 1.0) / 2.0;
+    let my = samples.iter().map(|&v| v as f64).sum::<f64>() / n;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (i, &v) in samples.iter().enumerate() {
+        sxy += (i as f64 - mx) * (v as f64 - my);
+        sxx += (i as f64 - mx).powi(2);
+    }
+    sxy / sxx
 }
 
 pub fn run(args: &Args, rounds: u32) -> Result<()> {
@@ -43,12 +62,23 @@ pub fn run(args: &Args, rounds: u32) -> Result<()> {
             );
         }
     }
-    let warm = rss.get(rss.len() / 10).copied().unwrap_or(0);
-    let last = rss.last().copied().unwrap_or(0);
+    let warm = rss.len() / 10;
     println!(
-        "soak: {rounds} rounds in {:.1} s; live GL objects back to {base} every round; RSS after warm-up {warm} KiB, at the end {last} KiB ({:+} KiB)",
+        "soak: {rounds} rounds in {:.1} s; live GL objects back to {base} every round; RSS {} KiB after warm-up, {} KiB at the end, trend {:+.1} KiB per round",
         start.elapsed().as_secs_f64(),
-        last as i64 - warm as i64
+        rss.get(warm).copied().unwrap_or(0),
+        rss.last().copied().unwrap_or(0),
+        trend_per_round(&rss[warm..])
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn trend() {
+        assert_eq!(super::trend_per_round(&[5, 7, 9, 11]), 2.0);
+        assert!(super::trend_per_round(&[3, 9, 3, 9, 3, 9, 3, 9]).abs() < 1.0);
+        assert_eq!(super::trend_per_round(&[1]), 0.0);
+    }
 }

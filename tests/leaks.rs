@@ -5,12 +5,7 @@ mod common;
 use glview::headless::Headless;
 use glview::platform::{Backend, GlRequest};
 use glview::render::Renderer;
-
-fn rss_kib() -> u64 {
-    let s = std::fs::read_to_string("/proc/self/statm").unwrap();
-    let pages: u64 = s.split_whitespace().nth(1).unwrap().parse().unwrap();
-    pages * 4
-}
+use glview::soak::{rss_kib, trend_per_round};
 
 #[test]
 fn gl_objects_return_to_zero_and_memory_stays_flat() {
@@ -49,19 +44,7 @@ fn gl_objects_return_to_zero_and_memory_stays_flat() {
     // line through every round after warm-up instead: its slope must stay below 1 MiB a
     // round. Leaking one scene's buffers (the built-in scene's are ≈2.5 MiB) would double it;
     // the noise gives a standard error near 0.1 MiB a round over 100 rounds.
-    let pts: Vec<(f64, f64)> = rss
-        .iter()
-        .enumerate()
-        .skip(10)
-        .map(|(i, &r)| (i as f64, r as f64))
-        .collect();
-    let n = pts.len() as f64;
-    let (mx, my) = (
-        pts.iter().map(|p| p.0).sum::<f64>() / n,
-        pts.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let slope = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>()
-        / pts.iter().map(|p| (p.0 - mx).powi(2)).sum::<f64>();
+    let slope = trend_per_round(&rss[10..]);
     eprintln!(
         "RSS from {} to {} KiB over {} rounds; trend {slope:.1} KiB per round",
         rss[10],
