@@ -3,10 +3,8 @@
 //! (src/shading.rs, f64) at every pixel centre.
 mod common;
 use common::*;
-use glam::{DMat4, DVec3, DVec4};
-use glview::camera::OrbitCamera;
+use glam::DVec3;
 use glview::light::LightSpec;
-use glview::scene::obj::{load, LoadOptions};
 use glview::shading::{shade, LightingParams};
 use std::fmt::Write;
 use std::path::Path;
@@ -95,15 +93,11 @@ fn compare_with_exact(
     }
     let img = render(dir, name, &args, gl_env);
 
-    let scene = load(obj, &LoadOptions::default()).unwrap();
-    let mut cam = OrbitCamera::fit(&scene.bounds, s.fov, w as f32 / h as f32);
-    cam.yaw_deg = s.yaw as f32;
-    cam.pitch_deg = s.pitch as f32;
-    cam.ortho_height = s.ortho;
-    let vp = (cam.projection(&scene.bounds, w as f32 / h as f32) * cam.view()).as_dmat4();
-    let inv: DMat4 = vp.inverse();
+    // The camera exactly as glview builds it from these arguments.
+    let (settings, scene) = settings_for(&args);
+    let rays = PixelRays::new(&settings, &scene, w, h);
     let origin = scene.origin;
-    let eye = cam.eye().as_dvec3() + origin;
+    let eye = settings.camera.eye().as_dvec3() + origin;
     let light = LightSpec::parse(s.light)
         .unwrap()
         .unwrap()
@@ -119,12 +113,8 @@ fn compare_with_exact(
     // (spec jumps from 0 to Ks·Lc at N·L = 0 when Ns = 0) and a tessellation-sized normal
     // error decides the side: not compared.
     let exact = |x: u32, y: u32| -> Option<Option<[u8; 3]>> {
-        let nx = 2.0 * (x as f64 + 0.5) / w as f64 - 1.0;
-        let ny = 1.0 - 2.0 * (y as f64 + 0.5) / h as f64;
-        let a = inv * DVec4::new(nx, ny, -1.0, 1.0);
-        let b = inv * DVec4::new(nx, ny, 1.0, 1.0);
-        let (a, b) = (a.truncate() / a.w + origin, b.truncate() / b.w + origin);
-        let d = (b - a).normalize();
+        let (a, d) = rays.ray(x, y);
+        let a = a + origin;
         let (bq, cq) = (a.dot(d), a.length_squared() - 1.0);
         let disc = bq * bq - cq;
         if disc < 0.0 {

@@ -114,7 +114,7 @@ fn near_far_ratio_beyond_a_million() {
         s += &format!("f {} {} {}\n", f[0], f[1], f[2]);
     }
     std::fs::write(&obj, s).unwrap();
-    let (settings, scene) = settings_for(&[
+    let view = [
         obj.to_str().unwrap(),
         "--target",
         "0,0.005,0",
@@ -124,26 +124,14 @@ fn near_far_ratio_beyond_a_million() {
         "20",
         "--size",
         "200x150",
-    ]);
+    ];
+    let (settings, scene) = settings_for(&view);
     let (near, far) = settings.camera.near_far(&scene.bounds);
     assert!(far / near > 1e6, "ratio {}", far / near);
     let img = render(
         &dir,
         "huge",
-        &[
-            obj.to_str().unwrap(),
-            "--target",
-            "0,0.005,0",
-            "--distance",
-            "0.05",
-            "--pitch",
-            "20",
-            "--size",
-            "200x150",
-            "--no-shadows",
-            "--light",
-            "dir:0.3,-1,-0.5",
-        ],
+        &[&view[..], &["--no-shadows", "--light", "dir:0.3,-1,-0.5"]].concat(),
         &[],
     );
     // The box (Kd 0.8 under a light from above) fills the middle of the view.
