@@ -211,6 +211,14 @@ fn textures_that_fail_keep_the_material_colours() {
     // A PNG header that promises 100000 x 100000 pixels: refused before decoding.
     write(&dir, "bomb.png", &png_claiming(100_000, 100_000));
     renders_with_warning(&obj("missing", "map_Kd nothere.png"), "file not found");
+    // The warning names the library that was read, whatever it is called.
+    write(&dir, "library.mtl", b"newmtl m\nmap_Kd nothere.png\n");
+    let other = write(
+        &dir,
+        "named.obj",
+        format!("mtllib library.mtl\n{TRI}usemtl m\nf 1/1/1 2/2/1 3/3/1\n").as_bytes(),
+    );
+    renders_with_warning(&other, "library.mtl: material m: map_Kd");
     renders_with_warning(&obj("corrupt", "map_Kd garbage.png"), "unreadable image");
     renders_with_warning(&obj("unsupported", "map_Kd weird.xyz"), "map_Kd");
     renders_with_warning(&obj("bomb", "map_Kd bomb.png"), "refused before decoding");

@@ -129,7 +129,12 @@ fn load_with(
     let mut warnings = warnings.into_inner();
     let mut dependencies = mtl_files.into_inner();
     let tobj_mats = mats.unwrap_or_default();
-    let mtl_file = path.with_extension("mtl");
+    // Texture warnings name the material library that was read (tobj does not say which of
+    // several libraries a material came from; then the first one is named).
+    let mtl_file = dependencies
+        .first()
+        .cloned()
+        .unwrap_or_else(|| path.to_path_buf());
     let mut materials: Vec<Material> = tobj_mats
         .iter()
         .map(|m| material::from_tobj(m, &dir, &mtl_file, opts.textures, &mut warnings))
