@@ -96,6 +96,7 @@ pub(crate) fn run(
     order.extend(translucent.iter().map(|&(_, i)| i));
 
     let mut bound_texture = None;
+    let mut frame_uniforms_set: Vec<ProgramKey> = Vec::new();
     for (n, &i) in order.iter().enumerate() {
         let dm = &r.meshes[i];
         let key = ProgramKey {
@@ -108,17 +109,22 @@ pub(crate) fn run(
             gouraud: s.shading == Shading::Gouraud,
         };
         let program = r.programs.get(key)?;
-        stats.program(key.label());
         program.bind();
-        set_frame_uniforms(
-            &program,
-            s,
-            &view,
-            &proj,
-            &normal_matrix,
-            &light_pos,
-            &shadow,
-        );
+        // A program keeps its uniforms: the per-frame ones are set once per program per frame,
+        // only the material changes from mesh to mesh.
+        if !frame_uniforms_set.contains(&key) {
+            frame_uniforms_set.push(key);
+            stats.program(key.label());
+            set_frame_uniforms(
+                &program,
+                s,
+                &view,
+                &proj,
+                &normal_matrix,
+                &light_pos,
+                &shadow,
+            );
+        }
         let mat = &r.scene.materials[dm.material];
         program.set_vec3("uKa", Vec3::from(mat.ambient));
         program.set_vec3("uKd", Vec3::from(mat.diffuse));
