@@ -63,59 +63,15 @@ fn programs_carry_only_the_features_a_model_needs() {
 #[test]
 fn off_screen_meshes_are_culled_without_changing_the_picture() {
     let dir = out_dir("stats-cull");
-    let cube = |x: f64| {
-        let mut s = String::new();
-        for (i, p) in [
-            [0., 0., 0.],
-            [1., 0., 0.],
-            [1., 1., 0.],
-            [0., 1., 0.],
-            [0., 0., 1.],
-            [1., 0., 1.],
-            [1., 1., 1.],
-            [0., 1., 1.],
-        ]
-        .iter()
-        .enumerate()
-        {
-            let _ = i;
-            s += &format!("v {} {} {}\n", p[0] + x, p[1], p[2]);
-        }
-        s
-    };
-    let faces = |o: usize| {
-        [
-            [1, 3, 2],
-            [1, 4, 3],
-            [5, 6, 7],
-            [5, 7, 8],
-            [1, 2, 6],
-            [1, 6, 5],
-            [2, 3, 7],
-            [2, 7, 6],
-            [3, 4, 8],
-            [3, 8, 7],
-            [4, 1, 5],
-            [4, 5, 8],
-        ]
-        .iter()
-        .map(|f| format!("f {} {} {}\n", f[0] + o, f[1] + o, f[2] + o))
-        .collect::<String>()
-    };
+    let cube = |x: f64, before| box_obj([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0], before);
     let both = dir.join("both.obj");
     std::fs::write(
         &both,
-        format!(
-            "o left\n{}{}o right\n{}{}",
-            cube(-10.0),
-            faces(0),
-            cube(10.0),
-            faces(8)
-        ),
+        format!("o left\n{}o right\n{}", cube(-10.0, 0), cube(10.0, 8)),
     )
     .unwrap();
     let right = dir.join("right.obj");
-    std::fs::write(&right, format!("o right\n{}{}", cube(10.0), faces(0))).unwrap();
+    std::fs::write(&right, format!("o right\n{}", cube(10.0, 0))).unwrap();
     let view = [
         "--target",
         "10.5,0.5,0.5",

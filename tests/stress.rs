@@ -84,35 +84,7 @@ fn near_far_ratio_beyond_a_million() {
     let dir = out_dir("stress-depth");
     let obj = dir.join("huge.obj");
     let mut s = String::from("v -10000 0 -10000\nv 10000 0 -10000\nv 10000 0 10000\nv -10000 0 10000\nf 1 3 2\nf 1 4 3\n");
-    let c = 0.005;
-    for (x, y, z) in [
-        (-c, 0.0, -c),
-        (c, 0.0, -c),
-        (c, 2.0 * c, -c),
-        (-c, 2.0 * c, -c),
-        (-c, 0.0, c),
-        (c, 0.0, c),
-        (c, 2.0 * c, c),
-        (-c, 2.0 * c, c),
-    ] {
-        s += &format!("v {x} {y} {z}\n");
-    }
-    for f in [
-        [5, 7, 6],
-        [5, 8, 7],
-        [9, 10, 11],
-        [9, 11, 12],
-        [5, 6, 10],
-        [5, 10, 9],
-        [6, 7, 11],
-        [6, 11, 10],
-        [7, 8, 12],
-        [7, 12, 11],
-        [8, 5, 9],
-        [8, 9, 12],
-    ] {
-        s += &format!("f {} {} {}\n", f[0], f[1], f[2]);
-    }
+    s += &box_obj([-0.005, 0.0, -0.005], [0.005, 0.01, 0.005], 4);
     std::fs::write(&obj, s).unwrap();
     let view = [
         obj.to_str().unwrap(),

@@ -246,3 +246,38 @@ pub fn ray_box(
     }
     Some(t0)
 }
+
+/// OBJ text for an axis-aligned box from `lo` to `hi` (8 `v`, 12 outward-facing `f` lines),
+/// for a file that already has `before` vertices.
+pub fn box_obj(lo: [f64; 3], hi: [f64; 3], before: usize) -> String {
+    let mut s = String::new();
+    for (x, y, z) in [
+        (lo[0], lo[1], lo[2]),
+        (hi[0], lo[1], lo[2]),
+        (hi[0], hi[1], lo[2]),
+        (lo[0], hi[1], lo[2]),
+        (lo[0], lo[1], hi[2]),
+        (hi[0], lo[1], hi[2]),
+        (hi[0], hi[1], hi[2]),
+        (lo[0], hi[1], hi[2]),
+    ] {
+        s += &format!("v {x} {y} {z}\n");
+    }
+    for f in [
+        [1, 3, 2],
+        [1, 4, 3],
+        [5, 6, 7],
+        [5, 7, 8],
+        [1, 2, 6],
+        [1, 6, 5],
+        [2, 3, 7],
+        [2, 7, 6],
+        [3, 4, 8],
+        [3, 8, 7],
+        [4, 1, 5],
+        [4, 5, 8],
+    ] {
+        s += &format!("f {} {} {}\n", f[0] + before, f[1] + before, f[2] + before);
+    }
+    s
+}
