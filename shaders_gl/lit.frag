@@ -19,6 +19,7 @@ vec3 safeNormalize(vec3 n) {
 #if NUM_SHADOWS > 0
 #include "shadow.glsl"
 #endif
+#include "output.glsl"
 
 uniform vec3 uKa;
 uniform vec3 uKd;
@@ -64,5 +65,5 @@ void main() {
         color += vis[i] * uLightColor[i] * (uTerms.y * uKd * tex * f.x + uTerms.z * uKs * f.y);
     }
 #endif
-    FRAG_COLOR = vec4(clamp(color, 0.0, 1.0), uOpacity);
+    FRAG_COLOR = vec4(glviewOutput(color), uOpacity);
 }

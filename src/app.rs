@@ -3,10 +3,11 @@
 //! (`ControlFlow::Wait`), so an idle viewer draws nothing and uses no CPU.
 use crate::camera::{CameraMove, OrbitCamera, ZOOM_STEP};
 use crate::cli::Args;
+use crate::frame::{FrameSettings, Shading};
 use crate::gpu::{Gpu, GpuRef};
 use crate::keys::{self, Action, Effect};
 use crate::platform::window::WindowContext;
-use crate::render::{FrameSettings, Renderer, Shading, Target};
+use crate::render::{Renderer, Target};
 use crate::scene::{Bounds, Scene};
 use crate::{run, Error, Result};
 use std::path::{Path, PathBuf};
@@ -109,11 +110,12 @@ impl App<'_> {
     fn update_title(&self) {
         if let Some(live) = &self.live {
             let shading = match self.settings.shading {
-                Shading::Phong => "Phong",
-                Shading::Gouraud => "Gouraud",
+                Shading::Phong => "legacy Phong",
+                Shading::Gouraud => "legacy Gouraud",
+                Shading::Pbr => "PBR",
             };
             let title = format!(
-                "glview — {} — legacy {shading} — {}",
+                "glview — {} — {shading} — {}",
                 live.renderer.scene().name,
                 live.gpu.caps.version
             );
@@ -319,6 +321,7 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyF => "F",
         KeyCode::KeyS => "S",
         KeyCode::KeyG => "G",
+        KeyCode::KeyP => "P",
         KeyCode::KeyW => "W",
         KeyCode::KeyH => "H",
         KeyCode::KeyQ => "Q",
@@ -390,6 +393,7 @@ mod tests {
                     KeyCode::KeyF,
                     KeyCode::KeyS,
                     KeyCode::KeyG,
+                    KeyCode::KeyP,
                     KeyCode::KeyW,
                     KeyCode::KeyH,
                     KeyCode::KeyQ,

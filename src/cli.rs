@@ -1,6 +1,6 @@
 //! The command line (clap). Every option here is in `--help` and the README.
+use crate::frame::Shading;
 use crate::platform::{Backend, GlRequest};
-use crate::render::Shading;
 use clap::{Parser, ValueEnum};
 use std::path::PathBuf;
 

@@ -1,6 +1,6 @@
 //! The key mapping, shared by the window and `--keys` (which replays it headless).
 use crate::camera::{CameraMove, OrbitCamera, KEY_STEP_DEG, ZOOM_STEP};
-use crate::render::{FrameSettings, Shading};
+use crate::frame::{FrameSettings, Shading};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Action {
@@ -9,6 +9,8 @@ pub enum Action {
     Fit,
     ToggleShadows,
     ToggleGouraud,
+    /// Phong → Gouraud → PBR → Phong.
+    CycleShading,
     ToggleWrap,
     /// 0 = ambient, 1 = diffuse, 2 = specular.
     ToggleTerm(u8),
@@ -53,6 +55,7 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     (&["F"], Action::Fit, "fit the model in view"),
     (&["S"], Action::ToggleShadows, "shadows on/off"),
     (&["G"], Action::ToggleGouraud, "Phong / Gouraud shading"),
+    (&["P"], Action::CycleShading, "cycle Phong → Gouraud → PBR"),
     (
         &["W"],
         Action::ToggleWrap,
@@ -126,8 +129,10 @@ pub fn apply(
             s.shading = match s.shading {
                 Shading::Phong => Shading::Gouraud,
                 Shading::Gouraud => Shading::Phong,
+                Shading::Pbr => Shading::Pbr,
             }
         }
+        Action::CycleShading => s.shading = s.shading.next(),
         Action::ToggleWrap => s.lighting.wrap = !s.lighting.wrap,
         Action::ToggleTerm(t) => {
             let terms = &mut s.lighting.terms;

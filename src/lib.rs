@@ -7,9 +7,11 @@
 pub mod camera;
 pub mod cli;
 pub mod error;
+pub mod frame;
 pub mod image_out;
 pub mod keys;
 pub mod light;
+pub mod pbr;
 pub mod scene;
 pub mod shading;
 pub mod soak;

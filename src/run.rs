@@ -3,9 +3,9 @@
 use crate::camera::OrbitCamera;
 use crate::cli::{Args, Diffuse, Show};
 use crate::error::{Error, Result};
+use crate::frame::{FrameSettings, ShadowSettings};
 use crate::keys::{self, Effect};
 use crate::light::{parse_vec3, LightSpec, MAX_LIGHTS};
-use crate::render::{FrameSettings, ShadowSettings};
 use crate::scene::material::TextureOptions;
 use crate::scene::obj::{self, LoadOptions};
 use crate::scene::Scene;
@@ -273,7 +273,7 @@ pub fn compile_shaders(args: &Args) -> Result<()> {
     let keys = crate::shader::cache::all_keys(crate::light::MAX_LIGHTS as u8);
     let start = std::time::Instant::now();
     for key in &keys {
-        cache.get(*key)?;
+        cache.get(key)?;
     }
     println!(
         "compiled and linked {} programs for {} ({}) in {:.1} s",

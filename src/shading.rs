@@ -27,12 +27,43 @@ impl Default for Terms {
     }
 }
 
+/// Which terms of the PBR formula are drawn (`--terms`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct PbrTerms {
+    pub direct_diffuse: bool,
+    pub direct_specular: bool,
+    pub ibl_diffuse: bool,
+    pub ibl_specular: bool,
+    pub ao: bool,
+    pub shadows: bool,
+    pub emissive: bool,
+}
+
+impl Default for PbrTerms {
+    fn default() -> Self {
+        PbrTerms {
+            direct_diffuse: true,
+            direct_specular: true,
+            ibl_diffuse: true,
+            ibl_specular: true,
+            ao: true,
+            shadows: true,
+            emissive: true,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightingParams {
     pub ambient: DVec3,
     /// Half-Lambert: (1 + N·L)/2 instead of max(N·L, 0).
     pub wrap: bool,
     pub terms: Terms,
+    /// The PBR tier's knobs (unused by the legacy formula).
+    pub pbr: crate::pbr::PbrParams,
+    pub pbr_terms: PbrTerms,
+    /// The PBR tier's output step (the legacy tier's output is the fixed-function clamp).
+    pub output: crate::pbr::OutputParams,
 }
 
 impl Default for LightingParams {
@@ -41,6 +72,9 @@ impl Default for LightingParams {
             ambient: DVec3::splat(0.2),
             wrap: false,
             terms: Terms::default(),
+            pbr: Default::default(),
+            pbr_terms: Default::default(),
+            output: Default::default(),
         }
     }
 }

@@ -1,5 +1,5 @@
 //! The quality knobs the benchmark varies, and the settings it measures.
-use crate::render::{FrameSettings, Shading, ShadowSettings};
+use crate::frame::{FrameSettings, Shading, ShadowSettings};
 use serde::Serialize;
 
 /// One setting of the quality knobs.
@@ -46,6 +46,7 @@ impl Knob {
         let shading = match self.shading {
             Shading::Phong => "",
             Shading::Gouraud => " --shading gouraud",
+            Shading::Pbr => " --shading pbr",
         };
         format!(
             "--shadow-size {} --pcf {} --shadow-bias {}{shading}",

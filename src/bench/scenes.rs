@@ -1,7 +1,7 @@
 //! The quality benchmark's scene set: each scene is a model plus command-line options, so any
 //! row of the table can be reproduced with `glview MODEL OPTIONS --output x.png`.
 use crate::cli::Args;
-use crate::render::FrameSettings;
+use crate::frame::FrameSettings;
 use crate::run::{frame_settings, load_scene};
 use crate::scene::{Mesh, Scene, Vertex};
 use crate::{Error, Result};

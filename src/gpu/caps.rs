@@ -50,6 +50,19 @@ pub struct Caps {
     /// GL_TIME_ELAPSED queries (desktop GL 3.3 or ARB_timer_query).
     pub timer_query: bool,
     pub max_texture_size: u32,
+    /// Texture units a fragment shader can sample (GL_MAX_TEXTURE_IMAGE_UNITS).
+    pub max_texture_units: u32,
+    /// 16-bit float textures (RGBA16F, RG16F): GL 3.0, ES 3.0, ARB_texture_float with
+    /// ARB_half_float_pixel.
+    pub half_float_textures: bool,
+    /// Two-channel textures (RG8, RG16F): GL 3.0, ES 3.0 or ARB_texture_rg.
+    pub rg_textures: bool,
+    /// sRGB textures decoded by the sampler: GL 2.1, ES 3.0, EXT_texture_sRGB.
+    pub srgb_textures: bool,
+    /// Filtering across cube faces (GL_TEXTURE_CUBE_MAP_SEAMLESS): GL 3.2 or ARB_seamless_cube_map.
+    pub seamless_cube: bool,
+    /// Packed depth + stencil formats: GL 3.0, ES 3.0 or EXT/OES_packed_depth_stencil.
+    pub depth_stencil: bool,
     pub max_renderbuffer_size: u32,
     pub max_viewport: (u32, u32),
     pub max_varying_floats: u32,
@@ -139,6 +152,17 @@ impl Caps {
                 generate_mipmap: fbo,
                 timer_query: desktop_at_least(3, 3) || has(&["GL_ARB_timer_query"]),
                 max_texture_size: gl.get_parameter_i32(glow::MAX_TEXTURE_SIZE) as u32,
+                max_texture_units: gl.get_parameter_i32(glow::MAX_TEXTURE_IMAGE_UNITS).max(0)
+                    as u32,
+                half_float_textures: es3
+                    || desktop_at_least(3, 0)
+                    || (has(&["GL_ARB_texture_float"]) && has(&["GL_ARB_half_float_pixel"])),
+                rg_textures: es3 || desktop_at_least(3, 0) || has(&["GL_ARB_texture_rg"]),
+                srgb_textures: es3 || desktop_at_least(2, 1) || has(&["GL_EXT_texture_sRGB"]),
+                seamless_cube: desktop_at_least(3, 2) || has(&["GL_ARB_seamless_cube_map"]),
+                depth_stencil: es3
+                    || desktop_at_least(3, 0)
+                    || has(&["GL_EXT_packed_depth_stencil", "GL_OES_packed_depth_stencil"]),
                 max_renderbuffer_size,
                 max_viewport: (vp[0] as u32, vp[1] as u32),
                 max_varying_floats,
@@ -155,7 +179,9 @@ impl Caps {
              framebuffer objects: {}\nvertex array objects: {}\ndepth textures: {}\n\
              shadow compare: {}\nfloat textures: {}\nexplicit-LOD lookups: {}\n\
              32-bit indices: {}\ncube shadow lookups: {}\ntimer queries: {}\n\
-             max texture size: {}\n\
+             max texture size: {}\ntexture units: {}\n16-bit float textures: {}\n\
+             RG textures: {}\nsRGB textures: {}\nseamless cube maps: {}\n\
+             depth+stencil: {}\n\
              max viewport: {}x{}\nmax varying floats: {}\nextensions: {}",
             self.version,
             self.glsl_version,
@@ -179,6 +205,12 @@ impl Caps {
             yes(self.cube_shadow),
             yes(self.timer_query),
             self.max_texture_size,
+            self.max_texture_units,
+            yes(self.half_float_textures),
+            yes(self.rg_textures),
+            yes(self.srgb_textures),
+            yes(self.seamless_cube),
+            yes(self.depth_stencil),
             self.max_viewport.0,
             self.max_viewport.1,
             self.max_varying_floats,

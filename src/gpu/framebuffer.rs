@@ -1,5 +1,12 @@
 //! Framebuffer objects: the headless colour+depth target, and depth-only shadow targets.
-use super::texture::Texture2d;
+use super::texture::{Texture2d, TextureCube};
+
+/// Where a colour target draws: a level of a 2D texture, or a face (0..6 in GL order) and
+/// level of a cube map.
+pub enum ColorAttachment<'a> {
+    Level(&'a Texture2d, u32),
+    CubeFace(&'a TextureCube, u32, u32),
+}
 use super::GpuRef;
 use crate::{Error, Result};
 use glow::HasContext;
@@ -74,11 +81,18 @@ impl Framebuffer {
         }
     }
 
-    /// RGBA8 colour + 24-bit depth renderbuffers: the headless render target.
+    /// RGBA8 colour + 24-bit depth renderbuffers (with 8 stencil bits where the driver has
+    /// packed depth-stencil): the headless render target.
     pub fn color_depth(gpu: &GpuRef, w: u32, h: u32) -> Result<Framebuffer> {
         let mut fb = Self::create(gpu, w, h)?;
         let color = renderbuffer(gpu, glow::RGBA8, w, h)?;
-        let depth = renderbuffer(gpu, glow::DEPTH_COMPONENT24, w, h)?;
+        let stencil = gpu.caps.depth_stencil;
+        let depth_format = if stencil {
+            glow::DEPTH24_STENCIL8
+        } else {
+            glow::DEPTH_COMPONENT24
+        };
+        let depth = renderbuffer(gpu, depth_format, w, h)?;
         // SAFETY: attaching our renderbuffers to the bound framebuffer.
         unsafe {
             let gl = &gpu.gl;
@@ -90,7 +104,11 @@ impl Framebuffer {
             );
             gl.framebuffer_renderbuffer(
                 glow::FRAMEBUFFER,
-                glow::DEPTH_ATTACHMENT,
+                if stencil {
+                    glow::DEPTH_STENCIL_ATTACHMENT
+                } else {
+                    glow::DEPTH_ATTACHMENT
+                },
                 glow::RENDERBUFFER,
                 Some(depth.raw),
             );
@@ -116,6 +134,51 @@ impl Framebuffer {
             );
             gl.draw_buffers(&[glow::NONE]);
             gl.read_buffer(glow::NONE);
+        }
+        fb.check()?;
+        Ok(fb)
+    }
+
+    /// A colour target drawing into one level of a 2D texture or one face (and level) of a
+    /// cube map, with a depth renderbuffer when `depth` is set.
+    pub fn color_texture(
+        gpu: &GpuRef,
+        attachment: ColorAttachment,
+        width: u32,
+        height: u32,
+        depth: bool,
+    ) -> Result<Framebuffer> {
+        let mut fb = Self::create(gpu, width, height)?;
+        let (target, raw, level) = match attachment {
+            ColorAttachment::Level(t, level) => (glow::TEXTURE_2D, t.raw, level),
+            ColorAttachment::CubeFace(t, face, level) => (
+                glow::TEXTURE_CUBE_MAP_POSITIVE_X + face.min(5),
+                t.raw,
+                level,
+            ),
+        };
+        // SAFETY: attaching a live texture level to the bound framebuffer.
+        unsafe {
+            gpu.gl.framebuffer_texture_2d(
+                glow::FRAMEBUFFER,
+                glow::COLOR_ATTACHMENT0,
+                target,
+                Some(raw),
+                level as i32,
+            );
+        }
+        if depth {
+            let d = renderbuffer(gpu, glow::DEPTH_COMPONENT24, width, height)?;
+            // SAFETY: attaching our renderbuffer to the bound framebuffer.
+            unsafe {
+                gpu.gl.framebuffer_renderbuffer(
+                    glow::FRAMEBUFFER,
+                    glow::DEPTH_ATTACHMENT,
+                    glow::RENDERBUFFER,
+                    Some(d.raw),
+                );
+            }
+            fb._attachments.push(d);
         }
         fb.check()?;
         Ok(fb)

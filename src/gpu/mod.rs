@@ -22,6 +22,8 @@ pub struct Gpu {
     pub gl: glow::Context,
     pub caps: Caps,
     live: Cell<i64>,
+    /// The render state last applied (None: unknown, set everything next time).
+    state: Cell<Option<state::RenderState>>,
 }
 
 pub type GpuRef = Rc<Gpu>;
@@ -33,6 +35,7 @@ impl Gpu {
             gl,
             caps,
             live: Cell::new(0),
+            state: Cell::new(None),
         })
     }
 

@@ -7,7 +7,12 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Attribute locations, bound before linking so every program shares one vertex layout.
-pub const ATTRIBUTES: [(u32, &str); 3] = [(0, "aPosition"), (1, "aNormal"), (2, "aUv")];
+pub const ATTRIBUTES: [(u32, &str); 4] = [
+    (0, "aPosition"),
+    (1, "aNormal"),
+    (2, "aUv"),
+    (3, "aTangent"),
+];
 
 pub struct Program {
     gpu: GpuRef,

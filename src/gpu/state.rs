@@ -1,4 +1,6 @@
-//! Safe wrappers for the fixed-function state the passes change, so `render` has no `unsafe`.
+//! Fixed-function state as one value. Passes describe the state they draw with in a
+//! [`RenderState`]; [`Gpu::apply`] is the one place that turns it into GL calls, and it skips
+//! the calls whose part of the state has not changed since the last apply.
 use super::Gpu;
 use glow::HasContext;
 
@@ -10,14 +12,184 @@ pub enum Cull {
     Back,
 }
 
+/// Depth comparison.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DepthFunc {
+    Less,
+    LessEqual,
+    Equal,
+    Always,
+}
+
+/// Colour blending. Destination alpha is kept (factors ZERO, ONE) so PNGs and screenshots stay
+/// opaque where translucent surfaces were drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Blend {
+    Off,
+    /// C = α·C_src + (1 − α)·C_dst
+    Alpha,
+    /// C = α·C_src + C_dst
+    Additive,
+}
+
+/// Stencil test and write: pass where `(stencil & mask) <func> reference`, and on pass write
+/// `reference` (REPLACE) when `write` is set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Stencil {
+    pub func: StencilFunc,
+    pub reference: u8,
+    pub write: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StencilFunc {
+    Always,
+    Equal,
+    NotEqual,
+}
+
+/// Everything a draw depends on besides program, buffers and textures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderState {
+    /// None: no depth test.
+    pub depth: Option<DepthFunc>,
+    pub depth_write: bool,
+    pub blend: Blend,
+    pub cull: Cull,
+    pub stencil: Option<Stencil>,
+    pub color_write: bool,
+    /// glPolygonOffset(factor, units) for filled polygons.
+    pub polygon_offset: Option<(f32, f32)>,
+}
+
+impl Default for RenderState {
+    /// Opaque drawing: depth test LESS with writes, no blending, no culling, no stencil.
+    fn default() -> Self {
+        RenderState {
+            depth: Some(DepthFunc::Less),
+            depth_write: true,
+            blend: Blend::Off,
+            cull: Cull::None,
+            stencil: None,
+            color_write: true,
+            polygon_offset: None,
+        }
+    }
+}
+
+impl RenderState {
+    /// Full-screen passes: no depth test or writes.
+    pub fn overlay() -> Self {
+        RenderState {
+            depth: None,
+            depth_write: false,
+            ..Default::default()
+        }
+    }
+}
+
 impl Gpu {
+    /// Makes `s` the current state, touching only what differs from the last applied state.
+    pub fn apply(&self, s: &RenderState) {
+        let last = self.state.get();
+        let changed = |f: &dyn Fn(&RenderState) -> bool| last.is_none_or(|l| f(&l));
+        let gl = &self.gl;
+        // SAFETY: fixed-function state calls with valid enums; no preconditions.
+        unsafe {
+            if changed(&|l| l.depth != s.depth) {
+                match s.depth {
+                    Some(f) => {
+                        gl.enable(glow::DEPTH_TEST);
+                        gl.depth_func(match f {
+                            DepthFunc::Less => glow::LESS,
+                            DepthFunc::LessEqual => glow::LEQUAL,
+                            DepthFunc::Equal => glow::EQUAL,
+                            DepthFunc::Always => glow::ALWAYS,
+                        });
+                    }
+                    None => gl.disable(glow::DEPTH_TEST),
+                }
+            }
+            if changed(&|l| l.depth_write != s.depth_write) {
+                gl.depth_mask(s.depth_write);
+            }
+            if changed(&|l| l.blend != s.blend) {
+                match s.blend {
+                    Blend::Off => gl.disable(glow::BLEND),
+                    Blend::Alpha | Blend::Additive => {
+                        gl.enable(glow::BLEND);
+                        let dst = if s.blend == Blend::Alpha {
+                            glow::ONE_MINUS_SRC_ALPHA
+                        } else {
+                            glow::ONE
+                        };
+                        // glBlendFuncSeparate is core since GL 1.4.
+                        gl.blend_func_separate(glow::SRC_ALPHA, dst, glow::ZERO, glow::ONE);
+                    }
+                }
+            }
+            if changed(&|l| l.cull != s.cull) {
+                match s.cull {
+                    Cull::None => gl.disable(glow::CULL_FACE),
+                    Cull::Front | Cull::Back => {
+                        gl.enable(glow::CULL_FACE);
+                        gl.cull_face(if s.cull == Cull::Front {
+                            glow::FRONT
+                        } else {
+                            glow::BACK
+                        });
+                    }
+                }
+            }
+            if changed(&|l| l.stencil != s.stencil) {
+                match s.stencil {
+                    None => gl.disable(glow::STENCIL_TEST),
+                    Some(st) => {
+                        gl.enable(glow::STENCIL_TEST);
+                        let func = match st.func {
+                            StencilFunc::Always => glow::ALWAYS,
+                            StencilFunc::Equal => glow::EQUAL,
+                            StencilFunc::NotEqual => glow::NOTEQUAL,
+                        };
+                        gl.stencil_func(func, i32::from(st.reference), 0xff);
+                        let pass = if st.write { glow::REPLACE } else { glow::KEEP };
+                        gl.stencil_op(glow::KEEP, glow::KEEP, pass);
+                        gl.stencil_mask(if st.write { 0xff } else { 0 });
+                    }
+                }
+            }
+            if changed(&|l| l.color_write != s.color_write) {
+                let c = s.color_write;
+                gl.color_mask(c, c, c, c);
+            }
+            if changed(&|l| l.polygon_offset != s.polygon_offset) {
+                match s.polygon_offset {
+                    Some((factor, units)) => {
+                        gl.enable(glow::POLYGON_OFFSET_FILL);
+                        gl.polygon_offset(factor, units);
+                    }
+                    None => gl.disable(glow::POLYGON_OFFSET_FILL),
+                }
+            }
+        }
+        self.state.set(Some(*s));
+    }
+
+    /// Forgets the tracked state, so the next `apply` sets everything (after foreign code, e.g.
+    /// a platform layer, may have changed it).
+    pub fn forget_state(&self) {
+        self.state.set(None);
+    }
+
     /// Binds a framebuffer object, or the default framebuffer for None, and sets the viewport.
     pub fn bind_target(&self, fbo: Option<glow::Framebuffer>, width: u32, height: u32) {
+        self.bind_framebuffer(fbo);
+        self.viewport(0, 0, width, height);
+    }
+
+    pub fn bind_framebuffer(&self, fbo: Option<glow::Framebuffer>) {
         // SAFETY: fbo is None or a live framebuffer of this context.
-        unsafe {
-            self.gl.bind_framebuffer(glow::FRAMEBUFFER, fbo);
-            self.gl.viewport(0, 0, width as i32, height as i32);
-        }
+        unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, fbo) }
     }
 
     pub fn viewport(&self, x: u32, y: u32, width: u32, height: u32) {
@@ -28,12 +200,15 @@ impl Gpu {
         }
     }
 
-    /// Clears depth, and colour too when given.
+    /// Clears depth (and stencil, where the target has one), and colour too when given. The
+    /// write masks a clear obeys are opened for it and restored afterwards, so a clear leaves
+    /// the render state as it found it.
     pub fn clear(&self, color: Option<[f32; 3]>) {
-        // SAFETY: no preconditions; depth writes are enabled first so the clear takes effect.
+        // SAFETY: no preconditions.
         unsafe {
             self.gl.depth_mask(true);
-            let mut bits = glow::DEPTH_BUFFER_BIT;
+            self.gl.stencil_mask(0xff);
+            let mut bits = glow::DEPTH_BUFFER_BIT | glow::STENCIL_BUFFER_BIT;
             if let Some([r, g, b]) = color {
                 self.gl.color_mask(true, true, true, true);
                 self.gl.clear_color(r, g, b, 1.0);
@@ -41,75 +216,32 @@ impl Gpu {
             }
             self.gl.clear(bits);
         }
-    }
-
-    /// Depth test (LESS) on or off, and depth writes.
-    pub fn depth(&self, test: bool, write: bool) {
-        // SAFETY: no preconditions.
-        unsafe {
-            if test {
-                self.gl.enable(glow::DEPTH_TEST);
-                self.gl.depth_func(glow::LESS);
-            } else {
-                self.gl.disable(glow::DEPTH_TEST);
-            }
-            self.gl.depth_mask(write);
-        }
-    }
-
-    /// Alpha blending of colour (SRC_ALPHA, ONE_MINUS_SRC_ALPHA) on or off.
-    pub fn blend(&self, on: bool) {
-        // SAFETY: no preconditions.
-        unsafe {
-            if on {
-                self.gl.enable(glow::BLEND);
-                // Colour is blended; destination alpha stays 1, so PNGs and screenshots are
-                // opaque where glass was drawn (glBlendFuncSeparate is core since GL 1.4).
-                self.gl.blend_func_separate(
-                    glow::SRC_ALPHA,
-                    glow::ONE_MINUS_SRC_ALPHA,
-                    glow::ZERO,
-                    glow::ONE,
-                );
-            } else {
-                self.gl.disable(glow::BLEND);
+        if let Some(s) = self.state.get() {
+            // SAFETY: restoring masks to the tracked values.
+            unsafe {
+                self.gl.depth_mask(s.depth_write);
+                let c = s.color_write;
+                self.gl.color_mask(c, c, c, c);
+                let writes = s.stencil.is_some_and(|st| st.write);
+                self.gl.stencil_mask(if writes { 0xff } else { 0 });
             }
         }
     }
 
-    pub fn cull(&self, cull: Cull) {
+    /// Clears a rectangle only (a pane of a side-by-side frame) with the scissor test.
+    pub fn clear_rect(&self, rect: [u32; 4], color: Option<[f32; 3]>) {
         // SAFETY: no preconditions.
         unsafe {
-            match cull {
-                Cull::None => self.gl.disable(glow::CULL_FACE),
-                Cull::Front | Cull::Back => {
-                    self.gl.enable(glow::CULL_FACE);
-                    self.gl.cull_face(if cull == Cull::Front {
-                        glow::FRONT
-                    } else {
-                        glow::BACK
-                    });
-                }
-            }
+            self.gl.enable(glow::SCISSOR_TEST);
+            self.gl.scissor(
+                rect[0] as i32,
+                rect[1] as i32,
+                rect[2] as i32,
+                rect[3] as i32,
+            );
         }
-    }
-
-    /// Slope-scaled depth offset for filled polygons (`glPolygonOffset(factor, units)`).
-    pub fn polygon_offset(&self, offset: Option<(f32, f32)>) {
+        self.clear(color);
         // SAFETY: no preconditions.
-        unsafe {
-            match offset {
-                Some((factor, units)) => {
-                    self.gl.enable(glow::POLYGON_OFFSET_FILL);
-                    self.gl.polygon_offset(factor, units);
-                }
-                None => self.gl.disable(glow::POLYGON_OFFSET_FILL),
-            }
-        }
-    }
-
-    pub fn color_writes(&self, on: bool) {
-        // SAFETY: no preconditions.
-        unsafe { self.gl.color_mask(on, on, on, on) }
+        unsafe { self.gl.disable(glow::SCISSOR_TEST) }
     }
 }

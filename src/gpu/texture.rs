@@ -1,13 +1,254 @@
-//! 2D textures: RGBA8 colour maps and depth maps for shadow comparison.
-use super::GpuRef;
+//! Textures: 2D colour maps in the formats of [`TextureFormat`], depth maps for shadow
+//! comparison, and cube maps (the PBR tier's irradiance and specular levels).
+use super::{Caps, GpuRef};
 use crate::{Error, Result};
 use glow::HasContext;
+
+/// Texel formats, each gated on the capability probe ([`TextureFormat::supported`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+pub enum TextureFormat {
+    Rgba8,
+    /// 8-bit colour stored sRGB-encoded; the sampler returns linear values.
+    Srgb8A8,
+    Rgba16F,
+    Rg16F,
+    Depth24,
+    Depth24Stencil8,
+}
+
+/// Pixel data for an upload: 8-bit channels, or f32 channels converted by the driver.
+#[derive(Clone, Copy, Debug)]
+pub enum Pixels<'a> {
+    U8(&'a [u8]),
+    F32(&'a [f32]),
+    None,
+}
+
+impl TextureFormat {
+    pub fn supported(self, caps: &Caps) -> bool {
+        match self {
+            TextureFormat::Rgba8 => true,
+            TextureFormat::Srgb8A8 => caps.srgb_textures,
+            TextureFormat::Rgba16F => caps.half_float_textures,
+            TextureFormat::Rg16F => caps.half_float_textures && caps.rg_textures,
+            TextureFormat::Depth24 => caps.depth_texture,
+            TextureFormat::Depth24Stencil8 => caps.depth_stencil,
+        }
+    }
+
+    /// (internal format, format, type) for `glTexImage2D`. ES 3.0 wants sized internal formats
+    /// paired with matching types; desktop GL accepts the same pairs.
+    fn gl(self, pixels: &Pixels) -> (u32, u32, u32) {
+        let ty = |default| match pixels {
+            Pixels::F32(_) => glow::FLOAT,
+            _ => default,
+        };
+        match self {
+            TextureFormat::Rgba8 => (glow::RGBA8, glow::RGBA, glow::UNSIGNED_BYTE),
+            TextureFormat::Srgb8A8 => (glow::SRGB8_ALPHA8, glow::RGBA, glow::UNSIGNED_BYTE),
+            TextureFormat::Rgba16F => (glow::RGBA16F, glow::RGBA, ty(glow::HALF_FLOAT)),
+            TextureFormat::Rg16F => (glow::RG16F, glow::RG, ty(glow::HALF_FLOAT)),
+            TextureFormat::Depth24 => (
+                glow::DEPTH_COMPONENT24,
+                glow::DEPTH_COMPONENT,
+                glow::UNSIGNED_INT,
+            ),
+            TextureFormat::Depth24Stencil8 => (
+                glow::DEPTH24_STENCIL8,
+                glow::DEPTH_STENCIL,
+                glow::UNSIGNED_INT_24_8,
+            ),
+        }
+    }
+
+    /// Channels per texel of the data given for an upload.
+    pub fn channels(self) -> usize {
+        match self {
+            TextureFormat::Rg16F => 2,
+            TextureFormat::Depth24 | TextureFormat::Depth24Stencil8 => 1,
+            _ => 4,
+        }
+    }
+}
+
+/// Sampler filtering and wrapping.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sampling {
+    pub linear: bool,
+    pub mipmaps: bool,
+    pub repeat: bool,
+}
+
+unsafe fn tex_image(
+    gl: &glow::Context,
+    target: u32,
+    level: i32,
+    format: TextureFormat,
+    w: u32,
+    h: u32,
+    pixels: Pixels,
+) {
+    let (internal, fmt, ty) = format.gl(&pixels);
+    let data = match pixels {
+        Pixels::U8(d) => Some(d),
+        Pixels::F32(d) => Some(bytemuck::cast_slice(d)),
+        Pixels::None => None,
+    };
+    gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+    gl.tex_image_2d(
+        target,
+        level,
+        internal as i32,
+        w as i32,
+        h as i32,
+        0,
+        fmt,
+        ty,
+        glow::PixelUnpackData::Slice(data),
+    );
+}
+
+unsafe fn sampler_params(gl: &glow::Context, target: u32, s: Sampling) {
+    let mag = if s.linear {
+        glow::LINEAR
+    } else {
+        glow::NEAREST
+    };
+    let min = match (s.linear, s.mipmaps) {
+        (true, true) => glow::LINEAR_MIPMAP_LINEAR,
+        (false, true) => glow::NEAREST_MIPMAP_NEAREST,
+        _ => mag,
+    };
+    let wrap = if s.repeat {
+        glow::REPEAT
+    } else {
+        glow::CLAMP_TO_EDGE
+    };
+    gl.tex_parameter_i32(target, glow::TEXTURE_MIN_FILTER, min as i32);
+    gl.tex_parameter_i32(target, glow::TEXTURE_MAG_FILTER, mag as i32);
+    gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_S, wrap as i32);
+    gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_T, wrap as i32);
+    if target == glow::TEXTURE_CUBE_MAP {
+        gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_R, wrap as i32);
+    }
+}
+
+/// A cube map: six square faces in GL order (+X, −X, +Y, −Y, +Z, −Z).
+pub struct TextureCube {
+    gpu: GpuRef,
+    pub raw: glow::Texture,
+    pub size: u32,
+    pub format: TextureFormat,
+}
+
+impl TextureCube {
+    /// Uploads six faces (each `size`² texels of `format.channels()` values), or allocates
+    /// them empty (render target) with `Pixels::None` faces.
+    pub fn new(
+        gpu: &GpuRef,
+        format: TextureFormat,
+        size: u32,
+        faces: [Pixels; 6],
+        sampling: Sampling,
+    ) -> Result<TextureCube> {
+        if !format.supported(&gpu.caps) {
+            return Err(Error::Unsupported(format!(
+                "{}: {format:?} textures are not supported",
+                gpu.caps.version
+            )));
+        }
+        // SAFETY: creating a new cube texture and filling each face with data of the size
+        // the caller promises (size² texels of the format's channels).
+        unsafe {
+            let gl = &gpu.gl;
+            let raw = gl.create_texture().map_err(Error::Unsupported)?;
+            gpu.created();
+            gl.bind_texture(glow::TEXTURE_CUBE_MAP, Some(raw));
+            for (i, face) in faces.into_iter().enumerate() {
+                tex_image(
+                    gl,
+                    glow::TEXTURE_CUBE_MAP_POSITIVE_X + i as u32,
+                    0,
+                    format,
+                    size,
+                    size,
+                    face,
+                );
+            }
+            if sampling.mipmaps {
+                gl.generate_mipmap(glow::TEXTURE_CUBE_MAP);
+            }
+            sampler_params(gl, glow::TEXTURE_CUBE_MAP, sampling);
+            Ok(TextureCube {
+                gpu: gpu.clone(),
+                raw,
+                size,
+                format,
+            })
+        }
+    }
+
+    pub fn bind(&self, unit: u32) {
+        // SAFETY: binding our own texture to a unit the caller keeps below the driver's limit.
+        unsafe {
+            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
+            self.gpu
+                .gl
+                .bind_texture(glow::TEXTURE_CUBE_MAP, Some(self.raw));
+        }
+    }
+}
+
+impl Drop for TextureCube {
+    fn drop(&mut self) {
+        // SAFETY: deleting our own texture once.
+        unsafe { self.gpu.gl.delete_texture(self.raw) };
+        self.gpu.deleted();
+    }
+}
 
 pub struct Texture2d {
     gpu: GpuRef,
     pub raw: glow::Texture,
     pub width: u32,
     pub height: u32,
+}
+
+impl Texture2d {
+    /// A texture of any supported format; `Pixels::None` allocates it empty (render target).
+    pub fn new(
+        gpu: &GpuRef,
+        format: TextureFormat,
+        width: u32,
+        height: u32,
+        pixels: Pixels,
+        sampling: Sampling,
+    ) -> Result<Texture2d> {
+        if !format.supported(&gpu.caps) {
+            return Err(Error::Unsupported(format!(
+                "{}: {format:?} textures are not supported",
+                gpu.caps.version
+            )));
+        }
+        let t = Self::create(gpu, width, height)?;
+        let mipmaps = sampling.mipmaps && gpu.caps.generate_mipmap;
+        // SAFETY: the caller's data holds width*height texels of the format's channels.
+        unsafe {
+            tex_image(&gpu.gl, glow::TEXTURE_2D, 0, format, width, height, pixels);
+            if mipmaps {
+                gpu.gl.generate_mipmap(glow::TEXTURE_2D);
+            }
+            sampler_params(
+                &gpu.gl,
+                glow::TEXTURE_2D,
+                Sampling {
+                    mipmaps,
+                    ..sampling
+                },
+            );
+        }
+        Ok(t)
+    }
 }
 
 impl Texture2d {

@@ -19,12 +19,13 @@
 //! on edges); the glass differs by its blend order, and shadows by the shadow map's
 //! approximations. See `gpu_against_reference_builtin` in tests/reference.rs.
 pub mod bvh;
+pub mod pbr;
 pub mod surface;
 pub mod view;
 
+use crate::frame::FrameSettings;
 use crate::image_out::Rgba;
 use crate::light::MAX_LIGHTS;
-use crate::render::FrameSettings;
 use crate::scene::Scene;
 use bvh::{Bvh, Hit, TriRef};
 use glam::DVec3;
@@ -64,6 +65,10 @@ pub struct Context<'a> {
     pub shadows: bool,
     /// Shadow-ray offset; see `surface::light_visible`.
     pub epsilon: f64,
+    /// The PBR tier's environment (None: the tier gets no image-based light).
+    pub env: Option<std::sync::Arc<crate::pbr::env::Environment>>,
+    /// Monte Carlo samples per lobe for the PBR tier's image-based light.
+    pub pbr_samples: u32,
 }
 
 impl<'a> Context<'a> {
@@ -94,13 +99,33 @@ impl<'a> Context<'a> {
             translucent: Bvh::build(translucent),
             shadows: settings.shadows.enabled && !settings.lights.is_empty(),
             epsilon: 1e-7 * f64::from(scene.bounds.radius()),
+            env: None,
+            pbr_samples: pbr::DEFAULT_SAMPLES,
         }
     }
 }
 
 /// Renders `scene` as the GPU would with settings `s`, at `width` × `height`.
 pub fn render(scene: &Scene, s: &FrameSettings, width: u32, height: u32) -> Rgba {
-    render_rows(scene, s, width, height, false).0
+    render_rows(scene, s, None, width, height, false).0
+}
+
+/// The environment and sample count of a PBR reference render.
+#[derive(Clone)]
+pub struct PbrEnv {
+    pub env: std::sync::Arc<crate::pbr::env::Environment>,
+    pub samples: u32,
+}
+
+/// [`render`] for any tier: `env` lights the PBR tier (ignored by the legacy tier).
+pub fn render_env(
+    scene: &Scene,
+    s: &FrameSettings,
+    env: Option<&PbrEnv>,
+    width: u32,
+    height: u32,
+) -> Rgba {
+    render_rows(scene, s, env, width, height, false).0
 }
 
 /// [`render`], plus what each pixel saw (row-major, row 0 at the top).
@@ -110,7 +135,7 @@ pub fn render_with_info(
     width: u32,
     height: u32,
 ) -> (Rgba, Vec<PixelInfo>) {
-    render_rows(scene, s, width, height, true)
+    render_rows(scene, s, None, width, height, true)
 }
 
 /// Rows in parallel. Without `with_info` no per-pixel record is kept: at 8192² it would
@@ -118,6 +143,7 @@ pub fn render_with_info(
 fn render_rows(
     scene: &Scene,
     s: &FrameSettings,
+    env: Option<&PbrEnv>,
     width: u32,
     height: u32,
     with_info: bool,
@@ -126,7 +152,11 @@ fn render_rows(
     let mut data = vec![0u8; w * h * 4];
     let mut info = vec![PixelInfo::default(); if with_info { w * h } else { 0 }];
     if w > 0 && h > 0 {
-        let ctx = Context::new(scene, s, width, height);
+        let mut ctx = Context::new(scene, s, width, height);
+        if let Some(e) = env {
+            ctx.env = Some(e.env.clone());
+            ctx.pbr_samples = e.samples;
+        }
         let mut info_rows: Vec<&mut [PixelInfo]> = info.chunks_mut(w).collect();
         info_rows.resize_with(h, Default::default);
         data.par_chunks_mut(w * 4)
@@ -170,7 +200,7 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
         info.shadowed = std::array::from_fn(|i| shadowed & (1 << i) != 0);
     };
     let opaque = ctx.opaque.closest(o, d, 0.0, 1.0);
-    let mut color = ctx.settings.background.as_dvec3();
+    let mut color = background(ctx, d);
     if let Some(hit) = &opaque {
         let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);
         color = s.color;
@@ -196,6 +226,19 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
     }
     debug_assert!(color.is_finite(), "non-finite colour at {x},{y}");
     (color, info)
+}
+
+/// What shows where no surface is hit: the environment through the output step (PBR tier
+/// with a skybox), else the background colour.
+fn background(ctx: &Context, d: DVec3) -> DVec3 {
+    let s = ctx.settings;
+    match &ctx.env {
+        Some(env) if s.shading == crate::frame::Shading::Pbr && s.lighting.pbr.skybox => {
+            let c = env.sample(d.normalize()) * f64::from(s.lighting.pbr.ibl_intensity);
+            DVec3::from(s.lighting.output.apply(c.to_array()))
+        }
+        _ => s.background.as_dvec3(),
+    }
 }
 
 /// GL's conversion to an 8-bit normalised channel: clamp, then round(x · 255).

@@ -3,8 +3,8 @@
 //! interpolated across the triangle (Gouraud, as `lit.vert` computes them).
 use super::bvh::Hit;
 use super::Context;
+use crate::frame::Shading;
 use crate::light::{Light, LightKind};
-use crate::render::Shading;
 use crate::scene::{Mesh, Texture};
 use crate::shading::{reflect, shade, specular_factor, to_light};
 use glam::DVec3;
@@ -43,7 +43,13 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
     }
     debug_assert!(p.is_finite() && tex.is_finite(), "bad hit {hit:?}");
 
-    let color = if ctx.settings.shading == Shading::Gouraud {
+    let color = if ctx.settings.shading == Shading::Pbr {
+        let n = w[0] * normal_of(vtx[0].normal) + w[1] * normal_of(vtx[1].normal);
+        let n = safe_normalize(n + w[2] * normal_of(vtx[2].normal), ctx.view.back);
+        let n = if front { n } else { -n };
+        let s = super::pbr::surface(material, tex, &ctx.settings.lighting.pbr);
+        super::pbr::shade(ctx, &s, p, n, vis)
+    } else if ctx.settings.shading == Shading::Gouraud {
         gouraud(
             ctx,
             material,

@@ -1,190 +1,291 @@
-//! Pass 2, lit (legacy tier): every mesh with the Phong (or Gouraud) program matching its
+//! Pass "lit" (legacy tier): every mesh with the Phong (or Gouraud) program matching its
 //! features; opaque meshes first, then translucent ones back to front with blending (each
 //! drawn back faces first, then front faces, so a glass shows its far wall behind its near
-//! wall).
+//! wall). The helpers here (view set-up, light and shadow uniforms, draw order) are shared
+//! with the PBR pass.
 use super::frusta::ShadowProjection;
-use super::{FrameSettings, FrameStats, Renderer, Shading, Target};
+use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::program::Program;
-use crate::gpu::state::Cull;
+use crate::gpu::state::{Blend, Cull, RenderState};
 use crate::light::LightKind;
-use crate::shader::cache::{ProgramKey, ProgramKind};
+use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 /// Texture unit of shadow map i is SHADOW_UNIT + i; unit 0 is the diffuse map.
-const SHADOW_UNIT: u32 = 1;
+pub(crate) const SHADOW_UNIT: u32 = 1;
 
-pub(crate) fn run(
-    r: &mut Renderer,
-    s: &FrameSettings,
-    target: &Target,
-    stats: &mut FrameStats,
-) -> Result<()> {
-    let aspect = target.width as f32 / target.height.max(1) as f32;
-    let view = s.camera.view();
-    let proj = s.camera.projection(&r.scene.bounds, aspect);
-    let normal_matrix = Mat3::from_mat4(view);
-    let gpu = r.gpu.clone();
-    gpu.bind_target(target.fbo, target.width, target.height);
-    gpu.clear(Some(s.background.to_array()));
-    gpu.depth(true, true);
-    gpu.cull(Cull::None);
-    gpu.blend(false);
-    let lights = s.lights.len() as u8;
-    // The shader pairs shadow map i with light i; every light has a map when shadows run.
-    let maps = &r.shadow.maps;
-    let shadows = maps.len() as u8;
-    let cube_mask = maps
-        .iter()
-        .enumerate()
-        .filter(|(_, m)| m.projection == ShadowProjection::Cube)
-        .fold(0u8, |acc, (i, _)| acc | 1 << i);
-    let stride = if cube_mask != 0 { 6 } else { 1 };
-    let light_pos: Vec<Vec4> = s
-        .lights
-        .iter()
-        .map(|l| match l.kind {
-            LightKind::Point(p) => view.transform_point3(p).extend(1.0),
-            LightKind::Directional(d) => view.transform_vector3(-d).normalize().extend(0.0),
-        })
-        .collect();
-    let mut shadow = ShadowUniforms::default();
-    for (i, m) in maps.iter().enumerate() {
-        m.texture.bind(SHADOW_UNIT + i as u32);
-        stats.textures_bound += 1;
-        for (f, mat) in m.eye_to_texture(&view).into_iter().enumerate() {
-            shadow.matrices.push((i * stride + f, mat));
-        }
-        shadow.texels.push(Vec2::new(
-            1.0 / m.texture.width as f32,
-            1.0 / m.texture.height as f32,
-        ));
-        // A map texel covers about 2r/face of the scene (frusta are fitted to the bounding
-        // sphere), so the normal offset is given in texels and converted here.
-        shadow
-            .normal_offsets
-            .push(s.shadows.normal_offset * 2.0 * r.scene.bounds.radius() / m.face as f32);
-    }
-    shadow.eye_to_world = Mat3::from_mat4(view).transpose();
-    // Off-screen meshes cost a program bind and a draw call each for nothing: a bounding
-    // sphere test against the six frustum planes is cheaper. (Back faces are lit, not
-    // culled: open meshes show both sides.)
-    let planes = frustum_planes(&(proj * view));
-    let visible: Vec<usize> = (0..r.meshes.len())
-        .filter(|&i| {
-            let m = &r.meshes[i];
-            planes
-                .iter()
-                .all(|p| p.truncate().dot(m.center) + p.w >= -m.radius * p.truncate().length())
-        })
-        .collect();
-    stats.culled = (r.meshes.len() - visible.len()) as u32;
-    let mut order: Vec<usize> = visible
-        .iter()
-        .copied()
-        .filter(|&i| !r.meshes[i].translucent)
-        .collect();
-    let mut translucent: Vec<(f32, usize)> = visible
-        .iter()
-        .copied()
-        .filter(|&i| r.meshes[i].translucent)
-        .map(|i| (view.transform_point3(r.meshes[i].center).z, i))
-        .collect();
-    // Most negative eye-space z is farthest: draw those first.
-    translucent.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let first_translucent = order.len();
-    order.extend(translucent.iter().map(|&(_, i)| i));
+pub(crate) struct Lit;
 
-    let mut bound_texture = None;
-    let mut frame_uniforms_set: Vec<ProgramKey> = Vec::new();
-    for (n, &i) in order.iter().enumerate() {
-        let dm = &r.meshes[i];
-        let key = ProgramKey {
-            kind: ProgramKind::Lit,
-            lights,
-            shadows,
-            pcf: s.shadows.pcf,
-            cube_mask,
-            textured: dm.texture.is_some(),
-            gouraud: s.shading == Shading::Gouraud,
-        };
-        let program = r.programs.get(key)?;
-        program.bind();
-        // A program keeps its uniforms: the per-frame ones are set once per program per frame,
-        // only the material changes from mesh to mesh.
-        if !frame_uniforms_set.contains(&key) {
-            frame_uniforms_set.push(key);
-            stats.program(key.label());
-            set_frame_uniforms(
-                &program,
-                s,
-                &view,
-                &proj,
-                &normal_matrix,
-                &light_pos,
-                &shadow,
-            );
-        }
-        let mat = &r.scene.materials[dm.material];
-        program.set_vec3("uKa", Vec3::from(mat.ambient));
-        program.set_vec3("uKd", Vec3::from(mat.diffuse));
-        program.set_vec3("uKs", Vec3::from(mat.specular));
-        program.set_vec3("uKe", Vec3::from(mat.emissive));
-        program.set_f32("uNs", mat.shininess);
-        program.set_f32("uOpacity", mat.opacity);
-        if let Some(t) = dm.texture {
-            if bound_texture != Some(t) {
-                r.textures[t].bind(0);
-                bound_texture = Some(t);
-                stats.textures_bound += 1;
-            }
-            program.set_i32("uDiffuseMap", 0);
-        }
-        if n == first_translucent {
-            gpu.blend(true);
-            gpu.depth(true, false);
-        }
-        if dm.translucent {
-            for face in [Cull::Front, Cull::Back] {
-                gpu.cull(face);
-                dm.mesh.draw();
-                stats.draw_calls += 1;
-                stats.triangles += dm.triangles;
-            }
-        } else {
-            dm.mesh.draw();
-            stats.draw_calls += 1;
-            stats.triangles += dm.triangles;
-        }
+/// The legacy tier's program: lights, shadow maps, PCF taps, which maps are six-face
+/// atlases, texture, Gouraud.
+pub fn program_key(
+    lights: u8,
+    shadows: u8,
+    pcf: u8,
+    cube_mask: u8,
+    textured: bool,
+    gouraud: bool,
+) -> ProgramKey {
+    shadow_flags(
+        ProgramKey::new("lit", "lit.vert", "lit.frag"),
+        lights,
+        shadows,
+        pcf,
+        cube_mask,
+    )
+    .switch("HAS_TEXTURE", "tex", textured)
+    .switch("GOURAUD", "gouraud", gouraud)
+}
+
+/// The light and shadow flags both lit tiers share (labels `l{n},s{n},pcf{n}[,cube{mask}]`).
+pub(crate) fn shadow_flags(
+    key: ProgramKey,
+    lights: u8,
+    shadows: u8,
+    pcf: u8,
+    cube_mask: u8,
+) -> ProgramKey {
+    let mut k = key
+        .count("NUM_LIGHTS", "l", lights.into())
+        .count("NUM_SHADOWS", "s", shadows.into())
+        .count("PCF_TAPS", "pcf", pcf.into())
+        .hidden("SHADOW_STRIDE", if cube_mask != 0 { 6 } else { 1 })
+        .mask("SHADOW_CUBE_MASK", "cube", cube_mask.into());
+    for (i, name) in [
+        "SHADOW_CUBE0",
+        "SHADOW_CUBE1",
+        "SHADOW_CUBE2",
+        "SHADOW_CUBE3",
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        k = k.hidden_float(name, i32::from(cube_mask & (1 << i) != 0));
     }
-    gpu.blend(false);
-    gpu.cull(Cull::None);
-    gpu.depth(true, true);
-    stats.passes.push("lit".into());
-    Ok(())
+    k
+}
+
+/// Per-frame view and light data both lit tiers use.
+pub(crate) struct View {
+    pub view: Mat4,
+    pub proj: Mat4,
+    pub normal_matrix: Mat3,
+    /// Light positions (w = 1) or directions towards the light (w = 0) in eye space.
+    pub light_pos: Vec<Vec4>,
+    pub shadow: ShadowUniforms,
+    pub lights: u8,
+    pub shadows: u8,
+    pub cube_mask: u8,
 }
 
 /// Shadow lookup parameters, per light; matrices as (uniform array index, matrix).
 #[derive(Default)]
-struct ShadowUniforms {
+pub(crate) struct ShadowUniforms {
     matrices: Vec<(usize, Mat4)>,
     texels: Vec<Vec2>,
     normal_offsets: Vec<f32>,
     eye_to_world: Mat3,
 }
 
-fn set_frame_uniforms(
-    p: &Program,
-    s: &FrameSettings,
-    view: &Mat4,
-    proj: &Mat4,
-    normal_matrix: &Mat3,
-    light_pos: &[Vec4],
-    shadow: &ShadowUniforms,
-) {
-    p.set_mat4("uModelView", view);
-    p.set_mat4("uProjection", proj);
-    p.set_mat3("uNormalMatrix", normal_matrix);
+impl View {
+    /// Sets up camera and lights, and binds the shadow maps to their units.
+    pub fn new(cx: &mut FrameCx) -> View {
+        let s = cx.settings;
+        let view = s.camera.view();
+        let proj = s.camera.projection(&cx.scene.scene.bounds, cx.aspect());
+        let maps = &cx.res.shadow.maps;
+        let cube_mask = maps
+            .iter()
+            .enumerate()
+            .filter(|(_, m)| m.projection == ShadowProjection::Cube)
+            .fold(0u8, |acc, (i, _)| acc | 1 << i);
+        let stride = if cube_mask != 0 { 6 } else { 1 };
+        let light_pos = s
+            .lights
+            .iter()
+            .map(|l| match l.kind {
+                LightKind::Point(p) => view.transform_point3(p).extend(1.0),
+                LightKind::Directional(d) => view.transform_vector3(-d).normalize().extend(0.0),
+            })
+            .collect();
+        let mut shadow = ShadowUniforms::default();
+        let radius = cx.scene.scene.bounds.radius();
+        for (i, m) in maps.iter().enumerate() {
+            m.texture.bind(SHADOW_UNIT + i as u32);
+            cx.stats.textures_bound += 1;
+            for (f, mat) in m.eye_to_texture(&view).into_iter().enumerate() {
+                shadow.matrices.push((i * stride + f, mat));
+            }
+            shadow.texels.push(Vec2::new(
+                1.0 / m.texture.width as f32,
+                1.0 / m.texture.height as f32,
+            ));
+            // A map texel covers about 2r/face of the scene (frusta are fitted to the bounding
+            // sphere), so the normal offset is given in texels and converted here.
+            shadow
+                .normal_offsets
+                .push(s.shadows.normal_offset * 2.0 * radius / m.face as f32);
+        }
+        shadow.eye_to_world = Mat3::from_mat4(view).transpose();
+        View {
+            normal_matrix: Mat3::from_mat4(view),
+            view,
+            proj,
+            light_pos,
+            shadow,
+            lights: s.lights.len() as u8,
+            shadows: maps.len() as u8,
+            cube_mask,
+        }
+    }
+
+    /// Camera, light and shadow uniforms (once per program per frame: a program keeps them).
+    pub fn set_uniforms(&self, p: &Program, cx: &FrameCx) {
+        let s = cx.settings;
+        p.set_mat4("uModelView", &self.view);
+        p.set_mat4("uProjection", &self.proj);
+        p.set_mat3("uNormalMatrix", &self.normal_matrix);
+        for (i, (pos, l)) in self.light_pos.iter().zip(&s.lights).enumerate() {
+            p.set_vec4(&format!("uLightPos[{i}]"), *pos);
+            p.set_vec3(&format!("uLightColor[{i}]"), l.color);
+        }
+        let sh = &self.shadow;
+        for (i, m) in &sh.matrices {
+            p.set_mat4(&format!("uShadowMatrix[{i}]"), m);
+        }
+        for (i, (texel, offset)) in sh.texels.iter().zip(&sh.normal_offsets).enumerate() {
+            p.set_i32(&format!("uShadowMap{i}"), SHADOW_UNIT as i32 + i as i32);
+            p.set_vec2(&format!("uShadowTexel[{i}]"), *texel);
+            p.set_f32(&format!("uShadowNormalOffset[{i}]"), *offset);
+        }
+        p.set_mat3("uEyeToWorld", &sh.eye_to_world);
+        p.set_f32("uShadowBias", s.shadows.bias);
+    }
+
+    /// Visible meshes in draw order: opaque ones, then translucent ones back to front (by
+    /// mesh centre); and the index in that order where the translucent ones start.
+    pub fn draw_order(&self, cx: &mut FrameCx) -> (Vec<usize>, usize) {
+        let meshes = &cx.scene.meshes;
+        let visible = cx.scene.visible(&(self.proj * self.view));
+        cx.stats.culled = (meshes.len() - visible.len()) as u32;
+        let mut order: Vec<usize> = visible
+            .iter()
+            .copied()
+            .filter(|&i| !meshes[i].translucent)
+            .collect();
+        let mut translucent: Vec<(f32, usize)> = visible
+            .iter()
+            .copied()
+            .filter(|&i| meshes[i].translucent)
+            .map(|i| (self.view.transform_point3(meshes[i].center).z, i))
+            .collect();
+        // Most negative eye-space z is farthest: draw those first.
+        translucent.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let first = order.len();
+        order.extend(translucent.iter().map(|&(_, i)| i));
+        (order, first)
+    }
+}
+
+/// Draws mesh `i`: opaque once; translucent back faces first, then front faces.
+pub(crate) fn draw_mesh(cx: &mut FrameCx, i: usize, state: &RenderState) {
+    let dm = &cx.scene.meshes[i];
+    if dm.translucent {
+        for face in [Cull::Front, Cull::Back] {
+            cx.gpu.apply(&RenderState {
+                cull: face,
+                ..*state
+            });
+            dm.mesh.draw();
+            cx.stats.draw_calls += 1;
+            cx.stats.triangles += dm.triangles;
+        }
+    } else {
+        cx.gpu.apply(state);
+        dm.mesh.draw();
+        cx.stats.draw_calls += 1;
+        cx.stats.triangles += dm.triangles;
+    }
+}
+
+/// Opaque meshes draw with the default state; translucent ones blend without depth writes.
+pub(crate) fn mesh_state(translucent: bool) -> RenderState {
+    if translucent {
+        RenderState {
+            blend: Blend::Alpha,
+            depth_write: false,
+            ..Default::default()
+        }
+    } else {
+        RenderState::default()
+    }
+}
+
+impl Pass for Lit {
+    fn name(&self) -> &'static str {
+        "lit"
+    }
+
+    fn run(&self, cx: &mut FrameCx) -> Result<Outcome> {
+        let s = cx.settings;
+        if s.shading == Shading::Pbr {
+            return Ok(Outcome::Skipped("PBR tier".into()));
+        }
+        let v = View::new(cx);
+        cx.bind_target();
+        if !cx.res.background_drawn {
+            cx.clear(Some(s.background.to_array()));
+        }
+        let (order, _) = v.draw_order(cx);
+        let mut bound_texture = None;
+        let mut uniforms_set: Vec<ProgramKey> = Vec::new();
+        for &i in &order {
+            let (texture, material, translucent) = {
+                let dm = &cx.scene.meshes[i];
+                (dm.texture, dm.material, dm.translucent)
+            };
+            let key = program_key(
+                v.lights,
+                v.shadows,
+                s.shadows.pcf,
+                v.cube_mask,
+                texture.is_some(),
+                s.shading == Shading::Gouraud,
+            );
+            let program = cx.program(&key)?;
+            program.bind();
+            // A program keeps its uniforms: the per-frame ones are set once per program per
+            // frame, only the material changes from mesh to mesh.
+            if !uniforms_set.contains(&key) {
+                uniforms_set.push(key);
+                v.set_uniforms(&program, cx);
+                set_legacy_uniforms(&program, cx);
+            }
+            let mat = &cx.scene.scene.materials[material];
+            program.set_vec3("uKa", Vec3::from(mat.ambient));
+            program.set_vec3("uKd", Vec3::from(mat.diffuse));
+            program.set_vec3("uKs", Vec3::from(mat.specular));
+            program.set_vec3("uKe", Vec3::from(mat.emissive));
+            program.set_f32("uNs", mat.shininess);
+            program.set_f32("uOpacity", mat.opacity);
+            if let Some(t) = texture {
+                if bound_texture != Some(t) {
+                    cx.scene.textures[t].bind(0);
+                    bound_texture = Some(t);
+                    cx.stats.textures_bound += 1;
+                }
+                program.set_i32("uDiffuseMap", 0);
+            }
+            draw_mesh(cx, i, &mesh_state(translucent));
+        }
+        cx.gpu.apply(&RenderState::default());
+        Ok(Outcome::Ran("lit".into()))
+    }
+}
+
+fn set_legacy_uniforms(p: &Program, cx: &FrameCx) {
+    let s = cx.settings;
     p.set_vec3("uAmbient", s.lighting.ambient.as_vec3());
     let t = s.lighting.terms;
     let on = |b: bool| if b { 1.0 } else { 0.0 };
@@ -193,32 +294,4 @@ fn set_frame_uniforms(
         Vec3::new(on(t.ambient), on(t.diffuse), on(t.specular)),
     );
     p.set_f32("uWrap", on(s.lighting.wrap));
-    for (i, (pos, l)) in light_pos.iter().zip(&s.lights).enumerate() {
-        p.set_vec4(&format!("uLightPos[{i}]"), *pos);
-        p.set_vec3(&format!("uLightColor[{i}]"), l.color);
-    }
-    for (i, m) in &shadow.matrices {
-        p.set_mat4(&format!("uShadowMatrix[{i}]"), m);
-    }
-    for (i, (texel, offset)) in shadow.texels.iter().zip(&shadow.normal_offsets).enumerate() {
-        p.set_i32(&format!("uShadowMap{i}"), SHADOW_UNIT as i32 + i as i32);
-        p.set_vec2(&format!("uShadowTexel[{i}]"), *texel);
-        p.set_f32(&format!("uShadowNormalOffset[{i}]"), *offset);
-    }
-    p.set_mat3("uEyeToWorld", &shadow.eye_to_world);
-    p.set_f32("uShadowBias", s.shadows.bias);
-}
-
-/// The six clip planes (a, b, c, d with a·x + b·y + c·z + d >= 0 inside) of a
-/// view-projection matrix (Gribb & Hartmann).
-fn frustum_planes(m: &Mat4) -> [Vec4; 6] {
-    let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
-    [
-        r[3] + r[0],
-        r[3] - r[0],
-        r[3] + r[1],
-        r[3] - r[1],
-        r[3] + r[2],
-        r[3] - r[2],
-    ]
 }

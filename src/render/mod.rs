@@ -1,69 +1,26 @@
-//! The frame: which passes run and why. `shadow` fills depth maps (skipped when nothing needs
-//! them or nothing changed), `lit` draws the legacy tier, `show` draws the teaching view.
-//! Every frame reports what it did in [`FrameStats`].
+//! The frame as a list of passes over one frame context. Each pass is a small type in its own
+//! file implementing [`Pass`]: it looks at the context (settings, uploaded scene, resources
+//! kept between frames) and either draws or says why it did not. `--stats` lists the passes
+//! that ran (`passes`) and every decision (`pass_log`).
+//!
+//! Frame: shadow depth → background → legacy lit | PBR lit → teaching view.
+pub mod background;
 pub mod frusta;
+pub mod ibl;
 pub mod lit;
+pub mod pbr;
 pub mod shadow;
+mod upload;
 
-use crate::camera::OrbitCamera;
+pub use crate::frame::{FrameSettings, Shading, ShadowSettings};
 use crate::gpu::mesh::GpuMesh;
-use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
-use crate::light::Light;
-use crate::scene::Scene;
-use crate::shader::cache::ProgramCache;
-use crate::shading::LightingParams;
+use crate::scene::{Scene, Vertex};
+use crate::shader::cache::{ProgramCache, ProgramKey, SharedPrograms};
 use crate::Result;
-use glam::Vec3;
 use serde::Serialize;
 use std::time::Instant;
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-pub enum Shading {
-    Phong,
-    Gouraud,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct ShadowSettings {
-    pub enabled: bool,
-    /// Depth map size in texels (square).
-    pub size: u32,
-    /// Compared taps per lookup: 1, 4, 9 or 16.
-    pub pcf: u8,
-    /// Constant depth bias in [0, 1] depth units, on top of the slope-scaled polygon offset.
-    pub bias: f32,
-    /// glPolygonOffset(factor, units) in the depth pass: the slope-scaled part of the bias.
-    pub slope_bias: f32,
-    /// Offset of the lookup point along the surface normal, in shadow-map texels.
-    pub normal_offset: f32,
-}
-
-impl Default for ShadowSettings {
-    fn default() -> Self {
-        ShadowSettings {
-            enabled: true,
-            size: 2048,
-            pcf: 1,
-            bias: 0.0002,
-            slope_bias: 2.0,
-            normal_offset: 1.5,
-        }
-    }
-}
-
-/// Everything a frame depends on besides the scene.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FrameSettings {
-    pub camera: OrbitCamera,
-    pub lights: Vec<Light>,
-    pub lighting: LightingParams,
-    pub shading: Shading,
-    pub background: Vec3,
-    pub shadows: ShadowSettings,
-    /// Draw light 0's depth map instead of the scene (teaching view).
-    pub show_shadow_map: bool,
-}
+pub(crate) use upload::SceneGpu;
 
 /// Where a frame goes: a framebuffer object, or the default framebuffer (None).
 #[derive(Clone, Copy, Debug)]
@@ -77,7 +34,12 @@ pub struct Target {
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct FrameStats {
     pub frame: u64,
+    /// The passes that drew, in order.
     pub passes: Vec<String>,
+    /// Every pass of the frame with what it did or why it was skipped.
+    pub pass_log: Vec<String>,
+    /// The shading tier that drew the scene: `legacy` or `pbr`.
+    pub tier: String,
     pub shadow: String,
     pub draw_calls: u32,
     pub triangles: u64,
@@ -92,58 +54,130 @@ pub struct FrameStats {
 }
 
 impl FrameStats {
-    fn program(&mut self, label: String) {
+    pub(crate) fn program(&mut self, label: String) {
         if !self.programs.contains(&label) {
             self.programs.push(label);
         }
     }
 }
 
-pub(crate) struct DrawMesh {
-    pub mesh: GpuMesh,
-    pub material: usize,
-    pub texture: Option<usize>,
-    pub center: Vec3,
-    /// Bounding sphere radius around `center`, for frustum culling.
-    pub radius: f32,
-    pub triangles: u64,
-    pub translucent: bool,
+/// What a pass did this frame.
+pub(crate) enum Outcome {
+    /// It drew; the entry for `FrameStats::passes`.
+    Ran(String),
+    /// It had nothing to do, and why.
+    Skipped(String),
 }
 
-/// Uploads a decoded texture, downscaled (with a warning) when it exceeds the driver's
-/// maximum texture size.
-fn upload_texture(gpu: &GpuRef, t: &crate::scene::Texture) -> Result<Texture2d> {
-    let max = gpu.caps.max_texture_size.max(1);
-    if t.width <= max && t.height <= max {
-        return Texture2d::from_rgba(gpu, t.width, t.height, &t.rgba);
+/// The state passes keep between frames (depth maps, IBL textures, helper geometry).
+#[derive(Default)]
+pub(crate) struct Resources {
+    pub shadow: shadow::ShadowState,
+    pub ibl: ibl::IblState,
+    pub pbr_textures: Option<pbr::MaterialTextures>,
+    pub quad: Option<GpuMesh>,
+    /// The background pass drew this frame (the lit passes then clear nothing).
+    pub background_drawn: bool,
+}
+
+/// Everything a pass may use: the GPU, the context's program cache, the uploaded scene, the
+/// kept resources, the settings, the target and the rectangle of it to draw into.
+pub(crate) struct FrameCx<'a> {
+    pub gpu: &'a GpuRef,
+    pub programs: &'a mut ProgramCache,
+    pub scene: &'a SceneGpu,
+    pub res: &'a mut Resources,
+    pub settings: &'a FrameSettings,
+    pub target: &'a Target,
+    /// x, y, width, height in the target (GL convention: y from the bottom).
+    pub viewport: [u32; 4],
+    pub stats: &'a mut FrameStats,
+}
+
+impl FrameCx<'_> {
+    pub fn aspect(&self) -> f32 {
+        self.viewport[2] as f32 / self.viewport[3].max(1) as f32
     }
-    let scale = f64::from(max) / f64::from(t.width.max(t.height));
-    let (w, h) = (
-        ((f64::from(t.width) * scale) as u32).clamp(1, max),
-        ((f64::from(t.height) * scale) as u32).clamp(1, max),
-    );
-    log::warn!(
-        "{}: {}x{} is larger than the driver's maximum texture size {max}: downscaled to {w}x{h}",
-        t.path.display(),
-        t.width,
-        t.height
-    );
-    let img = image::RgbaImage::from_raw(t.width, t.height, t.rgba.clone()).ok_or_else(|| {
-        crate::Error::Unsupported(format!("{}: bad pixel buffer", t.path.display()))
-    })?;
-    let small = image::imageops::resize(&img, w, h, image::imageops::FilterType::Triangle);
-    Texture2d::from_rgba(gpu, w, h, small.as_raw())
+
+    /// Binds the target and the frame's viewport.
+    pub fn bind_target(&self) {
+        self.gpu.bind_framebuffer(self.target.fbo);
+        let [x, y, w, h] = self.viewport;
+        self.gpu.viewport(x, y, w, h);
+    }
+
+    /// Clears the frame's rectangle (the whole target without a scissor when it is all of it).
+    pub fn clear(&self, color: Option<[f32; 3]>) {
+        let t = self.target;
+        if self.viewport == [0, 0, t.width, t.height] {
+            self.gpu.clear(color);
+        } else {
+            self.gpu.clear_rect(self.viewport, color);
+        }
+    }
+
+    /// Fetches (compiling on first use) a program and records its label in the stats.
+    pub fn program(
+        &mut self,
+        key: &ProgramKey,
+    ) -> Result<std::rc::Rc<crate::gpu::program::Program>> {
+        let p = self.programs.get(key)?;
+        self.stats.program(key.label());
+        Ok(p)
+    }
+
+    /// A full-screen quad (two triangles over clip space), made on first use.
+    pub fn quad(&mut self) -> Result<&GpuMesh> {
+        if self.res.quad.is_none() {
+            let v = |x: f32, y: f32| Vertex {
+                position: [x, y, 0.0],
+                normal: [0.0, 0.0, 1.0],
+                uv: [(x + 1.0) * 0.5, (y + 1.0) * 0.5],
+            };
+            self.res.quad = Some(GpuMesh::new(
+                self.gpu,
+                &[v(-1., -1.), v(1., -1.), v(1., 1.), v(-1., 1.)],
+                &[0, 1, 2, 0, 2, 3],
+            )?);
+        }
+        Ok(self.res.quad.as_ref().expect("made above"))
+    }
 }
 
-/// The scene on the GPU plus the passes' cached state.
+/// One step of the frame.
+pub(crate) trait Pass {
+    fn name(&self) -> &'static str;
+    fn run(&self, cx: &mut FrameCx) -> Result<Outcome>;
+}
+
+/// The frame, in order.
+const PASSES: &[&dyn Pass] = &[
+    &shadow::ShadowDepth,
+    &background::Background,
+    &lit::Lit,
+    &pbr::Pbr,
+    &shadow::ShowShadowMap,
+];
+
+/// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
+pub fn fixed_programs() -> Vec<ProgramKey> {
+    vec![shadow::depth_key(), shadow::show_key()]
+        .into_iter()
+        .chain((0..4).flat_map(|tm| {
+            [
+                background::skybox_key(false, tm),
+                background::skybox_key(true, tm),
+            ]
+        }))
+        .collect()
+}
+
+/// The scene on the GPU, the context's programs and the passes' kept state.
 pub struct Renderer {
     pub gpu: GpuRef,
-    pub(crate) scene: Scene,
-    pub(crate) meshes: Vec<DrawMesh>,
-    pub(crate) textures: Vec<Texture2d>,
-    pub(crate) programs: ProgramCache,
-    pub(crate) shadow: shadow::ShadowPass,
-    pub(crate) quad: Option<GpuMesh>,
+    pub(crate) scene: SceneGpu,
+    programs: SharedPrograms,
+    pub(crate) res: Resources,
     timer: Option<crate::gpu::query::TimerQuery>,
     frame: u64,
 }
@@ -151,85 +185,78 @@ pub struct Renderer {
 impl Renderer {
     /// Uploads the scene once (static buffers; textures deduplicated by file).
     pub fn new(gpu: &GpuRef, scene: Scene) -> Result<Renderer> {
-        let mut textures: Vec<Texture2d> = Vec::new();
-        let mut texture_paths = Vec::new();
-        let mut meshes = Vec::with_capacity(scene.meshes.len());
-        for m in &scene.meshes {
-            let mat = &scene.materials[m.material];
-            let texture = match (&mat.diffuse_map, m.has_uv) {
-                (Some(t), true) => Some(match texture_paths.iter().position(|p| p == &t.path) {
-                    Some(i) => i,
-                    None => {
-                        textures.push(upload_texture(gpu, t)?);
-                        texture_paths.push(t.path.clone());
-                        textures.len() - 1
-                    }
-                }),
-                _ => None,
-            };
-            let mut b = crate::scene::Bounds::empty();
-            for v in &m.vertices {
-                b.include(v.position.into());
-            }
-            let center = b.center();
-            let radius = m
-                .vertices
-                .iter()
-                .map(|v| (Vec3::from(v.position) - center).length())
-                .fold(0.0f32, f32::max);
-            meshes.push(DrawMesh {
-                mesh: GpuMesh::new(gpu, &m.vertices, &m.indices)?,
-                material: m.material,
-                texture,
-                center,
-                radius,
-                triangles: m.triangle_count() as u64,
-                translucent: mat.is_translucent(),
-            });
-        }
-        gpu.check_error("upload")?;
-        let caps = &gpu.caps;
-        if !caps.depth_texture || !caps.shadow_compare {
-            log::warn!(
-                "{}: no depth textures or shadow compare: shadows off",
-                caps.version
-            );
-        }
+        let scene = SceneGpu::new(gpu, scene)?;
         Ok(Renderer {
             gpu: gpu.clone(),
             scene,
-            meshes,
-            textures,
-            programs: ProgramCache::new(gpu),
-            shadow: shadow::ShadowPass::default(),
-            quad: None,
+            programs: ProgramCache::for_context(gpu),
+            res: Resources::default(),
             timer: crate::gpu::query::TimerQuery::new(gpu)?,
             frame: 0,
         })
     }
 
     pub fn scene(&self) -> &Scene {
-        &self.scene
+        &self.scene.scene
+    }
+
+    /// Where the PBR tier's environment comes from (default: the built-in sky); the maps are
+    /// made (or read from the disk cache) when a PBR frame first needs them.
+    pub fn set_environment(&mut self, request: crate::pbr::EnvRequest) {
+        self.res.ibl.request(request);
+    }
+
+    /// The environment maps in use, if a PBR frame has made them.
+    pub fn environment(&self) -> Option<&crate::pbr::precompute::IblData> {
+        self.res.ibl.data()
     }
 
     /// Draws one frame into `target`.
     pub fn render(&mut self, s: &FrameSettings, target: &Target) -> Result<FrameStats> {
+        self.render_viewport(s, target, [0, 0, target.width, target.height])
+    }
+
+    /// Draws one frame into a rectangle of `target` (x, y from the bottom left).
+    pub fn render_viewport(
+        &mut self,
+        s: &FrameSettings,
+        target: &Target,
+        viewport: [u32; 4],
+    ) -> Result<FrameStats> {
         let start = Instant::now();
         self.frame += 1;
         let mut stats = FrameStats {
             frame: self.frame,
+            tier: s.shading.tier().into(),
             ..Default::default()
         };
         if let Some(t) = &self.timer {
             t.begin();
         }
-        // 1. shadow depth pass (or the reason it is skipped)
-        shadow::run(self, s, target, &mut stats)?;
-        // 2. lit pass
-        lit::run(self, s, target, &mut stats)?;
-        // 3. teaching view
-        if s.show_shadow_map {
-            shadow::show_map(self, target, &mut stats)?;
+        {
+            let mut programs = self.programs.borrow_mut();
+            let mut cx = FrameCx {
+                gpu: &self.gpu,
+                programs: &mut programs,
+                scene: &self.scene,
+                res: &mut self.res,
+                settings: s,
+                target,
+                viewport,
+                stats: &mut stats,
+            };
+            for pass in PASSES {
+                match pass.run(&mut cx)? {
+                    Outcome::Ran(entry) => {
+                        cx.stats.pass_log.push(format!("{}: ran", pass.name()));
+                        cx.stats.passes.push(entry);
+                    }
+                    Outcome::Skipped(why) => cx
+                        .stats
+                        .pass_log
+                        .push(format!("{}: skipped ({why})", pass.name())),
+                }
+            }
         }
         if cfg!(debug_assertions) {
             self.gpu.check_error("frame")?;
@@ -252,6 +279,6 @@ impl Renderer {
     /// Makes the next frame render its shadow maps again (e.g. after the geometry changed);
     /// the depth textures themselves are kept for reuse.
     pub fn invalidate_shadows(&mut self) {
-        self.shadow.invalidate();
+        self.res.shadow.invalidate();
     }
 }

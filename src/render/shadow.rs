@@ -5,16 +5,28 @@
 //! lit pass clears and draws the frame afterwards). Maps are reused while the lights, the
 //! settings and the geometry are unchanged.
 use super::frusta::{self, light_view_proj, ShadowProjection};
-use super::{FrameSettings, FrameStats, Renderer, Target};
+use super::{FrameCx, FrameSettings, Outcome, Pass, Target};
 use crate::gpu::framebuffer::Framebuffer;
-use crate::gpu::mesh::GpuMesh;
-use crate::gpu::state::Cull;
+use crate::gpu::state::RenderState;
 use crate::gpu::texture::Texture2d;
+use crate::gpu::GpuRef;
 use crate::light::{Light, LightKind};
-use crate::scene::Vertex;
-use crate::shader::cache::{ProgramKey, ProgramKind};
+use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::Mat4;
+
+/// Pass "shadow": one depth map per light, or the reason there is none.
+pub(crate) struct ShadowDepth;
+/// Pass "show": the teaching view of light 0's depth map.
+pub(crate) struct ShowShadowMap;
+
+pub(crate) fn depth_key() -> ProgramKey {
+    ProgramKey::new("depth", "depth.vert", "depth.frag")
+}
+
+pub(crate) fn show_key() -> ProgramKey {
+    ProgramKey::new("showdepth", "show_depth.vert", "show_depth.frag")
+}
 
 pub(crate) struct ShadowMap {
     pub texture: Texture2d,
@@ -53,20 +65,20 @@ struct ShadowKey {
 }
 
 #[derive(Default)]
-pub(crate) struct ShadowPass {
+pub(crate) struct ShadowState {
     pub maps: Vec<ShadowMap>,
     key: Option<ShadowKey>,
 }
 
-impl ShadowPass {
+impl ShadowState {
     pub fn invalidate(&mut self) {
         self.key = None;
     }
 }
 
 /// Why there is no shadow pass this frame, if there is none.
-fn skip_reason(r: &Renderer, s: &FrameSettings) -> Option<&'static str> {
-    let caps = &r.gpu.caps;
+fn skip_reason(gpu: &GpuRef, s: &FrameSettings) -> Option<&'static str> {
+    let caps = &gpu.caps;
     if !s.shadows.enabled {
         Some("off (--no-shadows)")
     } else if s.lights.is_empty() {
@@ -80,8 +92,8 @@ fn skip_reason(r: &Renderer, s: &FrameSettings) -> Option<&'static str> {
 
 /// The map size actually used: the request, limited by the driver and, on the copy path,
 /// by the target's size (the light's view is drawn into the target first).
-pub fn effective_size(r: &Renderer, s: &FrameSettings, target: &Target) -> u32 {
-    let caps = &r.gpu.caps;
+pub fn effective_size(gpu: &GpuRef, s: &FrameSettings, target: &Target) -> u32 {
+    let caps = &gpu.caps;
     let mut size = s.shadows.size.clamp(16, caps.max_texture_size.max(16));
     if caps.fbo {
         size = size.min(caps.max_viewport.0.min(caps.max_viewport.1).max(16));
@@ -92,34 +104,31 @@ pub fn effective_size(r: &Renderer, s: &FrameSettings, target: &Target) -> u32 {
 }
 
 /// Runs the depth pass if needed; afterwards `r.shadow.maps` holds one map per casting light.
-pub(crate) fn run(
-    r: &mut Renderer,
-    s: &FrameSettings,
-    target: &Target,
-    stats: &mut FrameStats,
-) -> Result<()> {
-    if let Some(reason) = skip_reason(r, s) {
-        stats.shadow = reason.into();
-        r.shadow.maps.clear();
-        r.shadow.key = None;
-        return Ok(());
+fn run(cx: &mut FrameCx) -> Result<Outcome> {
+    let (s, target) = (cx.settings, cx.target);
+    if let Some(reason) = skip_reason(cx.gpu, s) {
+        cx.stats.shadow = reason.into();
+        cx.res.shadow.maps.clear();
+        cx.res.shadow.key = None;
+        return Ok(Outcome::Skipped(reason.into()));
     }
-    let size = effective_size(r, s, target);
+    let size = effective_size(cx.gpu, s, target);
     let key = ShadowKey {
         lights: s.lights.clone(),
         size,
         slope_bias: s.shadows.slope_bias,
     };
-    if r.shadow.key.as_ref() == Some(&key) {
-        stats.shadow = format!("reused ({} map(s))", r.shadow.maps.len());
-        return Ok(());
+    if cx.res.shadow.key.as_ref() == Some(&key) {
+        cx.stats.shadow = format!("reused ({} map(s))", cx.res.shadow.maps.len());
+        return Ok(Outcome::Skipped(cx.stats.shadow.clone()));
     }
-    let use_fbo = r.gpu.caps.fbo;
-    let bounds = r.scene.bounds;
+    let gpu = cx.gpu.clone();
+    let use_fbo = gpu.caps.fbo;
+    let bounds = cx.scene.scene.bounds;
     let mut maps = Vec::new();
     // Depth textures (and their FBOs) of the right size are kept from the last pass:
     // allocating a 2048² map costs more than drawing into it on llvmpipe.
-    let mut old: Vec<Option<ShadowMap>> = std::mem::take(&mut r.shadow.maps)
+    let mut old: Vec<Option<ShadowMap>> = std::mem::take(&mut cx.res.shadow.maps)
         .into_iter()
         .map(Some)
         .collect();
@@ -150,9 +159,9 @@ pub(crate) fn run(
         let (texture, fbo) = match kept {
             Some(m) => (m.texture, m.fbo),
             None => {
-                let texture = Texture2d::depth(&r.gpu, w, h)?;
+                let texture = Texture2d::depth(&gpu, w, h)?;
                 let fbo = if use_fbo {
-                    Some(Framebuffer::depth_only(&r.gpu, &texture)?)
+                    Some(Framebuffer::depth_only(&gpu, &texture)?)
                 } else {
                     None
                 };
@@ -167,22 +176,24 @@ pub(crate) fn run(
             face,
         });
     }
-    let key_depth = ProgramKey::simple(ProgramKind::Depth);
-    let program = r.programs.get(key_depth)?;
-    stats.program(key_depth.label());
-    let gpu = r.gpu.clone();
+    let program = cx.program(&depth_key())?;
     program.bind();
-    gpu.depth(true, true);
-    gpu.blend(false);
-    gpu.cull(Cull::None);
-    gpu.polygon_offset(Some((s.shadows.slope_bias, s.shadows.slope_bias)));
+    let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
     for map in &maps {
         if let Some(fbo) = &map.fbo {
+            gpu.apply(&RenderState {
+                polygon_offset: offset,
+                ..Default::default()
+            });
             fbo.bind();
             gpu.clear(None);
         } else {
+            gpu.apply(&RenderState {
+                polygon_offset: offset,
+                color_write: false,
+                ..Default::default()
+            });
             gpu.bind_target(target.fbo, target.width, target.height);
-            gpu.color_writes(false);
         }
         for (f, vp) in map.views.iter().enumerate() {
             let (tx, ty) = if map.views.len() > 1 {
@@ -197,77 +208,76 @@ pub(crate) fn run(
                 gpu.clear(None);
             }
             program.set_mat4("uLightMvp", vp);
-            for m in r.meshes.iter().filter(|m| !m.translucent) {
+            for m in cx.scene.meshes.iter().filter(|m| !m.translucent) {
                 m.mesh.draw();
-                stats.draw_calls += 1;
-                stats.triangles += m.triangles;
+                cx.stats.draw_calls += 1;
+                cx.stats.triangles += m.triangles;
             }
             if map.fbo.is_none() {
                 map.texture.copy_from_framebuffer(tx, ty, map.face);
             }
         }
     }
-    gpu.polygon_offset(None);
-    gpu.color_writes(true);
+    gpu.apply(&RenderState::default());
     let kinds: Vec<String> = maps
         .iter()
         .map(|m| format!("{:?}", m.projection).to_lowercase())
         .collect();
-    stats.passes.push(format!(
+    let entry = format!(
         "shadow({} map(s) [{}], {size}², {})",
         maps.len(),
         kinds.join(","),
         if use_fbo { "fbo" } else { "copy" }
-    ));
-    stats.shadow = "rendered".into();
-    r.gpu.check_error("shadow pass")?;
-    r.shadow = ShadowPass {
+    );
+    cx.stats.shadow = "rendered".into();
+    gpu.check_error("shadow pass")?;
+    cx.res.shadow = ShadowState {
         maps,
         key: Some(key),
     };
-    Ok(())
+    Ok(Outcome::Ran(entry))
 }
 
-fn quad(r: &Renderer) -> Result<GpuMesh> {
-    let v = |x: f32, y: f32| Vertex {
-        position: [x, y, 0.0],
-        normal: [0.0, 0.0, 1.0],
-        uv: [(x + 1.0) * 0.5, (y + 1.0) * 0.5],
-    };
-    GpuMesh::new(
-        &r.gpu,
-        &[v(-1., -1.), v(1., -1.), v(1., 1.), v(-1., 1.)],
-        &[0, 1, 2, 0, 2, 3],
-    )
+impl Pass for ShadowDepth {
+    fn name(&self) -> &'static str {
+        "shadow"
+    }
+
+    fn run(&self, cx: &mut FrameCx) -> Result<Outcome> {
+        run(cx)
+    }
 }
 
-/// 3. Teaching view: light 0's depth map as grey over the whole target.
-pub(crate) fn show_map(r: &mut Renderer, target: &Target, stats: &mut FrameStats) -> Result<()> {
-    if r.shadow.maps.is_empty() {
-        return Err(crate::Error::Usage(format!(
-            "--show shadow-map: there is no shadow map this frame (shadow pass {})",
-            stats.shadow
-        )));
+impl Pass for ShowShadowMap {
+    fn name(&self) -> &'static str {
+        "show"
     }
-    if r.quad.is_none() {
-        r.quad = Some(quad(r)?);
+
+    /// Light 0's depth map as grey over the frame.
+    fn run(&self, cx: &mut FrameCx) -> Result<Outcome> {
+        if !cx.settings.show_shadow_map {
+            return Ok(Outcome::Skipped("no teaching view asked for".into()));
+        }
+        if cx.res.shadow.maps.is_empty() {
+            return Err(crate::Error::Usage(format!(
+                "--show shadow-map: there is no shadow map this frame (shadow pass {})",
+                cx.stats.shadow
+            )));
+        }
+        let program = cx.program(&show_key())?;
+        cx.quad()?;
+        let map = &cx.res.shadow.maps[0];
+        map.texture.set_compare(false);
+        map.texture.bind(0);
+        program.bind();
+        program.set_i32("uDepth", 0);
+        cx.bind_target();
+        cx.gpu.apply(&RenderState::overlay());
+        if let Some(q) = &cx.res.quad {
+            q.draw();
+        }
+        cx.res.shadow.maps[0].texture.set_compare(true);
+        cx.stats.draw_calls += 1;
+        Ok(Outcome::Ran("show(shadow-map)".into()))
     }
-    let key = ProgramKey::simple(ProgramKind::ShowDepth);
-    let program = r.programs.get(key)?;
-    stats.program(key.label());
-    let map = &r.shadow.maps[0];
-    map.texture.set_compare(false);
-    map.texture.bind(0);
-    program.bind();
-    program.set_i32("uDepth", 0);
-    r.gpu.bind_target(target.fbo, target.width, target.height);
-    r.gpu.depth(false, false);
-    r.gpu.blend(false);
-    if let Some(q) = &r.quad {
-        q.draw();
-    }
-    map.texture.set_compare(true);
-    stats.draw_calls += 1;
-    stats.passes.push("show(shadow-map)".into());
-    Ok(())
 }

@@ -31,6 +31,9 @@ pub struct Material {
     pub diffuse_map: Option<std::sync::Arc<Texture>>,
     /// `map_Kd` as written in the MTL, whether or not it could be loaded.
     pub diffuse_map_spec: Option<String>,
+    /// The PBR tier's inputs (`Pr`, `Pm`, their maps, normal, AO and emissive maps).
+    #[serde(default)]
+    pub pbr_inputs: super::pbr_material::PbrInputs,
 }
 
 impl PartialEq for Texture {
@@ -53,6 +56,7 @@ impl Default for Material {
             illum: None,
             diffuse_map: None,
             diffuse_map_spec: None,
+            pbr_inputs: Default::default(),
         }
     }
 }
@@ -131,6 +135,7 @@ pub fn from_tobj(
         illum: m.illumination_model,
         diffuse_map,
         diffuse_map_spec: m.diffuse_texture.clone(),
+        pbr_inputs: super::pbr_material::from_tobj(m, dir, mtl_file, opts, warnings),
     }
 }
 
@@ -220,7 +225,11 @@ fn find_case_insensitive(dir: &Path, rel: &Path) -> Option<PathBuf> {
     Some(cur)
 }
 
-fn load_texture(spec: &str, dir: &Path, opts: TextureOptions) -> Result<Texture, String> {
+pub(crate) fn load_texture(
+    spec: &str,
+    dir: &Path,
+    opts: TextureOptions,
+) -> Result<Texture, String> {
     let path = resolve_texture_path(spec, dir, opts.allow_outside_paths)?;
     decode_texture(path, opts)
 }

@@ -5,8 +5,10 @@ pub mod generate;
 pub mod material;
 pub mod normals;
 pub mod obj;
+pub mod pbr_material;
 pub mod repair;
 pub mod report;
+pub mod tangents;
 
 use glam::{DVec3, Vec3};
 pub use material::{Material, Texture};

@@ -1,114 +1,136 @@
-//! Programs keyed by what they compute, compiled on first use and reused.
+//! Programs keyed by what they compute, compiled on first use and reused. A key is a shader
+//! pair plus feature flags; the `#define`s and the label `--stats` prints are generated from
+//! the flags, so a new pass declares its flags and needs no table here. There is one cache per
+//! GL context, shared by every renderer on it (see [`ProgramCache::for_context`]).
 use super::{assemble, Stage};
 use crate::gpu::program::Program;
-use crate::gpu::GpuRef;
+use crate::gpu::{Gpu, GpuRef};
 use crate::Result;
-use serde::Serialize;
+use std::cell::RefCell;
 use std::collections::HashMap;
-use std::rc::Rc;
+use std::rc::{Rc, Weak};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-pub enum ProgramKind {
-    Lit,
-    Depth,
-    ShowDepth,
+/// How a flag becomes a `#define` and a part of the label.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FlagKind {
+    /// `#define NAME value`; label `short` + value (e.g. `l2`).
+    Count,
+    /// `#define NAME 1` when non-zero, nothing otherwise; label `short` when set.
+    Switch,
+    /// `#define NAME value`; not in the label (derived from other flags).
+    Hidden,
+    /// `#define NAME value.0` (a float constant); not in the label.
+    HiddenFloat,
+    /// `#define NAME value`; label `short` + value in binary when non-zero.
+    Mask,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Flag {
+    pub define: &'static str,
+    pub short: &'static str,
+    pub kind: FlagKind,
+    pub value: i32,
 }
 
 /// Everything that changes a program's source; the cache key.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ProgramKey {
-    pub kind: ProgramKind,
-    pub lights: u8,
-    pub shadows: u8,
-    pub pcf: u8,
-    /// Bit i set: light i's shadow is a six-face atlas (point light inside the scene).
-    pub cube_mask: u8,
-    pub textured: bool,
-    pub gouraud: bool,
+    /// Label prefix, e.g. `lit`.
+    pub name: &'static str,
+    pub vertex: &'static str,
+    pub fragment: &'static str,
+    pub flags: Vec<Flag>,
 }
 
 impl ProgramKey {
-    pub fn simple(kind: ProgramKind) -> Self {
+    /// A program from `NAME.vert` + `NAME.frag` without flags.
+    pub fn new(name: &'static str, vertex: &'static str, fragment: &'static str) -> Self {
         ProgramKey {
+            name,
+            vertex,
+            fragment,
+            flags: Vec::new(),
+        }
+    }
+
+    fn with(mut self, define: &'static str, short: &'static str, kind: FlagKind, v: i32) -> Self {
+        self.flags.push(Flag {
+            define,
+            short,
             kind,
-            lights: 0,
-            shadows: 0,
-            pcf: 1,
-            cube_mask: 0,
-            textured: false,
-            gouraud: false,
-        }
+            value: v,
+        });
+        self
     }
 
-    /// A short name for stats and errors, e.g. `lit[l1,s1,pcf4,tex]`.
+    pub fn count(self, define: &'static str, short: &'static str, v: i32) -> Self {
+        self.with(define, short, FlagKind::Count, v)
+    }
+
+    pub fn switch(self, define: &'static str, short: &'static str, on: bool) -> Self {
+        self.with(define, short, FlagKind::Switch, i32::from(on))
+    }
+
+    pub fn hidden(self, define: &'static str, v: i32) -> Self {
+        self.with(define, "", FlagKind::Hidden, v)
+    }
+
+    pub fn hidden_float(self, define: &'static str, v: i32) -> Self {
+        self.with(define, "", FlagKind::HiddenFloat, v)
+    }
+
+    pub fn mask(self, define: &'static str, short: &'static str, v: i32) -> Self {
+        self.with(define, short, FlagKind::Mask, v)
+    }
+
+    /// A short name for stats and errors, e.g. `lit[l1,s1,pcf4,tex]`; flagless keys are just
+    /// the name.
     pub fn label(&self) -> String {
-        let mut s = format!("{:?}", self.kind).to_lowercase();
-        if self.kind == ProgramKind::Lit {
-            s += &format!("[l{},s{},pcf{}", self.lights, self.shadows, self.pcf);
-            if self.cube_mask != 0 {
-                s += &format!(",cube{:b}", self.cube_mask);
-            }
-            if self.textured {
-                s += ",tex";
-            }
-            if self.gouraud {
-                s += ",gouraud";
-            }
-            s += "]";
+        let parts: Vec<String> = self
+            .flags
+            .iter()
+            .filter_map(|f| match f.kind {
+                FlagKind::Count => Some(format!("{}{}", f.short, f.value)),
+                FlagKind::Switch => (f.value != 0).then(|| f.short.to_string()),
+                FlagKind::Mask => (f.value != 0).then(|| format!("{}{:b}", f.short, f.value)),
+                FlagKind::Hidden | FlagKind::HiddenFloat => None,
+            })
+            .collect();
+        if self.flags.is_empty() {
+            self.name.to_string()
+        } else {
+            format!("{}[{}]", self.name, parts.join(","))
         }
-        s
     }
 
-    fn defines(&self) -> Vec<(&'static str, String)> {
-        let mut d = vec![
-            ("NUM_LIGHTS", self.lights.to_string()),
-            ("NUM_SHADOWS", self.shadows.to_string()),
-            ("PCF_TAPS", self.pcf.to_string()),
-            (
-                "SHADOW_STRIDE",
-                if self.cube_mask != 0 { "6" } else { "1" }.into(),
-            ),
-        ];
-        for (i, name) in [
-            "SHADOW_CUBE0",
-            "SHADOW_CUBE1",
-            "SHADOW_CUBE2",
-            "SHADOW_CUBE3",
-        ]
-        .iter()
-        .enumerate()
-        {
-            d.push((
-                name,
-                if self.cube_mask & (1 << i) != 0 {
-                    "1.0"
-                } else {
-                    "0.0"
-                }
-                .into(),
-            ));
-        }
-        if self.textured {
-            d.push(("HAS_TEXTURE", "1".into()));
-        }
-        if self.gouraud {
-            d.push(("GOURAUD", "1".into()));
-        }
-        d
-    }
-
-    fn files(&self) -> (&'static str, &'static str) {
-        match self.kind {
-            ProgramKind::Lit => ("lit.vert", "lit.frag"),
-            ProgramKind::Depth => ("depth.vert", "depth.frag"),
-            ProgramKind::ShowDepth => ("show_depth.vert", "show_depth.frag"),
-        }
+    pub fn defines(&self) -> Vec<(&'static str, String)> {
+        self.flags
+            .iter()
+            .filter_map(|f| match f.kind {
+                FlagKind::Switch => (f.value != 0).then(|| (f.define, "1".to_string())),
+                FlagKind::HiddenFloat => Some((f.define, format!("{}.0", f.value))),
+                _ => Some((f.define, f.value.to_string())),
+            })
+            .collect()
     }
 }
 
 pub struct ProgramCache {
     gpu: GpuRef,
     programs: HashMap<ProgramKey, Rc<Program>>,
+}
+
+/// Shared handle to a context's cache.
+pub type SharedPrograms = Rc<RefCell<ProgramCache>>;
+
+type CacheEntry = (*const Gpu, Weak<RefCell<ProgramCache>>);
+
+thread_local! {
+    /// GL contexts are current on one thread; each has at most one live cache, found by the
+    /// address of its `Gpu`. Entries are weak: the cache goes (and deletes its programs) with
+    /// the last renderer that uses it, so dropping every renderer leaves no GL object behind.
+    static CACHES: RefCell<Vec<CacheEntry>> = const { RefCell::new(Vec::new()) };
 }
 
 impl ProgramCache {
@@ -119,20 +141,39 @@ impl ProgramCache {
         }
     }
 
-    pub fn get(&mut self, key: ProgramKey) -> Result<Rc<Program>> {
-        if let Some(p) = self.programs.get(&key) {
+    /// The context's cache, created on first use: programs compiled for one scene are reused
+    /// by the next scene loaded into the same context.
+    pub fn for_context(gpu: &GpuRef) -> SharedPrograms {
+        let key = Rc::as_ptr(gpu);
+        CACHES.with(|c| {
+            let mut caches = c.borrow_mut();
+            caches.retain(|(_, w)| w.strong_count() > 0);
+            if let Some(p) = caches
+                .iter()
+                .find(|(k, _)| *k == key)
+                .and_then(|(_, w)| w.upgrade())
+            {
+                return p;
+            }
+            let p = Rc::new(RefCell::new(ProgramCache::new(gpu)));
+            caches.push((key, Rc::downgrade(&p)));
+            p
+        })
+    }
+
+    pub fn get(&mut self, key: &ProgramKey) -> Result<Rc<Program>> {
+        if let Some(p) = self.programs.get(key) {
             return Ok(p.clone());
         }
         let dialect = self.gpu.caps.dialect;
         let defines = key.defines();
-        let (vs, fs) = key.files();
         let p = Rc::new(Program::new(
             &self.gpu,
             &key.label(),
-            &assemble(dialect, Stage::Vertex, &defines, vs),
-            &assemble(dialect, Stage::Fragment, &defines, fs),
+            &assemble(dialect, Stage::Vertex, &defines, key.vertex),
+            &assemble(dialect, Stage::Fragment, &defines, key.fragment),
         )?);
-        self.programs.insert(key, p.clone());
+        self.programs.insert(key.clone(), p.clone());
         Ok(p)
     }
 
@@ -145,14 +186,11 @@ impl ProgramCache {
     }
 }
 
-/// Every program key the renderer can ask for with up to `max_lights` lights: each light
-/// count with and without shadows, every PCF size, single maps and six-face atlases,
-/// textured or not, Phong or Gouraud, plus the depth and teaching-view programs.
+/// Every program key the renderer can ask for with up to `max_lights` lights: the legacy
+/// tier's permutations (see `render::lit::program_key`), the PBR tier's, and the depth,
+/// background and teaching-view programs.
 pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
-    let mut keys = vec![
-        ProgramKey::simple(ProgramKind::Depth),
-        ProgramKey::simple(ProgramKind::ShowDepth),
-    ];
+    let mut keys = crate::render::fixed_programs();
     for lights in 0..=max_lights {
         let shadow_variants: Vec<(u8, u8, u8)> = if lights == 0 {
             vec![(0, 1, 0)]
@@ -170,17 +208,14 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
         for (shadows, pcf, cube_mask) in shadow_variants {
             for textured in [false, true] {
                 for gouraud in [false, true] {
-                    keys.push(ProgramKey {
-                        kind: ProgramKind::Lit,
-                        lights,
-                        shadows,
-                        pcf,
-                        cube_mask,
-                        textured,
-                        gouraud,
-                    });
+                    keys.push(crate::render::lit::program_key(
+                        lights, shadows, pcf, cube_mask, textured, gouraud,
+                    ));
                 }
             }
+            keys.extend(crate::render::pbr::all_keys(
+                lights, shadows, pcf, cube_mask,
+            ));
         }
     }
     keys

@@ -27,6 +27,22 @@ pub const SOURCES: &[(&str, &str)] = &[
         "shadow.glsl",
         include_str!("../../shaders_gl/include/shadow.glsl"),
     ),
+    (
+        "output.glsl",
+        include_str!("../../shaders_gl/include/output.glsl"),
+    ),
+    (
+        "brdf.glsl",
+        include_str!("../../shaders_gl/include/brdf.glsl"),
+    ),
+    (
+        "ibl.glsl",
+        include_str!("../../shaders_gl/include/ibl.glsl"),
+    ),
+    ("pbr.vert", include_str!("../../shaders_gl/pbr.vert")),
+    ("pbr.frag", include_str!("../../shaders_gl/pbr.frag")),
+    ("skybox.vert", include_str!("../../shaders_gl/skybox.vert")),
+    ("skybox.frag", include_str!("../../shaders_gl/skybox.frag")),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,7 +69,8 @@ pub fn header(dialect: Dialect, stage: Stage) -> &'static str {
         }
         (Dialect::Glsl120, Stage::Fragment) => {
             "#version 120\n#define IN varying\n#define FRAG_COLOR gl_FragColor\n\
-             #define TEX2D texture2D\n#define SHADOW2D(s, c) shadow2D(s, c).r\n"
+             #define TEX2D texture2D\n#define TEXCUBE textureCube\n\
+             #define SHADOW2D(s, c) shadow2D(s, c).r\n"
         }
         (Dialect::Glsl300Es, Stage::Vertex) => {
             "#version 300 es\nprecision highp float;\n#define IN in\n#define OUT out\n"
@@ -62,32 +79,40 @@ pub fn header(dialect: Dialect, stage: Stage) -> &'static str {
             "#version 300 es\n#ifdef GL_FRAGMENT_PRECISION_HIGH\nprecision highp float;\n\
              #else\nprecision mediump float;\n#endif\nprecision highp sampler2DShadow;\n\
              #define IN in\nout vec4 glviewFragColor;\n#define FRAG_COLOR glviewFragColor\n\
-             #define TEX2D texture\n#define SHADOW2D(s, c) texture(s, c)\n"
+             #define TEX2D texture\n#define TEXCUBE texture\n\
+             #define SHADOW2D(s, c) texture(s, c)\n"
         }
         (Dialect::Glsl330, Stage::Vertex) => "#version 330 core\n#define IN in\n#define OUT out\n",
         (Dialect::Glsl330, Stage::Fragment) => {
             "#version 330 core\n#define IN in\nout vec4 glviewFragColor;\n\
              #define FRAG_COLOR glviewFragColor\n#define TEX2D texture\n\
-             #define SHADOW2D(s, c) texture(s, c)\n"
+             #define TEXCUBE texture\n#define SHADOW2D(s, c) texture(s, c)\n"
         }
     }
 }
 
-/// Replaces `#include "name"` lines by the named file (one level; includes do not nest).
+/// Replaces `#include "name"` lines by the named file, recursively; a file already included
+/// is skipped (include guards for free, and no cycle can recurse forever).
 fn resolve_includes(body: &str) -> String {
-    let mut out = String::with_capacity(body.len() * 2);
-    for line in body.lines() {
-        let t = line.trim();
-        if let Some(name) = t
-            .strip_prefix("#include")
-            .map(|r| r.trim().trim_matches('"'))
-        {
-            out.push_str(source(name));
-        } else {
-            out.push_str(line);
+    fn walk(body: &str, seen: &mut Vec<String>, out: &mut String) {
+        for line in body.lines() {
+            let t = line.trim();
+            if let Some(name) = t
+                .strip_prefix("#include")
+                .map(|r| r.trim().trim_matches('"'))
+            {
+                if !seen.iter().any(|s| s == name) {
+                    seen.push(name.to_string());
+                    walk(source(name), seen, out);
+                }
+            } else {
+                out.push_str(line);
+                out.push('\n');
+            }
         }
-        out.push('\n');
     }
+    let mut out = String::with_capacity(body.len() * 2);
+    walk(body, &mut Vec::new(), &mut out);
     out
 }
 
@@ -110,6 +135,14 @@ mod tests {
         for (name, src) in SOURCES {
             assert!(!src.contains("#version"), "{name} must not carry #version");
         }
+    }
+
+    #[test]
+    fn nested_includes_resolve_once() {
+        let s = assemble(Dialect::Glsl330, Stage::Fragment, &[], "pbr.frag");
+        assert!(!s.contains("#include"));
+        // brdf.glsl is included by pbr.frag and by ibl.glsl: once in the output.
+        assert_eq!(s.matches("float glviewD_GGX(").count(), 1, "{s}");
     }
 
     #[test]

@@ -1,0 +1,49 @@
+// The explicit output step: everything before it is linear and unclamped. Without TONEMAP
+// (the legacy tier) it is the fixed-function clamp; with it: exposure, tone mapping
+// (1 ACES fit, 2 Reinhard, 3 Khronos PBR Neutral, 0 clamp) and sRGB encoding. The CPU twin is
+// OutputParams::apply in src/pbr/mod.rs.
+#ifdef TONEMAP
+uniform float uExposure;   // 2^EV
+
+vec3 glviewSrgb(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    vec3 lo = 12.92 * c;
+    vec3 hi = 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055;
+    return vec3(c.r <= 0.0031308 ? lo.r : hi.r,
+                c.g <= 0.0031308 ? lo.g : hi.g,
+                c.b <= 0.0031308 ? lo.b : hi.b);
+}
+
+vec3 glviewTonemap(vec3 c) {
+#if TONEMAP == 1
+    c = max(c, 0.0) * 0.6;
+    return clamp((c * (2.51 * c + 0.03)) / (c * (2.43 * c + 0.59) + 0.14), 0.0, 1.0);
+#elif TONEMAP == 2
+    c = max(c, 0.0);
+    return c / (1.0 + c);
+#elif TONEMAP == 3
+    const float start = 0.8 - 0.04;
+    const float desat = 0.15;
+    float x = min(c.r, min(c.g, c.b));
+    float offset = x < 0.08 ? x - 6.25 * x * x : 0.04;
+    c -= offset;
+    float peak = max(c.r, max(c.g, c.b));
+    if (peak < start) return clamp(c, 0.0, 1.0);
+    const float d = 1.0 - start;
+    float newPeak = 1.0 - d * d / (peak + d - start);
+    c *= newPeak / peak;
+    float g = 1.0 - 1.0 / (desat * (peak - newPeak) + 1.0);
+    return clamp(mix(c, vec3(newPeak), g), 0.0, 1.0);
+#else
+    return clamp(c, 0.0, 1.0);
+#endif
+}
+
+vec3 glviewOutput(vec3 linear) {
+    return glviewSrgb(glviewTonemap(linear * uExposure));
+}
+#else
+vec3 glviewOutput(vec3 c) {
+    return clamp(c, 0.0, 1.0);
+}
+#endif

@@ -1,0 +1,139 @@
+// PBR tier (the seed's formula), linear until glviewOutput:
+//   Lo = Ke + E_d(N)*k_d*ao + E_s(R, r)*(k_s*A + B)*ao
+//      + sum_i vis_i * Lc_i * (k_d + pi * D*G*F / (4 N.L N.V)) * N.L
+// k_d = albedo*(1 - f0)*(1 - metallic), k_s = mix(f0, albedo, metallic), f0 = 0.04.
+IN vec3 vEyePos;
+IN vec2 vUv;
+IN vec3 vNormal;
+#ifdef HAS_NORMAL_MAP
+IN vec4 vTangent;
+uniform sampler2D uNormalMap;
+#endif
+#if NUM_LIGHTS > 0
+uniform vec4 uLightPos[NUM_LIGHTS];   // w = 0: unit direction towards the light; w = 1: position
+uniform vec3 uLightColor[NUM_LIGHTS];
+#endif
+#if NUM_SHADOWS > 0
+#include "shadow.glsl"
+#endif
+#include "ibl.glsl"
+#include "output.glsl"
+
+uniform vec3 uBaseColor;
+uniform float uMetallic;
+uniform float uRoughness;
+uniform vec3 uEmissive;
+uniform float uOpacity;
+uniform vec4 uTermsA;   // direct diffuse, direct specular, IBL diffuse, IBL specular (0 or 1)
+uniform vec3 uTermsB;   // ambient occlusion, shadows, emissive (0 or 1)
+#ifdef HAS_ALBEDO_MAP
+uniform sampler2D uAlbedoMap;    // sRGB, decoded by the sampler or below
+#endif
+#ifdef HAS_ORM_MAP
+uniform sampler2D uOrmMap;       // r: occlusion, g: roughness, b: metallic (linear)
+#endif
+#ifdef HAS_EMISSIVE_MAP
+uniform sampler2D uEmissiveMap;  // sRGB
+#endif
+
+vec3 glviewSafeNormalize(vec3 n) {
+    float len = length(n);
+    return len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+}
+
+vec3 glviewToLinear(vec3 c) {
+#ifdef SRGB_DECODE_IN_SHADER
+    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(0.04045, c));
+#else
+    return c;
+#endif
+}
+
+void main() {
+    vec3 albedo = uBaseColor;
+#ifdef HAS_ALBEDO_MAP
+    albedo *= glviewToLinear(TEX2D(uAlbedoMap, vUv).rgb);
+#endif
+    float metallic = uMetallic;
+    float rough = uRoughness;
+    float ao = 1.0;
+#ifdef HAS_ORM_MAP
+    vec3 orm = TEX2D(uOrmMap, vUv).rgb;
+    ao = orm.r;
+    rough *= orm.g;
+    metallic *= orm.b;
+#endif
+    ao = mix(1.0, ao, uTermsB.x);
+    vec3 emissive = uEmissive;
+#ifdef HAS_EMISSIVE_MAP
+    emissive *= glviewToLinear(TEX2D(uEmissiveMap, vUv).rgb);
+#endif
+    vec3 n = glviewSafeNormalize(vNormal);
+    if (!gl_FrontFacing) n = -n;
+    vec3 geomN = n;
+#ifdef HAS_NORMAL_MAP
+    vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
+    float tl = length(t);
+    if (tl > 0.0) {
+        t /= tl;
+        vec3 b = cross(n, t) * (vTangent.w < 0.0 ? -1.0 : 1.0);
+        vec3 m = TEX2D(uNormalMap, vUv).rgb * 2.0 - 1.0;
+        n = glviewSafeNormalize(t * m.x + b * m.y + n * m.z);
+    }
+#endif
+    vec3 v = normalize(-vEyePos);
+    float nv = max(dot(n, v), 1e-4);
+    vec3 kd = albedo * (1.0 - 0.04) * (1.0 - metallic);
+    vec3 ks = mix(vec3(0.04), albedo, metallic);
+    vec3 color = uTermsB.z * emissive;
+
+    // Image-based light (the seed's split sum).
+    vec2 bf = glviewBrdf(nv, rough);
+    vec3 r = reflect(-v, n);
+#ifdef DOMINANT_DIRECTION
+    // Filament's dominant direction: rough lobes lean towards the normal.
+    float a = rough * rough;
+    r = normalize(mix(r, n, a * a));
+#endif
+    vec3 spec = ks * bf.x + bf.y;
+#ifdef MULTISCATTER
+    // Energy lost to single scattering is added back (Fdez-Aguera 2019).
+    spec *= 1.0 + ks * (1.0 / max(bf.x + bf.y, 1e-4) - 1.0);
+#endif
+    color += ao * (uTermsA.z * glviewIrradiance(n) * kd + uTermsA.w * glviewSpecular(r, rough) * spec);
+
+#if NUM_LIGHTS > 0
+    float vis[NUM_LIGHTS];
+    for (int i = 0; i < NUM_LIGHTS; ++i) vis[i] = 1.0;
+#if NUM_SHADOWS > 0
+    vis[0] = shadowVisibility(uShadowMap0, 0, SHADOW_CUBE0, vEyePos, geomN);
+#endif
+#if NUM_SHADOWS > 1
+    vis[1] = shadowVisibility(uShadowMap1, 1, SHADOW_CUBE1, vEyePos, geomN);
+#endif
+#if NUM_SHADOWS > 2
+    vis[2] = shadowVisibility(uShadowMap2, 2, SHADOW_CUBE2, vEyePos, geomN);
+#endif
+#if NUM_SHADOWS > 3
+    vis[3] = shadowVisibility(uShadowMap3, 3, SHADOW_CUBE3, vEyePos, geomN);
+#endif
+    for (int i = 0; i < NUM_LIGHTS; ++i) {
+        vec3 l = uLightPos[i].xyz;
+        if (uLightPos[i].w != 0.0) {
+            vec3 d = uLightPos[i].xyz - vEyePos;
+            float len = length(d);
+            l = len > 0.0 ? d / len : vec3(0.0);
+        }
+        float nl = dot(n, l);
+        if (nl > 0.0) {
+            vec3 h = glviewSafeNormalize(l + v);
+            vec3 f = glviewF_Schlick(ks, dot(v, h));
+            vec3 fs = glviewD_GGX(max(dot(n, h), 0.0), rough) * glviewG_Smith(nv, nl, rough) * f
+                / (4.0 * nv * nl);
+            float shadow = mix(1.0, vis[i], uTermsB.y);
+            color += shadow * uLightColor[i] * (uTermsA.x * kd + uTermsA.y * GLVIEW_PI * fs) * nl;
+        }
+    }
+#endif
+    FRAG_COLOR = vec4(glviewOutput(color), uOpacity);
+}

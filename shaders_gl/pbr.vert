@@ -1,0 +1,29 @@
+// PBR tier: positions, normals and tangents to eye space.
+IN vec3 aPosition;
+IN vec3 aNormal;
+IN vec2 aUv;
+#ifdef HAS_NORMAL_MAP
+IN vec4 aTangent;
+#endif
+
+uniform mat4 uModelView;
+uniform mat4 uProjection;
+uniform mat3 uNormalMatrix;
+
+OUT vec3 vEyePos;
+OUT vec2 vUv;
+OUT vec3 vNormal;
+#ifdef HAS_NORMAL_MAP
+OUT vec4 vTangent;
+#endif
+
+void main() {
+    vec4 eye = uModelView * vec4(aPosition, 1.0);
+    vEyePos = eye.xyz;
+    vUv = aUv;
+    vNormal = uNormalMatrix * aNormal;
+#ifdef HAS_NORMAL_MAP
+    vTangent = vec4(uNormalMatrix * aTangent.xyz, aTangent.w);
+#endif
+    gl_Position = uProjection * eye;
+}

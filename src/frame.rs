@@ -1,0 +1,77 @@
+//! What a frame depends on besides the scene: camera, lights, tier and quality settings. No GL
+//! here, so the CPU reference renderer, the key table and the GPU passes share these types.
+use crate::camera::OrbitCamera;
+use crate::light::Light;
+use crate::shading::LightingParams;
+use glam::Vec3;
+use serde::Serialize;
+
+/// The shading tier: the legacy formula per fragment or per vertex, or the PBR/IBL tier.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
+pub enum Shading {
+    Phong,
+    Gouraud,
+    /// Metallic/roughness PBR with image-based lighting (the seed document's split sum).
+    Pbr,
+}
+
+impl Shading {
+    /// The tier name written into PNG text and `--stats`.
+    pub fn tier(self) -> &'static str {
+        match self {
+            Shading::Phong | Shading::Gouraud => "legacy",
+            Shading::Pbr => "pbr",
+        }
+    }
+
+    /// Phong → Gouraud → PBR → Phong (the `P` key).
+    pub fn next(self) -> Shading {
+        match self {
+            Shading::Phong => Shading::Gouraud,
+            Shading::Gouraud => Shading::Pbr,
+            Shading::Pbr => Shading::Phong,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ShadowSettings {
+    pub enabled: bool,
+    /// Depth map size in texels (square).
+    pub size: u32,
+    /// Compared taps per lookup: 1, 4, 9 or 16.
+    pub pcf: u8,
+    /// Constant depth bias in [0, 1] depth units, on top of the slope-scaled polygon offset.
+    pub bias: f32,
+    /// glPolygonOffset(factor, units) in the depth pass: the slope-scaled part of the bias.
+    pub slope_bias: f32,
+    /// Offset of the lookup point along the surface normal, in shadow-map texels.
+    pub normal_offset: f32,
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        ShadowSettings {
+            enabled: true,
+            size: 2048,
+            pcf: 1,
+            bias: 0.0002,
+            slope_bias: 2.0,
+            normal_offset: 1.5,
+        }
+    }
+}
+
+/// Everything a frame depends on besides the scene. Tier-specific knobs (PBR material
+/// overrides, exposure, tone mapping) are in `lighting`, so this shape stays the legacy one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameSettings {
+    pub camera: OrbitCamera,
+    pub lights: Vec<Light>,
+    pub lighting: LightingParams,
+    pub shading: Shading,
+    pub background: Vec3,
+    pub shadows: ShadowSettings,
+    /// Draw light 0's depth map instead of the scene (teaching view).
+    pub show_shadow_map: bool,
+}

@@ -1,0 +1,239 @@
+//! The PBR tier's GPU resources: the environment maps (made on the CPU by `pbr::precompute`,
+//! or read from the disk cache) uploaded as cube maps and a 2D table, in 16-bit float where
+//! the driver has it, else RGBM / split 16-bit in RGBA8; and the materials' PBR textures.
+use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureCube, TextureFormat};
+use crate::gpu::GpuRef;
+use crate::pbr::precompute::{self, IblData};
+use crate::pbr::{cache, env::Environment, Encoding, EnvRequest, EnvSource};
+use crate::{Error, Result};
+
+/// RGBM range: values up to 16 are stored, brighter ones clipped (documented).
+pub const RGBM_RANGE: f32 = 16.0;
+
+pub(crate) struct IblGpu {
+    pub irradiance: TextureCube,
+    pub specular: Vec<TextureCube>,
+    pub lut: Texture2d,
+    pub rgbm: bool,
+}
+
+#[derive(Default)]
+pub(crate) struct IblState {
+    request: Option<EnvRequest>,
+    data: Option<IblData>,
+    pub gpu: Option<IblGpu>,
+    /// What was done to get the maps, for `--stats` (e.g. `computed 412 ms`, `disk cache`).
+    pub origin: String,
+}
+
+impl IblState {
+    pub fn request(&mut self, r: EnvRequest) {
+        if self.request.as_ref() != Some(&r) {
+            self.request = Some(r);
+            self.data = None;
+            self.gpu = None;
+        }
+    }
+
+    pub fn data(&self) -> Option<&IblData> {
+        self.data.as_ref()
+    }
+
+    /// Makes the maps on first use: from the disk cache, else computed (and cached).
+    pub fn ensure(&mut self, gpu: &GpuRef) -> Result<&IblGpu> {
+        if self.gpu.is_none() {
+            let mut req = self.request.get_or_insert_with(EnvRequest::default).clone();
+            let fit = super::pbr::max_levels(gpu.caps.max_texture_units);
+            if req.settings.levels > fit {
+                log::warn!(
+                    "{} roughness levels need more texture units than {} has: using {fit}",
+                    req.settings.levels,
+                    gpu.caps.version
+                );
+                req.settings.levels = fit.max(2);
+            }
+            if self.data.is_none() {
+                let (data, origin) = load_or_compute(&req)?;
+                self.data = Some(data);
+                self.origin = origin;
+            }
+            let data = self.data.as_ref().expect("set above");
+            self.gpu = Some(upload(gpu, data, req.encoding)?);
+        }
+        Ok(self.gpu.as_ref().expect("set above"))
+    }
+}
+
+/// The environment of a request as an image.
+pub fn environment(source: &EnvSource) -> Result<Environment> {
+    Ok(match source {
+        EnvSource::Builtin => Environment::builtin(),
+        EnvSource::Uniform(c) => Environment::uniform(*c),
+        EnvSource::File(p) => Environment::load(p)?,
+    })
+}
+
+/// Reads the maps from the disk cache or computes them; says which.
+pub fn load_or_compute(req: &EnvRequest) -> Result<(IblData, String)> {
+    if let EnvSource::File(p) = &req.source {
+        if !p.is_file() {
+            return Err(Error::Usage(format!(
+                "{}: no such environment file",
+                p.display()
+            )));
+        }
+    }
+    let key = if req.cache {
+        cache::key(&req.source, &req.settings)
+    } else {
+        None
+    };
+    if let Some(d) = key.and_then(cache::get) {
+        return Ok((d, "disk cache".into()));
+    }
+    let env = environment(&req.source)?;
+    let data = precompute::compute(&env, &req.settings);
+    if let Some(k) = key {
+        cache::put(k, &data);
+    }
+    let origin = format!("computed on the CPU in {:.0} ms", data.compute_ms);
+    Ok((data, origin))
+}
+
+/// RGBM with M quantised upwards, so the stored rgb never exceeds 1.
+pub fn rgbm(c: [f32; 3]) -> [u8; 4] {
+    let max = c[0].max(c[1]).max(c[2]).max(1e-6) / RGBM_RANGE;
+    let m = (max.clamp(1.0 / 255.0, 1.0) * 255.0).ceil() / 255.0;
+    let q = |v: f32| ((v / (m * RGBM_RANGE)).clamp(0.0, 1.0) * 255.0).round() as u8;
+    [q(c[0]), q(c[1]), q(c[2]), (m * 255.0).round() as u8]
+}
+
+pub fn rgbm_decode(p: [u8; 4]) -> [f32; 3] {
+    let m = f32::from(p[3]) / 255.0 * RGBM_RANGE;
+    [0, 1, 2].map(|i| f32::from(p[i]) / 255.0 * m)
+}
+
+fn upload_cube(gpu: &GpuRef, c: &precompute::Cube, rgbm_on: bool) -> Result<TextureCube> {
+    let sampling = Sampling {
+        linear: true,
+        mipmaps: false,
+        repeat: false,
+    };
+    if rgbm_on {
+        let faces: Vec<Vec<u8>> = c
+            .faces
+            .iter()
+            .map(|f| f.iter().flat_map(|&t| rgbm(t)).collect())
+            .collect();
+        let f = |i: usize| Pixels::U8(&faces[i]);
+        TextureCube::new(
+            gpu,
+            TextureFormat::Rgba8,
+            c.size,
+            [f(0), f(1), f(2), f(3), f(4), f(5)],
+            sampling,
+        )
+    } else {
+        let faces: Vec<Vec<f32>> = c
+            .faces
+            .iter()
+            .map(|f| f.iter().flat_map(|t| [t[0], t[1], t[2], 1.0]).collect())
+            .collect();
+        let f = |i: usize| Pixels::F32(&faces[i]);
+        TextureCube::new(
+            gpu,
+            TextureFormat::Rgba16F,
+            c.size,
+            [f(0), f(1), f(2), f(3), f(4), f(5)],
+            sampling,
+        )
+    }
+}
+
+fn upload(gpu: &GpuRef, d: &IblData, encoding: Encoding) -> Result<IblGpu> {
+    let float = gpu.caps.half_float_textures;
+    let rgbm_on = match encoding {
+        Encoding::Auto => !float,
+        Encoding::Rgbm => true,
+        Encoding::Float if float => false,
+        Encoding::Float => {
+            return Err(Error::Unsupported(format!(
+                "--ibl-encoding float: {} has no 16-bit float textures; use rgbm",
+                gpu.caps.version
+            )))
+        }
+    };
+    let irradiance = upload_cube(gpu, &d.irradiance, rgbm_on)?;
+    let specular = d
+        .specular
+        .iter()
+        .map(|c| upload_cube(gpu, c, rgbm_on))
+        .collect::<Result<Vec<_>>>()?;
+    let n = d.lut.size;
+    let lut = if rgbm_on {
+        // A and B as 16-bit values, high byte then low byte; sampled nearest, filtered in
+        // the shader (filtering split bytes in hardware would mix them).
+        let q = |v: f32| (v.clamp(0.0, 1.0) * 65535.0).round() as u16;
+        let data: Vec<u8> = d
+            .lut
+            .texels
+            .iter()
+            .flat_map(|t| {
+                let (a, b) = (q(t[0]), q(t[1]));
+                [(a >> 8) as u8, a as u8, (b >> 8) as u8, b as u8]
+            })
+            .collect();
+        let s = Sampling {
+            linear: false,
+            mipmaps: false,
+            repeat: false,
+        };
+        Texture2d::new(gpu, TextureFormat::Rgba8, n, n, Pixels::U8(&data), s)?
+    } else {
+        let s = Sampling {
+            linear: true,
+            mipmaps: false,
+            repeat: false,
+        };
+        if TextureFormat::Rg16F.supported(&gpu.caps) {
+            let data: Vec<f32> = d.lut.texels.iter().flatten().copied().collect();
+            Texture2d::new(gpu, TextureFormat::Rg16F, n, n, Pixels::F32(&data), s)?
+        } else {
+            let data: Vec<f32> = d
+                .lut
+                .texels
+                .iter()
+                .flat_map(|t| [t[0], t[1], 0.0, 1.0])
+                .collect();
+            Texture2d::new(gpu, TextureFormat::Rgba16F, n, n, Pixels::F32(&data), s)?
+        }
+    };
+    gpu.check_error("environment upload")?;
+    Ok(IblGpu {
+        irradiance,
+        specular,
+        lut,
+        rgbm: rgbm_on,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rgbm_round_trip_error() {
+        // Relative error of RGBM (range 16) for values from 0.05 to 16: at most one step of
+        // the 8-bit rgb in units of M·16.
+        for v in [0.05f32, 0.2, 0.9, 3.0, 15.0] {
+            let d = rgbm_decode(rgbm([v, v * 0.5, v * 0.25]));
+            let err = (d[0] - v).abs() / v;
+            assert!(err < 0.04, "{v}: {d:?} ({err})");
+        }
+        assert_eq!(
+            rgbm_decode(rgbm([100.0, 0.0, 0.0]))[0],
+            16.0,
+            "clipped at the range"
+        );
+    }
+}

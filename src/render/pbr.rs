@@ -1,0 +1,351 @@
+//! Pass "pbr": the PBR tier. Every visible mesh with the PBR program matching its maps, lit
+//! by the environment (irradiance cube, one specular cube per roughness level, BRDF table)
+//! and by the `--light` lights with the shadow pass's maps; output through exposure, tone
+//! mapping and sRGB encoding.
+use super::ibl::IblGpu;
+use super::lit::{draw_mesh, mesh_state, shadow_flags, View, SHADOW_UNIT};
+use super::{FrameCx, Outcome, Pass, Shading};
+use crate::gpu::state::RenderState;
+use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
+use crate::gpu::GpuRef;
+use crate::scene::{Material, Scene};
+use crate::shader::cache::ProgramKey;
+use crate::{Error, Result};
+use glam::{Mat3, Vec3, Vec4};
+
+pub(crate) struct Pbr;
+
+/// Texture units: 0 albedo, 1–4 shadow maps (`SHADOW_UNIT`), then these.
+const NORMAL_UNIT: u32 = SHADOW_UNIT + 4;
+const ORM_UNIT: u32 = NORMAL_UNIT + 1;
+const EMISSIVE_UNIT: u32 = ORM_UNIT + 1;
+const IRRADIANCE_UNIT: u32 = EMISSIVE_UNIT + 1;
+const LUT_UNIT: u32 = IRRADIANCE_UNIT + 1;
+const SPECULAR_UNIT: u32 = LUT_UNIT + 1;
+/// Specular levels the shader can take (`uSpecular0..7`).
+pub const MAX_LEVELS: u32 = 8;
+
+/// Roughness levels that fit the driver's texture units next to the other maps.
+pub fn max_levels(units: u32) -> u32 {
+    units.saturating_sub(SPECULAR_UNIT).min(MAX_LEVELS)
+}
+
+/// Which of a material's optional inputs a program reads.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Maps {
+    pub albedo: bool,
+    pub normal: bool,
+    pub orm: bool,
+    pub emissive: bool,
+}
+
+/// Per-program options of the tier.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Options {
+    pub levels: u32,
+    pub rgbm: bool,
+    pub srgb_in_shader: bool,
+    pub tonemap: i32,
+    pub dominant: bool,
+    pub multiscatter: bool,
+}
+
+pub fn program_key(
+    lights: u8,
+    shadows: u8,
+    pcf: u8,
+    cube_mask: u8,
+    maps: Maps,
+    o: Options,
+) -> ProgramKey {
+    shadow_flags(
+        ProgramKey::new("pbr", "pbr.vert", "pbr.frag"),
+        lights,
+        shadows,
+        pcf,
+        cube_mask,
+    )
+    .count("NUM_SPEC_LEVELS", "lv", o.levels as i32)
+    .count("TONEMAP", "tm", o.tonemap)
+    .switch("HAS_ALBEDO_MAP", "alb", maps.albedo)
+    .switch("HAS_NORMAL_MAP", "nrm", maps.normal)
+    .switch("HAS_ORM_MAP", "orm", maps.orm)
+    .switch("HAS_EMISSIVE_MAP", "emi", maps.emissive)
+    .switch("IBL_RGBM", "rgbm", o.rgbm)
+    .switch("SRGB_DECODE_IN_SHADER", "srgbsh", o.srgb_in_shader)
+    .switch("DOMINANT_DIRECTION", "dom", o.dominant)
+    .switch("MULTISCATTER", "ms", o.multiscatter)
+}
+
+/// The PBR keys `--compile-shaders` checks for one light/shadow variant: no maps with float
+/// maps, and every map with RGBM, shader-side sRGB and both measured options.
+pub fn all_keys(lights: u8, shadows: u8, pcf: u8, cube_mask: u8) -> Vec<ProgramKey> {
+    let plain = Options {
+        levels: 6,
+        rgbm: false,
+        srgb_in_shader: false,
+        tonemap: 3,
+        dominant: false,
+        multiscatter: false,
+    };
+    let all = Maps {
+        albedo: true,
+        normal: true,
+        orm: true,
+        emissive: true,
+    };
+    let every = Options {
+        rgbm: true,
+        srgb_in_shader: true,
+        tonemap: 1,
+        dominant: true,
+        multiscatter: true,
+        ..plain
+    };
+    vec![
+        program_key(lights, shadows, pcf, cube_mask, Maps::default(), plain),
+        program_key(lights, shadows, pcf, cube_mask, all, every),
+    ]
+}
+
+/// One material's PBR textures on the GPU (indices into `MaterialTextures::textures`).
+#[derive(Clone, Copy, Default)]
+struct MaterialMaps {
+    albedo: Option<usize>,
+    normal: Option<usize>,
+    orm: Option<usize>,
+    emissive: Option<usize>,
+}
+
+/// The scene's PBR textures, made on the first PBR frame (a legacy-only session never pays
+/// for them).
+pub(crate) struct MaterialTextures {
+    textures: Vec<Texture2d>,
+    materials: Vec<MaterialMaps>,
+    srgb_in_shader: bool,
+}
+
+fn rgba_texture(gpu: &GpuRef, t: &crate::scene::Texture, srgb: bool) -> Result<Texture2d> {
+    let (w, h, data) = super::upload::fit_texture(gpu, t)?;
+    let format = if srgb && TextureFormat::Srgb8A8.supported(&gpu.caps) {
+        TextureFormat::Srgb8A8
+    } else {
+        TextureFormat::Rgba8
+    };
+    let s = Sampling {
+        linear: true,
+        mipmaps: true,
+        repeat: true,
+    };
+    Texture2d::new(gpu, format, w, h, Pixels::U8(&data), s)
+}
+
+/// Occlusion, roughness and metallic maps packed into one texture (r, g, b), so the tier needs
+/// one texture unit for three inputs. Sized like the largest input; the others are sampled
+/// nearest into it. Missing inputs are 1 (the factor then acts alone).
+fn orm_texture(gpu: &GpuRef, m: &Material) -> Result<Option<Texture2d>> {
+    let p = &m.pbr_inputs;
+    let maps = [&p.ao_map, &p.roughness_map, &p.metallic_map];
+    let Some((w, h)) = maps
+        .iter()
+        .filter_map(|m| m.as_ref().map(|t| (t.width, t.height)))
+        .max_by_key(|(w, h)| w * h)
+    else {
+        return Ok(None);
+    };
+    let mut data = vec![255u8; (w * h * 4) as usize];
+    for (c, map) in maps.iter().enumerate() {
+        if let Some(t) = map {
+            for y in 0..h {
+                for x in 0..w {
+                    let sx = (x * t.width / w).min(t.width - 1);
+                    let sy = (y * t.height / h).min(t.height - 1);
+                    data[((y * w + x) * 4) as usize + c] =
+                        t.rgba[((sy * t.width + sx) * 4) as usize];
+                }
+            }
+        }
+    }
+    let tex = crate::scene::Texture {
+        path: m.name.clone().into(),
+        width: w,
+        height: h,
+        rgba: data,
+    };
+    rgba_texture(gpu, &tex, false).map(Some)
+}
+
+impl MaterialTextures {
+    fn new(gpu: &GpuRef, scene: &Scene) -> Result<MaterialTextures> {
+        let srgb_in_shader = !TextureFormat::Srgb8A8.supported(&gpu.caps);
+        let mut textures = Vec::new();
+        let mut push = |t: Texture2d| {
+            textures.push(t);
+            Some(textures.len() - 1)
+        };
+        let mut materials = Vec::new();
+        for m in &scene.materials {
+            let p = &m.pbr_inputs;
+            let mut mm = MaterialMaps::default();
+            if let Some(t) = &m.diffuse_map {
+                mm.albedo = push(rgba_texture(gpu, t, true)?);
+            }
+            if let Some(t) = &p.normal_map {
+                mm.normal = push(rgba_texture(gpu, t, false)?);
+            }
+            if let Some(t) = orm_texture(gpu, m)? {
+                mm.orm = push(t);
+            }
+            if let Some(t) = &p.emissive_map {
+                mm.emissive = push(rgba_texture(gpu, t, true)?);
+            }
+            materials.push(mm);
+        }
+        Ok(MaterialTextures {
+            textures,
+            materials,
+            srgb_in_shader,
+        })
+    }
+}
+
+fn bind_ibl(ibl: &IblGpu) {
+    ibl.irradiance.bind(IRRADIANCE_UNIT);
+    ibl.lut.bind(LUT_UNIT);
+    for (i, c) in ibl.specular.iter().enumerate() {
+        c.bind(SPECULAR_UNIT + i as u32);
+    }
+}
+
+impl Pass for Pbr {
+    fn name(&self) -> &'static str {
+        "pbr"
+    }
+
+    fn run(&self, cx: &mut FrameCx) -> Result<Outcome> {
+        let s = cx.settings;
+        if s.shading != Shading::Pbr {
+            return Ok(Outcome::Skipped("legacy tier".into()));
+        }
+        let units = cx.gpu.caps.max_texture_units;
+        if max_levels(units) < 2 {
+            return Err(Error::Unsupported(format!(
+                "--shading pbr needs {} texture units; {} has {units}",
+                SPECULAR_UNIT + 2,
+                cx.gpu.caps.version
+            )));
+        }
+        if cx.res.pbr_textures.is_none() {
+            cx.res.pbr_textures = Some(MaterialTextures::new(cx.gpu, &cx.scene.scene)?);
+        }
+        let gpu = cx.gpu.clone();
+        let (rgbm, levels) = {
+            let ibl = cx.res.ibl.ensure(&gpu)?;
+            bind_ibl(ibl);
+            (ibl.rgbm, ibl.specular.len() as u32)
+        };
+        cx.stats.textures_bound += 2 + levels;
+        let v = View::new(cx);
+        cx.bind_target();
+        if !cx.res.background_drawn {
+            cx.clear(Some(s.background.to_array()));
+        }
+        let (order, _) = v.draw_order(cx);
+        let p = s.lighting.pbr;
+        let out = s.lighting.output;
+        let t = s.lighting.pbr_terms;
+        let on = |b: bool| if b { 1.0 } else { 0.0 };
+        let srgb_in_shader = cx
+            .res
+            .pbr_textures
+            .as_ref()
+            .is_some_and(|m| m.srgb_in_shader);
+        let opts = Options {
+            levels,
+            rgbm,
+            srgb_in_shader,
+            tonemap: out.tonemap.code(),
+            dominant: p.dominant_direction,
+            multiscatter: p.multiscatter,
+        };
+        let mut uniforms_set: Vec<ProgramKey> = Vec::new();
+        for &i in &order {
+            let (material, translucent, has_uv, has_tangents) = {
+                let dm = &cx.scene.meshes[i];
+                (dm.material, dm.translucent, dm.has_uv, dm.has_tangents)
+            };
+            let mm = cx.res.pbr_textures.as_ref().expect("made above").materials[material];
+            let maps = Maps {
+                albedo: has_uv && mm.albedo.is_some(),
+                normal: has_tangents && mm.normal.is_some(),
+                orm: has_uv && mm.orm.is_some(),
+                emissive: has_uv && mm.emissive.is_some(),
+            };
+            let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts);
+            let program = cx.program(&key)?;
+            program.bind();
+            if !uniforms_set.contains(&key) {
+                uniforms_set.push(key);
+                v.set_uniforms(&program, cx);
+                program.set_mat3("uEnvFromEye", &Mat3::from_mat4(v.view).transpose());
+                program.set_f32("uIblIntensity", p.ibl_intensity);
+                program.set_f32("uExposure", 2f32.powf(out.exposure_ev));
+                program.set_i32("uIrradiance", IRRADIANCE_UNIT as i32);
+                program.set_i32("uBrdfLut", LUT_UNIT as i32);
+                program.set_f32(
+                    "uLutSize",
+                    cx.res.ibl.data().map_or(1, |d| d.lut.size) as f32,
+                );
+                for l in 0..levels {
+                    program.set_i32(&format!("uSpecular{l}"), (SPECULAR_UNIT + l) as i32);
+                }
+                program.set_i32("uAlbedoMap", 0);
+                program.set_i32("uNormalMap", NORMAL_UNIT as i32);
+                program.set_i32("uOrmMap", ORM_UNIT as i32);
+                program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
+                program.set_vec4(
+                    "uTermsA",
+                    Vec4::new(
+                        on(t.direct_diffuse),
+                        on(t.direct_specular),
+                        on(t.ibl_diffuse),
+                        on(t.ibl_specular),
+                    ),
+                );
+                program.set_vec3(
+                    "uTermsB",
+                    Vec3::new(on(t.ao), on(t.shadows), on(t.emissive)),
+                );
+            }
+            let mat = &cx.scene.scene.materials[material];
+            let values = mat.pbr();
+            program.set_vec3(
+                "uBaseColor",
+                p.base_color.unwrap_or(Vec3::from(values.base_color)),
+            );
+            program.set_f32("uMetallic", p.metallic.unwrap_or(values.metallic));
+            program.set_f32("uRoughness", p.roughness.unwrap_or(values.roughness));
+            program.set_vec3("uEmissive", Vec3::from(values.emissive));
+            program.set_f32("uOpacity", mat.opacity);
+            let tex = cx.res.pbr_textures.as_ref().expect("made above");
+            for (index, on, unit) in [
+                (mm.albedo, maps.albedo, 0),
+                (mm.normal, maps.normal, NORMAL_UNIT),
+                (mm.orm, maps.orm, ORM_UNIT),
+                (mm.emissive, maps.emissive, EMISSIVE_UNIT),
+            ] {
+                if let (Some(ti), true) = (index, on) {
+                    tex.textures[ti].bind(unit);
+                    cx.stats.textures_bound += 1;
+                }
+            }
+            draw_mesh(cx, i, &mesh_state(translucent));
+        }
+        cx.gpu.apply(&RenderState::default());
+        Ok(Outcome::Ran(format!(
+            "pbr({levels} levels, {}, env {})",
+            if rgbm { "rgbm" } else { "float" },
+            cx.res.ibl.origin
+        )))
+    }
+}

@@ -1,0 +1,148 @@
+//! The scene in GPU buffers: one static mesh per scene mesh (with a tangent stream where its
+//! material has a normal map), diffuse textures deduplicated by file, and per-mesh bounds for
+//! culling. Shared by every pass.
+use crate::gpu::mesh::GpuMesh;
+use crate::gpu::texture::Texture2d;
+use crate::gpu::GpuRef;
+use crate::scene::Scene;
+use crate::Result;
+use glam::Vec3;
+
+pub(crate) struct DrawMesh {
+    pub mesh: GpuMesh,
+    pub material: usize,
+    pub texture: Option<usize>,
+    pub center: Vec3,
+    /// Bounding sphere radius around `center`, for frustum culling.
+    pub radius: f32,
+    pub triangles: u64,
+    pub translucent: bool,
+    pub has_uv: bool,
+    pub has_tangents: bool,
+}
+
+pub(crate) struct SceneGpu {
+    pub scene: Scene,
+    pub meshes: Vec<DrawMesh>,
+    pub textures: Vec<Texture2d>,
+}
+
+/// Uploads a decoded texture, downscaled (with a warning) when it exceeds the driver's
+/// maximum texture size.
+fn upload_texture(gpu: &GpuRef, t: &crate::scene::Texture) -> Result<Texture2d> {
+    let (w, h, rgba) = fit_texture(gpu, t)?;
+    Texture2d::from_rgba(gpu, w, h, &rgba)
+}
+
+/// The texture's pixels, downscaled to the driver's maximum size where larger.
+pub(crate) fn fit_texture(
+    gpu: &GpuRef,
+    t: &crate::scene::Texture,
+) -> Result<(u32, u32, std::borrow::Cow<'static, [u8]>)> {
+    let max = gpu.caps.max_texture_size.max(1);
+    if t.width <= max && t.height <= max {
+        return Ok((t.width, t.height, std::borrow::Cow::Owned(t.rgba.clone())));
+    }
+    let scale = f64::from(max) / f64::from(t.width.max(t.height));
+    let (w, h) = (
+        ((f64::from(t.width) * scale) as u32).clamp(1, max),
+        ((f64::from(t.height) * scale) as u32).clamp(1, max),
+    );
+    log::warn!(
+        "{}: {}x{} is larger than the driver's maximum texture size {max}: downscaled to {w}x{h}",
+        t.path.display(),
+        t.width,
+        t.height
+    );
+    let img = image::RgbaImage::from_raw(t.width, t.height, t.rgba.clone()).ok_or_else(|| {
+        crate::Error::Unsupported(format!("{}: bad pixel buffer", t.path.display()))
+    })?;
+    let small = image::imageops::resize(&img, w, h, image::imageops::FilterType::Triangle);
+    Ok((w, h, std::borrow::Cow::Owned(small.into_raw())))
+}
+
+impl SceneGpu {
+    pub fn new(gpu: &GpuRef, scene: Scene) -> Result<SceneGpu> {
+        let mut textures: Vec<Texture2d> = Vec::new();
+        let mut texture_paths = Vec::new();
+        let mut meshes = Vec::with_capacity(scene.meshes.len());
+        for m in &scene.meshes {
+            let mat = &scene.materials[m.material];
+            let texture = match (&mat.diffuse_map, m.has_uv) {
+                (Some(t), true) => Some(match texture_paths.iter().position(|p| p == &t.path) {
+                    Some(i) => i,
+                    None => {
+                        textures.push(upload_texture(gpu, t)?);
+                        texture_paths.push(t.path.clone());
+                        textures.len() - 1
+                    }
+                }),
+                _ => None,
+            };
+            let mut b = crate::scene::Bounds::empty();
+            for v in &m.vertices {
+                b.include(v.position.into());
+            }
+            let center = b.center();
+            let radius = m
+                .vertices
+                .iter()
+                .map(|v| (Vec3::from(v.position) - center).length())
+                .fold(0.0f32, f32::max);
+            let tangents = (m.has_uv && mat.pbr_inputs.normal_map.is_some())
+                .then(|| crate::scene::tangents::generate(m));
+            meshes.push(DrawMesh {
+                mesh: GpuMesh::with_tangents(gpu, &m.vertices, &m.indices, tangents.as_deref())?,
+                material: m.material,
+                texture,
+                center,
+                radius,
+                triangles: m.triangle_count() as u64,
+                translucent: mat.is_translucent(),
+                has_uv: m.has_uv,
+                has_tangents: tangents.is_some(),
+            });
+        }
+        gpu.check_error("upload")?;
+        let caps = &gpu.caps;
+        if !caps.depth_texture || !caps.shadow_compare {
+            log::warn!(
+                "{}: no depth textures or shadow compare: shadows off",
+                caps.version
+            );
+        }
+        Ok(SceneGpu {
+            scene,
+            meshes,
+            textures,
+        })
+    }
+
+    /// Indices of the meshes whose bounding sphere touches the view frustum of `view_proj`:
+    /// off-screen meshes cost a program bind and a draw call each for nothing.
+    pub fn visible(&self, view_proj: &glam::Mat4) -> Vec<usize> {
+        let planes = frustum_planes(view_proj);
+        (0..self.meshes.len())
+            .filter(|&i| {
+                let m = &self.meshes[i];
+                planes
+                    .iter()
+                    .all(|p| p.truncate().dot(m.center) + p.w >= -m.radius * p.truncate().length())
+            })
+            .collect()
+    }
+}
+
+/// The six clip planes (a, b, c, d with a·x + b·y + c·z + d >= 0 inside) of a
+/// view-projection matrix (Gribb & Hartmann).
+fn frustum_planes(m: &glam::Mat4) -> [glam::Vec4; 6] {
+    let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
+    [
+        r[3] + r[0],
+        r[3] - r[0],
+        r[3] + r[1],
+        r[3] - r[1],
+        r[3] + r[2],
+        r[3] - r[2],
+    ]
+}
