@@ -61,12 +61,75 @@ pub struct Args {
     /// Global ambient light R,G,B (multiplies Ka).
     #[arg(long, default_value = "0.2,0.2,0.2")]
     pub ambient: String,
-    /// Background colour R,G,B.
-    #[arg(long, default_value = "0.1,0.1,0.12")]
-    pub background: String,
-    /// Per-fragment Phong, or the same formula per vertex (Gouraud).
+    /// Background colour R,G,B (default 0.1,0.1,0.12). In the PBR tier the environment is the
+    /// background unless this is given.
+    #[arg(long)]
+    pub background: Option<String>,
+    /// Per-fragment Phong, the same formula per vertex (Gouraud), or the PBR/IBL tier.
     #[arg(long, value_enum, default_value_t = Shading::Phong)]
     pub shading: Shading,
+    /// PBR: environment map, a Radiance HDR (.hdr) in equirectangular layout.
+    #[arg(long, conflicts_with = "env_color")]
+    pub env: Option<PathBuf>,
+    /// PBR: a uniform environment of this linear radiance R,G,B instead of a file.
+    #[arg(long)]
+    pub env_color: Option<String>,
+    /// PBR: blur of the environment behind the model, as the roughness level shown (0..1).
+    #[arg(long, default_value_t = 0.0)]
+    pub env_blur: f32,
+    /// PBR: scale of the image-based light.
+    #[arg(long, default_value_t = 1.0)]
+    pub ibl_intensity: f32,
+    /// PBR: exposure in EV (the linear colour is multiplied by 2^EV before tone mapping).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub exposure: f32,
+    /// PBR: tone mapping before sRGB encoding (none = clamp).
+    #[arg(long, value_enum, default_value_t = crate::pbr::Tonemap::KhronosNeutral)]
+    pub tonemap: crate::pbr::Tonemap,
+    /// No bloom (bloom itself is not built yet: this flag is accepted so scripts can say it).
+    #[arg(long)]
+    pub no_bloom: bool,
+    /// PBR: base colour R,G,B (linear) for every material.
+    #[arg(long)]
+    pub base_color: Option<String>,
+    /// PBR: metallic 0..1 for every material.
+    #[arg(long)]
+    pub metallic: Option<f32>,
+    /// PBR: roughness 0..1 for every material.
+    #[arg(long)]
+    pub roughness: Option<f32>,
+    /// PBR terms to draw, comma-separated from direct-diffuse, direct-specular, ibl-diffuse,
+    /// ibl-specular, ao, shadows, emissive; `all` (default) or `none`.
+    #[arg(long, default_value = "all")]
+    pub terms: String,
+    /// PBR: sample E_s along Filament's dominant direction instead of R (measured option).
+    #[arg(long)]
+    pub dominant_direction: bool,
+    /// PBR: multiple-scattering energy compensation (measured option).
+    #[arg(long)]
+    pub multiscatter: bool,
+    /// PBR: number of roughness levels (specular cubes), 2..8.
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..=8))]
+    pub ibl_levels: u32,
+    /// PBR: face size of the sharpest specular cube.
+    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(8..=1024))]
+    pub ibl_size: u32,
+    /// PBR: face size of the irradiance cube.
+    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(4..=256))]
+    pub irradiance_size: u32,
+    /// PBR: GGX samples per specular texel in the precomputation.
+    #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub ibl_samples: u32,
+    /// PBR: BRDF lookup table size.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(4..=1024))]
+    pub lut_size: u32,
+    /// PBR: texture encoding of the precomputed maps (auto: 16-bit float where the driver has
+    /// it, else RGBM).
+    #[arg(long, value_enum, default_value_t = crate::pbr::Encoding::Auto)]
+    pub ibl_encoding: crate::pbr::Encoding,
+    /// PBR with --reference: Monte Carlo samples per lobe and pixel.
+    #[arg(long, default_value_t = crate::reference::pbr::DEFAULT_SAMPLES)]
+    pub reference_samples: u32,
     /// Diffuse term: lambert, or wrap (half-Lambert).
     #[arg(long, value_enum, default_value_t = Diffuse::Lambert)]
     pub diffuse: Diffuse,

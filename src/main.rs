@@ -1,6 +1,9 @@
-//! `glview`: parse, run, print the one error, exit code.
+//! `glview`: parse, dispatch to one mode (the modes import `run`, never each other), print
+//! the one error, exit code.
 use clap::Parser;
 use glview::cli::Args;
+use glview::{run, Error, Result};
+use std::path::Path;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
@@ -18,11 +21,52 @@ fn main() -> ExitCode {
         })
         .init();
     let args = Args::parse();
-    match glview::run::main(&args) {
+    match dispatch(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
     }
+}
+
+/// The dispatch: one mode per invocation.
+fn dispatch(args: &Args) -> Result<()> {
+    if let Some(glview::cli::Command::Bench(b)) = &args.command {
+        return match b.soak {
+            Some(rounds) => glview::soak::run(args, rounds),
+            None => glview::bench::run(&b.bench),
+        };
+    }
+    if args.info {
+        return run::print_info(args);
+    }
+    if args.compile_shaders {
+        return run::compile_shaders(args);
+    }
+    if args.reference {
+        let out = args
+            .output
+            .clone()
+            .unwrap_or_else(|| "glview-reference.png".into());
+        return run::render_reference(args, &out);
+    }
+    if args.check {
+        let scene = run::load_scene(args)?;
+        print!("{}", glview::scene::report::report(&scene));
+        return Ok(());
+    }
+    if let Some(out) = &args.output {
+        return run::render_headless(args, out);
+    }
+    if glview::app::display_available() {
+        match glview::app::run_window(args) {
+            Err(Error::Context(e)) => eprintln!("warning: no window ({e}); rendering headless"),
+            other => return other,
+        }
+    }
+    let out = Path::new("glview.png");
+    run::render_headless(args, out)?;
+    eprintln!("no display: wrote {}", out.display());
+    Ok(())
 }

@@ -6,10 +6,12 @@ use crate::error::{Error, Result};
 use crate::frame::{FrameSettings, ShadowSettings};
 use crate::keys::{self, Effect};
 use crate::light::{parse_vec3, LightSpec, MAX_LIGHTS};
+use crate::pbr::precompute::IblSettings;
+use crate::pbr::{EnvRequest, EnvSource, OutputParams, PbrParams};
 use crate::scene::material::TextureOptions;
 use crate::scene::obj::{self, LoadOptions};
 use crate::scene::Scene;
-use crate::shading::LightingParams;
+use crate::shading::{LightingParams, PbrTerms};
 use glam::Vec3;
 use std::path::Path;
 
@@ -144,16 +146,53 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
         })
         .collect();
     let ambient = color(&args.ambient, "--ambient")?.as_dvec3();
+    let unit = |v: Option<f32>, what: &str| -> Result<Option<f32>> {
+        match v {
+            Some(x) if !(0.0..=1.0).contains(&x) => {
+                Err(Error::Usage(format!("{what} {x} must be between 0 and 1")))
+            }
+            v => Ok(v),
+        }
+    };
+    let pbr = PbrParams {
+        base_color: args
+            .base_color
+            .as_deref()
+            .map(|c| color(c, "--base-color"))
+            .transpose()?,
+        metallic: unit(args.metallic, "--metallic")?,
+        roughness: unit(args.roughness, "--roughness")?,
+        dominant_direction: args.dominant_direction,
+        multiscatter: args.multiscatter,
+        skybox: args.background.is_none(),
+        skybox_blur: unit(Some(args.env_blur), "--env-blur")?.unwrap_or(0.0),
+        ibl_intensity: args.ibl_intensity.max(0.0),
+    };
+    if !args.exposure.is_finite() {
+        return Err(Error::Usage(format!(
+            "--exposure {} must be finite",
+            args.exposure
+        )));
+    }
     let mut settings = FrameSettings {
         camera,
         lights,
         lighting: LightingParams {
             ambient,
             wrap: args.diffuse == Diffuse::Wrap,
+            pbr,
+            pbr_terms: parse_terms(&args.terms)?,
+            output: OutputParams {
+                exposure_ev: args.exposure,
+                tonemap: args.tonemap,
+            },
             ..Default::default()
         },
         shading: args.shading,
-        background: color(&args.background, "--background")?,
+        background: color(
+            args.background.as_deref().unwrap_or(DEFAULT_BACKGROUND),
+            "--background",
+        )?,
         shadows: ShadowSettings {
             enabled: !args.no_shadows,
             size: args.shadow_size,
@@ -172,6 +211,76 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
         }
     }
     Ok((settings, home))
+}
+
+/// The background colour without `--background`.
+pub const DEFAULT_BACKGROUND: &str = "0.1,0.1,0.12";
+
+/// `--terms a,b,...`: the PBR terms to draw.
+pub fn parse_terms(s: &str) -> Result<PbrTerms> {
+    let all = PbrTerms::default();
+    let none = PbrTerms {
+        direct_diffuse: false,
+        direct_specular: false,
+        ibl_diffuse: false,
+        ibl_specular: false,
+        ao: false,
+        shadows: false,
+        emissive: false,
+    };
+    match s.trim() {
+        "all" | "" => return Ok(all),
+        "none" => return Ok(none),
+        _ => {}
+    }
+    let mut t = none;
+    for name in s.split(',').map(str::trim) {
+        let b = match name {
+            "direct-diffuse" => &mut t.direct_diffuse,
+            "direct-specular" => &mut t.direct_specular,
+            "ibl-diffuse" => &mut t.ibl_diffuse,
+            "ibl-specular" => &mut t.ibl_specular,
+            "ao" => &mut t.ao,
+            "shadows" => &mut t.shadows,
+            "emissive" => &mut t.emissive,
+            other => {
+                return Err(Error::Usage(format!(
+                    "--terms: unknown term {other:?} (direct-diffuse, direct-specular, \
+                     ibl-diffuse, ibl-specular, ao, shadows, emissive, all, none)"
+                )))
+            }
+        };
+        *b = true;
+    }
+    Ok(t)
+}
+
+/// Where the PBR tier's environment comes from, and how its maps are made.
+pub fn env_request(args: &Args) -> Result<EnvRequest> {
+    let source = match (&args.env, &args.env_color) {
+        (Some(p), _) => EnvSource::File(p.clone()),
+        (None, Some(c)) => {
+            let c = color(c, "--env-color")?;
+            if c.min_element() < 0.0 {
+                return Err(Error::Usage("--env-color must not be negative".into()));
+            }
+            EnvSource::Uniform(c.to_array())
+        }
+        (None, None) => EnvSource::Builtin,
+    };
+    Ok(EnvRequest {
+        source,
+        settings: IblSettings {
+            irradiance_size: args.irradiance_size,
+            specular_size: args.ibl_size,
+            levels: args.ibl_levels,
+            samples: args.ibl_samples,
+            lut_size: args.lut_size,
+            ..Default::default()
+        },
+        encoding: args.ibl_encoding,
+        cache: !args.no_cache,
+    })
 }
 
 /// Who drew a picture, for its PNG text chunks.
@@ -201,8 +310,39 @@ pub fn png_text(r: Renderer, s: &FrameSettings, scene: &Scene) -> Vec<(&'static 
     }
     let c = &s.camera;
     let target = scene.origin + c.target.as_dvec3();
+    let p = &s.lighting.pbr;
+    let o = &s.lighting.output;
+    if s.shading == crate::frame::Shading::Pbr {
+        text.push((
+            "glview.pbr",
+            format!(
+                "--exposure {} --tonemap {}{}{}{}{}{}",
+                o.exposure_ev,
+                format!("{:?}", o.tonemap).to_lowercase(),
+                p.metallic
+                    .map(|m| format!(" --metallic {m}"))
+                    .unwrap_or_default(),
+                p.roughness
+                    .map(|r| format!(" --roughness {r}"))
+                    .unwrap_or_default(),
+                p.base_color
+                    .map(|c| format!(" --base-color {},{},{}", c.x, c.y, c.z))
+                    .unwrap_or_default(),
+                if p.dominant_direction {
+                    " --dominant-direction"
+                } else {
+                    ""
+                },
+                if p.multiscatter {
+                    " --multiscatter"
+                } else {
+                    ""
+                },
+            ),
+        ));
+    }
     text.extend([
-        ("glview.tier", "legacy".into()),
+        ("glview.tier", s.shading.tier().into()),
         ("glview.shading", format!("{:?}", s.shading).to_lowercase()),
         ("glview.model", scene.name.clone()),
         (
@@ -237,6 +377,7 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     };
     let text = png_text(gpu, &settings, &scene);
     let mut renderer = crate::render::Renderer::new(&hl.gpu, scene)?;
+    renderer.set_environment(env_request(args)?);
     for _ in 0..args.frames.max(1) {
         let stats = renderer.render(&settings, &hl.target())?;
         if args.stats {
@@ -254,7 +395,16 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
     let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;
     let start = std::time::Instant::now();
-    let img = crate::reference::render(&scene, &settings, w, h);
+    let env = if settings.shading == crate::frame::Shading::Pbr {
+        let req = env_request(args)?;
+        Some(crate::reference::PbrEnv {
+            env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(&req.source)?),
+            samples: args.reference_samples.max(1),
+        })
+    } else {
+        None
+    };
+    let img = crate::reference::render_env(&scene, &settings, env.as_ref(), w, h);
     let text = png_text(Renderer::Reference, &settings, &scene);
     img.save_png(path, &text)?;
     if args.stats {
@@ -289,45 +439,5 @@ pub fn compile_shaders(args: &Args) -> Result<()> {
 pub fn print_info(args: &Args) -> Result<()> {
     let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
     println!("backend: {}\n{}", hl.backend_name(), hl.gpu.caps.report());
-    Ok(())
-}
-
-pub fn main(args: &Args) -> Result<()> {
-    if let Some(crate::cli::Command::Bench(b)) = &args.command {
-        return match b.soak {
-            Some(rounds) => crate::soak::run(args, rounds),
-            None => crate::bench::run(&b.bench),
-        };
-    }
-    if args.info {
-        return print_info(args);
-    }
-    if args.compile_shaders {
-        return compile_shaders(args);
-    }
-    if args.reference {
-        let out = args
-            .output
-            .clone()
-            .unwrap_or_else(|| "glview-reference.png".into());
-        return render_reference(args, &out);
-    }
-    if args.check {
-        let scene = load_scene(args)?;
-        print!("{}", crate::scene::report::report(&scene));
-        return Ok(());
-    }
-    if let Some(out) = &args.output {
-        return render_headless(args, out);
-    }
-    if crate::app::display_available() {
-        match crate::app::run_window(args) {
-            Err(Error::Context(e)) => eprintln!("warning: no window ({e}); rendering headless"),
-            other => return other,
-        }
-    }
-    let out = Path::new("glview.png");
-    render_headless(args, out)?;
-    eprintln!("no display: wrote {}", out.display());
     Ok(())
 }

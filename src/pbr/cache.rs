@@ -7,6 +7,8 @@ use super::EnvSource;
 use std::path::PathBuf;
 
 const MAGIC: &[u8] = b"glview-ibl 1\n";
+/// Bumped whenever the precomputation's algorithm changes what it writes: part of the key.
+const ALGORITHM: &str = "precompute-2";
 
 #[derive(serde::Serialize, serde::Deserialize)]
 struct Header {
@@ -25,6 +27,7 @@ pub fn key(source: &EnvSource, settings: &IblSettings) -> Option<u64> {
     };
     bytes.extend_from_slice(serde_json::to_string(settings).ok()?.as_bytes());
     bytes.extend_from_slice(env!("CARGO_PKG_VERSION").as_bytes());
+    bytes.extend_from_slice(ALGORITHM.as_bytes());
     Some(crate::scene::cache::content_hash(&bytes))
 }
 

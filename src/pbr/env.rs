@@ -55,9 +55,21 @@ impl Environment {
         }
     }
 
+    /// The environment a request names.
+    pub fn from_source(source: &super::EnvSource) -> Result<Environment> {
+        Ok(match source {
+            super::EnvSource::Builtin => Environment::builtin(),
+            super::EnvSource::Uniform(c) => Environment::uniform(*c),
+            super::EnvSource::File(p) => Environment::load(p)?,
+        })
+    }
+
     /// Reads a Radiance HDR (equirectangular) through the `image` crate.
     pub fn load(path: &Path) -> Result<Environment> {
         let err = |m: String| Error::Usage(format!("{}: {m}", path.display()));
+        if !path.is_file() {
+            return Err(err("no such environment file".into()));
+        }
         let reader = image::ImageReader::open(path)
             .map_err(|e| err(e.to_string()))?
             .with_guessed_format()

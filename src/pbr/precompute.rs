@@ -117,13 +117,15 @@ pub struct IblData {
 }
 
 /// E_d: (1/π)∫ L(ω)·max(N·ω, 0) dω — the radiance a white Lambert surface reflects; summed
-/// exactly over a 64×32 box-filtered copy of the environment (every texel with its solid
-/// angle), so the uniform environment is reproduced to rounding.
+/// over every texel of a box-filtered copy of the environment at most 256 wide (each texel
+/// with its solid angle), so a uniform environment is reproduced to rounding. Coarser copies
+/// fail on small, very bright lights near a normal's horizon: a 64×32 copy put the studio
+/// HDR's key light on the wrong side of the horizon for +Z and gave a third of the true value.
 pub fn irradiance(env: &Environment, size: u32) -> Cube {
     let mips = env.mips();
     let (t, w, h) = mips
         .iter()
-        .find(|(_, w, _)| *w <= 64)
+        .find(|(_, w, _)| *w <= 256)
         .cloned()
         .unwrap_or_else(|| mips.last().cloned().expect("level 0 exists"));
     let omegas: Vec<f64> = (0..w * h)
@@ -149,10 +151,12 @@ pub fn irradiance(env: &Environment, size: u32) -> Cube {
         // Normalising by the discrete sum of the cosine weights (π for the exact integral)
         // keeps a uniform environment exact despite the quadrature.
         let (mut s, mut wsum) = (DVec3::ZERO, 0.0);
-        for (i, (d, l)) in texels.iter().enumerate() {
-            let c = n.dot(*d).max(0.0);
-            s += *l * c;
-            wsum += c * omegas[i];
+        for ((d, l), omega) in texels.iter().zip(&omegas) {
+            let c = n.dot(*d);
+            if c > 0.0 {
+                s += *l * c;
+                wsum += c * omega;
+            }
         }
         s / wsum.max(1e-12)
     })
@@ -266,6 +270,36 @@ mod tests {
             for t in f {
                 assert!((t[1] - 1.0).abs() < 1e-4, "{t:?}");
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod orientation {
+    use super::*;
+
+    /// The mirror level read through GL's face-selection rule ([`Cube::lookup`]) returns the
+    /// environment in the same direction: cube faces and equirect agree on orientation.
+    #[test]
+    fn mirror_level_round_trips() {
+        let mut env = Environment::uniform([0.0; 3]);
+        env.width = 64;
+        env.height = 32;
+        env.texels = (0..64 * 32)
+            .map(|i| {
+                let d = direction((i % 64) as f64 + 0.5, (i / 64) as f64 + 0.5, 64, 32);
+                [d.x as f32 + 1.0, d.y as f32 + 1.0, d.z as f32 + 1.0]
+            })
+            .collect();
+        let c = specular(&env, 0.0, 32, 1);
+        for d in [
+            DVec3::X,
+            DVec3::Y,
+            DVec3::Z,
+            DVec3::new(0.3, -0.5, 0.8).normalize(),
+        ] {
+            let got = c.lookup(d) - DVec3::ONE;
+            assert!((got - d).length() < 0.15, "{d} -> {got}");
         }
     }
 }

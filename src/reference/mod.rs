@@ -128,6 +128,17 @@ pub fn render_env(
     render_rows(scene, s, env, width, height, false).0
 }
 
+/// [`render_env`], plus what each pixel saw.
+pub fn render_env_with_info(
+    scene: &Scene,
+    s: &FrameSettings,
+    env: Option<&PbrEnv>,
+    width: u32,
+    height: u32,
+) -> (Rgba, Vec<PixelInfo>) {
+    render_rows(scene, s, env, width, height, true)
+}
+
 /// [`render`], plus what each pixel saw (row-major, row 0 at the top).
 pub fn render_with_info(
     scene: &Scene,

@@ -36,7 +36,11 @@ pub fn shade(ctx: &Context, s: &Surface, p: DVec3, n: DVec3, vis: &[f64]) -> DVe
     let terms = &settings.lighting.pbr_terms;
     let params = &settings.lighting.pbr;
     let v = (ctx.view.eye - p).normalize_or_zero();
-    let mut c = if terms.emissive { s.emissive } else { DVec3::ZERO };
+    let mut c = if terms.emissive {
+        s.emissive
+    } else {
+        DVec3::ZERO
+    };
     if let Some(env) = &ctx.env {
         let scale = f64::from(params.ibl_intensity);
         let radiance = |d: DVec3| env.sample(d) * scale;
@@ -50,7 +54,11 @@ pub fn shade(ctx: &Context, s: &Surface, p: DVec3, n: DVec3, vis: &[f64]) -> DVe
     }
     for (i, light) in settings.lights.iter().enumerate() {
         let l = crate::shading::to_light(light, p);
-        let visible = if terms.shadows { vis.get(i).copied().unwrap_or(1.0) } else { 1.0 };
+        let visible = if terms.shadows {
+            vis.get(i).copied().unwrap_or(1.0)
+        } else {
+            1.0
+        };
         let mut f = DVec3::ZERO;
         if terms.direct_diffuse {
             f += s.kd() * n.dot(l).max(0.0);

@@ -4,7 +4,7 @@
 use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureCube, TextureFormat};
 use crate::gpu::GpuRef;
 use crate::pbr::precompute::{self, IblData};
-use crate::pbr::{cache, env::Environment, Encoding, EnvRequest, EnvSource};
+use crate::pbr::{cache, env::Environment, Encoding, EnvRequest};
 use crate::{Error, Result};
 
 /// RGBM range: values up to 16 are stored, brighter ones clipped (documented).
@@ -64,25 +64,8 @@ impl IblState {
     }
 }
 
-/// The environment of a request as an image.
-pub fn environment(source: &EnvSource) -> Result<Environment> {
-    Ok(match source {
-        EnvSource::Builtin => Environment::builtin(),
-        EnvSource::Uniform(c) => Environment::uniform(*c),
-        EnvSource::File(p) => Environment::load(p)?,
-    })
-}
-
 /// Reads the maps from the disk cache or computes them; says which.
 pub fn load_or_compute(req: &EnvRequest) -> Result<(IblData, String)> {
-    if let EnvSource::File(p) = &req.source {
-        if !p.is_file() {
-            return Err(Error::Usage(format!(
-                "{}: no such environment file",
-                p.display()
-            )));
-        }
-    }
     let key = if req.cache {
         cache::key(&req.source, &req.settings)
     } else {
@@ -91,7 +74,7 @@ pub fn load_or_compute(req: &EnvRequest) -> Result<(IblData, String)> {
     if let Some(d) = key.and_then(cache::get) {
         return Ok((d, "disk cache".into()));
     }
-    let env = environment(&req.source)?;
+    let env = Environment::from_source(&req.source)?;
     let data = precompute::compute(&env, &req.settings);
     if let Some(k) = key {
         cache::put(k, &data);

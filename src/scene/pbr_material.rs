@@ -74,8 +74,9 @@ impl Material {
     /// The PBR values of this material. With `Pr`/`Pm` in the MTL, Kd is the base colour.
     /// A classic MTL is mapped: roughness from Ns ([`roughness_from_ns`]); metallic 1 where
     /// the specular colour is brighter than 0.5 and than the diffuse colour (a classic file's
-    /// way of writing metal: dark diffuse, bright specular), with Ks as the base colour; else
-    /// a dielectric (metallic 0, base colour Kd).
+    /// way of writing metal: dark diffuse, bright specular) and the material is not glass
+    /// (translucent, or illum 4, 6, 7), with Ks as the base colour; else a dielectric
+    /// (metallic 0, base colour Kd).
     pub fn pbr(&self) -> PbrValues {
         let p = &self.pbr_inputs;
         if p.metallic.is_some() || p.roughness.is_some() {
@@ -88,7 +89,10 @@ impl Material {
             };
         }
         let (ks, kd) = (luminance(self.specular), luminance(self.diffuse));
-        let metal = ks > 0.5 && ks > kd;
+        // Glass (translucent, or illum 4, 6, 7: refraction models) is a dielectric whatever
+        // its Ks says.
+        let glass = self.is_translucent() || matches!(self.illum, Some(4 | 6 | 7));
+        let metal = ks > 0.5 && ks > kd && !glass;
         PbrValues {
             base_color: if metal { self.specular } else { self.diffuse },
             metallic: if metal { 1.0 } else { 0.0 },

@@ -20,6 +20,25 @@ pub fn report(s: &Scene) -> String {
         lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
     );
     for m in &s.materials {
+        let p = m.pbr();
+        let _ = writeln!(
+            r,
+            "pbr: material {}: base colour ({:.3}, {:.3}, {:.3}), metallic {:.2}, roughness {:.3} ({})",
+            m.name,
+            p.base_color[0],
+            p.base_color[1],
+            p.base_color[2],
+            p.metallic,
+            p.roughness,
+            if p.source == "classic" {
+                "mapped from Kd/Ks/Ns"
+            } else {
+                "from Pr/Pm"
+            }
+        );
+        for (key, spec, what) in &m.pbr_inputs.maps {
+            let _ = writeln!(r, "pbr map: material {}: {key} {spec:?} -> {what}", m.name);
+        }
         if let Some(spec) = &m.diffuse_map_spec {
             match &m.diffuse_map {
                 Some(t) => {
