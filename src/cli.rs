@@ -109,7 +109,7 @@ pub struct Args {
     #[arg(long)]
     pub multiscatter: bool,
     /// PBR: number of roughness levels (specular cubes), 2..8.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u32).range(2..=8))]
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(2..=8))]
     pub ibl_levels: u32,
     /// PBR: face size of the sharpest specular cube.
     #[arg(long, default_value_t = 128, value_parser = clap::value_parser!(u32).range(8..=1024))]

@@ -8,6 +8,7 @@ pub mod knobs;
 pub mod load;
 pub mod load_report;
 pub mod metrics;
+pub mod pbr;
 pub mod plot;
 pub mod quality;
 pub mod scenes;
@@ -26,6 +27,12 @@ pub struct BenchArgs {
     /// Measure loading (parse, upload, time to PNG, memory) against f3d instead of quality.
     #[arg(long)]
     pub load: bool,
+    /// Measure the PBR tier's precomputation knobs against the Monte Carlo reference.
+    #[arg(long, conflicts_with = "load")]
+    pub pbr: bool,
+    /// With --pbr: Monte Carlo samples per lobe of the reference.
+    #[arg(long, default_value_t = 16384)]
+    pub pbr_samples: u32,
     #[command(flatten)]
     pub quality: QualityOptions,
     #[command(flatten)]
@@ -34,6 +41,13 @@ pub struct BenchArgs {
 
 /// Runs the benchmark `args` selects.
 pub fn run(args: &BenchArgs) -> crate::Result<()> {
+    if args.pbr {
+        let hdr = args
+            .quality
+            .models_dir
+            .join("../hdr/studio_small_03_1k.hdr");
+        return pbr::run_pbr(&args.quality.out_dir, &hdr, args.pbr_samples);
+    }
     if args.load {
         let mut opts = args.load_options.clone();
         // One --out-dir, --models-dir and --quick serve both benchmarks.

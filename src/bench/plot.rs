@@ -8,7 +8,7 @@ use std::path::Path;
 #[derive(Clone, Debug)]
 pub struct Point {
     pub label: String,
-    /// The knob group (off, size_pcf, bias, shading): decides the colour.
+    /// The knob group (off, size_pcf, bias, shading, pbr): decides the colour.
     pub group: &'static str,
     pub x: f64,
     pub y: f64,
@@ -33,6 +33,7 @@ pub fn pareto(points: &[(f64, f64)]) -> Vec<bool> {
 /// One chart: a y-axis title and its points.
 #[derive(Clone, Debug)]
 pub struct Panel {
+    pub x_title: String,
     pub y_title: String,
     pub points: Vec<Point>,
 }
@@ -72,6 +73,7 @@ fn colour(p: &Point) -> RGBColor {
         ("off", _) => RGBColor(0, 0, 0),
         ("bias", _) => RGBColor(127, 127, 127),
         ("shading", _) => RGBColor(140, 86, 75),
+        ("pbr", _) => RGBColor(23, 190, 207),
         (_, "1") => RGBColor(31, 119, 180),
         (_, "4") => RGBColor(44, 160, 44),
         (_, "9") => RGBColor(255, 127, 14),
@@ -87,6 +89,7 @@ const LEGEND: &[(&str, RGBColor)] = &[
     ("bias (2048/4)", RGBColor(127, 127, 127)),
     ("Gouraud (2048/4)", RGBColor(140, 86, 75)),
     ("shadows off", RGBColor(0, 0, 0)),
+    ("PBR precompute setting", RGBColor(23, 190, 207)),
 ];
 
 /// Draws the panels in a grid of two columns: x = mean frame time, the Pareto front as a red
@@ -125,7 +128,7 @@ fn draw(buf: &mut [u8], size: (u32, u32), title: &str, panels: &[Panel]) -> Draw
     let cols = panels.len().clamp(1, 2);
     let areas = root.split_evenly((panels.len().div_ceil(cols).max(1), cols));
     for (area, p) in areas.iter().zip(panels) {
-        panel(area, &p.y_title, &p.points)?;
+        panel(area, &p.x_title, &p.y_title, &p.points)?;
     }
     root.present()?;
     Ok(())
@@ -133,6 +136,7 @@ fn draw(buf: &mut [u8], size: (u32, u32), title: &str, panels: &[Panel]) -> Draw
 
 fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
+    xtitle: &str,
     ytitle: &str,
     points: &[Point],
 ) -> DrawResult
@@ -153,7 +157,7 @@ where
         .build_cartesian_2d(xmin..xmax, 0.0..ymax)?;
     chart
         .configure_mesh()
-        .x_desc("frame time with the shadow pass (ms), mean over scenes")
+        .x_desc(xtitle)
         .y_desc(ytitle)
         .label_style((FONT, 15))
         .axis_desc_style((FONT, 16))

@@ -305,6 +305,7 @@ pub fn write_outputs(dir: &Path, report: &Report) -> Result<()> {
     let panels: Vec<Panel> = MEASURES
         .iter()
         .map(|(title, f)| Panel {
+            x_title: "frame time with the shadow pass (ms), mean over scenes".into(),
             y_title: format!("{title}, mean over scenes"),
             points: report
                 .summary

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 const MAGIC: &[u8] = b"glview-ibl 1\n";
 /// Bumped whenever the precomputation's algorithm changes what it writes: part of the key.
-const ALGORITHM: &str = "precompute-2";
+const ALGORITHM: &str = "precompute-3";
 
 #[derive(serde::Serialize, serde::Deserialize)]
 struct Header {

@@ -71,8 +71,10 @@ pub fn load_or_compute(req: &EnvRequest) -> Result<(IblData, String)> {
     } else {
         None
     };
+    let start = std::time::Instant::now();
     if let Some(d) = key.and_then(cache::get) {
-        return Ok((d, "disk cache".into()));
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        return Ok((d, format!("disk cache, read in {ms:.0} ms")));
     }
     let env = Environment::from_source(&req.source)?;
     let data = precompute::compute(&env, &req.settings);

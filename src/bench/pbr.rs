@@ -1,0 +1,244 @@
+//! `glview bench --pbr`: every knob of the PBR tier's precomputation as cost (CPU
+//! precompute time, frame time) against error (mean linear difference from the Monte Carlo
+//! reference on spheres lit by the shared studio HDR, over four materials). Writes
+//! `pbr.csv`, `pbr.json` and `pbr.png` (error against precompute time, Pareto front in red,
+//! default ringed).
+use super::plot::{self, Panel, Point};
+use super::table::{csv_line, num, Table};
+use super::{ensure_dir, median, write_file};
+use crate::cli::Args;
+use crate::headless::Headless;
+use crate::image_out::Rgba;
+use crate::pbr::env::Environment;
+use crate::pbr::precompute::IblSettings;
+use crate::pbr::{srgb_decode, Encoding, EnvRequest, EnvSource};
+use crate::platform::{Backend, GlRequest};
+use crate::reference::{render_env_with_info, PbrEnv};
+use crate::render::Renderer;
+use crate::Result;
+use clap::Parser;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+/// One setting of the precomputation.
+struct Knob {
+    label: String,
+    settings: IblSettings,
+    encoding: Encoding,
+    extra: &'static [&'static str],
+}
+
+fn knobs() -> Vec<Knob> {
+    let d = IblSettings::default();
+    let k = |label: &str, settings: IblSettings| Knob {
+        label: label.into(),
+        settings,
+        encoding: Encoding::Float,
+        extra: &[],
+    };
+    let mut v = vec![k("default", d)];
+    for levels in [3, 4, 5, 8] {
+        v.push(k(&format!("levels {levels}"), IblSettings { levels, ..d }));
+    }
+    for specular_size in [32, 64, 256] {
+        v.push(k(
+            &format!("specular {specular_size}"),
+            IblSettings { specular_size, ..d },
+        ));
+    }
+    for samples in [16, 32, 64, 512] {
+        v.push(k(
+            &format!("samples {samples}"),
+            IblSettings { samples, ..d },
+        ));
+    }
+    for lut_size in [16, 32, 128] {
+        v.push(k(&format!("lut {lut_size}"), IblSettings { lut_size, ..d }));
+    }
+    for irradiance_size in [8, 16, 64] {
+        v.push(k(
+            &format!("irradiance {irradiance_size}"),
+            IblSettings {
+                irradiance_size,
+                ..d
+            },
+        ));
+    }
+    v.push(Knob {
+        encoding: Encoding::Rgbm,
+        ..k("rgbm", d)
+    });
+    v.push(Knob {
+        extra: &["--dominant-direction"],
+        ..k("dominant direction", d)
+    });
+    v.push(Knob {
+        extra: &["--multiscatter"],
+        ..k("multiscatter", d)
+    });
+    v
+}
+
+/// The materials the error is averaged over: (metallic, roughness).
+const MATERIALS: &[(&str, &str)] = &[("1", "0.25"), ("1", "0.5"), ("1", "0.75"), ("0", "0.5")];
+const SIZE: u32 = 128;
+
+fn args_for(hdr: &Path, metallic: &str, rough: &str, extra: &[&str]) -> Vec<String> {
+    let mut a: Vec<String> = [
+        "glview",
+        "models/sphere.obj",
+        "--shading",
+        "pbr",
+        "--light",
+        "none",
+        "--tonemap",
+        "none",
+        "--exposure",
+        "-1",
+        "--background",
+        "1,0,1",
+        "--metallic",
+        metallic,
+        "--roughness",
+        rough,
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    a.push("--env".into());
+    a.push(hdr.display().to_string());
+    a.push("--size".into());
+    a.push(format!("{SIZE}x{SIZE}"));
+    a.extend(extra.iter().map(|s| s.to_string()));
+    a
+}
+
+fn linear_error(gpu: &Rgba, reference: &Rgba, hit: &[bool]) -> f64 {
+    let lin = |p: &[u8]| [0, 1, 2].map(|i| srgb_decode(f64::from(p[i]) / 255.0));
+    let (mut sum, mut n) = (0.0, 0usize);
+    for ((a, b), &h) in gpu
+        .data
+        .chunks_exact(4)
+        .zip(reference.data.chunks_exact(4))
+        .zip(hit)
+    {
+        if h {
+            let (la, lb) = (lin(a), lin(b));
+            sum += (0..3).map(|i| (la[i] - lb[i]).abs()).fold(0.0, f64::max);
+            n += 1;
+        }
+    }
+    sum / n.max(1) as f64
+}
+
+/// Runs the PBR bench with `samples` Monte Carlo samples per lobe for the reference.
+pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
+    ensure_dir(out_dir)?;
+    let env = Arc::new(Environment::load(hdr)?);
+    let hl = Headless::new(Backend::Auto, GlRequest::Auto, SIZE, SIZE)?;
+    eprintln!("bench --pbr: references ({samples} samples per lobe) ...");
+    let mut references = Vec::new();
+    for (m, r) in MATERIALS {
+        let args = Args::parse_from(args_for(hdr, m, r, &[]));
+        let scene = crate::run::load_scene(&args)?;
+        let (settings, _) = crate::run::frame_settings(&args, &scene)?;
+        let pe = PbrEnv {
+            env: env.clone(),
+            samples,
+        };
+        let (img, info) = render_env_with_info(&scene, &settings, Some(&pe), SIZE, SIZE);
+        let hit: Vec<bool> = info.iter().map(|i| i.hit()).collect();
+        references.push((scene, img, hit));
+    }
+    let mut table = Table::new(&[
+        "setting",
+        "precompute ms",
+        "frame ms",
+        "mean error",
+        "r 0.25",
+        "r 0.5",
+        "r 0.75",
+        "dielectric",
+    ]);
+    let mut csv = vec![csv_line(
+        &[
+            "setting",
+            "precompute_ms",
+            "frame_ms",
+            "mean_error",
+            "e_m1_r025",
+            "e_m1_r05",
+            "e_m1_r075",
+            "e_m0_r05",
+        ]
+        .map(String::from),
+    )];
+    let mut points = Vec::new();
+    let mut json = Vec::new();
+    for knob in knobs() {
+        let req = EnvRequest {
+            source: EnvSource::File(hdr.into()),
+            settings: knob.settings,
+            encoding: knob.encoding,
+            cache: false,
+        };
+        // Precompute time: the median of three cold runs.
+        let times: Vec<f64> = (0..3)
+            .map(|_| {
+                let t = Instant::now();
+                let _ = crate::pbr::precompute::compute(&env, &knob.settings);
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        let mut errors = Vec::new();
+        let mut frame_ms = Vec::new();
+        for ((m, r), (scene, reference, hit)) in MATERIALS.iter().zip(&references) {
+            let args = Args::parse_from(args_for(hdr, m, r, knob.extra));
+            let (settings, _) = crate::run::frame_settings(&args, scene)?;
+            let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
+            renderer.set_environment(req.clone());
+            renderer.render(&settings, &hl.target())?;
+            for _ in 0..5 {
+                frame_ms.push(renderer.render(&settings, &hl.target())?.ms);
+            }
+            let img = hl.read();
+            errors.push(linear_error(&img, reference, hit));
+        }
+        let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+        let (pre, frame) = (median(&times), median(&frame_ms));
+        let mut cells = vec![knob.label.clone(), num(pre, 0), num(frame, 2), num(mean, 4)];
+        cells.extend(errors.iter().map(|e| num(*e, 4)));
+        table.row(cells.clone());
+        csv.push(csv_line(&cells));
+        json.push(serde_json::json!({"setting": knob.label, "precompute_ms": pre, "frame_ms": frame, "mean_error": mean, "errors": errors}));
+        points.push(Point {
+            label: knob.label.clone(),
+            group: "pbr",
+            x: pre,
+            y: mean,
+            default: knob.label == "default",
+        });
+        eprintln!(
+            "  {}: precompute {pre:.0} ms, frame {frame:.2} ms, error {mean:.4}",
+            knob.label
+        );
+    }
+    println!("{}", table.render());
+    write_file(&out_dir.join("pbr.csv"), &(csv.join("\n") + "\n"))?;
+    write_file(
+        &out_dir.join("pbr.json"),
+        &serde_json::to_string_pretty(&json).unwrap_or_default(),
+    )?;
+    plot::error_vs_time(
+        &out_dir.join("pbr.png"),
+        "PBR tier: precomputation knobs against the Monte Carlo reference (studio HDR)",
+        &[Panel {
+            x_title: "CPU precompute time (ms), median of 3".into(),
+            y_title: "mean linear error on the spheres".into(),
+            points,
+        }],
+    )?;
+    eprintln!("wrote {}", out_dir.join("pbr.{csv,json,png}").display());
+    Ok(())
+}
