@@ -1,6 +1,9 @@
 // Legacy tier: colour = Ke + Ka*ambient + sum of visibility * (Kd*Lc*diffuse + Ks*Lc*spec),
 // clamped; a texture multiplies Ka and Kd. Back faces use the flipped normal.
 IN vec3 vEyePos;
+#ifdef LOG_DEPTH
+#include "logdepth.glsl"
+#endif
 IN vec2 vUv;
 IN vec3 vNormal;
 #if NUM_LIGHTS > 0
@@ -66,4 +69,7 @@ void main() {
     }
 #endif
     FRAG_COLOR = vec4(glviewOutput(color), uOpacity);
+#ifdef LOG_DEPTH
+    glviewLogDepth();
+#endif
 }

@@ -9,6 +9,9 @@ uniform mat4 uProjection;
 uniform mat3 uNormalMatrix;
 
 OUT vec3 vEyePos;
+#ifdef LOG_DEPTH
+OUT float vClipW;   // for the logarithmic depth written per fragment
+#endif
 OUT vec2 vUv;
 OUT vec3 vNormal;   // also used by Gouraud: the shadow lookup is offset along it
 #ifdef GOURAUD
@@ -35,4 +38,7 @@ void main() {
 #endif
     vNormal = n;
     gl_Position = uProjection * eye;
+#ifdef LOG_DEPTH
+    vClipW = gl_Position.w;
+#endif
 }

@@ -3,6 +3,9 @@
 //      + sum_i vis_i * Lc_i * (k_d + pi * D*G*F / (4 N.L N.V)) * N.L
 // k_d = albedo*(1 - f0)*(1 - metallic), k_s = mix(f0, albedo, metallic), f0 = 0.04.
 IN vec3 vEyePos;
+#ifdef LOG_DEPTH
+#include "logdepth.glsl"
+#endif
 IN vec2 vUv;
 IN vec3 vNormal;
 #ifdef HAS_NORMAL_MAP
@@ -136,4 +139,7 @@ void main() {
     }
 #endif
     FRAG_COLOR = vec4(glviewOutput(color), uOpacity);
+#ifdef LOG_DEPTH
+    glviewLogDepth();
+#endif
 }

@@ -11,6 +11,9 @@ uniform mat4 uProjection;
 uniform mat3 uNormalMatrix;
 
 OUT vec3 vEyePos;
+#ifdef LOG_DEPTH
+OUT float vClipW;   // for the logarithmic depth written per fragment
+#endif
 OUT vec2 vUv;
 OUT vec3 vNormal;
 #ifdef HAS_NORMAL_MAP
@@ -26,4 +29,7 @@ void main() {
     vTangent = vec4(uNormalMatrix * aTangent.xyz, aTangent.w);
 #endif
     gl_Position = uProjection * eye;
+#ifdef LOG_DEPTH
+    vClipW = gl_Position.w;
+#endif
 }

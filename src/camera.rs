@@ -17,6 +17,8 @@ pub struct OrbitCamera {
     pub fov_y_deg: f32,
     /// Orthographic view of this height, if set.
     pub ortho_height: Option<f32>,
+    /// `--near`: a fixed near plane instead of the one fitted to the bounds.
+    pub near: Option<f32>,
 }
 
 /// Camera input, independent of any windowing library.
@@ -42,6 +44,7 @@ impl OrbitCamera {
             pitch_deg: 0.0,
             fov_y_deg,
             ortho_height: None,
+            near: None,
         };
         c.distance = c.fit_distance(bounds, aspect);
         c
@@ -81,6 +84,9 @@ impl OrbitCamera {
         let far = (d + r) * 1.01;
         if self.ortho_height.is_some() {
             return (d - r * 1.01, far);
+        }
+        if let Some(n) = self.near.filter(|n| *n > 0.0 && *n < far) {
+            return (n, far);
         }
         let inside = (far * 1e-4).min(self.distance * 0.1).max(far * 1e-7);
         let near = (d - r * 1.01).max(inside);

@@ -13,6 +13,13 @@ pub enum Diffuse {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DepthMode {
+    Standard,
+    /// The seed's logarithmic depth (2.10), C = 1.
+    Log,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Show {
     /// The lit scene.
     Scene,
@@ -127,6 +134,26 @@ pub struct Args {
     /// it, else RGBM).
     #[arg(long, value_enum, default_value_t = crate::pbr::Encoding::Auto)]
     pub ibl_encoding: crate::pbr::Encoding,
+    /// Translucent surfaces: the nearest layer only (two passes, depth EQUAL, stencil-masked
+    /// background), or whole meshes sorted back to front (the legacy behaviour).
+    #[arg(long, value_enum, default_value_t = crate::frame::TranslucencyMode::Nearest)]
+    pub translucency: crate::frame::TranslucencyMode,
+    /// Blend formula of translucent layers: alpha (α·src + (1 − α)·dst) or add (α·src + dst).
+    #[arg(long, value_enum, default_value_t = crate::frame::BlendFormula::Alpha)]
+    pub blend: crate::frame::BlendFormula,
+    /// Opacity 0..1 for every translucent material (the `[` and `]` keys change it).
+    #[arg(long)]
+    pub opacity: Option<f32>,
+    /// Make these materials or objects/groups translucent (opacity 0.3 unless --opacity), to
+    /// look at what is inside; repeatable or comma-separated.
+    #[arg(long, value_delimiter = ',')]
+    pub xray: Vec<String>,
+    /// Depth buffer mapping: standard, or logarithmic (gl_FragDepth) for huge near/far ratios.
+    #[arg(long, value_enum, default_value_t = DepthMode::Standard)]
+    pub depth: DepthMode,
+    /// A fixed near plane (default: fitted to the model's bounds).
+    #[arg(long)]
+    pub near: Option<f32>,
     /// PBR with --reference: Monte Carlo samples per lobe and pixel.
     #[arg(long, default_value_t = crate::reference::pbr::DEFAULT_SAMPLES)]
     pub reference_samples: u32,

@@ -75,3 +75,52 @@ pub struct FrameSettings {
     /// Draw light 0's depth map instead of the scene (teaching view).
     pub show_shadow_map: bool,
 }
+
+/// How translucent surfaces (`d` < 1 or `Tr` > 0) are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
+pub enum TranslucencyMode {
+    /// The second seed document's technique: translucent surfaces into depth only, then again
+    /// with depth test EQUAL and blending, so only the nearest translucent layer of each
+    /// pixel blends over what lies behind; independent of draw order; the background is
+    /// drawn afterwards only where the stencil says nothing was.
+    Nearest,
+    /// Whole meshes sorted back to front by their centres and blended, back faces first
+    /// (the legacy behaviour, kept for comparison).
+    Sorted,
+}
+
+/// How a translucent layer combines with what lies behind it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
+pub enum BlendFormula {
+    /// C = α·C_src + (1 − α)·C_dst (the seed's 2.7)
+    Alpha,
+    /// C = α·C_src + C_dst (the seed's 2.9)
+    Add,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Translucency {
+    pub mode: TranslucencyMode,
+    pub blend: BlendFormula,
+    /// `--opacity`: overrides every translucent material's opacity.
+    pub opacity: Option<f32>,
+    /// Logarithmic depth (the seed's 2.10), written through gl_FragDepth.
+    pub log_depth: bool,
+}
+
+impl Default for Translucency {
+    /// The library default is the legacy frame (sorted); the command line's is `nearest`.
+    fn default() -> Self {
+        Translucency {
+            mode: TranslucencyMode::Sorted,
+            blend: BlendFormula::Alpha,
+            opacity: None,
+            log_depth: false,
+        }
+    }
+}
+
+/// The calibration constant C of the logarithmic depth
+/// z_ndc = 2·ln(C·w + 1)/ln(C·far + 1) − 1: C = 1 keeps the relative depth step near
+/// ln(C·far)/2²⁴ everywhere beyond w = 1/C (the seed's choice for a planet-sized range).
+pub const LOG_DEPTH_C: f32 = 1.0;

@@ -112,6 +112,16 @@ impl Headless {
         }
     }
 
+    /// Stencil bits of the render target: OSMesa's buffer has 8; the EGL target's
+    /// renderbuffer is depth24-stencil8 where the driver has packed depth-stencil.
+    pub fn stencil_bits(&self) -> u32 {
+        match self.platform {
+            Platform::OsMesa(_) => 8,
+            Platform::Egl(_) if self.gpu.caps.depth_stencil => 8,
+            Platform::Egl(_) => 0,
+        }
+    }
+
     pub fn backend_name(&self) -> &'static str {
         match self.platform {
             Platform::Egl(_) => "egl",

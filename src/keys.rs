@@ -14,6 +14,8 @@ pub enum Action {
     ToggleWrap,
     /// 0 = ambient, 1 = diffuse, 2 = specular.
     ToggleTerm(u8),
+    /// Translucent opacity down / up by 0.1 (`[`, `]`).
+    Opacity(i8),
     Screenshot,
     Help,
     Quit,
@@ -61,6 +63,8 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
         Action::ToggleWrap,
         "half-Lambert (wrap) diffuse on/off",
     ),
+    (&["["], Action::Opacity(-1), "translucent opacity −0.1"),
+    (&["]"], Action::Opacity(1), "translucent opacity +0.1"),
     (&["1"], Action::ToggleTerm(0), "ambient term on/off"),
     (&["2"], Action::ToggleTerm(1), "diffuse term on/off"),
     (&["3"], Action::ToggleTerm(2), "specular term on/off"),
@@ -72,6 +76,9 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     (&["H", "F1"], Action::Help, "print this key table"),
     (&["Escape", "Esc", "Q"], Action::Quit, "quit"),
 ];
+
+/// Where `[` and `]` start when no `--opacity` was given.
+pub const DEFAULT_KEY_OPACITY: f32 = 0.5;
 
 /// Looks up a key by name (case-insensitive for letters).
 pub fn action_for(name: &str) -> Option<Action> {
@@ -134,6 +141,11 @@ pub fn apply(
         }
         Action::CycleShading => s.shading = s.shading.next(),
         Action::ToggleWrap => s.lighting.wrap = !s.lighting.wrap,
+        Action::Opacity(step) => {
+            let t = &mut s.lighting.translucency;
+            let now = t.opacity.unwrap_or(DEFAULT_KEY_OPACITY);
+            t.opacity = Some((now + 0.1 * f32::from(step)).clamp(0.0, 1.0));
+        }
         Action::ToggleTerm(t) => {
             let terms = &mut s.lighting.terms;
             let b = match t {

@@ -3,6 +3,7 @@
 use crate::camera::OrbitCamera;
 use crate::cli::{Args, Diffuse, Show};
 use crate::error::{Error, Result};
+use crate::frame::Translucency;
 use crate::frame::{FrameSettings, ShadowSettings};
 use crate::keys::{self, Effect};
 use crate::light::{parse_vec3, LightSpec, MAX_LIGHTS};
@@ -70,6 +71,15 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
             Err(_) => b.finish_and_clear(),
         }
     }
+    let scene = match scene {
+        Ok(mut s) if !args.xray.is_empty() => {
+            let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
+            s.xray(&args.xray, opacity.clamp(0.0, 1.0))
+                .map_err(Error::Usage)?;
+            Ok(s)
+        }
+        other => other,
+    };
     // One warning line per problem worked around; `--check` lists them in its report instead.
     if let (Ok(s), false) = (&scene, args.check) {
         for w in &s.warnings {
@@ -106,6 +116,12 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
             return Err(Error::Usage(format!("--distance {d} must be positive")));
         }
         camera.distance = d;
+    }
+    if let Some(n) = args.near {
+        if !(n.is_finite() && n > 0.0) {
+            return Err(Error::Usage(format!("--near {n} must be positive")));
+        }
+        camera.near = Some(n);
     }
     if let Some(h) = args.ortho {
         if !(h.is_finite() && h > 0.0) {
@@ -185,6 +201,12 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
             output: OutputParams {
                 exposure_ev: args.exposure,
                 tonemap: args.tonemap,
+            },
+            translucency: Translucency {
+                mode: args.translucency,
+                blend: args.blend,
+                opacity: unit(args.opacity, "--opacity")?,
+                log_depth: args.depth == crate::cli::DepthMode::Log,
             },
             ..Default::default()
         },
@@ -438,6 +460,11 @@ pub fn compile_shaders(args: &Args) -> Result<()> {
 /// `glview --info`: what the driver gave.
 pub fn print_info(args: &Args) -> Result<()> {
     let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
-    println!("backend: {}\n{}", hl.backend_name(), hl.gpu.caps.report());
+    println!(
+        "backend: {}\n{}\nstencil bits (render target): {}",
+        hl.backend_name(),
+        hl.gpu.caps.report(),
+        hl.stencil_bits()
+    );
     Ok(())
 }

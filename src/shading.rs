@@ -64,6 +64,8 @@ pub struct LightingParams {
     pub pbr_terms: PbrTerms,
     /// The PBR tier's output step (the legacy tier's output is the fixed-function clamp).
     pub output: crate::pbr::OutputParams,
+    /// How translucent surfaces are drawn (both tiers).
+    pub translucency: crate::frame::Translucency,
 }
 
 impl Default for LightingParams {
@@ -75,6 +77,7 @@ impl Default for LightingParams {
             pbr: Default::default(),
             pbr_terms: Default::default(),
             output: Default::default(),
+            translucency: Default::default(),
         }
     }
 }

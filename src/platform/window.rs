@@ -55,7 +55,8 @@ fn api_of(request: GlRequest) -> Api {
 }
 
 /// A single-sampled config (so a screenshot matches a headless render) with a 24-bit depth
-/// buffer that can run one of the candidates, preferring one that runs them all.
+/// buffer (and preferably 8 stencil bits) that can run one of the candidates, preferring one
+/// that runs them all.
 fn pick_config(display: &Display, candidates: &[GlRequest]) -> Result<Config, String> {
     // An empty API set lets EGL list desktop-GL-only and ES-only configs alike.
     let template = ConfigTemplateBuilder::new()
@@ -78,7 +79,8 @@ fn pick_config(display: &Display, candidates: &[GlRequest]) -> Result<Config, St
             c.num_samples() == 0,
             c.depth_size() == 24,
             c.alpha_size() == 0,
-            c.stencil_size() == 0,
+            // A stencil buffer for the nearest-layer translucency's background mask.
+            c.stencil_size() >= 8,
         )
     };
     configs

@@ -227,11 +227,29 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
     // EDGE_SLACK); the rasterizer's fill rule draws such a point once.
     sc.layers
         .dedup_by(|a, b| a.tri.mesh == b.tri.mesh && (a.t - b.t).abs() <= 1e-12 * b.t.abs());
+    let tr = &ctx.settings.lighting.translucency;
+    let nearest = tr.mode == crate::frame::TranslucencyMode::Nearest
+        && ctx.scene.materials.iter().any(|m| m.is_translucent());
+    if nearest {
+        // The nearest layer only, over the opaque surface or, where there is none, over
+        // black: the background is drawn afterwards where nothing was (render/translucent.rs).
+        if opaque.is_none() && !sc.layers.is_empty() {
+            color = DVec3::ZERO;
+        }
+        let keep = sc.layers.len().saturating_sub(1);
+        sc.layers.drain(..keep);
+    }
     for hit in &sc.layers {
         let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
-        let alpha = f64::from(ctx.scene.materials[mesh.material].opacity);
+        let alpha = f64::from(
+            tr.opacity
+                .unwrap_or(ctx.scene.materials[mesh.material].opacity),
+        );
         let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);
-        color = s.color * alpha + color * (1.0 - alpha);
+        color = match tr.blend {
+            crate::frame::BlendFormula::Alpha => s.color * alpha + color * (1.0 - alpha),
+            crate::frame::BlendFormula::Add => s.color * alpha + color,
+        };
         record(hit, s.shadowed, &mut info);
         info.layers += 1;
     }

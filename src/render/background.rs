@@ -1,13 +1,19 @@
 //! Pass "background": in the PBR tier, the environment behind the model (a full-screen quad at
 //! the far plane reading one specular level: sharp, or blurred with `--env-blur`). Otherwise
-//! the lit pass clears to the background colour and this pass does not run.
+//! the lit pass clears to the background colour and this pass does not run. With
+//! nearest-layer translucency the background is drawn after the model instead, only where
+//! the stencil is not 1 ([`fill_unmarked`]).
 use super::{FrameCx, Outcome, Pass, Shading};
-use crate::gpu::state::{DepthFunc, RenderState};
+use crate::gpu::state::{DepthFunc, RenderState, Stencil, StencilFunc};
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::Mat3;
 
 pub(crate) struct Background;
+
+pub(crate) fn fill_key() -> ProgramKey {
+    ProgramKey::new("fill", "show_depth.vert", "fill.frag")
+}
 
 pub(crate) fn skybox_key(rgbm: bool, tonemap: i32) -> ProgramKey {
     ProgramKey::new("skybox", "skybox.vert", "skybox.frag")
@@ -35,39 +41,86 @@ impl Pass for Background {
         if !pbr.skybox {
             return Ok(Outcome::Skipped("--background colour".into()));
         }
-        let ibl = cx.res.ibl.ensure(cx.gpu)?;
-        let rgbm = ibl.rgbm;
-        let n = ibl.specular.len();
-        let level =
-            ((pbr.skybox_blur.clamp(0.0, 1.0) * (n - 1) as f32).round() as usize).min(n - 1);
-        ibl.specular[level].bind(SKY_UNIT);
-        cx.stats.textures_bound += 1;
-        let key = skybox_key(rgbm, s.lighting.output.tonemap.code());
-        let program = cx.program(&key)?;
-        program.bind();
-        let view = s.camera.view();
-        let proj = s.camera.projection(&cx.scene.scene.bounds, cx.aspect());
-        program.set_mat4("uInvProjection", &proj.inverse());
-        program.set_mat3("uEnvFromEye", &Mat3::from_mat4(view).transpose());
-        program.set_i32("uSky", SKY_UNIT as i32);
-        program.set_f32("uIblIntensity", pbr.ibl_intensity);
-        program.set_f32("uExposure", 2f32.powf(s.lighting.output.exposure_ev));
+        if super::translucent::masked(cx) {
+            return Ok(Outcome::Skipped(
+                "drawn after the translucent surfaces, where the stencil is not 1".into(),
+            ));
+        }
         cx.bind_target();
         cx.clear(Some(s.background.to_array()));
+        draw_skybox(
+            cx,
+            RenderState {
+                depth: Some(DepthFunc::LessEqual),
+                depth_write: false,
+                ..Default::default()
+            },
+        )
+        .map(Outcome::Ran)
+    }
+}
+
+/// The background where the stencil is not 1 (nothing was drawn there): the environment in
+/// the PBR tier with a skybox, else the background colour. Depth is not tested: the stencil
+/// alone decides, so the depth range need not hold the background.
+pub(crate) fn fill_unmarked(cx: &mut FrameCx) -> Result<()> {
+    let state = RenderState {
+        depth: None,
+        depth_write: false,
+        stencil: Some(Stencil {
+            func: StencilFunc::NotEqual,
+            reference: 1,
+            write: false,
+        }),
+        ..Default::default()
+    };
+    let s = cx.settings;
+    if s.shading == Shading::Pbr && s.lighting.pbr.skybox {
+        draw_skybox(cx, state)?;
+    } else {
+        let program = cx.program(&fill_key())?;
+        program.bind();
+        program.set_vec3("uColor", s.background);
         cx.quad()?;
-        // At the far plane (z = 1): LEQUAL against the cleared depth of 1 passes, and the
-        // model drawn afterwards with LESS covers it.
-        cx.gpu.apply(&RenderState {
-            depth: Some(DepthFunc::LessEqual),
-            depth_write: false,
-            ..Default::default()
-        });
+        cx.gpu.apply(&state);
         if let Some(q) = &cx.res.quad {
             q.draw();
         }
         cx.stats.draw_calls += 1;
-        cx.gpu.apply(&RenderState::default());
-        cx.res.background_drawn = true;
-        Ok(Outcome::Ran(format!("background(env level {level})")))
     }
+    cx.gpu.apply(&RenderState::default());
+    Ok(())
+}
+
+/// The environment over the frame with `state`; returns the `passes` entry.
+fn draw_skybox(cx: &mut FrameCx, state: RenderState) -> Result<String> {
+    let s = cx.settings;
+    let pbr = &s.lighting.pbr;
+    let ibl = cx.res.ibl.ensure(cx.gpu)?;
+    let rgbm = ibl.rgbm;
+    let n = ibl.specular.len();
+    let level = ((pbr.skybox_blur.clamp(0.0, 1.0) * (n - 1) as f32).round() as usize).min(n - 1);
+    ibl.specular[level].bind(SKY_UNIT);
+    cx.stats.textures_bound += 1;
+    let key = skybox_key(rgbm, s.lighting.output.tonemap.code());
+    let program = cx.program(&key)?;
+    program.bind();
+    let view = s.camera.view();
+    let proj = s.camera.projection(&cx.scene.scene.bounds, cx.aspect());
+    program.set_mat4("uInvProjection", &proj.inverse());
+    program.set_mat3("uEnvFromEye", &Mat3::from_mat4(view).transpose());
+    program.set_i32("uSky", SKY_UNIT as i32);
+    program.set_f32("uIblIntensity", pbr.ibl_intensity);
+    program.set_f32("uExposure", 2f32.powf(s.lighting.output.exposure_ev));
+    cx.quad()?;
+    // At the far plane (z = 1): LEQUAL against the cleared depth of 1 passes, and the
+    // model drawn afterwards with LESS covers it.
+    cx.gpu.apply(&state);
+    if let Some(q) = &cx.res.quad {
+        q.draw();
+    }
+    cx.stats.draw_calls += 1;
+    cx.gpu.apply(&RenderState::default());
+    cx.res.background_drawn = true;
+    Ok(format!("background(env level {level})"))
 }

@@ -6,7 +6,7 @@
 use super::frusta::ShadowProjection;
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::program::Program;
-use crate::gpu::state::{Blend, Cull, RenderState};
+use crate::gpu::state::RenderState;
 use crate::light::LightKind;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
@@ -143,6 +143,11 @@ impl View {
     /// Camera, light and shadow uniforms (once per program per frame: a program keeps them).
     pub fn set_uniforms(&self, p: &Program, cx: &FrameCx) {
         let s = cx.settings;
+        if s.lighting.translucency.log_depth {
+            let (_, far) = s.camera.near_far(&cx.scene.scene.bounds);
+            p.set_f32("uLogDepthC", crate::frame::LOG_DEPTH_C);
+            p.set_f32("uLogDepthFar", far);
+        }
         p.set_mat4("uModelView", &self.view);
         p.set_mat4("uProjection", &self.proj);
         p.set_mat3("uNormalMatrix", &self.normal_matrix);
@@ -188,38 +193,13 @@ impl View {
     }
 }
 
-/// Draws mesh `i`: opaque once; translucent back faces first, then front faces.
-pub(crate) fn draw_mesh(cx: &mut FrameCx, i: usize, state: &RenderState) {
+/// One draw call of mesh `i` with `state`.
+pub(crate) fn draw_once(cx: &mut FrameCx, i: usize, state: &RenderState) {
     let dm = &cx.scene.meshes[i];
-    if dm.translucent {
-        for face in [Cull::Front, Cull::Back] {
-            cx.gpu.apply(&RenderState {
-                cull: face,
-                ..*state
-            });
-            dm.mesh.draw();
-            cx.stats.draw_calls += 1;
-            cx.stats.triangles += dm.triangles;
-        }
-    } else {
-        cx.gpu.apply(state);
-        dm.mesh.draw();
-        cx.stats.draw_calls += 1;
-        cx.stats.triangles += dm.triangles;
-    }
-}
-
-/// Opaque meshes draw with the default state; translucent ones blend without depth writes.
-pub(crate) fn mesh_state(translucent: bool) -> RenderState {
-    if translucent {
-        RenderState {
-            blend: Blend::Alpha,
-            depth_write: false,
-            ..Default::default()
-        }
-    } else {
-        RenderState::default()
-    }
+    cx.gpu.apply(state);
+    dm.mesh.draw();
+    cx.stats.draw_calls += 1;
+    cx.stats.triangles += dm.triangles;
 }
 
 impl Pass for Lit {
@@ -234,54 +214,73 @@ impl Pass for Lit {
         }
         let v = View::new(cx);
         cx.bind_target();
-        if !cx.res.background_drawn {
-            cx.clear(Some(s.background.to_array()));
-        }
-        let (order, _) = v.draw_order(cx);
-        let mut bound_texture = None;
-        let mut uniforms_set: Vec<ProgramKey> = Vec::new();
-        for &i in &order {
-            let (texture, material, translucent) = {
-                let dm = &cx.scene.meshes[i];
-                (dm.texture, dm.material, dm.translucent)
-            };
-            let key = program_key(
-                v.lights,
-                v.shadows,
-                s.shadows.pcf,
-                v.cube_mask,
-                texture.is_some(),
-                s.shading == Shading::Gouraud,
-            );
-            let program = cx.program(&key)?;
-            program.bind();
-            // A program keeps its uniforms: the per-frame ones are set once per program per
-            // frame, only the material changes from mesh to mesh.
-            if !uniforms_set.contains(&key) {
-                uniforms_set.push(key);
-                v.set_uniforms(&program, cx);
-                set_legacy_uniforms(&program, cx);
-            }
-            let mat = &cx.scene.scene.materials[material];
-            program.set_vec3("uKa", Vec3::from(mat.ambient));
-            program.set_vec3("uKd", Vec3::from(mat.diffuse));
-            program.set_vec3("uKs", Vec3::from(mat.specular));
-            program.set_vec3("uKe", Vec3::from(mat.emissive));
-            program.set_f32("uNs", mat.shininess);
-            program.set_f32("uOpacity", mat.opacity);
-            if let Some(t) = texture {
-                if bound_texture != Some(t) {
-                    cx.scene.textures[t].bind(0);
-                    bound_texture = Some(t);
-                    cx.stats.textures_bound += 1;
-                }
-                program.set_i32("uDiffuseMap", 0);
-            }
-            draw_mesh(cx, i, &mesh_state(translucent));
-        }
-        cx.gpu.apply(&RenderState::default());
+        super::translucent::clear(cx);
+        let (order, first) = v.draw_order(cx);
+        super::translucent::draw_frame(cx, &order, first, &mut |cx, meshes, states| {
+            draw(cx, &v, meshes, states)
+        })?;
         Ok(Outcome::Ran("lit".into()))
     }
+}
+
+/// Draws `meshes` with the legacy programs; `states` gives each mesh's draws (one render
+/// state per draw call, by whether the mesh is translucent).
+pub(crate) fn draw(
+    cx: &mut FrameCx,
+    v: &View,
+    meshes: &[usize],
+    states: &dyn Fn(bool) -> Vec<RenderState>,
+) -> Result<()> {
+    let s = cx.settings;
+    let mut bound_texture = None;
+    let mut uniforms_set: Vec<ProgramKey> = Vec::new();
+    for &i in meshes {
+        let (texture, material, translucent) = {
+            let dm = &cx.scene.meshes[i];
+            (dm.texture, dm.material, dm.translucent)
+        };
+        let key = program_key(
+            v.lights,
+            v.shadows,
+            s.shadows.pcf,
+            v.cube_mask,
+            texture.is_some(),
+            s.shading == Shading::Gouraud,
+        )
+        .switch("LOG_DEPTH", "logz", s.lighting.translucency.log_depth);
+        let program = cx.program(&key)?;
+        program.bind();
+        // A program keeps its uniforms: the per-frame ones are set once per program per
+        // frame, only the material changes from mesh to mesh.
+        if !uniforms_set.contains(&key) {
+            uniforms_set.push(key);
+            v.set_uniforms(&program, cx);
+            set_legacy_uniforms(&program, cx);
+        }
+        let mat = &cx.scene.scene.materials[material];
+        program.set_vec3("uKa", Vec3::from(mat.ambient));
+        program.set_vec3("uKd", Vec3::from(mat.diffuse));
+        program.set_vec3("uKs", Vec3::from(mat.specular));
+        program.set_vec3("uKe", Vec3::from(mat.emissive));
+        program.set_f32("uNs", mat.shininess);
+        program.set_f32(
+            "uOpacity",
+            super::translucent::opacity(cx, mat, translucent),
+        );
+        if let Some(t) = texture {
+            if bound_texture != Some(t) {
+                cx.scene.textures[t].bind(0);
+                bound_texture = Some(t);
+                cx.stats.textures_bound += 1;
+            }
+            program.set_i32("uDiffuseMap", 0);
+        }
+        for state in states(translucent) {
+            draw_once(cx, i, &state);
+        }
+    }
+    cx.gpu.apply(&RenderState::default());
+    Ok(())
 }
 
 fn set_legacy_uniforms(p: &Program, cx: &FrameCx) {

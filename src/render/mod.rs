@@ -10,6 +10,7 @@ pub mod ibl;
 pub mod lit;
 pub mod pbr;
 pub mod shadow;
+pub mod translucent;
 mod upload;
 
 pub use crate::frame::{FrameSettings, Shading, ShadowSettings};

@@ -3,7 +3,7 @@
 //! and by the `--light` lights with the shadow pass's maps; output through exposure, tone
 //! mapping and sRGB encoding.
 use super::ibl::IblGpu;
-use super::lit::{draw_mesh, mesh_state, shadow_flags, View, SHADOW_UNIT};
+use super::lit::{draw_once, shadow_flags, View, SHADOW_UNIT};
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::state::RenderState;
 use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
@@ -247,14 +247,8 @@ impl Pass for Pbr {
         cx.stats.textures_bound += 2 + levels;
         let v = View::new(cx);
         cx.bind_target();
-        if !cx.res.background_drawn {
-            cx.clear(Some(s.background.to_array()));
-        }
-        let (order, _) = v.draw_order(cx);
-        let p = s.lighting.pbr;
-        let out = s.lighting.output;
-        let t = s.lighting.pbr_terms;
-        let on = |b: bool| if b { 1.0 } else { 0.0 };
+        super::translucent::clear(cx);
+        let (order, first) = v.draw_order(cx);
         let srgb_in_shader = cx
             .res
             .pbr_textures
@@ -264,88 +258,117 @@ impl Pass for Pbr {
             levels,
             rgbm,
             srgb_in_shader,
-            tonemap: out.tonemap.code(),
-            dominant: p.dominant_direction,
-            multiscatter: p.multiscatter,
+            tonemap: s.lighting.output.tonemap.code(),
+            dominant: s.lighting.pbr.dominant_direction,
+            multiscatter: s.lighting.pbr.multiscatter,
         };
-        let mut uniforms_set: Vec<ProgramKey> = Vec::new();
-        for &i in &order {
-            let (material, translucent, has_uv, has_tangents) = {
-                let dm = &cx.scene.meshes[i];
-                (dm.material, dm.translucent, dm.has_uv, dm.has_tangents)
-            };
-            let mm = cx.res.pbr_textures.as_ref().expect("made above").materials[material];
-            let maps = Maps {
-                albedo: has_uv && mm.albedo.is_some(),
-                normal: has_tangents && mm.normal.is_some(),
-                orm: has_uv && mm.orm.is_some(),
-                emissive: has_uv && mm.emissive.is_some(),
-            };
-            let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts);
-            let program = cx.program(&key)?;
-            program.bind();
-            if !uniforms_set.contains(&key) {
-                uniforms_set.push(key);
-                v.set_uniforms(&program, cx);
-                program.set_mat3("uEnvFromEye", &Mat3::from_mat4(v.view).transpose());
-                program.set_f32("uIblIntensity", p.ibl_intensity);
-                program.set_f32("uExposure", 2f32.powf(out.exposure_ev));
-                program.set_i32("uIrradiance", IRRADIANCE_UNIT as i32);
-                program.set_i32("uBrdfLut", LUT_UNIT as i32);
-                program.set_f32(
-                    "uLutSize",
-                    cx.res.ibl.data().map_or(1, |d| d.lut.size) as f32,
-                );
-                for l in 0..levels {
-                    program.set_i32(&format!("uSpecular{l}"), (SPECULAR_UNIT + l) as i32);
-                }
-                program.set_i32("uAlbedoMap", 0);
-                program.set_i32("uNormalMap", NORMAL_UNIT as i32);
-                program.set_i32("uOrmMap", ORM_UNIT as i32);
-                program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
-                program.set_vec4(
-                    "uTermsA",
-                    Vec4::new(
-                        on(t.direct_diffuse),
-                        on(t.direct_specular),
-                        on(t.ibl_diffuse),
-                        on(t.ibl_specular),
-                    ),
-                );
-                program.set_vec3(
-                    "uTermsB",
-                    Vec3::new(on(t.ao), on(t.shadows), on(t.emissive)),
-                );
-            }
-            let mat = &cx.scene.scene.materials[material];
-            let values = mat.pbr();
-            program.set_vec3(
-                "uBaseColor",
-                p.base_color.unwrap_or(Vec3::from(values.base_color)),
-            );
-            program.set_f32("uMetallic", p.metallic.unwrap_or(values.metallic));
-            program.set_f32("uRoughness", p.roughness.unwrap_or(values.roughness));
-            program.set_vec3("uEmissive", Vec3::from(values.emissive));
-            program.set_f32("uOpacity", mat.opacity);
-            let tex = cx.res.pbr_textures.as_ref().expect("made above");
-            for (index, on, unit) in [
-                (mm.albedo, maps.albedo, 0),
-                (mm.normal, maps.normal, NORMAL_UNIT),
-                (mm.orm, maps.orm, ORM_UNIT),
-                (mm.emissive, maps.emissive, EMISSIVE_UNIT),
-            ] {
-                if let (Some(ti), true) = (index, on) {
-                    tex.textures[ti].bind(unit);
-                    cx.stats.textures_bound += 1;
-                }
-            }
-            draw_mesh(cx, i, &mesh_state(translucent));
-        }
-        cx.gpu.apply(&RenderState::default());
+        super::translucent::draw_frame(cx, &order, first, &mut |cx, meshes, states| {
+            draw(cx, &v, opts, meshes, states)
+        })?;
         Ok(Outcome::Ran(format!(
             "pbr({levels} levels, {}, env {})",
             if rgbm { "rgbm" } else { "float" },
             cx.res.ibl.origin
         )))
     }
+}
+
+/// Draws `meshes` with the PBR programs; `states` gives each mesh's draws.
+fn draw(
+    cx: &mut FrameCx,
+    v: &View,
+    opts: Options,
+    meshes: &[usize],
+    states: &dyn Fn(bool) -> Vec<RenderState>,
+) -> Result<()> {
+    let s = cx.settings;
+    let levels = opts.levels;
+    let p = s.lighting.pbr;
+    let out = s.lighting.output;
+    let t = s.lighting.pbr_terms;
+    let on = |b: bool| if b { 1.0 } else { 0.0 };
+    let mut uniforms_set: Vec<ProgramKey> = Vec::new();
+    for &i in meshes {
+        let (material, translucent, has_uv, has_tangents) = {
+            let dm = &cx.scene.meshes[i];
+            (dm.material, dm.translucent, dm.has_uv, dm.has_tangents)
+        };
+        let mm = cx.res.pbr_textures.as_ref().expect("made above").materials[material];
+        let maps = Maps {
+            albedo: has_uv && mm.albedo.is_some(),
+            normal: has_tangents && mm.normal.is_some(),
+            orm: has_uv && mm.orm.is_some(),
+            emissive: has_uv && mm.emissive.is_some(),
+        };
+        let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts).switch(
+            "LOG_DEPTH",
+            "logz",
+            s.lighting.translucency.log_depth,
+        );
+        let program = cx.program(&key)?;
+        program.bind();
+        if !uniforms_set.contains(&key) {
+            uniforms_set.push(key);
+            v.set_uniforms(&program, cx);
+            program.set_mat3("uEnvFromEye", &Mat3::from_mat4(v.view).transpose());
+            program.set_f32("uIblIntensity", p.ibl_intensity);
+            program.set_f32("uExposure", 2f32.powf(out.exposure_ev));
+            program.set_i32("uIrradiance", IRRADIANCE_UNIT as i32);
+            program.set_i32("uBrdfLut", LUT_UNIT as i32);
+            program.set_f32(
+                "uLutSize",
+                cx.res.ibl.data().map_or(1, |d| d.lut.size) as f32,
+            );
+            for l in 0..levels {
+                program.set_i32(&format!("uSpecular{l}"), (SPECULAR_UNIT + l) as i32);
+            }
+            program.set_i32("uAlbedoMap", 0);
+            program.set_i32("uNormalMap", NORMAL_UNIT as i32);
+            program.set_i32("uOrmMap", ORM_UNIT as i32);
+            program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
+            program.set_vec4(
+                "uTermsA",
+                Vec4::new(
+                    on(t.direct_diffuse),
+                    on(t.direct_specular),
+                    on(t.ibl_diffuse),
+                    on(t.ibl_specular),
+                ),
+            );
+            program.set_vec3(
+                "uTermsB",
+                Vec3::new(on(t.ao), on(t.shadows), on(t.emissive)),
+            );
+        }
+        let mat = &cx.scene.scene.materials[material];
+        let values = mat.pbr();
+        program.set_vec3(
+            "uBaseColor",
+            p.base_color.unwrap_or(Vec3::from(values.base_color)),
+        );
+        program.set_f32("uMetallic", p.metallic.unwrap_or(values.metallic));
+        program.set_f32("uRoughness", p.roughness.unwrap_or(values.roughness));
+        program.set_vec3("uEmissive", Vec3::from(values.emissive));
+        program.set_f32(
+            "uOpacity",
+            super::translucent::opacity(cx, mat, translucent),
+        );
+        let tex = cx.res.pbr_textures.as_ref().expect("made above");
+        for (index, on, unit) in [
+            (mm.albedo, maps.albedo, 0),
+            (mm.normal, maps.normal, NORMAL_UNIT),
+            (mm.orm, maps.orm, ORM_UNIT),
+            (mm.emissive, maps.emissive, EMISSIVE_UNIT),
+        ] {
+            if let (Some(ti), true) = (index, on) {
+                tex.textures[ti].bind(unit);
+                cx.stats.textures_bound += 1;
+            }
+        }
+        for state in states(translucent) {
+            draw_once(cx, i, &state);
+        }
+    }
+    cx.gpu.apply(&RenderState::default());
+    Ok(())
 }

@@ -9,6 +9,7 @@ pub mod pbr_material;
 pub mod repair;
 pub mod report;
 pub mod tangents;
+pub mod xray;
 
 use glam::{DVec3, Vec3};
 pub use material::{Material, Texture};

@@ -42,6 +42,11 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("pbr.vert", include_str!("../../shaders_gl/pbr.vert")),
     ("pbr.frag", include_str!("../../shaders_gl/pbr.frag")),
     ("skybox.vert", include_str!("../../shaders_gl/skybox.vert")),
+    ("fill.frag", include_str!("../../shaders_gl/fill.frag")),
+    (
+        "logdepth.glsl",
+        include_str!("../../shaders_gl/include/logdepth.glsl"),
+    ),
     ("skybox.frag", include_str!("../../shaders_gl/skybox.frag")),
 ];
 

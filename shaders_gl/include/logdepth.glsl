@@ -1,0 +1,10 @@
+// Logarithmic depth, the second seed document's (2.10): z_ndc = 2 ln(C w + 1) / ln(C far + 1) - 1,
+// i.e. window depth ln(C w + 1) / ln(C far + 1), with w the clip-space w (eye distance along
+// the view axis). Relative depth precision is then about the same at every distance.
+IN float vClipW;
+uniform float uLogDepthC;
+uniform float uLogDepthFar;
+
+void glviewLogDepth() {
+    gl_FragDepth = log(uLogDepthC * max(vClipW, 0.0) + 1.0) / log(uLogDepthC * uLogDepthFar + 1.0);
+}

@@ -1,0 +1,119 @@
+//! Translucent surfaces, as the second seed document draws them (`--translucency nearest`,
+//! the command line's default): opaque meshes first (writing 1 into the stencil buffer);
+//! then the translucent ones into depth only (colour writes off); then the translucent ones
+//! again with depth test EQUAL, no depth writes, blending and stencil 1: only the nearest
+//! translucent fragment of each pixel passes, whatever the triangle order, and blends over
+//! what lies behind it. The frame is cleared to black first and the background (colour or
+//! environment) is drawn last, only where the stencil is not 1, so it never shows through a
+//! translucent surface. Both translucent passes draw with the very same program, buffers and
+//! state apart from the colour mask, so their depths are bit-identical by construction (no
+//! `invariant` needed; the EQUAL pass drawing every pixel the depth pass covered is tested).
+//! `--translucency sorted` keeps the legacy order (meshes back to front by centre, back faces
+//! then front faces).
+use super::background;
+use super::FrameCx;
+use crate::frame::{BlendFormula, TranslucencyMode};
+use crate::gpu::state::{Blend, Cull, DepthFunc, RenderState, Stencil, StencilFunc};
+use crate::scene::Material;
+use crate::Result;
+
+/// Whether this frame draws translucency the nearest-layer way (and so masks the background).
+pub(crate) fn masked(cx: &FrameCx) -> bool {
+    cx.settings.lighting.translucency.mode == TranslucencyMode::Nearest
+        && cx.scene.meshes.iter().any(|m| m.translucent)
+}
+
+/// The opacity a mesh is drawn with: `--opacity` overrides translucent materials.
+pub(crate) fn opacity(cx: &FrameCx, m: &Material, translucent: bool) -> f32 {
+    match cx.settings.lighting.translucency.opacity {
+        Some(a) if translucent => a,
+        _ => m.opacity,
+    }
+}
+
+/// Clears the frame for the lit passes: black when the background comes last (masked),
+/// else the background colour (unless the background pass already drew the environment).
+pub(crate) fn clear(cx: &mut FrameCx) {
+    if masked(cx) {
+        cx.clear(Some([0.0; 3]));
+    } else if !cx.res.background_drawn {
+        cx.clear(Some(cx.settings.background.to_array()));
+    }
+}
+
+fn blend(cx: &FrameCx) -> Blend {
+    match cx.settings.lighting.translucency.blend {
+        BlendFormula::Alpha => Blend::Alpha,
+        BlendFormula::Add => Blend::Additive,
+    }
+}
+
+const MARK: Stencil = Stencil {
+    func: StencilFunc::Always,
+    reference: 1,
+    write: true,
+};
+
+/// A tier's mesh drawing: the meshes, and the render states of each draw by translucency.
+pub(crate) type DrawFn<'a> =
+    dyn FnMut(&mut FrameCx, &[usize], &dyn Fn(bool) -> Vec<RenderState>) -> Result<()> + 'a;
+
+/// Draws the visible meshes (`order`, translucent ones from `first` on) with the tier's
+/// `draw`, in the frame's translucency mode, then the masked background.
+pub(crate) fn draw_frame(
+    cx: &mut FrameCx,
+    order: &[usize],
+    first: usize,
+    draw: &mut DrawFn,
+) -> Result<()> {
+    if !masked(cx) {
+        // Legacy: opaque, then translucent meshes back to front, each back faces first.
+        let b = blend(cx);
+        return draw(cx, order, &|translucent| {
+            if translucent {
+                [Cull::Front, Cull::Back]
+                    .map(|cull| RenderState {
+                        blend: b,
+                        depth_write: false,
+                        cull,
+                        ..Default::default()
+                    })
+                    .to_vec()
+            } else {
+                vec![RenderState::default()]
+            }
+        });
+    }
+    let (opaque, glass) = order.split_at(first);
+    let opaque_state = RenderState {
+        stencil: Some(MARK),
+        ..Default::default()
+    };
+    draw(cx, opaque, &|_| vec![opaque_state])?;
+    if !glass.is_empty() {
+        // 1. the nearest translucent depth
+        draw(cx, glass, &|_| {
+            vec![RenderState {
+                color_write: false,
+                ..Default::default()
+            }]
+        })?;
+        // 2. its colour, blended, where the depth is exactly that depth
+        let b = blend(cx);
+        draw(cx, glass, &|_| {
+            vec![RenderState {
+                depth: Some(DepthFunc::Equal),
+                depth_write: false,
+                blend: b,
+                stencil: Some(MARK),
+                ..Default::default()
+            }]
+        })?;
+    }
+    background::fill_unmarked(cx)?;
+    cx.stats.pass_log.push(format!(
+        "translucent: nearest layer of {} mesh(es), depth then colour (EQUAL), background masked by the stencil",
+        glass.len()
+    ));
+    Ok(())
+}

@@ -1,0 +1,66 @@
+//! `--xray NAME...`: makes the named materials, or the meshes of the named objects/groups,
+//! translucent, to look at the parts inside a model; everything else stays opaque (the
+//! seed's "inner" geometry, drawn as usual).
+use super::Scene;
+
+/// Opacity given to x-rayed surfaces unless `--opacity` says otherwise.
+pub const XRAY_OPACITY: f32 = 0.3;
+
+impl Scene {
+    /// Applies `--xray`; a name that matches no material and no object is an error naming it
+    /// and the names there are.
+    pub fn xray(&mut self, names: &[String], opacity: f32) -> Result<(), String> {
+        for name in names {
+            let by_material: Vec<usize> = (0..self.materials.len())
+                .filter(|&i| self.materials[i].name == *name)
+                .collect();
+            let by_mesh: Vec<usize> = (0..self.meshes.len())
+                .filter(|&i| self.meshes[i].name == *name)
+                .collect();
+            if by_material.is_empty() && by_mesh.is_empty() {
+                let mut known: Vec<&str> = self
+                    .materials
+                    .iter()
+                    .map(|m| m.name.as_str())
+                    .chain(self.meshes.iter().map(|m| m.name.as_str()))
+                    .collect();
+                known.sort_unstable();
+                known.dedup();
+                return Err(format!(
+                    "--xray {name:?}: no material or object of that name (there are: {})",
+                    known.join(", ")
+                ));
+            }
+            for i in by_material {
+                self.materials[i].opacity = opacity;
+            }
+            for i in by_mesh {
+                // A copy of the mesh's material, so other meshes sharing it stay opaque.
+                let mut m = self.materials[self.meshes[i].material].clone();
+                m.name = format!("{} (x-ray)", m.name);
+                m.opacity = opacity;
+                self.materials.push(m);
+                self.meshes[i].material = self.materials.len() - 1;
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::{Material, Mesh, Scene};
+
+    #[test]
+    fn by_object_copies_the_material() {
+        let mesh = |name: &str| Mesh {
+            name: name.into(),
+            ..Default::default()
+        };
+        let mut s = Scene::from_meshes("t", vec![mesh("a"), mesh("b")], vec![Material::default()]);
+        s.xray(&["b".into()], 0.3).unwrap();
+        assert_eq!(s.materials[s.meshes[0].material].opacity, 1.0);
+        assert_eq!(s.materials[s.meshes[1].material].opacity, 0.3);
+        assert!(s.xray(&["nope".into()], 0.3).unwrap_err().contains("nope"));
+    }
+}
