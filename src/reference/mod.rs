@@ -7,10 +7,11 @@
 //! over them with (SRC_ALPHA, ONE_MINUS_SRC_ALPHA), translucent meshes casting no shadows.
 //! Known differences, all where the GPU approximates:
 //! - shadows are exact (no map resolution, PCF or bias);
-//! - translucent layers are composited per pixel, far to near, in f64. The GPU sorts whole
-//!   meshes by their centres, draws each mesh's back faces then front faces in index order, and
-//!   rounds to 8 bits after every blend, so interpenetrating translucent meshes or a translucent
-//!   mesh with several front-facing layers can differ;
+//! - translucency: with `nearest` (the command line's default) only the nearest translucent
+//!   layer blends, over the opaque surface or over black where there is none (the background
+//!   is drawn only where nothing was), exactly as the GPU does it; with `sorted` the layers
+//!   are composited per pixel far to near in f64, while the GPU sorts whole meshes by their
+//!   centres, so interpenetrating or self-overlapping translucent meshes can differ;
 //! - textures are sampled at level 0 (the GPU may use mipmaps where the texture is minified);
 //! - `show_shadow_map` (a teaching view) is ignored.
 //!
