@@ -154,6 +154,21 @@ pub struct Args {
     /// A fixed near plane (default: fitted to the model's bounds).
     #[arg(long)]
     pub near: Option<f32>,
+    /// Side by side: render these tiers (phong, gouraud, pbr, reference, reference-pbr) next to
+    /// each other on one camera, each pane --size, with labels, into --output.
+    #[arg(long, value_name = "A,B,...")]
+    pub compare: Option<String>,
+    /// Difference of two tiers: writes OUT-A.png, OUT-B.png, the difference image OUT and
+    /// OUT.json, and prints mean, max, 99th percentile, share > 8/255 and 1 − SSIM.
+    #[arg(long, value_name = "A,B", conflicts_with = "compare")]
+    pub diff: Option<String>,
+    /// Compare the render with a stored picture (CI regression): missing → written and an
+    /// error; mean difference above --threshold → render and difference image written, error.
+    #[arg(long, value_name = "FILE.png", conflicts_with_all = ["compare", "diff"])]
+    pub diff_against: Option<PathBuf>,
+    /// With --diff-against: the mean difference (in 1/255) allowed.
+    #[arg(long, default_value_t = 0.5)]
+    pub threshold: f64,
     /// PBR with --reference: Monte Carlo samples per lobe and pixel.
     #[arg(long, default_value_t = crate::reference::pbr::DEFAULT_SAMPLES)]
     pub reference_samples: u32,
@@ -224,6 +239,31 @@ pub enum Command {
     /// --load, loading speed and memory against f3d (docs/bench/load.*); with --soak N, load,
     /// render and drop the built-in scene N times and report GL objects and memory.
     Bench(BenchCommand),
+    /// A contact sheet: turntable views (columns) × tiers (rows) in one labelled PNG.
+    Sheet(SheetCommand),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct SheetCommand {
+    /// OBJ file (default: the built-in scene).
+    pub model: Option<PathBuf>,
+    /// Number of turntable views (yaw 0, 360/N, ...).
+    #[arg(long, default_value_t = 6)]
+    pub views: u32,
+    /// Explicit views instead: YAW:PITCH,YAW:PITCH,...
+    #[arg(long)]
+    pub angles: Option<String>,
+    /// Rows: tiers (phong, gouraud, pbr, reference, reference-pbr).
+    #[arg(long, default_value = "phong,pbr")]
+    pub tiers: String,
+    /// Size of each cell.
+    #[arg(long, default_value = "320x240", value_parser = parse_size)]
+    pub size: (u32, u32),
+    #[arg(short, long, default_value = "sheet.png")]
+    pub output: PathBuf,
+    /// Any view options of glview after `--` (lights, PBR settings, ...).
+    #[arg(last = true)]
+    pub view_options: Vec<String>,
 }
 
 #[derive(Debug, clap::Args)]

@@ -6,6 +6,7 @@
 
 pub mod camera;
 pub mod cli;
+pub mod compare;
 pub mod error;
 pub mod frame;
 pub mod image_out;

@@ -32,11 +32,38 @@ fn main() -> ExitCode {
 
 /// The dispatch: one mode per invocation.
 fn dispatch(args: &Args) -> Result<()> {
-    if let Some(glview::cli::Command::Bench(b)) = &args.command {
-        return match b.soak {
-            Some(rounds) => glview::soak::run(args, rounds),
-            None => glview::bench::run(&b.bench),
-        };
+    match &args.command {
+        Some(glview::cli::Command::Bench(b)) => {
+            return match b.soak {
+                Some(rounds) => glview::soak::run(args, rounds),
+                None => glview::bench::run(&b.bench),
+            };
+        }
+        Some(glview::cli::Command::Sheet(s)) => return glview::compare::sheet::run(s),
+        None => {}
+    }
+    if args.reference && (args.compare.is_some() || args.diff.is_some()) {
+        return Err(Error::Usage(
+            "--reference renders one picture; use `reference` as a tier of --compare or --diff"
+                .into(),
+        ));
+    }
+    if let Some(tiers) = &args.compare {
+        let out = args
+            .output
+            .clone()
+            .unwrap_or_else(|| "glview-compare.png".into());
+        return glview::compare::compare(args, tiers, &out);
+    }
+    if let Some(tiers) = &args.diff {
+        let out = args
+            .output
+            .clone()
+            .unwrap_or_else(|| "glview-diff.png".into());
+        return glview::compare::diff::run_diff(args, tiers, &out);
+    }
+    if let Some(stored) = &args.diff_against {
+        return glview::compare::diff::diff_against(args, stored, args.threshold);
     }
     if args.info {
         return run::print_info(args);

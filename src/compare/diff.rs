@@ -1,0 +1,175 @@
+//! Difference images with numbers: `--diff A,B` and `--diff-against FILE.png`.
+use super::canvas;
+use crate::bench::metrics::{compare, ImageError};
+use crate::cli::Args;
+use crate::image_out::Rgba;
+use crate::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// The numbers of a comparison, in 0–255 units where they are errors.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct DiffNumbers {
+    pub mean: f64,
+    pub max: f64,
+    pub p99: f64,
+    /// Share of pixels (0–1) whose largest channel differs by more than 8/255.
+    pub over_8: f64,
+    /// 1 − SSIM (worst channel).
+    pub one_minus_ssim: f64,
+}
+
+impl From<ImageError> for DiffNumbers {
+    fn from(e: ImageError) -> Self {
+        DiffNumbers {
+            mean: e.mae,
+            max: e.max,
+            p99: e.p99,
+            over_8: e.wrong,
+            one_minus_ssim: (1.0 - e.ssim).max(0.0),
+        }
+    }
+}
+
+impl DiffNumbers {
+    pub fn table(&self, a: &str, b: &str) -> String {
+        format!(
+            "{a} against {b}:\n  mean      {:.3}/255\n  max       {:.0}/255\n  99th pct  {:.0}/255\n  > 8/255   {:.3} % of pixels\n  1 - SSIM  {:.5}\n",
+            self.mean,
+            self.max,
+            self.p99,
+            self.over_8 * 100.0,
+            self.one_minus_ssim
+        )
+    }
+}
+
+/// A colour scale from black through purple and orange to pale yellow (perceptually ordered).
+fn heat(t: f64) -> [u8; 3] {
+    const STOPS: [[f64; 3]; 5] = [
+        [0.0, 0.0, 0.0],
+        [0.34, 0.06, 0.43],
+        [0.73, 0.21, 0.33],
+        [0.98, 0.55, 0.04],
+        [0.99, 1.0, 0.64],
+    ];
+    let t = t.clamp(0.0, 1.0) * 4.0;
+    let i = (t.floor() as usize).min(3);
+    let f = t - i as f64;
+    [0, 1, 2].map(|c| ((STOPS[i][c] * (1.0 - f) + STOPS[i + 1][c] * f) * 255.0).round() as u8)
+}
+
+/// |a − b| (largest channel) on the colour scale, `scale_max` (in 1/255) at the top, with a
+/// scale bar and its range written under the image.
+pub fn difference_image(a: &Rgba, b: &Rgba) -> Rgba {
+    let d: Vec<u8> = a
+        .data
+        .chunks_exact(4)
+        .zip(b.data.chunks_exact(4))
+        .map(|(p, q)| (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0))
+        .collect();
+    let max = d.iter().copied().max().unwrap_or(0).max(1);
+    let bar = 2 * canvas::STRIP;
+    let mut out = canvas::blank(a.width, a.height + bar, [24, 24, 28]);
+    for (i, v) in d.iter().enumerate() {
+        let c = heat(f64::from(*v) / f64::from(max));
+        out.data[i * 4..i * 4 + 3].copy_from_slice(&c);
+    }
+    for x in 0..a.width {
+        let c = heat(f64::from(x) / f64::from(a.width.max(2) - 1));
+        for y in a.height + 2..a.height + canvas::STRIP - 2 {
+            let o = ((y * a.width + x) * 4) as usize;
+            out.data[o..o + 3].copy_from_slice(&c);
+        }
+    }
+    let label = format!("|A-B| 0..{max}/255");
+    canvas::text(
+        &mut out,
+        2,
+        a.height + canvas::STRIP,
+        &label,
+        [235, 235, 235],
+    );
+    out
+}
+
+fn sibling(path: &Path, suffix: &str) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("glview");
+    path.with_file_name(format!("{stem}-{suffix}.png"))
+}
+
+/// `--diff A,B`: both renders, the difference image and the numbers (table on stdout, JSON
+/// beside the images).
+pub fn run_diff(args: &Args, tiers_arg: &str, out: &Path) -> Result<()> {
+    let tiers = super::parse_tiers(tiers_arg, "--diff")?;
+    if tiers.len() != 2 {
+        return Err(Error::Usage(
+            "--diff takes exactly two tiers, e.g. phong,pbr".into(),
+        ));
+    }
+    let scene = crate::run::load_scene(args)?;
+    let panes = super::render_panes(args, scene, &tiers)?;
+    let (a, b) = (&panes.images[0], &panes.images[1]);
+    let (na, nb) = (tiers[0].name(), tiers[1].name());
+    let numbers = DiffNumbers::from(compare(a, b, &[])?);
+    a.save_png(&sibling(out, &na), &[])?;
+    b.save_png(&sibling(out, &nb), &[])?;
+    difference_image(a, b).save_png(out, &[("glview.diff", format!("{na},{nb}"))])?;
+    let json = serde_json::json!({"a": na, "b": nb, "numbers": numbers});
+    let json_path = out.with_extension("json");
+    std::fs::write(
+        &json_path,
+        serde_json::to_string_pretty(&json).unwrap_or_default(),
+    )
+    .map_err(|e| Error::io(&json_path, e))?;
+    print!("{}", numbers.table(&na, &nb));
+    println!("{json}");
+    Ok(())
+}
+
+/// `--diff-against FILE.png`: the render against a stored picture. A missing picture is
+/// written from the render and the run fails saying so; a mismatch beyond `threshold` (mean
+/// error in 1/255) writes the render and the difference image beside it and fails.
+pub fn diff_against(args: &Args, stored: &Path, threshold: f64) -> Result<()> {
+    let out = args
+        .output
+        .clone()
+        .unwrap_or_else(|| sibling(stored, "render"));
+    crate::run::render_headless(args, &out)?;
+    let render = Rgba::load_png(&out)?;
+    if !stored.exists() {
+        render.save_png(stored, &[])?;
+        return Err(Error::Usage(format!(
+            "{}: no stored picture; wrote this render there: check it and keep it",
+            stored.display()
+        )));
+    }
+    let reference = Rgba::load_png(stored)?;
+    if (reference.width, reference.height) != (render.width, render.height) {
+        return Err(Error::Usage(format!(
+            "{}: stored picture is {}x{}, the render {}x{} (see {})",
+            stored.display(),
+            reference.width,
+            reference.height,
+            render.width,
+            render.height,
+            out.display()
+        )));
+    }
+    let numbers = DiffNumbers::from(compare(&render, &reference, &[])?);
+    print!("{}", numbers.table("render", &stored.display().to_string()));
+    if numbers.mean > threshold {
+        let d = sibling(&out, "diff");
+        difference_image(&render, &reference).save_png(&d, &[])?;
+        return Err(Error::Usage(format!(
+            "{}: the render differs by a mean of {:.3}/255 (threshold {threshold}); wrote {} and {}",
+            stored.display(),
+            numbers.mean,
+            out.display(),
+            d.display()
+        )));
+    }
+    Ok(())
+}

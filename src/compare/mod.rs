@@ -1,0 +1,173 @@
+//! Comparisons for coursework: several tiers side by side on one camera (`--compare`), the
+//! difference of two with its numbers (`--diff`), a render against a stored picture
+//! (`--diff-against`), and contact sheets (`glview sheet`). One context, one scene upload:
+//! every GPU pane is a viewport of one frame target.
+pub mod canvas;
+pub mod diff;
+pub mod sheet;
+
+use crate::cli::Args;
+use crate::frame::{FrameSettings, Shading};
+use crate::headless::Headless;
+use crate::image_out::Rgba;
+use crate::render::Renderer;
+use crate::scene::Scene;
+use crate::{Error, Result};
+
+/// What one pane shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PaneTier {
+    Gpu(Shading),
+    /// The CPU reference renderer in the given tier.
+    Reference(Shading),
+}
+
+impl PaneTier {
+    pub fn name(self) -> String {
+        match self {
+            PaneTier::Gpu(s) => format!("{s:?}").to_lowercase(),
+            PaneTier::Reference(Shading::Pbr) => "reference-pbr".into(),
+            PaneTier::Reference(_) => "reference".into(),
+        }
+    }
+}
+
+/// Parses `phong,pbr,reference,...`.
+pub fn parse_tiers(s: &str, what: &str) -> Result<Vec<PaneTier>> {
+    let tiers = s
+        .split(',')
+        .map(|t| match t.trim() {
+            "phong" => Ok(PaneTier::Gpu(Shading::Phong)),
+            "gouraud" => Ok(PaneTier::Gpu(Shading::Gouraud)),
+            "pbr" => Ok(PaneTier::Gpu(Shading::Pbr)),
+            "reference" => Ok(PaneTier::Reference(Shading::Phong)),
+            "reference-pbr" => Ok(PaneTier::Reference(Shading::Pbr)),
+            other => Err(Error::Usage(format!(
+                "{what}: unknown tier {other:?} (phong, gouraud, pbr, reference, reference-pbr)"
+            ))),
+        })
+        .collect::<Result<Vec<_>>>()?;
+    if tiers.is_empty() || tiers.len() > 8 {
+        return Err(Error::Usage(format!("{what}: give 1 to 8 tiers")));
+    }
+    Ok(tiers)
+}
+
+/// A pane's label: tier and the settings that matter for it.
+pub fn label(tier: PaneTier, s: &FrameSettings) -> String {
+    let shadows = if s.shadows.enabled && !s.lights.is_empty() {
+        format!("shadows {}", s.shadows.size)
+    } else {
+        "no shadows".into()
+    };
+    let lights = format!("{} light(s)", s.lights.len());
+    match tier {
+        PaneTier::Gpu(Shading::Pbr) | PaneTier::Reference(Shading::Pbr) => format!(
+            "{} {lights} {shadows} {:?}",
+            tier.name(),
+            s.lighting.output.tonemap
+        ),
+        _ => format!("{} {lights} {shadows}", tier.name()),
+    }
+}
+
+/// One frame, several tiers: one context, one upload, one pane (viewport) per GPU tier.
+pub struct Panes {
+    pub images: Vec<Rgba>,
+    pub labels: Vec<String>,
+}
+
+/// Renders each tier at `args.size` on one camera: GPU tiers as viewports of one target,
+/// reference tiers on the CPU.
+pub fn render_panes(args: &Args, scene: Scene, tiers: &[PaneTier]) -> Result<Panes> {
+    let (w, h) = args.size;
+    let (base, _) = crate::run::frame_settings(args, &scene)?;
+    let n = tiers.len() as u32;
+    let gpu_tiers = tiers.iter().any(|t| matches!(t, PaneTier::Gpu(_)));
+    let mut images = vec![None; tiers.len()];
+    if gpu_tiers {
+        let hl = Headless::new(args.backend, args.gl, w * n, h)?;
+        let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
+        renderer.set_environment(crate::run::env_request(args)?);
+        for (i, t) in tiers.iter().enumerate() {
+            if let PaneTier::Gpu(shading) = t {
+                let s = FrameSettings {
+                    shading: *shading,
+                    ..base.clone()
+                };
+                let stats = renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
+                if args.stats {
+                    println!("{}", serde_json::to_string(&stats).unwrap_or_default());
+                }
+            }
+        }
+        let all = hl.read();
+        for (i, t) in tiers.iter().enumerate() {
+            if matches!(t, PaneTier::Gpu(_)) {
+                images[i] = Some(crop(&all, i as u32 * w, w));
+            }
+        }
+    }
+    for (i, t) in tiers.iter().enumerate() {
+        if let PaneTier::Reference(shading) = t {
+            let s = FrameSettings {
+                shading: *shading,
+                ..base.clone()
+            };
+            let env = if *shading == Shading::Pbr {
+                let req = crate::run::env_request(args)?;
+                Some(crate::reference::PbrEnv {
+                    env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(
+                        &req.source,
+                    )?),
+                    samples: args.reference_samples.max(1),
+                })
+            } else {
+                None
+            };
+            images[i] = Some(crate::reference::render_env(&scene, &s, env.as_ref(), w, h));
+        }
+    }
+    Ok(Panes {
+        images: images
+            .into_iter()
+            .map(|i| i.expect("every pane drawn"))
+            .collect(),
+        labels: tiers.iter().map(|t| label(*t, &base)).collect(),
+    })
+}
+
+/// Columns x0..x0+w of `img`.
+fn crop(img: &Rgba, x0: u32, w: u32) -> Rgba {
+    let mut data = Vec::with_capacity((w * img.height * 4) as usize);
+    for y in 0..img.height {
+        let s = ((y * img.width + x0) * 4) as usize;
+        data.extend_from_slice(&img.data[s..s + (w * 4) as usize]);
+    }
+    Rgba {
+        width: w,
+        height: img.height,
+        data,
+    }
+}
+
+/// `--compare A,B,...`: the panes side by side under label strips, one PNG.
+pub fn compare(args: &Args, tiers_arg: &str, path: &std::path::Path) -> Result<()> {
+    let tiers = parse_tiers(tiers_arg, "--compare")?;
+    let scene = crate::run::load_scene(args)?;
+    let name = scene.name.clone();
+    let panes = render_panes(args, scene, &tiers)?;
+    let (w, h) = args.size;
+    let mut out = canvas::blank(w * tiers.len() as u32, h + canvas::STRIP, [24, 24, 28]);
+    for (i, (img, label)) in panes.images.iter().zip(&panes.labels).enumerate() {
+        canvas::paste(&mut out, &canvas::strip(w, label), i as u32 * w, 0);
+        canvas::paste(&mut out, img, i as u32 * w, canvas::STRIP);
+    }
+    let text = vec![
+        ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
+        ("glview.compare", tiers_arg.to_string()),
+        ("glview.model", name),
+        ("glview.pane_size", format!("{w}x{h}")),
+    ];
+    out.save_png(path, &text)
+}

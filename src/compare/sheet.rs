@@ -1,0 +1,117 @@
+//! `glview sheet MODEL --views N --tiers phong,pbr -o sheet.png`: a labelled grid of turntable
+//! views (columns) by tiers (rows), for a coursework report. One context and one upload for
+//! the whole sheet; a progress bar on a terminal.
+use super::{canvas, PaneTier};
+use crate::cli::{Args, SheetCommand};
+use crate::frame::FrameSettings;
+use crate::headless::Headless;
+use crate::render::Renderer;
+use crate::{Error, Result};
+use clap::Parser;
+
+/// The (yaw, pitch) of each column: `--angles` as given, else N views around the model at the
+/// command line's pitch.
+pub fn angles(cmd: &SheetCommand, pitch: f32) -> Result<Vec<(f32, f32)>> {
+    if let Some(list) = &cmd.angles {
+        return list
+            .split(',')
+            .map(|pair| {
+                let (y, p) = pair
+                    .split_once(':')
+                    .ok_or_else(|| Error::Usage(format!("--angles: {pair:?} is not YAW:PITCH")))?;
+                let num = |s: &str| {
+                    s.trim()
+                        .parse::<f32>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| Error::Usage(format!("--angles: {s:?} is not a number")))
+                };
+                Ok((num(y)?, num(p)?))
+            })
+            .collect();
+    }
+    if cmd.views == 0 || cmd.views > 64 {
+        return Err(Error::Usage("--views must be 1 to 64".into()));
+    }
+    Ok((0..cmd.views)
+        .map(|i| (360.0 * i as f32 / cmd.views as f32, pitch))
+        .collect())
+}
+
+pub fn run(cmd: &SheetCommand) -> Result<()> {
+    let mut argv = vec!["glview".to_string()];
+    if let Some(m) = &cmd.model {
+        argv.push(m.display().to_string());
+    }
+    argv.extend(["--size".into(), format!("{}x{}", cmd.size.0, cmd.size.1)]);
+    argv.extend(cmd.view_options.iter().cloned());
+    let args = Args::try_parse_from(&argv).map_err(|e| Error::Usage(e.to_string()))?;
+    let tiers = super::parse_tiers(&cmd.tiers, "--tiers")?;
+    let views = angles(cmd, args.pitch)?;
+    let scene = crate::run::load_scene(&args)?;
+    let (base, _) = crate::run::frame_settings(&args, &scene)?;
+    let (w, h) = args.size;
+    let (cols, rows) = (views.len() as u32, tiers.len() as u32);
+    let cell_h = h + canvas::STRIP;
+    let mut sheet = canvas::blank(w * cols, cell_h * rows, [24, 24, 28]);
+    let hl = Headless::new(args.backend, args.gl, w, h)?;
+    let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
+    renderer.set_environment(crate::run::env_request(&args)?);
+    let bar = indicatif::ProgressBar::new(u64::from(cols * rows));
+    if let Ok(style) = indicatif::ProgressStyle::with_template("sheet [{bar:30}] {pos}/{len} {msg}")
+    {
+        bar.set_style(style);
+    }
+    for (r, tier) in tiers.iter().enumerate() {
+        for (c, (yaw, pitch)) in views.iter().enumerate() {
+            let mut s: FrameSettings = base.clone();
+            s.camera.yaw_deg = *yaw;
+            s.camera.pitch_deg = *pitch;
+            let img = match tier {
+                PaneTier::Gpu(shading) => {
+                    s.shading = *shading;
+                    renderer.render(&s, &hl.target())?;
+                    hl.read()
+                }
+                PaneTier::Reference(shading) => {
+                    s.shading = *shading;
+                    let env = if *shading == crate::frame::Shading::Pbr {
+                        let req = crate::run::env_request(&args)?;
+                        Some(crate::reference::PbrEnv {
+                            env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(
+                                &req.source,
+                            )?),
+                            samples: args.reference_samples.max(1),
+                        })
+                    } else {
+                        None
+                    };
+                    crate::reference::render_env(&scene, &s, env.as_ref(), w, h)
+                }
+            };
+            let (x, y) = (c as u32 * w, r as u32 * cell_h);
+            let label = format!("{} yaw {yaw} pitch {pitch}", tier.name());
+            canvas::paste(&mut sheet, &canvas::strip(w, &label), x, y);
+            canvas::paste(&mut sheet, &img, x, y + canvas::STRIP);
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    let text = vec![
+        ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
+        (
+            "glview.sheet",
+            format!("tiers {} views {:?}", cmd.tiers, views),
+        ),
+        ("glview.model", scene.name.clone()),
+    ];
+    sheet.save_png(&cmd.output, &text)?;
+    eprintln!(
+        "sheet: {} x {} views of {} written to {}",
+        rows,
+        cols,
+        scene.name,
+        cmd.output.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,237 @@
+//! Comparisons: side-by-side panes are the separate renders, a difference with itself is
+//! zero, stored-picture regression passes and fails as it should, contact sheets have their
+//! grid, and the PBR terms switch off to the emissive-only picture.
+mod common;
+use common::*;
+use glview::image_out::Rgba;
+
+const STRIP: u32 = glview::compare::canvas::STRIP;
+
+fn crop(img: &Rgba, x0: u32, y0: u32, w: u32, h: u32) -> Rgba {
+    let mut data = Vec::new();
+    for y in y0..y0 + h {
+        let s = ((y * img.width + x0) * 4) as usize;
+        data.extend_from_slice(&img.data[s..s + (w * 4) as usize]);
+    }
+    Rgba {
+        width: w,
+        height: h,
+        data,
+    }
+}
+
+#[test]
+fn panes_equal_separate_renders() {
+    let dir = out_dir("compare-panes");
+    let out = dir.join("cmp.png");
+    let o = run(
+        &[
+            "--compare",
+            "phong,pbr,reference",
+            "--size",
+            "96x72",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let cmp = Rgba::load_png(&out).unwrap();
+    assert_eq!((cmp.width, cmp.height), (3 * 96, 72 + STRIP));
+    for (i, (name, args)) in [
+        ("phong", vec!["--shading", "phong"]),
+        ("pbr", vec!["--shading", "pbr"]),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mut a = vec!["--size", "96x72"];
+        a.extend(args);
+        let alone = render(&dir, name, &a, &[]);
+        let pane = crop(&cmp, i as u32 * 96, STRIP, 96, 72);
+        assert_close(&dir, &format!("pane-{name}"), &pane, &alone, 0, 0, 0);
+    }
+    let reference = dir.join("reference.png");
+    let o = run(
+        &[
+            "--reference",
+            "--size",
+            "96x72",
+            "-o",
+            reference.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(o.status.success());
+    let pane = crop(&cmp, 2 * 96, STRIP, 96, 72);
+    assert_close(
+        &dir,
+        "pane-reference",
+        &pane,
+        &Rgba::load_png(&reference).unwrap(),
+        0,
+        0,
+        0,
+    );
+}
+
+#[test]
+fn a_difference_with_itself_is_zero() {
+    let dir = out_dir("compare-diff");
+    let out = dir.join("d.png");
+    let o = run(
+        &[
+            "--diff",
+            "phong,phong",
+            "--size",
+            "64x48",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("d.json")).unwrap()).unwrap();
+    for k in ["mean", "max", "p99", "over_8", "one_minus_ssim"] {
+        assert_eq!(json["numbers"][k].as_f64(), Some(0.0), "{k}: {json}");
+    }
+    let d = Rgba::load_png(&out).unwrap();
+    assert!(crop(&d, 0, 0, 64, 48)
+        .data
+        .chunks_exact(4)
+        .all(|p| p[..3] == [0, 0, 0]));
+    assert!(dir.join("d-phong.png").exists());
+    // Phong against PBR differs, and says by how much.
+    let o = run(
+        &[
+            "--diff",
+            "phong,pbr",
+            "--size",
+            "64x48",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success() && text.contains("1 - SSIM"), "{text}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("d.json")).unwrap()).unwrap();
+    assert!(json["numbers"]["mean"].as_f64().unwrap() > 1.0);
+}
+
+#[test]
+fn stored_picture_regression() {
+    let dir = out_dir("compare-stored");
+    let stored = dir.join("stored.png");
+    let _ = std::fs::remove_file(&stored);
+    let args = |extra: &[&str]| {
+        let mut a = vec![
+            "--size",
+            "64x48",
+            "--diff-against",
+            stored.to_str().unwrap(),
+        ];
+        a.extend_from_slice(extra);
+        a.iter().map(|s| s.to_string()).collect::<Vec<_>>()
+    };
+    let go = |extra: &[&str]| {
+        let a = args(extra);
+        run(&a.iter().map(String::as_str).collect::<Vec<_>>(), &[])
+    };
+    let first = go(&[]);
+    let err = String::from_utf8_lossy(&first.stderr);
+    assert!(
+        !first.status.success() && err.contains("no stored picture"),
+        "{err}"
+    );
+    assert!(
+        stored.exists(),
+        "the render was not written as the stored picture"
+    );
+    let same = go(&[]);
+    assert!(
+        same.status.success(),
+        "{}",
+        String::from_utf8_lossy(&same.stderr)
+    );
+    let changed = go(&["--yaw", "80"]);
+    let err = String::from_utf8_lossy(&changed.stderr);
+    assert!(
+        !changed.status.success() && err.contains("differs"),
+        "{err}"
+    );
+    assert!(dir.join("stored-render.png").exists() && dir.join("stored-render-diff.png").exists());
+}
+
+#[test]
+fn contact_sheet_grid() {
+    let dir = out_dir("compare-sheet");
+    let out = dir.join("sheet.png");
+    let o = run(
+        &[
+            "sheet",
+            "--views",
+            "3",
+            "--tiers",
+            "phong,pbr",
+            "--size",
+            "80x60",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s = Rgba::load_png(&out).unwrap();
+    assert_eq!((s.width, s.height), (3 * 80, 2 * (60 + STRIP)));
+    // Each cell is a render: the cells differ from each other (views and tiers).
+    let cell = |c: u32, r: u32| crop(&s, c * 80, r * (60 + STRIP) + STRIP, 80, 60);
+    assert!(diff(&cell(0, 0), &cell(1, 0), 8).over > 50);
+    assert!(diff(&cell(0, 0), &cell(0, 1), 8).over > 50);
+    // The same cell as a separate render with the sheet's first angle.
+    let alone = render(&dir, "alone", &["--size", "80x60", "--yaw", "0"], &[]);
+    assert_close(&dir, "sheet-cell", &cell(0, 0), &alone, 0, 0, 0);
+}
+
+/// With every lighting term of the PBR tier off (`--terms emissive`), only emissive light
+/// remains: exactly sRGB(Ke) with no tone mapping; with `none` even that goes.
+#[test]
+fn all_terms_off_leaves_the_emissive_image() {
+    let dir = out_dir("compare-terms");
+    std::fs::write(
+        dir.join("e.mtl"),
+        "newmtl e\nKd 0.8 0.8 0.8\nKe 0.5 0.25 0\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("e.obj"),
+        "mtllib e.mtl\nusemtl e\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n",
+    )
+    .unwrap();
+    let out = dir.join("e.png");
+    let o = run(
+        &[
+            dir.join("e.obj").to_str().unwrap(),
+            "--shading",
+            "pbr",
+            "--terms",
+            "emissive",
+            "--tonemap",
+            "none",
+            "--yaw",
+            "0",
+            "--pitch",
+            "0",
+            "--size",
+            "32x32",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = Rgba::load_png(&out).unwrap();
+    assert_eq!(img.pixel(16, 16)[..3], [188, 137, 0]);
+}
