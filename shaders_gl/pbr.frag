@@ -84,6 +84,19 @@ void main() {
         n = glviewSafeNormalize(t * m.x + b * m.y + n * m.z);
     }
 #endif
+#if SHOW_ATTRIBUTE == 1
+    FRAG_COLOR = vec4(n * 0.5 + 0.5, 1.0);
+    return;
+#elif SHOW_ATTRIBUTE == 2
+    FRAG_COLOR = vec4(fract(vUv), 0.0, 1.0);
+    return;
+#elif SHOW_ATTRIBUTE == 3
+    FRAG_COLOR = vec4(vec3(clamp(rough, 0.0, 1.0)), 1.0);
+    return;
+#elif SHOW_ATTRIBUTE == 4
+    FRAG_COLOR = vec4(vec3(clamp(metallic, 0.0, 1.0)), 1.0);
+    return;
+#endif
     vec3 v = normalize(-vEyePos);
     float nv = max(dot(n, v), 1e-4);
     vec3 kd = albedo * (1.0 - 0.04) * (1.0 - metallic);

@@ -1,8 +1,17 @@
-// Teaching view: depth (compare mode off) as grey; near is dark, far is white.
+// Teaching view: depth (compare mode off) as grey; near is dark, far is white. Perspective maps
+// (point lights) are linearised with the projection's A, B (z_ndc = (A z + B) / -z), or their
+// depth would crowd against white.
 IN vec2 vUv;
 uniform sampler2D uDepth;
+uniform float uPerspective;   // 1: linearise
+uniform vec2 uAB;
+uniform vec2 uNearFar;
 
 void main() {
     float d = TEX2D(uDepth, vUv).r;
+    if (uPerspective > 0.5) {
+        float dist = uAB.y / (2.0 * d - 1.0 + uAB.x);
+        d = clamp((dist - uNearFar.x) / (uNearFar.y - uNearFar.x), 0.0, 1.0);
+    }
     FRAG_COLOR = vec4(vec3(d), 1.0);
 }

@@ -23,8 +23,23 @@ pub enum DepthMode {
 pub enum Show {
     /// The lit scene.
     Scene,
-    /// Light 0's shadow depth map as grey (near = dark).
+    /// Light 0's shadow depth map as grey (near = dark); a point light inside the scene
+    /// shows its six-face atlas.
     ShadowMap,
+    /// The PBR irradiance cube (E_d) as an unfolded cross.
+    Irradiance,
+    /// One PBR specular cube (E_s) as a cross: level --show-level.
+    Specular,
+    /// The PBR BRDF lookup table (A red, B green).
+    Lut,
+    /// Surface normals (eye space, n·0.5 + 0.5), normal maps applied.
+    Normals,
+    /// Texture coordinates (u red, v green).
+    Uvs,
+    /// PBR roughness as grey.
+    Roughness,
+    /// PBR metallic as grey.
+    Metallic,
 }
 
 #[derive(Debug, Parser)]
@@ -215,9 +230,12 @@ pub struct Args {
     /// polygon offset).
     #[arg(long, default_value_t = 0.0002)]
     pub shadow_bias: f32,
-    /// What to draw: the scene, or the shadow map (teaching view).
+    /// What to draw: the scene, or a teaching view (shadow map, PBR maps, surface attributes).
     #[arg(long, value_enum, default_value_t = Show::Scene)]
     pub show: Show,
+    /// With --show specular: the roughness level to show (0 = sharpest).
+    #[arg(long, default_value_t = 0)]
+    pub show_level: u32,
     /// Render with the CPU reference renderer (ray casting in f64, exact hard shadows)
     /// instead of OpenGL; writes --output (default glview-reference.png).
     #[arg(long)]

@@ -124,3 +124,23 @@ impl Default for Translucency {
 /// z_ndc = 2·ln(C·w + 1)/ln(C·far + 1) − 1: C = 1 keeps the relative depth step near
 /// ln(C·far)/2²⁴ everywhere beyond w = 1/C (the seed's choice for a planet-sized range).
 pub const LOG_DEPTH_C: f32 = 1.0;
+
+/// A per-pixel teaching view drawn by the PBR program instead of the lit picture.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub enum AttributeView {
+    #[default]
+    None,
+    /// Eye-space normals (normal maps applied) as n·0.5 + 0.5.
+    Normals,
+    /// Texture coordinates: u red, v green (fractional part).
+    Uvs,
+    Roughness,
+    Metallic,
+}
+
+impl AttributeView {
+    /// `SHOW_ATTRIBUTE` in pbr.frag.
+    pub fn code(self) -> i32 {
+        self as i32
+    }
+}

@@ -3,7 +3,7 @@
 use crate::camera::OrbitCamera;
 use crate::cli::{Args, Diffuse, Show};
 use crate::error::{Error, Result};
-use crate::frame::Translucency;
+use crate::frame::{AttributeView, Translucency};
 use crate::frame::{FrameSettings, ShadowSettings};
 use crate::keys::{self, Effect};
 use crate::light::{parse_vec3, LightSpec, MAX_LIGHTS};
@@ -208,6 +208,13 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
                 opacity: unit(args.opacity, "--opacity")?,
                 log_depth: args.depth == crate::cli::DepthMode::Log,
             },
+            attribute_view: match args.show {
+                Show::Normals => AttributeView::Normals,
+                Show::Uvs => AttributeView::Uvs,
+                Show::Roughness => AttributeView::Roughness,
+                Show::Metallic => AttributeView::Metallic,
+                _ => AttributeView::None,
+            },
             ..Default::default()
         },
         shading: args.shading,
@@ -387,8 +394,32 @@ pub fn png_text(r: Renderer, s: &FrameSettings, scene: &Scene) -> Vec<(&'static 
     text
 }
 
+/// `--show irradiance|specular|lut`: the PBR maps, composed on the CPU from the
+/// precomputed data (no GL needed, the same on every context). None for other views.
+pub fn map_view(args: &Args) -> Result<Option<crate::image_out::Rgba>> {
+    let what = match args.show {
+        Show::Irradiance => "irradiance",
+        Show::Specular => "specular",
+        Show::Lut => "lut",
+        _ => return Ok(None),
+    };
+    let (data, _) = crate::render::ibl::load_or_compute(&env_request(args)?)?;
+    let out = OutputParams {
+        exposure_ev: args.exposure,
+        tonemap: args.tonemap,
+    };
+    Ok(crate::pbr::views::view(&data, what, args.show_level, &out))
+}
+
 /// Renders headless into `path` (`--frames` times; the last frame is written).
 pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
+    if let Some(img) = map_view(args)? {
+        let text = vec![
+            ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
+            ("glview.show", format!("{:?}", args.show).to_lowercase()),
+        ];
+        return img.save_png(path, &text);
+    }
     let scene = load_scene(args)?;
     let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;
@@ -413,6 +444,13 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
 
 /// `--reference`: the same scene, camera and lights through the CPU reference renderer.
 pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
+    if args.show != Show::Scene {
+        return Err(Error::Usage(format!(
+            "--show {:?}: the reference renderer draws only the scene; drop --reference for teaching views",
+            args.show
+        )
+        .to_lowercase()));
+    }
     let scene = load_scene(args)?;
     let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;

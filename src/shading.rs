@@ -66,6 +66,8 @@ pub struct LightingParams {
     pub output: crate::pbr::OutputParams,
     /// How translucent surfaces are drawn (both tiers).
     pub translucency: crate::frame::Translucency,
+    /// A per-pixel teaching view instead of the lit picture (`--show normals`, ...).
+    pub attribute_view: crate::frame::AttributeView,
 }
 
 impl Default for LightingParams {
@@ -78,6 +80,7 @@ impl Default for LightingParams {
             pbr_terms: Default::default(),
             output: Default::default(),
             translucency: Default::default(),
+            attribute_view: Default::default(),
         }
     }
 }

@@ -235,3 +235,75 @@ fn all_terms_off_leaves_the_emissive_image() {
     let img = Rgba::load_png(&out).unwrap();
     assert_eq!(img.pixel(16, 16)[..3], [188, 137, 0]);
 }
+
+/// Every teaching view is a picture (not blank, no NaN-black where a surface is) on every
+/// path; the point-light atlas is no longer a white page; the reference refuses views.
+#[test]
+fn teaching_views_on_every_path() {
+    let dir = out_dir("compare-views");
+    let quad = models().join("textured_quad.obj");
+    for (path, gl, vars) in [
+        ("core", &["--gl", "core", "--backend", "egl"][..], &[][..]),
+        ("es3", &["--gl", "es3", "--backend", "egl"][..], &[][..]),
+        ("gl21", &["--gl", "2.1", "--backend", "egl"][..], GL21),
+        (
+            "gl21-osmesa",
+            &["--gl", "2.1", "--backend", "osmesa"][..],
+            GL21_NO_FBO,
+        ),
+    ] {
+        for view in ["normals", "uvs", "roughness", "metallic"] {
+            let mut a = vec![
+                quad.to_str().unwrap(),
+                "--size",
+                "64x48",
+                "--show",
+                view,
+                "--pitch",
+                "10",
+                "--metallic",
+                "0.5",
+            ];
+            a.extend_from_slice(gl);
+            render(&dir, &format!("{view}-{path}"), &a, vars);
+        }
+        let mut a = vec![
+            "--size",
+            "96x64",
+            "--show",
+            "shadow-map",
+            "--light",
+            "point:0,0.5,0",
+        ];
+        a.extend_from_slice(gl);
+        let atlas = render(&dir, &format!("atlas-{path}"), &a, vars);
+        let (lo, hi) = atlas
+            .data
+            .chunks_exact(4)
+            .fold((255u8, 0u8), |(lo, hi), p| (lo.min(p[0]), hi.max(p[0])));
+        assert!(
+            hi - lo > 100,
+            "{path}: the point-light atlas spans only {lo}..{hi}"
+        );
+    }
+    // The map views are composed on the CPU from the precomputed data: one run covers every
+    // path.
+    for view in ["irradiance", "specular", "lut"] {
+        render(&dir, view, &["--show", view, "--show-level", "2"], &[]);
+    }
+    let o = run(
+        &[
+            "--reference",
+            "--show",
+            "normals",
+            "-o",
+            dir.join("r.png").to_str().unwrap(),
+        ],
+        &[],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("reference renderer draws only the scene"),
+        "{err}"
+    );
+}

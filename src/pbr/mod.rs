@@ -9,6 +9,7 @@ pub mod brdf;
 pub mod cache;
 pub mod env;
 pub mod precompute;
+pub mod views;
 
 use glam::Vec3;
 use serde::Serialize;

@@ -212,6 +212,11 @@ impl Pass for Lit {
         if s.shading == Shading::Pbr {
             return Ok(Outcome::Skipped("PBR tier".into()));
         }
+        if s.lighting.attribute_view != crate::frame::AttributeView::None {
+            return Ok(Outcome::Skipped(
+                "attribute view (drawn by the PBR program)".into(),
+            ));
+        }
         let v = View::new(cx);
         cx.bind_target();
         super::translucent::clear(cx);

@@ -224,7 +224,8 @@ impl Pass for Pbr {
 
     fn run(&self, cx: &mut FrameCx) -> Result<Outcome> {
         let s = cx.settings;
-        if s.shading != Shading::Pbr {
+        let attribute = s.lighting.attribute_view;
+        if s.shading != Shading::Pbr && attribute == crate::frame::AttributeView::None {
             return Ok(Outcome::Skipped("legacy tier".into()));
         }
         let units = cx.gpu.caps.max_texture_units;
@@ -300,11 +301,9 @@ fn draw(
             orm: has_uv && mm.orm.is_some(),
             emissive: has_uv && mm.emissive.is_some(),
         };
-        let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts).switch(
-            "LOG_DEPTH",
-            "logz",
-            s.lighting.translucency.log_depth,
-        );
+        let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts)
+            .switch("LOG_DEPTH", "logz", s.lighting.translucency.log_depth)
+            .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code());
         let program = cx.program(&key)?;
         program.bind();
         if !uniforms_set.contains(&key) {

@@ -271,6 +271,16 @@ impl Pass for ShowShadowMap {
         map.texture.bind(0);
         program.bind();
         program.set_i32("uDepth", 0);
+        // A perspective view-projection P·V with rigid V has row 3 = −V.row 2 and
+        // row 2 = A·V.row 2 + (0, 0, 0, B): A, B and so near and far come out of the matrix.
+        let m = map.views[0];
+        let (r2, r3) = (m.row(2), m.row(3));
+        let perspective = map.projection != ShadowProjection::Ortho;
+        let a = -r2.truncate().dot(r3.truncate());
+        let b = r2.w + a * r3.w;
+        program.set_f32("uPerspective", if perspective { 1.0 } else { 0.0 });
+        program.set_vec2("uAB", glam::Vec2::new(a, b));
+        program.set_vec2("uNearFar", glam::Vec2::new(b / (a - 1.0), b / (a + 1.0)));
         cx.bind_target();
         cx.gpu.apply(&RenderState::overlay());
         if let Some(q) = &cx.res.quad {
