@@ -49,6 +49,9 @@ pub fn run_window(args: &Args) -> Result<()> {
         cursor: None,
         left_down: false,
         screenshot: false,
+        compare: false,
+        overlay: false,
+        last_ms: 0.0,
         error: None,
     };
     event_loop
@@ -80,6 +83,12 @@ struct App<'a> {
     left_down: bool,
     /// F12 was pressed: the next frame is also saved.
     screenshot: bool,
+    /// `C`: Phong and PBR side by side on one camera.
+    compare: bool,
+    /// `H`: the overlay with model, tier, toggles, frame time and the key table.
+    overlay: bool,
+    /// The last frame's time, for the overlay.
+    last_ms: f64,
     error: Option<Error>,
 }
 
@@ -113,6 +122,11 @@ impl App<'_> {
                 Shading::Phong => "legacy Phong",
                 Shading::Gouraud => "legacy Gouraud",
                 Shading::Pbr => "PBR",
+            };
+            let shading = if self.compare {
+                "compare Phong | PBR"
+            } else {
+                shading
             };
             let title = format!(
                 "glview — {} — {shading} — {}",
@@ -149,7 +163,16 @@ impl App<'_> {
                 self.screenshot = true;
                 self.request_redraw();
             }
-            Effect::Help => print!("{}", keys::help_text()),
+            Effect::Help => {
+                print!("{}", keys::help_text());
+                self.overlay = !self.overlay;
+                self.request_redraw();
+            }
+            Effect::Compare => {
+                self.compare = !self.compare;
+                self.update_title();
+                self.request_redraw();
+            }
             Effect::Quit => event_loop.exit(),
         }
     }
@@ -179,14 +202,40 @@ impl App<'_> {
             }
             return Ok(());
         }
-        let stats = live.renderer.render(
-            &self.settings,
-            &Target {
-                fbo: None,
-                width: w,
-                height: h,
-            },
-        )?;
+        let target = Target {
+            fbo: None,
+            width: w,
+            height: h,
+        };
+        let stats = if self.compare {
+            // Two panes on one camera: the legacy tier left, PBR right.
+            let half = (w / 2).max(1);
+            let mut last = None;
+            for (i, shading) in [Shading::Phong, Shading::Pbr].into_iter().enumerate() {
+                let s = FrameSettings {
+                    shading,
+                    ..self.settings.clone()
+                };
+                let x = i as u32 * half;
+                last = Some(
+                    live.renderer
+                        .render_viewport(&s, &target, [x, 0, half, h])?,
+                );
+            }
+            last.expect("two panes")
+        } else {
+            live.renderer.render(&self.settings, &target)?
+        };
+        self.last_ms = stats.ms;
+        if self.overlay {
+            let text = overlay_text(
+                &self.settings,
+                live.renderer.scene(),
+                self.compare,
+                stats.ms,
+            );
+            live.renderer.draw_overlay(&text, &target)?;
+        }
         if std::mem::take(&mut self.screenshot) {
             let img = WindowContext::read_back_buffer(&live.gpu, w, h);
             let backend = format!("window ({})", live.window.platform);
@@ -328,12 +377,71 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::Digit1 => "1",
         KeyCode::Digit2 => "2",
         KeyCode::Digit3 => "3",
+        KeyCode::Digit4 => "4",
+        KeyCode::Digit5 => "5",
+        KeyCode::Digit6 => "6",
+        KeyCode::Digit7 => "7",
+        KeyCode::KeyC => "C",
         _ => return None,
     })
 }
 
 /// `DIR/glview-0001.png`, `-0002`, ...: the first name not taken. The file is created here
 /// (create_new), so two viewers saving at once never write the same file.
+/// The overlay picture: model, tier, active toggles, frame time, then the key table.
+fn overlay_text(
+    s: &FrameSettings,
+    scene: &Scene,
+    compare: bool,
+    ms: f64,
+) -> crate::image_out::Rgba {
+    use crate::compare::canvas;
+    let on = |b: bool| if b { "on" } else { "off" };
+    let mut lines = vec![
+        format!("{}  {:.1} ms", scene.name, ms),
+        if compare {
+            "compare: Phong | PBR".to_string()
+        } else {
+            format!("tier {} ({:?})", s.shading.tier(), s.shading).to_lowercase()
+        },
+        format!(
+            "shadows {}  lights {}  wrap {}",
+            on(s.shadows.enabled),
+            s.lights.len(),
+            on(s.lighting.wrap)
+        ),
+    ];
+    let t = &s.lighting.terms;
+    let p = &s.lighting.pbr_terms;
+    lines.push(format!(
+        "legacy: ambient {} diffuse {} specular {}",
+        on(t.ambient),
+        on(t.diffuse),
+        on(t.specular)
+    ));
+    lines.push(format!(
+        "pbr: direct {}/{} ibl {}/{} ao {} shadows {} emissive {}",
+        on(p.direct_diffuse),
+        on(p.direct_specular),
+        on(p.ibl_diffuse),
+        on(p.ibl_specular),
+        on(p.ao),
+        on(p.shadows),
+        on(p.emissive)
+    ));
+    lines.push(String::new());
+    lines.extend(keys::help_text().lines().map(str::to_string));
+    let width = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1) as u32 * 8 + 8;
+    let mut img = canvas::blank(width, lines.len() as u32 * 10 + 8, [0, 0, 0]);
+    for p in img.data.chunks_exact_mut(4) {
+        p[3] = 180;
+    }
+    for (i, l) in lines.iter().enumerate() {
+        canvas::text_scaled(&mut img, 4, 4 + i as u32 * 10, l, [240, 240, 240], 1);
+    }
+    img
+}
+
 fn next_screenshot_path(dir: &Path) -> Result<PathBuf> {
     for n in 1..=999_999u32 {
         let path = dir.join(format!("glview-{n:04}.png"));
@@ -400,6 +508,11 @@ mod tests {
                     KeyCode::Digit1,
                     KeyCode::Digit2,
                     KeyCode::Digit3,
+                    KeyCode::Digit4,
+                    KeyCode::Digit5,
+                    KeyCode::Digit6,
+                    KeyCode::Digit7,
+                    KeyCode::KeyC,
                 ]
                 .iter()
                 .any(|c| physical_name(*c) == Some(n));

@@ -12,8 +12,11 @@ pub enum Action {
     /// Phong → Gouraud → PBR → Phong.
     CycleShading,
     ToggleWrap,
-    /// 0 = ambient, 1 = diffuse, 2 = specular.
+    /// Legacy: 0 = ambient, 1 = diffuse, 2 = specular. PBR: 0–6 = direct diffuse, direct
+    /// specular, IBL diffuse, IBL specular, AO, shadows, emissive.
     ToggleTerm(u8),
+    /// Side-by-side panes in the window.
+    ToggleCompare,
     /// Translucent opacity down / up by 0.1 (`[`, `]`).
     Opacity(i8),
     Screenshot,
@@ -65,15 +68,44 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     ),
     (&["["], Action::Opacity(-1), "translucent opacity −0.1"),
     (&["]"], Action::Opacity(1), "translucent opacity +0.1"),
-    (&["1"], Action::ToggleTerm(0), "ambient term on/off"),
-    (&["2"], Action::ToggleTerm(1), "diffuse term on/off"),
-    (&["3"], Action::ToggleTerm(2), "specular term on/off"),
+    (
+        &["1"],
+        Action::ToggleTerm(0),
+        "ambient term on/off (PBR: direct diffuse)",
+    ),
+    (
+        &["2"],
+        Action::ToggleTerm(1),
+        "diffuse term on/off (PBR: direct specular)",
+    ),
+    (
+        &["3"],
+        Action::ToggleTerm(2),
+        "specular term on/off (PBR: IBL diffuse)",
+    ),
+    (&["4"], Action::ToggleTerm(3), "PBR: IBL specular on/off"),
+    (
+        &["5"],
+        Action::ToggleTerm(4),
+        "PBR: ambient occlusion on/off",
+    ),
+    (&["6"], Action::ToggleTerm(5), "PBR: shadows on/off"),
+    (&["7"], Action::ToggleTerm(6), "PBR: emissive on/off"),
+    (
+        &["C"],
+        Action::ToggleCompare,
+        "compare: Phong and PBR side by side",
+    ),
     (
         &["F12"],
         Action::Screenshot,
         "save a screenshot (PNG of the window's framebuffer)",
     ),
-    (&["H", "F1"], Action::Help, "print this key table"),
+    (
+        &["H", "F1"],
+        Action::Help,
+        "overlay: model, tier, toggles, frame time and this table",
+    ),
     (&["Escape", "Esc", "Q"], Action::Quit, "quit"),
 ];
 
@@ -111,6 +143,8 @@ pub fn help_text() -> String {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Effect {
     Redraw,
+    /// Toggle the window's side-by-side panes (the frame settings do not change).
+    Compare,
     Screenshot,
     Help,
     Quit,
@@ -146,15 +180,30 @@ pub fn apply(
             let now = t.opacity.unwrap_or(DEFAULT_KEY_OPACITY);
             t.opacity = Some((now + 0.1 * f32::from(step)).clamp(0.0, 1.0));
         }
+        Action::ToggleTerm(t) if s.shading == Shading::Pbr => {
+            let p = &mut s.lighting.pbr_terms;
+            let b = match t {
+                0 => &mut p.direct_diffuse,
+                1 => &mut p.direct_specular,
+                2 => &mut p.ibl_diffuse,
+                3 => &mut p.ibl_specular,
+                4 => &mut p.ao,
+                5 => &mut p.shadows,
+                _ => &mut p.emissive,
+            };
+            *b = !*b;
+        }
         Action::ToggleTerm(t) => {
             let terms = &mut s.lighting.terms;
             let b = match t {
                 0 => &mut terms.ambient,
                 1 => &mut terms.diffuse,
-                _ => &mut terms.specular,
+                2 => &mut terms.specular,
+                _ => return Effect::Redraw,
             };
             *b = !*b;
         }
+        Action::ToggleCompare => return Effect::Compare,
         Action::Screenshot => return Effect::Screenshot,
         Action::Help => return Effect::Help,
         Action::Quit => return Effect::Quit,

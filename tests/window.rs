@@ -303,3 +303,100 @@ fn mouse_drag_and_wheel_match_keys() {
         2,
     );
 }
+
+/// `C` shows Phong and PBR side by side on one camera (each pane the headless render of its
+/// size, to rounding); `P` cycles to the PBR tier; `H` draws the overlay over the top-left
+/// corner and hides it again.
+#[test]
+fn compare_mode_pbr_key_and_overlay() {
+    let Some((_lock, x)) = setup() else { return };
+    let dir = fresh_dir("window_compare");
+    // A fixed distance: the fitted one depends on the aspect, which the panes change.
+    let (mut v, _win) = open(&x, &dir, &["--distance", "3"]);
+    key_to_frame(&x, &mut v, "c");
+    let shot = screenshot(&x, &mut v);
+    let half = |img: &Rgba, right: bool| {
+        let mut data = Vec::new();
+        for y in 0..img.height {
+            let s = ((y * img.width + if right { 160 } else { 0 }) * 4) as usize;
+            data.extend_from_slice(&img.data[s..s + 160 * 4]);
+        }
+        Rgba {
+            width: 160,
+            height: img.height,
+            data,
+        }
+    };
+    let pane_args = |shading: &'static str| {
+        vec![
+            "--size",
+            "160x240",
+            "--yaw",
+            "30",
+            "--pitch",
+            "15",
+            "--distance",
+            "3",
+            "--shading",
+            shading,
+        ]
+    };
+    for (right, shading) in [(false, "phong"), (true, "pbr")] {
+        let headless = render(&dir, shading, &pane_args(shading), &[]);
+        let mut pane = half(&shot, right);
+        for (p, q) in pane
+            .data
+            .chunks_exact_mut(4)
+            .zip(headless.data.chunks_exact(4))
+        {
+            p[3] = q[3];
+        }
+        assert_close(
+            &dir,
+            &format!("pane-{shading}"),
+            &pane,
+            &headless,
+            2,
+            160 * 240 / 500,
+            8,
+        );
+    }
+    key_to_frame(&x, &mut v, "c");
+    key_to_frame(&x, &mut v, "p");
+    key_to_frame(&x, &mut v, "p");
+    let pbr = screenshot(&x, &mut v);
+    let headless_pbr = render(
+        &dir,
+        "pbr-full",
+        &[
+            "--size",
+            "320x240",
+            "--yaw",
+            "30",
+            "--pitch",
+            "15",
+            "--distance",
+            "3",
+            "--shading",
+            "pbr",
+        ],
+        &[],
+    );
+    assert!(
+        diff(&pbr, &headless_pbr, 8).over < 320 * 240 / 500,
+        "P P did not reach the PBR tier"
+    );
+    key_to_frame(&x, &mut v, "h");
+    let with_overlay = screenshot(&x, &mut v);
+    let corner = |img: &Rgba| {
+        (0..40)
+            .flat_map(|y| (0..120).map(move |x| (x, y)))
+            .filter(|&(x, y)| img.pixel(x, y) != pbr.pixel(x, y))
+            .count()
+    };
+    assert!(corner(&with_overlay) > 300, "the overlay is not drawn");
+    key_to_frame(&x, &mut v, "h");
+    let without = screenshot(&x, &mut v);
+    assert_eq!(corner(&without), 0, "the overlay did not go away");
+    quit(&mut v, &x, "Escape");
+}

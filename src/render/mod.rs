@@ -8,6 +8,7 @@ pub mod background;
 pub mod frusta;
 pub mod ibl;
 pub mod lit;
+pub mod overlay;
 pub mod pbr;
 pub mod shadow;
 pub mod translucent;
@@ -130,19 +131,24 @@ impl FrameCx<'_> {
     /// A full-screen quad (two triangles over clip space), made on first use.
     pub fn quad(&mut self) -> Result<&GpuMesh> {
         if self.res.quad.is_none() {
-            let v = |x: f32, y: f32| Vertex {
-                position: [x, y, 0.0],
-                normal: [0.0, 0.0, 1.0],
-                uv: [(x + 1.0) * 0.5, (y + 1.0) * 0.5],
-            };
             self.res.quad = Some(GpuMesh::new(
                 self.gpu,
-                &[v(-1., -1.), v(1., -1.), v(1., 1.), v(-1., 1.)],
+                &quad_vertices(),
                 &[0, 1, 2, 0, 2, 3],
             )?);
         }
         Ok(self.res.quad.as_ref().expect("made above"))
     }
+}
+
+/// The corners of clip space with UVs, for full-screen and overlay quads.
+pub(crate) fn quad_vertices() -> [Vertex; 4] {
+    let v = |x: f32, y: f32| Vertex {
+        position: [x, y, 0.0],
+        normal: [0.0, 0.0, 1.0],
+        uv: [(x + 1.0) * 0.5, (y + 1.0) * 0.5],
+    };
+    [v(-1., -1.), v(1., -1.), v(1., 1.), v(-1., 1.)]
 }
 
 /// One step of the frame.

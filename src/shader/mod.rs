@@ -44,6 +44,10 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("skybox.vert", include_str!("../../shaders_gl/skybox.vert")),
     ("fill.frag", include_str!("../../shaders_gl/fill.frag")),
     (
+        "overlay.frag",
+        include_str!("../../shaders_gl/overlay.frag"),
+    ),
+    (
         "logdepth.glsl",
         include_str!("../../shaders_gl/include/logdepth.glsl"),
     ),
