@@ -1,6 +1,7 @@
 //! `--xray NAME...`: makes the named materials, or the meshes of the named objects/groups,
-//! translucent, to look at the parts inside a model; everything else stays opaque (the
-//! seed's "inner" geometry, drawn as usual).
+//! translucent, to look at the parts inside a model; everything else is drawn opaque (the
+//! seed's opaque inner mask: with nearest-layer translucency only opaque surfaces show
+//! through the x-rayed shell, so a translucent glass inside a holder becomes solid).
 use super::Scene;
 
 /// Opacity given to x-rayed surfaces unless `--opacity` says otherwise.
@@ -10,6 +11,7 @@ impl Scene {
     /// Applies `--xray`; a name that matches no material and no object is an error naming it
     /// and the names there are.
     pub fn xray(&mut self, names: &[String], opacity: f32) -> Result<(), String> {
+        let mut rayed = vec![false; self.materials.len()];
         for name in names {
             let by_material: Vec<usize> = (0..self.materials.len())
                 .filter(|&i| self.materials[i].name == *name)
@@ -33,6 +35,7 @@ impl Scene {
             }
             for i in by_material {
                 self.materials[i].opacity = opacity;
+                rayed[i] = true;
             }
             for i in by_mesh {
                 // A copy of the mesh's material, so other meshes sharing it stay opaque.
@@ -40,7 +43,13 @@ impl Scene {
                 m.name = format!("{} (x-ray)", m.name);
                 m.opacity = opacity;
                 self.materials.push(m);
+                rayed.push(true);
                 self.meshes[i].material = self.materials.len() - 1;
+            }
+        }
+        for (m, rayed) in self.materials.iter_mut().zip(rayed) {
+            if !rayed {
+                m.opacity = 1.0;
             }
         }
         Ok(())
@@ -57,8 +66,13 @@ mod tests {
             name: name.into(),
             ..Default::default()
         };
-        let mut s = Scene::from_meshes("t", vec![mesh("a"), mesh("b")], vec![Material::default()]);
+        let glass = Material {
+            opacity: 0.5,
+            ..Default::default()
+        };
+        let mut s = Scene::from_meshes("t", vec![mesh("a"), mesh("b")], vec![glass]);
         s.xray(&["b".into()], 0.3).unwrap();
+        // The inner mask: what is not x-rayed is opaque, even glass.
         assert_eq!(s.materials[s.meshes[0].material].opacity, 1.0);
         assert_eq!(s.materials[s.meshes[1].material].opacity, 0.3);
         assert!(s.xray(&["nope".into()], 0.3).unwrap_err().contains("nope"));
