@@ -320,3 +320,45 @@ fn logarithmic_depth_removes_z_fighting() {
         "the standard buffer got it right ({wrong_standard} wrong): the case proves nothing"
     );
 }
+
+/// From inside the outer shell the nearest translucent layer is the shell's inside (a back
+/// face): nothing is culled in nearest mode, so the technique keeps working from inside and
+/// the core still shows through the inner shell's nearest layer.
+#[test]
+fn camera_inside_the_shell() {
+    let dir = out_dir("translucency-inside");
+    let model = shells(&dir, "m", &|f| f);
+    let args = [
+        model.as_str(),
+        "--size",
+        "96x96",
+        "--yaw",
+        "0",
+        "--pitch",
+        "0",
+        "--distance",
+        "0.85",
+        "--light",
+        "none",
+        "--ambient",
+        "1,1,1",
+        "--no-shadows",
+    ];
+    let img = render(&dir, "inside", &args, &[]);
+    // The centre looks at the core through the inner shell (yellow, α 0.5), the camera being
+    // between the outer and the inner shell: 0.5·yellow + 0.5·red = (1, 0.5, 0).
+    let p = img.pixel(48, 48);
+    assert!(
+        p[0] >= 253 && (i32::from(p[1]) - 128).abs() <= 3 && p[2] <= 2,
+        "{p:?}"
+    );
+    // Looking sideways, past the inner shell, the outer shell's inside blends over black.
+    let (settings, scene) = settings_for(&args);
+    let reference = glview::reference::render(&scene, &settings, 96, 96);
+    let d = diff(&img, &reference, 8);
+    assert!(
+        d.over <= 60,
+        "inside view differs from the reference on {} pixels",
+        d.over
+    );
+}

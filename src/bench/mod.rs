@@ -15,6 +15,7 @@ pub mod scenes;
 pub mod sphere;
 pub mod summary;
 pub mod table;
+pub mod translucency;
 
 pub use load::{run_load, LoadOptions};
 pub use quality::{run_quality, QualityOptions};
@@ -30,6 +31,9 @@ pub struct BenchArgs {
     /// Measure the PBR tier's precomputation knobs against the Monte Carlo reference.
     #[arg(long, conflicts_with = "load")]
     pub pbr: bool,
+    /// Measure nearest-layer translucency against sorted and opaque drawing (and log depth).
+    #[arg(long, conflicts_with_all = ["load", "pbr"])]
+    pub translucency: bool,
     /// With --pbr: Monte Carlo samples per lobe of the reference.
     #[arg(long, default_value_t = 16384)]
     pub pbr_samples: u32,
@@ -41,6 +45,9 @@ pub struct BenchArgs {
 
 /// Runs the benchmark `args` selects.
 pub fn run(args: &BenchArgs) -> crate::Result<()> {
+    if args.translucency {
+        return translucency::run_translucency(&args.quality.models_dir);
+    }
     if args.pbr {
         let hdr = args
             .quality
