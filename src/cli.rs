@@ -184,6 +184,10 @@ pub struct Args {
     /// With --diff-against: the mean difference (in 1/255) allowed.
     #[arg(long, default_value_t = 0.5)]
     pub threshold: f64,
+    /// PBR: where the maps are computed (auto: the GPU unless it is a software rasterizer,
+    /// where the CPU is faster; GL 2.1 always on the CPU).
+    #[arg(long, value_enum, default_value_t = crate::pbr::PrecomputeOn::Auto)]
+    pub ibl_precompute: crate::pbr::PrecomputeOn,
     /// PBR with --reference: Monte Carlo samples per lobe and pixel.
     #[arg(long, default_value_t = crate::reference::pbr::DEFAULT_SAMPLES)]
     pub reference_samples: u32,

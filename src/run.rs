@@ -309,6 +309,7 @@ pub fn env_request(args: &Args) -> Result<EnvRequest> {
         },
         encoding: args.ibl_encoding,
         cache: !args.no_cache,
+        precompute: args.ibl_precompute,
     })
 }
 

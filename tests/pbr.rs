@@ -496,3 +496,81 @@ fn programs_are_cached_per_context() {
         "programs outlived their renderers"
     );
 }
+
+/// The GPU precomputation (`--ibl-precompute gpu`) computes the same maps as the CPU on
+/// GLSL 3.30 and ES 3.00 (measured: mean 0.0004–0.001 linear, max 0.009 on the studio HDR
+/// spheres — half-float environment texels and GL's own mip filtering); GL 2.1 refuses it
+/// clearly and `auto` falls back to the CPU there.
+#[test]
+fn gpu_precompute_matches_the_cpu() {
+    let dir = out_dir("pbr-gpu-precompute");
+    let hdr = shared().join("hdr/studio_small_03_1k.hdr");
+    for (path, gl) in [("core", "core"), ("es3", "es3")] {
+        let shot = |on: &str| {
+            let name = format!("{path}-{on}");
+            render(
+                &dir,
+                &name,
+                &[
+                    models().join("sphere.obj").to_str().unwrap(),
+                    "--size",
+                    "64x64",
+                    "--shading",
+                    "pbr",
+                    "--env",
+                    hdr.to_str().unwrap(),
+                    "--light",
+                    "none",
+                    "--metallic",
+                    "1",
+                    "--roughness",
+                    "0.4",
+                    "--no-cache",
+                    "--ibl-precompute",
+                    on,
+                    "--gl",
+                    gl,
+                    "--backend",
+                    "egl",
+                ],
+                &[],
+            )
+        };
+        let (gpu, cpu) = (shot("gpu"), shot("cpu"));
+        assert_close(&dir, &format!("{path}-gpu-vs-cpu"), &gpu, &cpu, 3, 20, 8);
+    }
+    let o = run(
+        &[
+            "--shading",
+            "pbr",
+            "--gl",
+            "2.1",
+            "--backend",
+            "egl",
+            "--ibl-precompute",
+            "gpu",
+            "--no-cache",
+            "-o",
+            dir.join("x.png").to_str().unwrap(),
+        ],
+        GL21,
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("use cpu"), "{err}");
+    let o = run(
+        &[
+            "--shading",
+            "pbr",
+            "--gl",
+            "2.1",
+            "--backend",
+            "egl",
+            "--stats",
+            "--no-cache",
+            "-o",
+            dir.join("y.png").to_str().unwrap(),
+        ],
+        GL21,
+    );
+    assert!(String::from_utf8_lossy(&o.stdout).contains("computed on the CPU"));
+}

@@ -11,7 +11,7 @@ use crate::headless::Headless;
 use crate::image_out::Rgba;
 use crate::pbr::env::Environment;
 use crate::pbr::precompute::IblSettings;
-use crate::pbr::{srgb_decode, Encoding, EnvRequest, EnvSource};
+use crate::pbr::{srgb_decode, Encoding, EnvRequest, EnvSource, PrecomputeOn};
 use crate::platform::{Backend, GlRequest};
 use crate::reference::{render_env_with_info, PbrEnv};
 use crate::render::Renderer;
@@ -27,6 +27,8 @@ struct Knob {
     settings: IblSettings,
     encoding: Encoding,
     extra: &'static [&'static str],
+    /// Precompute on the GPU (`--ibl-precompute gpu`).
+    gpu: bool,
 }
 
 fn knobs() -> Vec<Knob> {
@@ -36,6 +38,7 @@ fn knobs() -> Vec<Knob> {
         settings,
         encoding: Encoding::Float,
         extra: &[],
+        gpu: false,
     };
     let mut v = vec![k("default", d)];
     for levels in [3, 4, 5, 8] {
@@ -76,6 +79,10 @@ fn knobs() -> Vec<Knob> {
     v.push(Knob {
         extra: &["--multiscatter"],
         ..k("multiscatter", d)
+    });
+    v.push(Knob {
+        gpu: true,
+        ..k("GPU precompute", d)
     });
     v
 }
@@ -182,15 +189,35 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
             settings: knob.settings,
             encoding: knob.encoding,
             cache: false,
+            precompute: if knob.gpu {
+                PrecomputeOn::Gpu
+            } else {
+                PrecomputeOn::Cpu
+            },
         };
+        if knob.gpu {
+            if let Some(why) = crate::render::ibl_gpu::unsupported(&hl.gpu) {
+                eprintln!("  GPU precompute: skipped ({why})");
+                continue;
+            }
+        }
         // Precompute time: the median of three cold runs.
-        let times: Vec<f64> = (0..3)
-            .map(|_| {
-                let t = Instant::now();
+        let programs = crate::shader::cache::ProgramCache::for_context(&hl.gpu);
+        let mut times = Vec::new();
+        for _ in 0..3 {
+            let t = Instant::now();
+            if knob.gpu {
+                crate::render::ibl_gpu::compute(
+                    &hl.gpu,
+                    &mut programs.borrow_mut(),
+                    &env,
+                    &knob.settings,
+                )?;
+            } else {
                 let _ = crate::pbr::precompute::compute(&env, &knob.settings);
-                t.elapsed().as_secs_f64() * 1e3
-            })
-            .collect();
+            }
+            times.push(t.elapsed().as_secs_f64() * 1e3);
+        }
         let mut errors = Vec::new();
         let mut frame_ms = Vec::new();
         for ((m, r), (scene, reference, hit)) in MATERIALS.iter().zip(&references) {

@@ -63,6 +63,9 @@ pub struct Caps {
     pub seamless_cube: bool,
     /// Packed depth + stencil formats: GL 3.0, ES 3.0 or EXT/OES_packed_depth_stencil.
     pub depth_stencil: bool,
+    /// 32-bit float colour render targets read back as floats: GL 3.0, or ES 3.0 with
+    /// EXT_color_buffer_float.
+    pub float_render: bool,
     pub max_renderbuffer_size: u32,
     pub max_viewport: (u32, u32),
     pub max_varying_floats: u32,
@@ -163,6 +166,8 @@ impl Caps {
                 depth_stencil: es3
                     || desktop_at_least(3, 0)
                     || has(&["GL_EXT_packed_depth_stencil", "GL_OES_packed_depth_stencil"]),
+                float_render: desktop_at_least(3, 0)
+                    || (es3 && has(&["GL_EXT_color_buffer_float"])),
                 max_renderbuffer_size,
                 max_viewport: (vp[0] as u32, vp[1] as u32),
                 max_varying_floats,
@@ -181,7 +186,7 @@ impl Caps {
              32-bit indices: {}\ncube shadow lookups: {}\ntimer queries: {}\n\
              max texture size: {}\ntexture units: {}\n16-bit float textures: {}\n\
              RG textures: {}\nsRGB textures: {}\nseamless cube maps: {}\n\
-             depth+stencil: {}\n\
+             depth+stencil: {}\nfloat render targets: {}\n\
              max viewport: {}x{}\nmax varying floats: {}\nextensions: {}",
             self.version,
             self.glsl_version,
@@ -211,6 +216,7 @@ impl Caps {
             yes(self.srgb_textures),
             yes(self.seamless_cube),
             yes(self.depth_stencil),
+            yes(self.float_render),
             self.max_viewport.0,
             self.max_viewport.1,
             self.max_varying_floats,

@@ -93,6 +93,28 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// Reads the bound read framebuffer's float colour as RGBA f32, bottom row first (GL
+    /// order; cube-face rows are stored that way).
+    pub fn read_rgba_f32(&self, width: u32, height: u32) -> Vec<f32> {
+        let mut buf = vec![0f32; (width * height * 4) as usize];
+        // SAFETY: buf holds exactly width*height RGBA f32 texels; PACK_ALIGNMENT 4 fits f32.
+        unsafe {
+            self.gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
+            self.gl.read_pixels(
+                0,
+                0,
+                width as i32,
+                height as i32,
+                glow::RGBA,
+                glow::FLOAT,
+                glow::PixelPackData::Slice(Some(bytemuck::cast_slice_mut(&mut buf))),
+            );
+        }
+        buf
+    }
+}
+
 /// Flips an image vertically in place (GL bottom-up ↔ PNG top-down).
 pub fn flip_rows(buf: &mut [u8], row_bytes: usize) {
     let rows = buf.len() / row_bytes.max(1);

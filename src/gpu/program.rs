@@ -164,6 +164,13 @@ impl Program {
             unsafe { self.gpu.gl.uniform_1_i32(Some(&l), v) }
         }
     }
+
+    pub fn set_ivec2(&self, name: &str, x: i32, y: i32) {
+        if let Some(l) = self.location(name) {
+            // SAFETY: as above.
+            unsafe { self.gpu.gl.uniform_2_i32(Some(&l), x, y) }
+        }
+    }
 }
 
 impl Drop for Program {

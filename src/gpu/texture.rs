@@ -11,6 +11,8 @@ pub enum TextureFormat {
     /// 8-bit colour stored sRGB-encoded; the sampler returns linear values.
     Srgb8A8,
     Rgba16F,
+    /// 32-bit float colour, for render targets read back exactly (not filterable on ES).
+    Rgba32F,
     Rg16F,
     Depth24,
     Depth24Stencil8,
@@ -30,6 +32,7 @@ impl TextureFormat {
             TextureFormat::Rgba8 => true,
             TextureFormat::Srgb8A8 => caps.srgb_textures,
             TextureFormat::Rgba16F => caps.half_float_textures,
+            TextureFormat::Rgba32F => caps.float_render,
             TextureFormat::Rg16F => caps.half_float_textures && caps.rg_textures,
             TextureFormat::Depth24 => caps.depth_texture,
             TextureFormat::Depth24Stencil8 => caps.depth_stencil,
@@ -47,6 +50,7 @@ impl TextureFormat {
             TextureFormat::Rgba8 => (glow::RGBA8, glow::RGBA, glow::UNSIGNED_BYTE),
             TextureFormat::Srgb8A8 => (glow::SRGB8_ALPHA8, glow::RGBA, glow::UNSIGNED_BYTE),
             TextureFormat::Rgba16F => (glow::RGBA16F, glow::RGBA, ty(glow::HALF_FLOAT)),
+            TextureFormat::Rgba32F => (glow::RGBA32F, glow::RGBA, glow::FLOAT),
             TextureFormat::Rg16F => (glow::RG16F, glow::RG, ty(glow::HALF_FLOAT)),
             TextureFormat::Depth24 => (
                 glow::DEPTH_COMPONENT24,
@@ -244,6 +248,46 @@ impl Texture2d {
                 Sampling {
                     mipmaps,
                     ..sampling
+                },
+            );
+        }
+        Ok(t)
+    }
+
+    /// A mipmapped texture from explicit levels (level 0 first, each half the last), for
+    /// formats a driver cannot `glGenerateMipmap` (ES 3.0: RGBA16F is not colour-renderable
+    /// there) and for chains that must equal a CPU-computed one.
+    pub fn with_levels(
+        gpu: &GpuRef,
+        format: TextureFormat,
+        levels: &[(u32, u32, Pixels)],
+        clamp: bool,
+    ) -> Result<Texture2d> {
+        if !format.supported(&gpu.caps) || levels.is_empty() {
+            return Err(Error::Unsupported(format!(
+                "{}: {format:?} textures are not supported",
+                gpu.caps.version
+            )));
+        }
+        let t = Self::create(gpu, levels[0].0, levels[0].1)?;
+        // SAFETY: each level's data holds w*h texels of the format's channels.
+        unsafe {
+            for (i, (w, h, px)) in levels.iter().enumerate() {
+                tex_image(&gpu.gl, glow::TEXTURE_2D, i as i32, format, *w, *h, *px);
+            }
+            let gl = &gpu.gl;
+            gl.tex_parameter_i32(
+                glow::TEXTURE_2D,
+                glow::TEXTURE_MAX_LEVEL,
+                levels.len() as i32 - 1,
+            );
+            sampler_params(
+                gl,
+                glow::TEXTURE_2D,
+                Sampling {
+                    linear: true,
+                    mipmaps: true,
+                    repeat: !clamp,
                 },
             );
         }

@@ -173,6 +173,16 @@ pub enum Encoding {
     Rgbm,
 }
 
+/// Where the maps are computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
+pub enum PrecomputeOn {
+    /// The GPU where it can and is not a software rasterizer, else the CPU (the bench's
+    /// measurement on llvmpipe: the CPU is faster there).
+    Auto,
+    Cpu,
+    Gpu,
+}
+
 /// What the PBR pass needs to make (or read from the cache) its maps.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EnvRequest {
@@ -181,6 +191,7 @@ pub struct EnvRequest {
     pub encoding: Encoding,
     /// Read and write the disk cache.
     pub cache: bool,
+    pub precompute: PrecomputeOn,
 }
 
 impl Default for EnvRequest {
@@ -190,6 +201,7 @@ impl Default for EnvRequest {
             settings: precompute::IblSettings::default(),
             encoding: Encoding::Auto,
             cache: true,
+            precompute: PrecomputeOn::Auto,
         }
     }
 }

@@ -46,6 +46,8 @@ impl Pass for Background {
                 "drawn after the translucent surfaces, where the stencil is not 1".into(),
             ));
         }
+        // The maps first: computing them on the GPU binds its own framebuffers.
+        cx.res.ibl.ensure(cx.gpu, cx.programs)?;
         cx.bind_target();
         cx.clear(Some(s.background.to_array()));
         draw_skybox(
@@ -96,7 +98,7 @@ pub(crate) fn fill_unmarked(cx: &mut FrameCx) -> Result<()> {
 fn draw_skybox(cx: &mut FrameCx, state: RenderState) -> Result<String> {
     let s = cx.settings;
     let pbr = &s.lighting.pbr;
-    let ibl = cx.res.ibl.ensure(cx.gpu)?;
+    let ibl = cx.res.ibl.ensure(cx.gpu, cx.programs)?;
     let rgbm = ibl.rgbm;
     let n = ibl.specular.len();
     let level = ((pbr.skybox_blur.clamp(0.0, 1.0) * (n - 1) as f32).round() as usize).min(n - 1);

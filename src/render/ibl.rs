@@ -3,8 +3,10 @@
 //! the driver has it, else RGBM / split 16-bit in RGBA8; and the materials' PBR textures.
 use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureCube, TextureFormat};
 use crate::gpu::GpuRef;
+use crate::pbr::precompute::IblSettings;
 use crate::pbr::precompute::{self, IblData};
-use crate::pbr::{cache, env::Environment, Encoding, EnvRequest};
+use crate::pbr::{cache, env::Environment, Encoding, EnvRequest, PrecomputeOn};
+use crate::shader::cache::ProgramCache;
 use crate::{Error, Result};
 
 /// RGBM range: values up to 16 are stored, brighter ones clipped (documented).
@@ -40,7 +42,7 @@ impl IblState {
     }
 
     /// Makes the maps on first use: from the disk cache, else computed (and cached).
-    pub fn ensure(&mut self, gpu: &GpuRef) -> Result<&IblGpu> {
+    pub fn ensure(&mut self, gpu: &GpuRef, programs: &mut ProgramCache) -> Result<&IblGpu> {
         if self.gpu.is_none() {
             let mut req = self.request.get_or_insert_with(EnvRequest::default).clone();
             let fit = super::pbr::max_levels(gpu.caps.max_texture_units);
@@ -53,7 +55,22 @@ impl IblState {
                 req.settings.levels = fit.max(2);
             }
             if self.data.is_none() {
-                let (data, origin) = load_or_compute(&req)?;
+                let on_gpu = match req.precompute {
+                    PrecomputeOn::Cpu => false,
+                    PrecomputeOn::Gpu => true,
+                    PrecomputeOn::Auto => {
+                        super::ibl_gpu::unsupported(gpu).is_none() && !super::ibl_gpu::software(gpu)
+                    }
+                };
+                let compute = |env: &Environment, s: &IblSettings| -> Result<IblData> {
+                    if on_gpu {
+                        super::ibl_gpu::compute(gpu, programs, env, s)
+                    } else {
+                        Ok(precompute::compute(env, s))
+                    }
+                };
+                let (data, origin) =
+                    load_or_compute_with(&req, compute, if on_gpu { "GPU" } else { "CPU" })?;
                 self.data = Some(data);
                 self.origin = origin;
             }
@@ -64,8 +81,17 @@ impl IblState {
     }
 }
 
-/// Reads the maps from the disk cache or computes them; says which.
+/// Reads the maps from the disk cache or computes them on the CPU; says which.
 pub fn load_or_compute(req: &EnvRequest) -> Result<(IblData, String)> {
+    load_or_compute_with(req, |env, s| Ok(precompute::compute(env, s)), "CPU")
+}
+
+/// [`load_or_compute`] with the computation given (CPU or GPU, named by `on`).
+pub fn load_or_compute_with(
+    req: &EnvRequest,
+    mut compute: impl FnMut(&Environment, &IblSettings) -> Result<IblData>,
+    on: &str,
+) -> Result<(IblData, String)> {
     let key = if req.cache {
         cache::key(&req.source, &req.settings)
     } else {
@@ -77,11 +103,11 @@ pub fn load_or_compute(req: &EnvRequest) -> Result<(IblData, String)> {
         return Ok((d, format!("disk cache, read in {ms:.0} ms")));
     }
     let env = Environment::from_source(&req.source)?;
-    let data = precompute::compute(&env, &req.settings);
+    let data = compute(&env, &req.settings)?;
     if let Some(k) = key {
         cache::put(k, &data);
     }
-    let origin = format!("computed on the CPU in {:.0} ms", data.compute_ms);
+    let origin = format!("computed on the {on} in {:.0} ms", data.compute_ms);
     Ok((data, origin))
 }
 

@@ -7,6 +7,7 @@
 pub mod background;
 pub mod frusta;
 pub mod ibl;
+pub mod ibl_gpu;
 pub mod lit;
 pub mod overlay;
 pub mod pbr;

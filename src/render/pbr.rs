@@ -241,7 +241,7 @@ impl Pass for Pbr {
         }
         let gpu = cx.gpu.clone();
         let (rgbm, levels) = {
-            let ibl = cx.res.ibl.ensure(&gpu)?;
+            let ibl = cx.res.ibl.ensure(&gpu, cx.programs)?;
             bind_ibl(ibl);
             (ibl.rgbm, ibl.specular.len() as u32)
         };

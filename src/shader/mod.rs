@@ -44,6 +44,10 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("skybox.vert", include_str!("../../shaders_gl/skybox.vert")),
     ("fill.frag", include_str!("../../shaders_gl/fill.frag")),
     (
+        "prefilter.frag",
+        include_str!("../../shaders_gl/prefilter.frag"),
+    ),
+    (
         "overlay.frag",
         include_str!("../../shaders_gl/overlay.frag"),
     ),
