@@ -13,6 +13,14 @@ pub enum Diffuse {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AaMode {
+    None,
+    Msaa,
+    Fxaa,
+    Ssaa,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum DepthMode {
     Standard,
     /// The seed's logarithmic depth (2.10), C = 1.
@@ -108,9 +116,31 @@ pub struct Args {
     /// PBR: tone mapping before sRGB encoding (none = clamp).
     #[arg(long, value_enum, default_value_t = crate::pbr::Tonemap::KhronosNeutral)]
     pub tonemap: crate::pbr::Tonemap,
-    /// No bloom (bloom itself is not built yet: this flag is accepted so scripts can say it).
+    /// No bloom (the default; overrides --bloom).
     #[arg(long)]
     pub no_bloom: bool,
+    /// Bloom strength: the blurred bright parts times this are added back (0 = off).
+    #[arg(long, default_value_t = 0.0)]
+    pub bloom: f32,
+    /// Bloom threshold (linear colour); a soft knee of 0.2 below it.
+    #[arg(long, default_value_t = 1.0)]
+    pub bloom_threshold: f32,
+    /// Bloom Gaussian standard deviation in pixels.
+    #[arg(long, default_value_t = 8.0)]
+    pub bloom_sigma: f32,
+    /// Bloom blur resolution: 1/2^N of the frame (0 = full resolution, exact).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(0..=5))]
+    pub bloom_levels: u32,
+    /// Anti-aliasing: none, msaa (multisampled framebuffer, resolved), fxaa (post pass) or
+    /// ssaa (render --aa-samples² larger, box-filtered down: the accurate one for screenshots).
+    #[arg(long, value_enum, default_value_t = AaMode::None)]
+    pub aa: AaMode,
+    /// MSAA samples (2, 4, 8) or SSAA factor per axis (2, 3, 4).
+    #[arg(long, default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub aa_samples: u32,
+    /// Transparent background: alpha = coverage in the PNG.
+    #[arg(long)]
+    pub transparent: bool,
     /// PBR: base colour R,G,B (linear) for every material.
     #[arg(long)]
     pub base_color: Option<String>,

@@ -144,3 +144,47 @@ impl AttributeView {
         self as i32
     }
 }
+
+/// Bloom (the first seed document): the bright parts of the linear image — above
+/// `threshold`, with a soft knee — blurred with a Gaussian and added back before the output
+/// step. Off when `strength` is 0.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Bloom {
+    pub strength: f32,
+    pub threshold: f32,
+    /// Width of the soft knee below the threshold (0 = hard cut).
+    pub knee: f32,
+    /// Standard deviation of the Gaussian in pixels of the full-resolution image.
+    pub sigma: f32,
+    /// The blur runs at 1/2^levels of the resolution (0 = full resolution).
+    pub levels: u32,
+}
+
+impl Default for Bloom {
+    fn default() -> Self {
+        Bloom {
+            strength: 0.0,
+            threshold: 1.0,
+            knee: 0.2,
+            sigma: 8.0,
+            levels: 2,
+        }
+    }
+}
+
+/// The post-processing knobs of a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Post {
+    pub bloom: Bloom,
+    /// FXAA over the final image.
+    pub fxaa: bool,
+    /// Alpha = coverage: the background is cleared transparent and not drawn.
+    pub transparent: bool,
+}
+
+impl Post {
+    /// Whether the frame is drawn into an offscreen image first.
+    pub fn offscreen(&self) -> bool {
+        self.bloom.strength > 0.0 || self.fxaa
+    }
+}

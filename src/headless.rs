@@ -19,6 +19,8 @@ enum Platform {
 /// A current headless context with a render target of a fixed size. Field order is drop
 /// order: the target and the `Gpu` go before the platform context they live in.
 pub struct Headless {
+    /// A multisampled target drawn into instead of `fbo` (`--aa msaa`), resolved on read.
+    msaa: Option<Framebuffer>,
     fbo: Option<Framebuffer>,
     pub gpu: GpuRef,
     platform: Platform,
@@ -65,6 +67,7 @@ impl Headless {
         check_size(&gpu, width, height)?;
         let fbo = Framebuffer::color_depth(&gpu, width, height)?;
         Ok(Headless {
+            msaa: None,
             fbo: Some(fbo),
             gpu,
             platform: Platform::Egl(egl),
@@ -91,6 +94,7 @@ impl Headless {
                     let gpu = Gpu::new(ctx.glow_context());
                     check_size(&gpu, width, height)?;
                     return Ok(Headless {
+                        msaa: None,
                         fbo: None,
                         gpu,
                         platform: Platform::OsMesa(ctx),
@@ -104,9 +108,30 @@ impl Headless {
         Err(Error::Context(format!("OSMesa: {}", errors.join("; "))))
     }
 
+    /// Draws into a multisampled target of `samples` samples from now on (`--aa msaa`).
+    /// Needs framebuffer objects with multisampling (GL 3.0, ES 3.0); OSMesa has neither.
+    pub fn enable_msaa(&mut self, samples: u32) -> Result<()> {
+        let c = &self.gpu.caps;
+        if self.fbo.is_none() || !(c.major >= 3) {
+            return Err(Error::Unsupported(format!(
+                "--aa msaa needs multisampled framebuffer objects (GL 3.0 / ES 3.0); {} on {} \
+                 has none: use --aa ssaa",
+                c.version,
+                self.backend_name()
+            )));
+        }
+        self.msaa = Some(Framebuffer::color_depth_samples(
+            &self.gpu,
+            self.width,
+            self.height,
+            samples,
+        )?);
+        Ok(())
+    }
+
     pub fn target(&self) -> Target {
         Target {
-            fbo: self.fbo.as_ref().map(|f| f.raw),
+            fbo: self.msaa.as_ref().or(self.fbo.as_ref()).map(|f| f.raw),
             width: self.width,
             height: self.height,
         }
@@ -134,6 +159,9 @@ impl Headless {
         let data = match &self.platform {
             Platform::OsMesa(ctx) => ctx.read_rgba(&self.gpu.gl),
             Platform::Egl(_) => {
+                if let (Some(ms), Some(f)) = (&self.msaa, &self.fbo) {
+                    ms.resolve_into(f);
+                }
                 if let Some(f) = &self.fbo {
                     f.bind();
                 }

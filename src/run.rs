@@ -208,6 +208,21 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
                 opacity: unit(args.opacity, "--opacity")?,
                 log_depth: args.depth == crate::cli::DepthMode::Log,
             },
+            post: crate::frame::Post {
+                bloom: crate::frame::Bloom {
+                    strength: if args.no_bloom {
+                        0.0
+                    } else {
+                        args.bloom.max(0.0)
+                    },
+                    threshold: args.bloom_threshold,
+                    sigma: args.bloom_sigma.clamp(0.5, 64.0),
+                    levels: args.bloom_levels,
+                    ..Default::default()
+                },
+                fxaa: args.aa == crate::cli::AaMode::Fxaa,
+                transparent: args.transparent,
+            },
             attribute_view: match args.show {
                 Show::Normals => AttributeView::Normals,
                 Show::Uvs => AttributeView::Uvs,
@@ -424,7 +439,16 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     let scene = load_scene(args)?;
     let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;
-    let hl = crate::headless::Headless::new(args.backend, args.gl, w, h)?;
+    // SSAA renders k times larger on each axis and box-filters down.
+    let k = if args.aa == crate::cli::AaMode::Ssaa {
+        args.aa_samples.clamp(1, 4)
+    } else {
+        1
+    };
+    let mut hl = crate::headless::Headless::new(args.backend, args.gl, w * k, h * k)?;
+    if args.aa == crate::cli::AaMode::Msaa {
+        hl.enable_msaa(args.aa_samples)?;
+    }
     let gpu = Renderer::Gpu {
         caps: &hl.gpu.caps,
         backend: hl.backend_name(),
@@ -438,9 +462,25 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
             println!("{}", serde_json::to_string(&stats).unwrap_or_default());
         }
     }
-    let img = hl.read();
+    let mut img = crate::bench::metrics::downsample(&hl.read(), k);
     drop(renderer);
+    if args.transparent {
+        unpremultiply(&mut img);
+    }
     img.save_png(path, &text)
+}
+
+/// The framebuffer holds colour multiplied by coverage (blending over a cleared transparent
+/// black, resolved or box-filtered edges); PNG wants straight alpha.
+pub fn unpremultiply(img: &mut crate::image_out::Rgba) {
+    for p in img.data.chunks_exact_mut(4) {
+        let a = u32::from(p[3]);
+        if a > 0 && a < 255 {
+            for c in &mut p[..3] {
+                *c = ((u32::from(*c) * 255 + a / 2) / a).min(255) as u8;
+            }
+        }
+    }
 }
 
 /// `--reference`: the same scene, camera and lights through the CPU reference renderer.

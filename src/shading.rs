@@ -68,6 +68,8 @@ pub struct LightingParams {
     pub translucency: crate::frame::Translucency,
     /// A per-pixel teaching view instead of the lit picture (`--show normals`, ...).
     pub attribute_view: crate::frame::AttributeView,
+    /// Bloom, FXAA, transparent background.
+    pub post: crate::frame::Post,
 }
 
 impl Default for LightingParams {
@@ -81,6 +83,7 @@ impl Default for LightingParams {
             output: Default::default(),
             translucency: Default::default(),
             attribute_view: Default::default(),
+            post: Default::default(),
         }
     }
 }

@@ -25,13 +25,33 @@ impl Drop for Renderbuffer {
 }
 
 fn renderbuffer(gpu: &GpuRef, format: u32, w: u32, h: u32) -> Result<Renderbuffer> {
+    renderbuffer_ms(gpu, format, w, h, 0)
+}
+
+fn renderbuffer_ms(
+    gpu: &GpuRef,
+    format: u32,
+    w: u32,
+    h: u32,
+    samples: u32,
+) -> Result<Renderbuffer> {
     // SAFETY: creating and allocating a new renderbuffer.
     unsafe {
         let raw = gpu.gl.create_renderbuffer().map_err(Error::Unsupported)?;
         gpu.created();
         gpu.gl.bind_renderbuffer(glow::RENDERBUFFER, Some(raw));
-        gpu.gl
-            .renderbuffer_storage(glow::RENDERBUFFER, format, w as i32, h as i32);
+        if samples > 0 {
+            gpu.gl.renderbuffer_storage_multisample(
+                glow::RENDERBUFFER,
+                samples as i32,
+                format,
+                w as i32,
+                h as i32,
+            );
+        } else {
+            gpu.gl
+                .renderbuffer_storage(glow::RENDERBUFFER, format, w as i32, h as i32);
+        }
         Ok(Renderbuffer {
             gpu: gpu.clone(),
             raw,
@@ -84,15 +104,21 @@ impl Framebuffer {
     /// RGBA8 colour + 24-bit depth renderbuffers (with 8 stencil bits where the driver has
     /// packed depth-stencil): the headless render target.
     pub fn color_depth(gpu: &GpuRef, w: u32, h: u32) -> Result<Framebuffer> {
+        Self::color_depth_samples(gpu, w, h, 0)
+    }
+
+    /// [`Framebuffer::color_depth`] with `samples` samples per pixel (0 = single-sampled);
+    /// resolve with [`Framebuffer::resolve_into`].
+    pub fn color_depth_samples(gpu: &GpuRef, w: u32, h: u32, samples: u32) -> Result<Framebuffer> {
         let mut fb = Self::create(gpu, w, h)?;
-        let color = renderbuffer(gpu, glow::RGBA8, w, h)?;
+        let color = renderbuffer_ms(gpu, glow::RGBA8, w, h, samples)?;
         let stencil = gpu.caps.depth_stencil;
         let depth_format = if stencil {
             glow::DEPTH24_STENCIL8
         } else {
             glow::DEPTH_COMPONENT24
         };
-        let depth = renderbuffer(gpu, depth_format, w, h)?;
+        let depth = renderbuffer_ms(gpu, depth_format, w, h, samples)?;
         // SAFETY: attaching our renderbuffers to the bound framebuffer.
         unsafe {
             let gl = &gpu.gl;
@@ -182,6 +208,30 @@ impl Framebuffer {
         }
         fb.check()?;
         Ok(fb)
+    }
+
+    /// Resolves this (multisampled) framebuffer's colour into `dst` (glBlitFramebuffer:
+    /// GL 3.0, ES 3.0 or the FBO extensions).
+    pub fn resolve_into(&self, dst: &Framebuffer) {
+        // SAFETY: both framebuffers are ours and complete, of the same size.
+        unsafe {
+            let gl = &self.gpu.gl;
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, Some(dst.raw));
+            gl.blit_framebuffer(
+                0,
+                0,
+                self.width as i32,
+                self.height as i32,
+                0,
+                0,
+                dst.width as i32,
+                dst.height as i32,
+                glow::COLOR_BUFFER_BIT,
+                glow::NEAREST,
+            );
+            gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        }
     }
 
     pub fn bind(&self) {

@@ -21,8 +21,9 @@ pub enum DepthFunc {
     Always,
 }
 
-/// Colour blending. Destination alpha is kept (factors ZERO, ONE) so PNGs and screenshots stay
-/// opaque where translucent surfaces were drawn.
+/// Colour blending. Alpha composes with (ONE, ONE_MINUS_SRC_ALPHA): over an opaque frame
+/// (alpha 1) it stays 1, over a transparent background (`--transparent`) it becomes the
+/// coverage α + (1 − α)·α_dst.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Blend {
     Off,
@@ -124,7 +125,7 @@ impl Gpu {
                             glow::ONE
                         };
                         // glBlendFuncSeparate is core since GL 1.4.
-                        gl.blend_func_separate(glow::SRC_ALPHA, dst, glow::ZERO, glow::ONE);
+                        gl.blend_func_separate(glow::SRC_ALPHA, dst, glow::ONE, dst);
                     }
                 }
             }
@@ -204,14 +205,19 @@ impl Gpu {
     /// write masks a clear obeys are opened for it and restored afterwards, so a clear leaves
     /// the render state as it found it.
     pub fn clear(&self, color: Option<[f32; 3]>) {
+        self.clear_rgba(color.map(|[r, g, b]| [r, g, b, 1.0]));
+    }
+
+    /// [`Gpu::clear`] with an alpha for the colour.
+    pub fn clear_rgba(&self, color: Option<[f32; 4]>) {
         // SAFETY: no preconditions.
         unsafe {
             self.gl.depth_mask(true);
             self.gl.stencil_mask(0xff);
             let mut bits = glow::DEPTH_BUFFER_BIT | glow::STENCIL_BUFFER_BIT;
-            if let Some([r, g, b]) = color {
+            if let Some([r, g, b, a]) = color {
                 self.gl.color_mask(true, true, true, true);
-                self.gl.clear_color(r, g, b, 1.0);
+                self.gl.clear_color(r, g, b, a);
                 bits |= glow::COLOR_BUFFER_BIT;
             }
             self.gl.clear(bits);
@@ -229,7 +235,7 @@ impl Gpu {
     }
 
     /// Clears a rectangle only (a pane of a side-by-side frame) with the scissor test.
-    pub fn clear_rect(&self, rect: [u32; 4], color: Option<[f32; 3]>) {
+    pub fn clear_rect(&self, rect: [u32; 4], color: Option<[f32; 4]>) {
         // SAFETY: no preconditions.
         unsafe {
             self.gl.enable(glow::SCISSOR_TEST);
@@ -240,7 +246,7 @@ impl Gpu {
                 rect[3] as i32,
             );
         }
-        self.clear(color);
+        self.clear_rgba(color);
         // SAFETY: no preconditions.
         unsafe { self.gl.disable(glow::SCISSOR_TEST) }
     }

@@ -41,6 +41,9 @@ impl Pass for Background {
         if !pbr.skybox {
             return Ok(Outcome::Skipped("--background colour".into()));
         }
+        if s.lighting.post.transparent {
+            return Ok(Outcome::Skipped("--transparent".into()));
+        }
         if super::translucent::masked(cx) {
             return Ok(Outcome::Skipped(
                 "drawn after the translucent surfaces, where the stencil is not 1".into(),
@@ -66,6 +69,9 @@ impl Pass for Background {
 /// the PBR tier with a skybox, else the background colour. Depth is not tested: the stencil
 /// alone decides, so the depth range need not hold the background.
 pub(crate) fn fill_unmarked(cx: &mut FrameCx) -> Result<()> {
+    if cx.settings.lighting.post.transparent {
+        return Ok(());
+    }
     let state = RenderState {
         depth: None,
         depth_write: false,

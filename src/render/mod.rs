@@ -109,11 +109,18 @@ impl FrameCx<'_> {
         self.gpu.viewport(x, y, w, h);
     }
 
-    /// Clears the frame's rectangle (the whole target without a scissor when it is all of it).
+    /// Clears the frame's rectangle (the whole target without a scissor when it is all of
+    /// it); with `--transparent` the colour's alpha is 0.
     pub fn clear(&self, color: Option<[f32; 3]>) {
+        let a = if self.settings.lighting.post.transparent {
+            0.0
+        } else {
+            1.0
+        };
+        let color = color.map(|[r, g, b]| [r * a, g * a, b * a, a]);
         let t = self.target;
         if self.viewport == [0, 0, t.width, t.height] {
-            self.gpu.clear(color);
+            self.gpu.clear_rgba(color);
         } else {
             self.gpu.clear_rect(self.viewport, color);
         }
