@@ -112,7 +112,7 @@ impl Headless {
     /// Needs framebuffer objects with multisampling (GL 3.0, ES 3.0); OSMesa has neither.
     pub fn enable_msaa(&mut self, samples: u32) -> Result<()> {
         let c = &self.gpu.caps;
-        if self.fbo.is_none() || !(c.major >= 3) {
+        if self.fbo.is_none() || c.major < 3 {
             return Err(Error::Unsupported(format!(
                 "--aa msaa needs multisampled framebuffer objects (GL 3.0 / ES 3.0); {} on {} \
                  has none: use --aa ssaa",
