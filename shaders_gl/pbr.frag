@@ -84,6 +84,9 @@ void main() {
         n = glviewSafeNormalize(t * m.x + b * m.y + n * m.z);
     }
 #endif
+#ifndef SHOW_ATTRIBUTE
+#define SHOW_ATTRIBUTE 0
+#endif
 #if SHOW_ATTRIBUTE == 1
     FRAG_COLOR = vec4(n * 0.5 + 0.5, 1.0);
     return;
