@@ -2,7 +2,12 @@
 // (the legacy tier) it is the fixed-function clamp; with it: exposure, tone mapping
 // (1 ACES fit, 2 Reinhard, 3 Khronos PBR Neutral, 0 clamp) and sRGB encoding. The CPU twin is
 // OutputParams::apply in src/pbr/mod.rs.
-#ifdef TONEMAP
+#ifdef LINEAR_OUTPUT
+// An offscreen frame: linear and unclamped; the composite pass applies the output step.
+vec3 glviewOutput(vec3 c) {
+    return c;
+}
+#elif defined(TONEMAP)
 uniform float uExposure;   // 2^EV
 
 vec3 glviewSrgb(vec3 c) {

@@ -194,12 +194,20 @@ impl Framebuffer {
             );
         }
         if depth {
-            let d = renderbuffer(gpu, glow::DEPTH_COMPONENT24, width, height)?;
+            // With stencil where the driver has packed depth-stencil (the nearest-layer
+            // translucency masks the background with it).
+            let stencil = gpu.caps.depth_stencil;
+            let (format, point) = if stencil {
+                (glow::DEPTH24_STENCIL8, glow::DEPTH_STENCIL_ATTACHMENT)
+            } else {
+                (glow::DEPTH_COMPONENT24, glow::DEPTH_ATTACHMENT)
+            };
+            let d = renderbuffer(gpu, format, width, height)?;
             // SAFETY: attaching our renderbuffer to the bound framebuffer.
             unsafe {
                 gpu.gl.framebuffer_renderbuffer(
                     glow::FRAMEBUFFER,
-                    glow::DEPTH_ATTACHMENT,
+                    point,
                     glow::RENDERBUFFER,
                     Some(d.raw),
                 );

@@ -392,6 +392,21 @@ impl Texture2d {
         Ok(t)
     }
 
+    /// Linear or nearest filtering (no mipmaps).
+    pub fn set_filter(&self, linear: bool) {
+        let f = if linear { glow::LINEAR } else { glow::NEAREST } as i32;
+        // SAFETY: parameters on our own texture.
+        unsafe {
+            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu
+                .gl
+                .tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, f);
+            self.gpu
+                .gl
+                .tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, f);
+        }
+    }
+
     /// Switches between comparison (for lighting) and raw depth reads (for `--show shadow-map`).
     pub fn set_compare(&self, on: bool) {
         let mode = if on {

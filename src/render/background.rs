@@ -110,7 +110,11 @@ fn draw_skybox(cx: &mut FrameCx, state: RenderState) -> Result<String> {
     let level = ((pbr.skybox_blur.clamp(0.0, 1.0) * (n - 1) as f32).round() as usize).min(n - 1);
     ibl.specular[level].bind(SKY_UNIT);
     cx.stats.textures_bound += 1;
-    let key = skybox_key(rgbm, s.lighting.output.tonemap.code());
+    let key = skybox_key(rgbm, s.lighting.output.tonemap.code()).switch(
+        "LINEAR_OUTPUT",
+        "lin",
+        cx.linear,
+    );
     let program = cx.program(&key)?;
     program.bind();
     let view = s.camera.view();

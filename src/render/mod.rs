@@ -11,6 +11,7 @@ pub mod ibl_gpu;
 pub mod lit;
 pub mod overlay;
 pub mod pbr;
+pub mod post;
 pub mod shadow;
 pub mod translucent;
 mod upload;
@@ -81,6 +82,7 @@ pub(crate) struct Resources {
     pub quad: Option<GpuMesh>,
     /// The background pass drew this frame (the lit passes then clear nothing).
     pub background_drawn: bool,
+    pub post: post::PostState,
 }
 
 /// Everything a pass may use: the GPU, the context's program cache, the uploaded scene, the
@@ -95,6 +97,8 @@ pub(crate) struct FrameCx<'a> {
     /// x, y, width, height in the target (GL convention: y from the bottom).
     pub viewport: [u32; 4],
     pub stats: &'a mut FrameStats,
+    /// The frame is offscreen: lit passes write linear, unclamped colour (`LINEAR_OUTPUT`).
+    pub linear: bool,
 }
 
 impl FrameCx<'_> {
@@ -250,15 +254,37 @@ impl Renderer {
         }
         {
             let mut programs = self.programs.borrow_mut();
+            let post = s.lighting.post;
+            let why_not = post
+                .offscreen()
+                .then(|| post::unsupported(&self.gpu))
+                .flatten();
+            if let Some(why) = why_not {
+                stats
+                    .pass_log
+                    .push(format!("post: skipped (bloom/FXAA {why}; drawn directly)"));
+            }
+            let offscreen = post.offscreen() && why_not.is_none();
+            let (w, h) = (viewport[2], viewport[3]);
+            let hdr = if offscreen {
+                Target {
+                    fbo: Some(post::frame_target(&mut self.res.post, &self.gpu, w, h)?),
+                    width: w,
+                    height: h,
+                }
+            } else {
+                *target
+            };
             let mut cx = FrameCx {
                 gpu: &self.gpu,
                 programs: &mut programs,
                 scene: &self.scene,
                 res: &mut self.res,
                 settings: s,
-                target,
-                viewport,
+                target: &hdr,
+                viewport: if offscreen { [0, 0, w, h] } else { viewport },
                 stats: &mut stats,
+                linear: offscreen,
             };
             for pass in PASSES {
                 match pass.run(&mut cx)? {
@@ -271,6 +297,30 @@ impl Renderer {
                         .pass_log
                         .push(format!("{}: skipped ({why})", pass.name())),
                 }
+            }
+            if offscreen {
+                let bloom = post.bloom;
+                let level = if bloom.strength > 0.0 {
+                    cx.quad()?;
+                    let r = &mut *cx.res;
+                    let quad = r.quad.as_ref().expect("made above");
+                    // The frame is read while the chain is written: take it out meanwhile.
+                    let frame = r.post.frame.take().expect("made above");
+                    let level =
+                        post::bloom(cx.gpu, cx.programs, &mut r.post, quad, &frame.color, &bloom);
+                    r.post.frame = Some(frame);
+                    Some(level?)
+                } else {
+                    None
+                };
+                cx.target = target;
+                cx.viewport = viewport;
+                cx.linear = false;
+                post::finish(&mut cx, level)?;
+                cx.stats.passes.push(match level {
+                    Some(l) => format!("post(bloom 1/{}, composite)", 1 << l),
+                    None => "post(composite)".into(),
+                });
             }
         }
         if cfg!(debug_assertions) {

@@ -303,7 +303,8 @@ fn draw(
         };
         let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts)
             .switch("LOG_DEPTH", "logz", s.lighting.translucency.log_depth)
-            .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code());
+            .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code())
+            .switch("LINEAR_OUTPUT", "lin", cx.linear);
         let program = cx.program(&key)?;
         program.bind();
         if !uniforms_set.contains(&key) {

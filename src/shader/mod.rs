@@ -56,6 +56,16 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/include/logdepth.glsl"),
     ),
     ("skybox.frag", include_str!("../../shaders_gl/skybox.frag")),
+    (
+        "bright.frag",
+        include_str!("../../shaders_gl/post/bright.frag"),
+    ),
+    ("down.frag", include_str!("../../shaders_gl/post/down.frag")),
+    ("blur.frag", include_str!("../../shaders_gl/post/blur.frag")),
+    (
+        "composite.frag",
+        include_str!("../../shaders_gl/post/composite.frag"),
+    ),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
