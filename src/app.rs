@@ -382,6 +382,7 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::Digit6 => "6",
         KeyCode::Digit7 => "7",
         KeyCode::KeyC => "C",
+        KeyCode::KeyB => "B",
         _ => return None,
     })
 }
@@ -513,6 +514,7 @@ mod tests {
                     KeyCode::Digit6,
                     KeyCode::Digit7,
                     KeyCode::KeyC,
+                    KeyCode::KeyB,
                 ]
                 .iter()
                 .any(|c| physical_name(*c) == Some(n));

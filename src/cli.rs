@@ -48,6 +48,8 @@ pub enum Show {
     Roughness,
     /// PBR metallic as grey.
     Metallic,
+    /// The bloom buffer: the blurred bright parts alone (strength 1 unless --bloom).
+    Bloom,
 }
 
 #[derive(Debug, Parser)]

@@ -180,6 +180,8 @@ pub struct Post {
     pub fxaa: bool,
     /// Alpha = coverage: the background is cleared transparent and not drawn.
     pub transparent: bool,
+    /// `--show bloom`: the blurred bright part alone (teaching view).
+    pub show_bloom: bool,
 }
 
 impl Post {

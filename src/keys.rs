@@ -17,6 +17,8 @@ pub enum Action {
     ToggleTerm(u8),
     /// Side-by-side panes in the window.
     ToggleCompare,
+    /// Bloom on (strength 0.05 unless `--bloom` set one) / off.
+    ToggleBloom,
     /// Translucent opacity down / up by 0.1 (`[`, `]`).
     Opacity(i8),
     Screenshot,
@@ -96,6 +98,7 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
         Action::ToggleCompare,
         "compare: Phong and PBR side by side",
     ),
+    (&["B"], Action::ToggleBloom, "bloom on/off"),
     (
         &["F12"],
         Action::Screenshot,
@@ -108,6 +111,9 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     ),
     (&["Escape", "Esc", "Q"], Action::Quit, "quit"),
 ];
+
+/// The bloom strength `B` switches on.
+pub const DEFAULT_KEY_BLOOM: f32 = 0.05;
 
 /// Where `[` and `]` start when no `--opacity` was given.
 pub const DEFAULT_KEY_OPACITY: f32 = 0.5;
@@ -204,6 +210,14 @@ pub fn apply(
             *b = !*b;
         }
         Action::ToggleCompare => return Effect::Compare,
+        Action::ToggleBloom => {
+            let b = &mut s.lighting.post.bloom;
+            b.strength = if b.strength > 0.0 {
+                0.0
+            } else {
+                DEFAULT_KEY_BLOOM
+            };
+        }
         Action::Screenshot => return Effect::Screenshot,
         Action::Help => return Effect::Help,
         Action::Quit => return Effect::Quit,

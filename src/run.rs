@@ -222,6 +222,7 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
                 },
                 fxaa: args.aa == crate::cli::AaMode::Fxaa,
                 transparent: args.transparent,
+                show_bloom: args.show == Show::Bloom,
             },
             attribute_view: match args.show {
                 Show::Normals => AttributeView::Normals,

@@ -112,7 +112,12 @@ fn edge_coverage_per_mode() {
         ),
         0,
     );
-    eprintln!("edge coverage error (mean over edge pixels): none {none:.4}, msaa 4 {msaa:.4}, ssaa 4x4 {ssaa:.4}");
+    let fxaa = edge_error(&shot(&dir, &model, "fxaa", &["--aa", "fxaa"]), 0);
+    eprintln!("edge coverage error (mean over edge pixels): none {none:.4}, msaa 4 {msaa:.4}, ssaa 4x4 {ssaa:.4}, fxaa {fxaa:.4}");
+    assert!(
+        fxaa < none,
+        "FXAA made the edges worse: {fxaa} against {none}"
+    );
     assert!(
         none > 0.15,
         "aliased edges should be off by ~0.25 on average: {none}"

@@ -115,3 +115,54 @@ fn a_threshold_above_the_image_changes_nothing() {
     let legacy_plain = render(&dir, "legacy-plain", &["--size", "96x72"], &[]);
     assert!(diff(&legacy, &legacy_plain, 8).over > 100);
 }
+
+/// `--show bloom` draws the bloom buffer alone where there are float render targets; GL 2.1
+/// says in `--stats` that bloom was skipped and why, instead of failing or pretending.
+#[test]
+fn bloom_view_and_gl21_fallback() {
+    let dir = out_dir("bloom-view");
+    for gl in ["core", "es3"] {
+        let out = dir.join(format!("{gl}.png"));
+        let o = run(
+            &[
+                "--show",
+                "bloom",
+                "--bloom-threshold",
+                "0.6",
+                "--size",
+                "96x72",
+                "--gl",
+                gl,
+                "--backend",
+                "egl",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let img = glview::image_out::Rgba::load_png(&out).unwrap();
+        assert!(!img.is_uniform(), "{gl}: blank bloom view");
+    }
+    let o = run(
+        &[
+            "--bloom",
+            "0.5",
+            "--stats",
+            "--size",
+            "64x48",
+            "--gl",
+            "2.1",
+            "--backend",
+            "osmesa",
+            "-o",
+            dir.join("gl21.png").to_str().unwrap(),
+        ],
+        GL21_NO_FBO,
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && out.contains("post: skipped (bloom/FXAA needs framebuffer objects"),
+        "{out}"
+    );
+}

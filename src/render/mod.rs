@@ -317,9 +317,10 @@ impl Renderer {
                 cx.viewport = viewport;
                 cx.linear = false;
                 post::finish(&mut cx, level)?;
+                let fxaa = if post.fxaa { ", fxaa" } else { "" };
                 cx.stats.passes.push(match level {
-                    Some(l) => format!("post(bloom 1/{}, composite)", 1 << l),
-                    None => "post(composite)".into(),
+                    Some(l) => format!("post(bloom 1/{}, composite{fxaa})", 1 << l),
+                    None => format!("post(composite{fxaa})"),
                 });
             }
         }

@@ -54,6 +54,8 @@ pub(crate) struct PostState {
     /// Bright pass and the downsampled chain (level 0 at full size), plus a blur scratch.
     chain: Vec<Surface>,
     scratch: Option<Surface>,
+    /// The composited display image FXAA reads.
+    display: Option<Surface>,
 }
 
 /// Why this context cannot draw offscreen, if it cannot.
@@ -75,6 +77,7 @@ pub fn keys() -> Vec<ProgramKey> {
         key("blur.frag", "blur"),
         composite_key(None),
         composite_key(Some(3)),
+        key("fxaa.frag", "fxaa"),
     ]
 }
 
@@ -223,14 +226,42 @@ pub(crate) fn finish(cx: &mut FrameCx, bloom_level: Option<usize>) -> Result<()>
     };
     p.set_i32("uBloom", 1);
     p.set_f32("uStrength", strength);
+    let view = s.lighting.post.show_bloom;
+    p.set_f32("uSceneWeight", if view { 0.0 } else { 1.0 });
     p.set_f32("uExposure", 2f32.powf(s.lighting.output.exposure_ev));
     cx.quad()?;
-    cx.bind_target();
     cx.gpu.apply(&RenderState::overlay());
+    let fxaa = s.lighting.post.fxaa;
+    if fxaa {
+        // Composite into a display image first: FXAA works on what is shown.
+        let [_, _, w, h] = cx.viewport;
+        ensure(&mut cx.res.post.display, cx.gpu, w, h, false, true)?;
+        let d = cx.res.post.display.as_ref().expect("made above");
+        d.fbo.bind();
+        cx.gpu.viewport(0, 0, w, h);
+    } else {
+        cx.bind_target();
+    }
     if let Some(q) = &cx.res.quad {
         q.draw();
     }
     cx.stats.draw_calls += 1;
+    if fxaa {
+        let p = cx.program(&key("fxaa.frag", "fxaa"))?;
+        p.bind();
+        let d = cx.res.post.display.as_ref().expect("made above");
+        d.color.bind(0);
+        p.set_i32("uImage", 0);
+        p.set_vec2(
+            "uTexel",
+            glam::Vec2::new(1.0 / d.color.width as f32, 1.0 / d.color.height as f32),
+        );
+        cx.bind_target();
+        if let Some(q) = &cx.res.quad {
+            q.draw();
+        }
+        cx.stats.draw_calls += 1;
+    }
     cx.gpu.apply(&RenderState::default());
     Ok(())
 }

@@ -66,6 +66,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         "composite.frag",
         include_str!("../../shaders_gl/post/composite.frag"),
     ),
+    ("fxaa.frag", include_str!("../../shaders_gl/post/fxaa.frag")),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
