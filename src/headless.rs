@@ -120,6 +120,12 @@ impl Headless {
                 self.backend_name()
             )));
         }
+        if samples > c.max_samples {
+            return Err(Error::Unsupported(format!(
+                "--aa msaa --aa-samples {samples}: {} allows at most {} samples",
+                c.renderer, c.max_samples
+            )));
+        }
         self.msaa = Some(Framebuffer::color_depth_samples(
             &self.gpu,
             self.width,

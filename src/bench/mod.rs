@@ -10,6 +10,7 @@ pub mod load_report;
 pub mod metrics;
 pub mod pbr;
 pub mod plot;
+pub mod post;
 pub mod quality;
 pub mod scenes;
 pub mod sphere;
@@ -31,6 +32,9 @@ pub struct BenchArgs {
     /// Measure the PBR tier's precomputation knobs against the Monte Carlo reference.
     #[arg(long, conflicts_with = "load")]
     pub pbr: bool,
+    /// Measure anti-aliasing modes and bloom chain depth (cost against error).
+    #[arg(long, conflicts_with_all = ["load", "pbr"])]
+    pub post: bool,
     /// Measure nearest-layer translucency against sorted and opaque drawing (and log depth).
     #[arg(long, conflicts_with_all = ["load", "pbr"])]
     pub translucency: bool,
@@ -45,6 +49,9 @@ pub struct BenchArgs {
 
 /// Runs the benchmark `args` selects.
 pub fn run(args: &BenchArgs) -> crate::Result<()> {
+    if args.post {
+        return post::run_post();
+    }
     if args.translucency {
         return translucency::run_translucency(&args.quality.models_dir);
     }

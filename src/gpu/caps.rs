@@ -66,6 +66,8 @@ pub struct Caps {
     /// 32-bit float colour render targets read back as floats: GL 3.0, or ES 3.0 with
     /// EXT_color_buffer_float.
     pub float_render: bool,
+    /// Samples a multisampled renderbuffer may have (GL_MAX_SAMPLES; 0 without them).
+    pub max_samples: u32,
     pub max_renderbuffer_size: u32,
     pub max_viewport: (u32, u32),
     pub max_varying_floats: u32,
@@ -168,6 +170,11 @@ impl Caps {
                     || has(&["GL_EXT_packed_depth_stencil", "GL_OES_packed_depth_stencil"]),
                 float_render: desktop_at_least(3, 0)
                     || (es3 && has(&["GL_EXT_color_buffer_float"])),
+                max_samples: if es3 || desktop_at_least(3, 0) {
+                    gl.get_parameter_i32(glow::MAX_SAMPLES).max(0) as u32
+                } else {
+                    0
+                },
                 max_renderbuffer_size,
                 max_viewport: (vp[0] as u32, vp[1] as u32),
                 max_varying_floats,
@@ -186,7 +193,7 @@ impl Caps {
              32-bit indices: {}\ncube shadow lookups: {}\ntimer queries: {}\n\
              max texture size: {}\ntexture units: {}\n16-bit float textures: {}\n\
              RG textures: {}\nsRGB textures: {}\nseamless cube maps: {}\n\
-             depth+stencil: {}\nfloat render targets: {}\n\
+             depth+stencil: {}\nfloat render targets: {}\nmax samples (MSAA): {}\n\
              max viewport: {}x{}\nmax varying floats: {}\nextensions: {}",
             self.version,
             self.glsl_version,
@@ -217,6 +224,7 @@ impl Caps {
             yes(self.seamless_cube),
             yes(self.depth_stencil),
             yes(self.float_render),
+            self.max_samples,
             self.max_viewport.0,
             self.max_viewport.1,
             self.max_varying_floats,
