@@ -83,8 +83,9 @@ pub struct Args {
     /// Orthographic view of this height instead of perspective.
     #[arg(long)]
     pub ortho: Option<f32>,
-    /// A light: point:X,Y,Z (file coordinates), dir:X,Y,Z (direction it travels) or none.
-    /// Repeat for several lights (at most 4). Default: one directional light from above.
+    /// A light: point:X,Y,Z (file coordinates), dir:X,Y,Z (direction it travels), head (a
+    /// headlight that follows the camera) or none. Repeat for several lights (at most 4).
+    /// Default: a kit of key light (casts the shadow), fill light and headlight.
     #[arg(long = "light", allow_hyphen_values = true)]
     pub lights: Vec<String>,
     /// Light colour R,G,B in 0..1; repeat to colour lights in order (the last one repeats).
@@ -252,6 +253,10 @@ pub struct Args {
     /// Frames to render headless (the last one is written); >1 shows cached passes at work.
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
+    /// How many lights, in order, cast shadows (default: all given lights; the key light of
+    /// the default kit).
+    #[arg(long)]
+    pub shadow_lights: Option<u8>,
     /// Turn shadow mapping off.
     #[arg(long)]
     pub no_shadows: bool,

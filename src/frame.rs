@@ -190,3 +190,22 @@ impl Post {
         self.bloom.strength > 0.0 || self.fxaa
     }
 }
+
+/// The frame's lights with the headlight made a directional light along the current view
+/// (eye towards target), appended last; everything else unchanged. Every renderer (GPU
+/// passes, the CPU reference) draws the resolved settings.
+pub fn resolve(s: &FrameSettings) -> std::borrow::Cow<'_, FrameSettings> {
+    match s.lighting.headlight {
+        None => std::borrow::Cow::Borrowed(s),
+        Some(color) => {
+            let mut r = s.clone();
+            let forward = (s.camera.target - s.camera.eye()).normalize_or(glam::Vec3::NEG_Z);
+            r.lights.push(crate::light::Light {
+                kind: crate::light::LightKind::Directional(forward),
+                color,
+            });
+            r.lighting.headlight = None;
+            std::borrow::Cow::Owned(r)
+        }
+    }
+}

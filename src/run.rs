@@ -130,25 +130,50 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
         camera.ortho_height = Some(h);
     }
     let mut specs = Vec::new();
-    for l in &args.lights {
-        if let Some(spec) = LightSpec::parse(l).map_err(Error::Usage)? {
-            specs.push(spec);
-        }
-    }
-    if args.lights.is_empty() {
-        specs.push(LightSpec::default_light());
-    }
-    if specs.len() > MAX_LIGHTS {
-        return Err(Error::Usage(format!(
-            "{} lights given; at most {MAX_LIGHTS}",
-            specs.len()
-        )));
-    }
+    let mut headlight = None;
     let colors: Vec<Vec3> = args
         .light_colors
         .iter()
         .map(|c| color(c, "--light-color"))
         .collect::<Result<_>>()?;
+    for l in &args.lights {
+        if l == "head" {
+            let i = specs.len();
+            headlight = Some(
+                colors
+                    .get(i)
+                    .or(colors.last())
+                    .copied()
+                    .unwrap_or(Vec3::ONE),
+            );
+        } else if let Some(spec) = LightSpec::parse(l).map_err(Error::Usage)? {
+            specs.push(spec);
+        }
+    }
+    // The default kit: a key light that casts the shadow, a fill from the other side and a
+    // headlight, so every side of a model is readable from any orbit.
+    let kit = args.lights.is_empty();
+    let mut kit_colors = Vec::new();
+    if kit {
+        specs.push(LightSpec::default_light());
+        specs.push(LightSpec::fill_light());
+        kit_colors = vec![
+            Vec3::splat(crate::light::KIT_KEY),
+            Vec3::splat(crate::light::KIT_FILL),
+        ];
+        headlight = Some(Vec3::splat(crate::light::KIT_HEAD));
+    }
+    if specs.len() + usize::from(headlight.is_some()) > MAX_LIGHTS {
+        return Err(Error::Usage(format!(
+            "{} lights given; at most {MAX_LIGHTS}",
+            specs.len()
+        )));
+    }
+    let colors = if kit && colors.is_empty() {
+        kit_colors
+    } else {
+        colors
+    };
     let lights = specs
         .iter()
         .enumerate()
@@ -201,6 +226,12 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
             output: OutputParams {
                 exposure_ev: args.exposure,
                 tonemap: args.tonemap,
+            },
+            headlight,
+            shadow_casters: match args.shadow_lights {
+                Some(n) => n.min(MAX_LIGHTS as u8),
+                None if kit => 1,
+                None => MAX_LIGHTS as u8,
             },
             translucency: Translucency {
                 mode: args.translucency,

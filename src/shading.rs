@@ -70,6 +70,11 @@ pub struct LightingParams {
     pub attribute_view: crate::frame::AttributeView,
     /// Bloom, FXAA, transparent background.
     pub post: crate::frame::Post,
+    /// A headlight of this colour: a directional light travelling along the view, resolved
+    /// from the camera every frame (see `frame::resolve`).
+    pub headlight: Option<glam::Vec3>,
+    /// How many of the lights (the first ones) cast shadows.
+    pub shadow_casters: u8,
 }
 
 impl Default for LightingParams {
@@ -84,6 +89,8 @@ impl Default for LightingParams {
             translucency: Default::default(),
             attribute_view: Default::default(),
             post: Default::default(),
+            headlight: None,
+            shadow_casters: crate::light::MAX_LIGHTS as u8,
         }
     }
 }

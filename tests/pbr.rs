@@ -48,6 +48,44 @@ fn cache_env(dir: &Path) -> (&'static str, String) {
     )
 }
 
+/// The sphere's arguments for one material.
+fn sphere_args(args: &[&str]) -> Vec<String> {
+    let sphere = models().join("sphere.obj");
+    let mut all = vec![
+        sphere.to_str().unwrap().to_string(),
+        "--size".into(),
+        format!("{SIZE}x{SIZE}"),
+        "--shading".into(),
+        "pbr".into(),
+    ];
+    all.extend(args.iter().map(|s| s.to_string()));
+    all
+}
+
+/// The Monte Carlo reference of the sphere with `args`, and which pixels see it.
+fn reference(args: &[&str], env: &Environment, samples: u32) -> (Rgba, Vec<bool>) {
+    let all = sphere_args(args);
+    let all: Vec<&str> = all.iter().map(String::as_str).collect();
+    let (settings, scene) = settings_for(&all);
+    let pe = PbrEnv {
+        env: Arc::new(env.clone()),
+        samples,
+    };
+    let (img, info) = render_env_with_info(&scene, &settings, Some(&pe), SIZE, SIZE);
+    (img, info.iter().map(|i| i.hit()).collect())
+}
+
+/// The GPU render of the sphere with `args` on one context.
+fn gpu(dir: &Path, name: &str, args: &[&str], gl: (&[&str], &[(&str, &str)])) -> Rgba {
+    let mut all = sphere_args(args);
+    all.extend(gl.0.iter().map(|s| s.to_string()));
+    let all: Vec<&str> = all.iter().map(String::as_str).collect();
+    let (cache_k, cache_v) = cache_env(dir);
+    let mut vars: Vec<(&str, &str)> = gl.1.to_vec();
+    vars.push((cache_k, &cache_v));
+    render(dir, name, &all, &vars)
+}
+
 /// GPU render of the sphere, and the Monte Carlo reference of the same settings.
 fn gpu_and_reference(
     dir: &Path,
@@ -57,30 +95,8 @@ fn gpu_and_reference(
     samples: u32,
     gl: (&[&str], &[(&str, &str)]),
 ) -> (Rgba, Rgba, Vec<bool>) {
-    let sphere = models().join("sphere.obj");
-    let size = format!("{SIZE}x{SIZE}");
-    let mut all = vec![
-        sphere.to_str().unwrap(),
-        "--size",
-        &size,
-        "--shading",
-        "pbr",
-    ];
-    all.extend_from_slice(args);
-    let (cache_k, cache_v) = cache_env(dir);
-    let mut vars: Vec<(&str, &str)> = gl.1.to_vec();
-    vars.push((cache_k, &cache_v));
-    let mut gpu_args = all.clone();
-    gpu_args.extend_from_slice(gl.0);
-    let gpu = render(dir, name, &gpu_args, &vars);
-    let (settings, scene) = settings_for(&all);
-    let pe = PbrEnv {
-        env: Arc::new(env.clone()),
-        samples,
-    };
-    let (reference, info) = render_env_with_info(&scene, &settings, Some(&pe), SIZE, SIZE);
-    let hit: Vec<bool> = info.iter().map(|i| i.hit()).collect();
-    (gpu, reference, hit)
+    let (r, hit) = reference(args, env, samples);
+    (gpu(dir, name, args, gl), r, hit)
 }
 
 /// A context to test on: name, glview arguments, environment variables.
@@ -110,33 +126,29 @@ fn furnace_matches_the_integral_on_every_path() {
     let dir = out_dir("pbr-furnace");
     let env = Environment::uniform([0.5; 3]);
     let mut worst = 0.0f64;
-    for (path, gl_args, vars) in PATHS {
-        for metallic in ["0", "1"] {
-            for rough in ["0.1", "0.5", "1"] {
+    for metallic in ["0", "1"] {
+        for rough in ["0.1", "0.5", "1"] {
+            let args = [
+                "--env-color",
+                "0.5,0.5,0.5",
+                "--light",
+                "none",
+                "--tonemap",
+                "none",
+                "--metallic",
+                metallic,
+                "--roughness",
+                rough,
+            ];
+            // One reference per material, every path against it.
+            let (reference, hit) = reference(&args, &env, 2048);
+            for (path, gl_args, vars) in PATHS {
                 let name = format!("{}-m{metallic}-r{rough}", path.replace([' ', '(', ')'], ""));
-                let (gpu, reference, hit) = gpu_and_reference(
-                    &dir,
-                    &name,
-                    &[
-                        "--env-color",
-                        "0.5,0.5,0.5",
-                        "--light",
-                        "none",
-                        "--tonemap",
-                        "none",
-                        "--metallic",
-                        metallic,
-                        "--roughness",
-                        rough,
-                    ],
-                    &env,
-                    2048,
-                    (gl_args, vars),
-                );
-                let (mean, max) = linear_error(&gpu, &reference, &hit);
+                let img = gpu(&dir, &name, &args, (gl_args, vars));
+                let (mean, max) = linear_error(&img, &reference, &hit);
                 eprintln!("furnace {path} metallic {metallic} roughness {rough}: mean {mean:.5}, max {max:.5} (linear)");
                 if mean > 0.01 {
-                    write_diff(&dir, &name, &gpu, &reference);
+                    write_diff(&dir, &name, &img, &reference);
                 }
                 assert!(
                     mean <= 0.01,

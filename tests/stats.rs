@@ -30,7 +30,7 @@ fn programs_carry_only_the_features_a_model_needs() {
         .to_str()
         .unwrap()]);
     let progs = plain[0]["programs"].to_string();
-    assert!(progs.contains("lit[l1,s1,pcf1]"), "{progs}");
+    assert!(progs.contains("lit[l3,s1,pcf1]"), "{progs}"); // the default kit: 3 lights, 1 caster
     assert!(
         !progs.contains("tex"),
         "untextured model uses a texture program: {progs}"

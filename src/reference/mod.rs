@@ -160,6 +160,7 @@ fn render_rows(
     height: u32,
     with_info: bool,
 ) -> (Rgba, Vec<PixelInfo>) {
+    let s = &*crate::frame::resolve(s);
     let (w, h) = (width as usize, height as usize);
     let mut data = vec![0u8; w * h * 4];
     let mut info = vec![PixelInfo::default(); if with_info { w * h } else { 0 }];

@@ -35,7 +35,9 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
     vis.clear();
     let mut shadowed = 0;
     for (i, light) in lights.iter().enumerate() {
-        let lit = !ctx.shadows || light_visible(ctx, p, ng, light);
+        // Only the first `shadow_casters` lights cast, as on the GPU.
+        let casts = i < usize::from(ctx.settings.lighting.shadow_casters);
+        let lit = !ctx.shadows || !casts || light_visible(ctx, p, ng, light);
         if !lit && i < 32 {
             shadowed |= 1 << i;
         }

@@ -243,6 +243,7 @@ impl Renderer {
         viewport: [u32; 4],
     ) -> Result<FrameStats> {
         let start = Instant::now();
+        let s = &*crate::frame::resolve(s);
         self.frame += 1;
         let mut stats = FrameStats {
             frame: self.frame,

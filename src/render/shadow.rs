@@ -83,6 +83,8 @@ fn skip_reason(gpu: &GpuRef, s: &FrameSettings) -> Option<&'static str> {
         Some("off (--no-shadows)")
     } else if s.lights.is_empty() {
         Some("off (no lights)")
+    } else if s.lighting.shadow_casters == 0 {
+        Some("off (--shadow-lights 0)")
     } else if !caps.depth_texture || !caps.shadow_compare {
         Some("off (no depth textures or shadow compare: shadows off)")
     } else {
@@ -113,8 +115,11 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
         return Ok(Outcome::Skipped(reason.into()));
     }
     let size = effective_size(cx.gpu, s, target);
+    // Only the first `shadow_casters` lights cast (the key light of the default kit): the
+    // others, the headlight among them, neither get maps nor invalidate them.
+    let casters = &s.lights[..s.lights.len().min(usize::from(s.lighting.shadow_casters))];
     let key = ShadowKey {
-        lights: s.lights.clone(),
+        lights: casters.to_vec(),
         size,
         slope_bias: s.shadows.slope_bias,
     };
@@ -132,7 +137,7 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
         .into_iter()
         .map(Some)
         .collect();
-    for light in &s.lights {
+    for light in casters {
         let (views, projection, face, w, h) = match (light_view_proj(light, &bounds), light.kind) {
             (Some((vp, kind)), _) => (vec![vp], kind, size, size, size),
             (None, LightKind::Point(p)) => {
