@@ -515,6 +515,21 @@ pub fn unpremultiply(img: &mut crate::image_out::Rgba) {
     }
 }
 
+/// The environment a PBR reference render integrates (None for the legacy tier).
+pub fn reference_env(
+    args: &Args,
+    shading: crate::frame::Shading,
+) -> Result<Option<crate::reference::PbrEnv>> {
+    if shading != crate::frame::Shading::Pbr {
+        return Ok(None);
+    }
+    let req = env_request(args)?;
+    Ok(Some(crate::reference::PbrEnv {
+        env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(&req.source)?),
+        samples: args.reference_samples.max(1),
+    }))
+}
+
 /// `--reference`: the same scene, camera and lights through the CPU reference renderer.
 pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
     if args.show != Show::Scene {
@@ -528,15 +543,7 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
     let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;
     let start = std::time::Instant::now();
-    let env = if settings.shading == crate::frame::Shading::Pbr {
-        let req = env_request(args)?;
-        Some(crate::reference::PbrEnv {
-            env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(&req.source)?),
-            samples: args.reference_samples.max(1),
-        })
-    } else {
-        None
-    };
+    let env = reference_env(args, settings.shading)?;
     let img = crate::reference::render_env(&scene, &settings, env.as_ref(), w, h);
     let text = png_text(Renderer::Reference, &settings, &scene);
     img.save_png(path, &text)?;

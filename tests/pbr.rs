@@ -7,38 +7,17 @@ mod common;
 use common::*;
 use glview::image_out::Rgba;
 use glview::pbr::env::Environment;
-use glview::pbr::srgb_decode;
 use glview::reference::{render_env_with_info, PbrEnv};
 use std::path::Path;
 use std::sync::Arc;
 
 const SIZE: u32 = 80;
 
-fn linear(p: &[u8]) -> [f64; 3] {
-    [0, 1, 2].map(|i| srgb_decode(f64::from(p[i]) / 255.0))
-}
-
-/// Mean and max of the largest channel's linear difference over the pixels where the
-/// reference saw the model.
+/// Mean and max linear error over the model's pixels (`glview::bench::pbr::linear_error`).
 fn linear_error(gpu: &Rgba, reference: &Rgba, hit: &[bool]) -> (f64, f64) {
-    let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0usize);
-    for ((a, b), h) in gpu
-        .data
-        .chunks_exact(4)
-        .zip(reference.data.chunks_exact(4))
-        .zip(hit)
-    {
-        if !h {
-            continue;
-        }
-        let (la, lb) = (linear(a), linear(b));
-        let d = (0..3).map(|i| (la[i] - lb[i]).abs()).fold(0.0, f64::max);
-        sum += d;
-        max = max.max(d);
-        n += 1;
-    }
+    let (mean, max, n) = glview::bench::pbr::linear_error(gpu, reference, hit);
     assert!(n > 1000, "the model covers only {n} pixels");
-    (sum / n as f64, max)
+    (mean, max)
 }
 
 fn cache_env(dir: &Path) -> (&'static str, String) {

@@ -121,9 +121,11 @@ fn args_for(hdr: &Path, metallic: &str, rough: &str, extra: &[&str]) -> Vec<Stri
     a
 }
 
-fn linear_error(gpu: &Rgba, reference: &Rgba, hit: &[bool]) -> f64 {
+/// Mean and max of the largest channel's linear (sRGB-decoded) difference over the pixels
+/// where `hit` is set, and how many there are.
+pub fn linear_error(gpu: &Rgba, reference: &Rgba, hit: &[bool]) -> (f64, f64, usize) {
     let lin = |p: &[u8]| [0, 1, 2].map(|i| srgb_decode(f64::from(p[i]) / 255.0));
-    let (mut sum, mut n) = (0.0, 0usize);
+    let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0usize);
     for ((a, b), &h) in gpu
         .data
         .chunks_exact(4)
@@ -132,11 +134,13 @@ fn linear_error(gpu: &Rgba, reference: &Rgba, hit: &[bool]) -> f64 {
     {
         if h {
             let (la, lb) = (lin(a), lin(b));
-            sum += (0..3).map(|i| (la[i] - lb[i]).abs()).fold(0.0, f64::max);
+            let d = (0..3).map(|i| (la[i] - lb[i]).abs()).fold(0.0, f64::max);
+            sum += d;
+            max = max.max(d);
             n += 1;
         }
     }
-    sum / n.max(1) as f64
+    (sum / n.max(1) as f64, max, n)
 }
 
 /// Runs the PBR bench with `samples` Monte Carlo samples per lobe for the reference.
@@ -230,7 +234,7 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
                 frame_ms.push(renderer.render(&settings, &hl.target())?.ms);
             }
             let img = hl.read();
-            errors.push(linear_error(&img, reference, hit));
+            errors.push(linear_error(&img, reference, hit).0);
         }
         let mean = errors.iter().sum::<f64>() / errors.len() as f64;
         let (pre, frame) = (median(&times), median(&frame_ms));

@@ -114,17 +114,7 @@ pub fn render_panes(args: &Args, scene: Scene, tiers: &[PaneTier]) -> Result<Pan
                 shading: *shading,
                 ..base.clone()
             };
-            let env = if *shading == Shading::Pbr {
-                let req = crate::run::env_request(args)?;
-                Some(crate::reference::PbrEnv {
-                    env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(
-                        &req.source,
-                    )?),
-                    samples: args.reference_samples.max(1),
-                })
-            } else {
-                None
-            };
+            let env = crate::run::reference_env(args, *shading)?;
             images[i] = Some(crate::reference::render_env(&scene, &s, env.as_ref(), w, h));
         }
     }

@@ -75,17 +75,7 @@ pub fn run(cmd: &SheetCommand) -> Result<()> {
                 }
                 PaneTier::Reference(shading) => {
                     s.shading = *shading;
-                    let env = if *shading == crate::frame::Shading::Pbr {
-                        let req = crate::run::env_request(&args)?;
-                        Some(crate::reference::PbrEnv {
-                            env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(
-                                &req.source,
-                            )?),
-                            samples: args.reference_samples.max(1),
-                        })
-                    } else {
-                        None
-                    };
+                    let env = crate::run::reference_env(&args, *shading)?;
                     crate::reference::render_env(&scene, &s, env.as_ref(), w, h)
                 }
             };

@@ -89,12 +89,7 @@ pub(crate) fn fill_unmarked(cx: &mut FrameCx) -> Result<()> {
         let program = cx.program(&fill_key())?;
         program.bind();
         program.set_vec3("uColor", s.background);
-        cx.quad()?;
-        cx.gpu.apply(&state);
-        if let Some(q) = &cx.res.quad {
-            q.draw();
-        }
-        cx.stats.draw_calls += 1;
+        cx.draw_quad(&state)?;
     }
     cx.gpu.apply(&RenderState::default());
     Ok(())
@@ -124,14 +119,9 @@ fn draw_skybox(cx: &mut FrameCx, state: RenderState) -> Result<String> {
     program.set_i32("uSky", SKY_UNIT as i32);
     program.set_f32("uIblIntensity", pbr.ibl_intensity);
     program.set_f32("uExposure", 2f32.powf(s.lighting.output.exposure_ev));
-    cx.quad()?;
     // At the far plane (z = 1): LEQUAL against the cleared depth of 1 passes, and the
     // model drawn afterwards with LESS covers it.
-    cx.gpu.apply(&state);
-    if let Some(q) = &cx.res.quad {
-        q.draw();
-    }
-    cx.stats.draw_calls += 1;
+    cx.draw_quad(&state)?;
     cx.gpu.apply(&RenderState::default());
     cx.res.background_drawn = true;
     Ok(format!("background(env level {level})"))

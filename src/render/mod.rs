@@ -140,6 +140,17 @@ impl FrameCx<'_> {
         Ok(p)
     }
 
+    /// Draws the full-screen quad with `state` (one draw call).
+    pub fn draw_quad(&mut self, state: &crate::gpu::state::RenderState) -> Result<()> {
+        self.quad()?;
+        self.gpu.apply(state);
+        if let Some(q) = &self.res.quad {
+            q.draw();
+        }
+        self.stats.draw_calls += 1;
+        Ok(())
+    }
+
     /// A full-screen quad (two triangles over clip space), made on first use.
     pub fn quad(&mut self) -> Result<&GpuMesh> {
         if self.res.quad.is_none() {
