@@ -49,7 +49,9 @@ fn panes_equal_separate_renders() {
         a.extend(args);
         let alone = render(&dir, name, &a, &[]);
         let pane = crop(&cmp, i as u32 * 96, STRIP, 96, 72);
-        assert_close(&dir, &format!("pane-{name}"), &pane, &alone, 0, 0, 0);
+        // The viewport's offset changes the float rounding of window coordinates: a varying
+        // may land one 8-bit step apart on a handful of pixels (measured: 1 pixel by 1/255).
+        assert_close(&dir, &format!("pane-{name}"), &pane, &alone, 0, 7, 1);
     }
     let reference = dir.join("reference.png");
     let o = run(
