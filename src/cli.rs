@@ -287,6 +287,29 @@ pub struct Args {
     /// Read textures even where their path leaves the model's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
+    /// Keep materials that are fully transparent (`d 0`, `Tr 1`) invisible; by default they
+    /// are drawn opaque with a warning (exporters often mean opaque).
+    #[arg(long)]
+    pub honor_transparency: bool,
+    /// Crease angle in degrees for generated normals: edges sharper than this stay sharp
+    /// (files without normals; smoothing groups `s` take precedence). Default 60.
+    #[arg(long, value_name = "DEG", value_parser = parse_crease, conflicts_with = "flat")]
+    pub crease: Option<f32>,
+    /// Generated normals are per face (faceted look).
+    #[arg(long)]
+    pub flat: bool,
+    /// Which axis of the file points up: +Y (default), -Y, +X, -X, +Z, -Z; the model is rotated
+    /// at load so it stands upright (Z-up CAD exports: --up +Z).
+    #[arg(
+        long,
+        value_name = "AXIS",
+        default_value = "+Y",
+        allow_hyphen_values = true
+    )]
+    pub up: crate::scene::UpAxis,
+    /// Base-colour texture for meshes without a material (OBJ files without an MTL, e.g. spot).
+    #[arg(long, value_name = "FILE")]
+    pub texture: Option<PathBuf>,
     /// Folder for F12 screenshots in the window.
     #[arg(long, default_value = ".")]
     pub screenshot_dir: PathBuf,
@@ -344,6 +367,13 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
         return Err(format!("size {w}x{h} out of range (1..32768)"));
     }
     Ok((w, h))
+}
+
+fn parse_crease(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(d) if (0.0..=180.0).contains(&d) => Ok(d),
+        _ => Err(format!("crease angle must be 0..180 degrees, not {s:?}")),
+    }
 }
 
 fn parse_pcf(s: &str) -> Result<u8, String> {

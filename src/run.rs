@@ -55,6 +55,14 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
         },
         progress,
         cache: !args.no_cache,
+        honor_transparency: args.honor_transparency,
+        creases: match (args.flat, args.crease) {
+            (true, _) => crate::scene::normals::Creases::Flat,
+            (false, Some(d)) => crate::scene::normals::Creases::Angle(d),
+            (false, None) => Default::default(),
+        },
+        up: args.up,
+        texture: args.texture.clone(),
     };
     let scene = match &args.model {
         Some(path) => obj::load(path, &opts),

@@ -344,9 +344,9 @@ fn clean_errors_name_file_and_line() {
         ),
         (d("empty.obj", b""), None, "no triangles"),
         (
-            d("points.obj", b"v 0 0 0\nv 1 0 0\np 1 2\nl 1 2\n"),
-            None,
-            "no triangles",
+            d("badline.obj", b"v 0 0 0\nv 1 0 0\nl 1 3\n"),
+            Some(3),
+            "out of range",
         ),
         (
             d(

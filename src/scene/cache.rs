@@ -139,6 +139,7 @@ pub fn get(path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Scene>
             material: m.material,
             has_uv: m.has_uv,
             generated_normals: m.generated_normals,
+            colors: Vec::new(),
         });
     }
     let mut materials = header.materials;
@@ -168,6 +169,8 @@ pub fn get(path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Scene>
         file_bounds: (DVec3::from(lo), DVec3::from(hi)),
         dependencies: header.dependencies.into_iter().map(|d| d.path).collect(),
         warnings,
+        wire: Default::default(),
+        maps: Vec::new(),
     })
 }
 

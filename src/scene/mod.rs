@@ -6,9 +6,11 @@ pub mod material;
 pub mod normals;
 pub mod obj;
 pub mod pbr_material;
+pub mod quirks;
 pub mod repair;
 pub mod report;
 pub mod tangents;
+pub mod triangulate;
 pub mod xray;
 
 use glam::{DVec3, Vec3};
@@ -33,6 +35,9 @@ pub struct Mesh {
     pub has_uv: bool,
     /// Whether some or all normals were generated rather than read from the file.
     pub generated_normals: usize,
+    /// Per-vertex colours (`v x y z r g b`), multiplying the diffuse colour; empty when the
+    /// file has none. Kept beside [`Vertex`] so the vertex layout stays the same.
+    pub colors: Vec<[f32; 3]>,
 }
 
 impl Mesh {
@@ -129,6 +134,71 @@ pub struct Scene {
     /// checks them too.
     pub dependencies: Vec<std::path::PathBuf>,
     pub warnings: Vec<Warning>,
+    /// Lines (`l`) and points (`p`), in local coordinates; not triangles.
+    pub wire: Wire,
+    /// For `--check`: every texture statement of the MTL and what happens to it.
+    pub maps: Vec<String>,
+}
+
+/// Line segments and points from `l` and `p` statements, drawn as lines and points.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Wire {
+    /// Positions relative to [`Scene::origin`].
+    pub positions: Vec<[f32; 3]>,
+    pub segments: Vec<[u32; 2]>,
+    pub points: Vec<u32>,
+}
+
+impl Wire {
+    pub fn is_empty(&self) -> bool {
+        self.segments.is_empty() && self.points.is_empty()
+    }
+}
+
+/// Which file axis points up; the model is rotated at load so it becomes +Y.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum UpAxis {
+    #[default]
+    PosY,
+    NegY,
+    PosX,
+    NegX,
+    PosZ,
+    NegZ,
+}
+
+impl std::str::FromStr for UpAxis {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Ok(match s.to_ascii_uppercase().as_str() {
+            "+Y" | "Y" => UpAxis::PosY,
+            "-Y" => UpAxis::NegY,
+            "+X" | "X" => UpAxis::PosX,
+            "-X" => UpAxis::NegX,
+            "+Z" | "Z" => UpAxis::PosZ,
+            "-Z" => UpAxis::NegZ,
+            _ => {
+                return Err(format!(
+                    "up axis must be one of +Y -Y +X -X +Z -Z, not {s:?}"
+                ))
+            }
+        })
+    }
+}
+
+impl UpAxis {
+    /// The proper rotation (no mirroring) taking this axis to +Y; exact (only swaps and
+    /// sign changes).
+    pub fn rotate(self, p: DVec3) -> DVec3 {
+        match self {
+            UpAxis::PosY => p,
+            UpAxis::NegY => DVec3::new(p.x, -p.y, -p.z),
+            UpAxis::PosX => DVec3::new(-p.y, p.x, p.z),
+            UpAxis::NegX => DVec3::new(p.y, -p.x, p.z),
+            UpAxis::PosZ => DVec3::new(p.x, p.z, -p.y),
+            UpAxis::NegZ => DVec3::new(p.x, -p.z, p.y),
+        }
+    }
 }
 
 impl Scene {
@@ -147,6 +217,8 @@ impl Scene {
             file_bounds: (bounds.min.as_dvec3(), bounds.max.as_dvec3()),
             dependencies: Vec::new(),
             warnings: Vec::new(),
+            wire: Wire::default(),
+            maps: Vec::new(),
         }
     }
 

@@ -1,4 +1,5 @@
-//! Smooth, area-weighted vertex normals for meshes whose file has none (or broken ones).
+//! Area-weighted vertex normals for meshes whose file has none (or broken ones): smooth across
+//! edges flatter than the crease angle or inside one smoothing group, sharp elsewhere.
 use super::Vertex;
 use glam::Vec3;
 use std::collections::HashMap;
@@ -59,6 +60,102 @@ pub fn repair_normals(vertices: &mut [Vertex], indices: &[u32], all: bool) -> us
         }
     }
     generated
+}
+
+/// How generated normals treat edges.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Creases {
+    /// Smooth across edges whose faces differ by at most this many degrees.
+    Angle(f32),
+    /// One normal per face.
+    Flat,
+}
+
+/// The default crease angle (README, Loading: chosen on the shared models).
+pub const DEFAULT_CREASE_DEG: f32 = 60.0;
+
+impl Default for Creases {
+    fn default() -> Self {
+        Creases::Angle(DEFAULT_CREASE_DEG)
+    }
+}
+
+/// Generates every normal of a mesh. A corner's normal sums the area-weighted normals of the
+/// faces around its position that may be smoothed with its own face: with smoothing `groups`
+/// (one per triangle, from `s N`; 0 = off), those in the same non-zero group; without, those
+/// within the crease angle. Vertices are split where corners sharing one get different
+/// normals. Returns the new vertices, the new indices and, per new vertex, its old index.
+pub fn generate(
+    vertices: &[Vertex],
+    indices: &[u32],
+    groups: Option<&[u32]>,
+    creases: Creases,
+) -> (Vec<Vertex>, Vec<u32>, Vec<u32>) {
+    let tris: Vec<[u32; 3]> = indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .collect();
+    let face: Vec<glam::DVec3> = tris
+        .iter()
+        .map(|t| {
+            let p: [glam::DVec3; 3] =
+                std::array::from_fn(|k| Vec3::from(vertices[t[k] as usize].position).as_dvec3());
+            (p[1] - p[0]).cross(p[2] - p[0])
+        })
+        .collect();
+    let unit: Vec<glam::DVec3> = face.iter().map(|n| n.normalize_or_zero()).collect();
+    let mut around: HashMap<[u32; 3], Vec<u32>> = HashMap::new();
+    for (f, t) in tris.iter().enumerate() {
+        for &i in t {
+            let list = around
+                .entry(key(vertices[i as usize].position))
+                .or_default();
+            // A face touches a position once, even if it is degenerate there.
+            if list.last() != Some(&(f as u32)) {
+                list.push(f as u32);
+            }
+        }
+    }
+    let cos = match creases {
+        Creases::Angle(deg) => f64::from(deg).to_radians().cos(),
+        Creases::Flat => 2.0,
+    };
+    let groups = groups.filter(|g| g.len() == tris.len());
+    let mut out = Vec::with_capacity(vertices.len());
+    let mut old = Vec::with_capacity(vertices.len());
+    let mut out_idx = Vec::with_capacity(indices.len());
+    let mut seen: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
+    for (f, t) in tris.iter().enumerate() {
+        for &i in t {
+            let v = vertices[i as usize];
+            let mut n = glam::DVec3::ZERO;
+            for &g in &around[&key(v.position)] {
+                let g = g as usize;
+                let joins = g == f
+                    || unit[f] == glam::DVec3::ZERO
+                    || match groups {
+                        Some(s) => creases != Creases::Flat && s[f] != 0 && s[g] == s[f],
+                        None => unit[f].dot(unit[g]) >= cos,
+                    };
+                if joins {
+                    n += face[g];
+                }
+            }
+            let n = n.normalize_or_zero().as_vec3();
+            let n = if n == Vec3::ZERO { Vec3::Y } else { n };
+            let k = (i, n.to_array().map(|x| (x + 0.0).to_bits()));
+            let idx = *seen.entry(k).or_insert_with(|| {
+                out.push(Vertex {
+                    normal: n.into(),
+                    ..v
+                });
+                old.push(i);
+                out.len() as u32 - 1
+            });
+            out_idx.push(idx);
+        }
+    }
+    (out, out_idx, old)
 }
 
 #[cfg(test)]
@@ -125,6 +222,92 @@ mod tests {
         assert_eq!(repair_normals(&mut v, &[0, 1, 2], false), 0);
         assert_eq!(v[0].normal, [0., 0., 1.]);
         assert_eq!(v[2].normal, [1., 0., 0.]);
+    }
+
+    fn cube() -> (Vec<Vertex>, Vec<u32>) {
+        let v: Vec<Vertex> = (0..8)
+            .map(|i| {
+                let c = |b| if i & b != 0 { 1.0 } else { 0.0 };
+                vtx([c(1), c(2), c(4)], [0.; 3])
+            })
+            .collect();
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let idx = quads
+            .iter()
+            .flat_map(|q| [q[0], q[1], q[2], q[0], q[2], q[3]])
+            .collect();
+        (v, idx)
+    }
+
+    #[test]
+    fn cube_corners_get_three_flat_normals() {
+        let (v, i) = cube();
+        let (out, idx, old) = generate(&v, &i, None, Creases::default());
+        assert_eq!(out.len(), 24);
+        assert_eq!(idx.len(), 36);
+        for corner in 0..8u32 {
+            let ns: Vec<[f32; 3]> = out
+                .iter()
+                .zip(&old)
+                .filter(|(_, &o)| o == corner)
+                .map(|(v, _)| v.normal)
+                .collect();
+            assert_eq!(ns.len(), 3);
+            for n in ns {
+                assert_eq!(n.iter().filter(|x| x.abs() == 1.0).count(), 1, "{n:?}");
+            }
+        }
+        // one smoothing group overrides the angle: 8 smooth corners
+        let g = vec![1; 12];
+        let (out, _, old) = generate(&v, &i, Some(&g), Creases::default());
+        assert_eq!(out.len(), 8);
+        let seven = old.iter().position(|&o| o == 7).unwrap();
+        let n = Vec3::from(out[seven].normal);
+        assert!((n - Vec3::ONE.normalize()).length() < 1e-6, "{n}");
+        // s off: flat
+        let g = vec![0; 12];
+        assert_eq!(generate(&v, &i, Some(&g), Creases::default()).0.len(), 24);
+    }
+
+    #[test]
+    fn sphere_stays_smooth() {
+        let (seg, rings) = (32u32, 16u32);
+        let mut v = Vec::new();
+        for r in 0..=rings {
+            for s in 0..seg {
+                let th = std::f32::consts::PI * r as f32 / rings as f32;
+                let ph = std::f32::consts::TAU * s as f32 / seg as f32;
+                // exact poles: sin(π) is not 0 in f32
+                let st = if r == rings { 0.0 } else { th.sin() };
+                let p = [st * ph.cos(), th.cos(), st * ph.sin()];
+                v.push(vtx(p, [0.; 3]));
+            }
+        }
+        let mut idx = Vec::new();
+        for r in 0..rings {
+            for s in 0..seg {
+                let a = r * seg + s;
+                let b = r * seg + (s + 1) % seg;
+                let (c, d) = (a + seg, b + seg);
+                idx.extend([a, b, c, b, d, c]);
+            }
+        }
+        let (out, _, _) = generate(&v, &idx, None, Creases::default());
+        // no vertex is split (the poles are one position repeated; they stay as they are)
+        assert_eq!(out.len(), v.len());
+        for w in &out[seg as usize..(rings * seg) as usize] {
+            let n = Vec3::from(w.normal);
+            let p = Vec3::from(w.position).normalize();
+            assert!(n.dot(p) > 0.995, "{n} at {p}");
+        }
+        assert!(generate(&v, &idx, None, Creases::Flat).0.len() > 3 * v.len());
     }
 
     #[test]

@@ -1,7 +1,11 @@
 //! OBJ/MTL → [`Scene`]: tobj does the parsing (after [`super::repair`]); positions are read as
 //! f64 and re-centred on the bounding-box centre before they are rounded to f32.
 use super::material::{self, TextureOptions};
-use super::{normals, repair, Bounds, Material, Mesh, Scene, Vertex, Warning};
+use super::normals::Creases;
+use super::{
+    normals, quirks, repair, triangulate, Bounds, Material, Mesh, Scene, UpAxis, Vertex, Warning,
+    Wire,
+};
 use crate::error::{Error, Result};
 use glam::DVec3;
 use std::cell::RefCell;
@@ -16,7 +20,28 @@ pub struct LoadOptions {
     pub progress: Option<ProgressFn>,
     /// Use the mesh cache (`scene::cache`) for large files.
     pub cache: bool,
+    /// Keep fully transparent materials (`d 0`, `Tr 1`) invisible instead of opaque.
+    pub honor_transparency: bool,
+    /// How generated normals treat sharp edges (`--crease`, `--flat`).
+    pub creases: Creases,
+    /// Which file axis is up (`--up`).
+    pub up: UpAxis,
+    /// A base-colour texture for meshes without a material of their own (`--texture`).
+    pub texture: Option<std::path::PathBuf>,
 }
+
+impl LoadOptions {
+    /// Whether these options give the scene the mesh cache stores (it keys on the file only).
+    fn cacheable(&self) -> bool {
+        !self.honor_transparency
+            && self.creases == Creases::default()
+            && self.up == UpAxis::PosY
+            && self.texture.is_none()
+    }
+}
+
+type MtlLineMap =
+    RefCell<std::collections::HashMap<String, (std::path::PathBuf, repair::MtlLines)>>;
 
 /// Reads a file, refusing what is not a regular file (directories, devices, FIFOs would hang).
 pub fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
@@ -38,6 +63,7 @@ fn load_mtl(
     name: &Path,
     source: MtlSource,
     warnings: &RefCell<Vec<Warning>>,
+    lines: &MtlLineMap,
 ) -> tobj::MTLLoadResult {
     let path = obj_dir.join(name.to_string_lossy().replace('\\', "/"));
     let warn = |msg: String| {
@@ -66,6 +92,12 @@ fn load_mtl(
     let mut repairs = Vec::new();
     let text = repair::repair_mtl(&path, &text, &mut repairs);
     warnings.borrow_mut().extend(repairs);
+    for (name, l) in repair::mtl_lines(&text) {
+        lines
+            .borrow_mut()
+            .entry(name)
+            .or_insert_with(|| (path.clone(), l));
+    }
     tobj::load_mtl_buf(&mut text.as_bytes()).inspect_err(|e| {
         warn(format!("{e}; using the default material"));
     })
@@ -74,7 +106,7 @@ fn load_mtl(
 /// Loads an OBJ file (and its MTL libraries and diffuse textures).
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
     let bytes = read_regular_file(path)?;
-    let cached = opts.cache && bytes.len() as u64 >= super::cache::MIN_SIZE;
+    let cached = opts.cache && opts.cacheable() && bytes.len() as u64 >= super::cache::MIN_SIZE;
     if cached {
         if let Some(scene) = super::cache::get(path, &bytes, opts.textures) {
             log::debug!("{}: loaded from the mesh cache", path.display());
@@ -82,7 +114,8 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
         }
     }
     let scene = load_bytes(path, &bytes, opts)?;
-    if cached {
+    // The cache stores vertices and indices only: colours, lines and points are parsed again.
+    if cached && scene.wire.is_empty() && scene.meshes.iter().all(|m| m.colors.is_empty()) {
         super::cache::put(path, &bytes, opts.textures, &scene);
     }
     Ok(scene)
@@ -115,18 +148,22 @@ fn load_with(
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let warnings = RefCell::new(std::mem::take(&mut repaired.warnings));
     let mtl_files = RefCell::new(Vec::new());
+    let mtl_lines: MtlLineMap = RefCell::default();
+    // Polygons come with their arity and are triangulated here (ear clipping where concave);
+    // lines and points were taken out by the pre-pass.
     let load_opts = tobj::LoadOptions {
-        triangulate: true,
+        triangulate: false,
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
     };
     let (models, mats) = tobj::load_obj_buf(&mut repaired.text.as_bytes(), &load_opts, |p| {
         mtl_files.borrow_mut().push(dir.join(p));
-        load_mtl(&dir, p, mtl_source, &warnings)
+        load_mtl(&dir, p, mtl_source, &warnings, &mtl_lines)
     })
     .map_err(|e| Error::model(path, None, e.to_string()))?;
     let mut warnings = warnings.into_inner();
+    let mtl_lines = mtl_lines.into_inner();
     let mut dependencies = mtl_files.into_inner();
     let tobj_mats = mats.unwrap_or_default();
     // Texture warnings name the material library that was read (tobj does not say which of
@@ -139,6 +176,13 @@ fn load_with(
         .iter()
         .map(|m| material::from_tobj(m, &dir, &mtl_file, opts.textures, &mut warnings))
         .collect();
+    let mut maps = Vec::new();
+    for m in &mut materials {
+        let origin = mtl_lines.get(&m.name).map(|(f, l)| (f.as_path(), l));
+        quirks::fix_invisible(m, origin, opts.honor_transparency, &mut warnings);
+        quirks::fix_ns_zero(m, origin, &mut warnings);
+        maps.extend(quirks::map_report(m, origin));
+    }
     let mut reported = std::collections::HashSet::new();
     for (line, name) in &repaired.usemtl {
         if !materials.iter().any(|m| &m.name == name) && reported.insert(name.clone()) {
@@ -149,22 +193,59 @@ fn load_with(
             });
         }
     }
+    let default_index = materials.len();
+    let mut default = Material::default();
+    if let Some(t) = &opts.texture {
+        match material::decode_texture(t.clone(), opts.textures) {
+            Ok(tex) => {
+                default.diffuse_map = Some(std::sync::Arc::new(tex));
+                default.diffuse_map_spec = Some(t.display().to_string());
+                maps.push(format!(
+                    "map: --texture {}: base colour of meshes without a material",
+                    t.display()
+                ));
+            }
+            Err(e) => warnings.push(Warning {
+                file: t.clone(),
+                line: None,
+                message: format!("--texture: {e}; using the default colour"),
+            }),
+        }
+    }
+    materials.push(default);
     dependencies.extend(
         materials
             .iter()
             .filter_map(|m| m.diffuse_map.as_ref().map(|t| t.path.clone())),
     );
-    let default_index = materials.len();
-    materials.push(Material::default());
 
+    let up = opts.up;
+    let rotated = |s: &[f64]| up.rotate(DVec3::new(s[0], s[1], s[2]));
     let mut lo = DVec3::splat(f64::INFINITY);
     let mut hi = DVec3::splat(f64::NEG_INFINITY);
     for m in &models {
         for p in m.mesh.positions.chunks_exact(3) {
-            let p = DVec3::new(p[0], p[1], p[2]);
+            let p = rotated(p);
             lo = lo.min(p);
             hi = hi.max(p);
         }
+    }
+    let wire_used: Vec<u32> = {
+        let mut u: Vec<u32> = repaired
+            .segments
+            .iter()
+            .flatten()
+            .chain(&repaired.points)
+            .copied()
+            .collect();
+        u.sort_unstable();
+        u.dedup();
+        u
+    };
+    for &i in &wire_used {
+        let p = rotated(&repaired.positions[i as usize]);
+        lo = lo.min(p);
+        hi = hi.max(p);
     }
     let origin = if lo.x <= hi.x {
         (lo + hi) * 0.5
@@ -172,22 +253,59 @@ fn load_with(
         DVec3::ZERO
     };
 
+    // Smoothing groups are per face in file order; they apply only if tobj kept every face.
+    let face_total: usize = models
+        .iter()
+        .map(|m| match m.mesh.face_arities.len() {
+            0 => m.mesh.indices.len() / 3,
+            n => n,
+        })
+        .sum();
+    let groups = (!repaired.face_groups.is_empty() && repaired.face_groups.len() == face_total)
+        .then_some(&repaired.face_groups);
+    let mut face_no = 0usize;
     let mut meshes = Vec::with_capacity(models.len());
     let mut bounds = Bounds::empty();
     for m in models {
         let mesh = m.mesh;
-        if mesh.indices.is_empty() {
+        let n = mesh.positions.len() / 3;
+        let pos = |i: u32| rotated(&mesh.positions[i as usize * 3..i as usize * 3 + 3]);
+        let arities = if mesh.face_arities.is_empty() {
+            vec![3; mesh.indices.len() / 3]
+        } else {
+            mesh.face_arities.clone()
+        };
+        let mut indices = Vec::with_capacity(mesh.indices.len());
+        let mut tri_groups = Vec::new();
+        let mut k = 0;
+        for a in arities {
+            let face = &mesh.indices[k..k + a as usize];
+            k += a as usize;
+            let g = groups.map_or(0, |g| g[face_no]);
+            face_no += 1;
+            if face.len() == 3 {
+                indices.extend_from_slice(face);
+                tri_groups.push(g);
+            } else if face.len() > 3 {
+                let p: Vec<DVec3> = face.iter().map(|&i| pos(i)).collect();
+                for t in triangulate::polygon(&p) {
+                    indices.extend(t.map(|c| face[c]));
+                    tri_groups.push(g);
+                }
+            }
+        }
+        if indices.is_empty() {
             continue;
         }
-        let n = mesh.positions.len() / 3;
         let has_normals = mesh.normals.len() == n * 3;
         let has_uv = mesh.texcoords.len() == n * 2;
+        let has_colors = mesh.vertex_color.len() == n * 3;
         let vertices: Vec<Vertex> = (0..n)
             .map(|i| {
-                let p = DVec3::from_slice(&mesh.positions[i * 3..i * 3 + 3]) - origin;
+                let p = pos(i as u32) - origin;
                 let normal = if has_normals {
-                    let s = &mesh.normals[i * 3..i * 3 + 3];
-                    [s[0] as f32, s[1] as f32, s[2] as f32]
+                    let s = up.rotate(DVec3::from_slice(&mesh.normals[i * 3..i * 3 + 3]));
+                    [s.x as f32, s.y as f32, s.z as f32]
                 } else {
                     [0.0; 3]
                 };
@@ -209,6 +327,15 @@ fn load_with(
                 }
             })
             .collect();
+        let colors: Vec<[f32; 3]> = if has_colors {
+            mesh.vertex_color
+                .chunks_exact(3)
+                .map(|c| c.iter().map(|&x| x as f32).collect::<Vec<_>>())
+                .map(|c| [c[0], c[1], c[2]].map(|x| if x.is_finite() { x } else { 1.0 }))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let material = mesh
             .material_id
             .filter(|&i| i < default_index)
@@ -216,19 +343,47 @@ fn load_with(
         let mut mesh = Mesh {
             name: m.name,
             vertices,
-            indices: mesh.indices,
+            indices,
             material,
             has_uv,
             generated_normals: 0,
+            colors,
         };
-        mesh.generated_normals =
-            normals::repair_normals(&mut mesh.vertices, &mesh.indices, !has_normals);
+        if has_normals {
+            mesh.generated_normals =
+                normals::repair_normals(&mut mesh.vertices, &mesh.indices, false);
+        } else {
+            let g = groups.map(|_| tri_groups.as_slice());
+            let (v, i, old) = normals::generate(&mesh.vertices, &mesh.indices, g, opts.creases);
+            if !mesh.colors.is_empty() {
+                mesh.colors = old.iter().map(|&o| mesh.colors[o as usize]).collect();
+            }
+            mesh.vertices = v;
+            mesh.indices = i;
+            mesh.generated_normals = mesh.vertices.len();
+        }
         for v in &mesh.vertices {
             bounds.include(v.position.into());
         }
         meshes.push(mesh);
     }
-    if meshes.is_empty() {
+    let mut wire = Wire::default();
+    if !wire_used.is_empty() {
+        let mut local = std::collections::HashMap::new();
+        for &i in &wire_used {
+            local.insert(i, wire.positions.len() as u32);
+            let p = (rotated(&repaired.positions[i as usize]) - origin).as_vec3();
+            bounds.include(p);
+            wire.positions.push(p.into());
+        }
+        wire.segments = repaired
+            .segments
+            .iter()
+            .map(|s| s.map(|i| local[&i]))
+            .collect();
+        wire.points = repaired.points.iter().map(|i| local[i]).collect();
+    }
+    if meshes.is_empty() && wire.is_empty() {
         return Err(Error::model(path, None, "no triangles in the file"));
     }
     let name = path
@@ -244,6 +399,8 @@ fn load_with(
         file_bounds: (lo, hi),
         dependencies,
         warnings,
+        wire,
+        maps,
     })
 }
 

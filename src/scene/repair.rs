@@ -14,6 +14,17 @@ pub struct Repaired {
     pub dropped_faces: usize,
     /// Every `usemtl` name with its line, to report names no MTL defines.
     pub usemtl: Vec<(usize, String)>,
+    /// The smoothing group (`s N`; 0 = `s off`) of every face passed on, in file order;
+    /// empty when the file has no `s` statement (then the crease angle decides).
+    pub face_groups: Vec<u32>,
+    /// Every `v` position as written (after any `w` division), for lines and points.
+    pub positions: Vec<[f64; 3]>,
+    /// `l` statements as segments between 0-based position indices (polylines split).
+    pub segments: Vec<[u32; 2]>,
+    /// `p` statements as 0-based position indices.
+    pub points: Vec<u32>,
+    /// Vertices written without a colour in a file where others have one (made white).
+    pub uncoloured: usize,
 }
 
 #[derive(Default)]
@@ -21,6 +32,8 @@ struct Counts {
     v: usize,
     vt: usize,
     vn: usize,
+    /// `v` lines with a colour (6 numbers).
+    coloured: usize,
 }
 
 /// Statements whose arguments are names, where a non-UTF-8 byte can be replaced safely.
@@ -68,7 +81,16 @@ fn count_elements(lines: &[(usize, Vec<u8>)]) -> Counts {
     let mut c = Counts::default();
     for (_, l) in lines {
         match keyword(l) {
-            b"v" => c.v += 1,
+            b"v" => {
+                c.v += 1;
+                if l.split(|b| b.is_ascii_whitespace())
+                    .filter(|w| !w.is_empty())
+                    .count()
+                    == 7
+                {
+                    c.coloured += 1;
+                }
+            }
             b"vt" => c.vt += 1,
             b"vn" => c.vn += 1,
             _ => {}
@@ -121,6 +143,14 @@ pub fn repair_obj_with_progress(
     let mut missing_refs = 0usize;
     let mut unknown = 0usize;
     let mut usemtl = Vec::new();
+    let mut face_groups = Vec::new();
+    let mut group = 0u32;
+    let mut has_groups = false;
+    let mut positions = Vec::with_capacity(total.v);
+    let mut segments = Vec::new();
+    let mut points = Vec::new();
+    let mut uncoloured = 0usize;
+    let mixed_colours = total.coloured > 0 && total.coloured < total.v;
     let mut scanned = 0u64;
     let mut next_report = 0u64;
     for (lineno, raw) in &lines {
@@ -156,10 +186,12 @@ pub fn repair_obj_with_progress(
                         format!("vertex needs 3 coordinates: {}", line.trim()),
                     ));
                 }
-                for w in nums.iter().take(3) {
+                let mut p = [0.0f64; 3];
+                for (k, w) in nums.iter().take(3).enumerate() {
                     let x: f64 = w
                         .parse()
                         .map_err(|_| err(lineno, format!("not a number: {w:?}")))?;
+                    p[k] = x;
                     if !x.is_finite() {
                         return Err(err(lineno, format!("vertex position is not finite: {w}")));
                     }
@@ -171,6 +203,61 @@ pub fn repair_obj_with_progress(
                         ));
                     }
                 }
+                // tobj reads `v x y z w` as homogeneous; keep the same meaning here.
+                if nums.len() == 4 {
+                    if let Ok(w) = nums[3].parse::<f64>() {
+                        if w != 0.0 && w.is_finite() {
+                            p = p.map(|x| x / w);
+                        }
+                    }
+                }
+                positions.push(p);
+                // tobj fails without a line number when only some vertices have a colour:
+                // the others get white, as written out for tobj.
+                if mixed_colours && nums.len() != 6 {
+                    uncoloured += 1;
+                    text.push_str(&format!("v {} {} {} 1 1 1\n", p[0], p[1], p[2]));
+                    continue;
+                }
+            }
+            "s" => {
+                has_groups = true;
+                let arg = words.next().unwrap_or("0");
+                group = if arg.eq_ignore_ascii_case("off") {
+                    0
+                } else {
+                    arg.parse::<u32>().unwrap_or(0)
+                };
+                continue;
+            }
+            "l" | "p" => {
+                let mut idx = Vec::new();
+                for c in words {
+                    let v = c.split('/').next().unwrap_or("");
+                    let v: i64 = v
+                        .parse()
+                        .map_err(|_| err(lineno, format!("bad {first} index {c:?}")))?;
+                    match resolve(v, seen.v) {
+                        Some(i) if i < total.v => idx.push(i as u32),
+                        _ => {
+                            return Err(err(
+                                lineno,
+                                format!(
+                                    "{first} vertex index {v} out of range (file has {} vertices)",
+                                    total.v
+                                ),
+                            ))
+                        }
+                    }
+                }
+                if first == "p" {
+                    points.extend(idx);
+                } else if idx.len() == 1 {
+                    points.push(idx[0]);
+                } else {
+                    segments.extend(idx.windows(2).map(|w| [w[0], w[1]]));
+                }
+                continue;
             }
             "vt" => seen.vt += 1,
             "vn" => seen.vn += 1,
@@ -232,6 +319,7 @@ pub fn repair_obj_with_progress(
                     dropped_faces += 1;
                     continue;
                 }
+                face_groups.push(group);
                 text.push_str("f ");
                 text.push_str(&fixed.join(" "));
                 text.push('\n');
@@ -242,7 +330,7 @@ pub fn repair_obj_with_progress(
                 continue;
             }
             "usemtl" => usemtl.push((lineno, line.trim()[6..].trim().to_string())),
-            "" | "vp" | "o" | "g" | "s" | "mtllib" | "l" | "p" => {}
+            "" | "vp" | "o" | "g" | "mtllib" => {}
             w if w.starts_with('#') => {}
             _ => {
                 unknown += 1;
@@ -270,6 +358,18 @@ pub fn repair_obj_with_progress(
             format!("{missing_refs} face corner(s) reference a missing normal or UV: ignored"),
         ));
     }
+    if uncoloured > 0 {
+        warnings.push(warn(
+            None,
+            format!(
+                "{uncoloured} of {} vertices have no colour where others do: white",
+                total.v
+            ),
+        ));
+    }
+    if !has_groups {
+        face_groups.clear();
+    }
     if unknown > 0 {
         warnings.push(warn(
             None,
@@ -281,6 +381,11 @@ pub fn repair_obj_with_progress(
         warnings,
         dropped_faces,
         usemtl,
+        face_groups,
+        positions,
+        segments,
+        points,
+        uncoloured,
     })
 }
 
@@ -315,6 +420,49 @@ pub fn repair_mtl(path: &Path, text: &str, warnings: &mut Vec<Warning>) -> Strin
         }
         out.push_str(line);
         out.push('\n');
+    }
+    out
+}
+
+/// Where a material's statements are in its MTL file, for warnings that name the line.
+#[derive(Clone, Debug, Default)]
+pub struct MtlLines {
+    /// The last `d` or `Tr` line.
+    pub opacity: Option<usize>,
+    /// The last `Ns` line.
+    pub shininess: Option<usize>,
+    /// Every texture statement: (line, keyword, argument as written).
+    pub maps: Vec<(usize, String, String)>,
+}
+
+/// Finds, per `newmtl` name, the lines of the statements warnings refer to.
+pub fn mtl_lines(text: &str) -> std::collections::HashMap<String, MtlLines> {
+    let mut out = std::collections::HashMap::new();
+    let mut cur: Option<String> = None;
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim();
+        let kw = t.split_whitespace().next().unwrap_or("");
+        if kw == "newmtl" {
+            let name = t[6..].trim().to_string();
+            out.entry(name.clone()).or_insert_with(MtlLines::default);
+            cur = Some(name);
+            continue;
+        }
+        let Some(e) = cur.as_ref().and_then(|c| out.get_mut(c)) else {
+            continue;
+        };
+        let e: &mut MtlLines = e;
+        match kw {
+            "d" | "Tr" => e.opacity = Some(i + 1),
+            "Ns" => e.shininess = Some(i + 1),
+            k if k.starts_with("map_")
+                || matches!(k, "bump" | "disp" | "decal" | "refl" | "norm") =>
+            {
+                e.maps
+                    .push((i + 1, k.to_string(), t[k.len()..].trim().to_string()))
+            }
+            _ => {}
+        }
     }
     out
 }

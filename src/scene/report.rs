@@ -19,6 +19,26 @@ pub fn report(s: &Scene) -> String {
         "bounds: ({:.6}, {:.6}, {:.6}) .. ({:.6}, {:.6}, {:.6})",
         lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
     );
+    let coloured: usize = s
+        .meshes
+        .iter()
+        .filter(|m| !m.colors.is_empty())
+        .map(|m| m.vertices.len())
+        .sum();
+    if coloured > 0 {
+        let _ = writeln!(r, "vertex colours: {coloured} vertices");
+    }
+    if !s.wire.is_empty() {
+        let _ = writeln!(
+            r,
+            "lines: {}  points: {}",
+            s.wire.segments.len(),
+            s.wire.points.len()
+        );
+    }
+    for m in &s.maps {
+        let _ = writeln!(r, "{m}");
+    }
     for m in &s.materials {
         let p = m.pbr();
         let _ = writeln!(

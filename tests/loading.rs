@@ -1,0 +1,308 @@
+//! Issue 13, loader side: polygons, creases, colours, lines, exporters' MTL quirks, up axis,
+//! `--texture` and `--check`, on generated files with exact expectations and on ../shared/.
+mod common;
+use common::{box_obj, out_dir, run, shared};
+use glam::{DVec3, Vec3};
+use glview::scene::normals::Creases;
+use glview::scene::obj::{load, LoadOptions};
+use glview::scene::{Scene, UpAxis};
+use std::f64::consts::TAU;
+use std::path::PathBuf;
+
+fn write(test: &str, name: &str, text: &str) -> PathBuf {
+    let dir = out_dir(test);
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn load_text(test: &str, name: &str, text: &str, opts: &LoadOptions) -> Scene {
+    let p = write(test, name, text);
+    load(&p, opts).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Total area of the triangles, in f64 from the (re-centred) f32 positions.
+fn area(s: &Scene) -> f64 {
+    let mut a = 0.0;
+    for m in &s.meshes {
+        for t in m.indices.chunks_exact(3) {
+            let p: [DVec3; 3] =
+                std::array::from_fn(|k| Vec3::from(m.vertices[t[k] as usize].position).as_dvec3());
+            a += (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0;
+        }
+    }
+    a
+}
+
+/// One face through the given points (z = 0), as OBJ text.
+fn face_obj(points: &[(f64, f64)]) -> String {
+    let mut s = String::new();
+    for (x, y) in points {
+        s += &format!("v {x} {y} 0\n");
+    }
+    s += "f";
+    for i in 1..=points.len() {
+        s += &format!(" {i}");
+    }
+    s + "\n"
+}
+
+#[test]
+fn concave_faces_cover_exactly_their_area() {
+    let o = LoadOptions::default();
+    // L-shape: area 3 (a fan from corner 1 would give 2.5 + overlap).
+    let l = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)];
+    let s = load_text("loading-concave", "l.obj", &face_obj(&l), &o);
+    assert_eq!(s.triangle_count(), 4);
+    assert!((area(&s) - 3.0).abs() < 1e-9, "{}", area(&s));
+    // A 4x3 wall with a 1x2 doorway in its bottom edge: 12 - 2 = 10.
+    let wall = [
+        (0., 0.),
+        (1.5, 0.),
+        (1.5, 2.),
+        (2.5, 2.),
+        (2.5, 0.),
+        (4., 0.),
+        (4., 3.),
+        (0., 3.),
+    ];
+    let s = load_text("loading-concave", "wall.obj", &face_obj(&wall), &o);
+    assert_eq!(s.triangle_count(), 6);
+    assert!((area(&s) - 10.0).abs() < 1e-9, "{}", area(&s));
+    // A ring as one 66-corner face: outer 32-gon, a bridge, the inner 32-gon backwards, the
+    // bridge back. Area = 32/2 · sin(2π/32) · (R² − r²).
+    let (n, big, small) = (32, 2.0, 1.0);
+    let mut v = String::new();
+    for k in 0..n {
+        let a = TAU * k as f64 / n as f64;
+        v += &format!("v {} {} 0\n", big * a.cos(), big * a.sin());
+    }
+    for k in 0..n {
+        let a = TAU * k as f64 / n as f64;
+        v += &format!("v {} {} 0\n", small * a.cos(), small * a.sin());
+    }
+    let mut f: Vec<usize> = (1..=n).collect();
+    f.push(1);
+    f.push(n + 1);
+    f.extend((n + 2..=2 * n).rev());
+    f.push(n + 1);
+    assert_eq!(f.len(), 66);
+    v += "f";
+    for i in &f {
+        v += &format!(" {i}");
+    }
+    v += "\n";
+    let s = load_text("loading-concave", "ring.obj", &v, &o);
+    let exact = n as f64 / 2.0 * (TAU / n as f64).sin() * (big * big - small * small);
+    assert!(
+        (area(&s) - exact).abs() < 1e-5,
+        "ring area {} != {exact}",
+        area(&s)
+    );
+    // Every triangle faces +Z like the face.
+    for m in &s.meshes {
+        for t in m.indices.chunks_exact(3) {
+            let p: [Vec3; 3] = std::array::from_fn(|k| m.vertices[t[k] as usize].position.into());
+            assert!((p[1] - p[0]).cross(p[2] - p[0]).z >= 0.0);
+        }
+    }
+}
+
+#[test]
+fn creases_and_smoothing_groups() {
+    let cube = box_obj([0.0; 3], [1.0; 3], 0);
+    let corner_normals = |s: &Scene| {
+        let mut ns: Vec<[i32; 3]> = s.meshes[0]
+            .vertices
+            .iter()
+            .filter(|v| v.position == [0.5, 0.5, 0.5])
+            .map(|v| v.normal.map(|x| (x * 1000.0).round() as i32))
+            .collect();
+        ns.sort();
+        ns
+    };
+    let s = load_text("loading-crease", "cube.obj", &cube, &LoadOptions::default());
+    assert_eq!(
+        corner_normals(&s),
+        [[0, 0, 1000], [0, 1000, 0], [1000, 0, 0]]
+    );
+    assert_eq!(s.vertex_count(), 24);
+    // One smoothing group: smooth corners, whatever the angle.
+    let grouped = format!("s 1\n{cube}");
+    let s = load_text(
+        "loading-crease",
+        "cube-s1.obj",
+        &grouped,
+        &LoadOptions::default(),
+    );
+    // One normal, pointing out of the corner (area-weighted: the diagonals decide the mix).
+    let n = corner_normals(&s);
+    assert_eq!(n.len(), 1);
+    assert!(n[0].iter().all(|&x| x > 300), "{n:?}");
+    assert_eq!(s.vertex_count(), 8);
+    // s off: flat again; --crease 100 smooths the cube; --flat faces it.
+    let s = load_text(
+        "loading-crease",
+        "cube-off.obj",
+        &format!("s off\n{cube}"),
+        &LoadOptions::default(),
+    );
+    assert_eq!(s.vertex_count(), 24);
+    let wide = LoadOptions {
+        creases: Creases::Angle(100.0),
+        ..Default::default()
+    };
+    assert_eq!(
+        load_text("loading-crease", "cube.obj", &cube, &wide).vertex_count(),
+        8
+    );
+    let flat = LoadOptions {
+        creases: Creases::Flat,
+        ..Default::default()
+    };
+    let s = load_text("loading-crease", "cube-s1.obj", &grouped, &flat);
+    assert_eq!(s.vertex_count(), 24);
+}
+
+#[test]
+fn shared_models_split_only_at_sharp_edges() {
+    // Vertex counts with the default crease (60°) against tobj's smooth ones (conformance.rs):
+    // the scans gain a few percent at noisy spots, nothing like the flat counts.
+    for (p, smooth, flat) in [
+        ("models/spot/spot_triangulated.obj", 3225, 17568),
+        ("models/stanford-bunny/stanford-bunny.obj", 34834, 208343),
+    ] {
+        let s = load(&shared().join(p), &LoadOptions::default()).unwrap();
+        let n = s.vertex_count();
+        assert!(n >= smooth && n < smooth * 11 / 10, "{p}: {n}");
+        let f = LoadOptions {
+            creases: Creases::Flat,
+            ..Default::default()
+        };
+        assert_eq!(load(&shared().join(p), &f).unwrap().vertex_count(), flat);
+    }
+}
+
+#[test]
+fn partial_vertex_colours_load_white() {
+    let text = "v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 0 0 1\nf 1 2 3\n";
+    let s = load_text("loading-colours", "c.obj", text, &LoadOptions::default());
+    let m = &s.meshes[0];
+    assert_eq!(m.colors.len(), m.vertices.len());
+    let mut c = m.colors.clone();
+    c.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    assert_eq!(c, [[0., 0., 1.], [1., 0., 0.], [1., 1., 1.]]);
+    assert!(s.warnings.iter().any(|w| w.message.contains("no colour")));
+    // No colours anywhere: empty.
+    let s = load_text(
+        "loading-colours",
+        "n.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+        &LoadOptions::default(),
+    );
+    assert!(s.meshes[0].colors.is_empty());
+}
+
+#[test]
+fn invisible_materials_and_ns_zero() {
+    let dir = out_dir("loading-mtl");
+    std::fs::write(
+        dir.join("m.mtl"),
+        "newmtl glass\nKd 1 0 0\nTr 1\nnewmtl shiny\nKd 0 1 0\nKs 0.5 0.5 0.5\nNs 0\n",
+    )
+    .unwrap();
+    let obj =
+        "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl glass\nf 1 2 3\nusemtl shiny\nf 1 3 2\n";
+    let p = write("loading-mtl", "m.obj", obj);
+    let s = load(&p, &LoadOptions::default()).unwrap();
+    let glass = s.materials.iter().find(|m| m.name == "glass").unwrap();
+    assert_eq!(glass.opacity, 1.0);
+    let w = s
+        .warnings
+        .iter()
+        .find(|w| w.message.contains("fully transparent"))
+        .unwrap();
+    assert_eq!(
+        (w.file.file_name().unwrap(), w.line),
+        ("m.mtl".as_ref(), Some(3))
+    );
+    let shiny = s.materials.iter().find(|m| m.name == "shiny").unwrap();
+    assert_eq!((shiny.specular, shiny.shininess), ([0.0; 3], 0.0));
+    assert!(s.warnings.iter().any(|w| w.line == Some(7)));
+    let honor = LoadOptions {
+        honor_transparency: true,
+        ..Default::default()
+    };
+    let s = load(&p, &honor).unwrap();
+    let glass = s.materials.iter().find(|m| m.name == "glass").unwrap();
+    assert_eq!(glass.opacity, 0.0);
+}
+
+#[test]
+fn up_axis_rotates_exactly() {
+    let text = box_obj([1.0, 2.0, 3.0], [2.0, 4.0, 7.0], 0);
+    for (up, lo, hi) in [
+        (UpAxis::PosY, [1., 2., 3.], [2., 4., 7.]),
+        (UpAxis::PosZ, [1., 3., -4.], [2., 7., -2.]),
+        (UpAxis::NegZ, [1., -7., 2.], [2., -3., 4.]),
+        (UpAxis::PosX, [-4., 1., 3.], [-2., 2., 7.]),
+        (UpAxis::NegX, [2., -2., 3.], [4., -1., 7.]),
+        (UpAxis::NegY, [1., -4., -7.], [2., -2., -3.]),
+    ] {
+        let o = LoadOptions {
+            up,
+            ..Default::default()
+        };
+        let s = load_text("loading-up", "b.obj", &text, &o);
+        assert_eq!(s.file_bounds, (DVec3::from(lo), DVec3::from(hi)), "{up:?}");
+        // The box's outward normals still point outward (a rotation, not a mirror).
+        for m in &s.meshes {
+            for v in &m.vertices {
+                assert!(Vec3::from(v.normal).dot(Vec3::from(v.position)) > 0.0);
+            }
+        }
+    }
+    let out = run(&["--check", "--up", "-Z", "x.obj"], &[]);
+    assert!(
+        !String::from_utf8_lossy(&out.stderr).contains("unexpected argument"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn check_reports_maps_colours_lines_and_texture() {
+    let dir = out_dir("loading-check");
+    std::fs::write(
+        dir.join("m.mtl"),
+        "newmtl a\nKd 1 1 1\nmap_Kd missing.png\nmap_Bump -bm 2 bump.png\nmap_Ns ns.png\nnorm n.png\nmap_Pr r.png\n",
+    )
+    .unwrap();
+    let obj = "mtllib m.mtl\nv 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\nl 1 2 3\np 1\n";
+    let p = write("loading-check", "m.obj", obj);
+    let out = run(&["--check", p.to_str().unwrap()], &[]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    for want in [
+        "vertex colours: 3 vertices",
+        "lines: 2  points: 1",
+        "m.mtl:3: material a: map_Kd \"missing.png\" -> not loaded",
+        "m.mtl:4: material a: map_Bump \"-bm 2 bump.png\" -> not used",
+        "m.mtl:5: material a: map_Ns \"ns.png\" -> not used",
+        "m.mtl:6: material a: norm \"n.png\" -> not used",
+        "m.mtl:7: material a: map_Pr \"r.png\" -> not used",
+    ] {
+        assert!(text.contains(want), "missing {want:?} in\n{text}");
+    }
+    // --texture gives meshes without a material a base-colour map (spot has no mtllib).
+    let spot = shared().join("models/spot");
+    let o = LoadOptions {
+        texture: Some(spot.join("spot_texture.png")),
+        ..Default::default()
+    };
+    let s = load(&spot.join("spot_triangulated.obj"), &o).unwrap();
+    let m = &s.materials[s.meshes[0].material];
+    let t = m.diffuse_map.as_ref().expect("texture loaded");
+    assert!(t.width > 0 && t.height > 0);
+    assert!(s.meshes[0].has_uv);
+}
