@@ -250,6 +250,15 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
 
 /// `--reference`: the same scene, camera and lights through the CPU reference renderer.
 pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
+    // The same bound as the GPU path on llvmpipe (its maximum viewport), checked before the
+    // model is loaded or any framebuffer allocated.
+    const MAX: u32 = 16384;
+    if args.size.0 > MAX || args.size.1 > MAX {
+        return Err(Error::Usage(format!(
+            "--size {}x{}: the reference renderer draws at most {MAX}x{MAX}",
+            args.size.0, args.size.1
+        )));
+    }
     let scene = load_scene(args)?;
     let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;

@@ -1,12 +1,15 @@
 //! Scene data: meshes, materials and bounds, loaded from OBJ/MTL. No GL, no windowing, so the
 //! GPU renderer, the CPU reference renderer and the tests share it.
 pub mod cache;
+pub mod dedup;
+pub mod finish;
 pub mod generate;
 pub mod material;
 pub mod normals;
 pub mod obj;
 pub mod repair;
 pub mod report;
+pub mod texture;
 
 use glam::{DVec3, Vec3};
 pub use material::{Material, Texture};

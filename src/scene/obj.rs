@@ -228,6 +228,7 @@ fn load_with(
         }
         meshes.push(mesh);
     }
+    super::finish::finish(path, &mut meshes, &materials, &mut warnings);
     if meshes.is_empty() {
         return Err(Error::model(path, None, "no triangles in the file"));
     }
