@@ -45,6 +45,7 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
     let progress = bar.clone().map(|b| {
         std::sync::Arc::new(move |done: u64, _total: u64| b.set_position(done)) as obj::ProgressFn
     });
+    crate::scene::cache::set_max_bytes(args.cache_size);
     let opts = LoadOptions {
         textures: TextureOptions {
             allow_outside_paths: args.allow_outside_paths,
