@@ -3,6 +3,9 @@
 # formatting, clippy (warnings are errors) and the whole test suite on llvmpipe.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+start=$(date +%s)
+# Printed on success and on failure, so CI logs always show how long the suite took.
+trap 'rc=$?; echo "scripts/test.sh: $(( $(date +%s) - start )) s (exit $rc)"' EXIT
 bash scripts/deps.sh --tests
 if [ ! -f ../shared/MANIFEST.md ]; then
   echo "error: ../shared (test models and conformance files) is missing beside the repository" >&2

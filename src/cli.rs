@@ -284,6 +284,10 @@ pub struct Args {
     /// Do not use the mesh cache (a second load of a large unchanged OBJ skips parsing).
     #[arg(long)]
     pub no_cache: bool,
+    /// Bound on the mesh cache folder's total size: bytes, or with K, M, G (powers of 1024).
+    /// Least recently used entries are deleted first.
+    #[arg(long, default_value = "1G", value_parser = parse_bytes)]
+    pub cache_size: u64,
     /// Read textures even where their path leaves the model's folder.
     #[arg(long)]
     pub allow_outside_paths: bool,
@@ -357,6 +361,20 @@ pub struct BenchCommand {
     pub bench: crate::bench::BenchArgs,
 }
 
+fn parse_bytes(s: &str) -> Result<u64, String> {
+    let s = s.trim();
+    let (num, shift) = match s.as_bytes().last() {
+        Some(b'K' | b'k') => (&s[..s.len() - 1], 10),
+        Some(b'M' | b'm') => (&s[..s.len() - 1], 20),
+        Some(b'G' | b'g') => (&s[..s.len() - 1], 30),
+        _ => (s, 0),
+    };
+    num.parse::<u64>()
+        .ok()
+        .and_then(|n| n.checked_mul(1 << shift))
+        .ok_or_else(|| format!("{s:?}: expected bytes, e.g. 1G, 512M or 1048576"))
+}
+
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
@@ -386,6 +404,14 @@ fn parse_pcf(s: &str) -> Result<u8, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn byte_counts() {
+        assert_eq!(parse_bytes("1G"), Ok(1 << 30));
+        assert_eq!(parse_bytes("512M"), Ok(512 << 20));
+        assert_eq!(parse_bytes("1000"), Ok(1000));
+        assert!(parse_bytes("lots").is_err());
+    }
 
     #[test]
     fn sizes() {

@@ -48,6 +48,7 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
     let progress = bar.clone().map(|b| {
         std::sync::Arc::new(move |done: u64, _total: u64| b.set_position(done)) as obj::ProgressFn
     });
+    crate::scene::cache::set_max_bytes(args.cache_size);
     let opts = LoadOptions {
         textures: TextureOptions {
             allow_outside_paths: args.allow_outside_paths,
@@ -546,6 +547,15 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
             args.show
         )
         .to_lowercase()));
+    }
+    // The same bound as the GPU path on llvmpipe (its maximum viewport), checked before the
+    // model is loaded or any framebuffer allocated.
+    const MAX: u32 = 16384;
+    if args.size.0 > MAX || args.size.1 > MAX {
+        return Err(Error::Usage(format!(
+            "--size {}x{}: the reference renderer draws at most {MAX}x{MAX}",
+            args.size.0, args.size.1
+        )));
     }
     let scene = load_scene(args)?;
     let (settings, _) = frame_settings(args, &scene)?;

@@ -18,14 +18,18 @@ fn write(dir: &Path, name: &str, bytes: &[u8]) -> PathBuf {
     p
 }
 
-/// Runs glview under a 2 GiB address-space limit (`--check`, no GL) or with rendering, and
-/// a 60 s deadline; returns the output.
+/// How long one run may take before it is killed and the test fails (a hang must fail,
+/// not hang the suite).
+const DEADLINE: Duration = Duration::from_secs(60);
+
+/// Runs glview under a 2 GiB address-space limit (`--check`, no GL) or with rendering (into a
+/// PNG in the test's output folder), killed at [`DEADLINE`]; returns the output.
 fn glview(args: &[&str], render: bool) -> Output {
-    let start = Instant::now();
+    let png = out_dir("bad-input-render").join("out.png");
     let mut cmd = if render {
         let mut c = Command::new(bin());
         c.args(args)
-            .args(["--output", "/dev/null.png", "--size", "32x24"]);
+            .args(["--output", png.to_str().unwrap(), "--size", "32x24"]);
         c
     } else {
         // llvmpipe reserves large address ranges, so only the GL-free check runs under ulimit.
@@ -44,17 +48,52 @@ fn glview(args: &[&str], render: bool) -> Output {
         ]);
         c
     };
-    let child = cmd
+    run_with_deadline(&mut cmd, DEADLINE)
+        .unwrap_or_else(|| panic!("killed after {DEADLINE:?}: {args:?}"))
+}
+
+/// Runs `cmd`, reading its output on threads (a full pipe must not block it); kills it and
+/// returns None when it outlives `deadline`.
+fn run_with_deadline(cmd: &mut Command, deadline: Duration) -> Option<Output> {
+    use std::io::Read;
+    let start = Instant::now();
+    let mut child = cmd
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    let out = child.wait_with_output().unwrap();
-    assert!(
-        start.elapsed() < Duration::from_secs(60),
-        "too slow: {args:?}"
-    );
-    out
+    let drain = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            let _ = r.read_to_end(&mut v);
+            v
+        })
+    };
+    let out = drain(Box::new(child.stdout.take().unwrap()));
+    let err = drain(Box::new(child.stderr.take().unwrap()));
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return Some(Output {
+                status,
+                stdout: out.join().unwrap(),
+                stderr: err.join().unwrap(),
+            });
+        }
+        if start.elapsed() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return None;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+#[test]
+fn a_hang_is_killed_at_the_deadline() {
+    let start = Instant::now();
+    let out = run_with_deadline(Command::new("sleep").arg("30"), Duration::from_millis(300));
+    assert!(out.is_none(), "sleep 30 was not killed");
+    assert!(start.elapsed() < Duration::from_secs(10));
 }
 
 fn stderr(o: &Output) -> String {
@@ -399,9 +438,17 @@ fn bad_options_are_clear_errors() {
         (vec!["--target", "1,2"], "--target"),
         (vec!["--keys", "Left Banana"], "unknown key"),
         (vec!["--fov", "0"], "--fov"),
+        (
+            vec!["--reference", "--size", "20000x100"],
+            "the reference renderer draws at most 16384x16384",
+        ),
     ] {
         let mut a = args.clone();
-        a.extend_from_slice(&["--output", "/tmp/x.png", "--size", "8x8"]);
+        let out = out_dir("bad-input-options").join("x.png");
+        a.extend_from_slice(&["--output", out.to_str().unwrap()]);
+        if !a.contains(&"--size") {
+            a.extend_from_slice(&["--size", "8x8"]);
+        }
         let o = run(&a, &[]);
         let err = stderr(&o);
         assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
@@ -410,4 +457,83 @@ fn bad_options_are_clear_errors() {
             "{args:?}: {err}"
         );
     }
+}
+
+/// A grayscale PNG of `w` x `h` pixels, all `value`, written row by row (the file is small:
+/// equal rows compress to almost nothing).
+fn flat_gray_png(path: &Path, w: u32, h: u32, value: u8) {
+    let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+    let mut enc = png::Encoder::new(file, w, h);
+    enc.set_color(png::ColorType::Grayscale);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Fast);
+    let mut writer = enc.write_header().unwrap();
+    let mut rows = writer.stream_writer().unwrap();
+    let row = vec![value; w as usize];
+    for _ in 0..h {
+        std::io::Write::write_all(&mut rows, &row).unwrap();
+    }
+    rows.finish().unwrap();
+}
+
+#[test]
+fn texture_bomb_is_downscaled_within_the_memory_limit() {
+    // 20000 x 20000 grayscale: 400 MB as decoded gray, 1.6 GB as RGBA, a few hundred KB on
+    // disk. It must render (downscaled while decoding, with a warning) under the 2 GiB
+    // address-space limit of `--check`.
+    let dir = out_dir("bad-input-bomb");
+    let png = dir.join("huge.png");
+    if !png.exists() {
+        flat_gray_png(&png, 20_000, 20_000, 128);
+    }
+    write(&dir, "huge.mtl", b"newmtl m\nmap_Kd huge.png\n");
+    let obj = write(
+        &dir,
+        "huge.obj",
+        format!("mtllib huge.mtl\n{TRI}usemtl m\nf 1/1/1 2/2/1 3/3/1\n").as_bytes(),
+    );
+    renders_with_warning(&obj, "texture 20000x20000 downscaled to 8192x8192");
+    let o = glview(&[obj.to_str().unwrap()], false);
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("huge.png (8192x8192)"),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+}
+
+#[test]
+fn two_million_duplicate_faces_render_in_under_10_s() {
+    let dir = out_dir("bad-input-dup");
+    let obj = dir.join("dup.obj");
+    {
+        use std::io::Write;
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&obj).unwrap());
+        w.write_all(b"v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
+        for _ in 0..2_000_000 {
+            w.write_all(b"f 1 2 3\n").unwrap();
+        }
+        w.flush().unwrap();
+    }
+    let png = dir.join("dup.png");
+    let start = Instant::now();
+    let o = run_with_deadline(
+        Command::new(bin()).args([
+            obj.to_str().unwrap(),
+            "--no-cache",
+            "--output",
+            png.to_str().unwrap(),
+            "--size",
+            "640x480",
+        ]),
+        Duration::from_secs(10),
+    )
+    .expect("2,000,000 duplicate faces: not rendered within 10 s");
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.lines().any(|l| l.starts_with("warning: ")
+            && l.contains("dropped 1999999 duplicate and 0 degenerate")),
+        "{err}"
+    );
+    eprintln!("2M duplicate faces rendered in {:?}", start.elapsed());
 }

@@ -176,6 +176,22 @@ fn point_light_inside_uses_six_faces_and_is_exact() {
 }
 
 #[test]
+fn point_light_just_outside_the_bounding_sphere_is_exact() {
+    // box_floor.obj: bounds (-3, 0, -3)..(3, 2, 3), centre (0, 1, 0), radius 4.36; the light
+    // is 1.03 radii from the centre, where one frustum would be 158° wide (at 1.0 r, past
+    // 180°): the six-face atlas is used and must be as exact as inside the sphere.
+    let c = classify(
+        "cube-near",
+        "box_floor.obj",
+        "point:2.8,4.0,1.8",
+        &[],
+        &[],
+        3,
+    );
+    assert_exact(&c, "cube-near");
+}
+
+#[test]
 fn copy_path_without_fbo_is_exact_too() {
     // GL 2.1 without framebuffer objects: OSMesa, depth copied with glCopyTexSubImage2D. The
     // map is limited to the target's size (300²), so edges are wider: 4 pixels excluded.

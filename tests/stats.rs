@@ -120,3 +120,35 @@ fn gpu_time_comes_from_timer_queries_where_the_driver_has_them() {
     let es = stats(&["--gl", "es3", "--frames", "2"]);
     assert!(es.iter().all(|f| f["gpu_ms"].is_null()));
 }
+
+#[test]
+fn info_reports_uniform_limits_at_least_the_spec_minimum() {
+    // GL 2.0/2.1 promise 512 vertex and 64 fragment uniform components; GL 3.3 and ES 3.0
+    // promise 1024 and 896 (ES) / 1024 (GL). The probe must read them from the driver on
+    // every context glview can make here.
+    for (args, env, min_v, min_f) in [
+        (vec!["--info"], &[][..], 1024, 896),
+        (vec!["--info", "--gl", "2.1"], GL21, 512, 64),
+        (vec!["--info", "--gl", "es3"], &[][..], 1024, 896),
+    ] {
+        let o = run(&args, env);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let value = |key: &str| -> u32 {
+            out.lines()
+                .find_map(|l| l.strip_prefix(key))
+                .and_then(|v| v.trim().parse().ok())
+                .unwrap_or_else(|| panic!("{args:?}: no {key:?} in:\n{out}"))
+        };
+        let v = value("max vertex uniform components:");
+        let f = value("max fragment uniform components:");
+        assert!(
+            v >= min_v && f >= min_f,
+            "{args:?}: vertex {v}, fragment {f}"
+        );
+    }
+}

@@ -71,6 +71,11 @@ pub struct Caps {
     pub max_renderbuffer_size: u32,
     pub max_viewport: (u32, u32),
     pub max_varying_floats: u32,
+    /// Uniform components (floats) a vertex / fragment shader may use: GL 2.1 only promises
+    /// 512 / 64, which the lit shader's per-light uniforms can exceed; the renderer falls
+    /// back on these.
+    pub max_vertex_uniform_components: u32,
+    pub max_fragment_uniform_components: u32,
     pub extension_count: usize,
 }
 
@@ -118,6 +123,24 @@ impl Caps {
             } else {
                 gl.get_parameter_i32(glow::MAX_VARYING_FLOATS) as u32
             };
+            // The COMPONENTS queries exist in GL 2.0+, 3.3 core and ES 3.0; where a driver
+            // answers 0 (or an error), the VECTORS form (ES, GL 4.1+) times 4 is used.
+            let uniforms = |components: u32, vectors: u32| {
+                let c = gl.get_parameter_i32(components).max(0) as u32;
+                if c > 0 {
+                    c
+                } else {
+                    gl.get_parameter_i32(vectors).max(0) as u32 * 4
+                }
+            };
+            let max_vertex_uniform_components = uniforms(
+                glow::MAX_VERTEX_UNIFORM_COMPONENTS,
+                glow::MAX_VERTEX_UNIFORM_VECTORS,
+            );
+            let max_fragment_uniform_components = uniforms(
+                glow::MAX_FRAGMENT_UNIFORM_COMPONENTS,
+                glow::MAX_FRAGMENT_UNIFORM_VECTORS,
+            );
             let max_renderbuffer_size = if fbo {
                 gl.get_parameter_i32(glow::MAX_RENDERBUFFER_SIZE) as u32
             } else {
@@ -178,6 +201,8 @@ impl Caps {
                 max_renderbuffer_size,
                 max_viewport: (vp[0] as u32, vp[1] as u32),
                 max_varying_floats,
+                max_vertex_uniform_components,
+                max_fragment_uniform_components,
                 extension_count: ext.len(),
             }
         }
@@ -194,7 +219,9 @@ impl Caps {
              max texture size: {}\ntexture units: {}\n16-bit float textures: {}\n\
              RG textures: {}\nsRGB textures: {}\nseamless cube maps: {}\n\
              depth+stencil: {}\nfloat render targets: {}\nmax samples (MSAA): {}\n\
-             max viewport: {}x{}\nmax varying floats: {}\nextensions: {}",
+             max viewport: {}x{}\nmax varying floats: {}\n\
+             max vertex uniform components: {}\nmax fragment uniform components: {}\n\
+             extensions: {}",
             self.version,
             self.glsl_version,
             self.dialect.name(),
@@ -228,6 +255,8 @@ impl Caps {
             self.max_viewport.0,
             self.max_viewport.1,
             self.max_varying_floats,
+            self.max_vertex_uniform_components,
+            self.max_fragment_uniform_components,
             self.extension_count
         )
     }

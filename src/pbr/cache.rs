@@ -28,7 +28,8 @@ pub fn key(source: &EnvSource, settings: &IblSettings) -> Option<u64> {
     bytes.extend_from_slice(serde_json::to_string(settings).ok()?.as_bytes());
     bytes.extend_from_slice(env!("CARGO_PKG_VERSION").as_bytes());
     bytes.extend_from_slice(ALGORITHM.as_bytes());
-    Some(crate::scene::cache::content_hash(&bytes))
+    // The low 64 bits of the mesh cache's XXH3-128 are plenty to key a handful of files.
+    Some(crate::scene::cache::content_hash(&bytes) as u64)
 }
 
 fn path(key: u64) -> Option<PathBuf> {

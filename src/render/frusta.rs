@@ -9,13 +9,20 @@ use glam::{Mat4, Vec3};
 pub enum ShadowProjection {
     /// Directional light: orthographic, fitted tightly to the bounds seen from the light.
     Ortho,
-    /// Point light outside the bounding sphere: one perspective frustum aimed at the scene.
+    /// Point light at least [`CUBE_BELOW`] radii from the centre: one perspective frustum
+    /// aimed at the scene.
     Perspective,
-    /// Point light inside the bounding sphere: six 90° frusta (+X, −X, +Y, −Y, +Z, −Z), drawn
+    /// Point light inside the bounding sphere or just outside it: six 90° frusta (+X, −X, +Y, −Y, +Z, −Z), drawn
     /// into a 3×2 atlas of one depth texture. One `sampler2DShadow` serves every dialect,
     /// including GLSL 1.20, which has no cube shadow lookups.
     Cube,
 }
+
+/// A point light nearer the centre than this many bounding radii gets the six-face atlas. At
+/// distance d the single frustum needs a full angle of 2·asin(r/d) (·1.02 padding): just
+/// outside the sphere that passes 180° and the projection mirrors, and below ~1.1 r (131°)
+/// the map's texels spread so thin towards the edges that six 90° faces resolve more.
+pub const CUBE_BELOW: f32 = 1.1;
 
 /// The atlas faces' view directions, in the order the shader picks them.
 pub const CUBE_DIRECTIONS: [Vec3; 6] = [
@@ -57,7 +64,7 @@ pub fn stable_up(dir: Vec3) -> Vec3 {
 }
 
 /// The light's view-projection (to GL clip space) and its kind, or None for a point light
-/// inside the bounding sphere (see `point_inside`).
+/// inside or just outside the bounding sphere (see `point_inside`).
 pub fn light_view_proj(light: &Light, bounds: &Bounds) -> Option<(Mat4, ShadowProjection)> {
     let c = bounds.center();
     let r = bounds.radius();
@@ -81,7 +88,7 @@ pub fn light_view_proj(light: &Light, bounds: &Bounds) -> Option<(Mat4, ShadowPr
         LightKind::Point(p) => {
             let to_c = c - p;
             let dist = to_c.length();
-            if dist <= r * 1.0001 {
+            if dist < r * CUBE_BELOW {
                 return None;
             }
             let view = Mat4::look_at_rh(p, c, stable_up(to_c));
@@ -94,10 +101,10 @@ pub fn light_view_proj(light: &Light, bounds: &Bounds) -> Option<(Mat4, ShadowPr
     }
 }
 
-/// Whether a point light sits inside the bounding sphere (a single frustum cannot see all
-/// of the scene from there).
+/// Whether a point light is inside the bounding sphere or within [`CUBE_BELOW`] radii of its
+/// centre (a single frustum cannot see all of the scene from there, or only badly).
 pub fn point_inside(light: &Light, bounds: &Bounds) -> bool {
-    matches!(light.kind, LightKind::Point(p) if (bounds.center() - p).length() <= bounds.radius() * 1.0001)
+    matches!(light.kind, LightKind::Point(p) if (bounds.center() - p).length() < bounds.radius() * CUBE_BELOW)
 }
 
 /// Maps clip space [-1, 1]³ to texture space [0, 1]³.
@@ -189,5 +196,31 @@ mod tests {
         };
         assert!(light_view_proj(&l, &bounds()).is_none());
         assert!(point_inside(&l, &bounds()));
+    }
+
+    #[test]
+    fn point_light_just_outside_uses_six_faces_and_single_frusta_stay_below_180() {
+        let b = bounds();
+        let (c, r) = (b.center(), b.radius());
+        let dir = Vec3::new(0.6, 0.7, 0.4).normalize();
+        let light = |k: f32| Light {
+            kind: LightKind::Point(c + dir * r * k),
+            color: Vec3::ONE,
+        };
+        // Just outside the sphere a single frustum would need more than 180°.
+        for k in [1.0002, 1.01, 1.05, 1.099] {
+            assert!(light_view_proj(&light(k), &b).is_none(), "{k}");
+            assert!(point_inside(&light(k), &b), "{k}");
+        }
+        for k in [1.101, 1.3, 3.0] {
+            let (m, kind) = light_view_proj(&light(k), &b).unwrap();
+            assert_eq!(kind, ShadowProjection::Perspective);
+            assert!(!point_inside(&light(k), &b));
+            let full = 2.0 * (1.0 / k).asin().to_degrees() * 1.02;
+            assert!(full < 180.0, "{k}: {full}°");
+            for corner in b.corners() {
+                assert!(inside_clip(m, corner), "{k}: {corner}");
+            }
+        }
     }
 }

@@ -1,22 +1,43 @@
 //! The mesh cache: a second load of a large, unchanged OBJ skips parsing. Entries live in
 //! `$GLVIEW_CACHE_DIR`, else `$XDG_CACHE_HOME/glview`, else `~/.cache/glview`, one file per
 //! model path. An entry is used only if the file's path, size, modification time and content
-//! hash, glview's version, and the size and modification time of every MTL library and
-//! texture it used all match; anything else is a miss and the entry is rewritten.
+//! hash (XXH3-128), glview's version, and the size and modification time of every MTL library
+//! and texture it used all match; anything else is a miss and the entry is rewritten. A
+//! corrupt or truncated entry (bad header, wrong length, payload hash mismatch) is a miss too,
+//! never a panic.
+//!
+//! The folder is bounded (`--cache-size`, default 1 GiB): a hit refreshes the entry's
+//! modification time, and after each write the least recently used entries are deleted until
+//! the total fits.
 //!
 //! Format: `GLVC`, a little-endian u64 header length, a JSON header (metadata, materials,
-//! warnings), then each mesh's vertices and indices as raw little-endian arrays.
+//! warnings, payload length and hash), then each mesh's vertices and indices as raw
+//! little-endian arrays.
 use super::material::{self, Material, TextureOptions};
 use super::{Bounds, Mesh, Scene, Vertex, Warning};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use std::time::UNIX_EPOCH;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{SystemTime, UNIX_EPOCH};
 
 /// Files smaller than this parse in well under 100 ms: not worth a cache entry.
 pub const MIN_SIZE: u64 = 4 << 20;
 const MAGIC: &[u8; 4] = b"GLVC";
-const FORMAT: u32 = 1;
+const FORMAT: u32 = 2;
+/// The default bound on the cache folder's total size.
+pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
+static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
+
+/// Sets the bound on the folder's total size (`--cache-size`). A process-wide setting rather
+/// than a `LoadOptions` field, so the loader's signature stays as it is.
+pub fn set_max_bytes(bytes: u64) {
+    MAX_BYTES.store(bytes, Ordering::Relaxed);
+}
+
+pub fn max_bytes() -> u64 {
+    MAX_BYTES.load(Ordering::Relaxed)
+}
 
 #[derive(Serialize, Deserialize, PartialEq, Debug)]
 struct Stamp {
@@ -55,7 +76,7 @@ struct Header {
     format: u32,
     glview: String,
     file: Stamp,
-    hash: u64,
+    hash: u128,
     allow_outside_paths: bool,
     dependencies: Vec<Stamp>,
     name: String,
@@ -66,6 +87,9 @@ struct Header {
     origin: [f64; 3],
     file_bounds: [[f64; 3]; 2],
     warnings: Vec<Warning>,
+    /// Length and XXH3-128 of everything after the header: catches truncation and flipped bytes.
+    payload_len: u64,
+    payload_hash: u128,
 }
 
 /// The folder entries go in.
@@ -79,32 +103,43 @@ pub fn dir() -> Option<PathBuf> {
     Some(base.join("glview"))
 }
 
-/// FNV-1a over 8-byte words: fast enough to hash hundreds of MB per second, deterministic
-/// across runs and Rust versions (unlike std's hasher).
-pub fn content_hash(bytes: &[u8]) -> u64 {
-    let mut h = 0xcbf2_9ce4_8422_2325u64;
-    let mut chunks = bytes.chunks_exact(8);
-    for c in &mut chunks {
-        h ^= u64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    for &b in chunks.remainder() {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h ^ bytes.len() as u64
+/// XXH3-128: a strong non-cryptographic hash at memory speed (the FNV-1a it replaces was
+/// weak and several times slower); deterministic across runs, versions and machines.
+pub fn content_hash(bytes: &[u8]) -> u128 {
+    xxhash_rust::xxh3::xxh3_128(bytes)
 }
 
-fn entry_path(model: &Path) -> Option<PathBuf> {
+fn entry_path(dir: &Path, model: &Path) -> Option<PathBuf> {
     let canonical = model.canonicalize().ok()?;
-    let key = content_hash(canonical.as_os_str().as_encoded_bytes());
-    Some(dir()?.join(format!("{key:016x}.glvc")))
+    let key = xxhash_rust::xxh3::xxh3_64(canonical.as_os_str().as_encoded_bytes());
+    Some(dir.join(format!("{key:016x}.glvc")))
 }
 
 /// A cached scene for `path` whose bytes are `bytes`, if a valid entry exists.
 pub fn get(path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Scene> {
-    let data = std::fs::read(entry_path(path)?).ok()?;
-    let (header, mut rest) = parse_header(&data)?;
+    get_in(&dir()?, path, bytes, textures)
+}
+
+/// As [`get`], with entries in `dir`; a hit marks the entry as recently used.
+pub fn get_in(dir: &Path, path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Scene> {
+    let entry = entry_path(dir, path)?;
+    let data = std::fs::read(&entry).ok()?;
+    let scene = decode(&data, path, bytes, textures);
+    if scene.is_some() {
+        touch(&entry);
+    }
+    scene
+}
+
+/// Marks an entry as used now (its modification time is the LRU clock).
+fn touch(entry: &Path) {
+    if let Ok(f) = std::fs::File::options().append(true).open(entry) {
+        let _ = f.set_modified(SystemTime::now());
+    }
+}
+
+fn decode(data: &[u8], path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Scene> {
+    let (header, mut rest) = parse_header(data)?;
     let canonical = path.canonicalize().ok()?;
     let valid = header.format == FORMAT
         && header.glview == env!("CARGO_PKG_VERSION")
@@ -114,15 +149,17 @@ pub fn get(path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Scene>
         && header
             .dependencies
             .iter()
-            .all(|d| stamp(&d.path).as_ref() == Some(d));
+            .all(|d| stamp(&d.path).as_ref() == Some(d))
+        && rest.len() as u64 == header.payload_len
+        && content_hash(rest) == header.payload_hash;
     if !valid {
         return None;
     }
     let mut meshes = Vec::with_capacity(header.meshes.len());
     for m in &header.meshes {
-        let vbytes = m.vertices * std::mem::size_of::<Vertex>();
-        let ibytes = m.indices * 4;
-        if rest.len() < vbytes + ibytes {
+        let vbytes = m.vertices.checked_mul(std::mem::size_of::<Vertex>())?;
+        let ibytes = m.indices.checked_mul(4)?;
+        if rest.len() < vbytes.checked_add(ibytes)? || m.indices % 3 != 0 {
             return None;
         }
         // Copies (not casts) because the file's bytes carry no alignment guarantee.
@@ -176,26 +213,44 @@ pub fn get(path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Scene>
 
 fn parse_header(data: &[u8]) -> Option<(Header, &[u8])> {
     let rest = data.strip_prefix(MAGIC)?;
-    let len = u64::from_le_bytes(rest.get(..8)?.try_into().ok()?) as usize;
-    let json = rest.get(8..8 + len)?;
+    let len = usize::try_from(u64::from_le_bytes(rest.get(..8)?.try_into().ok()?)).ok()?;
+    let json = rest.get(8..8usize.checked_add(len)?)?;
     Some((serde_json::from_slice(json).ok()?, &rest[8 + len..]))
 }
 
 /// Stores `scene` for `path`; failures only cost the next load its speed-up.
 pub fn put(path: &Path, bytes: &[u8], textures: TextureOptions, scene: &Scene) {
-    if let Err(e) = try_put(path, bytes, textures, scene) {
+    let Some(dir) = dir() else { return };
+    if let Err(e) = put_in(&dir, max_bytes(), path, bytes, textures, scene) {
         log::debug!("mesh cache not written for {}: {e}", path.display());
     }
 }
 
-fn try_put(
+/// As [`put`], with entries in `dir` bounded to `max_bytes` in total: least recently used
+/// entries are deleted first; an entry larger than the whole bound is not written.
+pub fn put_in(
+    dir: &Path,
+    max_bytes: u64,
     path: &Path,
     bytes: &[u8],
     textures: TextureOptions,
     scene: &Scene,
 ) -> std::io::Result<()> {
-    let entry = entry_path(path).ok_or_else(|| std::io::Error::other("no cache folder"))?;
+    let entry = entry_path(dir, path).ok_or_else(|| std::io::Error::other("no canonical path"))?;
     let canonical = path.canonicalize()?;
+    let payload_len: u64 = scene
+        .meshes
+        .iter()
+        .map(|m| (std::mem::size_of_val(&m.vertices[..]) + m.indices.len() * 4) as u64)
+        .sum();
+    if payload_len > max_bytes {
+        return Err(std::io::Error::other("entry larger than --cache-size"));
+    }
+    let mut payload = Vec::with_capacity(payload_len as usize);
+    for m in &scene.meshes {
+        payload.extend_from_slice(bytemuck::cast_slice(&m.vertices));
+        payload.extend_from_slice(bytemuck::cast_slice(&m.indices));
+    }
     let header = Header {
         format: FORMAT,
         glview: env!("CARGO_PKG_VERSION").into(),
@@ -229,9 +284,10 @@ fn try_put(
             scene.file_bounds.1.to_array(),
         ],
         warnings: scene.warnings.clone(),
+        payload_len,
+        payload_hash: content_hash(&payload),
     };
     let json = serde_json::to_vec(&header).map_err(std::io::Error::other)?;
-    let dir = entry.parent().unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir)?;
     // Written beside the entry and renamed: a reader never sees half a file.
     let tmp = entry.with_extension(format!("tmp{}", std::process::id()));
@@ -241,11 +297,152 @@ fn try_put(
         w.write_all(MAGIC)?;
         w.write_all(&(json.len() as u64).to_le_bytes())?;
         w.write_all(&json)?;
-        for m in &scene.meshes {
-            w.write_all(bytemuck::cast_slice(&m.vertices))?;
-            w.write_all(bytemuck::cast_slice(&m.indices))?;
-        }
+        w.write_all(&payload)?;
         w.flush()?;
     }
-    std::fs::rename(&tmp, &entry)
+    std::fs::rename(&tmp, &entry)?;
+    evict(dir, max_bytes, &entry)
+}
+
+/// Deletes the least recently used entries (oldest modification time first) until the
+/// folder's entries total at most `max_bytes`; `keep` (the entry just written) goes last.
+pub fn evict(dir: &Path, max_bytes: u64, keep: &Path) -> std::io::Result<()> {
+    let mut entries: Vec<(SystemTime, u64, PathBuf)> = std::fs::read_dir(dir)?
+        .flatten()
+        .filter(|e| e.path().extension().is_some_and(|x| x == "glvc"))
+        .filter_map(|e| {
+            let m = e.metadata().ok()?;
+            Some((m.modified().ok()?, m.len(), e.path()))
+        })
+        .collect();
+    let mut total: u64 = entries.iter().map(|e| e.1).sum();
+    entries.sort_by_key(|(t, _, p)| (p == keep, *t));
+    for (_, len, p) in entries {
+        if total <= max_bytes {
+            break;
+        }
+        if std::fs::remove_file(&p).is_ok() {
+            log::debug!("mesh cache: evicted {}", p.display());
+            total -= len;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::obj::{load_bytes, LoadOptions};
+    use std::time::Duration;
+
+    /// A fresh folder with `n` small models; returns it and (path, bytes, scene) per model.
+    fn setup(name: &str, n: usize) -> (PathBuf, Vec<(PathBuf, Vec<u8>, Scene)>) {
+        let dir = std::env::temp_dir().join(format!("glview-cache-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("entries")).unwrap();
+        let models = (0..n)
+            .map(|i| {
+                let p = dir.join(format!("m{i}.obj"));
+                let bytes = format!("v 0 0 0\nv {} 0 0\nv 0 1 0\nf 1 2 3\n", i + 1).into_bytes();
+                std::fs::write(&p, &bytes).unwrap();
+                let s = load_bytes(&p, &bytes, &LoadOptions::default()).unwrap();
+                (p, bytes, s)
+            })
+            .collect();
+        (dir, models)
+    }
+
+    fn entry(dir: &Path, model: &Path) -> PathBuf {
+        entry_path(&dir.join("entries"), model).unwrap()
+    }
+
+    #[test]
+    fn truncated_and_flipped_entries_are_misses_then_rebuilt() {
+        let (dir, models) = setup("corrupt", 1);
+        let (p, bytes, scene) = &models[0];
+        let entries = dir.join("entries");
+        let tex = TextureOptions::default();
+        put_in(&entries, 1 << 20, p, bytes, tex, scene).unwrap();
+        let good = std::fs::read(entry(&dir, p)).unwrap();
+        assert!(get_in(&entries, p, bytes, tex).is_some());
+        // Every truncation and a flipped bit at every 7th byte: a miss, never a panic.
+        let mut cases: Vec<Vec<u8>> = (0..good.len())
+            .step_by(5)
+            .map(|n| good[..n].to_vec())
+            .collect();
+        for i in (0..good.len()).step_by(7) {
+            let mut b = good.clone();
+            b[i] ^= 0x10;
+            cases.push(b);
+        }
+        for (k, bad) in cases.iter().enumerate() {
+            std::fs::write(entry(&dir, p), bad).unwrap();
+            let got = get_in(&entries, p, bytes, tex);
+            // A flip inside JSON whitespace-insensitive text can leave an equal header; then
+            // the entry must still decode to the same triangles.
+            if let Some(s) = got {
+                assert_eq!(s.meshes[0].indices, scene.meshes[0].indices, "case {k}");
+                assert_eq!(s.meshes[0].vertices, scene.meshes[0].vertices, "case {k}");
+            }
+        }
+        // Rebuilt by the next write.
+        put_in(&entries, 1 << 20, p, bytes, tex, scene).unwrap();
+        assert!(get_in(&entries, p, bytes, tex).is_some());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn flipped_payload_byte_is_a_miss() {
+        let (dir, models) = setup("payload", 1);
+        let (p, bytes, scene) = &models[0];
+        let entries = dir.join("entries");
+        let tex = TextureOptions::default();
+        put_in(&entries, 1 << 20, p, bytes, tex, scene).unwrap();
+        let mut b = std::fs::read(entry(&dir, p)).unwrap();
+        let last = b.len() - 1;
+        b[last] ^= 1;
+        std::fs::write(entry(&dir, p), &b).unwrap();
+        assert!(get_in(&entries, p, bytes, tex).is_none());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn least_recently_used_entries_are_evicted_first() {
+        let (dir, models) = setup("lru", 3);
+        let entries = dir.join("entries");
+        let tex = TextureOptions::default();
+        let put = |i: usize, limit: u64| {
+            let (p, b, s) = &models[i];
+            put_in(&entries, limit, p, b, tex, s).unwrap();
+        };
+        let age = |i: usize, secs: u64| {
+            let f = std::fs::File::options()
+                .append(true)
+                .open(entry(&dir, &models[i].0))
+                .unwrap();
+            f.set_modified(SystemTime::now() - Duration::from_secs(secs))
+                .unwrap();
+        };
+        put(0, 1 << 20);
+        put(1, 1 << 20);
+        let one = std::fs::metadata(entry(&dir, &models[0].0)).unwrap().len();
+        // Room for two entries (they are within a few bytes of each other in size).
+        let limit = one * 2 + one / 2;
+        age(0, 30);
+        age(1, 20);
+        // Using model 0 makes model 1 the least recently used.
+        let (p0, b0, _) = &models[0];
+        assert!(get_in(&entries, p0, b0, tex).is_some());
+        put(2, limit);
+        let exists = |i: usize| entry(&dir, &models[i].0).exists();
+        assert_eq!((exists(0), exists(1), exists(2)), (true, false, true));
+        // A bound below one entry keeps only the newest... and an entry larger than the bound
+        // is not written at all.
+        evict(&entries, one, &entry(&dir, &models[2].0)).unwrap();
+        assert_eq!((exists(0), exists(1), exists(2)), (false, false, true));
+        let (p1, b1, s1) = &models[1];
+        assert!(put_in(&entries, 8, p1, b1, tex, s1).is_err());
+        assert!(!exists(1));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -234,48 +234,10 @@ pub(crate) fn load_texture(
     decode_texture(path, opts)
 }
 
-/// Decodes an image file already resolved (and checked against the folder rule).
+/// Decodes an image file already resolved (and checked against the folder rule), within the
+/// memory bounds of [`super::texture`].
 pub fn decode_texture(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
-    let reader = image::ImageReader::open(&path)
-        .map_err(|e| e.to_string())?
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?;
-    let (w, h) = reader
-        .into_dimensions()
-        .map_err(|e| format!("unreadable image: {e}"))?;
-    let max = if opts.max_dimension == 0 {
-        16384
-    } else {
-        opts.max_dimension
-    };
-    if w == 0 || h == 0 || w > max * 4 || h > max * 4 {
-        return Err(format!(
-            "image header says {w}x{h}: refused before decoding"
-        ));
-    }
-    let mut reader = image::ImageReader::open(&path)
-        .map_err(|e| e.to_string())?
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?;
-    let mut limits = image::Limits::default();
-    limits.max_alloc = Some(1 << 30);
-    reader.limits(limits);
-    let mut img = reader.decode().map_err(|e| format!("cannot decode: {e}"))?;
-    if w > max || h > max {
-        let scale = max as f64 / w.max(h) as f64;
-        img = img.resize(
-            ((w as f64 * scale) as u32).max(1),
-            ((h as f64 * scale) as u32).max(1),
-            image::imageops::FilterType::Triangle,
-        );
-    }
-    let rgba = img.to_rgba8();
-    Ok(Texture {
-        path,
-        width: rgba.width(),
-        height: rgba.height(),
-        rgba: rgba.into_raw(),
-    })
+    super::texture::decode(path, opts)
 }
 
 #[cfg(test)]

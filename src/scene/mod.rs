@@ -1,6 +1,8 @@
 //! Scene data: meshes, materials and bounds, loaded from OBJ/MTL. No GL, no windowing, so the
 //! GPU renderer, the CPU reference renderer and the tests share it.
 pub mod cache;
+pub mod dedup;
+pub mod finish;
 pub mod generate;
 pub mod material;
 pub mod normals;
@@ -10,6 +12,7 @@ pub mod quirks;
 pub mod repair;
 pub mod report;
 pub mod tangents;
+pub mod texture;
 pub mod triangulate;
 pub mod xray;
 

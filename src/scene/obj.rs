@@ -383,6 +383,7 @@ fn load_with(
             .collect();
         wire.points = repaired.points.iter().map(|i| local[i]).collect();
     }
+    super::finish::finish(path, &mut meshes, &materials, &mut warnings);
     if meshes.is_empty() && wire.is_empty() {
         return Err(Error::model(path, None, "no triangles in the file"));
     }

@@ -1,0 +1,33 @@
+//! The loader's last step, after the meshes are built: redundant faces dropped
+//! ([`super::dedup`]) and a warning for every texture decoded smaller than its file
+//! ([`super::texture`]). One call from `obj.rs`, so the parser's code stays apart.
+use super::{dedup, texture, Material, Mesh, Warning};
+use std::path::Path;
+
+pub fn finish(
+    path: &Path,
+    meshes: &mut Vec<Mesh>,
+    materials: &[Material],
+    warnings: &mut Vec<Warning>,
+) {
+    dedup::drop_redundant_faces(path, meshes, warnings);
+    texture_warnings(materials, warnings);
+}
+
+/// One warning per downscaled texture, naming the image file.
+pub fn texture_warnings(materials: &[Material], warnings: &mut Vec<Warning>) {
+    let mut seen = std::collections::HashSet::new();
+    for m in materials {
+        let Some(t) = &m.diffuse_map else { continue };
+        if !seen.insert(t.path.clone()) {
+            continue;
+        }
+        if let Some(note) = texture::downscale_note(t) {
+            warnings.push(Warning {
+                file: t.path.clone(),
+                line: None,
+                message: format!("material {}: {note}", m.name),
+            });
+        }
+    }
+}

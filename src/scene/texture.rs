@@ -1,0 +1,293 @@
+//! Texture decoding with bounded memory. The header is read first and the pixel count decides
+//! what happens before any pixel is decoded: too many source pixels → refused; more than the
+//! texture budget → downscaled. PNG is downscaled while it is decoded, row by row (a box
+//! filter into u64 sums), so a 20000×20000 grayscale PNG never exists in memory at full size;
+//! other formats are decoded whole only when that fits in four times the final size.
+use super::material::{Texture, TextureOptions};
+use image::ImageFormat;
+use std::path::{Path, PathBuf};
+
+/// Source images with more pixels than this are refused before decoding: even streamed, the
+/// inflate and filter work grows with the pixel count (a 32768² image).
+pub const MAX_SOURCE_PIXELS: u64 = 1 << 30;
+/// Decoded textures hold at most this many pixels (8192², 256 MiB as RGBA8); larger images
+/// are downscaled, keeping their aspect ratio.
+pub const MAX_TEXTURE_PIXELS: u64 = 1 << 26;
+/// Largest side when the caller gives no driver limit (`TextureOptions::max_dimension` 0).
+const DEFAULT_MAX_SIDE: u32 = 16384;
+
+/// The size a `w`×`h` image is decoded to: within `max_side` and [`MAX_TEXTURE_PIXELS`].
+pub fn target_size(w: u32, h: u32, max_side: u32) -> (u32, u32) {
+    let mut s = 1.0f64;
+    s = s.min(f64::from(max_side) / f64::from(w.max(h)));
+    let px = f64::from(w) * f64::from(h);
+    s = s.min((MAX_TEXTURE_PIXELS as f64 / px).sqrt());
+    if s >= 1.0 {
+        return (w, h);
+    }
+    let fit = |x: u32| ((f64::from(x) * s) as u32).clamp(1, max_side);
+    (fit(w), fit(h))
+}
+
+fn max_side(opts: TextureOptions) -> u32 {
+    if opts.max_dimension == 0 {
+        DEFAULT_MAX_SIDE
+    } else {
+        opts.max_dimension
+    }
+}
+
+/// Reads only the header: (format, width, height).
+fn header(path: &Path) -> Result<(Option<ImageFormat>, u32, u32), String> {
+    let reader = image::ImageReader::open(path)
+        .map_err(|e| e.to_string())?
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    let format = reader.format();
+    let (w, h) = reader
+        .into_dimensions()
+        .map_err(|e| format!("unreadable image: {e}"))?;
+    Ok((format, w, h))
+}
+
+/// If the texture at `t.path` was decoded smaller than its file, the sentence saying so
+/// (for a warning); re-reads only the header.
+pub fn downscale_note(t: &Texture) -> Option<String> {
+    let (_, w, h) = header(&t.path).ok()?;
+    ((w, h) != (t.width, t.height)).then(|| {
+        format!(
+            "texture {w}x{h} downscaled to {}x{} (at most {} pixels and the largest side allowed)",
+            t.width, t.height, MAX_TEXTURE_PIXELS
+        )
+    })
+}
+
+/// Decodes an image file already resolved (and checked against the folder rule).
+pub fn decode(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
+    let (format, w, h) = header(&path)?;
+    let max = max_side(opts);
+    let pixels = u64::from(w) * u64::from(h);
+    if w == 0 || h == 0 || w > max * 4 || h > max * 4 || pixels > MAX_SOURCE_PIXELS {
+        return Err(format!(
+            "image header says {w}x{h}: refused before decoding"
+        ));
+    }
+    let (tw, th) = target_size(w, h, max);
+    let rgba = if format == Some(ImageFormat::Png) {
+        decode_png(&path, (w, h), (tw, th))?
+    } else {
+        decode_whole(&path, (w, h), (tw, th))?
+    };
+    Ok(Texture {
+        path,
+        width: tw,
+        height: th,
+        rgba,
+    })
+}
+
+/// Non-streamable formats: decoded whole, allowed only while source plus result stay within
+/// four times the result (or 16 MiB for small images).
+fn decode_whole(path: &Path, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result<Vec<u8>, String> {
+    let final_bytes = u64::from(tw) * u64::from(th) * 4;
+    let budget = (4 * final_bytes).max(16 << 20);
+    if u64::from(w) * u64::from(h) * 4 + final_bytes > budget {
+        return Err(format!(
+            "{w}x{h} is too large to decode within {} MiB (only PNG is downscaled while \
+             decoding); refused before decoding",
+            budget >> 20
+        ));
+    }
+    let mut reader = image::ImageReader::open(path)
+        .map_err(|e| e.to_string())?
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(budget);
+    reader.limits(limits);
+    let img = reader
+        .decode()
+        .map_err(|e| format!("cannot decode: {e}"))?
+        .into_rgba8();
+    if (tw, th) == (w, h) {
+        return Ok(img.into_raw());
+    }
+    let mut d = BoxDownscaler::new((w, h), (tw, th));
+    for row in img.as_raw().chunks_exact(w as usize * 4) {
+        d.push_rgba_row(row);
+    }
+    Ok(d.finish())
+}
+
+/// PNG, decoded row by row into the downscaler: memory is the result plus a few rows.
+fn decode_png(path: &Path, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result<Vec<u8>, String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut decoder = png::Decoder::new_with_limits(
+        std::io::BufReader::new(file),
+        png::Limits { bytes: 64 << 20 },
+    );
+    decoder.set_transformations(png::Transformations::normalize_to_color8());
+    let mut reader = decoder
+        .read_info()
+        .map_err(|e| format!("unreadable image: {e}"))?;
+    if reader.info().interlaced {
+        // Adam7 rows arrive out of order; decode whole within the same bound instead.
+        return decode_whole(path, (w, h), (tw, th));
+    }
+    let (color, _) = reader.output_color_type();
+    let channels = color.samples();
+    let mut d = BoxDownscaler::new((w, h), (tw, th));
+    let mut rgba = vec![0u8; w as usize * 4];
+    while let Some(row) = reader
+        .next_row()
+        .map_err(|e| format!("cannot decode: {e}"))?
+    {
+        let data = row.data();
+        for (x, px) in rgba.chunks_exact_mut(4).enumerate() {
+            let s = &data[x * channels..x * channels + channels];
+            let p = match color {
+                png::ColorType::Grayscale => [s[0], s[0], s[0], 255],
+                png::ColorType::GrayscaleAlpha => [s[0], s[0], s[0], s[1]],
+                png::ColorType::Rgb => [s[0], s[1], s[2], 255],
+                _ => [s[0], s[1], s[2], s[3]],
+            };
+            px.copy_from_slice(&p);
+        }
+        d.push_rgba_row(&rgba);
+    }
+    if d.rows_in < h {
+        return Err(format!(
+            "cannot decode: image data ends after {} rows",
+            d.rows_in
+        ));
+    }
+    Ok(d.finish())
+}
+
+/// Area (box) downscaling of RGBA8 rows as they arrive: output pixel (i, j) averages the
+/// source pixels whose row and column fall in its bin.
+pub struct BoxDownscaler {
+    w: u32,
+    h: u32,
+    tw: u32,
+    th: u32,
+    /// Source column where each output column's bin starts (tw + 1 entries).
+    col_start: Vec<u32>,
+    sums: Vec<u64>,
+    counts: Vec<u64>,
+    out: Vec<u8>,
+    out_row: u32,
+    rows_in: u32,
+}
+
+impl BoxDownscaler {
+    pub fn new((w, h): (u32, u32), (tw, th): (u32, u32)) -> Self {
+        let col_start = (0..=tw)
+            .map(|j| (u64::from(j) * u64::from(w) / u64::from(tw)) as u32)
+            .collect();
+        BoxDownscaler {
+            w,
+            h,
+            tw,
+            th,
+            col_start,
+            sums: vec![0; tw as usize * 4],
+            counts: vec![0; tw as usize],
+            out: Vec::with_capacity(tw as usize * th as usize * 4),
+            out_row: 0,
+            rows_in: 0,
+        }
+    }
+
+    fn bin_of_row(&self, y: u32) -> u32 {
+        ((u64::from(y) * u64::from(self.th)) / u64::from(self.h)) as u32
+    }
+
+    /// One source row, `w` RGBA8 pixels; rows beyond `h` are ignored.
+    pub fn push_rgba_row(&mut self, row: &[u8]) {
+        if self.rows_in >= self.h {
+            return;
+        }
+        let bin = self.bin_of_row(self.rows_in);
+        while self.out_row < bin {
+            self.flush_row();
+        }
+        for j in 0..self.tw as usize {
+            let (a, b) = (self.col_start[j] as usize, self.col_start[j + 1] as usize);
+            let b = b.max(a + 1).min(self.w as usize);
+            let s = &mut self.sums[j * 4..j * 4 + 4];
+            for px in row[a * 4..b * 4].chunks_exact(4) {
+                for c in 0..4 {
+                    s[c] += u64::from(px[c]);
+                }
+            }
+            self.counts[j] += (b - a) as u64;
+        }
+        self.rows_in += 1;
+    }
+
+    fn flush_row(&mut self) {
+        for j in 0..self.tw as usize {
+            let n = self.counts[j].max(1);
+            for c in 0..4 {
+                let v = (self.sums[j * 4 + c] + n / 2) / n;
+                self.out.push(v.min(255) as u8);
+            }
+        }
+        self.sums.fill(0);
+        self.counts.fill(0);
+        self.out_row += 1;
+    }
+
+    /// The downscaled RGBA8 image, `tw`×`th`.
+    pub fn finish(mut self) -> Vec<u8> {
+        while self.out_row < self.th {
+            self.flush_row();
+        }
+        self.out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn targets_respect_side_and_pixel_budget() {
+        assert_eq!(target_size(64, 64, 16384), (64, 64));
+        assert_eq!(target_size(20000, 20000, 16384), (8192, 8192));
+        assert_eq!(target_size(4000, 1000, 2048), (2048, 512));
+        let (w, h) = target_size(30000, 3000, 16384);
+        assert!(
+            u64::from(w) * u64::from(h) <= MAX_TEXTURE_PIXELS && w <= 16384,
+            "{w}x{h}"
+        );
+    }
+
+    #[test]
+    fn box_filter_averages_bins() {
+        // 4x2 → 2x1: each output pixel is the mean of a 2x2 block.
+        let rows = [
+            [
+                0u8, 0, 0, 255, 100, 100, 100, 255, 10, 10, 10, 255, 30, 30, 30, 255,
+            ],
+            [
+                200u8, 200, 200, 255, 100, 100, 100, 255, 50, 50, 50, 255, 70, 70, 70, 255,
+            ],
+        ];
+        let mut d = BoxDownscaler::new((4, 2), (2, 1));
+        for r in &rows {
+            d.push_rgba_row(r);
+        }
+        assert_eq!(d.finish(), vec![100, 100, 100, 255, 40, 40, 40, 255]);
+    }
+
+    #[test]
+    fn odd_ratios_cover_every_output_pixel() {
+        let mut d = BoxDownscaler::new((7, 5), (3, 2));
+        for _ in 0..5 {
+            d.push_rgba_row(&[9u8; 28]);
+        }
+        assert_eq!(d.finish(), [9u8; 24].to_vec());
+    }
+}
