@@ -125,23 +125,35 @@ pub fn generate(
     let mut old = Vec::with_capacity(vertices.len());
     let mut out_idx = Vec::with_capacity(indices.len());
     let mut seen: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
+    // Which faces join a corner depends only on the position, the face's unit normal and its
+    // group, so corners alike share one sum: without this a position shared by k faces costs
+    // k² (a file repeating one triangle 2,000,000 times took hours).
+    let mut memo: HashMap<([u32; 3], [u64; 3], u32), Vec3> = HashMap::new();
     for (f, t) in tris.iter().enumerate() {
         for &i in t {
             let v = vertices[i as usize];
-            let mut n = glam::DVec3::ZERO;
-            for &g in &around[&key(v.position)] {
-                let g = g as usize;
-                let joins = g == f
-                    || unit[f] == glam::DVec3::ZERO
-                    || match groups {
-                        Some(s) => creases != Creases::Flat && s[f] != 0 && s[g] == s[f],
-                        None => unit[f].dot(unit[g]) >= cos,
-                    };
-                if joins {
-                    n += face[g];
+            let group = groups.map_or(0, |s| s[f]);
+            let memo_key = (
+                key(v.position),
+                unit[f].to_array().map(|x| (x + 0.0).to_bits()),
+                group,
+            );
+            let n = *memo.entry(memo_key).or_insert_with(|| {
+                let mut n = glam::DVec3::ZERO;
+                for &g in &around[&key(v.position)] {
+                    let g = g as usize;
+                    let joins = g == f
+                        || unit[f] == glam::DVec3::ZERO
+                        || match groups {
+                            Some(s) => creases != Creases::Flat && s[f] != 0 && s[g] == s[f],
+                            None => unit[f].dot(unit[g]) >= cos,
+                        };
+                    if joins {
+                        n += face[g];
+                    }
                 }
-            }
-            let n = n.normalize_or_zero().as_vec3();
+                n.normalize_or_zero().as_vec3()
+            });
             let n = if n == Vec3::ZERO { Vec3::Y } else { n };
             let k = (i, n.to_array().map(|x| (x + 0.0).to_bits()));
             let idx = *seen.entry(k).or_insert_with(|| {
