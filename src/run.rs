@@ -119,6 +119,11 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
         }
         camera.ortho_height = Some(h);
     }
+    if args.lights.len() > 1 && args.lights.iter().any(|l| l == "none") {
+        return Err(Error::Usage(
+            "--light none means no lights; it cannot be combined with other --light options".into(),
+        ));
+    }
     let mut specs = Vec::new();
     for l in &args.lights {
         if let Some(spec) = LightSpec::parse(l).map_err(Error::Usage)? {
@@ -253,7 +258,7 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     }
     let img = hl.read();
     drop(renderer);
-    img.save_png(path, &text)
+    img.save(path, &text)
 }
 
 /// `--reference`: the same scene, camera and lights through the CPU reference renderer.
@@ -264,7 +269,7 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
     let start = std::time::Instant::now();
     let img = crate::reference::render(&scene, &settings, w, h);
     let text = png_text(Renderer::Reference, &settings, &scene);
-    img.save_png(path, &text)?;
+    img.save(path, &text)?;
     if args.stats {
         println!(
             "{}",
@@ -334,7 +339,13 @@ pub fn main(args: &Args) -> Result<()> {
             other => return other,
         }
     }
-    let out = Path::new("glview.png");
+    // Never overwrite silently: glview.png, else glview-1.png, glview-2.png, ...
+    let out = std::iter::once("glview.png".to_string())
+        .chain((1..).map(|i| format!("glview-{i}.png")))
+        .map(std::path::PathBuf::from)
+        .find(|p| !p.exists())
+        .unwrap_or_else(|| "glview.png".into());
+    let out = out.as_path();
     render_headless(args, out)?;
     eprintln!("no display: wrote {}", out.display());
     Ok(())
