@@ -1,6 +1,7 @@
 //! Scene data: meshes, materials and bounds, loaded from OBJ/MTL. No GL, no windowing, so the
 //! GPU renderer, the CPU reference renderer and the tests share it.
 pub mod cache;
+pub mod formats;
 pub mod generate;
 pub mod material;
 pub mod normals;
