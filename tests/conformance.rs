@@ -163,6 +163,18 @@ fn tobj_expectations() {
     );
 }
 
+/// PyWavefront runs the same assertions on `simple.obj.gz` as on `simple.obj`.
+#[test]
+fn gzipped_obj_loads_like_the_plain_file() {
+    let dir = shared().join("tricky/pywavefront/tests/fixtures");
+    let (a, b) = (ok(&dir.join("simple.obj")), ok(&dir.join("simple.obj.gz")));
+    assert_eq!(b.meshes.len(), 2);
+    assert_eq!(
+        (a.triangle_count(), a.vertex_count(), a.materials.len()),
+        (b.triangle_count(), b.vertex_count(), b.materials.len())
+    );
+}
+
 /// Every file of the corpora: loads, or fails with a one-line error that names the file.
 /// Never a panic.
 #[test]
