@@ -407,3 +407,63 @@ fn stl_and_ply_load_into_the_same_scene() {
         assert!(e.contains(name) && !e.contains('\n'), "{name}: {e}");
     }
 }
+
+#[test]
+fn gltf_quad_with_transform_and_pbr_material() {
+    let dir = out_dir("loading-gltf");
+    let mut bin = Vec::new();
+    for p in [[0f32, 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]] {
+        for x in p {
+            bin.extend(x.to_le_bytes());
+        }
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bin.extend(i.to_le_bytes());
+    }
+    std::fs::write(dir.join("quad.bin"), &bin).unwrap();
+    let json = r#"{
+      "asset": {"version": "2.0"},
+      "scene": 0,
+      "scenes": [{"nodes": [0]}],
+      "nodes": [{"mesh": 0, "translation": [10, 0, 0], "scale": [2, 3, 1]}],
+      "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+      "materials": [{"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1, 1], "metallicFactor": 0.25, "roughnessFactor": 0.75}}],
+      "buffers": [{"uri": "quad.bin", "byteLength": 60}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+      "accessors": [
+        {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+        {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
+      ]
+    }"#;
+    let p = dir.join("quad.gltf");
+    std::fs::write(&p, json).unwrap();
+    let s = load(&p, &LoadOptions::default()).unwrap();
+    assert_eq!(s.triangle_count(), 2);
+    assert!((area(&s) - 6.0).abs() < 1e-9, "{}", area(&s));
+    assert_eq!(
+        s.file_bounds,
+        (DVec3::new(10.0, 0.0, 0.0), DVec3::new(12.0, 3.0, 0.0))
+    );
+    let m = &s.materials[s.meshes[0].material];
+    assert_eq!(
+        (m.name.as_str(), m.diffuse, m.metallic, m.roughness),
+        ("paint", [0.5, 0.25, 1.0], Some(0.25), Some(0.75))
+    );
+    assert_eq!(s.meshes[0].vertices[0].normal, [0.0, 0.0, 1.0]);
+    // Broken files: one line naming the file.
+    std::fs::write(dir.join("broken.gltf"), "{\"asset\": ").unwrap();
+    let e = load(&dir.join("broken.gltf"), &LoadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("broken.gltf") && !e.contains('\n'), "{e}");
+    let bad_index = json.replace("\"count\": 6", "\"count\": 6, \"max\": [9]");
+    std::fs::write(
+        dir.join("missing-bin.gltf"),
+        bad_index.replace("quad.bin", "nope.bin"),
+    )
+    .unwrap();
+    let e = load(&dir.join("missing-bin.gltf"), &LoadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing-bin.gltf") && !e.contains('\n'), "{e}");
+}

@@ -19,6 +19,7 @@ pub enum Format {
     Obj,
     Stl,
     Ply,
+    Gltf,
 }
 
 /// The format and whether the file is gzipped (`model.ply.gz`).
@@ -35,6 +36,8 @@ pub fn format_of(path: &Path) -> (Format, bool) {
         Format::Stl
     } else if stem.ends_with(".ply") {
         Format::Ply
+    } else if stem.ends_with(".gltf") || stem.ends_with(".glb") {
+        Format::Gltf
     } else {
         Format::Obj
     };

@@ -31,6 +31,12 @@ pub struct Material {
     pub diffuse_map: Option<std::sync::Arc<Texture>>,
     /// `map_Kd` as written in the MTL, whether or not it could be loaded.
     pub diffuse_map_spec: Option<String>,
+    /// glTF metallic factor (PBR tier); None for MTL materials.
+    #[serde(default)]
+    pub metallic: Option<f32>,
+    /// glTF roughness factor (PBR tier); None for MTL materials.
+    #[serde(default)]
+    pub roughness: Option<f32>,
 }
 
 impl PartialEq for Texture {
@@ -53,6 +59,8 @@ impl Default for Material {
             illum: None,
             diffuse_map: None,
             diffuse_map_spec: None,
+            metallic: None,
+            roughness: None,
         }
     }
 }
@@ -131,6 +139,8 @@ pub fn from_tobj(
         illum: m.illumination_model,
         diffuse_map,
         diffuse_map_spec: m.diffuse_texture.clone(),
+        metallic: None,
+        roughness: None,
     }
 }
 

@@ -3,6 +3,7 @@
 pub mod cache;
 pub mod formats;
 pub mod generate;
+pub mod gltf;
 pub mod material;
 pub mod normals;
 pub mod obj;

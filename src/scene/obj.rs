@@ -107,8 +107,12 @@ fn load_mtl(
 /// them gzipped (`.gz`); the format comes from the file name.
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
     use super::formats::{self, Format};
-    let bytes = read_regular_file(path)?;
     let (format, gz) = formats::format_of(path);
+    if format == Format::Gltf && !gz {
+        read_regular_file(path)?;
+        return super::gltf::load_gltf(path, opts);
+    }
+    let bytes = read_regular_file(path)?;
     if gz || format != Format::Obj {
         let bytes = if gz {
             formats::gunzip(path, &bytes)?
@@ -119,6 +123,7 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
             Format::Stl => formats::load_stl(path, &bytes, opts),
             Format::Ply => formats::load_ply(path, &bytes, opts),
             Format::Obj => load_bytes(path, &bytes, opts),
+            Format::Gltf => Err(Error::model(path, None, "gzipped glTF is not supported")),
         };
     }
     let cached = opts.cache && opts.cacheable() && bytes.len() as u64 >= super::cache::MIN_SIZE;
