@@ -16,8 +16,7 @@ use std::time::UNIX_EPOCH;
 /// Files smaller than this parse in well under 100 ms: not worth a cache entry.
 pub const MIN_SIZE: u64 = 4 << 20;
 const MAGIC: &[u8; 4] = b"GLVC";
-// 2: generated normals are split at creases (issue 13); entries of 1 have smooth ones.
-const FORMAT: u32 = 2;
+const FORMAT: u32 = 1;
 
 #[derive(Serialize, Deserialize, PartialEq, Debug)]
 struct Stamp {
