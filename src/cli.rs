@@ -59,8 +59,9 @@ pub struct Args {
     pub command: Option<Command>,
     /// OBJ file to show (default: the built-in glass-holder scene).
     pub model: Option<PathBuf>,
-    /// Render headless into this PNG instead of opening a window.
-    #[arg(short, long)]
+    /// Render headless into this PNG (or .jpg/.jpeg: JPEG, without the PNG's text chunks)
+    /// instead of opening a window.
+    #[arg(short, long, value_parser = parse_output)]
     pub output: Option<PathBuf>,
     /// Output or window size, WxH.
     #[arg(long, default_value = "1024x768", value_parser = parse_size)]
@@ -72,7 +73,7 @@ pub struct Args {
     #[arg(long, default_value_t = 25.0, allow_hyphen_values = true)]
     pub pitch: f32,
     /// Camera distance from the target (default: fits the model).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_positive)]
     pub distance: Option<f32>,
     /// Orbit target X,Y,Z in the file's coordinates (default: the bounding-box centre).
     #[arg(long, allow_hyphen_values = true)]
@@ -81,7 +82,7 @@ pub struct Args {
     #[arg(long, default_value_t = 45.0)]
     pub fov: f32,
     /// Orthographic view of this height instead of perspective.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = parse_positive)]
     pub ortho: Option<f32>,
     /// A light: point:X,Y,Z (file coordinates), dir:X,Y,Z (direction it travels), head (a
     /// headlight that follows the camera) or none. Repeat for several lights (at most 4).
@@ -261,7 +262,7 @@ pub struct Args {
     #[arg(long)]
     pub no_shadows: bool,
     /// Shadow map size in texels (clamped to the driver's maximum). Default from the bench.
-    #[arg(long, default_value_t = 2048)]
+    #[arg(long, default_value_t = 2048, value_parser = clap::value_parser!(u32).range(1..))]
     pub shadow_size: u32,
     /// Percentage-closer filtering taps per lookup: 1, 4, 9 or 16 (each tap is itself a
     /// bilinear 2×2 compare). Default from the bench's Pareto front (README, Shadows).
@@ -269,7 +270,7 @@ pub struct Args {
     pub pcf: u8,
     /// Constant shadow depth bias in depth-buffer units [0, 1] (added to a slope-scaled
     /// polygon offset).
-    #[arg(long, default_value_t = 0.0002)]
+    #[arg(long, default_value_t = 0.0002, allow_negative_numbers = true, value_parser = parse_bias)]
     pub shadow_bias: f32,
     /// What to draw: the scene, or a teaching view (shadow map, PBR maps, surface attributes).
     #[arg(long, value_enum, default_value_t = Show::Scene)]
@@ -387,6 +388,36 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
+/// A finite number > 0; negative numbers reach here (`allow_negative_numbers`) so the error
+/// says what is wrong instead of clap's "use -- -1" hint.
+fn parse_positive(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        Ok(_) => Err(format!("{s} is out of range: must be a positive number")),
+        Err(_) => Err(format!("{s:?} is not a number")),
+    }
+}
+
+fn parse_bias(s: &str) -> Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
+        Ok(_) => Err(format!(
+            "{s} is out of range: the bias is in depth-buffer units, 0..1"
+        )),
+        Err(_) => Err(format!("{s:?} is not a number")),
+    }
+}
+
+/// Output files are PNG or JPEG, decided by the extension; anything else is refused before
+/// rendering rather than written as PNG bytes under a misleading name.
+fn parse_output(s: &str) -> Result<PathBuf, String> {
+    let p = PathBuf::from(s);
+    match crate::image_out::OutputFormat::of(&p) {
+        Some(_) => Ok(p),
+        None => Err(format!("{s}: output must end in .png, .jpg or .jpeg")),
+    }
+}
+
 fn parse_crease(s: &str) -> Result<f32, String> {
     match s.parse::<f32>() {
         Ok(d) if (0.0..=180.0).contains(&d) => Ok(d),
@@ -418,6 +449,26 @@ mod tests {
         assert_eq!(parse_size("640x480"), Ok((640, 480)));
         assert!(parse_size("0x480").is_err());
         assert!(parse_size("640").is_err());
+    }
+
+    #[test]
+    fn negative_and_zero_values_are_range_errors() {
+        for args in [
+            &["glview", "--distance", "-1"][..],
+            &["glview", "--ortho", "-2"],
+            &["glview", "--shadow-bias", "-0.1"],
+            &["glview", "--shadow-size", "0"],
+            &["glview", "-o", "out.bmp"],
+        ] {
+            let e = Args::try_parse_from(args).unwrap_err().to_string();
+            assert!(!e.contains("-- -"), "{args:?}: {e}");
+            assert!(
+                e.contains("range") || e.contains("must") || e.contains("not in"),
+                "{args:?}: {e}"
+            );
+        }
+        let a = Args::try_parse_from(["glview", "-o", "x.JPG", "--up", "-Z"]).unwrap();
+        assert_eq!(a.up, crate::scene::UpAxis::NegZ);
     }
 
     #[test]

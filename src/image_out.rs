@@ -3,6 +3,24 @@
 use crate::{Error, Result};
 use std::path::Path;
 
+/// What `-o FILE` writes, from the extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputFormat {
+    Png,
+    Jpeg,
+}
+
+impl OutputFormat {
+    pub fn of(path: &Path) -> Option<OutputFormat> {
+        let ext = path.extension()?.to_string_lossy().to_ascii_lowercase();
+        match ext.as_str() {
+            "png" => Some(OutputFormat::Png),
+            "jpg" | "jpeg" => Some(OutputFormat::Jpeg),
+            _ => None,
+        }
+    }
+}
+
 /// An RGBA8 image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rgba {
@@ -25,6 +43,39 @@ impl Rgba {
     /// Whether every pixel has the same colour (a blank frame).
     pub fn is_uniform(&self) -> bool {
         self.data.chunks_exact(4).all(|p| p == &self.data[..4])
+    }
+
+    /// Saves as PNG (with `text` chunks) or JPEG (quality 95, no alpha, no text) by the
+    /// extension; refuses other extensions.
+    pub fn save(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
+        match OutputFormat::of(path) {
+            Some(OutputFormat::Png) => self.save_png(path, text),
+            Some(OutputFormat::Jpeg) => {
+                let err = |message: String| Error::Image {
+                    path: path.into(),
+                    message,
+                };
+                let rgb: Vec<u8> = self
+                    .data
+                    .chunks_exact(4)
+                    .flat_map(|p| [p[0], p[1], p[2]])
+                    .collect();
+                let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+                let mut w = std::io::BufWriter::new(file);
+                image::codecs::jpeg::JpegEncoder::new_with_quality(&mut w, 95)
+                    .encode(
+                        &rgb,
+                        self.width,
+                        self.height,
+                        image::ExtendedColorType::Rgb8,
+                    )
+                    .map_err(|e| err(e.to_string()))
+            }
+            None => Err(Error::Image {
+                path: path.into(),
+                message: "output must end in .png, .jpg or .jpeg".into(),
+            }),
+        }
     }
 
     pub fn save_png(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {

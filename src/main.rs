@@ -3,7 +3,6 @@
 use clap::Parser;
 use glview::cli::Args;
 use glview::{run, Error, Result};
-use std::path::Path;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
@@ -92,8 +91,13 @@ fn dispatch(args: &Args) -> Result<()> {
             other => return other,
         }
     }
-    let out = Path::new("glview.png");
-    run::render_headless(args, out)?;
+    // Never overwrite silently: glview.png, else glview-1.png, glview-2.png, ...
+    let out = std::iter::once("glview.png".to_string())
+        .chain((1..).map(|i| format!("glview-{i}.png")))
+        .map(std::path::PathBuf::from)
+        .find(|p| !p.exists())
+        .unwrap_or_else(|| "glview.png".into());
+    run::render_headless(args, &out)?;
     eprintln!("no display: wrote {}", out.display());
     Ok(())
 }

@@ -138,6 +138,11 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
         }
         camera.ortho_height = Some(h);
     }
+    if args.lights.len() > 1 && args.lights.iter().any(|l| l == "none") {
+        return Err(Error::Usage(
+            "--light none means no lights; it cannot be combined with other --light options".into(),
+        ));
+    }
     let mut specs = Vec::new();
     let mut headlight = None;
     let colors: Vec<Vec3> = args
@@ -508,7 +513,7 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     if args.transparent {
         unpremultiply(&mut img);
     }
-    img.save_png(path, &text)
+    img.save(path, &text)
 }
 
 /// The framebuffer holds colour multiplied by coverage (blending over a cleared transparent
@@ -564,7 +569,7 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
     let env = reference_env(args, settings.shading)?;
     let img = crate::reference::render_env(&scene, &settings, env.as_ref(), w, h);
     let text = png_text(Renderer::Reference, &settings, &scene);
-    img.save_png(path, &text)?;
+    img.save(path, &text)?;
     if args.stats {
         println!(
             "{}",

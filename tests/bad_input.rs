@@ -442,6 +442,10 @@ fn bad_options_are_clear_errors() {
             vec!["--reference", "--size", "20000x100"],
             "the reference renderer draws at most 16384x16384",
         ),
+        (
+            vec!["--light", "none", "--light", "dir:0,-1,0"],
+            "cannot be combined",
+        ),
     ] {
         let mut a = args.clone();
         let out = out_dir("bad-input-options").join("x.png");
@@ -536,4 +540,55 @@ fn two_million_duplicate_faces_render_in_under_10_s() {
         "{err}"
     );
     eprintln!("2M duplicate faces rendered in {:?}", start.elapsed());
+}
+
+/// Issue 13 command-line edges: negative numbers get a range error (never clap's
+/// "use -- -1" hint), a zero shadow map and unknown output formats are refused.
+#[test]
+fn negative_and_zero_option_values_are_range_errors() {
+    for args in [
+        &["--distance", "-1"][..],
+        &["--ortho", "-2"],
+        &["--shadow-bias", "-0.001"],
+        &["--shadow-size", "0"],
+        &["-o", "/tmp/glview-out.bmp"],
+    ] {
+        let o = run(args, &[]);
+        let err = stderr(&o);
+        assert!(!o.status.success(), "{args:?}");
+        assert!(!err.contains("-- -"), "{args:?}: {err}");
+        assert!(
+            err.contains("range") || err.contains("not in") || err.contains(".png, .jpg"),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// `-o out.jpg` writes a JPEG; the no-display fallback never overwrites glview.png.
+#[test]
+fn jpeg_output_and_fallback_without_overwrite() {
+    let dir = out_dir("bad-input-output");
+    let jpg = dir.join("out.jpg");
+    let _ = std::fs::remove_file(&jpg);
+    let o = run(&["-o", jpg.to_str().unwrap(), "--size", "16x12"], &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bytes = std::fs::read(&jpg).unwrap();
+    assert_eq!(&bytes[..3], &[0xff, 0xd8, 0xff], "not a JPEG");
+
+    let keep = b"not to be overwritten";
+    for f in ["glview.png", "glview-1.png"] {
+        let _ = std::fs::remove_file(dir.join(f));
+    }
+    std::fs::write(dir.join("glview.png"), keep).unwrap();
+    let o = Command::new(bin())
+        .args(["--size", "16x12"])
+        .current_dir(&dir)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(dir.join("glview.png")).unwrap(), keep);
+    assert!(dir.join("glview-1.png").exists());
+    assert!(stderr(&o).contains("glview-1.png"), "{}", stderr(&o));
 }

@@ -31,6 +31,7 @@ fn shared_models_load_with_the_manifest_counts() {
         ("models/spot/spot_triangulated.obj", 5856, 3225),
         ("models/suzanne/suzanne.obj", 968, 507),
         ("models/stanford-bunny/stanford-bunny.obj", 69451, 34834),
+        ("models/dragon-200k/dragon_vrip_res2.obj", 202520, 100207),
     ] {
         // Creases off (180°): tobj's count is for smooth normals. The default crease angle
         // splits vertices at sharp edges (tests/loading.rs).
@@ -160,6 +161,18 @@ fn tobj_expectations() {
     assert_eq!(
         s.wire.positions,
         [[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [-0.5, 0.5, 0.0]]
+    );
+}
+
+/// PyWavefront runs the same assertions on `simple.obj.gz` as on `simple.obj`.
+#[test]
+fn gzipped_obj_loads_like_the_plain_file() {
+    let dir = shared().join("tricky/pywavefront/tests/fixtures");
+    let (a, b) = (ok(&dir.join("simple.obj")), ok(&dir.join("simple.obj.gz")));
+    assert_eq!(b.meshes.len(), 2);
+    assert_eq!(
+        (a.triangle_count(), a.vertex_count(), a.materials.len()),
+        (b.triangle_count(), b.vertex_count(), b.materials.len())
     );
 }
 

@@ -306,3 +306,169 @@ fn check_reports_maps_colours_lines_and_texture() {
     assert!(t.width > 0 && t.height > 0);
     assert!(s.meshes[0].has_uv);
 }
+
+/// A unit cube as 12 STL facets (normals written as zero, as many exporters do).
+fn stl_ascii_cube() -> String {
+    let obj = box_obj([0.0; 3], [1.0; 3], 0);
+    let v: Vec<[f64; 3]> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| {
+            let n: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+            [n[0], n[1], n[2]]
+        })
+        .collect();
+    let mut s = String::from("solid cube\n");
+    for f in obj.lines().filter_map(|l| l.strip_prefix("f ")) {
+        s += "facet normal 0 0 0\nouter loop\n";
+        for i in f.split(' ') {
+            let p = v[i.parse::<usize>().unwrap() - 1];
+            s += &format!("vertex {} {} {}\n", p[0], p[1], p[2]);
+        }
+        s += "endloop\nendfacet\n";
+    }
+    s + "endsolid cube\n"
+}
+
+fn stl_binary(ascii: &str) -> Vec<u8> {
+    let verts: Vec<f32> = ascii
+        .lines()
+        .filter_map(|l| l.strip_prefix("vertex "))
+        .flat_map(|l| {
+            l.split(' ')
+                .map(|x| x.parse::<f32>().unwrap())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let n = verts.len() / 9;
+    let mut b = vec![0u8; 80];
+    b.extend((n as u32).to_le_bytes());
+    for t in verts.chunks_exact(9) {
+        b.extend([0u8; 12]);
+        for x in t {
+            b.extend(x.to_le_bytes());
+        }
+        b.extend([0u8; 2]);
+    }
+    b
+}
+
+#[test]
+fn stl_and_ply_load_into_the_same_scene() {
+    let o = LoadOptions::default();
+    let ascii = stl_ascii_cube();
+    let s = load(&write("loading-formats", "cube.stl", &ascii), &o).unwrap();
+    assert_eq!(s.triangle_count(), 12);
+    assert!((area(&s) - 6.0).abs() < 1e-9);
+    // welded by stl_io, then split at the 90° edges: 24 vertices, 3 normals per corner
+    assert_eq!(s.vertex_count(), 24);
+    let dir = out_dir("loading-formats");
+    std::fs::write(dir.join("cube-bin.stl"), stl_binary(&ascii)).unwrap();
+    let b = load(&dir.join("cube-bin.stl"), &o).unwrap();
+    assert_eq!((b.triangle_count(), b.vertex_count()), (12, 24));
+    assert_eq!(b.file_bounds, s.file_bounds);
+
+    // PLY: an L-shaped face (concave, ear-clipped) and a coloured quad, ASCII and gzipped.
+    let ply = "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n\
+               property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n\
+               element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+               0 0 0 255 0 0\n2 0 0 255 0 0\n2 1 0 0 255 0\n1 1 0 0 255 0\n1 2 0 0 0 255\n\
+               0 2 0 255 255 255\n6 0 1 2 3 4 5\n";
+    let s = load(&write("loading-formats", "l.ply", ply), &o).unwrap();
+    assert_eq!(s.triangle_count(), 4);
+    assert!((area(&s) - 3.0).abs() < 1e-9);
+    assert_eq!(s.meshes[0].colors.len(), s.meshes[0].vertices.len());
+    assert!(s.meshes[0].colors.contains(&[1.0, 0.0, 0.0]));
+    let gz = dir.join("l.ply.gz");
+    let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    std::io::Write::write_all(&mut e, ply.as_bytes()).unwrap();
+    std::fs::write(&gz, e.finish().unwrap()).unwrap();
+    let z = load(&gz, &o).unwrap();
+    assert_eq!(z.triangle_count(), 4);
+
+    // Bad input: one line naming the file, never a panic.
+    for (name, bytes) in [
+        ("trunc.stl", stl_binary(&ascii)[..200].to_vec()),
+        ("junk.stl", b"hello".to_vec()),
+        (
+            "range.ply",
+            ply.replace("6 0 1 2 3 4 5", "3 0 1 9").into_bytes(),
+        ),
+        (
+            "bomb.ply",
+            ply.replace("element vertex 6", "element vertex 4000000000")
+                .into_bytes(),
+        ),
+        ("bad.ply.gz", b"not gzip".to_vec()),
+        ("empty.ply", b"ply\nformat ascii 1.0\nend_header\n".to_vec()),
+    ] {
+        std::fs::write(dir.join(name), &bytes).unwrap();
+        let e = load(&dir.join(name), &o).unwrap_err().to_string();
+        assert!(e.contains(name) && !e.contains('\n'), "{name}: {e}");
+    }
+}
+
+#[test]
+fn gltf_quad_with_transform_and_pbr_material() {
+    let dir = out_dir("loading-gltf");
+    let mut bin = Vec::new();
+    for p in [[0f32, 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]] {
+        for x in p {
+            bin.extend(x.to_le_bytes());
+        }
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        bin.extend(i.to_le_bytes());
+    }
+    std::fs::write(dir.join("quad.bin"), &bin).unwrap();
+    let json = r#"{
+      "asset": {"version": "2.0"},
+      "scene": 0,
+      "scenes": [{"nodes": [0]}],
+      "nodes": [{"mesh": 0, "translation": [10, 0, 0], "scale": [2, 3, 1]}],
+      "meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}],
+      "materials": [{"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.25, 1, 1], "metallicFactor": 0.25, "roughnessFactor": 0.75}}],
+      "buffers": [{"uri": "quad.bin", "byteLength": 60}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 12}],
+      "accessors": [
+        {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+        {"bufferView": 1, "componentType": 5123, "count": 6, "type": "SCALAR"}
+      ]
+    }"#;
+    let p = dir.join("quad.gltf");
+    std::fs::write(&p, json).unwrap();
+    let s = load(&p, &LoadOptions::default()).unwrap();
+    assert_eq!(s.triangle_count(), 2);
+    assert!((area(&s) - 6.0).abs() < 1e-9, "{}", area(&s));
+    assert_eq!(
+        s.file_bounds,
+        (DVec3::new(10.0, 0.0, 0.0), DVec3::new(12.0, 3.0, 0.0))
+    );
+    let m = &s.materials[s.meshes[0].material];
+    assert_eq!(
+        (
+            m.name.as_str(),
+            m.diffuse,
+            m.pbr_inputs.metallic,
+            m.pbr_inputs.roughness
+        ),
+        ("paint", [0.5, 0.25, 1.0], Some(0.25), Some(0.75))
+    );
+    assert_eq!(s.meshes[0].vertices[0].normal, [0.0, 0.0, 1.0]);
+    // Broken files: one line naming the file.
+    std::fs::write(dir.join("broken.gltf"), "{\"asset\": ").unwrap();
+    let e = load(&dir.join("broken.gltf"), &LoadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("broken.gltf") && !e.contains('\n'), "{e}");
+    let bad_index = json.replace("\"count\": 6", "\"count\": 6, \"max\": [9]");
+    std::fs::write(
+        dir.join("missing-bin.gltf"),
+        bad_index.replace("quad.bin", "nope.bin"),
+    )
+    .unwrap();
+    let e = load(&dir.join("missing-bin.gltf"), &LoadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing-bin.gltf") && !e.contains('\n'), "{e}");
+}

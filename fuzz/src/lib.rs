@@ -28,11 +28,29 @@ pub fn join_input(obj: &[u8], mtl: &[u8]) -> Vec<u8> {
 
 /// What every `Ok` scene must satisfy. Returns the first violation as text.
 pub fn check_scene(scene: &Scene) -> Result<(), String> {
-    if scene.triangle_count() == 0 {
-        return Err("Ok scene without triangles".into());
+    // A file with only lines or points loads (issue 13); nothing at all does not.
+    if scene.triangle_count() == 0 && scene.wire.is_empty() {
+        return Err("Ok scene without triangles, lines or points".into());
+    }
+    let wn = scene.wire.positions.len();
+    if let Some(i) = scene
+        .wire
+        .segments
+        .iter()
+        .flatten()
+        .chain(&scene.wire.points)
+        .find(|&&i| i as usize >= wn)
+    {
+        return Err(format!("wire index {i} >= wire position count {wn}"));
     }
     for (mi, mesh) in scene.meshes.iter().enumerate() {
         let n = mesh.vertices.len();
+        if !mesh.colors.is_empty() && mesh.colors.len() != n {
+            return Err(format!(
+                "mesh {mi}: {} colours for {n} vertices",
+                mesh.colors.len()
+            ));
+        }
         if mesh.indices.len() % 3 != 0 {
             return Err(format!(
                 "mesh {mi}: {} indices, not a multiple of 3",

@@ -3,7 +3,9 @@
 pub mod cache;
 pub mod dedup;
 pub mod finish;
+pub mod formats;
 pub mod generate;
+pub mod gltf;
 pub mod material;
 pub mod normals;
 pub mod obj;

@@ -117,6 +117,8 @@ pub fn generate(
         }
     }
     let cos = match creases {
+        // 180° joins everything, also exactly opposite faces whose dot rounds below -1.
+        Creases::Angle(deg) if deg >= 180.0 => -2.0,
         Creases::Angle(deg) => f64::from(deg).to_radians().cos(),
         Creases::Flat => 2.0,
     };

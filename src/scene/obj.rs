@@ -103,9 +103,29 @@ fn load_mtl(
     })
 }
 
-/// Loads an OBJ file (and its MTL libraries and diffuse textures).
+/// Loads a model file: OBJ (with its MTL libraries and diffuse textures), STL or PLY, any of
+/// them gzipped (`.gz`); the format comes from the file name.
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
+    use super::formats::{self, Format};
+    let (format, gz) = formats::format_of(path);
+    if format == Format::Gltf && !gz {
+        read_regular_file(path)?;
+        return super::gltf::load_gltf(path, opts);
+    }
     let bytes = read_regular_file(path)?;
+    if gz || format != Format::Obj {
+        let bytes = if gz {
+            formats::gunzip(path, &bytes)?
+        } else {
+            bytes
+        };
+        return match format {
+            Format::Stl => formats::load_stl(path, &bytes, opts),
+            Format::Ply => formats::load_ply(path, &bytes, opts),
+            Format::Obj => load_bytes(path, &bytes, opts),
+            Format::Gltf => Err(Error::model(path, None, "gzipped glTF is not supported")),
+        };
+    }
     let cached = opts.cache && opts.cacheable() && bytes.len() as u64 >= super::cache::MIN_SIZE;
     if cached {
         if let Some(scene) = super::cache::get(path, &bytes, opts.textures) {
