@@ -7,6 +7,7 @@ pub mod generate;
 pub mod material;
 pub mod normals;
 pub mod obj;
+pub mod profile;
 pub mod repair;
 pub mod report;
 pub mod texture;

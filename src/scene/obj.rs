@@ -73,11 +73,15 @@ fn load_mtl(
 
 /// Loads an OBJ file (and its MTL libraries and diffuse textures).
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
+    super::profile::begin(0);
     let bytes = read_regular_file(path)?;
+    super::profile::set_bytes(bytes.len() as u64);
+    super::profile::mark(super::profile::Stage::Read);
     let cached = opts.cache && bytes.len() as u64 >= super::cache::MIN_SIZE;
     if cached {
         if let Some(scene) = super::cache::get(path, &bytes, opts.textures) {
             log::debug!("{}: loaded from the mesh cache", path.display());
+            super::profile::end(true);
             return Ok(scene);
         }
     }
@@ -112,6 +116,7 @@ fn load_with(
         }
     };
     let mut repaired = repair::repair_obj_with_progress(path, bytes, &report)?;
+    super::profile::mark(super::profile::Stage::Repair);
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let warnings = RefCell::new(std::mem::take(&mut repaired.warnings));
     let mtl_files = RefCell::new(Vec::new());
@@ -126,6 +131,7 @@ fn load_with(
         load_mtl(&dir, p, mtl_source, &warnings)
     })
     .map_err(|e| Error::model(path, None, e.to_string()))?;
+    super::profile::mark(super::profile::Stage::Parse);
     let mut warnings = warnings.into_inner();
     let mut dependencies = mtl_files.into_inner();
     let tobj_mats = mats.unwrap_or_default();
@@ -139,6 +145,7 @@ fn load_with(
         .iter()
         .map(|m| material::from_tobj(m, &dir, &mtl_file, opts.textures, &mut warnings))
         .collect();
+    super::profile::mark(super::profile::Stage::Textures);
     let mut reported = std::collections::HashSet::new();
     for (line, name) in &repaired.usemtl {
         if !materials.iter().any(|m| &m.name == name) && reported.insert(name.clone()) {
@@ -228,6 +235,7 @@ fn load_with(
         }
         meshes.push(mesh);
     }
+    super::profile::mark(super::profile::Stage::Meshes);
     super::finish::finish(path, &mut meshes, &materials, &mut warnings);
     if meshes.is_empty() {
         return Err(Error::model(path, None, "no triangles in the file"));
