@@ -41,9 +41,12 @@ fn keyword(line: &[u8]) -> &[u8] {
     &trimmed[..end]
 }
 
+/// A logical line: its first line number and its bytes.
+type Line<'a> = (usize, Cow<'a, [u8]>);
+
 /// Joins backslash continuations and splits into (first line number, text bytes). Lines
 /// without a continuation borrow the input (no copy per line).
-fn logical_lines(bytes: &[u8]) -> (Vec<(usize, Cow<'_, [u8]>)>, usize) {
+fn logical_lines(bytes: &[u8]) -> (Vec<Line<'_>>, usize) {
     let mut out = Vec::new();
     let mut joined = 0;
     let mut pending: Option<(usize, Vec<u8>)> = None;
@@ -67,7 +70,7 @@ fn logical_lines(bytes: &[u8]) -> (Vec<(usize, Cow<'_, [u8]>)>, usize) {
     (out, joined)
 }
 
-fn count_elements(lines: &[(usize, Cow<'_, [u8]>)]) -> Counts {
+fn count_elements(lines: &[Line<'_>]) -> Counts {
     let mut c = Counts::default();
     for (_, l) in lines {
         match keyword(l) {
