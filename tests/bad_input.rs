@@ -488,7 +488,10 @@ fn texture_bomb_is_downscaled_within_the_memory_limit() {
     let dir = out_dir("bad-input-bomb");
     let png = dir.join("huge.png");
     if !png.exists() {
-        flat_gray_png(&png, 20_000, 20_000, 128);
+        // Written under another name and renamed: an interrupted run leaves no half file.
+        let part = dir.join("huge.png.part");
+        flat_gray_png(&part, 20_000, 20_000, 128);
+        std::fs::rename(&part, &png).unwrap();
     }
     write(&dir, "huge.mtl", b"newmtl m\nmap_Kd huge.png\n");
     let obj = write(

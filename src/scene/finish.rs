@@ -12,6 +12,8 @@ pub fn finish(
 ) {
     dedup::drop_redundant_faces(path, meshes, warnings);
     texture_warnings(materials, warnings);
+    super::profile::mark(super::profile::Stage::Finish);
+    super::profile::end(false);
 }
 
 /// One warning per downscaled texture, naming the image file.

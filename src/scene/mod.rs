@@ -10,6 +10,7 @@ pub mod material;
 pub mod normals;
 pub mod obj;
 pub mod pbr_material;
+pub mod profile;
 pub mod quirks;
 pub mod repair;
 pub mod report;

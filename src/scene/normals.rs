@@ -40,6 +40,7 @@ fn usable(n: [f32; 3]) -> bool {
 /// Fills in normals that are missing (`all`), zero or not finite; normalises the rest.
 /// Returns how many normals were generated.
 pub fn repair_normals(vertices: &mut [Vertex], indices: &[u32], all: bool) -> usize {
+    let _timer = super::profile::nested(super::profile::Stage::Normals);
     let need = all || vertices.iter().any(|v| !usable(v.normal));
     let smooth = if need {
         smooth_normals(vertices, indices)

@@ -106,6 +106,7 @@ fn load_mtl(
 /// Loads a model file: OBJ (with its MTL libraries and diffuse textures), STL or PLY, any of
 /// them gzipped (`.gz`); the format comes from the file name.
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
+    super::profile::begin(0);
     use super::formats::{self, Format};
     let (format, gz) = formats::format_of(path);
     if format == Format::Gltf && !gz {
@@ -113,6 +114,8 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
         return super::gltf::load_gltf(path, opts);
     }
     let bytes = read_regular_file(path)?;
+    super::profile::set_bytes(bytes.len() as u64);
+    super::profile::mark(super::profile::Stage::Read);
     if gz || format != Format::Obj {
         let bytes = if gz {
             formats::gunzip(path, &bytes)?
@@ -130,6 +133,7 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
     if cached {
         if let Some(scene) = super::cache::get(path, &bytes, opts.textures) {
             log::debug!("{}: loaded from the mesh cache", path.display());
+            super::profile::end(true);
             return Ok(scene);
         }
     }
@@ -165,6 +169,7 @@ fn load_with(
         }
     };
     let mut repaired = repair::repair_obj_with_progress(path, bytes, &report)?;
+    super::profile::mark(super::profile::Stage::Repair);
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let warnings = RefCell::new(std::mem::take(&mut repaired.warnings));
     let mtl_files = RefCell::new(Vec::new());
@@ -182,6 +187,7 @@ fn load_with(
         load_mtl(&dir, p, mtl_source, &warnings, &mtl_lines)
     })
     .map_err(|e| Error::model(path, None, e.to_string()))?;
+    super::profile::mark(super::profile::Stage::Parse);
     let mut warnings = warnings.into_inner();
     let mtl_lines = mtl_lines.into_inner();
     let mut dependencies = mtl_files.into_inner();
@@ -203,6 +209,7 @@ fn load_with(
         quirks::fix_ns_zero(m, origin, &mut warnings);
         maps.extend(quirks::map_report(m, origin));
     }
+    super::profile::mark(super::profile::Stage::Textures);
     let mut reported = std::collections::HashSet::new();
     for (line, name) in &repaired.usemtl {
         if !materials.iter().any(|m| &m.name == name) && reported.insert(name.clone()) {
@@ -403,6 +410,7 @@ fn load_with(
             .collect();
         wire.points = repaired.points.iter().map(|i| local[i]).collect();
     }
+    super::profile::mark(super::profile::Stage::Meshes);
     super::finish::finish(path, &mut meshes, &materials, &mut warnings);
     if meshes.is_empty() && wire.is_empty() {
         return Err(Error::model(path, None, "no triangles in the file"));

@@ -4,6 +4,7 @@
 //! anything that is really wrong.
 use super::Warning;
 use crate::error::Error;
+use std::borrow::Cow;
 use std::path::Path;
 
 /// The OBJ text ready for tobj, and what was repaired.
@@ -53,31 +54,36 @@ fn keyword(line: &[u8]) -> &[u8] {
     &trimmed[..end]
 }
 
-/// Joins backslash continuations and splits into (first line number, text bytes).
-fn logical_lines(bytes: &[u8]) -> (Vec<(usize, Vec<u8>)>, usize) {
+/// A logical line: its first line number and its bytes.
+type Line<'a> = (usize, Cow<'a, [u8]>);
+
+/// Joins backslash continuations and splits into (first line number, text bytes). Lines
+/// without a continuation borrow the input (no copy per line).
+fn logical_lines(bytes: &[u8]) -> (Vec<Line<'_>>, usize) {
     let mut out = Vec::new();
     let mut joined = 0;
     let mut pending: Option<(usize, Vec<u8>)> = None;
     for (i, raw) in bytes.split(|&b| b == b'\n').enumerate() {
         let raw = raw.strip_suffix(b"\r").unwrap_or(raw);
-        let (start, mut buf) = pending.take().unwrap_or((i + 1, Vec::new()));
         if let Some(body) = raw.trim_ascii_end().strip_suffix(b"\\") {
+            let (_, buf) = pending.get_or_insert_with(|| (i + 1, Vec::new()));
             buf.extend_from_slice(body);
             buf.push(b' ');
             joined += 1;
-            pending = Some((start, buf));
-        } else {
+        } else if let Some((start, mut buf)) = pending.take() {
             buf.extend_from_slice(raw);
-            out.push((start, buf));
+            out.push((start, Cow::Owned(buf)));
+        } else {
+            out.push((i + 1, Cow::Borrowed(raw)));
         }
     }
-    if let Some(p) = pending {
-        out.push(p);
+    if let Some((start, buf)) = pending {
+        out.push((start, Cow::Owned(buf)));
     }
     (out, joined)
 }
 
-fn count_elements(lines: &[(usize, Vec<u8>)]) -> Counts {
+fn count_elements(lines: &[Line<'_>]) -> Counts {
     let mut c = Counts::default();
     for (_, l) in lines {
         match keyword(l) {
@@ -153,6 +159,9 @@ pub fn repair_obj_with_progress(
     let mixed_colours = total.coloured > 0 && total.coloured < total.v;
     let mut scanned = 0u64;
     let mut next_report = 0u64;
+    // Scratch space for faces, reused across lines.
+    let mut corners: Vec<usize> = Vec::new();
+    let mut distinct: Vec<usize> = Vec::new();
     for (lineno, raw) in &lines {
         let lineno = *lineno;
         scanned += raw.len() as u64 + 1;
@@ -262,10 +271,12 @@ pub fn repair_obj_with_progress(
             "vt" => seen.vt += 1,
             "vn" => seen.vn += 1,
             "f" => {
-                let corners: Vec<&str> = words.collect();
-                let mut fixed = Vec::with_capacity(corners.len());
-                let mut positions = Vec::with_capacity(corners.len());
-                for c in &corners {
+                // Written straight into `text` (no String per corner) and cut off again if the
+                // face turns out to have fewer than three distinct corners.
+                let face_start = text.len();
+                text.push('f');
+                corners.clear();
+                for c in words {
                     let mut parts = c.split('/');
                     let parse = |s: Option<&str>| -> Result<Option<i64>, Error> {
                         match s {
@@ -303,25 +314,32 @@ pub fn repair_obj_with_progress(
                     let vn_ok = ok(vn, seen.vn, total.vn);
                     missing_refs += usize::from(vt.is_some() && vt_ok.is_none())
                         + usize::from(vn.is_some() && vn_ok.is_none());
-                    positions.push(vi);
+                    corners.push(vi);
                     // Absolute 1-based indices: tobj then never sees a dangling reference.
-                    fixed.push(match (vt_ok, vn_ok) {
-                        (None, None) => format!("{}", vi + 1),
-                        (Some(t), None) => format!("{}/{}", vi + 1, t + 1),
-                        (None, Some(n)) => format!("{}//{}", vi + 1, n + 1),
-                        (Some(t), Some(n)) => format!("{}/{}/{}", vi + 1, t + 1, n + 1),
-                    });
+                    use std::fmt::Write;
+                    let _ = match (vt_ok, vn_ok) {
+                        (None, None) => write!(text, " {}", vi + 1),
+                        (Some(t), None) => write!(text, " {}/{}", vi + 1, t + 1),
+                        (None, Some(n)) => write!(text, " {}//{}", vi + 1, n + 1),
+                        (Some(t), Some(n)) => write!(text, " {}/{}/{}", vi + 1, t + 1, n + 1),
+                    };
                 }
-                let mut distinct = positions.clone();
-                distinct.sort_unstable();
-                distinct.dedup();
-                if distinct.len() < 3 {
+                let distinct = match corners[..] {
+                    [a, b, c] => 1 + usize::from(b != a) + usize::from(c != a && c != b),
+                    _ => {
+                        distinct.clear();
+                        distinct.extend_from_slice(&corners);
+                        distinct.sort_unstable();
+                        distinct.dedup();
+                        distinct.len()
+                    }
+                };
+                if distinct < 3 {
+                    text.truncate(face_start);
                     dropped_faces += 1;
                     continue;
                 }
                 face_groups.push(group);
-                text.push_str("f ");
-                text.push_str(&fixed.join(" "));
                 text.push('\n');
                 continue;
             }

@@ -92,6 +92,10 @@ pub fn report(s: &Scene) -> String {
             );
         }
     }
+    // The loader's per-stage times for the load just done on this thread (see `profile`).
+    if let Some(p) = super::profile::last() {
+        let _ = writeln!(r, "load: {p}");
+    }
     for w in &s.warnings {
         let _ = writeln!(r, "warning: {w}");
     }

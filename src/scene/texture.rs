@@ -208,6 +208,13 @@ impl BoxDownscaler {
         if self.rows_in >= self.h {
             return;
         }
+        if (self.tw, self.th) == (self.w, self.h) {
+            // Full size: the row is the output row.
+            self.out.extend_from_slice(&row[..self.w as usize * 4]);
+            self.out_row += 1;
+            self.rows_in += 1;
+            return;
+        }
         let bin = self.bin_of_row(self.rows_in);
         while self.out_row < bin {
             self.flush_row();
@@ -280,6 +287,14 @@ mod tests {
             d.push_rgba_row(r);
         }
         assert_eq!(d.finish(), vec![100, 100, 100, 255, 40, 40, 40, 255]);
+    }
+
+    #[test]
+    fn full_size_rows_pass_through() {
+        let mut d = BoxDownscaler::new((2, 2), (2, 2));
+        d.push_rgba_row(&[1, 2, 3, 4, 5, 6, 7, 8]);
+        d.push_rgba_row(&[9, 10, 11, 12, 13, 14, 15, 16]);
+        assert_eq!(d.finish(), (1..=16).collect::<Vec<u8>>());
     }
 
     #[test]
