@@ -92,6 +92,7 @@ pub fn generate(
     groups: Option<&[u32]>,
     creases: Creases,
 ) -> (Vec<Vertex>, Vec<u32>, Vec<u32>) {
+    let _timer = super::profile::nested(super::profile::Stage::Normals);
     let tris: Vec<[u32; 3]> = indices
         .chunks_exact(3)
         .map(|t| [t[0], t[1], t[2]])
