@@ -3,7 +3,7 @@
 //! OBJ faces, normals generated with the same creases. Bad input is a one-line error naming
 //! the file, as for OBJ.
 use super::obj::LoadOptions;
-use super::{normals, triangulate, Bounds, Material, Mesh, Scene, Vertex, Wire};
+use super::{triangulate, Bounds, Material, Mesh, Scene, Vertex, Wire};
 use crate::error::{Error, Result};
 use glam::DVec3;
 use ply_rs::ply::Property;
@@ -285,18 +285,8 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         generated_normals: 0,
         colors,
     };
-    if normal_ok {
-        mesh.generated_normals = normals::repair_normals(&mut mesh.vertices, &mesh.indices, false);
-    } else {
-        // STL's per-facet normals are often wrong or zero: generated from the geometry.
-        let (v, i, old) = normals::generate(&mesh.vertices, &mesh.indices, None, opts.creases);
-        if !mesh.colors.is_empty() {
-            mesh.colors = old.iter().map(|&o| mesh.colors[o as usize]).collect();
-        }
-        mesh.vertices = v;
-        mesh.indices = i;
-        mesh.generated_normals = mesh.vertices.len();
-    }
+    // STL's per-facet normals are often wrong or zero: then generated from the geometry.
+    mesh.finish_normals(normal_ok, None, opts.creases);
     let mut bounds = Bounds::empty();
     for v in &mesh.vertices {
         bounds.include(v.position.into());

@@ -3,7 +3,7 @@
 //! roughness factors and the base-colour texture kept in the material; lines and points go
 //! to [`Scene::wire`].
 use super::obj::LoadOptions;
-use super::{normals, Bounds, Material, Mesh, Scene, Texture, Vertex, Warning, Wire};
+use super::{Bounds, Material, Mesh, Scene, Texture, Vertex, Warning, Wire};
 use crate::error::{Error, Result};
 use glam::{DMat3, DMat4, DVec3, Mat4};
 use std::path::Path;
@@ -220,18 +220,7 @@ pub fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene> {
             generated_normals: 0,
             colors: p.colors.filter(|c| c.len() == count).unwrap_or_default(),
         };
-        if has_n {
-            mesh.generated_normals =
-                normals::repair_normals(&mut mesh.vertices, &mesh.indices, false);
-        } else {
-            let (v, i, old) = normals::generate(&mesh.vertices, &mesh.indices, None, opts.creases);
-            if !mesh.colors.is_empty() {
-                mesh.colors = old.iter().map(|&o| mesh.colors[o as usize]).collect();
-            }
-            mesh.vertices = v;
-            mesh.indices = i;
-            mesh.generated_normals = mesh.vertices.len();
-        }
+        mesh.finish_normals(has_n, None, opts.creases);
         for v in &mesh.vertices {
             bounds.include(v.position.into());
         }

@@ -174,6 +174,30 @@ pub fn generate(
     (out, out_idx, old)
 }
 
+impl super::Mesh {
+    /// Normals for a freshly loaded mesh, the same for every format: where the file gave
+    /// them, broken ones are regenerated; where it did not, they are generated with the crease
+    /// rule (and smoothing `groups`, one per triangle), splitting vertices (colours follow).
+    pub fn finish_normals(
+        &mut self,
+        file_has_normals: bool,
+        groups: Option<&[u32]>,
+        creases: Creases,
+    ) {
+        if file_has_normals {
+            self.generated_normals = repair_normals(&mut self.vertices, &self.indices, false);
+        } else {
+            let (v, i, old) = generate(&self.vertices, &self.indices, groups, creases);
+            if !self.colors.is_empty() {
+                self.colors = old.iter().map(|&o| self.colors[o as usize]).collect();
+            }
+            self.vertices = v;
+            self.indices = i;
+            self.generated_normals = self.vertices.len();
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,8 +3,7 @@
 use super::material::{self, TextureOptions};
 use super::normals::Creases;
 use super::{
-    normals, quirks, repair, triangulate, Bounds, Material, Mesh, Scene, UpAxis, Vertex, Warning,
-    Wire,
+    quirks, repair, triangulate, Bounds, Material, Mesh, Scene, UpAxis, Vertex, Warning, Wire,
 };
 use crate::error::{Error, Result};
 use glam::DVec3;
@@ -376,19 +375,11 @@ fn load_with(
             generated_normals: 0,
             colors,
         };
-        if has_normals {
-            mesh.generated_normals =
-                normals::repair_normals(&mut mesh.vertices, &mesh.indices, false);
-        } else {
-            let g = groups.map(|_| tri_groups.as_slice());
-            let (v, i, old) = normals::generate(&mesh.vertices, &mesh.indices, g, opts.creases);
-            if !mesh.colors.is_empty() {
-                mesh.colors = old.iter().map(|&o| mesh.colors[o as usize]).collect();
-            }
-            mesh.vertices = v;
-            mesh.indices = i;
-            mesh.generated_normals = mesh.vertices.len();
-        }
+        mesh.finish_normals(
+            has_normals,
+            groups.map(|_| tri_groups.as_slice()),
+            opts.creases,
+        );
         for v in &mesh.vertices {
             bounds.include(v.position.into());
         }
