@@ -224,17 +224,8 @@ pub fn load_ply(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> 
 /// One mesh with the default material, re-centred and rotated like an OBJ.
 fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
     let positions: Vec<DVec3> = raw.positions.iter().map(|&p| opts.up.rotate(p)).collect();
-    let used = raw.faces.iter().flatten().map(|&i| positions[i as usize]);
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for p in used {
-        lo = lo.min(p);
-        hi = hi.max(p);
-    }
-    let origin = if lo.x <= hi.x {
-        (lo + hi) * 0.5
-    } else {
-        DVec3::ZERO
-    };
+    let (lo, hi, origin) =
+        super::extent_and_origin(raw.faces.iter().flatten().map(|&i| positions[i as usize]));
     let mut indices = Vec::new();
     let mut dropped = 0;
     for f in &raw.faces {

@@ -175,16 +175,13 @@ pub fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene> {
             });
         }
     }
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for q in prims.iter().flat_map(|p| &p.positions).chain(&wire_pts) {
-        lo = lo.min(*q);
-        hi = hi.max(*q);
-    }
-    let origin = if lo.x <= hi.x {
-        (lo + hi) * 0.5
-    } else {
-        DVec3::ZERO
-    };
+    let (lo, hi, origin) = super::extent_and_origin(
+        prims
+            .iter()
+            .flat_map(|p| &p.positions)
+            .chain(&wire_pts)
+            .copied(),
+    );
     let mut bounds = Bounds::empty();
     let mut meshes = Vec::new();
     for p in prims {

@@ -56,6 +56,23 @@ impl Mesh {
     }
 }
 
+/// The bounding box (lo, hi) of `points` in file coordinates and the centre every loader
+/// re-centres its positions on in f64 before rounding to f32 (the origin when there are no
+/// points).
+pub fn extent_and_origin(points: impl IntoIterator<Item = DVec3>) -> (DVec3, DVec3, DVec3) {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in points {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let origin = if lo.x <= hi.x {
+        (lo + hi) * 0.5
+    } else {
+        DVec3::ZERO
+    };
+    (lo, hi, origin)
+}
+
 /// Axis-aligned bounds.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Bounds {

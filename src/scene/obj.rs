@@ -247,15 +247,6 @@ fn load_with(
 
     let up = opts.up;
     let rotated = |s: &[f64]| up.rotate(DVec3::new(s[0], s[1], s[2]));
-    let mut lo = DVec3::splat(f64::INFINITY);
-    let mut hi = DVec3::splat(f64::NEG_INFINITY);
-    for m in &models {
-        for p in m.mesh.positions.chunks_exact(3) {
-            let p = rotated(p);
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
     let wire_used: Vec<u32> = {
         let mut u: Vec<u32> = repaired
             .segments
@@ -268,16 +259,16 @@ fn load_with(
         u.dedup();
         u
     };
-    for &i in &wire_used {
-        let p = rotated(&repaired.positions[i as usize]);
-        lo = lo.min(p);
-        hi = hi.max(p);
-    }
-    let origin = if lo.x <= hi.x {
-        (lo + hi) * 0.5
-    } else {
-        DVec3::ZERO
-    };
+    let (lo, hi, origin) = super::extent_and_origin(
+        models
+            .iter()
+            .flat_map(|m| m.mesh.positions.chunks_exact(3).map(rotated))
+            .chain(
+                wire_used
+                    .iter()
+                    .map(|&i| rotated(&repaired.positions[i as usize])),
+            ),
+    );
 
     // Smoothing groups are per face in file order; they apply only if tobj kept every face.
     let face_total: usize = models
