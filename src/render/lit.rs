@@ -251,9 +251,8 @@ pub(crate) fn draw(
             v.cube_mask,
             texture.is_some(),
             s.shading == Shading::Gouraud,
-        )
-        .switch("LOG_DEPTH", "logz", s.lighting.translucency.log_depth)
-        .switch("LINEAR_OUTPUT", "lin", cx.linear);
+        );
+        let key = cx.lit_flags(key);
         let program = cx.program(&key)?;
         program.bind();
         // A program keeps its uniforms: the per-frame ones are set once per program per

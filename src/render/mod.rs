@@ -140,6 +140,17 @@ impl FrameCx<'_> {
         Ok(p)
     }
 
+    /// The frame-wide flags every lit program carries: logarithmic depth and the offscreen
+    /// frame's linear output.
+    pub fn lit_flags(&self, key: ProgramKey) -> ProgramKey {
+        key.switch(
+            "LOG_DEPTH",
+            "logz",
+            self.settings.lighting.translucency.log_depth,
+        )
+        .switch("LINEAR_OUTPUT", "lin", self.linear)
+    }
+
     /// Draws the full-screen quad with `state` (one draw call).
     pub fn draw_quad(&mut self, state: &crate::gpu::state::RenderState) -> Result<()> {
         self.quad()?;

@@ -301,10 +301,13 @@ fn draw(
             orm: has_uv && mm.orm.is_some(),
             emissive: has_uv && mm.emissive.is_some(),
         };
-        let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts)
-            .switch("LOG_DEPTH", "logz", s.lighting.translucency.log_depth)
-            .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code())
-            .switch("LINEAR_OUTPUT", "lin", cx.linear);
+        let key = cx.lit_flags(
+            program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts).mask(
+                "SHOW_ATTRIBUTE",
+                "show",
+                s.lighting.attribute_view.code(),
+            ),
+        );
         let program = cx.program(&key)?;
         program.bind();
         if !uniforms_set.contains(&key) {
