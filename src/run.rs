@@ -475,6 +475,23 @@ pub fn map_view(args: &Args) -> Result<Option<crate::image_out::Rgba>> {
 
 /// Renders headless into `path` (`--frames` times; the last frame is written).
 pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
+    render_scene_headless(args, path, &mut None)
+}
+
+/// A headless context kept between pictures, with what it was asked for.
+pub struct KeptContext {
+    pub hl: crate::headless::Headless,
+    request: (crate::platform::Backend, crate::platform::GlRequest),
+}
+
+/// Renders the model of `args` into `path`, reusing `kept` when it was made for the same
+/// backend and GL request (its target is resized), else replacing it: many pictures in one
+/// process share one context and its program cache.
+pub fn render_scene_headless(
+    args: &Args,
+    path: &Path,
+    kept: &mut Option<KeptContext>,
+) -> Result<()> {
     if let Some(img) = map_view(args)? {
         let text = vec![
             ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
@@ -491,7 +508,18 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     } else {
         1
     };
-    let mut hl = crate::headless::Headless::new(args.backend, args.gl, w * k, h * k)?;
+    let request = (args.backend, args.gl);
+    let reused = match kept {
+        Some(c) if c.request == request => c.hl.reset_target(w * k, h * k).is_ok(),
+        _ => false,
+    };
+    if !reused {
+        // The old context goes first: one context alive at a time.
+        *kept = None;
+        let hl = crate::headless::Headless::new(args.backend, args.gl, w * k, h * k)?;
+        *kept = Some(KeptContext { hl, request });
+    }
+    let hl = &mut kept.as_mut().expect("context made above").hl;
     if args.aa == crate::cli::AaMode::Msaa {
         hl.enable_msaa(args.aa_samples)?;
     }

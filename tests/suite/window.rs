@@ -3,9 +3,8 @@
 //!
 //! Each test starts its own Xvfb; the tests run one at a time (a lock) so the CPU and latency
 //! measurements are not disturbed by a neighbour rendering on the same cores.
-mod common;
-#[path = "support/xvfb.rs"]
-mod xvfb;
+use crate::common;
+use crate::xvfb;
 
 use common::{assert_close, bin, check_frame, diff, out_dir, render};
 use glview::image_out::Rgba;

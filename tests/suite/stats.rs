@@ -1,7 +1,7 @@
 //! Nothing a scene does not need is computed, and `--stats` says what ran: programs without
 //! texture lookups for untextured models, no depth pass without lights or shadows, reused
 //! shadow maps, off-screen meshes culled (without changing the picture).
-mod common;
+use crate::common;
 use common::*;
 use serde_json::Value;
 

@@ -1,0 +1,28 @@
+//! The integration tests, one binary: one build and link instead of one per file, and one
+//! process whose in-process GPU fixture (`common::render`) keeps one headless context and
+//! program cache for every render that needs no special environment. `tests/leaks.rs` stays
+//! a separate binary because it judges its own process's resident memory.
+mod analytic;
+mod antialiasing;
+mod bad_input;
+mod bloom;
+mod cache;
+mod common;
+mod compare;
+mod conformance;
+mod fuzz_regressions;
+mod gpu_vs_reference;
+mod lighting;
+mod loading;
+mod models_committed;
+mod parity;
+mod pbr;
+mod precision;
+mod reference;
+mod shaders;
+mod shadows;
+mod stats;
+mod stress;
+mod translucency;
+mod window;
+mod xvfb;
