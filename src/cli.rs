@@ -328,6 +328,20 @@ pub enum Command {
     Bench(BenchCommand),
     /// A contact sheet: turntable views (columns) × tiers (rows) in one labelled PNG.
     Sheet(SheetCommand),
+    /// Many pictures in one process and one GL context: JOBS has one job per line, a model
+    /// and options as on this command line (shell quoting; `#` comments), each with
+    /// `--output`. Failed jobs are reported by line and the rest still render.
+    Batch(BatchCommand),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BatchCommand {
+    /// The jobs file (`-` for standard input).
+    pub jobs: PathBuf,
+    /// Also run every job as its own `glview` process afterwards and print both rates
+    /// (the measurement behind the README's pictures-per-second figure).
+    #[arg(long)]
+    pub compare_processes: bool,
 }
 
 #[derive(Debug, clap::Args)]

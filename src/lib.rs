@@ -26,6 +26,7 @@ pub mod render;
 pub mod shader;
 
 pub mod app;
+pub mod batch;
 pub mod bench;
 pub mod headless;
 pub mod run;

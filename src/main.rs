@@ -39,6 +39,7 @@ fn dispatch(args: &Args) -> Result<()> {
             };
         }
         Some(glview::cli::Command::Sheet(s)) => return glview::compare::sheet::run(s),
+        Some(glview::cli::Command::Batch(b)) => return glview::batch::run(b),
         None => {}
     }
     if args.reference && (args.compare.is_some() || args.diff.is_some()) {

@@ -5,6 +5,7 @@
 mod analytic;
 mod antialiasing;
 mod bad_input;
+mod batch;
 mod bloom;
 mod cache;
 mod common;
