@@ -5,7 +5,6 @@
 use crate::cli::{Args, BatchCommand};
 use crate::error::{Error, Result};
 use crate::run::{render_scene_headless, KeptContext};
-use clap::Parser;
 use std::io::Read;
 use std::path::Path;
 use std::time::Instant;
@@ -57,8 +56,7 @@ fn read_jobs(path: &Path) -> Result<String> {
 
 /// The job's arguments, refused unless they ask for exactly one headless picture.
 fn job_args(job: &Job) -> std::result::Result<Args, String> {
-    let argv = std::iter::once("glview".to_string()).chain(job.words.iter().cloned());
-    let args = Args::try_parse_from(argv).map_err(|e| {
+    let args = Args::from_words(&job.words).map_err(|e| {
         // clap's message is several lines with usage; its first line says what is wrong.
         let s = e.to_string();
         s.lines()

@@ -13,6 +13,7 @@ pub mod image_out;
 pub mod keys;
 pub mod light;
 pub mod pbr;
+pub mod repro;
 pub mod scene;
 pub mod shading;
 pub mod soak;

@@ -1,6 +1,5 @@
 //! `glview`: parse, dispatch to one mode (the modes import `run`, never each other), print
 //! the one error, exit code.
-use clap::Parser;
 use glview::cli::Args;
 use glview::{run, Error, Result};
 use std::process::ExitCode;
@@ -19,7 +18,7 @@ fn main() -> ExitCode {
             writeln!(buf, "{level}: {}", record.args())
         })
         .init();
-    let args = Args::parse();
+    let args = Args::from_words(std::env::args_os().skip(1)).unwrap_or_else(|e| e.exit());
     match dispatch(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -309,7 +309,7 @@ pub mod fixture {
                 let mut kept = None;
                 for (argv, reply) in rx {
                     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                        let args = Args::try_parse_from(argv).map_err(|e| e.to_string())?;
+                        let args = Args::from_words(&argv[1..]).map_err(|e| e.to_string())?;
                         let out = args.output.clone().expect("fixture jobs have --output");
                         glview::run::render_scene_headless(&args, &out, &mut kept)
                             .map_err(|e| format!("error: {e}"))

@@ -20,6 +20,7 @@ mod parity;
 mod pbr;
 mod precision;
 mod reference;
+mod repro;
 mod shaders;
 mod shadows;
 mod stats;

@@ -65,6 +65,10 @@ fn key_to_frame(x: &Xvfb, v: &mut Viewer, key: &str) -> (Duration, f64) {
 }
 
 fn screenshot(x: &Xvfb, v: &mut Viewer) -> Rgba {
+    screenshot_file(x, v).0
+}
+
+fn screenshot_file(x: &Xvfb, v: &mut Viewer) -> (Rgba, std::path::PathBuf) {
     x.xdotool(&["key", "F12"]).expect("xdotool key F12");
     let (_, line) = v.wait_line(
         |l| l.starts_with("screenshot: "),
@@ -72,7 +76,8 @@ fn screenshot(x: &Xvfb, v: &mut Viewer) -> Rgba {
         "the screenshot line",
     );
     let path = line.trim_start_matches("screenshot: ").to_string();
-    Rgba::load_png(Path::new(&path)).unwrap_or_else(|e| panic!("read {path}: {e}"))
+    let img = Rgba::load_png(Path::new(&path)).unwrap_or_else(|e| panic!("read {path}: {e}"));
+    (img, path.into())
 }
 
 fn quit(v: &mut Viewer, x: &Xvfb, key: &str) {
@@ -363,7 +368,32 @@ fn compare_mode_pbr_key_and_overlay() {
     key_to_frame(&x, &mut v, "c");
     key_to_frame(&x, &mut v, "p");
     key_to_frame(&x, &mut v, "p");
-    let pbr = screenshot(&x, &mut v);
+    let (pbr, pbr_file) = screenshot_file(&x, &mut v);
+    // The screenshot's PNG text replays the keys that changed state (`--keys 'P P'`, not
+    // `c`, which only split the window) with the camera and size: headless gives the same
+    // picture to the window-vs-headless tolerance of `arrow_keys_match_headless_render`.
+    let text = glview::image_out::png_text(&pbr_file).unwrap();
+    let command = &text.iter().find(|(k, _)| k == "glview.command").unwrap().1;
+    assert!(command.to_lowercase().contains("--keys 'p p'"), "{command}");
+    let words = shlex::split(command).unwrap();
+    let words: Vec<&str> = words[1..].iter().map(String::as_str).collect();
+    let mut replayed = render(&dir, "pbr-replayed", &words, &[]);
+    for (p, q) in replayed
+        .data
+        .chunks_exact_mut(4)
+        .zip(pbr.data.chunks_exact(4))
+    {
+        p[3] = q[3];
+    }
+    assert_close(
+        &dir,
+        "pbr-replayed",
+        &pbr,
+        &replayed,
+        0,
+        320 * 240 / 1000,
+        2,
+    );
     let headless_pbr = render(
         &dir,
         "pbr-full",
