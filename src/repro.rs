@@ -73,6 +73,22 @@ fn kept_words(args: &Args) -> Vec<String> {
     out
 }
 
+/// What decides the scene, the environment and the lights of a picture: the words but for
+/// camera, size, keys and output, and the model file's size and time (so a file changed
+/// between two pictures is read again). Equal keys may share a renderer.
+pub fn scene_key(args: &Args) -> String {
+    let stamp = args
+        .model
+        .as_ref()
+        .and_then(|m| std::fs::metadata(m).ok())
+        .map(|m| format!("{} {:?}", m.len(), m.modified().ok()))
+        .unwrap_or_default();
+    let mut key = kept_words(args).join("\0");
+    key.push('\0');
+    key.push_str(&stamp);
+    key
+}
+
 /// `glview WORDS... --size WxH --keys "..." CAMERA`: `camera` is the camera as options
 /// (`--yaw ... --pitch ...`), `keys` the state-changing keys pressed (camera keys excluded:
 /// the camera options already hold their effect).

@@ -506,8 +506,11 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     render_scene_headless(args, path, &mut None)
 }
 
-/// A headless context kept between pictures, with what it was asked for.
+/// A headless context kept between pictures, with what it was asked for, and the last
+/// picture's renderer (its uploaded scene, environment maps and shadow maps) with the
+/// options it was made for. Field order is drop order: the renderer before its context.
 pub struct KeptContext {
+    renderer: Option<(String, crate::render::Renderer)>,
     pub hl: crate::headless::Headless,
     request: (crate::platform::Backend, crate::platform::GlRequest),
 }
@@ -527,8 +530,6 @@ pub fn render_scene_headless(
         ];
         return img.save_png(path, &text);
     }
-    let scene = load_scene(args)?;
-    let (settings, _) = frame_settings(args, &scene)?;
     let (w, h) = args.size;
     // SSAA renders k times larger on each axis and box-filters down.
     let k = if args.aa == crate::cli::AaMode::Ssaa {
@@ -545,20 +546,38 @@ pub fn render_scene_headless(
         // The old context goes first: one context alive at a time.
         *kept = None;
         let hl = crate::headless::Headless::new(args.backend, args.gl, w * k, h * k)?;
-        *kept = Some(KeptContext { hl, request });
+        *kept = Some(KeptContext {
+            renderer: None,
+            hl,
+            request,
+        });
     }
-    let hl = &mut kept.as_mut().expect("context made above").hl;
+    let kept = kept.as_mut().expect("context made above");
     if args.aa == crate::cli::AaMode::Msaa {
-        hl.enable_msaa(args.aa_samples)?;
+        kept.hl.enable_msaa(args.aa_samples)?;
     }
+    // The same words but for camera, size and keys (a turntable, a camera sweep): the same
+    // scene, environment and lights, so the renderer and what it uploaded are kept.
+    let key = crate::repro::scene_key(args);
+    if kept.renderer.as_ref().is_none_or(|(k, _)| *k != key) {
+        kept.renderer = None;
+        let mut r = crate::render::Renderer::new(&kept.hl.gpu, load_scene(args)?)?;
+        r.set_environment(env_request(args)?);
+        kept.renderer = Some((key, r));
+    }
+    let (hl, renderer) = (&kept.hl, &mut kept.renderer.as_mut().expect("made above").1);
+    let (settings, _) = frame_settings(args, renderer.scene())?;
     let gpu = Renderer::Gpu {
         caps: &hl.gpu.caps,
         backend: hl.backend_name(),
     };
     let keys = crate::repro::state_keys(args.keys.as_deref());
-    let text = png_text(gpu, &settings, &scene, &Repro::headless(args, &keys));
-    let mut renderer = crate::render::Renderer::new(&hl.gpu, scene)?;
-    renderer.set_environment(env_request(args)?);
+    let text = png_text(
+        gpu,
+        &settings,
+        renderer.scene(),
+        &Repro::headless(args, &keys),
+    );
     for _ in 0..args.frames.max(1) {
         let stats = renderer.render(&settings, &hl.target())?;
         if args.stats {
@@ -566,7 +585,6 @@ pub fn render_scene_headless(
         }
     }
     let mut img = crate::bench::metrics::downsample(&hl.read(), k);
-    drop(renderer);
     if args.transparent {
         unpremultiply(&mut img);
     }

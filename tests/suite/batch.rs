@@ -12,6 +12,12 @@ fn batch_equals_single_runs_and_reports_failures_by_line() {
     let jobs = [
         // Two sizes and a reused size: the kept context's target is resized both ways.
         format!("--size 96x64 --yaw 30 --no-shadows -o {}", p("a.png")),
+        // The words of the first job but for camera and size: its renderer is kept (uploaded
+        // scene, maps) and must give what a fresh one gives.
+        format!(
+            "--size 80x80 --no-shadows --yaw 200 --keys 'Up W' -o {}",
+            p("e.png")
+        ),
         format!(
             "'{}' --size 64x80 --pitch 40 -o {}",
             cube.display(),
@@ -29,19 +35,24 @@ fn batch_equals_single_runs_and_reports_failures_by_line() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "some jobs fail: exit 1\n{err}");
     let f = file.display();
-    assert!(err.contains(&format!("error: {f}:5: ")), "{err}");
+    assert!(err.contains(&format!("error: {f}:6: ")), "{err}");
     assert!(err.contains("missing.obj"), "{err}");
     assert!(
-        err.contains(&format!("error: {f}:6: a batch job needs --output")),
+        err.contains(&format!("error: {f}:7: a batch job needs --output")),
         "{err}"
     );
     assert!(
-        err.contains(&format!("error: {f}: 2 of 5 jobs failed (lines 5, 6)")),
+        err.contains(&format!("error: {f}: 2 of 6 jobs failed (lines 6, 7)")),
         "{err}"
     );
     assert!(!dir.join("c.png").exists());
     // Every good job: the same pixels as the same command line run alone.
-    for (name, line) in [("a", &jobs[0]), ("b", &jobs[1]), ("d", &jobs[6])] {
+    for (name, line) in [
+        ("a", &jobs[0]),
+        ("e", &jobs[1]),
+        ("b", &jobs[2]),
+        ("d", &jobs[7]),
+    ] {
         let words = shlex::split(line).unwrap();
         let alone = dir.join(format!("{name}-alone.png"));
         let mut args: Vec<&str> = words.iter().map(String::as_str).collect();
