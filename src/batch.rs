@@ -4,7 +4,7 @@
 //! the others still render.
 use crate::cli::{Args, BatchCommand};
 use crate::error::{Error, Result};
-use crate::run::{render_scene_headless, KeptContext};
+use crate::picture::KeptContext;
 use std::io::Read;
 use std::path::Path;
 use std::time::Instant;
@@ -101,7 +101,7 @@ pub fn run(cmd: &BatchCommand) -> Result<()> {
         let result = job_args(job).and_then(|args| {
             let out = args.output.clone().unwrap_or_default();
             bar.set_message(out.display().to_string());
-            render_scene_headless(&args, &out, &mut kept).map_err(|e| e.to_string())
+            crate::picture::render(&args, &out, &mut kept).map_err(|e| e.to_string())
         });
         if let Err(e) = result {
             bar.suspend(|| eprintln!("error: {name}:{}: {e}", job.line));

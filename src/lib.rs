@@ -30,6 +30,7 @@ pub mod app;
 pub mod batch;
 pub mod bench;
 pub mod headless;
+pub mod picture;
 pub mod run;
 
 pub use error::{Error, Result};

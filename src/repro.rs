@@ -142,8 +142,8 @@ mod tests {
             "--stats",
             "--shadow-bias",
             "0.001",
-            "--ortho",
-            "3",
+            "--fov",
+            "50",
             "--keys",
             "Left S",
         ]);
@@ -160,7 +160,7 @@ mod tests {
         let line = command_line(&a, (64, 48), &state_keys(a.keys.as_deref()), "--yaw 1");
         assert_eq!(
             line,
-            "glview 'my model.obj' --light dir:0,-1,0 --shadow-bias 0.001 --size 64x48 \
+            "glview 'my model.obj' --light 'dir:0,-1,0' --shadow-bias 0.001 --size 64x48 \
              --keys S --yaw 1"
         );
     }

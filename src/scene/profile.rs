@@ -158,6 +158,12 @@ pub fn last() -> Option<LoadProfile> {
     REC.with_borrow(|r| r.last)
 }
 
+/// The most recent load's profile, forgotten here (so the next call says whether another
+/// load happened since).
+pub fn take_last() -> Option<LoadProfile> {
+    REC.with_borrow_mut(|r| r.last.take())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -311,7 +311,7 @@ pub mod fixture {
                     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                         let args = Args::from_words(&argv[1..]).map_err(|e| e.to_string())?;
                         let out = args.output.clone().expect("fixture jobs have --output");
-                        glview::run::render_scene_headless(&args, &out, &mut kept)
+                        glview::picture::render(&args, &out, &mut kept)
                             .map_err(|e| format!("error: {e}"))
                     }));
                     let result = result.unwrap_or_else(|_| {
