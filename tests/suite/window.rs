@@ -93,6 +93,16 @@ fn quit(v: &mut Viewer, x: &Xvfb, key: &str) {
     assert!(!err.contains("error"), "glview reported an error:\n{err}");
 }
 
+/// `img` with the alpha of `of`: screenshots are opaque, headless PNGs keep the glass's
+/// alpha, and only colour is compared.
+fn with_alpha_of(img: &Rgba, of: &Rgba) -> Rgba {
+    let mut out = img.clone();
+    for (p, q) in out.data.chunks_exact_mut(4).zip(of.data.chunks_exact(4)) {
+        p[3] = q[3];
+    }
+    out
+}
+
 fn median(mut v: Vec<Duration>) -> Duration {
     v.sort();
     v[v.len() / 2]
@@ -128,14 +138,7 @@ fn arrow_keys_match_headless_render() {
     headless.extend_from_slice(&["--keys", "Left Left Up"]);
     let reference = render(&dir, "headless-keys", &headless, &[]);
     let before = render(&dir, "headless-start", VIEW, &[]);
-    let mut shot_rgb = shot.clone();
-    for (p, q) in shot_rgb
-        .data
-        .chunks_exact_mut(4)
-        .zip(reference.data.chunks_exact(4))
-    {
-        p[3] = q[3];
-    }
+    let shot_rgb = with_alpha_of(&shot, &reference);
     assert_close(
         &dir,
         "window-vs-headless",
@@ -347,14 +350,7 @@ fn compare_mode_pbr_key_and_overlay() {
     };
     for (right, shading) in [(false, "phong"), (true, "pbr")] {
         let headless = render(&dir, shading, &pane_args(shading), &[]);
-        let mut pane = half(&shot, right);
-        for (p, q) in pane
-            .data
-            .chunks_exact_mut(4)
-            .zip(headless.data.chunks_exact(4))
-        {
-            p[3] = q[3];
-        }
+        let pane = with_alpha_of(&half(&shot, right), &headless);
         assert_close(
             &dir,
             &format!("pane-{shading}"),
@@ -377,14 +373,7 @@ fn compare_mode_pbr_key_and_overlay() {
     assert!(command.to_lowercase().contains("--keys 'p p'"), "{command}");
     let words = shlex::split(command).unwrap();
     let words: Vec<&str> = words[1..].iter().map(String::as_str).collect();
-    let mut replayed = render(&dir, "pbr-replayed", &words, &[]);
-    for (p, q) in replayed
-        .data
-        .chunks_exact_mut(4)
-        .zip(pbr.data.chunks_exact(4))
-    {
-        p[3] = q[3];
-    }
+    let replayed = with_alpha_of(&render(&dir, "pbr-replayed", &words, &[]), &pbr);
     assert_close(
         &dir,
         "pbr-replayed",
