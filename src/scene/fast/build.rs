@@ -1,0 +1,205 @@
+//! The ordered pass of the fast path: statements applied in file order exactly as tobj
+//! applies them (a new model on `o`/`g` or a material change after faces, materials looked
+//! up among the libraries loaded so far), and tobj's `single_index` vertices: one per
+//! distinct (v, vt, vn) per model, in order of first use.
+use super::chunk::{Chunk, EventKind, MISSING};
+use super::Base;
+use std::collections::HashMap;
+use std::path::Path;
+
+/// What the loader takes from the repair pass and tobj, as the fast path found it.
+pub struct Parsed {
+    pub models: Vec<tobj::Model>,
+    pub materials: Result<Vec<tobj::Material>, tobj::LoadError>,
+    /// Every `usemtl` name with its line.
+    pub usemtl: Vec<(usize, String)>,
+    /// Smoothing group per face; empty when the file has no `s` statement.
+    pub face_groups: Vec<u32>,
+}
+
+/// The model being filled (tobj's `TmpModels`), with the dedup tables.
+struct Models<'a> {
+    pos: &'a [f64],
+    tex: &'a [f64],
+    nrm: &'a [f64],
+    done: Vec<tobj::Model>,
+    name: String,
+    mat_id: Option<usize>,
+    mesh: tobj::Mesh,
+    faces: usize,
+    all_triangles: bool,
+    /// Per position index: the first vertex made from it in this model (or `u32::MAX`).
+    first: Vec<u32>,
+    /// Per vertex of this model: its (v, vt, vn).
+    keys: Vec<[u32; 3]>,
+    /// Vertices whose position already has a vertex with another vt or vn.
+    more: HashMap<[u32; 3], u32>,
+}
+
+impl Models<'_> {
+    fn corner(&mut self, key: [u32; 3]) {
+        let v = key[0] as usize;
+        let first = self.first[v];
+        let id = if first == u32::MAX {
+            let id = self.add(key);
+            self.first[v] = id;
+            id
+        } else if self.keys[first as usize] == key {
+            first
+        } else if let Some(&id) = self.more.get(&key) {
+            id
+        } else {
+            let id = self.add(key);
+            self.more.insert(key, id);
+            id
+        };
+        self.mesh.indices.push(id);
+    }
+
+    fn add(&mut self, key: [u32; 3]) -> u32 {
+        let [v, vt, vn] = key.map(|i| i as usize);
+        let m = &mut self.mesh;
+        m.positions.extend_from_slice(&self.pos[v * 3..v * 3 + 3]);
+        if vt != MISSING as usize {
+            m.texcoords.extend_from_slice(&self.tex[vt * 2..vt * 2 + 2]);
+        }
+        if vn != MISSING as usize {
+            m.normals.extend_from_slice(&self.nrm[vn * 3..vn * 3 + 3]);
+        }
+        self.keys.push(key);
+        self.keys.len() as u32 - 1
+    }
+
+    fn face(&mut self, corners: &[[u32; 3]]) {
+        for &c in corners {
+            self.corner(c);
+        }
+        self.mesh.face_arities.push(corners.len() as u32);
+        self.all_triangles &= corners.len() == 3;
+        self.faces += 1;
+    }
+
+    fn pop(&mut self) {
+        let mut mesh = std::mem::take(&mut self.mesh);
+        mesh.material_id = self.mat_id;
+        if self.all_triangles {
+            mesh.face_arities = Vec::new();
+        }
+        self.done.push(tobj::Model::new(mesh, self.name.clone()));
+        for k in self.keys.drain(..) {
+            self.first[k[0] as usize] = u32::MAX;
+        }
+        self.more.clear();
+        self.faces = 0;
+        self.all_triangles = true;
+    }
+}
+
+/// tobj's `TmpMaterials`: libraries merged in the order the file names them.
+#[derive(Default)]
+struct Materials {
+    list: Vec<tobj::Material>,
+    map: HashMap<String, usize>,
+    err: Option<tobj::LoadError>,
+}
+
+impl Materials {
+    fn merge(&mut self, r: tobj::MTLLoadResult) {
+        match r {
+            Ok((mut mats, map)) => {
+                let offset = self.list.len();
+                self.list.append(&mut mats);
+                for (k, v) in map {
+                    self.map.insert(k, v + offset);
+                }
+            }
+            Err(e) => self.err = Some(e),
+        }
+    }
+
+    fn finish(self) -> Result<Vec<tobj::Material>, tobj::LoadError> {
+        match self.err {
+            Some(e) if self.list.is_empty() => Err(e),
+            _ => Ok(self.list),
+        }
+    }
+}
+
+fn concat(chunks: &mut [Chunk], part: fn(&mut Chunk) -> &mut Vec<f64>) -> Vec<f64> {
+    let mut out = Vec::with_capacity(chunks.iter_mut().map(|c| part(c).len()).sum());
+    for c in chunks {
+        out.append(part(c));
+        *part(c) = Vec::new();
+    }
+    out
+}
+
+pub fn build(
+    mut chunks: Vec<Chunk>,
+    bases: &[Base],
+    mtl: &mut dyn FnMut(&Path) -> tobj::MTLLoadResult,
+) -> Parsed {
+    let pos = concat(&mut chunks, |c| &mut c.pos);
+    let tex = concat(&mut chunks, |c| &mut c.tex);
+    let nrm = concat(&mut chunks, |c| &mut c.nrm);
+    let total = bases.last().map_or(0, |b| b.faces);
+    let mut m = Models {
+        pos: &pos,
+        tex: &tex,
+        nrm: &nrm,
+        done: Vec::new(),
+        name: "unnamed_object".into(),
+        mat_id: None,
+        mesh: tobj::Mesh::default(),
+        faces: 0,
+        all_triangles: true,
+        first: vec![u32::MAX; pos.len() / 3],
+        keys: Vec::new(),
+        more: HashMap::new(),
+    };
+    let mut mats = Materials::default();
+    let mut usemtl = Vec::new();
+    let mut groups = Vec::with_capacity(total);
+    let (mut group, mut has_groups) = (0u32, false);
+    for (c, base) in chunks.iter().zip(bases) {
+        let mut events = c.events.iter().peekable();
+        let mut at = 0;
+        for f in 0..=c.arity.len() {
+            while let Some(e) = events.next_if(|e| e.face == f) {
+                match &e.kind {
+                    EventKind::Name(n) => {
+                        if m.faces > 0 {
+                            m.pop();
+                        }
+                        m.name.clone_from(n);
+                    }
+                    EventKind::UseMtl(name, key) => {
+                        usemtl.push((base.lines + e.line + 1, name.clone()));
+                        let new = mats.map.get(key).copied();
+                        if m.mat_id != new && m.faces > 0 {
+                            m.pop();
+                        }
+                        m.mat_id = new;
+                    }
+                    EventKind::MtlLib(p) => mats.merge(mtl(Path::new(p))),
+                    EventKind::Smooth(g) => (group, has_groups) = (*g, true),
+                }
+            }
+            if let Some(&n) = c.arity.get(f) {
+                m.face(&c.corners[at..at + n as usize]);
+                at += n as usize;
+                groups.push(group);
+            }
+        }
+    }
+    m.pop();
+    if !has_groups {
+        groups = Vec::new();
+    }
+    Parsed {
+        models: m.done,
+        materials: mats.finish(),
+        usemtl,
+        face_groups: groups,
+    }
+}
