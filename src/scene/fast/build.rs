@@ -81,6 +81,15 @@ impl Models<'_> {
 
     fn pop(&mut self) {
         let mut mesh = std::mem::take(&mut self.mesh);
+        // The first model was given room for the whole file.
+        for v in [&mut mesh.positions, &mut mesh.normals, &mut mesh.texcoords] {
+            if v.capacity() > 2 * v.len() {
+                v.shrink_to_fit();
+            }
+        }
+        if mesh.indices.capacity() > 2 * mesh.indices.len() {
+            mesh.indices.shrink_to_fit();
+        }
         mesh.material_id = self.mat_id;
         if self.all_triangles {
             mesh.face_arities = Vec::new();
@@ -143,6 +152,15 @@ pub fn build(
     let tex = concat(&mut chunks, |c| &mut c.tex);
     let nrm = concat(&mut chunks, |c| &mut c.nrm);
     let total = bases.last().map_or(0, |b| b.faces);
+    let corners: usize = chunks.iter().map(|c| c.corners.len()).sum();
+    let room = |v: &Vec<f64>| Vec::with_capacity(v.len().min(corners * 3));
+    let mesh = tobj::Mesh {
+        positions: room(&pos),
+        normals: room(&nrm),
+        texcoords: room(&tex),
+        indices: Vec::with_capacity(corners),
+        ..tobj::Mesh::default()
+    };
     let mut m = Models {
         pos: &pos,
         tex: &tex,
@@ -150,11 +168,11 @@ pub fn build(
         done: Vec::new(),
         name: "unnamed_object".into(),
         mat_id: None,
-        mesh: tobj::Mesh::default(),
+        mesh,
         faces: 0,
         all_triangles: true,
         first: vec![u32::MAX; pos.len() / 3],
-        keys: Vec::new(),
+        keys: Vec::with_capacity((pos.len() / 3).min(corners)),
         more: HashMap::new(),
     };
     let mut mats = Materials::default();

@@ -10,6 +10,8 @@ pub const MISSING: u32 = u32::MAX;
 pub const REL: u32 = 1 << 31;
 pub const REL_BIAS: i64 = 1 << 30;
 
+use super::scan::Scan;
+
 /// A statement applied in file order, before face `face` (chunk-local) of the file.
 pub struct Event {
     pub face: usize,
@@ -45,112 +47,83 @@ pub struct Chunk {
     pub ahead: [i64; 3],
 }
 
-fn words(line: &[u8]) -> impl Iterator<Item = &[u8]> {
-    line.split(|&b| b == b' ' || b == b'\t')
-        .filter(|w| !w.is_empty())
-}
-
-/// Bytes the fast path's numeric statements may contain (anything else: fall back).
-fn numeric_bytes(rest: &[u8]) -> bool {
-    rest.iter().all(|&b| {
-        matches!(
-            b,
-            b'0'..=b'9' | b'.' | b'-' | b'+' | b'/' | b'e' | b'E' | b' ' | b'\t'
-        )
-    })
-}
-
-fn floats<const N: usize>(rest: &[u8], out: &mut Vec<f64>) -> Option<()> {
-    let mut n = 0;
-    for w in words(rest) {
-        if n == N {
-            return None;
-        }
-        out.push(super::num::float(w)?);
-        n += 1;
-    }
-    (n == N).then_some(())
-}
-
 impl Chunk {
     pub fn parse(bytes: &[u8]) -> Option<Chunk> {
         let mut c = Chunk {
             ahead: [i64::MIN; 3],
             ..Chunk::default()
         };
-        let mut start = 0;
-        while start < bytes.len() {
-            let end = memchr(bytes, start);
-            let mut line = &bytes[start..end];
-            if let Some(l) = line.strip_suffix(b"\r") {
-                line = l;
+        let mut s = Scan::new(bytes);
+        while s.i < bytes.len() {
+            match s.rest() {
+                [b'v', b' ' | b'\t', ..] => {
+                    s.i += 2;
+                    for _ in 0..3 {
+                        s.blanks();
+                        let x = s.float()?;
+                        // Non-finite or beyond f32: an error on the old path.
+                        (x.is_finite() && x.abs() <= f64::from(f32::MAX)).then_some(())?;
+                        c.pos.push(x);
+                    }
+                }
+                [b'v', b'n', b' ' | b'\t', ..] => {
+                    s.i += 3;
+                    for _ in 0..3 {
+                        s.blanks();
+                        c.nrm.push(s.float()?);
+                    }
+                }
+                [b'v', b't', b' ' | b'\t', ..] => {
+                    s.i += 3;
+                    for _ in 0..2 {
+                        s.blanks();
+                        c.tex.push(s.float()?);
+                    }
+                    // tobj reads two numbers; a third (w) is allowed and ignored.
+                    s.blanks();
+                    if !s.at_line_end() {
+                        s.float()?;
+                    }
+                }
+                [b'f', b' ' | b'\t', ..] => {
+                    s.i += 2;
+                    c.face(&mut s)?;
+                }
+                _ => {
+                    let end = s.rest().iter().position(|&b| b == b'\n');
+                    let end = end.map_or(bytes.len(), |p| s.i + p);
+                    let line = &bytes[s.i..end];
+                    c.statement(line.strip_suffix(b"\r").unwrap_or(line))?;
+                    s.i = end;
+                }
             }
-            c.line(line)?;
+            s.blanks();
+            s.end_line().then_some(())?;
             c.lines += 1;
-            start = end + 1;
         }
         Some(c)
     }
 
-    fn line(&mut self, line: &[u8]) -> Option<()> {
-        // A backslash continuation (joined by the old path, with a warning).
-        if line.trim_ascii_end().ends_with(b"\\") {
-            return None;
-        }
-        match line {
-            [b'v', b' ' | b'\t', rest @ ..] => {
-                let n = self.pos.len();
-                numeric_bytes(rest).then_some(())?;
-                floats::<3>(rest, &mut self.pos)?;
-                // Non-finite or beyond f32: an error on the old path.
-                let ok = self.pos[n..]
-                    .iter()
-                    .all(|x| x.is_finite() && x.abs() <= f64::from(f32::MAX));
-                ok.then_some(())
-            }
-            [b'v', b'n', b' ' | b'\t', rest @ ..] => {
-                numeric_bytes(rest).then_some(())?;
-                floats::<3>(rest, &mut self.nrm)
-            }
-            [b'v', b't', b' ' | b'\t', rest @ ..] => {
-                numeric_bytes(rest).then_some(())?;
-                let n = self.tex.len();
-                floats::<3>(rest, &mut self.tex)
-                    .map(|_| {
-                        self.tex.pop();
-                    })
-                    .or_else(|| {
-                        self.tex.truncate(n);
-                        floats::<2>(rest, &mut self.tex)
-                    })
-            }
-            [b'f', b' ' | b'\t', rest @ ..] => {
-                numeric_bytes(rest).then_some(())?;
-                self.face(rest)
-            }
-            [] => Some(()),
-            _ => self.statement(line),
-        }
-    }
-
-    fn face(&mut self, rest: &[u8]) -> Option<()> {
+    fn face(&mut self, s: &mut Scan) -> Option<()> {
         let seen = [self.pos.len() / 3, self.tex.len() / 2, self.nrm.len() / 3];
         let mut n = 0u32;
-        for w in words(rest) {
-            let mut parts = w.splitn(3, |&b| b == b'/');
-            let mut corner = [MISSING; 3];
-            for (k, part) in [parts.next(), parts.next(), parts.next()]
-                .into_iter()
-                .enumerate()
-            {
-                let Some(part) = part.filter(|p| !p.is_empty()) else {
-                    if k == 0 {
-                        return None;
-                    }
-                    continue;
-                };
-                corner[k] = self.encode(super::num::index(part)?, seen[k], k)?;
+        loop {
+            s.blanks();
+            if s.at_line_end() {
+                break;
             }
+            let mut corner = [MISSING; 3];
+            corner[0] = self.encode(s.index()?, seen[0], 0)?;
+            // `v`, `v/`, `v/vt`, `v//vn`, `v/vt/vn`, `v/vt/` (empty parts are absent).
+            if s.eat(b'/') {
+                if !s.at_sep() && s.rest().first() != Some(&b'/') {
+                    corner[1] = self.encode(s.index()?, seen[1], 1)?;
+                }
+                if s.eat(b'/') && !s.at_sep() {
+                    corner[2] = self.encode(s.index()?, seen[2], 2)?;
+                }
+            }
+            s.at_sep().then_some(())?;
             self.corners.push(corner);
             n += 1;
         }
@@ -178,6 +151,10 @@ impl Chunk {
     /// Statements other than numbers, read as the old path reads them (UTF-8 text, split on
     /// Unicode whitespace, names taken with tobj's and repair's own expressions).
     fn statement(&mut self, line: &[u8]) -> Option<()> {
+        // A backslash continuation (joined by the old path, with a warning).
+        if line.trim_ascii_end().ends_with(b"\\") {
+            return None;
+        }
         let line = std::str::from_utf8(line).ok()?;
         if line.contains('\r') {
             return None;
@@ -223,11 +200,4 @@ impl Chunk {
         });
         Some(())
     }
-}
-
-fn memchr(bytes: &[u8], from: usize) -> usize {
-    bytes[from..]
-        .iter()
-        .position(|&b| b == b'\n')
-        .map_or(bytes.len(), |p| from + p)
 }

@@ -9,6 +9,7 @@
 mod build;
 mod chunk;
 mod num;
+mod scan;
 
 use chunk::{Chunk, MISSING, REL, REL_BIAS};
 use rayon::prelude::*;

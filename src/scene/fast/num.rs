@@ -1,4 +1,4 @@
-//! Number tokens of the fast path. Floats: plain decimals that fit Clinger's fast path
+//! Number words of the fast path that [`super::scan`] does not read in place. Floats: plain decimals that fit Clinger's fast path
 //! (mantissa ≤ 2^53, power of ten ≤ 22) are exact with one multiplication or division;
 //! anything else goes to `str::parse::<f64>`, which is what repair and tobj use, so both
 //! paths give the same bits. `None` = not a number the old path would accept either way
@@ -86,25 +86,6 @@ fn simple_float(tok: &[u8]) -> Option<f64> {
     Some(if neg { -v } else { v })
 }
 
-/// A face index token: `-`? digits, at most 12 digits (larger ones fall back).
-pub fn index(tok: &[u8]) -> Option<i64> {
-    let (neg, digits) = match tok.first()? {
-        b'-' => (true, &tok[1..]),
-        _ => (false, tok),
-    };
-    if digits.is_empty() || digits.len() > 12 {
-        return None;
-    }
-    let mut v: i64 = 0;
-    for &b in digits {
-        if !b.is_ascii_digit() {
-            return None;
-        }
-        v = v * 10 + i64::from(b - b'0');
-    }
-    Some(if neg { -v } else { v })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -148,14 +129,5 @@ mod tests {
                 "{s}: {got:?} vs {want:?}"
             );
         }
-    }
-
-    #[test]
-    fn indices() {
-        assert_eq!(index(b"12"), Some(12));
-        assert_eq!(index(b"-3"), Some(-3));
-        assert_eq!(index(b""), None);
-        assert_eq!(index(b"+3"), None);
-        assert_eq!(index(b"1a"), None);
     }
 }
