@@ -19,9 +19,9 @@ pub struct Parsed {
 
 /// The model being filled (tobj's `TmpModels`), with the dedup tables.
 struct Models<'a> {
-    pos: &'a [f64],
-    tex: &'a [f64],
-    nrm: &'a [f64],
+    pos: Pool<'a, 3>,
+    tex: Pool<'a, 2>,
+    nrm: Pool<'a, 3>,
     done: Vec<tobj::Model>,
     name: String,
     mat_id: Option<usize>,
@@ -59,12 +59,12 @@ impl Models<'_> {
     fn add(&mut self, key: [u32; 3]) -> u32 {
         let [v, vt, vn] = key.map(|i| i as usize);
         let m = &mut self.mesh;
-        m.positions.extend_from_slice(&self.pos[v * 3..v * 3 + 3]);
+        m.positions.extend_from_slice(self.pos.get(v));
         if vt != MISSING as usize {
-            m.texcoords.extend_from_slice(&self.tex[vt * 2..vt * 2 + 2]);
+            m.texcoords.extend_from_slice(self.tex.get(vt));
         }
         if vn != MISSING as usize {
-            m.normals.extend_from_slice(&self.nrm[vn * 3..vn * 3 + 3]);
+            m.normals.extend_from_slice(self.nrm.get(vn));
         }
         self.keys.push(key);
         self.keys.len() as u32 - 1
@@ -134,45 +134,76 @@ impl Materials {
     }
 }
 
-fn concat(chunks: &mut [Chunk], part: fn(&mut Chunk) -> &mut Vec<f64>) -> Vec<f64> {
-    let mut out = Vec::with_capacity(chunks.iter_mut().map(|c| part(c).len()).sum());
-    for c in chunks {
-        out.append(part(c));
-        *part(c) = Vec::new();
+/// Elements of one kind (`N` numbers each) as the chunks hold them, without copying them
+/// into one array: element `i` is found in the chunk that holds it, the last chunk hit first
+/// (a model mostly uses elements in file order).
+struct Pool<'a, const N: usize> {
+    parts: Vec<&'a [f64]>,
+    /// First element index of each part, and the total at the end.
+    starts: Vec<usize>,
+    last: usize,
+}
+
+impl<'a, const N: usize> Pool<'a, N> {
+    fn new(parts: Vec<&'a [f64]>) -> Self {
+        let mut starts = vec![0];
+        for p in &parts {
+            starts.push(starts[starts.len() - 1] + p.len() / N);
+        }
+        Pool {
+            parts,
+            starts,
+            last: 0,
+        }
     }
-    out
+
+    fn len(&self) -> usize {
+        self.starts[self.starts.len() - 1]
+    }
+
+    #[inline]
+    fn get(&mut self, i: usize) -> &'a [f64] {
+        let mut k = self.last;
+        if !(self.starts[k]..self.starts[k + 1]).contains(&i) {
+            k = self.starts.partition_point(|&s| s <= i) - 1;
+            self.last = k;
+        }
+        let j = (i - self.starts[k]) * N;
+        &self.parts[k][j..j + N]
+    }
 }
 
 pub fn build(
-    mut chunks: Vec<Chunk>,
+    chunks: Vec<Chunk>,
     bases: &[Base],
     mtl: &mut dyn FnMut(&Path) -> tobj::MTLLoadResult,
 ) -> Parsed {
-    let pos = concat(&mut chunks, |c| &mut c.pos);
-    let tex = concat(&mut chunks, |c| &mut c.tex);
-    let nrm = concat(&mut chunks, |c| &mut c.nrm);
+    let pos = Pool::<3>::new(chunks.iter().map(|c| c.pos.as_slice()).collect());
+    let tex = Pool::<2>::new(chunks.iter().map(|c| c.tex.as_slice()).collect());
+    let nrm = Pool::<3>::new(chunks.iter().map(|c| c.nrm.as_slice()).collect());
     let total = bases.last().map_or(0, |b| b.faces);
     let corners: usize = chunks.iter().map(|c| c.corners.len()).sum();
-    let room = |v: &Vec<f64>| Vec::with_capacity(v.len().min(corners * 3));
+    let room = |n: usize, k: usize| Vec::with_capacity(n.min(corners) * k);
+    let nv = pos.len();
     let mesh = tobj::Mesh {
-        positions: room(&pos),
-        normals: room(&nrm),
-        texcoords: room(&tex),
+        positions: room(pos.len(), 3),
+        normals: room(nrm.len(), 3),
+        texcoords: room(tex.len(), 2),
         indices: Vec::with_capacity(corners),
         ..tobj::Mesh::default()
     };
     let mut m = Models {
-        pos: &pos,
-        tex: &tex,
-        nrm: &nrm,
+        pos,
+        tex,
+        nrm,
         done: Vec::new(),
         name: "unnamed_object".into(),
         mat_id: None,
         mesh,
         faces: 0,
         all_triangles: true,
-        first: vec![u32::MAX; pos.len() / 3],
-        keys: Vec::with_capacity((pos.len() / 3).min(corners)),
+        first: vec![u32::MAX; nv],
+        keys: Vec::with_capacity(nv.min(corners)),
         more: HashMap::new(),
     };
     let mut mats = Materials::default();
