@@ -137,12 +137,11 @@ fn resolve(c: &mut Chunk, base: &Base) -> Option<()> {
         (c.ahead[k] < base.elems[k] as i64).then_some(())?;
     }
     for corner in &mut c.corners {
-        for k in 0..3 {
-            let x = corner[k];
-            if x != MISSING && x & REL != 0 {
-                let abs = base.elems[k] as i64 + i64::from(x & !REL) - REL_BIAS;
+        for (x, &b) in corner.iter_mut().zip(&base.elems) {
+            if *x != MISSING && *x & REL != 0 {
+                let abs = b as i64 + i64::from(*x & !REL) - REL_BIAS;
                 (abs >= 0).then_some(())?;
-                corner[k] = abs as u32;
+                *x = abs as u32;
             }
         }
     }
