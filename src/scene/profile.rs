@@ -1,5 +1,6 @@
 //! Per-stage load times, measured inside the loader: read (file → bytes), repair (the
-//! byte-level pre-pass), parse (tobj, MTL libraries included), textures (decoding),
+//! byte-level pre-pass), parse (tobj, MTL libraries included; on the fast path,
+//! `scene::fast`'s one pass, and repair is 0), textures (decoding),
 //! meshes (re-centring, vertex building; normals excluded), normals (generation and repair),
 //! finish (redundant faces, texture notes). Recorded per thread; [`last`] returns the most
 //! recent load's profile (for `--stats` and `--check`).
