@@ -63,8 +63,9 @@ impl<'a> Scan<'a> {
         }
     }
 
-    /// One word as `f64`, as `str::parse` reads it; decimals with up to 15 significant digits
-    /// and a power of ten up to 22 are exact in one operation (Clinger's fast path).
+    /// One word as `f64`, as `str::parse` reads it; decimals of at most 19 digits with a
+    /// mantissa up to 2^53 and a power of ten up to 22 are exact in one operation (Clinger's
+    /// fast path; the digit limit keeps the u64 from wrapping unnoticed).
     #[inline]
     pub fn float(&mut self) -> Option<f64> {
         let (b, start) = (self.b, self.i);
@@ -73,30 +74,27 @@ impl<'a> Scan<'a> {
         if neg || b.get(j) == Some(&b'+') {
             j += 1;
         }
-        let (mut m, mut sig, mut exp, mut any) = (0u64, 0u32, 0i32, false);
+        let mut m = 0u64;
+        let int_start = j;
         while let Some(&c) = b.get(j).filter(|c| c.is_ascii_digit()) {
             m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-            sig += u32::from(m != 0);
-            any = true;
             j += 1;
         }
+        let mut digits = j - int_start;
+        let mut frac = 0;
         if b.get(j) == Some(&b'.') {
             j += 1;
+            let frac_start = j;
             while let Some(&c) = b.get(j).filter(|c| c.is_ascii_digit()) {
                 m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-                sig += u32::from(m != 0);
-                exp -= 1;
-                any = true;
                 j += 1;
             }
+            frac = j - frac_start;
+            digits += frac;
         }
-        if any && sig <= 15 && exp >= -22 && self.sep(j) {
+        if digits > 0 && digits <= 19 && m <= 1 << 53 && frac <= 22 && self.sep(j) {
             self.i = j;
-            let v = if exp < 0 {
-                m as f64 / POW10[(-exp) as usize]
-            } else {
-                m as f64
-            };
+            let v = m as f64 / POW10[frac];
             return Some(if neg { -v } else { v });
         }
         // Exponents, long mantissas, `inf`/`nan`: the word goes to the general parser.
@@ -175,7 +173,7 @@ mod tests {
             "1x",
             "1\r2",
         ] {
-            for tail in ["", " ", "\n", "\r\n", "\t", "\r"] {
+            for tail in ["", " ", "\n", "\r\n", "\t", "\r", " 1.5 2.5\n"] {
                 let text = format!("{s}{tail}");
                 let mut sc = Scan::new(text.as_bytes());
                 let got = sc.float();
