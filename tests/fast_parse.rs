@@ -2,12 +2,18 @@
 //! the reference: the same Scene (meshes, vertex order, indices, materials, smoothing, warnings
 //! with their lines) or the same error, on every shared OBJ file and on generated files. Small
 //! files are also parsed in chunks of a few dozen bytes so that relative indices cross chunks.
-mod common;
-
 use glview::scene::fast::Parser;
 use glview::scene::obj::{load_bytes_with, LoadOptions};
 use glview::scene::profile;
 use std::path::{Path, PathBuf};
+
+/// The shared test data (../shared beside the repository). Kept here rather than taken from
+/// `common` so that the file builds both as its own test binary and inside `tests/suite`.
+fn shared() -> PathBuf {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
+    assert!(p.join("MANIFEST.md").exists(), "../shared is missing");
+    p
+}
 
 /// Loads with `parser`; the Scene as Debug text (exact floats) or the error, and whether the
 /// fast path ran.
@@ -62,7 +68,7 @@ fn obj_files(dir: &Path, out: &mut Vec<PathBuf>) {
 
 #[test]
 fn shared_files_load_the_same() {
-    let shared = common::shared();
+    let shared = shared();
     let mut files = Vec::new();
     for d in ["models", "conformance", "tricky"] {
         obj_files(&shared.join(d), &mut files);
