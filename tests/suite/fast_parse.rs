@@ -5,15 +5,8 @@
 use glview::scene::fast::Parser;
 use glview::scene::obj::{load_bytes_with, LoadOptions};
 use glview::scene::profile;
+use crate::common::shared;
 use std::path::{Path, PathBuf};
-
-/// The shared test data (../shared beside the repository). Kept here rather than taken from
-/// `common` so that the file builds both as its own test binary and inside `tests/suite`.
-fn shared() -> PathBuf {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
-    assert!(p.join("MANIFEST.md").exists(), "../shared is missing");
-    p
-}
 
 /// Loads with `parser`; the Scene as Debug text (exact floats) or the error, and whether the
 /// fast path ran.
