@@ -2,10 +2,10 @@
 //! the reference: the same Scene (meshes, vertex order, indices, materials, smoothing, warnings
 //! with their lines) or the same error, on every shared OBJ file and on generated files. Small
 //! files are also parsed in chunks of a few dozen bytes so that relative indices cross chunks.
+use crate::common::shared;
 use glview::scene::fast::Parser;
 use glview::scene::obj::{load_bytes_with, LoadOptions};
 use glview::scene::profile;
-use crate::common::shared;
 use std::path::{Path, PathBuf};
 
 /// Loads with `parser`; the Scene as Debug text (exact floats) or the error, and whether the
