@@ -5,6 +5,9 @@ IN vec3 vEyePos;
 #include "logdepth.glsl"
 #endif
 IN vec2 vUv;
+#ifdef HAS_COLOR
+IN vec3 vColor;
+#endif
 IN vec3 vNormal;
 #if NUM_LIGHTS > 0
 #ifdef GOURAUD
@@ -39,6 +42,9 @@ void main() {
     vec3 tex = vec3(1.0);
 #ifdef HAS_TEXTURE
     tex = TEX2D(uDiffuseMap, vUv).rgb;
+#endif
+#ifdef HAS_COLOR
+    tex *= vColor;
 #endif
     vec3 color = uKe + uTerms.x * uKa * tex * uAmbient;
 #if NUM_LIGHTS > 0

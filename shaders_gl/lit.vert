@@ -3,6 +3,10 @@
 IN vec3 aPosition;
 IN vec3 aNormal;
 IN vec2 aUv;
+#ifdef HAS_COLOR
+IN vec3 aColor;     // per-vertex colour: multiplies Ka and Kd like a texture
+OUT vec3 vColor;
+#endif
 
 uniform mat4 uModelView;
 uniform mat4 uProjection;
@@ -25,6 +29,9 @@ void main() {
     vec4 eye = uModelView * vec4(aPosition, 1.0);
     vEyePos = eye.xyz;
     vUv = aUv;
+#ifdef HAS_COLOR
+    vColor = aColor;
+#endif
     vec3 n = uNormalMatrix * aNormal;
 #ifdef GOURAUD
 #if NUM_LIGHTS > 0

@@ -39,6 +39,10 @@ uniform sampler2D uOrmMap;       // r: occlusion, g: roughness, b: metallic (lin
 uniform sampler2D uEmissiveMap;  // sRGB
 #endif
 
+#ifdef HAS_COLOR
+IN vec3 vColor;
+#endif
+
 vec3 glviewSafeNormalize(vec3 n) {
     float len = length(n);
     return len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
@@ -56,6 +60,11 @@ void main() {
     vec3 albedo = uBaseColor;
 #ifdef HAS_ALBEDO_MAP
     albedo *= glviewToLinear(TEX2D(uAlbedoMap, vUv).rgb);
+#endif
+#ifdef HAS_COLOR
+    // Vertex colours are sRGB values that no sampler decodes: always decoded here.
+    albedo *= mix(vColor / 12.92, pow((vColor + 0.055) / 1.055, vec3(2.4)),
+                  step(0.04045, vColor));
 #endif
     float metallic = uMetallic;
     float rough = uRoughness;

@@ -2,6 +2,10 @@
 IN vec3 aPosition;
 IN vec3 aNormal;
 IN vec2 aUv;
+#ifdef HAS_COLOR
+IN vec3 aColor;     // per-vertex colour, sRGB like a base-colour map
+OUT vec3 vColor;
+#endif
 #ifdef HAS_NORMAL_MAP
 IN vec4 aTangent;
 #endif
@@ -24,6 +28,9 @@ void main() {
     vec4 eye = uModelView * vec4(aPosition, 1.0);
     vEyePos = eye.xyz;
     vUv = aUv;
+#ifdef HAS_COLOR
+    vColor = aColor;
+#endif
     vNormal = uNormalMatrix * aNormal;
 #ifdef HAS_NORMAL_MAP
     vTangent = vec4(uNormalMatrix * aTangent.xyz, aTangent.w);

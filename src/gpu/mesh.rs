@@ -12,55 +12,85 @@ pub struct GpuMesh {
     ibo: Buffer,
     /// Per-vertex tangents (xyz, w = handedness) for normal mapping, attribute 3.
     tangents: Option<Buffer>,
+    /// Per-vertex colours (rgb), attribute 4.
+    colors: Option<Buffer>,
     vao: Option<glow::VertexArray>,
     index_type: u32,
+    /// GL_TRIANGLES, GL_LINES or GL_POINTS.
+    mode: u32,
     pub index_count: i32,
 }
 
 /// Attribute location of the optional tangent stream.
 pub const TANGENT_ATTRIBUTE: u32 = 3;
+/// Attribute location of the optional colour stream.
+pub const COLOR_ATTRIBUTE: u32 = 4;
 
-fn set_attributes(gl: &glow::Context, vbo: &Buffer, tangents: Option<&Buffer>) {
+/// What the indices of a mesh describe.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Primitive {
+    Triangles,
+    Lines,
+    Points,
+}
+
+/// The optional per-vertex streams beside the interleaved [`Vertex`] array.
+#[derive(Clone, Copy, Default)]
+pub struct Streams<'a> {
+    pub tangents: Option<&'a [[f32; 4]]>,
+    pub colors: Option<&'a [[f32; 3]]>,
+}
+
+fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&Buffer>); 2]) {
     let stride = std::mem::size_of::<Vertex>() as i32;
-    // SAFETY: offsets match the #[repr(C)] Vertex layout; tangents are tightly packed vec4.
+    // SAFETY: offsets match the #[repr(C)] Vertex layout; extra streams are tightly packed
+    // float vectors of the given size.
     unsafe {
         vbo.bind();
         for (loc, size, offset) in [(0u32, 3, 0), (1, 3, 12), (2, 2, 24)] {
             gl.enable_vertex_attrib_array(loc);
             gl.vertex_attrib_pointer_f32(loc, size, glow::FLOAT, false, stride, offset);
         }
-        match tangents {
-            Some(t) => {
-                t.bind();
-                gl.enable_vertex_attrib_array(TANGENT_ATTRIBUTE);
-                gl.vertex_attrib_pointer_f32(TANGENT_ATTRIBUTE, 4, glow::FLOAT, false, 16, 0);
+        for (loc, size, buffer) in extra {
+            match buffer {
+                Some(b) => {
+                    b.bind();
+                    gl.enable_vertex_attrib_array(loc);
+                    gl.vertex_attrib_pointer_f32(loc, size, glow::FLOAT, false, size * 4, 0);
+                }
+                // A disabled array reads the current generic value: (0, 0, 0, 1).
+                None => gl.disable_vertex_attrib_array(loc),
             }
-            // A disabled array reads the current generic value: (0, 0, 0, 1).
-            None => gl.disable_vertex_attrib_array(TANGENT_ATTRIBUTE),
         }
     }
 }
 
 impl GpuMesh {
     pub fn new(gpu: &GpuRef, vertices: &[Vertex], indices: &[u32]) -> Result<GpuMesh> {
-        Self::with_tangents(gpu, vertices, indices, None)
+        Self::with_streams(
+            gpu,
+            vertices,
+            indices,
+            Streams::default(),
+            Primitive::Triangles,
+        )
     }
 
-    /// A mesh with a second vertex stream of tangents (one per vertex) where given.
-    pub fn with_tangents(
+    /// A mesh with optional streams of tangents and colours (one per vertex), whose indices
+    /// describe `primitive`s.
+    pub fn with_streams(
         gpu: &GpuRef,
         vertices: &[Vertex],
         indices: &[u32],
-        tangents: Option<&[[f32; 4]]>,
+        streams: Streams,
+        primitive: Primitive,
     ) -> Result<GpuMesh> {
-        let tangents = match tangents {
-            Some(t) => Some(Buffer::new_static(
-                gpu,
-                glow::ARRAY_BUFFER,
-                bytemuck::cast_slice(t),
-            )?),
-            None => None,
+        let stream = |data: Option<&[u8]>| -> Result<Option<Buffer>> {
+            data.map(|d| Buffer::new_static(gpu, glow::ARRAY_BUFFER, d))
+                .transpose()
         };
+        let tangents = stream(streams.tangents.map(bytemuck::cast_slice))?;
+        let colors = stream(streams.colors.map(bytemuck::cast_slice))?;
         let vbo = Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(vertices))?;
         // 16-bit indices where they suffice: half the memory, and the only kind ES 2 had.
         let (ibo, index_type) = if vertices.len() <= u16::MAX as usize + 1 {
@@ -94,7 +124,7 @@ impl GpuMesh {
                 let vao = gpu.gl.create_vertex_array().map_err(Error::Unsupported)?;
                 gpu.created();
                 gpu.gl.bind_vertex_array(Some(vao));
-                set_attributes(&gpu.gl, &vbo, tangents.as_ref());
+                set_attributes(&gpu.gl, &vbo, extra(&tangents, &colors));
                 ibo.bind();
                 gpu.gl.bind_vertex_array(None);
                 Some(vao)
@@ -107,8 +137,14 @@ impl GpuMesh {
             vbo,
             ibo,
             tangents,
+            colors,
             vao,
             index_type,
+            mode: match primitive {
+                Primitive::Triangles => glow::TRIANGLES,
+                Primitive::Lines => glow::LINES,
+                Primitive::Points => glow::POINTS,
+            },
             index_count: indices.len() as i32,
         })
     }
@@ -120,16 +156,26 @@ impl GpuMesh {
             match self.vao {
                 Some(vao) => gl.bind_vertex_array(Some(vao)),
                 None => {
-                    set_attributes(gl, &self.vbo, self.tangents.as_ref());
+                    set_attributes(gl, &self.vbo, extra(&self.tangents, &self.colors));
                     self.ibo.bind();
                 }
             }
-            gl.draw_elements(glow::TRIANGLES, self.index_count, self.index_type, 0);
+            gl.draw_elements(self.mode, self.index_count, self.index_type, 0);
             if self.vao.is_some() {
                 gl.bind_vertex_array(None);
             }
         }
     }
+}
+
+fn extra<'a>(
+    tangents: &'a Option<Buffer>,
+    colors: &'a Option<Buffer>,
+) -> [(u32, i32, Option<&'a Buffer>); 2] {
+    [
+        (TANGENT_ATTRIBUTE, 4, tangents.as_ref()),
+        (COLOR_ATTRIBUTE, 3, colors.as_ref()),
+    ]
 }
 
 impl Drop for GpuMesh {

@@ -7,11 +7,12 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Attribute locations, bound before linking so every program shares one vertex layout.
-pub const ATTRIBUTES: [(u32, &str); 4] = [
+pub const ATTRIBUTES: [(u32, &str); 5] = [
     (0, "aPosition"),
     (1, "aNormal"),
     (2, "aUv"),
     (3, "aTangent"),
+    (4, "aColor"),
 ];
 
 pub struct Program {

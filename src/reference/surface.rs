@@ -30,6 +30,9 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
     let ng = (pos[1] - pos[0]).cross(pos[2] - pos[0]).normalize_or_zero();
     let front = ng.dot(dir) < 0.0;
     let tex = texture_colour(ctx, mesh, hit, &w);
+    // Vertex colours: interpolated like any attribute; they multiply what a texture
+    // multiplies (Ka and Kd in the legacy tier, the base colour after sRGB decoding in PBR).
+    let vc = vertex_colour(mesh, hit, &w);
 
     let lights = &ctx.settings.lights;
     vis.clear();
@@ -49,7 +52,8 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
         let n = w[0] * normal_of(vtx[0].normal) + w[1] * normal_of(vtx[1].normal);
         let n = safe_normalize(n + w[2] * normal_of(vtx[2].normal), ctx.view.back);
         let n = if front { n } else { -n };
-        let s = super::pbr::surface(material, tex, &ctx.settings.lighting.pbr);
+        let mut s = super::pbr::surface(material, tex, &ctx.settings.lighting.pbr);
+        s.albedo *= vc.map(crate::pbr::srgb_decode);
         super::pbr::shade(ctx, &s, p, n, vis)
     } else if ctx.settings.shading == Shading::Gouraud {
         gouraud(
@@ -59,7 +63,7 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
             &vtx.map(|v| v.normal),
             &w,
             front,
-            tex,
+            tex * vc,
             vis,
         )
     } else {
@@ -68,7 +72,7 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
         let n = if front { n } else { -n };
         debug_assert!(n.is_normalized(), "normal {n} at {hit:?}");
         let params = &ctx.settings.lighting;
-        shade(material, tex, p, n, ctx.view.eye, lights, vis, params)
+        shade(material, tex * vc, p, n, ctx.view.eye, lights, vis, params)
     };
     Shaded { color, shadowed }
 }
@@ -107,6 +111,18 @@ fn light_visible(ctx: &Context, p: DVec3, ng: DVec3, light: &Light) -> bool {
         LightKind::Point(q) => !ctx.opaque.occluded(o, q.as_dvec3() - o, 0.0, 1.0),
         LightKind::Directional(_) => !ctx.opaque.occluded(o, towards, 0.0, f64::INFINITY),
     }
+}
+
+/// The interpolated vertex colour at the hit (white where the mesh has none).
+fn vertex_colour(mesh: &Mesh, hit: &Hit, w: &[f64; 3]) -> DVec3 {
+    if mesh.colors.len() != mesh.vertices.len() {
+        return DVec3::ONE;
+    }
+    let base = 3 * hit.tri.tri as usize;
+    (0..3).fold(DVec3::ZERO, |a, k| {
+        let c = mesh.colors[mesh.indices[base + k] as usize];
+        a + w[k] * DVec3::from(c.map(f64::from))
+    })
 }
 
 /// The diffuse map's colour at the hit (white without one), sampled like GL_LINEAR at level 0

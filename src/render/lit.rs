@@ -26,6 +26,7 @@ pub fn program_key(
     cube_mask: u8,
     textured: bool,
     gouraud: bool,
+    colored: bool,
 ) -> ProgramKey {
     shadow_flags(
         ProgramKey::new("lit", "lit.vert", "lit.frag"),
@@ -36,6 +37,7 @@ pub fn program_key(
     )
     .switch("HAS_TEXTURE", "tex", textured)
     .switch("GOURAUD", "gouraud", gouraud)
+    .switch("HAS_COLOR", "vc", colored)
 }
 
 /// The light and shadow flags both lit tiers share (labels `l{n},s{n},pcf{n}[,cube{mask}]`).
@@ -240,9 +242,9 @@ pub(crate) fn draw(
     let mut bound_texture = None;
     let mut uniforms_set: Vec<ProgramKey> = Vec::new();
     for &i in meshes {
-        let (texture, material, translucent) = {
+        let (texture, material, translucent, colored) = {
             let dm = &cx.scene.meshes[i];
-            (dm.texture, dm.material, dm.translucent)
+            (dm.texture, dm.material, dm.translucent, dm.has_colors)
         };
         let key = program_key(
             v.lights,
@@ -251,6 +253,7 @@ pub(crate) fn draw(
             v.cube_mask,
             texture.is_some(),
             s.shading == Shading::Gouraud,
+            colored,
         );
         let key = cx.lit_flags(key);
         let program = cx.program(&key)?;

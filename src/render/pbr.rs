@@ -37,6 +37,8 @@ pub struct Maps {
     pub normal: bool,
     pub orm: bool,
     pub emissive: bool,
+    /// Per-vertex colours (they multiply the base colour like the albedo map).
+    pub color: bool,
 }
 
 /// Per-program options of the tier.
@@ -71,6 +73,7 @@ pub fn program_key(
     .switch("HAS_NORMAL_MAP", "nrm", maps.normal)
     .switch("HAS_ORM_MAP", "orm", maps.orm)
     .switch("HAS_EMISSIVE_MAP", "emi", maps.emissive)
+    .switch("HAS_COLOR", "vc", maps.color)
     .switch("IBL_RGBM", "rgbm", o.rgbm)
     .switch("SRGB_DECODE_IN_SHADER", "srgbsh", o.srgb_in_shader)
     .switch("DOMINANT_DIRECTION", "dom", o.dominant)
@@ -93,6 +96,7 @@ pub fn all_keys(lights: u8, shadows: u8, pcf: u8, cube_mask: u8) -> Vec<ProgramK
         normal: true,
         orm: true,
         emissive: true,
+        color: true,
     };
     let every = Options {
         rgbm: true,
@@ -290,9 +294,15 @@ fn draw(
     let on = |b: bool| if b { 1.0 } else { 0.0 };
     let mut uniforms_set: Vec<ProgramKey> = Vec::new();
     for &i in meshes {
-        let (material, translucent, has_uv, has_tangents) = {
+        let (material, translucent, has_uv, has_tangents, color) = {
             let dm = &cx.scene.meshes[i];
-            (dm.material, dm.translucent, dm.has_uv, dm.has_tangents)
+            (
+                dm.material,
+                dm.translucent,
+                dm.has_uv,
+                dm.has_tangents,
+                dm.has_colors,
+            )
         };
         let mm = cx.res.pbr_textures.as_ref().expect("made above").materials[material];
         let maps = Maps {
@@ -300,6 +310,7 @@ fn draw(
             normal: has_tangents && mm.normal.is_some(),
             orm: has_uv && mm.orm.is_some(),
             emissive: has_uv && mm.emissive.is_some(),
+            color,
         };
         let key = cx.lit_flags(
             program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts).mask(

@@ -108,7 +108,10 @@ pub fn effective_size(gpu: &GpuRef, s: &FrameSettings, target: &Target) -> u32 {
 /// Runs the depth pass if needed; afterwards `r.shadow.maps` holds one map per casting light.
 fn run(cx: &mut FrameCx) -> Result<Outcome> {
     let (s, target) = (cx.settings, cx.target);
-    if let Some(reason) = skip_reason(cx.gpu, s) {
+    let no_casters = !cx.scene.meshes.iter().any(|m| m.casts_shadow());
+    let reason =
+        skip_reason(cx.gpu, s).or(no_casters.then_some("no opaque triangles to cast a shadow"));
+    if let Some(reason) = reason {
         cx.stats.shadow = reason.into();
         cx.res.shadow.maps.clear();
         cx.res.shadow.key = None;
@@ -213,7 +216,7 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
                 gpu.clear(None);
             }
             program.set_mat4("uLightMvp", vp);
-            for m in cx.scene.meshes.iter().filter(|m| !m.translucent) {
+            for m in cx.scene.meshes.iter().filter(|m| m.casts_shadow()) {
                 m.mesh.draw();
                 cx.stats.draw_calls += 1;
                 cx.stats.triangles += m.triangles;

@@ -1,7 +1,7 @@
 //! The scene in GPU buffers: one static mesh per scene mesh (with a tangent stream where its
 //! material has a normal map), diffuse textures deduplicated by file, and per-mesh bounds for
 //! culling. Shared by every pass.
-use crate::gpu::mesh::GpuMesh;
+use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
 use crate::scene::Scene;
@@ -19,6 +19,17 @@ pub(crate) struct DrawMesh {
     pub translucent: bool,
     pub has_uv: bool,
     pub has_tangents: bool,
+    /// Per-vertex colours multiply the diffuse colour (attribute 4, `HAS_COLOR`).
+    pub has_colors: bool,
+    /// Triangles, or the scene's lines and points (drawn lit flat, casting no shadow).
+    pub primitive: Primitive,
+}
+
+impl DrawMesh {
+    /// Translucent meshes, lines and points cast no shadow.
+    pub fn casts_shadow(&self) -> bool {
+        !self.translucent && self.primitive == Primitive::Triangles
+    }
 }
 
 pub(crate) struct SceneGpu {
@@ -62,7 +73,11 @@ pub(crate) fn fit_texture(
 }
 
 impl SceneGpu {
-    pub fn new(gpu: &GpuRef, scene: Scene) -> Result<SceneGpu> {
+    pub fn new(gpu: &GpuRef, mut scene: Scene) -> Result<SceneGpu> {
+        // Lines and points are drawn with material 0; a file of only lines has none.
+        if scene.materials.is_empty() {
+            scene.materials.push(crate::scene::Material::default());
+        }
         let mut textures: Vec<Texture2d> = Vec::new();
         let mut texture_paths = Vec::new();
         let mut meshes = Vec::with_capacity(scene.meshes.len());
@@ -91,8 +106,19 @@ impl SceneGpu {
                 .fold(0.0f32, f32::max);
             let tangents = (m.has_uv && mat.pbr_inputs.normal_map.is_some())
                 .then(|| crate::scene::tangents::generate(m));
+            let colors = (m.colors.len() == m.vertices.len()).then_some(m.colors.as_slice());
+            let streams = Streams {
+                tangents: tangents.as_deref(),
+                colors,
+            };
             meshes.push(DrawMesh {
-                mesh: GpuMesh::with_tangents(gpu, &m.vertices, &m.indices, tangents.as_deref())?,
+                mesh: GpuMesh::with_streams(
+                    gpu,
+                    &m.vertices,
+                    &m.indices,
+                    streams,
+                    Primitive::Triangles,
+                )?,
                 material: m.material,
                 texture,
                 center,
@@ -101,8 +127,11 @@ impl SceneGpu {
                 translucent: mat.is_translucent(),
                 has_uv: m.has_uv,
                 has_tangents: tangents.is_some(),
+                has_colors: colors.is_some(),
+                primitive: Primitive::Triangles,
             });
         }
+        meshes.extend(wire_meshes(gpu, &scene)?);
         gpu.check_error("upload")?;
         let caps = &gpu.caps;
         if !caps.depth_texture || !caps.shadow_compare {
@@ -145,4 +174,55 @@ fn frustum_planes(m: &glam::Mat4) -> [glam::Vec4; 6] {
         r[3] + r[2],
         r[3] - r[2],
     ]
+}
+
+/// The scene's lines and points (`l`, `p`) as two meshes of GL_LINES and GL_POINTS, with the
+/// default material (index 0) and zero normals: the lit programs' `safeNormalize` turns a
+/// zero normal towards the eye, so a line is lit flat, as a face looking at the camera.
+fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
+    let w = &scene.wire;
+    let vertices: Vec<crate::scene::Vertex> = w
+        .positions
+        .iter()
+        .map(|&position| crate::scene::Vertex {
+            position,
+            normal: [0.0; 3],
+            uv: [0.0; 2],
+        })
+        .collect();
+    let mut b = crate::scene::Bounds::empty();
+    for v in &w.positions {
+        b.include((*v).into());
+    }
+    let center = b.center();
+    let radius = w
+        .positions
+        .iter()
+        .map(|v| (Vec3::from(*v) - center).length())
+        .fold(0.0f32, f32::max);
+    let segments: Vec<u32> = w.segments.iter().flatten().copied().collect();
+    let mut out = Vec::new();
+    for (indices, primitive) in [
+        (segments, Primitive::Lines),
+        (w.points.clone(), Primitive::Points),
+    ] {
+        if indices.is_empty() {
+            continue;
+        }
+        let mesh = GpuMesh::with_streams(gpu, &vertices, &indices, Streams::default(), primitive)?;
+        out.push(DrawMesh {
+            mesh,
+            material: 0,
+            texture: None,
+            center,
+            radius,
+            triangles: 0,
+            translucent: false,
+            has_uv: false,
+            has_tangents: false,
+            has_colors: false,
+            primitive,
+        });
+    }
+    Ok(out)
 }

@@ -223,8 +223,10 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
         for (shadows, pcf, cube_mask) in shadow_variants {
             for textured in [false, true] {
                 for gouraud in [false, true] {
+                    // Vertex colours with the textured variants: every flag is compiled
+                    // without doubling the permutations.
                     keys.push(crate::render::lit::program_key(
-                        lights, shadows, pcf, cube_mask, textured, gouraud,
+                        lights, shadows, pcf, cube_mask, textured, gouraud, textured,
                     ));
                 }
             }

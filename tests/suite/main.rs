@@ -28,4 +28,5 @@ mod stats;
 mod stress;
 mod translucency;
 mod window;
+mod wire_colors;
 mod xvfb;
