@@ -30,7 +30,8 @@ pub struct KeptContext {
 pub struct Profile {
     /// The loader's own stages (read, repair, parse, textures, meshes, normals, finish).
     pub load: Option<LoadProfile>,
-    /// Loading as seen from here (arguments to scene, textures included).
+    /// Loading as seen from here (arguments to scene, textures included). It runs on another
+    /// thread while the context is made, so the two overlap.
     pub load_ms: f64,
     pub context_ms: f64,
     /// Vertex/index buffers and textures to the GPU.
@@ -49,13 +50,13 @@ fn ms(since: Instant) -> f64 {
     since.elapsed().as_secs_f64() * 1e3
 }
 
-/// The kept context for `args` (made, or re-targeted to the picture's size).
-fn context<'a>(
+/// Makes sure `kept` is a context for `args` (made, or re-targeted to the picture's size).
+fn context(
     args: &Args,
     size: (u32, u32),
-    kept: &'a mut Option<KeptContext>,
+    kept: &mut Option<KeptContext>,
     profile: &mut Profile,
-) -> Result<&'a mut KeptContext> {
+) -> Result<()> {
     let request = (args.backend, args.gl);
     let reused = match kept {
         Some(c) if c.request == request => c.hl.reset_target(size.0, size.1).is_ok(),
@@ -78,7 +79,16 @@ fn context<'a>(
     if args.aa == AaMode::Msaa {
         kept.hl.enable_msaa(args.aa_samples)?;
     }
-    Ok(kept)
+    Ok(())
+}
+
+/// Loads the scene of `args` (on whatever thread calls it) with its time and the loader's
+/// own profile, which is recorded per thread.
+fn load(args: &Args) -> (Result<crate::scene::Scene>, f64, Option<LoadProfile>) {
+    let t = Instant::now();
+    crate::scene::profile::take_last();
+    let scene = load_scene(args);
+    (scene, ms(t), crate::scene::profile::take_last())
 }
 
 /// Renders the model of `args` into `path`, reusing `kept` when it was made for the same
@@ -101,17 +111,37 @@ pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Resul
     } else {
         1
     };
-    let kept = context(args, (w * k, h * k), kept, &mut profile)?;
     // The same words but for camera, size and keys (a turntable, a camera sweep): the same
     // scene, environment and lights, so the renderer and what it uploaded are kept.
     let key = crate::repro::scene_key(args);
-    if kept.renderer.as_ref().is_none_or(|(k, _)| *k != key) {
-        kept.renderer = None;
-        let t = Instant::now();
-        crate::scene::profile::take_last();
-        let scene = load_scene(args)?;
-        profile.load_ms = ms(t);
-        profile.load = crate::scene::profile::take_last();
+    let reuse = kept.as_ref().is_some_and(|c| {
+        c.request == (args.backend, args.gl) && c.renderer.as_ref().is_some_and(|(k, _)| *k == key)
+    });
+    let size = (w * k, h * k);
+    let scene = if reuse {
+        context(args, size, kept, &mut profile)?;
+        None
+    } else {
+        // The old renderer goes before a new context or scene is made.
+        if let Some(c) = kept.as_mut() {
+            c.renderer = None;
+        }
+        // Loading needs no GL: it runs on another thread while this one makes the context
+        // (which must stay current here), so start-up costs the longer of the two.
+        let (made, loaded) = std::thread::scope(|s| {
+            let loader = s.spawn(|| load(args));
+            let made = context(args, size, kept, &mut profile);
+            (made, loader.join())
+        });
+        made?;
+        let (scene, load_ms, load_profile) =
+            loaded.map_err(|_| crate::Error::Unsupported("the model loader panicked".into()))?;
+        profile.load_ms = load_ms;
+        profile.load = load_profile;
+        Some(scene?)
+    };
+    let kept = kept.as_mut().expect("context made above");
+    if let Some(scene) = scene {
         let t = Instant::now();
         let mut r = Renderer::new(&kept.hl.gpu, scene)?;
         profile.upload_ms = ms(t);

@@ -186,22 +186,27 @@ fn stats_profile_covers_every_stage_of_a_picture() {
         std::fs::metadata(&obj).unwrap().len()
     );
     assert!(load["parse_ms"].as_f64().unwrap() > 0.0, "{load}");
-    // The parts add up to no more than the whole.
-    let parts: f64 = [
-        "load_ms",
-        "context_ms",
-        "upload_ms",
-        "readback_ms",
-        "encode_ms",
-    ]
-    .iter()
-    .map(|k| p[k].as_f64().unwrap())
-    .sum::<f64>()
+    // Loading runs beside context creation, so the whole is at least the longer of the two
+    // plus everything after them, and less than all parts in a row when both took time.
+    let f = |k: &str| p[k].as_f64().unwrap();
+    let after: f64 = ["upload_ms", "readback_ms", "encode_ms"]
+        .iter()
+        .map(|k| f(k))
+        .sum::<f64>()
         + p["frames_ms"]
             .as_array()
             .unwrap()
             .iter()
             .map(|v| v.as_f64().unwrap())
             .sum::<f64>();
-    assert!(parts <= p["total_ms"].as_f64().unwrap() + 0.5, "{p}");
+    let total = f("total_ms");
+    assert!(
+        f("load_ms").max(f("context_ms")) + after <= total + 0.5,
+        "{p}"
+    );
+    eprintln!(
+        "load {:.1} ms ‖ context {:.1} ms, then {after:.1} ms: total {total:.1} ms",
+        f("load_ms"),
+        f("context_ms")
+    );
 }
