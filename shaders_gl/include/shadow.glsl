@@ -44,8 +44,29 @@ float shadowLookup(sampler2DShadow map, vec4 c, vec2 texel, vec4 tile, bool clam
 #endif
 }
 
+uniform float uTerminatorLift;  // per mesh: a quarter of its mean edge length (eye space)
+
+// The shadow terminator of coarse smooth meshes: where the shading normal n turns towards
+// light i but the facet itself faces away, the facet lies in the shadow of its own lit
+// neighbours and shows as a dark triangle inside the lit side. There the lookup rises along n
+// by uTerminatorLift, to about the smooth surface the normals describe (the idea of Chiang,
+// Li and Burley's terminator offset, with a per-mesh height since GLSL 1.20 has no access to
+// the triangle's corners). The facet's plane comes from the position's derivatives. The CPU
+// reference applies the same rule to its shadow rays (src/reference/surface.rs).
+vec3 terminatorLift(int i, vec3 p, vec3 n) {
+    vec3 ng = cross(dFdx(p), dFdy(p));
+    float len = length(ng);
+    if (len <= 0.0) return p;
+    ng /= len;
+    if (dot(ng, n) < 0.0) ng = -ng;
+    vec4 lp = uLightPos[i];
+    vec3 l = lp.w == 0.0 ? lp.xyz : normalize(lp.xyz - p);
+    return (dot(n, l) > 0.0 && dot(ng, l) <= 0.0) ? p + n * uTerminatorLift : p;
+}
+
 // Visibility of light i at eye-space point p with unit normal n; cube > 0.5 for an atlas.
 float shadowVisibility(sampler2DShadow map, int i, float cube, vec3 p, vec3 n) {
+    p = terminatorLift(i, p, n);
     // Normal offset: look the shadow up a little off the surface, which removes acne on
     // slopes without the large depth bias that would detach shadows from their casters.
     vec4 ps = vec4(p + n * uShadowNormalOffset[i], 1.0);

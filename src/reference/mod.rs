@@ -70,6 +70,8 @@ pub struct Context<'a> {
     pub env: Option<std::sync::Arc<crate::pbr::env::Environment>>,
     /// Monte Carlo samples per lobe for the PBR tier's image-based light.
     pub pbr_samples: u32,
+    /// Per mesh: the shadow-terminator lift (see `surface::light_visible`).
+    pub terminator_lift: Vec<f64>,
 }
 
 impl<'a> Context<'a> {
@@ -102,6 +104,11 @@ impl<'a> Context<'a> {
             epsilon: 1e-7 * f64::from(scene.bounds.radius()),
             env: None,
             pbr_samples: pbr::DEFAULT_SAMPLES,
+            terminator_lift: scene
+                .meshes
+                .iter()
+                .map(crate::scene::terminator_lift)
+                .collect(),
         }
     }
 }

@@ -34,13 +34,18 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
     // multiplies (Ka and Kd in the legacy tier, the base colour after sRGB decoding in PBR).
     let vc = vertex_colour(mesh, hit, &w);
 
+    // The interpolated normal, turned to the viewer's side of the facet like the GPU's.
+    let ns = w[0] * normal_of(vtx[0].normal) + w[1] * normal_of(vtx[1].normal);
+    let ns = safe_normalize(ns + w[2] * normal_of(vtx[2].normal), ctx.view.back);
+    let ns = if front { ns } else { -ns };
+    let lift = ctx.terminator_lift[hit.tri.mesh as usize];
     let lights = &ctx.settings.lights;
     vis.clear();
     let mut shadowed = 0;
     for (i, light) in lights.iter().enumerate() {
         // Only the first `shadow_casters` lights cast, as on the GPU.
         let casts = i < usize::from(ctx.settings.lighting.shadow_casters);
-        let lit = !ctx.shadows || !casts || light_visible(ctx, p, ng, light);
+        let lit = !ctx.shadows || !casts || light_visible(ctx, p, ng, ns, lift, light);
         if !lit && i < 32 {
             shadowed |= 1 << i;
         }
@@ -100,7 +105,19 @@ fn safe_normalize(n: DVec3, fallback: DVec3) -> DVec3 {
 /// coordinates and orders below anything a pixel resolves. Stepping to the light's side
 /// means a triangle never shadows itself; on a closed mesh a facet that faces away from the
 /// light is still shadowed by the mesh's lit side, as in the limit of a shadow map.
-fn light_visible(ctx: &Context, p: DVec3, ng: DVec3, light: &Light) -> bool {
+///
+/// The shadow terminator rule of `shadow.glsl`: where the shading normal `ns` faces the light
+/// but the facet (`ng`, turned to `ns`'s side) faces away, the facet would be shadowed by its
+/// own lit neighbours (dark triangles inside the lit side of coarse smooth meshes); there the
+/// ray starts `lift` along `ns` instead, at about the smooth surface the normals describe.
+fn light_visible(ctx: &Context, p: DVec3, ng: DVec3, ns: DVec3, lift: f64, light: &Light) -> bool {
+    let towards = match light.kind {
+        LightKind::Point(q) => q.as_dvec3() - p,
+        LightKind::Directional(d) => -d.as_dvec3(),
+    };
+    let ngs = if ng.dot(ns) < 0.0 { -ng } else { ng };
+    let band = ns.dot(towards) > 0.0 && ngs.dot(towards) <= 0.0;
+    let p = if band { p + ns * lift } else { p };
     let towards = match light.kind {
         LightKind::Point(q) => q.as_dvec3() - p,
         LightKind::Directional(d) => -d.as_dvec3(),

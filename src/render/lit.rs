@@ -271,6 +271,7 @@ pub(crate) fn draw(
         program.set_vec3("uKs", Vec3::from(mat.specular));
         program.set_vec3("uKe", Vec3::from(mat.emissive));
         program.set_f32("uNs", mat.shininess);
+        program.set_f32("uTerminatorLift", cx.scene.meshes[i].terminator_lift);
         program.set_f32(
             "uOpacity",
             super::translucent::opacity(cx, mat, translucent),

@@ -361,6 +361,7 @@ fn draw(
             p.base_color.unwrap_or(Vec3::from(values.base_color)),
         );
         program.set_f32("uMetallic", p.metallic.unwrap_or(values.metallic));
+        program.set_f32("uTerminatorLift", cx.scene.meshes[i].terminator_lift);
         program.set_f32("uRoughness", p.roughness.unwrap_or(values.roughness));
         program.set_vec3("uEmissive", Vec3::from(values.emissive));
         program.set_f32(

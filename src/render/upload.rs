@@ -23,6 +23,8 @@ pub(crate) struct DrawMesh {
     pub has_colors: bool,
     /// Triangles, or the scene's lines and points (drawn lit flat, casting no shadow).
     pub primitive: Primitive,
+    /// How far a shadow lookup rises in the terminator band (`uTerminatorLift`).
+    pub terminator_lift: f32,
 }
 
 impl DrawMesh {
@@ -129,6 +131,7 @@ impl SceneGpu {
                 has_tangents: tangents.is_some(),
                 has_colors: colors.is_some(),
                 primitive: Primitive::Triangles,
+                terminator_lift: crate::scene::terminator_lift(m) as f32,
             });
         }
         meshes.extend(wire_meshes(gpu, &scene)?);
@@ -222,6 +225,7 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
             has_tangents: false,
             has_colors: false,
             primitive,
+            terminator_lift: 0.0,
         });
     }
     Ok(out)

@@ -47,6 +47,22 @@ pub struct Mesh {
     pub colors: Vec<[f32; 3]>,
 }
 
+/// The shadow-terminator lift of a mesh: a quarter of its mean edge length (f64, local
+/// units). The GPU (`shadow.glsl`) and the reference raise shadow lookups by it where the
+/// shading normal faces a light that the facet itself faces away from.
+pub fn terminator_lift(m: &Mesh) -> f64 {
+    let p = |i: u32| glam::DVec3::from(m.vertices[i as usize].position.map(f64::from));
+    let (sum, n) = m.indices.chunks_exact(3).fold((0.0, 0usize), |(s, n), t| {
+        let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+        (s + a.distance(b) + b.distance(c) + c.distance(a), n + 3)
+    });
+    if n == 0 {
+        0.0
+    } else {
+        0.25 * sum / n as f64
+    }
+}
+
 impl Mesh {
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3

@@ -26,6 +26,7 @@ mod shaders;
 mod shadows;
 mod stats;
 mod stress;
+mod terminator;
 mod translucency;
 mod window;
 mod wire_colors;
