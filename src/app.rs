@@ -102,7 +102,8 @@ impl App<'_> {
             .with_inner_size(self.size);
         let window = WindowContext::new(event_loop, attributes, self.args.gl)?;
         let gpu = Gpu::new(window.glow_context());
-        let renderer = Renderer::new(&gpu, scene)?;
+        let mut renderer = Renderer::new(&gpu, scene)?;
+        renderer.time_post = self.args.stats;
         self.size = window.window.inner_size();
         window.resize(self.size.width, self.size.height);
         let live = Live {

@@ -501,6 +501,7 @@ pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
     };
     let text = png_text(gpu, &settings, &scene);
     let mut renderer = crate::render::Renderer::new(&hl.gpu, scene)?;
+    renderer.time_post = args.stats;
     renderer.set_environment(env_request(args)?);
     for _ in 0..args.frames.max(1) {
         let stats = renderer.render(&settings, &hl.target())?;

@@ -52,3 +52,17 @@ vec3 glviewOutput(vec3 c) {
     return clamp(c, 0.0, 1.0);
 }
 #endif
+
+// What a lit fragment writes: the output colour and its opacity; with FRAME_RGBM (bloom where
+// there are no float render targets: the linear frame in the 8-bit default framebuffer) the
+// alpha channel holds the RGBM multiplier instead, see rgbm.glsl.
+#ifdef FRAME_RGBM
+#include "rgbm.glsl"
+vec4 glviewOutputRgba(vec3 c, float a) {
+    return glviewRgbmEncode(glviewOutput(c));
+}
+#else
+vec4 glviewOutputRgba(vec3 c, float a) {
+    return vec4(glviewOutput(c), a);
+}
+#endif

@@ -455,6 +455,29 @@ impl Texture2d {
     }
 }
 
+impl Texture2d {
+    /// Copies the `self.width`×`self.height` rectangle at (x, y) of the bound read framebuffer
+    /// into level 0 (glCopyTexSubImage2D, GL 1.1 / ES 2.0): how post-processing reads the frame
+    /// on drivers without framebuffer objects.
+    pub fn copy_region_from_framebuffer(&self, x: u32, y: u32) {
+        // SAFETY: level 0 is allocated at this size; the caller keeps the rectangle inside
+        // the (single-sampled) read framebuffer.
+        unsafe {
+            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.gl.copy_tex_sub_image_2d(
+                glow::TEXTURE_2D,
+                0,
+                0,
+                0,
+                x as i32,
+                y as i32,
+                self.width as i32,
+                self.height as i32,
+            );
+        }
+    }
+}
+
 impl Drop for Texture2d {
     fn drop(&mut self) {
         // SAFETY: deleting our own texture once.

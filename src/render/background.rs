@@ -109,7 +109,8 @@ fn draw_skybox(cx: &mut FrameCx, state: RenderState) -> Result<String> {
         "LINEAR_OUTPUT",
         "lin",
         cx.linear,
-    );
+    )
+    .switch("FRAME_RGBM", "hdr8", cx.rgbm);
     let program = cx.program(&key)?;
     program.bind();
     let view = s.camera.view();

@@ -32,6 +32,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/include/output.glsl"),
     ),
     (
+        "rgbm.glsl",
+        include_str!("../../shaders_gl/include/rgbm.glsl"),
+    ),
+    (
         "brdf.glsl",
         include_str!("../../shaders_gl/include/brdf.glsl"),
     ),
