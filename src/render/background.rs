@@ -105,12 +105,9 @@ fn draw_skybox(cx: &mut FrameCx, state: RenderState) -> Result<String> {
     let level = ((pbr.skybox_blur.clamp(0.0, 1.0) * (n - 1) as f32).round() as usize).min(n - 1);
     ibl.specular[level].bind(SKY_UNIT);
     cx.stats.textures_bound += 1;
-    let key = skybox_key(rgbm, s.lighting.output.tonemap.code()).switch(
-        "LINEAR_OUTPUT",
-        "lin",
-        cx.linear,
-    )
-    .switch("FRAME_RGBM", "hdr8", cx.rgbm);
+    let key = skybox_key(rgbm, s.lighting.output.tonemap.code())
+        .switch("LINEAR_OUTPUT", "lin", cx.linear)
+        .switch("FRAME_RGBM", "hdr8", cx.rgbm);
     let program = cx.program(&key)?;
     program.bind();
     let view = s.camera.view();

@@ -391,7 +391,9 @@ pub(crate) fn run(cx: &mut FrameCx, bloom_on: bool, laps: &mut Laps) -> Result<S
     let comp = if composite { "composite" } else { "" };
     Ok(match level {
         Some(l) => format!("post({path}bloom 1/{}, {comp}{fx})", 1 << l),
-        None => format!("post({path}{comp}{fx})").replace("(, ", "(").replace(", )", ")"),
+        None => format!("post({path}{comp}{fx})")
+            .replace("(, ", "(")
+            .replace(", )", ")"),
     })
 }
 
