@@ -4,6 +4,7 @@
 //! that ran (`passes`) and every decision (`pass_log`).
 //!
 //! Frame: shadow depth → background → legacy lit | PBR lit → teaching view.
+pub mod aa;
 pub mod background;
 pub mod frusta;
 pub mod ibl;

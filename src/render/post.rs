@@ -171,7 +171,7 @@ pub fn keys() -> Vec<ProgramKey> {
                 composite_key(Some(3), rgbm),
             ]
         })
-        .chain([key("fxaa.frag", "fxaa", false)])
+        .chain([key("fxaa.frag", "fxaa", false), super::aa::box_key()])
         .collect()
 }
 

@@ -71,6 +71,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/post/composite.frag"),
     ),
     ("fxaa.frag", include_str!("../../shaders_gl/post/fxaa.frag")),
+    ("box.frag", include_str!("../../shaders_gl/post/box.frag")),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
