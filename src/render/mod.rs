@@ -224,6 +224,18 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
                 background::skybox_key(true, tm),
             ]
         }))
+        .chain(post::keys())
+        // The copy path's RGBM-encoded linear frame (bloom without float render targets).
+        .chain(
+            [
+                background::skybox_key(true, 3),
+                lit::program_key(1, 1, 1, 0, true, false),
+            ]
+            .map(|k| {
+                k.switch("LINEAR_OUTPUT", "lin", true)
+                    .switch("FRAME_RGBM", "hdr8", true)
+            }),
+        )
         .collect()
 }
 
