@@ -3,7 +3,7 @@
 //! kept between frames) and either draws or says why it did not. `--stats` lists the passes
 //! that ran (`passes`) and every decision (`pass_log`).
 //!
-//! Frame: shadow depth → background → legacy lit | PBR lit → teaching view.
+//! Frame: shadow depth → background → legacy lit | PBR lit → teaching view → post (post.rs).
 pub mod aa;
 pub mod background;
 pub mod frusta;
