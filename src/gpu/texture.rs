@@ -461,8 +461,11 @@ impl Texture2d {
     /// on drivers without framebuffer objects.
     pub fn copy_region_from_framebuffer(&self, x: u32, y: u32) {
         // SAFETY: level 0 is allocated at this size; the caller keeps the rectangle inside
-        // the (single-sampled) read framebuffer.
+        // the (single-sampled) read framebuffer. Unit 0, which every post step rebinds before
+        // it draws: binding on whatever unit was active would replace a texture a lit pass
+        // keeps bound across frames.
         unsafe {
+            self.gpu.gl.active_texture(glow::TEXTURE0);
             self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
             self.gpu.gl.copy_tex_sub_image_2d(
                 glow::TEXTURE_2D,

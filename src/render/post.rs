@@ -402,6 +402,11 @@ pub(crate) fn run(cx: &mut FrameCx, bloom_on: bool, laps: &mut Laps) -> Result<S
 fn finish(cx: &mut FrameCx, bloom_level: Option<usize>, laps: &mut Laps) -> Result<()> {
     let rgbm = copy_path(cx.gpu);
     let s = cx.settings;
+    if s.lighting.post.fxaa {
+        // Made before the inputs are bound: creating a texture binds it on the active unit.
+        let [_, _, w, h] = cx.viewport;
+        ensure(&mut cx.res.post.display, cx.gpu, w, h, false, true)?;
+    }
     let tonemap = (s.shading == Shading::Pbr).then(|| s.lighting.output.tonemap.code());
     let p = cx.program(&composite_key(tonemap, rgbm))?;
     p.bind();
@@ -437,8 +442,6 @@ fn finish(cx: &mut FrameCx, bloom_level: Option<usize>, laps: &mut Laps) -> Resu
     cx.gpu.apply(&RenderState::overlay());
     if s.lighting.post.fxaa {
         // Composite into a display image first: FXAA works on what is shown.
-        let [_, _, w, h] = cx.viewport;
-        ensure(&mut cx.res.post.display, cx.gpu, w, h, false, true)?;
         let r = &*cx.res;
         let d = r.post.display.as_ref().expect("made above");
         draw_into(
