@@ -272,6 +272,7 @@ pub(crate) fn draw(
             "uOpacity",
             super::translucent::opacity(cx, mat, translucent),
         );
+        cx.set_rgbm_blend(&program);
         if let Some(t) = texture {
             if bound_texture != Some(t) {
                 cx.scene.textures[t].bind(0);

@@ -105,6 +105,8 @@ pub(crate) struct FrameCx<'a> {
     pub linear: bool,
     /// The linear frame is RGBM-encoded in the 8-bit target (bloom on the copy path).
     pub rgbm: bool,
+    /// RGBM only: how lit draws blend in the shader (`uRgbmBlend`: 0 off, 1 alpha, 2 add).
+    pub rgbm_blend: f32,
 }
 
 impl FrameCx<'_> {
@@ -163,6 +165,19 @@ impl FrameCx<'_> {
         )
         .switch("LINEAR_OUTPUT", "lin", self.linear)
         .switch("FRAME_RGBM", "hdr8", self.rgbm)
+    }
+
+    /// The RGBM blending uniforms of a lit program (no-ops on other programs).
+    pub fn set_rgbm_blend(&self, p: &crate::gpu::program::Program) {
+        if self.rgbm {
+            let [x, y, w, h] = self.viewport;
+            p.set_f32("uRgbmBlend", self.rgbm_blend);
+            p.set_i32("uBehind", translucent::BEHIND_UNIT as i32);
+            p.set_vec4(
+                "uBehindRect",
+                glam::Vec4::new(x as f32, y as f32, w as f32, h as f32),
+            );
+        }
     }
 
     /// Draws the full-screen quad with `state` (one draw call).
@@ -311,10 +326,15 @@ impl Renderer {
             let mut bloom_on = post.bloom.strength > 0.0;
             if copy && bloom_on {
                 // RGBM takes the alpha channel: no coverage to keep, no opacity to blend with.
+                let glass = self.scene.meshes.iter().any(|m| m.translucent);
                 let why = if post.transparent {
                     Some("--transparent: the 8-bit frame's alpha would hold the RGBM multiplier")
-                } else if self.scene.meshes.iter().any(|m| m.translucent) {
-                    Some("translucent surfaces cannot blend into an RGBM-encoded frame")
+                } else if glass
+                    && s.lighting.translucency.mode != crate::frame::TranslucencyMode::Nearest
+                {
+                    Some("--translucency sorted blends layer over layer, which an RGBM-encoded frame cannot")
+                } else if glass && self.gpu.caps.max_texture_units <= translucent::BEHIND_UNIT {
+                    Some("no texture unit is left for the copy translucent surfaces blend over")
                 } else {
                     None
                 };
@@ -349,6 +369,7 @@ impl Renderer {
                 stats: &mut stats,
                 linear: offscreen || rgbm,
                 rgbm,
+                rgbm_blend: 0.0,
             };
             for pass in PASSES {
                 match pass.run(&mut cx)? {

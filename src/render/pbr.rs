@@ -24,6 +24,8 @@ const LUT_UNIT: u32 = IRRADIANCE_UNIT + 1;
 const SPECULAR_UNIT: u32 = LUT_UNIT + 1;
 /// Specular levels the shader can take (`uSpecular0..7`).
 pub const MAX_LEVELS: u32 = 8;
+/// The last texture unit the tier can use.
+pub(crate) const LAST_UNIT: u32 = SPECULAR_UNIT + MAX_LEVELS - 1;
 
 /// Roughness levels that fit the driver's texture units next to the other maps.
 pub fn max_levels(units: u32) -> u32 {
@@ -356,6 +358,7 @@ fn draw(
             "uOpacity",
             super::translucent::opacity(cx, mat, translucent),
         );
+        cx.set_rgbm_blend(&program);
         let tex = cx.res.pbr_textures.as_ref().expect("made above");
         for (index, on, unit) in [
             (mm.albedo, maps.albedo, 0),

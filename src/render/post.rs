@@ -104,6 +104,33 @@ pub(crate) struct PostState {
     /// The composited display image FXAA reads.
     display: Option<Surface>,
     pub canvas: Canvas,
+    /// Copy path with bloom: the frame translucent surfaces blend over (RGBM, nearest).
+    behind: Option<Texture2d>,
+}
+
+impl PostState {
+    /// The `w`×`h` texture translucent surfaces read what lies behind them from.
+    pub(crate) fn behind(&mut self, gpu: &GpuRef, w: u32, h: u32) -> Result<&Texture2d> {
+        if self
+            .behind
+            .as_ref()
+            .is_none_or(|t| (t.width, t.height) != (w, h))
+        {
+            self.behind = Some(Texture2d::new(
+                gpu,
+                TextureFormat::Rgba8,
+                w,
+                h,
+                Pixels::None,
+                Sampling {
+                    linear: false,
+                    mipmaps: false,
+                    repeat: false,
+                },
+            )?);
+        }
+        Ok(self.behind.as_ref().expect("made above"))
+    }
 }
 
 /// One timed post step for `--stats`.

@@ -23,6 +23,10 @@ pub(crate) fn masked(cx: &FrameCx) -> bool {
         && cx.scene.meshes.iter().any(|m| m.translucent)
 }
 
+/// The unit of the frame's copy translucent surfaces blend over on the RGBM path: past the
+/// PBR tier's last specular level.
+pub(crate) const BEHIND_UNIT: u32 = super::pbr::LAST_UNIT + 1;
+
 /// The opacity a mesh is drawn with: `--opacity` overrides translucent materials.
 pub(crate) fn opacity(cx: &FrameCx, m: &Material, translucent: bool) -> f32 {
     match cx.settings.lighting.translucency.opacity {
@@ -99,8 +103,18 @@ pub(crate) fn draw_frame(
             }]
         })?;
         // 2. its colour, blended, where the depth is exactly that depth
-        let b = blend(cx);
-        draw(cx, glass, &|_| {
+        let mut b = blend(cx);
+        if cx.rgbm {
+            // RGBM: blended in the shader over a copy of the frame (one layer per pixel).
+            let [x, y, w, h] = cx.viewport;
+            cx.bind_target();
+            let behind = cx.res.post.behind(cx.gpu, w, h)?;
+            behind.copy_region_from_framebuffer(x, y);
+            behind.bind(BEHIND_UNIT);
+            cx.rgbm_blend = if b == Blend::Additive { 2.0 } else { 1.0 };
+            b = Blend::Off;
+        }
+        let drawn = draw(cx, glass, &|_| {
             vec![RenderState {
                 depth: Some(DepthFunc::Equal),
                 depth_write: false,
@@ -108,7 +122,9 @@ pub(crate) fn draw_frame(
                 stencil: Some(MARK),
                 ..Default::default()
             }]
-        })?;
+        });
+        cx.rgbm_blend = 0.0;
+        drawn?;
     }
     background::fill_unmarked(cx)?;
     cx.stats.pass_log.push(format!(
