@@ -7,7 +7,9 @@
 //! - **copy** (everything else, e.g. GL 2.1 without framebuffer objects): the lit passes draw
 //!   into the target itself — RGBM-encoded linear colour (range 8, `rgbm.glsl`) when bloom is
 //!   on, the finished picture otherwise — and each post step draws into the target's
-//!   rectangle and is copied into an 8-bit texture with glCopyTexSubImage2D.
+//!   rectangle and is copied into an 8-bit texture with glCopyTexSubImage2D. RGBM does not
+//!   blend, so the nearest glass layer blends in its shader over a copy of the frame
+//!   (`translucent.rs`); `--transparent` and sorted translucency skip bloom there, saying so.
 //!
 //! With `--stats` each step is timed between two glFinish calls (`FrameStats::post`).
 use super::FrameCx;
