@@ -144,6 +144,12 @@ fn bloom_view_and_gl21_fallback() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let img = glview::image_out::Rgba::load_png(&out).unwrap();
         assert!(!img.is_uniform(), "{gl}: blank bloom view");
+        // The bloom buffer alone (no --bloom strength needed): the dark background is black.
+        assert_eq!(
+            img.pixel(0, 0)[..3],
+            [0, 0, 0],
+            "{gl}: the scene, not its bloom"
+        );
     }
     let o = run(
         &[

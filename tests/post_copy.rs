@@ -285,6 +285,42 @@ fn glass_blooms_on_the_copy_path() {
     }
 }
 
+/// `--show bloom` (no strength given) on the copy path: the bloom buffer alone, as on the
+/// float path (measured max 9/255, mean 0.22; stated: max 16, mean below 1).
+#[test]
+fn bloom_view_on_the_copy_path() {
+    let dir = out_dir("post-copy-view");
+    let view = |name: &str, extra: &[&str], env: &[(&str, &str)]| {
+        let out = dir.join(format!("{name}.png"));
+        let mut a = vec![
+            "--size",
+            "160x120",
+            "--shading",
+            "pbr",
+            "--show",
+            "bloom",
+            "--bloom-threshold",
+            "0.6",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        a.extend_from_slice(extra);
+        let o = run(&a, env);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        glview::image_out::Rgba::load_png(&out).unwrap()
+    };
+    let fbo = view("fbo", &[], &[]);
+    let copy = view("copy", NO_FBO, GL21_NO_FBO);
+    assert_eq!(copy.pixel(0, 0)[..3], [0, 0, 0], "the scene, not its bloom");
+    assert!(!copy.is_uniform(), "blank bloom view");
+    let d = diff(&fbo, &copy, 4);
+    eprintln!(
+        "bloom view, copy against float path: max {} mean {:.3}",
+        d.max, d.mean
+    );
+    assert!(d.max <= 16 && d.mean < 1.0, "max {} mean {}", d.max, d.mean);
+}
+
 /// What the copy path cannot do it says: with `--transparent` the alpha channel cannot hold
 /// RGBM, so bloom is skipped with the reason and the picture keeps its coverage alpha.
 #[test]

@@ -323,7 +323,8 @@ impl Renderer {
             let mut programs = self.programs.borrow_mut();
             let post = s.lighting.post;
             let copy = post::copy_path(&self.gpu);
-            let mut bloom_on = post.bloom.strength > 0.0;
+            // `--show bloom` shows the bloom buffer whether or not a strength was given.
+            let mut bloom_on = post.bloom.strength > 0.0 || post.show_bloom;
             if copy && bloom_on {
                 // RGBM takes the alpha channel: no coverage to keep, no opacity to blend with.
                 let glass = self.scene.meshes.iter().any(|m| m.translucent);

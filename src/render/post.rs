@@ -455,7 +455,12 @@ fn finish(cx: &mut FrameCx, bloom_level: Option<usize>, laps: &mut Laps) -> Resu
                 "uBloomSize",
                 glam::Vec2::new(c.width as f32, c.height as f32),
             );
-            s.lighting.post.bloom.strength
+            let strength = s.lighting.post.bloom.strength;
+            if s.lighting.post.show_bloom && strength <= 0.0 {
+                1.0
+            } else {
+                strength
+            }
         }
         None => {
             frame.color.bind(1);
