@@ -38,10 +38,14 @@ fn fresh_dir(name: &str) -> std::path::PathBuf {
 /// Starts glview in a window with `--stats`, waits for its first frame, and gives it the
 /// keyboard focus (Xvfb has no window manager, so focus is set directly).
 fn open(x: &Xvfb, dir: &Path, extra: &[&str]) -> (Viewer, String) {
+    open_env(x, dir, extra, &[])
+}
+
+fn open_env(x: &Xvfb, dir: &Path, extra: &[&str], env: &[(&str, &str)]) -> (Viewer, String) {
     let mut args = VIEW.to_vec();
     args.extend_from_slice(&["--stats", "--screenshot-dir", dir.to_str().unwrap()]);
     args.extend_from_slice(extra);
-    let mut v = Viewer::start(bin(), &x.display, &args, dir);
+    let mut v = Viewer::start_env(bin(), &x.display, &args, dir, env);
     v.wait_frame(START);
     let win = x.find_window("glview", FRAME);
     x.xdotool(&["windowfocus", "--sync", &win])
@@ -449,4 +453,59 @@ fn anti_aliasing_matches_headless_render() {
             "{name}: the window frame is not anti-aliased ({changed} pixels changed)"
         );
     }
+}
+
+/// Bloom and FXAA in a GL 2.1 window without framebuffer objects (Mesa's overrides): the
+/// copy-to-texture path draws in the back buffer and copies from it; the screenshot equals
+/// the headless OSMesa render of the same options (measured: identical).
+#[test]
+fn post_without_framebuffer_objects_matches_headless() {
+    let Some((_lock, x)) = setup() else { return };
+    let dir = fresh_dir("window_post_copy");
+    let opts = [
+        "--shading",
+        "pbr",
+        "--bloom",
+        "1",
+        "--bloom-threshold",
+        "0.6",
+        "--aa",
+        "fxaa",
+        "--gl",
+        "2.1",
+    ];
+    let (mut v, _win) = open_env(&x, &dir, &opts, common::GL21_NO_FBO);
+    let mut shot = screenshot(&x, &mut v);
+    let copy_path = v.seen.iter().any(|l| l.contains("post(copy, bloom"));
+    quit(&mut v, &x, "Escape");
+    assert!(
+        copy_path,
+        "the window did not take the copy path: {:?}",
+        v.seen
+    );
+    let mut args = VIEW.to_vec();
+    args.extend_from_slice(&opts);
+    args.extend_from_slice(&["--backend", "osmesa"]);
+    let reference = render(&dir, "headless-copy", &args, common::GL21_NO_FBO);
+    for (p, q) in shot
+        .data
+        .chunks_exact_mut(4)
+        .zip(reference.data.chunks_exact(4))
+    {
+        p[3] = q[3];
+    }
+    let d = diff(&shot, &reference, 1);
+    eprintln!(
+        "window copy path against headless: max {} mean {:.4}",
+        d.max, d.mean
+    );
+    assert_close(
+        &dir,
+        "window-copy-vs-headless",
+        &shot,
+        &reference,
+        1,
+        320 * 240 / 1000,
+        2,
+    );
 }
