@@ -345,7 +345,9 @@ fn copy_path_says_what_it_skipped() {
             && text.contains("bloom: skipped (no float render targets here, and --transparent"),
         "{text}"
     );
-    // Glass layered back to front cannot blend into RGBM either.
+    // Glass layered back to front blends draw by draw over copies: said, and bounded. The
+    // built-in cup's walls overlap within one draw: measured max 40/255 on 586 of 19,200
+    // pixels against no bloom (stated: max 48, under 5 %).
     let mut a = vec![
         "--stats",
         "--bloom",
@@ -361,7 +363,26 @@ fn copy_path_says_what_it_skipped() {
     let o = run(&a, GL21_NO_FBO);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
-        o.status.success() && text.contains("--translucency sorted blends layer over layer"),
+        o.status.success() && text.contains("only its last layer shows"),
         "{text}"
+    );
+    let sorted = |name: &str, extra: &[&str]| {
+        let mut a = vec!["--size", "160x120", "--translucency", "sorted"];
+        a.extend_from_slice(extra);
+        a.extend_from_slice(NO_FBO);
+        render(&dir, name, &a, GL21_NO_FBO)
+    };
+    let plain = sorted("sorted-plain", &[]);
+    let high = sorted("sorted-high", &["--bloom", "1", "--bloom-threshold", "100"]);
+    let d = diff(&plain, &high, 4);
+    eprintln!(
+        "sorted glass on the RGBM frame against no bloom: max {} on {} pixels > 4/255",
+        d.max, d.over
+    );
+    assert!(
+        d.max <= 48 && d.over < 160 * 120 / 20,
+        "max {} over {}",
+        d.max,
+        d.over
     );
 }

@@ -469,13 +469,12 @@ impl Texture2d {
     /// Copies the `self.width`×`self.height` rectangle at (x, y) of the bound read framebuffer
     /// into level 0 (glCopyTexSubImage2D, GL 1.1 / ES 2.0): how post-processing reads the frame
     /// on drivers without framebuffer objects.
-    pub fn copy_region_from_framebuffer(&self, x: u32, y: u32) {
+    pub fn copy_region_from_framebuffer(&self, unit: u32, x: u32, y: u32) {
         // SAFETY: level 0 is allocated at this size; the caller keeps the rectangle inside
-        // the (single-sampled) read framebuffer. Unit 0, which every post step rebinds before
-        // it draws: binding on whatever unit was active would replace a texture a lit pass
-        // keeps bound across frames.
+        // the (single-sampled) read framebuffer. The texture is bound on `unit` (where it is
+        // read next, or a unit the next step rebinds), never on whatever unit was active.
         unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0);
+            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
             self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
             self.gpu.gl.copy_tex_sub_image_2d(
                 glow::TEXTURE_2D,

@@ -281,9 +281,7 @@ pub(crate) fn draw(
             }
             program.set_i32("uDiffuseMap", 0);
         }
-        for state in states(translucent) {
-            draw_once(cx, i, &state);
-        }
+        super::translucent::draw_states(cx, i, &program, &states(translucent))?;
     }
     cx.gpu.apply(&RenderState::default());
     Ok(())

@@ -326,19 +326,24 @@ impl Renderer {
             // `--show bloom` shows the bloom buffer whether or not a strength was given.
             let mut bloom_on = post.bloom.strength > 0.0 || post.show_bloom;
             if copy && bloom_on {
-                // RGBM takes the alpha channel: no coverage to keep, no opacity to blend with.
+                // RGBM takes the alpha channel: no coverage to keep; glass blends in its shader
+                // over a copy of the frame, on a unit of its own.
                 let glass = self.scene.meshes.iter().any(|m| m.translucent);
                 let why = if post.transparent {
                     Some("--transparent: the 8-bit frame's alpha would hold the RGBM multiplier")
-                } else if glass
-                    && s.lighting.translucency.mode != crate::frame::TranslucencyMode::Nearest
-                {
-                    Some("--translucency sorted blends layer over layer, which an RGBM-encoded frame cannot")
                 } else if glass && self.gpu.caps.max_texture_units <= translucent::BEHIND_UNIT {
                     Some("no texture unit is left for the copy translucent surfaces blend over")
                 } else {
                     None
                 };
+                if why.is_none()
+                    && glass
+                    && s.lighting.translucency.mode != crate::frame::TranslucencyMode::Nearest
+                {
+                    stats.pass_log.push(
+                        "translucent: RGBM frame: each blended draw blends in the shader over a copy of the frame; where one draw overlaps itself (a cup's walls) only its last layer shows".into(),
+                    );
+                }
                 if let Some(why) = why {
                     stats.pass_log.push(format!(
                         "bloom: skipped (no float render targets here, and {why}; drawn without bloom)"

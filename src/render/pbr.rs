@@ -3,7 +3,7 @@
 //! and by the `--light` lights with the shadow pass's maps; output through exposure, tone
 //! mapping and sRGB encoding.
 use super::ibl::IblGpu;
-use super::lit::{draw_once, shadow_flags, View, SHADOW_UNIT};
+use super::lit::{shadow_flags, View, SHADOW_UNIT};
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::state::RenderState;
 use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
@@ -371,9 +371,7 @@ fn draw(
                 cx.stats.textures_bound += 1;
             }
         }
-        for state in states(translucent) {
-            draw_once(cx, i, &state);
-        }
+        super::translucent::draw_states(cx, i, &program, &states(translucent))?;
     }
     cx.gpu.apply(&RenderState::default());
     Ok(())

@@ -8,8 +8,8 @@
 //!   into the target itself — RGBM-encoded linear colour (range 8, `rgbm.glsl`) when bloom is
 //!   on, the finished picture otherwise — and each post step draws into the target's
 //!   rectangle and is copied into an 8-bit texture with glCopyTexSubImage2D. RGBM does not
-//!   blend, so the nearest glass layer blends in its shader over a copy of the frame
-//!   (`translucent.rs`); `--transparent` and sorted translucency skip bloom there, saying so.
+//!   blend, so glass blends in its shader over a copy of the frame per draw
+//!   (`translucent::draw_states`); `--transparent` skips bloom there, saying so.
 //!
 //! With `--stats` each step is timed between two glFinish calls (`FrameStats::post`).
 use super::FrameCx;
@@ -269,7 +269,7 @@ fn draw_into(gpu: &GpuRef, quad: &crate::gpu::mesh::GpuMesh, s: &Surface, canvas
             gpu.bind_framebuffer(canvas.fbo);
             gpu.viewport(canvas.x, canvas.y, w, h);
             quad.draw();
-            s.color.copy_region_from_framebuffer(canvas.x, canvas.y);
+            s.color.copy_region_from_framebuffer(0, canvas.x, canvas.y);
         }
     }
 }
@@ -371,7 +371,7 @@ pub(crate) fn run(cx: &mut FrameCx, bloom_on: bool, laps: &mut Laps) -> Result<S
         ensure(&mut cx.res.post.frame, cx.gpu, w, h, true, false)?;
         cx.bind_target();
         let f = cx.res.post.frame.as_ref().expect("made above");
-        f.color.copy_region_from_framebuffer(vx, vy);
+        f.color.copy_region_from_framebuffer(0, vx, vy);
         laps.lap(cx.gpu, "copy frame".into());
     }
     let level = if bloom_on {
@@ -406,7 +406,7 @@ pub(crate) fn run(cx: &mut FrameCx, bloom_on: bool, laps: &mut Laps) -> Result<S
         ensure(&mut cx.res.post.display, cx.gpu, w, h, false, true)?;
         cx.bind_target();
         let d = cx.res.post.display.as_ref().expect("made above");
-        d.color.copy_region_from_framebuffer(vx, vy);
+        d.color.copy_region_from_framebuffer(0, vx, vy);
         laps.lap(cx.gpu, "copy frame".into());
         fxaa(cx, laps)?;
     }

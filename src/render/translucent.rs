@@ -13,6 +13,7 @@
 use super::background;
 use super::FrameCx;
 use crate::frame::{BlendFormula, TranslucencyMode};
+use crate::gpu::program::Program;
 use crate::gpu::state::{Blend, Cull, DepthFunc, RenderState, Stencil, StencilFunc};
 use crate::scene::Material;
 use crate::Result;
@@ -26,6 +27,44 @@ pub(crate) fn masked(cx: &FrameCx) -> bool {
 /// The unit of the frame's copy translucent surfaces blend over on the RGBM path: past the
 /// PBR tier's last specular level.
 pub(crate) const BEHIND_UNIT: u32 = super::pbr::LAST_UNIT + 1;
+
+/// Draws mesh `i` (its program bound) once per state. On the RGBM frame (bloom without float
+/// render targets) fixed-function blending cannot decode the frame, so each blended draw
+/// reads a fresh copy of the frame and blends in the shader instead: exact where a draw
+/// covers each pixel once (the nearest layer; a convex mesh's front or back faces).
+pub(crate) fn draw_states(
+    cx: &mut FrameCx,
+    i: usize,
+    program: &Program,
+    states: &[RenderState],
+) -> Result<()> {
+    for state in states {
+        if !(cx.rgbm && state.blend != Blend::Off) {
+            super::lit::draw_once(cx, i, state);
+            continue;
+        }
+        let [x, y, w, h] = cx.viewport;
+        cx.bind_target();
+        cx.res
+            .post
+            .behind(cx.gpu, w, h)?
+            .copy_region_from_framebuffer(BEHIND_UNIT, x, y);
+        cx.rgbm_blend = if state.blend == Blend::Additive {
+            2.0
+        } else {
+            1.0
+        };
+        cx.set_rgbm_blend(program);
+        let off = RenderState {
+            blend: Blend::Off,
+            ..*state
+        };
+        super::lit::draw_once(cx, i, &off);
+        cx.rgbm_blend = 0.0;
+        cx.set_rgbm_blend(program);
+    }
+    Ok(())
+}
 
 /// The opacity a mesh is drawn with: `--opacity` overrides translucent materials.
 pub(crate) fn opacity(cx: &FrameCx, m: &Material, translucent: bool) -> f32 {
@@ -103,18 +142,8 @@ pub(crate) fn draw_frame(
             }]
         })?;
         // 2. its colour, blended, where the depth is exactly that depth
-        let mut b = blend(cx);
-        if cx.rgbm {
-            // RGBM: blended in the shader over a copy of the frame (one layer per pixel).
-            let [x, y, w, h] = cx.viewport;
-            cx.bind_target();
-            let behind = cx.res.post.behind(cx.gpu, w, h)?;
-            behind.copy_region_from_framebuffer(x, y);
-            behind.bind(BEHIND_UNIT);
-            cx.rgbm_blend = if b == Blend::Additive { 2.0 } else { 1.0 };
-            b = Blend::Off;
-        }
-        let drawn = draw(cx, glass, &|_| {
+        let b = blend(cx);
+        draw(cx, glass, &|_| {
             vec![RenderState {
                 depth: Some(DepthFunc::Equal),
                 depth_write: false,
@@ -122,9 +151,7 @@ pub(crate) fn draw_frame(
                 stencil: Some(MARK),
                 ..Default::default()
             }]
-        });
-        cx.rgbm_blend = 0.0;
-        drawn?;
+        })?;
     }
     background::fill_unmarked(cx)?;
     cx.stats.pass_log.push(format!(
