@@ -41,6 +41,7 @@ pub fn run_window(args: &Args) -> Result<()> {
     event_loop.set_control_flow(ControlFlow::Wait);
     let mut app = App {
         args,
+        state_keys: crate::repro::state_keys(args.keys.as_deref()),
         bounds: scene.bounds,
         scene: Some(scene),
         settings,
@@ -73,6 +74,9 @@ struct Live {
 
 struct App<'a> {
     args: &'a Args,
+    /// `--keys` and the keys pressed since that changed state (not the camera), in order:
+    /// a screenshot's PNG text replays them.
+    state_keys: Vec<String>,
     bounds: Bounds,
     /// The scene until the renderer takes it.
     scene: Option<Scene>,
@@ -187,12 +191,17 @@ impl App<'_> {
         if event.state != ElementState::Pressed {
             return;
         }
-        let Some(action) = key_name(event).and_then(|n| keys::action_for(&n)) else {
+        let Some((name, action)) =
+            key_name(event).and_then(|n| keys::action_for(&n).map(|a| (n, a)))
+        else {
             return;
         };
         // Held keys repeat camera moves (smooth turning) but not toggles or screenshots.
         if event.repeat && !matches!(action, Action::Camera(_)) {
             return;
+        }
+        if action.changes_state() {
+            self.state_keys.push(name);
         }
         self.act(event_loop, action);
     }
@@ -255,7 +264,12 @@ impl App<'_> {
                 caps: &live.gpu.caps,
                 backend: &backend,
             };
-            let text = run::png_text(gpu, &self.settings, live.renderer.scene());
+            let repro = run::Repro {
+                args: self.args,
+                size: (w, h),
+                state_keys: &self.state_keys,
+            };
+            let text = run::png_text(gpu, &self.settings, live.renderer.scene(), &repro);
             match next_screenshot_path(&self.args.screenshot_dir)
                 .and_then(|p| img.save_png(&p, &text).map(|_| p))
             {

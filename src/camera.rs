@@ -56,6 +56,12 @@ impl OrbitCamera {
         bounds.radius() / half_v.min(half_h).sin()
     }
 
+    /// The orthographic view height that fits the bounding sphere: it touches the top and
+    /// bottom edges of a landscape picture, the left and right edges of a portrait one.
+    pub fn fit_ortho_height(bounds: &Bounds, aspect: f32) -> f32 {
+        2.0 * bounds.radius() * (1.0 / aspect.max(1e-3)).max(1.0)
+    }
+
     pub fn direction(&self) -> Vec3 {
         let (y, p) = (self.yaw_deg.to_radians(), self.pitch_deg.to_radians());
         Vec3::new(p.cos() * y.sin(), p.sin(), p.cos() * y.cos())
@@ -131,6 +137,27 @@ mod tests {
         Bounds {
             min: Vec3::splat(-1.0),
             max: Vec3::splat(1.0),
+        }
+    }
+
+    /// `--ortho` alone: the sphere's outline touches the nearer pair of edges exactly, from
+    /// any direction and for landscape and portrait pictures alike.
+    #[test]
+    fn fitted_ortho_height_touches_the_nearer_edges() {
+        let b = unit_bounds();
+        for (aspect, yaw, pitch) in [(1.5, 30.0, 25.0), (0.5, -70.0, 10.0), (1.0, 200.0, -80.0)] {
+            let mut c = OrbitCamera::fit(&b, 45.0, aspect);
+            (c.yaw_deg, c.pitch_deg) = (yaw, pitch);
+            c.ortho_height = Some(OrbitCamera::fit_ortho_height(&b, aspect));
+            let vp = c.projection(&b, aspect) * c.view();
+            // Extreme points of the sphere along the view's right and up axes.
+            let right = c.up().cross(c.direction()).normalize();
+            let r = b.radius();
+            let x = (vp * (b.center() + right * r).extend(1.0)).x;
+            let y = (vp * (b.center() + c.up() * r).extend(1.0)).y;
+            let nearer = x.abs().max(y.abs());
+            assert!((nearer - 1.0).abs() < 1e-4, "aspect {aspect}: {x} {y}");
+            assert!(x.abs() <= 1.0 + 1e-4 && y.abs() <= 1.0 + 1e-4);
         }
     }
 

@@ -55,6 +55,10 @@ pub enum Show {
 #[derive(Debug, Parser)]
 #[command(name = "glview", version, args_conflicts_with_subcommands = true, about = "Legacy-compatible OpenGL OBJ/MTL viewer: per-fragment Phong and shadow mapping on GL 2.1, GL ES 3.0 and GL 3.3 core.", after_help = crate::keys::help_text())]
 pub struct Args {
+    /// The words this was parsed from (set by [`Args::from_words`]); the PNG text's
+    /// reproducing command line is made from them.
+    #[arg(skip)]
+    pub argv: Vec<String>,
     #[command(subcommand)]
     pub command: Option<Command>,
     /// OBJ file to show (default: the built-in glass-holder scene).
@@ -81,9 +85,10 @@ pub struct Args {
     /// Vertical field of view in degrees.
     #[arg(long, default_value_t = 45.0)]
     pub fov: f32,
-    /// Orthographic view of this height instead of perspective.
-    #[arg(long, allow_negative_numbers = true, value_parser = parse_positive)]
-    pub ortho: Option<f32>,
+    /// Orthographic view of this height instead of perspective; `--ortho` alone fits the
+    /// model (its bounding sphere touches the nearer pair of picture edges).
+    #[arg(long, num_args = 0..=1, allow_negative_numbers = true, value_parser = parse_positive)]
+    pub ortho: Option<Option<f32>>,
     /// A light: point:X,Y,Z (file coordinates), dir:X,Y,Z (direction it travels), head (a
     /// headlight that follows the camera) or none. Repeat for several lights (at most 4).
     /// Default: a kit of key light (casts the shadow), fill light and headlight.
@@ -231,7 +236,11 @@ pub struct Args {
     /// Key presses to replay before rendering, e.g. "Left Left Up" (the window's mapping).
     #[arg(long)]
     pub keys: Option<String>,
-    /// Which OpenGL context to create.
+    /// Which OpenGL context to create. `2.1` asks for a GL 2.1 compatibility context and
+    /// always uses the GLSL 1.20 shaders, but a modern driver (Mesa) answers with its newest
+    /// compatibility version, so every extension stays available; to see what an old GL 2.1
+    /// driver gives, also set MESA_GL_VERSION_OVERRIDE=2.1 MESA_GLSL_VERSION_OVERRIDE=120
+    /// (and hide extensions with MESA_EXTENSION_OVERRIDE, e.g. "-GL_ARB_framebuffer_object").
     #[arg(long, value_enum, default_value_t = GlRequest::Auto)]
     pub gl: GlRequest,
     /// Headless rendering path: EGL (device platform), OSMesa, or auto (EGL, then OSMesa).
@@ -320,6 +329,25 @@ pub struct Args {
     pub screenshot_dir: PathBuf,
 }
 
+impl Args {
+    /// Parses `words` (without the program name) and keeps them for the PNG text's
+    /// reproducing command line (non-UTF-8 words are kept lossily there, exactly here).
+    pub fn from_words<I, T>(words: I) -> Result<Args, clap::Error>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<std::ffi::OsString>,
+    {
+        let words: Vec<std::ffi::OsString> = words.into_iter().map(Into::into).collect();
+        let mut args =
+            Args::try_parse_from(std::iter::once("glview".into()).chain(words.iter().cloned()))?;
+        args.argv = words
+            .iter()
+            .map(|w| w.to_string_lossy().into_owned())
+            .collect();
+        Ok(args)
+    }
+}
+
 #[derive(Debug, clap::Subcommand)]
 pub enum Command {
     /// Measure frame time against error for every quality knob (docs/bench/quality.*); with
@@ -328,6 +356,20 @@ pub enum Command {
     Bench(BenchCommand),
     /// A contact sheet: turntable views (columns) × tiers (rows) in one labelled PNG.
     Sheet(SheetCommand),
+    /// Many pictures in one process and one GL context: JOBS has one job per line, a model
+    /// and options as on this command line (shell quoting; `#` comments), each with
+    /// `--output`. Failed jobs are reported by line and the rest still render.
+    Batch(BatchCommand),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BatchCommand {
+    /// The jobs file (`-` for standard input).
+    pub jobs: PathBuf,
+    /// Also run every job as its own `glview` process afterwards and print both rates
+    /// (the measurement behind the README's pictures-per-second figure).
+    #[arg(long)]
+    pub compare_processes: bool,
 }
 
 #[derive(Debug, clap::Args)]

@@ -46,6 +46,14 @@ pub enum Error {
     Osmesa(#[from] crate::platform::osmesa::OsMesaError),
     #[error("{}: {message}", path.display())]
     Image { path: PathBuf, message: String },
+    /// Some jobs of `glview batch` failed (each was reported on its own line already).
+    #[error("{}: {failed} of {total} jobs failed (lines {lines})", file.display())]
+    Batch {
+        file: PathBuf,
+        failed: usize,
+        total: usize,
+        lines: String,
+    },
 }
 
 impl Error {

@@ -108,6 +108,27 @@ impl Headless {
         Err(Error::Context(format!("OSMesa: {}", errors.join("; "))))
     }
 
+    /// Gives the context a render target of `width`×`height` and no multisampling, so one
+    /// context serves pictures of any size (the test fixture renders many in one process).
+    /// OSMesa draws into a buffer fixed at creation: there only the same size is accepted.
+    pub fn reset_target(&mut self, width: u32, height: u32) -> Result<()> {
+        self.msaa = None;
+        if (width, height) == (self.width, self.height) {
+            return Ok(());
+        }
+        if self.fbo.is_none() {
+            return Err(Error::Unsupported(
+                "an OSMesa context keeps the size it was made with".into(),
+            ));
+        }
+        check_size(&self.gpu, width, height)?;
+        // The old target goes before the new one is made: peak memory of one target.
+        self.fbo = None;
+        self.fbo = Some(Framebuffer::color_depth(&self.gpu, width, height)?);
+        (self.width, self.height) = (width, height);
+        Ok(())
+    }
+
     /// Draws into a multisampled target of `samples` samples from now on (`--aa msaa`).
     /// Needs framebuffer objects with multisampling (GL 3.0, ES 3.0); OSMesa has neither.
     pub fn enable_msaa(&mut self, samples: u32) -> Result<()> {

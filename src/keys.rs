@@ -26,6 +26,23 @@ pub enum Action {
     Quit,
 }
 
+impl Action {
+    /// Whether the key changes what is drawn other than through the camera (the PNG text
+    /// replays these keys; the camera is written out as options).
+    pub fn changes_state(self) -> bool {
+        matches!(
+            self,
+            Action::ToggleShadows
+                | Action::ToggleGouraud
+                | Action::CycleShading
+                | Action::ToggleWrap
+                | Action::ToggleTerm(_)
+                | Action::ToggleBloom
+                | Action::Opacity(_)
+        )
+    }
+}
+
 /// (key names, action, description) — the table `H`/`F1` prints and the README shows.
 pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     (

@@ -13,6 +13,7 @@ pub mod image_out;
 pub mod keys;
 pub mod light;
 pub mod pbr;
+pub mod repro;
 pub mod scene;
 pub mod shading;
 pub mod soak;
@@ -26,8 +27,10 @@ pub mod render;
 pub mod shader;
 
 pub mod app;
+pub mod batch;
 pub mod bench;
 pub mod headless;
+pub mod picture;
 pub mod run;
 
 pub use error::{Error, Result};

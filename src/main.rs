@@ -1,6 +1,5 @@
 //! `glview`: parse, dispatch to one mode (the modes import `run`, never each other), print
 //! the one error, exit code.
-use clap::Parser;
 use glview::cli::Args;
 use glview::{run, Error, Result};
 use std::process::ExitCode;
@@ -19,7 +18,7 @@ fn main() -> ExitCode {
             writeln!(buf, "{level}: {}", record.args())
         })
         .init();
-    let args = Args::parse();
+    let args = Args::from_words(std::env::args_os().skip(1)).unwrap_or_else(|e| e.exit());
     match dispatch(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -39,6 +38,7 @@ fn dispatch(args: &Args) -> Result<()> {
             };
         }
         Some(glview::cli::Command::Sheet(s)) => return glview::compare::sheet::run(s),
+        Some(glview::cli::Command::Batch(b)) => return glview::batch::run(b),
         None => {}
     }
     if args.reference && (args.compare.is_some() || args.diff.is_some()) {

@@ -132,11 +132,15 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
         }
         camera.near = Some(n);
     }
-    if let Some(h) = args.ortho {
-        if !(h.is_finite() && h > 0.0) {
+    match args.ortho {
+        Some(Some(h)) if !(h.is_finite() && h > 0.0) => {
             return Err(Error::Usage(format!("--ortho {h} must be positive")));
         }
-        camera.ortho_height = Some(h);
+        Some(Some(h)) => camera.ortho_height = Some(h),
+        Some(None) => {
+            camera.ortho_height = Some(OrbitCamera::fit_ortho_height(&scene.bounds, aspect))
+        }
+        None => {}
     }
     if args.lights.len() > 1 && args.lights.iter().any(|l| l == "none") {
         return Err(Error::Usage(
@@ -383,9 +387,32 @@ pub enum Renderer<'a> {
     Reference,
 }
 
-/// PNG text chunks that let anyone reproduce a picture: renderer, context and the camera as
-/// command-line options.
-pub fn png_text(r: Renderer, s: &FrameSettings, scene: &Scene) -> Vec<(&'static str, String)> {
+/// What the picture's reproducing command line is made of (see [`crate::repro`]).
+pub struct Repro<'a> {
+    pub args: &'a Args,
+    pub size: (u32, u32),
+    pub state_keys: &'a [String],
+}
+
+impl<'a> Repro<'a> {
+    /// A headless picture: the arguments' own size and keys.
+    pub fn headless(args: &'a Args, keys: &'a [String]) -> Self {
+        Repro {
+            args,
+            size: args.size,
+            state_keys: keys,
+        }
+    }
+}
+
+/// PNG text chunks that let anyone reproduce a picture: renderer, context, the camera as
+/// command-line options and `glview.command`, a whole command line that renders it again.
+pub fn png_text(
+    r: Renderer,
+    s: &FrameSettings,
+    scene: &Scene,
+    repro: &Repro,
+) -> Vec<(&'static str, String)> {
     let mut text = vec![("Software", format!("glview {}", env!("CARGO_PKG_VERSION")))];
     match r {
         Renderer::Gpu { caps, backend } => text.extend([
@@ -436,23 +463,24 @@ pub fn png_text(r: Renderer, s: &FrameSettings, scene: &Scene) -> Vec<(&'static 
         ("glview.tier", s.shading.tier().into()),
         ("glview.shading", format!("{:?}", s.shading).to_lowercase()),
         ("glview.model", scene.name.clone()),
-        (
-            "glview.camera",
-            format!(
-                "--yaw {} --pitch {} --distance {} --target {},{},{} --fov {}{}",
-                c.yaw_deg,
-                c.pitch_deg,
-                c.distance,
-                target.x,
-                target.y,
-                target.z,
-                c.fov_y_deg,
-                c.ortho_height
-                    .map(|h| format!(" --ortho {h}"))
-                    .unwrap_or_default()
-            ),
-        ),
     ]);
+    let camera = format!(
+        "--yaw {} --pitch {} --distance {} --target {},{},{} --fov {}{}{}",
+        c.yaw_deg,
+        c.pitch_deg,
+        c.distance,
+        target.x,
+        target.y,
+        target.z,
+        c.fov_y_deg,
+        c.ortho_height
+            .map(|h| format!(" --ortho {h}"))
+            .unwrap_or_default(),
+        c.near.map(|n| format!(" --near {n}")).unwrap_or_default()
+    );
+    let command = crate::repro::command_line(repro.args, repro.size, repro.state_keys, &camera);
+    text.push(("glview.camera", camera));
+    text.push(("glview.command", command));
     text
 }
 
@@ -475,46 +503,7 @@ pub fn map_view(args: &Args) -> Result<Option<crate::image_out::Rgba>> {
 
 /// Renders headless into `path` (`--frames` times; the last frame is written).
 pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
-    if let Some(img) = map_view(args)? {
-        let text = vec![
-            ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
-            ("glview.show", format!("{:?}", args.show).to_lowercase()),
-        ];
-        return img.save_png(path, &text);
-    }
-    let scene = load_scene(args)?;
-    let (settings, _) = frame_settings(args, &scene)?;
-    let (w, h) = args.size;
-    // SSAA renders k times larger on each axis and box-filters down.
-    let k = if args.aa == crate::cli::AaMode::Ssaa {
-        args.aa_samples.clamp(1, 4)
-    } else {
-        1
-    };
-    let mut hl = crate::headless::Headless::new(args.backend, args.gl, w * k, h * k)?;
-    if args.aa == crate::cli::AaMode::Msaa {
-        hl.enable_msaa(args.aa_samples)?;
-    }
-    let gpu = Renderer::Gpu {
-        caps: &hl.gpu.caps,
-        backend: hl.backend_name(),
-    };
-    let text = png_text(gpu, &settings, &scene);
-    let mut renderer = crate::render::Renderer::new(&hl.gpu, scene)?;
-    renderer.time_post = args.stats;
-    renderer.set_environment(env_request(args)?);
-    for _ in 0..args.frames.max(1) {
-        let stats = renderer.render(&settings, &hl.target())?;
-        if args.stats {
-            println!("{}", serde_json::to_string(&stats).unwrap_or_default());
-        }
-    }
-    let mut img = crate::bench::metrics::downsample(&hl.read(), k);
-    drop(renderer);
-    if args.transparent {
-        unpremultiply(&mut img);
-    }
-    img.save(path, &text)
+    crate::picture::render(args, path, &mut None)
 }
 
 /// The framebuffer holds colour multiplied by coverage (blending over a cleared transparent
@@ -569,7 +558,13 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
     let start = std::time::Instant::now();
     let env = reference_env(args, settings.shading)?;
     let img = crate::reference::render_env(&scene, &settings, env.as_ref(), w, h);
-    let text = png_text(Renderer::Reference, &settings, &scene);
+    let keys = crate::repro::state_keys(args.keys.as_deref());
+    let text = png_text(
+        Renderer::Reference,
+        &settings,
+        &scene,
+        &Repro::headless(args, &keys),
+    );
     img.save(path, &text)?;
     if args.stats {
         println!(

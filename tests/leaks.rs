@@ -1,6 +1,7 @@
 //! No leaks: every GL object the GPU layer creates is deleted when its owner is dropped, and
 //! loading and dropping a model again and again keeps memory flat. (The 1,000-round soak is
 //! `glview bench --soak`; the test runs a smaller count.)
+#[path = "suite/common.rs"]
 mod common;
 use glview::headless::Headless;
 use glview::platform::{Backend, GlRequest};

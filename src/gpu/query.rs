@@ -18,10 +18,29 @@ impl TimerQuery {
         // SAFETY: creating a query object on a context that supports them.
         let raw = unsafe { gpu.gl.create_query() }.map_err(Error::Unsupported)?;
         gpu.created();
-        Ok(Some(TimerQuery {
+        let q = TimerQuery {
             gpu: gpu.clone(),
             raw,
-        }))
+        };
+        // llvmpipe answers the very first TIME_ELAPSED query of a context with the time since
+        // boot; an empty query spent here makes the first frame's `gpu_ms` a real figure.
+        q.begin();
+        // SAFETY: plain state calls and a one-pixel depth clear on the current context; the
+        // scissor state is restored, and every frame clears its target before drawing.
+        unsafe {
+            let gl = &gpu.gl;
+            let scissor = gl.is_enabled(glow::SCISSOR_TEST);
+            gl.enable(glow::SCISSOR_TEST);
+            gl.scissor(0, 0, 1, 1);
+            gl.clear(glow::DEPTH_BUFFER_BIT);
+            if !scissor {
+                gl.disable(glow::SCISSOR_TEST);
+            }
+            gl.finish();
+        }
+        q.end();
+        q.result_ns();
+        Ok(Some(q))
     }
 
     pub fn begin(&self) {

@@ -18,7 +18,7 @@
 //! Measured on the built-in scene at 640×480 (llvmpipe): with `--no-shadows`, pixels without
 //! a translucent layer agree to a mean of 0.000/255 (2 of 294k pixels off by more than 8/255,
 //! on edges); the glass differs by its blend order, and shadows by the shadow map's
-//! approximations. See `gpu_against_reference_builtin` in tests/reference.rs.
+//! approximations. See `gpu_against_reference_builtin` in tests/suite/reference.rs.
 pub mod bvh;
 pub mod pbr;
 pub mod surface;

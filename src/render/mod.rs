@@ -413,8 +413,8 @@ impl Renderer {
         }
         self.gpu.finish();
         stats.ms = start.elapsed().as_secs_f64() * 1e3;
-        // llvmpipe answers the very first TIME_ELAPSED query of a context with the time since
-        // boot; GPU time cannot exceed the wall time up to glFinish, so such a value is dropped.
+        // GPU time cannot exceed the wall time up to glFinish: a driver's nonsense (llvmpipe's
+        // first query of a context, which TimerQuery::new spends) is dropped, not reported.
         stats.gpu_ms = self
             .timer
             .as_ref()

@@ -92,8 +92,25 @@ struct Header {
     payload_hash: u128,
 }
 
+/// A folder set by the embedding program, before the environment: tests running many loads
+/// in one process point the cache elsewhere without changing the process environment
+/// (which other threads, and the GL driver, read concurrently).
+static DIR_OVERRIDE: std::sync::Mutex<Option<PathBuf>> = std::sync::Mutex::new(None);
+
+/// Makes every later load of this process use `dir` for its entries.
+pub fn set_dir(dir: PathBuf) {
+    *DIR_OVERRIDE.lock().unwrap_or_else(|e| e.into_inner()) = Some(dir);
+}
+
 /// The folder entries go in.
 pub fn dir() -> Option<PathBuf> {
+    if let Some(d) = DIR_OVERRIDE
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .clone()
+    {
+        return Some(d);
+    }
     if let Some(d) = std::env::var_os("GLVIEW_CACHE_DIR") {
         return Some(PathBuf::from(d));
     }

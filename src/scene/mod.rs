@@ -2,6 +2,7 @@
 //! GPU renderer, the CPU reference renderer and the tests share it.
 pub mod cache;
 pub mod dedup;
+pub mod fast;
 pub mod finish;
 pub mod formats;
 pub mod generate;

@@ -1,5 +1,6 @@
 //! OBJ/MTL → [`Scene`]: tobj does the parsing (after [`super::repair`]); positions are read as
 //! f64 and re-centred on the bounding-box centre before they are rounded to f32.
+use super::fast::Parser;
 use super::material::{self, TextureOptions};
 use super::normals::Creases;
 use super::{
@@ -146,13 +147,29 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
 
 /// Loads OBJ bytes as if they were the file `path` (MTL and textures are looked up beside it).
 pub fn load_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
-    load_with(path, bytes, opts, &|p: &Path| read_regular_file(p))
+    load_bytes_with(path, bytes, opts, Parser::from_env())
+}
+
+/// As [`load_bytes`] with a chosen OBJ parser (the differential test compares the two).
+pub fn load_bytes_with(
+    path: &Path,
+    bytes: &[u8],
+    opts: &LoadOptions,
+    parser: Parser,
+) -> Result<Scene> {
+    load_with(path, bytes, opts, &|p: &Path| read_regular_file(p), parser)
 }
 
 /// Loads an OBJ whose MTL library is in memory too (the built-in scene).
 pub fn load_embedded(path: &Path, obj: &[u8], mtl: &[u8], opts: &LoadOptions) -> Result<Scene> {
     let mtl = mtl.to_vec();
-    load_with(path, obj, opts, &move |_: &Path| Ok(mtl.clone()))
+    load_with(
+        path,
+        obj,
+        opts,
+        &move |_: &Path| Ok(mtl.clone()),
+        Parser::from_env(),
+    )
 }
 
 fn load_with(
@@ -160,6 +177,7 @@ fn load_with(
     bytes: &[u8],
     opts: &LoadOptions,
     mtl_source: MtlSource,
+    parser: Parser,
 ) -> Result<Scene> {
     let total = bytes.len() as u64;
     let report = |done: u64| {
@@ -167,25 +185,47 @@ fn load_with(
             p(done, total)
         }
     };
-    let mut repaired = repair::repair_obj_with_progress(path, bytes, &report)?;
-    super::profile::mark(super::profile::Stage::Repair);
     let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-    let warnings = RefCell::new(std::mem::take(&mut repaired.warnings));
+    let warnings = RefCell::new(Vec::new());
     let mtl_files = RefCell::new(Vec::new());
     let mtl_lines: MtlLineMap = RefCell::default();
-    // Polygons come with their arity and are triangulated here (ear clipping where concave);
-    // lines and points were taken out by the pre-pass.
-    let load_opts = tobj::LoadOptions {
-        triangulate: false,
-        single_index: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let (models, mats) = tobj::load_obj_buf(&mut repaired.text.as_bytes(), &load_opts, |p| {
+    let mut mtl = |p: &Path| {
         mtl_files.borrow_mut().push(dir.join(p));
         load_mtl(&dir, p, mtl_source, &warnings, &mtl_lines)
-    })
-    .map_err(|e| Error::model(path, None, e.to_string()))?;
+    };
+    let fast = match parser {
+        Parser::Auto => super::fast::parse(bytes, None, &report, &mut mtl),
+        Parser::Chunked(n) => super::fast::parse(bytes, Some(n), &report, &mut mtl),
+        Parser::Tobj => None,
+    };
+    super::profile::set_fast_path(fast.is_some());
+    let (models, mats, repaired) = match fast {
+        Some(p) => {
+            let repaired = repair::Repaired {
+                usemtl: p.usemtl,
+                face_groups: p.face_groups,
+                ..repair::Repaired::default()
+            };
+            (p.models, p.materials, repaired)
+        }
+        None => {
+            let mut repaired = repair::repair_obj_with_progress(path, bytes, &report)?;
+            super::profile::mark(super::profile::Stage::Repair);
+            warnings.borrow_mut().append(&mut repaired.warnings);
+            // Polygons come with their arity and are triangulated here (ear clipping where
+            // concave); lines and points were taken out by the pre-pass.
+            let load_opts = tobj::LoadOptions {
+                triangulate: false,
+                single_index: true,
+                ignore_points: true,
+                ignore_lines: true,
+            };
+            let (models, mats) =
+                tobj::load_obj_buf(&mut repaired.text.as_bytes(), &load_opts, |p| mtl(p))
+                    .map_err(|e| Error::model(path, None, e.to_string()))?;
+            (models, mats, repaired)
+        }
+    };
     super::profile::mark(super::profile::Stage::Parse);
     let mut warnings = warnings.into_inner();
     let mtl_lines = mtl_lines.into_inner();

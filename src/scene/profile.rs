@@ -1,5 +1,6 @@
 //! Per-stage load times, measured inside the loader: read (file → bytes), repair (the
-//! byte-level pre-pass), parse (tobj, MTL libraries included), textures (decoding),
+//! byte-level pre-pass), parse (tobj, MTL libraries included; on the fast path,
+//! `scene::fast`'s one pass, and repair is 0), textures (decoding),
 //! meshes (re-centring, vertex building; normals excluded), normals (generation and repair),
 //! finish (redundant faces, texture notes). Recorded per thread; [`last`] returns the most
 //! recent load's profile (for `--stats` and `--check`).
@@ -33,6 +34,8 @@ pub struct LoadProfile {
     pub normals_ms: f64,
     pub finish_ms: f64,
     pub total_ms: f64,
+    /// The one-pass parser ran (`scene::fast`): `repair_ms` is 0, `parse_ms` is that pass.
+    pub fast_path: bool,
 }
 
 impl LoadProfile {
@@ -58,12 +61,13 @@ impl std::fmt::Display for LoadProfile {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{:.1} MB{}: read {:.0} ms, repair {:.0} ms, parse {:.0} ms, textures {:.0} ms, \
+            "{:.1} MB{}: read {:.0} ms, repair {:.0} ms, parse{} {:.0} ms, textures {:.0} ms, \
              meshes {:.0} ms, normals {:.0} ms, finish {:.0} ms, total {:.0} ms",
             self.bytes as f64 / 1e6,
             if self.cached { " (mesh cache)" } else { "" },
             self.read_ms,
             self.repair_ms,
+            if self.fast_path { " (one pass)" } else { "" },
             self.parse_ms,
             self.textures_ms,
             self.meshes_ms,
@@ -144,6 +148,11 @@ impl Drop for Nested {
     }
 }
 
+/// Notes whether this load took the fast OBJ path.
+pub fn set_fast_path(fast: bool) {
+    REC.with_borrow_mut(|r| r.current.fast_path = fast);
+}
+
 /// Ends the load: the profile becomes [`last`].
 pub fn end(cached: bool) {
     REC.with_borrow_mut(|r| {
@@ -156,6 +165,12 @@ pub fn end(cached: bool) {
 /// The profile of this thread's most recent load.
 pub fn last() -> Option<LoadProfile> {
     REC.with_borrow(|r| r.last)
+}
+
+/// The most recent load's profile, forgotten here (so the next call says whether another
+/// load happened since).
+pub fn take_last() -> Option<LoadProfile> {
+    REC.with_borrow_mut(|r| r.last.take())
 }
 
 #[cfg(test)]
@@ -187,7 +202,7 @@ mod tests {
             + prof.normals_ms
             + prof.finish_ms;
         assert!(
-            prof.parse_ms > 0.0 && prof.repair_ms > 0.0 && prof.normals_ms > 0.0,
+            prof.parse_ms > 0.0 && prof.fast_path && prof.normals_ms > 0.0,
             "{prof}"
         );
         assert!(parts <= prof.total_ms + 1e-6, "{prof}");

@@ -8,6 +8,7 @@ use std::borrow::Cow;
 use std::path::Path;
 
 /// The OBJ text ready for tobj, and what was repaired.
+#[derive(Default)]
 pub struct Repaired {
     pub text: String,
     pub warnings: Vec<Warning>,

@@ -119,6 +119,10 @@ impl ProgramKey {
 pub struct ProgramCache {
     gpu: GpuRef,
     programs: HashMap<ProgramKey, Rc<Program>>,
+    /// Programs compiled and linked by this cache, and the milliseconds that took (for the
+    /// start-up profile of `--stats`).
+    compiled: usize,
+    compile_ms: f64,
 }
 
 /// Shared handle to a context's cache.
@@ -138,6 +142,8 @@ impl ProgramCache {
         ProgramCache {
             gpu: gpu.clone(),
             programs: HashMap::new(),
+            compiled: 0,
+            compile_ms: 0.0,
         }
     }
 
@@ -165,6 +171,7 @@ impl ProgramCache {
         if let Some(p) = self.programs.get(key) {
             return Ok(p.clone());
         }
+        let start = std::time::Instant::now();
         let dialect = self.gpu.caps.dialect;
         let defines = key.defines();
         let p = Rc::new(Program::new(
@@ -174,7 +181,15 @@ impl ProgramCache {
             &assemble(dialect, Stage::Fragment, &defines, key.fragment),
         )?);
         self.programs.insert(key.clone(), p.clone());
+        self.compiled += 1;
+        self.compile_ms += start.elapsed().as_secs_f64() * 1e3;
         Ok(p)
+    }
+
+    /// Programs compiled so far and the milliseconds spent compiling and linking them (the
+    /// driver may finish linking lazily at first use, which this cannot see).
+    pub fn compiled(&self) -> (usize, f64) {
+        (self.compiled, self.compile_ms)
     }
 
     pub fn len(&self) -> usize {

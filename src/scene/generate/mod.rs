@@ -1,7 +1,7 @@
 //! Deterministic generator of the OBJ/MTL scenes committed in `models/`.
 //!
 //! The files in `models/` are outputs of this module (`cargo run --bin gen_models`) and
-//! `tests/models_committed.rs` fails when they drift from it. Only std is used, with no
+//! `tests/suite/models_committed.rs` fails when they drift from it. Only std is used, with no
 //! randomness and no hash-map iteration, so the output is byte-for-byte reproducible (the
 //! trigonometry comes from the platform's libm, but rounding to 6 decimals absorbs its
 //! last-bit differences in all but astronomically rare cases).

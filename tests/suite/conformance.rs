@@ -1,7 +1,7 @@
 //! The loader against peers' parser test corpora (../shared/conformance, ../shared/tricky) and
 //! the shared real models, with the expectations listed in ../shared/MANIFEST.md. Where glview
 //! deliberately differs from tobj or tinyobjloader, the test says so.
-mod common;
+use crate::common;
 use common::shared;
 use glview::scene::obj::{load, LoadOptions};
 use glview::scene::Scene;

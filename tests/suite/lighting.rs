@@ -1,6 +1,6 @@
 //! The default light kit (key light with the shadow, fill from the other side, headlight)
 //! shows every side of a model: from any orbit a sphere's visible pixels are lit.
-mod common;
+use crate::common;
 use common::*;
 
 /// Mean of the largest channel over the sphere's pixels (those that differ from the

@@ -1,7 +1,7 @@
 //! Bloom against its definition: a single bright pixel blurs into the discrete Gaussian the
 //! kernel is; a threshold above the image leaves the picture unchanged to the bit; only what
 //! exceeds the threshold contributes.
-mod common;
+use crate::common;
 use common::*;
 use glview::frame::Bloom;
 use glview::headless::Headless;

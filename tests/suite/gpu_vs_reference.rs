@@ -1,6 +1,6 @@
 //! The GPU path against the CPU reference renderer (ray casting in f64, exact hard shadows)
 //! on the project's scenes, through the real CLI.
-mod common;
+use crate::common;
 use common::*;
 
 struct Errors {

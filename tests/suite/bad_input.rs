@@ -1,7 +1,7 @@
 //! Bad input: every broken file either renders (exit 0) with one warning per problem, or
 //! stops with one clear `error: FILE[:LINE]: ...` line and exit code 1. Never a panic, a hang
 //! or unbounded memory. The malformed files are written here, one per case.
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -1,7 +1,7 @@
 //! Comparisons: side-by-side panes are the separate renders, a difference with itself is
 //! zero, stored-picture regression passes and fails as it should, contact sheets have their
 //! grid, and the PBR terms switch off to the emissive-only picture.
-mod common;
+use crate::common;
 use common::*;
 use glview::image_out::Rgba;
 

@@ -1,7 +1,7 @@
 //! Numerical-stability stress suite: conditions that break naive code. Each case says what it
 //! protects against; every render is checked for NaN/Inf (black) pixels and blank frames by
 //! `common::render`. Far-from-origin and extreme-scale models are in tests/precision.rs.
-mod common;
+use crate::common;
 use common::*;
 use glview::image_out::Rgba;
 

@@ -1,6 +1,6 @@
 //! Far from the origin and at extreme scales, a model renders like the same model at the
 //! origin: positions are read as f64 and re-centred before they become f32.
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 

@@ -1,6 +1,6 @@
 //! One shader body, every dialect and backend: GLSL 3.30 (core), GLSL ES 3.00, GLSL 1.20 (an
 //! old GL 2.1 driver emulated by Mesa's overrides) and OSMesa give the same picture.
-mod common;
+use crate::common;
 use common::*;
 
 const ARGS: &[&str] = &[

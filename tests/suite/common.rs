@@ -45,17 +45,25 @@ pub fn run(args: &[&str], env: &[(&str, &str)]) -> Output {
     c.output().expect("run glview")
 }
 
-/// Renders to `dir/name.png` and reads it back; panics with glview's stderr on failure.
+/// Renders to `dir/name.png` and reads it back; panics with glview's error on failure.
+/// A plain picture with no special environment is rendered in this process by the shared
+/// fixture (one context, one program cache); anything else runs the binary.
 pub fn render(dir: &Path, name: &str, args: &[&str], env: &[(&str, &str)]) -> Rgba {
     let out = dir.join(format!("{name}.png"));
     let mut all = vec!["--output", out.to_str().unwrap()];
     all.extend_from_slice(args);
-    let o = run(&all, env);
-    assert!(
-        o.status.success(),
-        "glview {all:?} failed:\n{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    if let Some(result) = env.is_empty().then(|| fixture::render(&all)).flatten() {
+        if let Err(e) = result {
+            panic!("glview {all:?} failed (in process):\n{e}");
+        }
+    } else {
+        let o = run(&all, env);
+        assert!(
+            o.status.success(),
+            "glview {all:?} failed:\n{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
     let img = Rgba::load_png(&out).expect("read output");
     check_frame(&img, name);
     img
@@ -280,4 +288,73 @@ pub fn box_obj(lo: [f64; 3], hi: [f64; 3], before: usize) -> String {
         s += &format!("f {} {} {}\n", f[0] + before, f[1] + before, f[2] + before);
     }
     s
+}
+
+/// The in-process GPU fixture: one thread owns one headless context (so one program cache)
+/// and renders every request in turn, as the binary would. Tests run on many threads and a
+/// GL context is current on one thread only, hence the channel.
+pub mod fixture {
+    use clap::Parser;
+    use glview::cli::Args;
+    use std::sync::mpsc::{channel, Sender};
+    use std::sync::{Mutex, OnceLock};
+
+    type Job = (Vec<String>, Sender<Result<(), String>>);
+
+    fn queue() -> &'static Mutex<Sender<Job>> {
+        static QUEUE: OnceLock<Mutex<Sender<Job>>> = OnceLock::new();
+        QUEUE.get_or_init(|| {
+            let (tx, rx) = channel::<Job>();
+            std::thread::spawn(move || {
+                let mut kept = None;
+                for (argv, reply) in rx {
+                    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                        let args = Args::from_words(&argv[1..]).map_err(|e| e.to_string())?;
+                        let out = args.output.clone().expect("fixture jobs have --output");
+                        glview::picture::render(&args, &out, &mut kept)
+                            .map_err(|e| format!("error: {e}"))
+                    }));
+                    let result = result.unwrap_or_else(|_| {
+                        // The context's state is unknown after a panic: start afresh.
+                        kept = None;
+                        Err("glview panicked".into())
+                    });
+                    let _ = reply.send(result);
+                }
+            });
+            Mutex::new(tx)
+        })
+    }
+
+    /// Renders `args` (with `--output`) in this process, or None when the arguments ask
+    /// for another mode than one headless picture (those run the binary).
+    pub fn render(args: &[&str]) -> Option<Result<(), String>> {
+        let argv: Vec<String> = std::iter::once("glview")
+            .chain(args.iter().copied())
+            .map(String::from)
+            .collect();
+        let a = Args::try_parse_from(&argv).ok()?;
+        let one_picture = a.command.is_none()
+            && !a.reference
+            && a.compare.is_none()
+            && a.diff.is_none()
+            && a.diff_against.is_none()
+            && !a.info
+            && !a.compile_shaders
+            && !a.check
+            && a.output.is_some();
+        if !one_picture {
+            return None;
+        }
+        let (tx, rx) = channel();
+        queue()
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .send((argv, tx))
+            .ok()?;
+        Some(
+            rx.recv()
+                .unwrap_or_else(|_| Err("the fixture thread is gone".into())),
+        )
+    }
 }

@@ -3,9 +3,8 @@
 //!
 //! Each test starts its own Xvfb; the tests run one at a time (a lock) so the CPU and latency
 //! measurements are not disturbed by a neighbour rendering on the same cores.
-mod common;
-#[path = "support/xvfb.rs"]
-mod xvfb;
+use crate::common;
+use crate::xvfb;
 
 use common::{assert_close, bin, check_frame, diff, out_dir, render};
 use glview::image_out::Rgba;
@@ -70,6 +69,10 @@ fn key_to_frame(x: &Xvfb, v: &mut Viewer, key: &str) -> (Duration, f64) {
 }
 
 fn screenshot(x: &Xvfb, v: &mut Viewer) -> Rgba {
+    screenshot_file(x, v).0
+}
+
+fn screenshot_file(x: &Xvfb, v: &mut Viewer) -> (Rgba, std::path::PathBuf) {
     x.xdotool(&["key", "F12"]).expect("xdotool key F12");
     let (_, line) = v.wait_line(
         |l| l.starts_with("screenshot: "),
@@ -77,7 +80,8 @@ fn screenshot(x: &Xvfb, v: &mut Viewer) -> Rgba {
         "the screenshot line",
     );
     let path = line.trim_start_matches("screenshot: ").to_string();
-    Rgba::load_png(Path::new(&path)).unwrap_or_else(|e| panic!("read {path}: {e}"))
+    let img = Rgba::load_png(Path::new(&path)).unwrap_or_else(|e| panic!("read {path}: {e}"));
+    (img, path.into())
 }
 
 fn quit(v: &mut Viewer, x: &Xvfb, key: &str) {
@@ -91,6 +95,16 @@ fn quit(v: &mut Viewer, x: &Xvfb, key: &str) {
         "glview exited with {status} after {key}; stderr:\n{err}"
     );
     assert!(!err.contains("error"), "glview reported an error:\n{err}");
+}
+
+/// `img` with the alpha of `of`: screenshots are opaque, headless PNGs keep the glass's
+/// alpha, and only colour is compared.
+fn with_alpha_of(img: &Rgba, of: &Rgba) -> Rgba {
+    let mut out = img.clone();
+    for (p, q) in out.data.chunks_exact_mut(4).zip(of.data.chunks_exact(4)) {
+        p[3] = q[3];
+    }
+    out
 }
 
 fn median(mut v: Vec<Duration>) -> Duration {
@@ -128,14 +142,7 @@ fn arrow_keys_match_headless_render() {
     headless.extend_from_slice(&["--keys", "Left Left Up"]);
     let reference = render(&dir, "headless-keys", &headless, &[]);
     let before = render(&dir, "headless-start", VIEW, &[]);
-    let mut shot_rgb = shot.clone();
-    for (p, q) in shot_rgb
-        .data
-        .chunks_exact_mut(4)
-        .zip(reference.data.chunks_exact(4))
-    {
-        p[3] = q[3];
-    }
+    let shot_rgb = with_alpha_of(&shot, &reference);
     assert_close(
         &dir,
         "window-vs-headless",
@@ -347,14 +354,7 @@ fn compare_mode_pbr_key_and_overlay() {
     };
     for (right, shading) in [(false, "phong"), (true, "pbr")] {
         let headless = render(&dir, shading, &pane_args(shading), &[]);
-        let mut pane = half(&shot, right);
-        for (p, q) in pane
-            .data
-            .chunks_exact_mut(4)
-            .zip(headless.data.chunks_exact(4))
-        {
-            p[3] = q[3];
-        }
+        let pane = with_alpha_of(&half(&shot, right), &headless);
         assert_close(
             &dir,
             &format!("pane-{shading}"),
@@ -368,7 +368,25 @@ fn compare_mode_pbr_key_and_overlay() {
     key_to_frame(&x, &mut v, "c");
     key_to_frame(&x, &mut v, "p");
     key_to_frame(&x, &mut v, "p");
-    let pbr = screenshot(&x, &mut v);
+    let (pbr, pbr_file) = screenshot_file(&x, &mut v);
+    // The screenshot's PNG text replays the keys that changed state (`--keys 'P P'`, not
+    // `c`, which only split the window) with the camera and size: headless gives the same
+    // picture to the window-vs-headless tolerance of `arrow_keys_match_headless_render`.
+    let text = glview::image_out::png_text(&pbr_file).unwrap();
+    let command = &text.iter().find(|(k, _)| k == "glview.command").unwrap().1;
+    assert!(command.to_lowercase().contains("--keys 'p p'"), "{command}");
+    let words = shlex::split(command).unwrap();
+    let words: Vec<&str> = words[1..].iter().map(String::as_str).collect();
+    let replayed = with_alpha_of(&render(&dir, "pbr-replayed", &words, &[]), &pbr);
+    assert_close(
+        &dir,
+        "pbr-replayed",
+        &pbr,
+        &replayed,
+        0,
+        320 * 240 / 1000,
+        2,
+    );
     let headless_pbr = render(
         &dir,
         "pbr-full",

@@ -3,7 +3,7 @@
 //! precomputation's and the texture formats' error; a real HDR adds the split sum's own
 //! error, which is measured and stated. Every path (GLSL 3.30, ES 3.00, 1.20 on EGL, 1.20 on
 //! OSMesa without FBOs) draws the tier.
-mod common;
+use crate::common;
 use common::*;
 use glview::image_out::Rgba;
 use glview::pbr::env::Environment;

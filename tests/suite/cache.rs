@@ -1,6 +1,6 @@
 //! The mesh cache: a second load of an unchanged large OBJ comes from the cache and equals a
 //! fresh parse; any change to the file (time, size, content) or its MTL invalidates it.
-mod common;
+use crate::common;
 use glview::scene::cache;
 use glview::scene::material::TextureOptions;
 use glview::scene::obj::{load, LoadOptions};
@@ -11,8 +11,9 @@ fn second_load_hits_and_changes_invalidate() {
     let dir = common::out_dir("cache");
     let entries = dir.join("entries");
     let _ = std::fs::remove_dir_all(&entries);
-    // This test binary has one test, so setting the variable cannot race another test.
-    std::env::set_var("GLVIEW_CACHE_DIR", &entries);
+    // In-process loads of this test binary use this folder from now on (other tests load
+    // with the cache off, or through child processes with their own environment).
+    cache::set_dir(entries.clone());
     let model = dir.join("dragon.obj");
     std::fs::copy(
         common::shared().join("models/dragon-200k/dragon_vrip_res2.obj"),

@@ -3,7 +3,7 @@
 //! works on the RGBM-encoded linear frame (range 8, 8 bits). Checked against the same truths
 //! as the float path, with RGBM's tolerance stated, and against the float path's picture.
 //! Also: `--stats` lists each post step with its time.
-mod common;
+use crate::common;
 use common::*;
 use glview::frame::Bloom;
 use glview::render::post::{bloom_buffer, gaussian};
@@ -108,7 +108,7 @@ fn m_args(m: &str) -> Vec<&str> {
 fn a_bright_pixel_gives_the_gaussian_on_the_copy_path() {
     let o = std::process::Command::new(std::env::current_exe().unwrap())
         .args([
-            "gaussian_child",
+            "post_copy::gaussian_child",
             "--exact",
             "--ignored",
             "--nocapture",

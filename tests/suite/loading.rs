@@ -1,6 +1,6 @@
 //! Issue 13, loader side: polygons, creases, colours, lines, exporters' MTL quirks, up axis,
 //! `--texture` and `--check`, on generated files with exact expectations and on ../shared/.
-mod common;
+use crate::common;
 use common::{box_obj, out_dir, run, shared};
 use glam::{DVec3, Vec3};
 use glview::scene::normals::Creases;

@@ -2,7 +2,7 @@
 //! blends, independent of face order; inner layers never show; the background never shows
 //! through; the CPU reference composites the same rule; logarithmic depth separates surfaces
 //! the standard buffer cannot.
-mod common;
+use crate::common;
 use common::*;
 use glview::image_out::Rgba;
 use std::fmt::Write;

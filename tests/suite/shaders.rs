@@ -2,7 +2,7 @@
 //! (core), GLSL ES 3.00, GLSL 1.20 (Mesa emulating a GL 2.1 driver) and GLSL 1.20 on OSMesa
 //! without framebuffer or vertex-array objects. A broken shader reports the driver's log and
 //! the numbered source.
-mod common;
+use crate::common;
 use common::*;
 
 #[test]

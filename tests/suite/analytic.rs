@@ -1,7 +1,7 @@
 //! The legacy-tier formula on an exact sphere: glview renders a finely tessellated sphere
 //! through the CLI, and the test ray-casts the exact sphere and evaluates the formula
 //! (src/shading.rs, f64) at every pixel centre.
-mod common;
+use crate::common;
 use common::*;
 use glam::DVec3;
 use glview::light::LightSpec;

@@ -1,7 +1,7 @@
 //! Anti-aliasing and the transparent background against exact area coverage: a white square
 //! rotated 30° on black, flat (ambient only), seen orthographically; each pixel's exact
 //! coverage comes from 64×64 point samples per pixel in f64 (error < 2.5·10⁻⁴).
-mod common;
+use crate::common;
 use common::*;
 use glview::image_out::Rgba;
 

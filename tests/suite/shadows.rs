@@ -1,6 +1,6 @@
 //! Shadow mapping against exact geometry: the test ray-casts which floor pixels a box shadows
 //! and compares with glview's render, on the FBO path and the no-FBO copy path.
-mod common;
+use crate::common;
 use common::*;
 use glam::DVec3;
 use glview::light::LightKind;

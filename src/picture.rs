@@ -1,0 +1,165 @@
+//! One headless picture: context (kept between pictures where it can be), scene, frames,
+//! read-back, PNG; and with `--stats`, the profile of where its time went.
+use crate::cli::{AaMode, Args};
+use crate::error::Result;
+use crate::headless::Headless;
+use crate::platform::{Backend, GlRequest};
+use crate::render::Renderer;
+use crate::run::{env_request, frame_settings, load_scene, map_view, png_text, Repro};
+use crate::scene::profile::LoadProfile;
+use crate::shader::cache::{ProgramCache, SharedPrograms};
+use serde::Serialize;
+use std::path::Path;
+use std::time::Instant;
+
+/// A headless context kept between pictures, with what it was asked for; the context's
+/// program cache (held so that programs outlive the renderers that compiled them); and the
+/// last picture's renderer (its uploaded scene, environment maps and shadow maps) with the
+/// options it was made for. Field order is drop order: GL objects before their context.
+pub struct KeptContext {
+    renderer: Option<(String, Renderer)>,
+    programs: SharedPrograms,
+    hl: Headless,
+    request: (Backend, GlRequest),
+}
+
+/// Where one picture's time went (`--stats` adds it to the last frame's line as `profile`,
+/// printed once the PNG is written). Stages that did not run because their result was kept
+/// are zero / null.
+#[derive(Debug, Default, Serialize)]
+pub struct Profile {
+    /// The loader's own stages (read, repair, parse, textures, meshes, normals, finish).
+    pub load: Option<LoadProfile>,
+    /// Loading as seen from here (arguments to scene, textures included).
+    pub load_ms: f64,
+    pub context_ms: f64,
+    /// Vertex/index buffers and textures to the GPU.
+    pub upload_ms: f64,
+    /// Programs compiled and linked during the frames, and the time it took.
+    pub programs_compiled: usize,
+    pub compile_ms: f64,
+    /// Wall time of each frame to glFinish (compiles and map precomputation included).
+    pub frames_ms: Vec<f64>,
+    pub readback_ms: f64,
+    pub encode_ms: f64,
+    pub total_ms: f64,
+}
+
+fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+/// The kept context for `args` (made, or re-targeted to the picture's size).
+fn context<'a>(
+    args: &Args,
+    size: (u32, u32),
+    kept: &'a mut Option<KeptContext>,
+    profile: &mut Profile,
+) -> Result<&'a mut KeptContext> {
+    let request = (args.backend, args.gl);
+    let reused = match kept {
+        Some(c) if c.request == request => c.hl.reset_target(size.0, size.1).is_ok(),
+        _ => false,
+    };
+    if !reused {
+        // The old context goes first: one context alive at a time.
+        *kept = None;
+        let t = Instant::now();
+        let hl = Headless::new(args.backend, args.gl, size.0, size.1)?;
+        profile.context_ms = ms(t);
+        *kept = Some(KeptContext {
+            renderer: None,
+            programs: ProgramCache::for_context(&hl.gpu),
+            hl,
+            request,
+        });
+    }
+    let kept = kept.as_mut().expect("context made above");
+    if args.aa == AaMode::Msaa {
+        kept.hl.enable_msaa(args.aa_samples)?;
+    }
+    Ok(kept)
+}
+
+/// Renders the model of `args` into `path`, reusing `kept` when it was made for the same
+/// backend and GL request (its target is resized), else replacing it: many pictures in one
+/// process share one context and its program cache (`glview batch`, the test fixture).
+pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Result<()> {
+    let start = Instant::now();
+    if let Some(img) = map_view(args)? {
+        let text = vec![
+            ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
+            ("glview.show", format!("{:?}", args.show).to_lowercase()),
+        ];
+        return img.save_png(path, &text);
+    }
+    let mut profile = Profile::default();
+    let (w, h) = args.size;
+    // SSAA renders k times larger on each axis and box-filters down.
+    let k = if args.aa == AaMode::Ssaa {
+        args.aa_samples.clamp(1, 4)
+    } else {
+        1
+    };
+    let kept = context(args, (w * k, h * k), kept, &mut profile)?;
+    // The same words but for camera, size and keys (a turntable, a camera sweep): the same
+    // scene, environment and lights, so the renderer and what it uploaded are kept.
+    let key = crate::repro::scene_key(args);
+    if kept.renderer.as_ref().is_none_or(|(k, _)| *k != key) {
+        kept.renderer = None;
+        let t = Instant::now();
+        crate::scene::profile::take_last();
+        let scene = load_scene(args)?;
+        profile.load_ms = ms(t);
+        profile.load = crate::scene::profile::take_last();
+        let t = Instant::now();
+        let mut r = Renderer::new(&kept.hl.gpu, scene)?;
+        profile.upload_ms = ms(t);
+        r.set_environment(env_request(args)?);
+        kept.renderer = Some((key, r));
+    }
+    let (hl, renderer) = (&kept.hl, &mut kept.renderer.as_mut().expect("made above").1);
+    renderer.time_post = args.stats;
+    let (settings, _) = frame_settings(args, renderer.scene())?;
+    let gpu = crate::run::Renderer::Gpu {
+        caps: &hl.gpu.caps,
+        backend: hl.backend_name(),
+    };
+    let keys = crate::repro::state_keys(args.keys.as_deref());
+    let text = png_text(
+        gpu,
+        &settings,
+        renderer.scene(),
+        &Repro::headless(args, &keys),
+    );
+    let compiled_before = kept.programs.borrow().compiled();
+    let frames = args.frames.max(1);
+    let mut last = None;
+    for i in 0..frames {
+        let stats = renderer.render(&settings, &hl.target())?;
+        profile.frames_ms.push(stats.ms);
+        if args.stats && i + 1 < frames {
+            println!("{}", serde_json::to_string(&stats).unwrap_or_default());
+        }
+        last = Some(stats);
+    }
+    let compiled = kept.programs.borrow().compiled();
+    profile.programs_compiled = compiled.0 - compiled_before.0;
+    profile.compile_ms = compiled.1 - compiled_before.1;
+    let t = Instant::now();
+    let mut img = crate::bench::metrics::downsample(&hl.read(), k);
+    if args.transparent {
+        crate::run::unpremultiply(&mut img);
+    }
+    profile.readback_ms = ms(t);
+    let t = Instant::now();
+    img.save(path, &text)?;
+    profile.encode_ms = ms(t);
+    profile.total_ms = ms(start);
+    if let (true, Some(stats)) = (args.stats, last) {
+        let mut line = serde_json::to_value(&stats).unwrap_or_default();
+        line["profile"] = serde_json::to_value(&profile).unwrap_or_default();
+        println!("{line}");
+    }
+    Ok(())
+}

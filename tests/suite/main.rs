@@ -1,0 +1,32 @@
+//! The integration tests, one binary: one build and link instead of one per file, and one
+//! process whose in-process GPU fixture (`common::render`) keeps one headless context and
+//! program cache for every render that needs no special environment. `tests/leaks.rs` stays
+//! a separate binary because it judges its own process's resident memory.
+mod analytic;
+mod antialiasing;
+mod bad_input;
+mod batch;
+mod bloom;
+mod cache;
+mod common;
+mod compare;
+mod conformance;
+mod fast_parse;
+mod fuzz_regressions;
+mod gpu_vs_reference;
+mod lighting;
+mod loading;
+mod models_committed;
+mod parity;
+mod pbr;
+mod post_copy;
+mod precision;
+mod reference;
+mod repro;
+mod shaders;
+mod shadows;
+mod stats;
+mod stress;
+mod translucency;
+mod window;
+mod xvfb;
