@@ -329,7 +329,9 @@ impl Renderer {
                 // RGBM takes the alpha channel: no coverage to keep; glass blends in its shader
                 // over a copy of the frame, on a unit of its own.
                 let glass = self.scene.meshes.iter().any(|m| m.translucent);
-                let why = if post.transparent {
+                let why = if self.gpu.framebuffer_samples(target.fbo) > 0 {
+                    Some("the target is multisampled (--aa msaa), which glCopyTexSubImage2D cannot read: use --aa ssaa")
+                } else if post.transparent {
                     Some("--transparent: the 8-bit frame's alpha would hold the RGBM multiplier")
                 } else if glass && self.gpu.caps.max_texture_units <= translucent::BEHIND_UNIT {
                     Some("no texture unit is left for the copy translucent surfaces blend over")

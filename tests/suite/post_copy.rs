@@ -345,6 +345,38 @@ fn copy_path_says_what_it_skipped() {
             && text.contains("bloom: skipped (no float render targets here, and --transparent"),
         "{text}"
     );
+    // GL ES 3.0 without EXT_color_buffer_float takes the copy path too; its MSAA target
+    // cannot be copied from, which it says instead of failing with a GL error.
+    let mut a = vec![
+        "--stats",
+        "--bloom",
+        "1",
+        "--aa",
+        "msaa",
+        "--gl",
+        "es3",
+        "--backend",
+        "egl",
+        "--size",
+        "64x48",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    let m = sphere();
+    a.push(&m);
+    let o = run(
+        &a,
+        &[(
+            "MESA_EXTENSION_OVERRIDE",
+            "-GL_EXT_color_buffer_float -GL_EXT_color_buffer_half_float",
+        )],
+    );
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && text.contains("the target is multisampled (--aa msaa)"),
+        "{text}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     // Glass layered back to front blends draw by draw over copies: said, and bounded. The
     // built-in cup's walls overlap within one draw: measured max 40/255 on 586 of 19,200
     // pixels against no bloom (stated: max 48, under 5 %).
