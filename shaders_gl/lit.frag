@@ -74,7 +74,7 @@ void main() {
         color += vis[i] * uLightColor[i] * (uTerms.y * uKd * tex * f.x + uTerms.z * uKs * f.y);
     }
 #endif
-    FRAG_COLOR = vec4(glviewOutput(color), uOpacity);
+    FRAG_COLOR = glviewOutputRgba(color, uOpacity);
 #ifdef LOG_DEPTH
     glviewLogDepth();
 #endif

@@ -163,7 +163,7 @@ void main() {
         }
     }
 #endif
-    FRAG_COLOR = vec4(glviewOutput(color), uOpacity);
+    FRAG_COLOR = glviewOutputRgba(color, uOpacity);
 #ifdef LOG_DEPTH
     glviewLogDepth();
 #endif

@@ -13,5 +13,5 @@ void main() {
 #else
     vec3 c = t.rgb;
 #endif
-    FRAG_COLOR = vec4(glviewOutput(c * uIblIntensity), 1.0);
+    FRAG_COLOR = glviewOutputRgba(c * uIblIntensity, 1.0);
 }

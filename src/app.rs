@@ -7,6 +7,7 @@ use crate::frame::{FrameSettings, Shading};
 use crate::gpu::{Gpu, GpuRef};
 use crate::keys::{self, Action, Effect};
 use crate::platform::window::WindowContext;
+use crate::render::aa::{AaTarget, WindowAa};
 use crate::render::{Renderer, Target};
 use crate::scene::{Bounds, Scene};
 use crate::{run, Error, Result};
@@ -64,6 +65,8 @@ pub fn run_window(args: &Args) -> Result<()> {
 /// The window, its context and the scene on the GPU. Field order is drop order: GL objects
 /// go while the context is still current, the context before the window.
 struct Live {
+    /// MSAA or SSAA: the offscreen target frames are drawn into before the window.
+    aa: AaTarget,
     renderer: Renderer,
     gpu: GpuRef,
     window: WindowContext,
@@ -106,10 +109,13 @@ impl App<'_> {
             .with_inner_size(self.size);
         let window = WindowContext::new(event_loop, attributes, self.args.gl)?;
         let gpu = Gpu::new(window.glow_context());
-        let renderer = Renderer::new(&gpu, scene)?;
+        let mut renderer = Renderer::new(&gpu, scene)?;
+        renderer.time_post = self.args.stats;
         self.size = window.window.inner_size();
         window.resize(self.size.width, self.size.height);
+        let aa = AaTarget::new(&gpu, window_aa(self.args))?;
         let live = Live {
+            aa,
             renderer,
             gpu,
             window,
@@ -211,14 +217,18 @@ impl App<'_> {
             }
             return Ok(());
         }
-        let target = Target {
+        let window = Target {
             fbo: None,
             width: w,
             height: h,
         };
+        // MSAA/SSAA draw offscreen (SSAA k times larger), then into the window.
+        let target = live.aa.target(&live.gpu, window)?;
+        let k = live.aa.scale();
         let stats = if self.compare {
             // Two panes on one camera: the legacy tier left, PBR right.
-            let half = (w / 2).max(1);
+            let half = (w / 2).max(1) * k;
+            let h = h * k;
             let mut last = None;
             for (i, shading) in [Shading::Phong, Shading::Pbr].into_iter().enumerate() {
                 let s = FrameSettings {
@@ -235,6 +245,8 @@ impl App<'_> {
         } else {
             live.renderer.render(&self.settings, &target)?
         };
+        live.aa.present(&mut live.renderer, &window)?;
+        let target = window;
         self.last_ms = stats.ms;
         if self.overlay {
             let text = overlay_text(
@@ -474,6 +486,15 @@ fn next_screenshot_path(dir: &Path) -> Result<PathBuf> {
         "{}: no free screenshot name",
         dir.display()
     )))
+}
+
+/// The window's anti-aliasing from `--aa` (FXAA is a post pass of every frame: nothing here).
+fn window_aa(args: &Args) -> WindowAa {
+    match args.aa {
+        crate::cli::AaMode::Msaa => WindowAa::Msaa(args.aa_samples),
+        crate::cli::AaMode::Ssaa => WindowAa::Ssaa(args.aa_samples.clamp(1, 4)),
+        crate::cli::AaMode::None | crate::cli::AaMode::Fxaa => WindowAa::None,
+    }
 }
 
 #[cfg(test)]

@@ -149,6 +149,7 @@ pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Resul
         kept.renderer = Some((key, r));
     }
     let (hl, renderer) = (&kept.hl, &mut kept.renderer.as_mut().expect("made above").1);
+    renderer.time_post = args.stats;
     let (settings, _) = frame_settings(args, renderer.scene())?;
     let gpu = crate::run::Renderer::Gpu {
         caps: &hl.gpu.caps,

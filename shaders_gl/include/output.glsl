@@ -52,3 +52,27 @@ vec3 glviewOutput(vec3 c) {
     return clamp(c, 0.0, 1.0);
 }
 #endif
+
+// What a lit fragment writes: the output colour and its opacity; with FRAME_RGBM (bloom where
+// there are no float render targets: the linear frame in the 8-bit default framebuffer) the
+// alpha channel holds the RGBM multiplier instead, see rgbm.glsl.
+#ifdef FRAME_RGBM
+#include "rgbm.glsl"
+// RGBM cannot be blended by the fixed function: translucent surfaces (nearest layer: one
+// per pixel) read what lies behind them from a copy of the frame and blend here.
+uniform float uRgbmBlend;     // 0 opaque, 1 alpha (C = a*src + (1 - a)*dst), 2 additive
+uniform sampler2D uBehind;
+uniform vec4 uBehindRect;     // the frame's rectangle in window pixels: x, y, w, h
+vec4 glviewOutputRgba(vec3 c, float a) {
+    vec3 o = glviewOutput(c);
+    if (uRgbmBlend > 0.5) {
+        vec3 d = glviewRgbmDecode(TEX2D(uBehind, (gl_FragCoord.xy - uBehindRect.xy) / uBehindRect.zw));
+        o = a * o + (uRgbmBlend > 1.5 ? 1.0 : 1.0 - a) * d;
+    }
+    return glviewRgbmEncode(o);
+}
+#else
+vec4 glviewOutputRgba(vec3 c, float a) {
+    return vec4(glviewOutput(c), a);
+}
+#endif

@@ -221,11 +221,21 @@ impl Framebuffer {
     /// Resolves this (multisampled) framebuffer's colour into `dst` (glBlitFramebuffer:
     /// GL 3.0, ES 3.0 or the FBO extensions).
     pub fn resolve_into(&self, dst: &Framebuffer) {
-        // SAFETY: both framebuffers are ours and complete, of the same size.
+        self.resolve_into_raw(Some(dst.raw), dst.width, dst.height);
+    }
+
+    /// [`Framebuffer::resolve_into`] the default framebuffer (a window's back buffer) of
+    /// this framebuffer's size: MSAA in the window.
+    pub fn resolve_into_default(&self) {
+        self.resolve_into_raw(None, self.width, self.height);
+    }
+
+    fn resolve_into_raw(&self, dst: Option<glow::Framebuffer>, width: u32, height: u32) {
+        // SAFETY: both framebuffers are complete and of the same size (the caller's).
         unsafe {
             let gl = &self.gpu.gl;
             gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
-            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, Some(dst.raw));
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, dst);
             gl.blit_framebuffer(
                 0,
                 0,
@@ -233,8 +243,8 @@ impl Framebuffer {
                 self.height as i32,
                 0,
                 0,
-                dst.width as i32,
-                dst.height as i32,
+                width as i32,
+                height as i32,
                 glow::COLOR_BUFFER_BIT,
                 glow::NEAREST,
             );

@@ -188,6 +188,14 @@ impl Gpu {
         self.viewport(0, 0, width, height);
     }
 
+    /// Samples per pixel of a framebuffer (0: single-sampled), e.g. whether the copy-to-texture
+    /// post path may read it (glCopyTexSubImage2D refuses multisampled sources).
+    pub fn framebuffer_samples(&self, fbo: Option<glow::Framebuffer>) -> u32 {
+        self.bind_framebuffer(fbo);
+        // SAFETY: a state query on the bound framebuffer.
+        unsafe { self.gl.get_parameter_i32(glow::SAMPLES).max(0) as u32 }
+    }
+
     pub fn bind_framebuffer(&self, fbo: Option<glow::Framebuffer>) {
         // SAFETY: fbo is None or a live framebuffer of this context.
         unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, fbo) }

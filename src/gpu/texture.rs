@@ -234,7 +234,7 @@ impl Texture2d {
                 gpu.caps.version
             )));
         }
-        let t = Self::create(gpu, width, height)?;
+        let (t, _rebind) = Self::create(gpu, width, height)?;
         let mipmaps = sampling.mipmaps && gpu.caps.generate_mipmap;
         // SAFETY: the caller's data holds width*height texels of the format's channels.
         unsafe {
@@ -269,7 +269,7 @@ impl Texture2d {
                 gpu.caps.version
             )));
         }
-        let t = Self::create(gpu, levels[0].0, levels[0].1)?;
+        let (t, _rebind) = Self::create(gpu, levels[0].0, levels[0].1)?;
         // SAFETY: each level's data holds w*h texels of the format's channels.
         unsafe {
             for (i, (w, h, px)) in levels.iter().enumerate() {
@@ -296,18 +296,28 @@ impl Texture2d {
 }
 
 impl Texture2d {
-    fn create(gpu: &GpuRef, width: u32, height: u32) -> Result<Texture2d> {
-        // SAFETY: creating and binding a new texture object.
+    /// A new texture, bound on the active unit until the returned guard goes: then that
+    /// unit's previous texture is bound again, so a texture made mid-frame (post targets, the
+    /// RGBM frame's copy) does not replace what a pass bound there.
+    fn create(gpu: &GpuRef, width: u32, height: u32) -> Result<(Texture2d, Rebind)> {
+        // SAFETY: a binding query, then creating and binding a new texture object.
         unsafe {
+            let previous = gpu.gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
             let raw = gpu.gl.create_texture().map_err(Error::Unsupported)?;
             gpu.created();
             gpu.gl.bind_texture(glow::TEXTURE_2D, Some(raw));
-            Ok(Texture2d {
-                gpu: gpu.clone(),
-                raw,
-                width,
-                height,
-            })
+            Ok((
+                Texture2d {
+                    gpu: gpu.clone(),
+                    raw,
+                    width,
+                    height,
+                },
+                Rebind {
+                    gpu: gpu.clone(),
+                    previous,
+                },
+            ))
         }
     }
 
@@ -325,7 +335,7 @@ impl Texture2d {
     /// An RGBA8 colour texture, row 0 = top of the image (sampled at v = 0), with mipmaps where
     /// `glGenerateMipmap` exists (GL 3.0, ES 3.0 or the FBO extensions).
     pub fn from_rgba(gpu: &GpuRef, width: u32, height: u32, rgba: &[u8]) -> Result<Texture2d> {
-        let t = Self::create(gpu, width, height)?;
+        let (t, _rebind) = Self::create(gpu, width, height)?;
         let mipmaps = gpu.caps.generate_mipmap;
         // SAFETY: rgba holds width*height*4 bytes (checked by the loader); UNPACK_ALIGNMENT 1.
         unsafe {
@@ -360,7 +370,7 @@ impl Texture2d {
     /// (the driver then blends the 2×2 compared results where it supports it), clamped to the
     /// edge.
     pub fn depth(gpu: &GpuRef, width: u32, height: u32) -> Result<Texture2d> {
-        let t = Self::create(gpu, width, height)?;
+        let (t, _rebind) = Self::create(gpu, width, height)?;
         // ES 3.0 needs a sized internal format paired with UNSIGNED_INT; desktop GL 1.4+
         // accepts the same pair, so one choice serves every dialect.
         // SAFETY: allocating storage for the bound texture with no initial data.
@@ -452,6 +462,45 @@ impl Texture2d {
                 size as i32,
             );
         }
+    }
+}
+
+impl Texture2d {
+    /// Copies the `self.width`×`self.height` rectangle at (x, y) of the bound read framebuffer
+    /// into level 0 (glCopyTexSubImage2D, GL 1.1 / ES 2.0): how post-processing reads the frame
+    /// on drivers without framebuffer objects.
+    pub fn copy_region_from_framebuffer(&self, unit: u32, x: u32, y: u32) {
+        // SAFETY: level 0 is allocated at this size; the caller keeps the rectangle inside
+        // the (single-sampled) read framebuffer. The texture is bound on `unit` (where it is
+        // read next, or a unit the next step rebinds), never on whatever unit was active.
+        unsafe {
+            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
+            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.gl.copy_tex_sub_image_2d(
+                glow::TEXTURE_2D,
+                0,
+                0,
+                0,
+                x as i32,
+                y as i32,
+                self.width as i32,
+                self.height as i32,
+            );
+        }
+    }
+}
+
+/// Puts back the 2D texture a unit had before [`Texture2d::create`].
+struct Rebind {
+    gpu: GpuRef,
+    previous: Option<glow::Texture>,
+}
+
+impl Drop for Rebind {
+    fn drop(&mut self) {
+        // SAFETY: the previous binding is a live texture (or none) of this context: nothing
+        // is deleted while a constructor runs.
+        unsafe { self.gpu.gl.bind_texture(glow::TEXTURE_2D, self.previous) }
     }
 }
 

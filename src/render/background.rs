@@ -88,7 +88,13 @@ pub(crate) fn fill_unmarked(cx: &mut FrameCx) -> Result<()> {
     } else {
         let program = cx.program(&fill_key())?;
         program.bind();
-        program.set_vec3("uColor", s.background);
+        let c = s.background.to_array();
+        let c = if cx.rgbm {
+            super::post::rgbm_encode(c)
+        } else {
+            [c[0], c[1], c[2], 1.0]
+        };
+        program.set_vec4("uColor", glam::Vec4::from(c));
         cx.draw_quad(&state)?;
     }
     cx.gpu.apply(&RenderState::default());
@@ -105,11 +111,9 @@ fn draw_skybox(cx: &mut FrameCx, state: RenderState) -> Result<String> {
     let level = ((pbr.skybox_blur.clamp(0.0, 1.0) * (n - 1) as f32).round() as usize).min(n - 1);
     ibl.specular[level].bind(SKY_UNIT);
     cx.stats.textures_bound += 1;
-    let key = skybox_key(rgbm, s.lighting.output.tonemap.code()).switch(
-        "LINEAR_OUTPUT",
-        "lin",
-        cx.linear,
-    );
+    let key = skybox_key(rgbm, s.lighting.output.tonemap.code())
+        .switch("LINEAR_OUTPUT", "lin", cx.linear)
+        .switch("FRAME_RGBM", "hdr8", cx.rgbm);
     let program = cx.program(&key)?;
     program.bind();
     let view = s.camera.view();
@@ -118,6 +122,8 @@ fn draw_skybox(cx: &mut FrameCx, state: RenderState) -> Result<String> {
     program.set_mat3("uEnvFromEye", &Mat3::from_mat4(view).transpose());
     program.set_i32("uSky", SKY_UNIT as i32);
     program.set_f32("uIblIntensity", pbr.ibl_intensity);
+    // (FRAME_RGBM: its uBehind sampler must not share the cube map's unit 0.)
+    cx.set_rgbm_blend(&program);
     program.set_f32("uExposure", 2f32.powf(s.lighting.output.exposure_ev));
     // At the far plane (z = 1): LEQUAL against the cleared depth of 1 passes, and the
     // model drawn afterwards with LESS covers it.

@@ -276,6 +276,7 @@ pub(crate) fn draw(
             "uOpacity",
             super::translucent::opacity(cx, mat, translucent),
         );
+        cx.set_rgbm_blend(&program);
         if let Some(t) = texture {
             if bound_texture != Some(t) {
                 cx.scene.textures[t].bind(0);
@@ -284,9 +285,7 @@ pub(crate) fn draw(
             }
             program.set_i32("uDiffuseMap", 0);
         }
-        for state in states(translucent) {
-            draw_once(cx, i, &state);
-        }
+        super::translucent::draw_states(cx, i, &program, &states(translucent))?;
     }
     cx.gpu.apply(&RenderState::default());
     Ok(())

@@ -3,7 +3,8 @@
 //! kept between frames) and either draws or says why it did not. `--stats` lists the passes
 //! that ran (`passes`) and every decision (`pass_log`).
 //!
-//! Frame: shadow depth → background → legacy lit | PBR lit → teaching view.
+//! Frame: shadow depth → background → legacy lit | PBR lit → teaching view → post (post.rs).
+pub mod aa;
 pub mod background;
 pub mod frusta;
 pub mod ibl;
@@ -55,6 +56,9 @@ pub struct FrameStats {
     pub ms: f64,
     /// GPU time of the frame (GL_TIME_ELAPSED) where the driver has timer queries.
     pub gpu_ms: Option<f64>,
+    /// Each post step with its time (ms between glFinish calls), listed when the renderer's
+    /// `time_post` is on (`--stats`) and bloom or FXAA ran.
+    pub post: Vec<post::PostStep>,
 }
 
 impl FrameStats {
@@ -99,6 +103,10 @@ pub(crate) struct FrameCx<'a> {
     pub stats: &'a mut FrameStats,
     /// The frame is offscreen: lit passes write linear, unclamped colour (`LINEAR_OUTPUT`).
     pub linear: bool,
+    /// The linear frame is RGBM-encoded in the 8-bit target (bloom on the copy path).
+    pub rgbm: bool,
+    /// RGBM only: how lit draws blend in the shader (`uRgbmBlend`: 0 off, 1 alpha, 2 add).
+    pub rgbm_blend: f32,
 }
 
 impl FrameCx<'_> {
@@ -121,7 +129,14 @@ impl FrameCx<'_> {
         } else {
             1.0
         };
-        let color = color.map(|[r, g, b]| [r * a, g * a, b * a, a]);
+        let rgbm = self.rgbm;
+        let color = color.map(|[r, g, b]| {
+            if rgbm {
+                post::rgbm_encode([r, g, b])
+            } else {
+                [r * a, g * a, b * a, a]
+            }
+        });
         let t = self.target;
         if self.viewport == [0, 0, t.width, t.height] {
             self.gpu.clear_rgba(color);
@@ -149,6 +164,20 @@ impl FrameCx<'_> {
             self.settings.lighting.translucency.log_depth,
         )
         .switch("LINEAR_OUTPUT", "lin", self.linear)
+        .switch("FRAME_RGBM", "hdr8", self.rgbm)
+    }
+
+    /// The RGBM blending uniforms of a lit program (no-ops on other programs).
+    pub fn set_rgbm_blend(&self, p: &crate::gpu::program::Program) {
+        if self.rgbm {
+            let [x, y, w, h] = self.viewport;
+            p.set_f32("uRgbmBlend", self.rgbm_blend);
+            p.set_i32("uBehind", translucent::BEHIND_UNIT as i32);
+            p.set_vec4(
+                "uBehindRect",
+                glam::Vec4::new(x as f32, y as f32, w as f32, h as f32),
+            );
+        }
     }
 
     /// Draws the full-screen quad with `state` (one draw call).
@@ -210,6 +239,18 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
                 background::skybox_key(true, tm),
             ]
         }))
+        .chain(post::keys())
+        // The copy path's RGBM-encoded linear frame (bloom without float render targets).
+        .chain(
+            [
+                background::skybox_key(true, 3),
+                lit::program_key(1, 1, 1, 0, true, false),
+            ]
+            .map(|k| {
+                k.switch("LINEAR_OUTPUT", "lin", true)
+                    .switch("FRAME_RGBM", "hdr8", true)
+            }),
+        )
         .collect()
 }
 
@@ -221,6 +262,8 @@ pub struct Renderer {
     pub(crate) res: Resources,
     timer: Option<crate::gpu::query::TimerQuery>,
     frame: u64,
+    /// Time each post step (glFinish before and after): `--stats`.
+    pub time_post: bool,
 }
 
 impl Renderer {
@@ -234,6 +277,7 @@ impl Renderer {
             res: Resources::default(),
             timer: crate::gpu::query::TimerQuery::new(gpu)?,
             frame: 0,
+            time_post: false,
         })
     }
 
@@ -278,16 +322,40 @@ impl Renderer {
         {
             let mut programs = self.programs.borrow_mut();
             let post = s.lighting.post;
-            let why_not = post
-                .offscreen()
-                .then(|| post::unsupported(&self.gpu))
-                .flatten();
-            if let Some(why) = why_not {
-                stats
-                    .pass_log
-                    .push(format!("post: skipped (bloom/FXAA {why}; drawn directly)"));
+            let copy = post::copy_path(&self.gpu);
+            // `--show bloom` shows the bloom buffer whether or not a strength was given.
+            let mut bloom_on = post.bloom.strength > 0.0 || post.show_bloom;
+            if copy && bloom_on {
+                // RGBM takes the alpha channel: no coverage to keep; glass blends in its shader
+                // over a copy of the frame, on a unit of its own.
+                let glass = self.scene.meshes.iter().any(|m| m.translucent);
+                let why = if self.gpu.framebuffer_samples(target.fbo) > 0 {
+                    Some("the target is multisampled (--aa msaa), which glCopyTexSubImage2D cannot read: use --aa ssaa")
+                } else if post.transparent {
+                    Some("--transparent: the 8-bit frame's alpha would hold the RGBM multiplier")
+                } else if glass && self.gpu.caps.max_texture_units <= translucent::BEHIND_UNIT {
+                    Some("no texture unit is left for the copy translucent surfaces blend over")
+                } else {
+                    None
+                };
+                if why.is_none()
+                    && glass
+                    && s.lighting.translucency.mode != crate::frame::TranslucencyMode::Nearest
+                {
+                    stats.pass_log.push(
+                        "translucent: RGBM frame: each blended draw blends in the shader over a copy of the frame; where one draw overlaps itself (a cup's walls) only its last layer shows".into(),
+                    );
+                }
+                if let Some(why) = why {
+                    stats.pass_log.push(format!(
+                        "bloom: skipped (no float render targets here, and {why}; drawn without bloom)"
+                    ));
+                    bloom_on = false;
+                }
             }
-            let offscreen = post.offscreen() && why_not.is_none();
+            let any_post = bloom_on || post.fxaa;
+            let offscreen = any_post && !copy;
+            let rgbm = copy && bloom_on;
             let (w, h) = (viewport[2], viewport[3]);
             let hdr = if offscreen {
                 Target {
@@ -307,7 +375,9 @@ impl Renderer {
                 target: &hdr,
                 viewport: if offscreen { [0, 0, w, h] } else { viewport },
                 stats: &mut stats,
-                linear: offscreen,
+                linear: offscreen || rgbm,
+                rgbm,
+                rgbm_blend: 0.0,
             };
             for pass in PASSES {
                 match pass.run(&mut cx)? {
@@ -321,30 +391,20 @@ impl Renderer {
                         .push(format!("{}: skipped ({why})", pass.name())),
                 }
             }
-            if offscreen {
-                let bloom = post.bloom;
-                let level = if bloom.strength > 0.0 {
-                    cx.quad()?;
-                    let r = &mut *cx.res;
-                    let quad = r.quad.as_ref().expect("made above");
-                    // The frame is read while the chain is written: take it out meanwhile.
-                    let frame = r.post.frame.take().expect("made above");
-                    let level =
-                        post::bloom(cx.gpu, cx.programs, &mut r.post, quad, &frame.color, &bloom);
-                    r.post.frame = Some(frame);
-                    Some(level?)
-                } else {
-                    None
-                };
+            if any_post {
+                let mut laps = post::Laps::start(cx.gpu, self.time_post);
                 cx.target = target;
                 cx.viewport = viewport;
                 cx.linear = false;
-                post::finish(&mut cx, level)?;
-                let fxaa = if post.fxaa { ", fxaa" } else { "" };
-                cx.stats.passes.push(match level {
-                    Some(l) => format!("post(bloom 1/{}, composite{fxaa})", 1 << l),
-                    None => format!("post(composite{fxaa})"),
+                cx.rgbm = false;
+                let entry = post::run(&mut cx, bloom_on, &mut laps)?;
+                cx.stats.passes.push(entry);
+                cx.stats.pass_log.push(if copy {
+                    "post: ran (copy-to-texture path: no framebuffer objects with float render targets)".into()
+                } else {
+                    "post: ran".into()
                 });
+                cx.stats.post = laps.steps;
             }
         }
         if cfg!(debug_assertions) {

@@ -3,7 +3,7 @@
 //! and by the `--light` lights with the shadow pass's maps; output through exposure, tone
 //! mapping and sRGB encoding.
 use super::ibl::IblGpu;
-use super::lit::{draw_once, shadow_flags, View, SHADOW_UNIT};
+use super::lit::{shadow_flags, View, SHADOW_UNIT};
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::state::RenderState;
 use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
@@ -24,6 +24,8 @@ const LUT_UNIT: u32 = IRRADIANCE_UNIT + 1;
 const SPECULAR_UNIT: u32 = LUT_UNIT + 1;
 /// Specular levels the shader can take (`uSpecular0..7`).
 pub const MAX_LEVELS: u32 = 8;
+/// The last texture unit the tier can use.
+pub(crate) const LAST_UNIT: u32 = SPECULAR_UNIT + MAX_LEVELS - 1;
 
 /// Roughness levels that fit the driver's texture units next to the other maps.
 pub fn max_levels(units: u32) -> u32 {
@@ -368,6 +370,7 @@ fn draw(
             "uOpacity",
             super::translucent::opacity(cx, mat, translucent),
         );
+        cx.set_rgbm_blend(&program);
         let tex = cx.res.pbr_textures.as_ref().expect("made above");
         for (index, on, unit) in [
             (mm.albedo, maps.albedo, 0),
@@ -380,9 +383,7 @@ fn draw(
                 cx.stats.textures_bound += 1;
             }
         }
-        for state in states(translucent) {
-            draw_once(cx, i, &state);
-        }
+        super::translucent::draw_states(cx, i, &program, &states(translucent))?;
     }
     cx.gpu.apply(&RenderState::default());
     Ok(())

@@ -13,6 +13,7 @@
 use super::background;
 use super::FrameCx;
 use crate::frame::{BlendFormula, TranslucencyMode};
+use crate::gpu::program::Program;
 use crate::gpu::state::{Blend, Cull, DepthFunc, RenderState, Stencil, StencilFunc};
 use crate::scene::Material;
 use crate::Result;
@@ -21,6 +22,48 @@ use crate::Result;
 pub(crate) fn masked(cx: &FrameCx) -> bool {
     cx.settings.lighting.translucency.mode == TranslucencyMode::Nearest
         && cx.scene.meshes.iter().any(|m| m.translucent)
+}
+
+/// The unit of the frame's copy translucent surfaces blend over on the RGBM path: past the
+/// PBR tier's last specular level.
+pub(crate) const BEHIND_UNIT: u32 = super::pbr::LAST_UNIT + 1;
+
+/// Draws mesh `i` (its program bound) once per state. On the RGBM frame (bloom without float
+/// render targets) fixed-function blending cannot decode the frame, so each blended draw
+/// reads a fresh copy of the frame and blends in the shader instead: exact where a draw
+/// covers each pixel once (the nearest layer; a convex mesh's front or back faces).
+pub(crate) fn draw_states(
+    cx: &mut FrameCx,
+    i: usize,
+    program: &Program,
+    states: &[RenderState],
+) -> Result<()> {
+    for state in states {
+        if !(cx.rgbm && state.blend != Blend::Off) {
+            super::lit::draw_once(cx, i, state);
+            continue;
+        }
+        let [x, y, w, h] = cx.viewport;
+        cx.bind_target();
+        cx.res
+            .post
+            .behind(cx.gpu, w, h)?
+            .copy_region_from_framebuffer(BEHIND_UNIT, x, y);
+        cx.rgbm_blend = if state.blend == Blend::Additive {
+            2.0
+        } else {
+            1.0
+        };
+        cx.set_rgbm_blend(program);
+        let off = RenderState {
+            blend: Blend::Off,
+            ..*state
+        };
+        super::lit::draw_once(cx, i, &off);
+        cx.rgbm_blend = 0.0;
+        cx.set_rgbm_blend(program);
+    }
+    Ok(())
 }
 
 /// The opacity a mesh is drawn with: `--opacity` overrides translucent materials.

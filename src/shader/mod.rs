@@ -32,6 +32,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/include/output.glsl"),
     ),
     (
+        "rgbm.glsl",
+        include_str!("../../shaders_gl/include/rgbm.glsl"),
+    ),
+    (
         "brdf.glsl",
         include_str!("../../shaders_gl/include/brdf.glsl"),
     ),
@@ -67,6 +71,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/post/composite.frag"),
     ),
     ("fxaa.frag", include_str!("../../shaders_gl/post/fxaa.frag")),
+    ("box.frag", include_str!("../../shaders_gl/post/box.frag")),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -42,6 +42,16 @@ fn coverage(x: u32, y: u32) -> f64 {
 }
 
 fn shot(dir: &std::path::Path, model: &str, name: &str, extra: &[&str]) -> Rgba {
+    shot_env(dir, model, name, extra, &[])
+}
+
+fn shot_env(
+    dir: &std::path::Path,
+    model: &str,
+    name: &str,
+    extra: &[&str],
+    env: &[(&str, &str)],
+) -> Rgba {
     let out = dir.join(format!("{name}.png"));
     let mut a = vec![
         model,
@@ -64,7 +74,7 @@ fn shot(dir: &std::path::Path, model: &str, name: &str, extra: &[&str]) -> Rgba 
         out.to_str().unwrap(),
     ];
     a.extend_from_slice(extra);
-    let o = run(&a, &[]);
+    let o = run(&a, env);
     assert!(
         o.status.success(),
         "{name}: {}",
@@ -164,4 +174,33 @@ fn edge_coverage_per_mode() {
         !o.status.success() && err.contains("use --aa ssaa"),
         "{err}"
     );
+}
+
+/// FXAA on GL 2.1 without framebuffer objects: the frame is copied into a texture and FXAA
+/// drawn back; its edge error equals the float path's within 0.01, and SSAA works there too.
+#[test]
+fn fxaa_and_ssaa_without_framebuffer_objects() {
+    let dir = out_dir("antialiasing-no-fbo");
+    let model = square(&dir);
+    let no_fbo = |name: &str, aa: &[&str]| {
+        let mut a = vec!["--gl", "2.1", "--backend", "osmesa"];
+        a.extend_from_slice(aa);
+        shot_env(&dir, &model, name, &a, GL21_NO_FBO)
+    };
+    let none = edge_error(&no_fbo("none", &["--aa", "none"]), 0);
+    let fxaa = edge_error(&no_fbo("fxaa", &["--aa", "fxaa"]), 0);
+    let ssaa = edge_error(&no_fbo("ssaa4", &["--aa", "ssaa", "--aa-samples", "4"]), 0);
+    let fbo = edge_error(&shot(&dir, &model, "fxaa-fbo", &["--aa", "fxaa"]), 0);
+    eprintln!(
+        "no FBOs: edge error none {none:.4}, fxaa {fxaa:.4} (float path {fbo:.4}), ssaa 4x4 {ssaa:.4}"
+    );
+    assert!(
+        fxaa < none,
+        "FXAA made the edges worse: {fxaa} against {none}"
+    );
+    assert!(
+        (fxaa - fbo).abs() < 0.01,
+        "copy path {fxaa}, float path {fbo}"
+    );
+    assert!(ssaa < 0.06, "{ssaa}");
 }

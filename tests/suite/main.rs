@@ -19,6 +19,7 @@ mod loading;
 mod models_committed;
 mod parity;
 mod pbr;
+mod post_copy;
 mod precision;
 mod reference;
 mod repro;

@@ -154,9 +154,21 @@ pub struct Viewer {
 
 impl Viewer {
     pub fn start(bin: &str, display: &str, args: &[&str], cwd: &Path) -> Viewer {
+        Self::start_env(bin, display, args, cwd, &[])
+    }
+
+    /// [`Viewer::start`] with extra environment variables (e.g. Mesa's version overrides).
+    pub fn start_env(
+        bin: &str,
+        display: &str,
+        args: &[&str],
+        cwd: &Path,
+        env: &[(&str, &str)],
+    ) -> Viewer {
         let mut child = Command::new(bin)
             .args(args)
             .current_dir(cwd)
+            .envs(env.iter().copied())
             .env("DISPLAY", display)
             .env_remove("WAYLAND_DISPLAY")
             .stdin(Stdio::null())
