@@ -244,7 +244,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         .chain(
             [
                 background::skybox_key(true, 3),
-                lit::program_key(1, 1, 1, 0, true, false),
+                lit::program_key(1, 1, 1, 0, true, false, true),
             ]
             .map(|k| {
                 k.switch("LINEAR_OUTPUT", "lin", true)
