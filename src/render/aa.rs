@@ -162,16 +162,7 @@ impl Renderer {
         gpu.bind_framebuffer(target.fbo);
         gpu.viewport(0, 0, target.width, target.height);
         gpu.apply(&RenderState::overlay());
-        if self.res.quad.is_none() {
-            self.res.quad = Some(crate::gpu::mesh::GpuMesh::new(
-                &gpu,
-                &super::quad_vertices(),
-                &[0, 1, 2, 0, 2, 3],
-            )?);
-        }
-        if let Some(q) = &self.res.quad {
-            q.draw();
-        }
+        self.res.quad(&gpu)?.draw();
         gpu.apply(&RenderState::default());
         Ok(())
     }

@@ -89,6 +89,16 @@ pub(crate) struct Resources {
     pub post: post::PostState,
 }
 
+impl Resources {
+    /// A full-screen quad (two triangles over clip space), made on first use.
+    pub fn quad(&mut self, gpu: &GpuRef) -> Result<&GpuMesh> {
+        if self.quad.is_none() {
+            self.quad = Some(GpuMesh::new(gpu, &quad_vertices(), &[0, 1, 2, 0, 2, 3])?);
+        }
+        Ok(self.quad.as_ref().expect("made above"))
+    }
+}
+
 /// Everything a pass may use: the GPU, the context's program cache, the uploaded scene, the
 /// kept resources, the settings, the target and the rectangle of it to draw into.
 pub(crate) struct FrameCx<'a> {
@@ -193,14 +203,7 @@ impl FrameCx<'_> {
 
     /// A full-screen quad (two triangles over clip space), made on first use.
     pub fn quad(&mut self) -> Result<&GpuMesh> {
-        if self.res.quad.is_none() {
-            self.res.quad = Some(GpuMesh::new(
-                self.gpu,
-                &quad_vertices(),
-                &[0, 1, 2, 0, 2, 3],
-            )?);
-        }
-        Ok(self.res.quad.as_ref().expect("made above"))
+        self.res.quad(self.gpu)
     }
 }
 

@@ -38,16 +38,7 @@ impl Renderer {
             blend: Blend::Alpha,
             ..RenderState::overlay()
         });
-        if self.res.quad.is_none() {
-            self.res.quad = Some(crate::gpu::mesh::GpuMesh::new(
-                &gpu,
-                &super::quad_vertices(),
-                &[0, 1, 2, 0, 2, 3],
-            )?);
-        }
-        if let Some(q) = &self.res.quad {
-            q.draw();
-        }
+        self.res.quad(&gpu)?.draw();
         gpu.apply(&RenderState::default());
         Ok(())
     }
