@@ -111,6 +111,7 @@ impl App<'_> {
         let gpu = Gpu::new(window.glow_context());
         let mut renderer = Renderer::new(&gpu, scene)?;
         renderer.time_post = self.args.stats;
+        renderer.cull_clusters = !self.args.no_culling;
         self.size = window.window.inner_size();
         window.resize(self.size.width, self.size.height);
         let aa = AaTarget::new(&gpu, window_aa(self.args))?;

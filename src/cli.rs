@@ -249,6 +249,10 @@ pub struct Args {
     /// Print one JSON object per frame: passes, draw calls, triangles, programs, milliseconds.
     #[arg(long)]
     pub stats: bool,
+    /// Send every triangle of large meshes to the GPU (no cluster culling; the picture is the
+    /// same, only slower: for comparisons).
+    #[arg(long)]
+    pub no_culling: bool,
     /// Print what the driver provides (version, GLSL, extensions that matter) and exit.
     #[arg(long)]
     pub info: bool,

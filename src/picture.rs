@@ -6,6 +6,7 @@ use crate::headless::Headless;
 use crate::platform::{Backend, GlRequest};
 use crate::render::Renderer;
 use crate::run::{env_request, frame_settings, load_scene, map_view, png_text, Repro};
+use crate::scene::clusters::Clusters;
 use crate::scene::profile::LoadProfile;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
 use serde::Serialize;
@@ -33,6 +34,8 @@ pub struct Profile {
     /// Loading as seen from here (arguments to scene, textures included). It runs on another
     /// thread while the context is made, so the two overlap.
     pub load_ms: f64,
+    /// Of `load_ms`: large meshes reordered and cut into clusters (`scene::clusters`).
+    pub clusters_ms: f64,
     pub context_ms: f64,
     /// Vertex/index buffers and textures to the GPU.
     pub upload_ms: f64,
@@ -84,11 +87,26 @@ fn context(
 
 /// Loads the scene of `args` (on whatever thread calls it) with its time and the loader's
 /// own profile, which is recorded per thread.
-fn load(args: &Args) -> (Result<crate::scene::Scene>, f64, Option<LoadProfile>) {
+/// The scene with its large meshes' clusters prepared, load time (clusters included), the
+/// loader's profile and the clusters' time.
+type Loaded = (
+    Result<(crate::scene::Scene, Vec<Option<Clusters>>)>,
+    f64,
+    Option<LoadProfile>,
+    f64,
+);
+
+fn load(args: &Args) -> Loaded {
     let t = Instant::now();
     crate::scene::profile::take_last();
     let scene = load_scene(args);
-    (scene, ms(t), crate::scene::profile::take_last())
+    let profile = crate::scene::profile::take_last();
+    let c = Instant::now();
+    let scene = scene.map(|mut s| {
+        let clusters = crate::scene::clusters::prepare(&mut s);
+        (s, clusters)
+    });
+    (scene, ms(t), profile, ms(c))
 }
 
 /// Renders the model of `args` into `path`, reusing `kept` when it was made for the same
@@ -134,22 +152,24 @@ pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Resul
             (made, loader.join())
         });
         made?;
-        let (scene, load_ms, load_profile) =
+        let (scene, load_ms, load_profile, clusters_ms) =
             loaded.map_err(|_| crate::Error::Unsupported("the model loader panicked".into()))?;
         profile.load_ms = load_ms;
         profile.load = load_profile;
+        profile.clusters_ms = clusters_ms;
         Some(scene?)
     };
     let kept = kept.as_mut().expect("context made above");
-    if let Some(scene) = scene {
+    if let Some((scene, clusters)) = scene {
         let t = Instant::now();
-        let mut r = Renderer::new(&kept.hl.gpu, scene)?;
+        let mut r = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;
         profile.upload_ms = ms(t);
         r.set_environment(env_request(args)?);
         kept.renderer = Some((key, r));
     }
     let (hl, renderer) = (&kept.hl, &mut kept.renderer.as_mut().expect("made above").1);
     renderer.time_post = args.stats;
+    renderer.cull_clusters = !args.no_culling;
     let (settings, _) = frame_settings(args, renderer.scene())?;
     let gpu = crate::run::Renderer::Gpu {
         caps: &hl.gpu.caps,

@@ -55,7 +55,7 @@ const SHARED: &[(&str, bool)] = &[
     ("dragon-200k/dragon_vrip_res2.obj", false),
 ];
 
-fn default_work_dir() -> PathBuf {
+pub(crate) fn default_work_dir() -> PathBuf {
     let cache = std::env::var_os("XDG_CACHE_HOME")
         .map(PathBuf::from)
         .filter(|p| p.is_absolute())

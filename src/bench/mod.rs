@@ -4,6 +4,7 @@
 //! table and write CSV/JSON (and a plot) into `docs/bench/` by default.
 pub mod child;
 pub mod f3d;
+pub mod frame;
 pub mod knobs;
 pub mod load;
 pub mod load_report;
@@ -38,6 +39,10 @@ pub struct BenchArgs {
     /// Measure nearest-layer translucency against sorted and opaque drawing (and log depth).
     #[arg(long, conflicts_with_all = ["load", "pbr"])]
     pub translucency: bool,
+    /// Measure the frame of the 1M-triangle sphere (and the dragon) at 1280x720: shadow pass
+    /// forced, map reused and no shadows, without and with reordering and cluster culling.
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency"])]
+    pub frame: bool,
     /// With --pbr: Monte Carlo samples per lobe of the reference.
     #[arg(long, default_value_t = 16384)]
     pub pbr_samples: u32,
@@ -54,6 +59,24 @@ pub fn run(args: &BenchArgs) -> crate::Result<()> {
     }
     if args.translucency {
         return translucency::run_translucency(&args.quality.models_dir);
+    }
+    if args.frame {
+        let work = args
+            .load_options
+            .work_dir
+            .clone()
+            .unwrap_or_else(load::default_work_dir);
+        let rounds = if args.quality.quick {
+            3
+        } else {
+            args.quality.repeat.max(5)
+        };
+        return frame::run_frame(
+            &work,
+            &args.quality.models_dir,
+            rounds,
+            args.load_options.sphere_triangles,
+        );
     }
     if args.pbr {
         let hdr = args

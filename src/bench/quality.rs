@@ -192,7 +192,7 @@ pub fn run_quality(opts: &QualityOptions) -> Result<()> {
 }
 
 /// The 1-, 5- and 15-minute load averages: other work on the machine skews the timings.
-fn loadavg() -> String {
+pub(crate) fn loadavg() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_else(|_| "unknown".into())

@@ -150,8 +150,20 @@ impl GpuMesh {
     }
 
     pub fn draw(&self) {
+        self.draw_ranges(&[(0, self.index_count as u32)]);
+    }
+
+    /// Draws the index ranges (first index, count), one draw call each, with the attribute
+    /// set-up done once. Ranges must lie within the index buffer.
+    pub fn draw_ranges(&self, ranges: &[(u32, u32)]) {
         let gl = &self.gpu.gl;
-        // SAFETY: draws from our own buffers; the caller has bound a program.
+        let size = if self.index_type == glow::UNSIGNED_SHORT {
+            2
+        } else {
+            4
+        };
+        // SAFETY: draws from our own buffers within their length (the caller's ranges come
+        // from this mesh's clusters); the caller has bound a program.
         unsafe {
             match self.vao {
                 Some(vao) => gl.bind_vertex_array(Some(vao)),
@@ -160,7 +172,15 @@ impl GpuMesh {
                     self.ibo.bind();
                 }
             }
-            gl.draw_elements(self.mode, self.index_count, self.index_type, 0);
+            for &(first, count) in ranges {
+                debug_assert!(first + count <= self.index_count as u32);
+                gl.draw_elements(
+                    self.mode,
+                    count as i32,
+                    self.index_type,
+                    (first * size) as i32,
+                );
+            }
             if self.vao.is_some() {
                 gl.bind_vertex_array(None);
             }

@@ -8,6 +8,7 @@ use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::program::Program;
 use crate::gpu::state::RenderState;
 use crate::light::LightKind;
+use crate::scene::clusters::ClusterView;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
@@ -96,6 +97,7 @@ impl View {
         let s = cx.settings;
         let view = s.camera.view();
         let proj = s.camera.projection(&cx.scene.scene.bounds, cx.aspect());
+        cx.cull = Some(ClusterView::new(proj * view));
         let maps = &cx.res.shadow.maps;
         let cube_mask = maps
             .iter()
@@ -195,13 +197,9 @@ impl View {
     }
 }
 
-/// One draw call of mesh `i` with `state`.
+/// One draw of mesh `i` with `state` (only the clusters the camera may see).
 pub(crate) fn draw_once(cx: &mut FrameCx, i: usize, state: &RenderState) {
-    let dm = &cx.scene.meshes[i];
-    cx.gpu.apply(state);
-    dm.mesh.draw();
-    cx.stats.draw_calls += 1;
-    cx.stats.triangles += dm.triangles;
+    super::cull::draw(cx, i, state);
 }
 
 impl Pass for Lit {

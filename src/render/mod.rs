@@ -6,6 +6,7 @@
 //! Frame: shadow depth → background → legacy lit | PBR lit → teaching view → post (post.rs).
 pub mod aa;
 pub mod background;
+mod cull;
 pub mod frusta;
 pub mod ibl;
 pub mod ibl_gpu;
@@ -52,6 +53,9 @@ pub struct FrameStats {
     pub textures_bound: u32,
     /// Meshes skipped by the lit pass because their bounding sphere is outside the view.
     pub culled: u32,
+    /// Triangles of large meshes not sent to the GPU, in every pass: clusters outside the
+    /// view's frustum or, on closed meshes, facing away (`render/cull.rs`).
+    pub triangles_skipped: u64,
     /// CPU wall time of the frame up to glFinish.
     pub ms: f64,
     /// GPU time of the frame (GL_TIME_ELAPSED) where the driver has timer queries.
@@ -117,6 +121,13 @@ pub(crate) struct FrameCx<'a> {
     pub rgbm: bool,
     /// RGBM only: how lit draws blend in the shader (`uRgbmBlend`: 0 off, 1 alpha, 2 add).
     pub rgbm_blend: f32,
+    /// The view large meshes are culled against, cluster by cluster: set by each pass that
+    /// draws meshes (the camera's, or a light's).
+    pub cull: Option<crate::scene::clusters::ClusterView>,
+    /// Cluster culling is on ([`Renderer::cull_clusters`]).
+    pub cull_clusters: bool,
+    /// Scratch list of index ranges, kept so draws do not allocate.
+    pub ranges: Vec<(u32, u32)>,
 }
 
 impl FrameCx<'_> {
@@ -267,12 +278,25 @@ pub struct Renderer {
     frame: u64,
     /// Time each post step (glFinish before and after): `--stats`.
     pub time_post: bool,
+    /// Skip clusters of large meshes the view cannot see (default on; `--no-culling` turns
+    /// it off, for comparisons: the picture is the same either way).
+    pub cull_clusters: bool,
 }
 
 impl Renderer {
     /// Uploads the scene once (static buffers; textures deduplicated by file).
-    pub fn new(gpu: &GpuRef, scene: Scene) -> Result<Renderer> {
-        let scene = SceneGpu::new(gpu, scene)?;
+    pub fn new(gpu: &GpuRef, mut scene: Scene) -> Result<Renderer> {
+        let clusters = crate::scene::clusters::prepare(&mut scene);
+        Self::prepared(gpu, scene, clusters)
+    }
+
+    /// As [`Renderer::new`], with the clusters already prepared (on the loading thread).
+    pub fn prepared(
+        gpu: &GpuRef,
+        scene: Scene,
+        clusters: Vec<Option<crate::scene::clusters::Clusters>>,
+    ) -> Result<Renderer> {
+        let scene = SceneGpu::new(gpu, scene, clusters)?;
         Ok(Renderer {
             gpu: gpu.clone(),
             scene,
@@ -281,6 +305,7 @@ impl Renderer {
             timer: crate::gpu::query::TimerQuery::new(gpu)?,
             frame: 0,
             time_post: false,
+            cull_clusters: true,
         })
     }
 
@@ -381,6 +406,9 @@ impl Renderer {
                 linear: offscreen || rgbm,
                 rgbm,
                 rgbm_blend: 0.0,
+                cull: None,
+                cull_clusters: self.cull_clusters,
+                ranges: Vec::new(),
             };
             for pass in PASSES {
                 match pass.run(&mut cx)? {

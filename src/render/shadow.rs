@@ -11,6 +11,7 @@ use crate::gpu::state::RenderState;
 use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
 use crate::light::{Light, LightKind};
+use crate::scene::clusters::ClusterView;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::Mat4;
@@ -216,16 +217,23 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
                 gpu.clear(None);
             }
             program.set_mat4("uLightMvp", vp);
-            for m in cx.scene.meshes.iter().filter(|m| m.casts_shadow()) {
-                m.mesh.draw();
-                cx.stats.draw_calls += 1;
-                cx.stats.triangles += m.triangles;
+            cx.cull = Some(ClusterView::new(*vp));
+            let state = RenderState {
+                polygon_offset: offset,
+                color_write: map.fbo.is_some(),
+                ..Default::default()
+            };
+            for i in 0..cx.scene.meshes.len() {
+                if cx.scene.meshes[i].casts_shadow() {
+                    super::cull::draw(cx, i, &state);
+                }
             }
             if map.fbo.is_none() {
                 map.texture.copy_from_framebuffer(tx, ty, map.face);
             }
         }
     }
+    cx.cull = None;
     gpu.apply(&RenderState::default());
     let kinds: Vec<String> = maps
         .iter()

@@ -4,6 +4,7 @@
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
+use crate::scene::clusters::Clusters;
 use crate::scene::Scene;
 use crate::Result;
 use glam::Vec3;
@@ -25,6 +26,9 @@ pub(crate) struct DrawMesh {
     pub primitive: Primitive,
     /// How far a shadow lookup rises in the terminator band (`uTerminatorLift`).
     pub terminator_lift: f32,
+    /// Runs of triangles with bounds and normal cones, for meshes large enough that
+    /// skipping what a pass cannot see pays ([`crate::scene::clusters`]).
+    pub clusters: Option<Clusters>,
 }
 
 impl DrawMesh {
@@ -75,7 +79,13 @@ pub(crate) fn fit_texture(
 }
 
 impl SceneGpu {
-    pub fn new(gpu: &GpuRef, mut scene: Scene) -> Result<SceneGpu> {
+    /// Uploads `scene`; `clusters` are [`clusters::prepare`]'s for it (same mesh order).
+    pub fn new(
+        gpu: &GpuRef,
+        mut scene: Scene,
+        clusters: Vec<Option<Clusters>>,
+    ) -> Result<SceneGpu> {
+        let mut clusters = clusters.into_iter();
         // Lines and points are drawn with material 0; a file of only lines has none.
         if scene.materials.is_empty() {
             scene.materials.push(crate::scene::Material::default());
@@ -83,6 +93,7 @@ impl SceneGpu {
         let mut textures: Vec<Texture2d> = Vec::new();
         let mut texture_paths = Vec::new();
         let mut meshes = Vec::with_capacity(scene.meshes.len());
+
         for m in &scene.meshes {
             let mat = &scene.materials[m.material];
             let texture = match (&mat.diffuse_map, m.has_uv) {
@@ -132,6 +143,7 @@ impl SceneGpu {
                 has_colors: colors.is_some(),
                 primitive: Primitive::Triangles,
                 terminator_lift: crate::scene::terminator_lift(m) as f32,
+                clusters: clusters.next().flatten(),
             });
         }
         meshes.extend(wire_meshes(gpu, &scene)?);
@@ -226,6 +238,7 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
             has_colors: false,
             primitive,
             terminator_lift: 0.0,
+            clusters: None,
         });
     }
     Ok(out)

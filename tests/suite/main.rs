@@ -11,6 +11,7 @@ mod cache;
 mod common;
 mod compare;
 mod conformance;
+mod culling;
 mod fast_parse;
 mod fuzz_regressions;
 mod gpu_vs_reference;

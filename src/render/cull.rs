@@ -1,0 +1,46 @@
+//! Drawing one mesh with only the clusters the current view may see
+//! ([`crate::scene::clusters`]): clusters outside the view's frustum are skipped for every
+//! mesh, and for a closed outward-facing mesh seen from outside (the whole of it past the
+//! near plane) so are the clusters facing away, with GL back-face culling for the rest. The
+//! image is the same: a ray from outside a closed surface meets a front face first, and
+//! nothing outside the frustum is rasterised. Passes set the view ([`FrameCx::cull`]):
+//! the lit passes the camera's, the shadow pass each light view's.
+use super::FrameCx;
+use crate::gpu::state::{Blend, Cull, RenderState};
+
+/// Draws mesh `i` with `state`, whole or by its visible clusters.
+pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
+    let dm = &cx.scene.meshes[i];
+    let (Some(clusters), Some(view), true) = (&dm.clusters, cx.cull, cx.cull_clusters) else {
+        cx.gpu.apply(state);
+        dm.mesh.draw();
+        cx.stats.draw_calls += 1;
+        cx.stats.triangles += dm.triangles;
+        return;
+    };
+    let mut view = view;
+    // Only where the draw would show every face anyway: opaque, unblended, no culling asked.
+    view.hide_back_faces = clusters.closed
+        && !dm.translucent
+        && state.cull == Cull::None
+        && state.blend == Blend::Off
+        && view.sees_from_outside(dm.center, dm.radius);
+    let state = RenderState {
+        cull: if view.hide_back_faces {
+            Cull::Back
+        } else {
+            state.cull
+        },
+        ..*state
+    };
+    let mut ranges = std::mem::take(&mut cx.ranges);
+    let drawn = clusters.visible(&view, &mut ranges);
+    if !ranges.is_empty() {
+        cx.gpu.apply(&state);
+        dm.mesh.draw_ranges(&ranges);
+    }
+    cx.stats.draw_calls += ranges.len() as u32;
+    cx.stats.triangles += drawn;
+    cx.stats.triangles_skipped += dm.triangles - drawn;
+    cx.ranges = ranges;
+}

@@ -1,0 +1,160 @@
+//! Cluster culling (`scene::clusters`, `render/cull.rs`) changes no pixel: large meshes drawn
+//! by their visible clusters against the same meshes sent whole (`--no-culling`), from views
+//! where back faces are hidden (outside a closed sphere), where they are not (camera inside
+//! it, the near plane cutting it open, an open bowl, x-rayed glass), and for every kind of
+//! shadow map (directional, point light outside, point light inside: the six-face atlas).
+use crate::common::*;
+use std::fmt::Write;
+use std::path::Path;
+
+/// A UV sphere (unit radius, outward winding, `vn` = position) with 2·segments·(rings − 1)
+/// triangles; `bowl` keeps only the upper half (an open mesh).
+fn sphere_obj(rings: u32, segments: u32, bowl: bool) -> String {
+    let mut s = String::from("o sphere\n");
+    let mut vertex = |p: [f64; 3]| {
+        writeln!(
+            s,
+            "v {:.6} {:.6} {:.6}\nvn {0:.6} {1:.6} {2:.6}",
+            p[0], p[1], p[2]
+        )
+        .unwrap();
+    };
+    vertex([0.0, 1.0, 0.0]);
+    for j in 1..rings {
+        let th = std::f64::consts::PI * f64::from(j) / f64::from(rings);
+        for i in 0..segments {
+            let ph = std::f64::consts::TAU * f64::from(i) / f64::from(segments);
+            vertex([th.sin() * ph.sin(), th.cos(), th.sin() * ph.cos()]);
+        }
+    }
+    vertex([0.0, -1.0, 0.0]);
+    let at = |j: u32, i: u32| 2 + (j - 1) * segments + i % segments;
+    let south = 2 + (rings - 1) * segments;
+    let mut f = |a: u32, b: u32, c: u32| writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}").unwrap();
+    let last = if bowl { rings / 2 } else { rings - 1 };
+    for i in 0..segments {
+        f(1, at(1, i), at(1, i + 1));
+        if !bowl {
+            f(south, at(rings - 1, i + 1), at(rings - 1, i));
+        }
+    }
+    for j in 1..last {
+        for i in 0..segments {
+            f(at(j, i), at(j + 1, i), at(j + 1, i + 1));
+            f(at(j, i), at(j + 1, i + 1), at(j, i + 1));
+        }
+    }
+    s
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_str().unwrap().to_string()
+}
+
+#[test]
+fn culled_frames_equal_whole_meshes_from_every_view() {
+    let dir = out_dir("culling");
+    // 2·160·80 = 25,600 triangles: above clusters::MIN_TRIANGLES, so it is clustered.
+    let sphere = write(&dir, "sphere.obj", &sphere_obj(81, 160, false));
+    let bowl = write(&dir, "bowl.obj", &sphere_obj(161, 160, true));
+    let cases: &[(&str, &str, &[&str])] = &[
+        ("outside", &sphere, &[]),
+        ("ortho", &sphere, &["--ortho"]),
+        (
+            "inside",
+            &sphere,
+            &["--target", "0,0,0", "--distance", "0.4"],
+        ),
+        (
+            "near_cuts",
+            &sphere,
+            &["--distance", "1.1", "--near", "0.3"],
+        ),
+        ("point_outside", &sphere, &["--light", "point:2.5,3,2"]),
+        (
+            "point_inside",
+            &sphere,
+            &[
+                "--light",
+                "point:0,0.3,0.2",
+                "--distance",
+                "0.5",
+                "--target",
+                "0,0,0",
+            ],
+        ),
+        ("bowl", &bowl, &["--pitch", "60"]),
+        ("xray", &sphere, &["--xray", "sphere"]),
+    ];
+    for (name, model, extra) in cases {
+        let mut args = vec![*model, "--size", "160x120", "--yaw", "35"];
+        if !extra.contains(&"--pitch") {
+            args.extend(["--pitch", "20"]);
+        }
+        args.extend_from_slice(extra);
+        let culled = render(&dir, &format!("{name}-culled"), &args, &[]);
+        args.push("--no-culling");
+        let whole = render(&dir, &format!("{name}-whole"), &args, &[]);
+        let d = diff(&culled, &whole, 0);
+        if d.max > 0 {
+            let p = write_diff(&dir, name, &culled, &whole);
+            panic!(
+                "{name}: culling changed {} pixels (max {}/255); see {}",
+                d.over,
+                d.max,
+                p.display()
+            );
+        }
+    }
+}
+
+/// `--stats`: culling keeps triangles from the GPU where it may, and none where it may not.
+#[test]
+fn stats_count_the_triangles_kept_from_the_gpu() {
+    let dir = out_dir("culling_stats");
+    let sphere = write(&dir, "sphere.obj", &sphere_obj(81, 160, false));
+    let out = dir.join("s.png");
+    let stats_of = |model: &str, extra: &[&str]| -> serde_json::Value {
+        let mut a = vec![
+            model,
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "96x72",
+            "--stats",
+        ];
+        a.extend_from_slice(extra);
+        let o = run(&a, &[]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_str(String::from_utf8_lossy(&o.stdout).lines().last().unwrap()).unwrap()
+    };
+    let stats = |extra: &[&str]| stats_of(&sphere, extra);
+    let total = 25_600u64;
+    // Outside, no shadows: half the sphere faces away, less the clusters that straddle the
+    // silhouette (each is ~1 % of this small sphere; measured: a third of all triangles).
+    let s = stats(&["--no-shadows"]);
+    let (drawn, skipped) = (
+        s["triangles"].as_u64().unwrap(),
+        s["triangles_skipped"].as_u64().unwrap(),
+    );
+    assert_eq!(drawn + skipped, total, "{s}");
+    assert!(
+        skipped > total / 4 && skipped < total / 2,
+        "skipped {skipped} of {total}"
+    );
+    // An open bowl framed whole: no cluster lies outside the view and back faces may show
+    // (it is not closed), so nothing is kept back.
+    let bowl = write(&dir, "bowl.obj", &sphere_obj(161, 160, true));
+    let s = stats_of(&bowl, &["--no-shadows", "--pitch", "60"]);
+    assert_eq!(s["triangles_skipped"], 0, "{s}");
+    // 25,440 triangles: above MIN_TRIANGLES, so clustered.
+    assert_eq!(s["triangles"], 160 + 79 * 320, "{s}");
+    // Off: every triangle goes.
+    let s = stats(&["--no-shadows", "--no-culling"]);
+    assert_eq!(
+        (s["triangles"].as_u64(), s["triangles_skipped"].as_u64()),
+        (Some(total), Some(0))
+    );
+}
