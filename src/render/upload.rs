@@ -165,30 +165,11 @@ impl SceneGpu {
     /// Indices of the meshes whose bounding sphere touches the view frustum of `view_proj`:
     /// off-screen meshes cost a program bind and a draw call each for nothing.
     pub fn visible(&self, view_proj: &glam::Mat4) -> Vec<usize> {
-        let planes = frustum_planes(view_proj);
+        let view = crate::scene::clusters::ClusterView::new(*view_proj);
         (0..self.meshes.len())
-            .filter(|&i| {
-                let m = &self.meshes[i];
-                planes
-                    .iter()
-                    .all(|p| p.truncate().dot(m.center) + p.w >= -m.radius * p.truncate().length())
-            })
+            .filter(|&i| !view.outside(self.meshes[i].center, self.meshes[i].radius))
             .collect()
     }
-}
-
-/// The six clip planes (a, b, c, d with a·x + b·y + c·z + d >= 0 inside) of a
-/// view-projection matrix (Gribb & Hartmann).
-fn frustum_planes(m: &glam::Mat4) -> [glam::Vec4; 6] {
-    let r = [m.row(0), m.row(1), m.row(2), m.row(3)];
-    [
-        r[3] + r[0],
-        r[3] - r[0],
-        r[3] + r[1],
-        r[3] - r[1],
-        r[3] + r[2],
-        r[3] - r[2],
-    ]
 }
 
 /// The scene's lines and points (`l`, `p`) as two meshes of GL_LINES and GL_POINTS, with the
