@@ -4,6 +4,15 @@ use super::Vertex;
 use glam::Vec3;
 use std::collections::HashMap;
 
+/// Maps keyed by positions and normals from the file: foldhash is several times faster than
+/// std's SipHash here (normal generation was most of the dragon's load) and keeps a random
+/// seed, so a file cannot be built to collide.
+type FastMap<K, V> = HashMap<K, V, foldhash::fast::RandomState>;
+
+fn fast_map<K, V>(capacity: usize) -> FastMap<K, V> {
+    FastMap::with_capacity_and_hasher(capacity, Default::default())
+}
+
 fn key(p: [f32; 3]) -> [u32; 3] {
     // +0.0 and -0.0 are the same point.
     p.map(|x| (x + 0.0).to_bits())
@@ -12,8 +21,8 @@ fn key(p: [f32; 3]) -> [u32; 3] {
 /// Face normals weighted by area (the un-normalised cross product), summed per position, so
 /// vertices split by UV seams still share one normal. Returns the unit normal per position
 /// key; a position touched only by zero-area faces gets +Y rather than NaN.
-fn smooth_normals(vertices: &[Vertex], indices: &[u32]) -> HashMap<[u32; 3], Vec3> {
-    let mut acc: HashMap<[u32; 3], glam::DVec3> = HashMap::new();
+fn smooth_normals(vertices: &[Vertex], indices: &[u32]) -> FastMap<[u32; 3], Vec3> {
+    let mut acc: FastMap<[u32; 3], glam::DVec3> = fast_map(vertices.len());
     for t in indices.chunks_exact(3) {
         let t = [t[0], t[1], t[2]];
         let p: [glam::DVec3; 3] =
@@ -45,7 +54,7 @@ pub fn repair_normals(vertices: &mut [Vertex], indices: &[u32], all: bool) -> us
     let smooth = if need {
         smooth_normals(vertices, indices)
     } else {
-        HashMap::new()
+        fast_map(0)
     };
     let mut generated = 0;
     for v in vertices.iter_mut() {
@@ -106,18 +115,42 @@ pub fn generate(
         })
         .collect();
     let unit: Vec<glam::DVec3> = face.iter().map(|n| n.normalize_or_zero()).collect();
-    let mut around: HashMap<[u32; 3], Vec<u32>> = HashMap::new();
-    for (f, t) in tris.iter().enumerate() {
-        for &i in t {
-            let list = around
-                .entry(key(vertices[i as usize].position))
-                .or_default();
-            // A face touches a position once, even if it is degenerate there.
-            if list.last() != Some(&(f as u32)) {
-                list.push(f as u32);
-            }
+    // The faces around each position, in face order, each face once (even where it is
+    // degenerate there): positions numbered, then a counting sort of (position, face).
+    let mut ids: FastMap<[u32; 3], u32> = fast_map(vertices.len());
+    let pos: Vec<u32> = vertices
+        .iter()
+        .map(|v| {
+            let next = ids.len() as u32;
+            *ids.entry(key(v.position)).or_insert(next)
+        })
+        .collect();
+    let corners = |t: &[u32; 3]| -> [Option<u32>; 3] {
+        let p = t.map(|i| pos[i as usize]);
+        [
+            Some(p[0]),
+            (p[1] != p[0]).then_some(p[1]),
+            (p[2] != p[0] && p[2] != p[1]).then_some(p[2]),
+        ]
+    };
+    let mut start = vec![0u32; ids.len() + 1];
+    for t in &tris {
+        for p in corners(t).into_iter().flatten() {
+            start[p as usize + 1] += 1;
         }
     }
+    for k in 1..start.len() {
+        start[k] += start[k - 1];
+    }
+    let mut fill = start.clone();
+    let mut faces = vec![0u32; start[ids.len()] as usize];
+    for (f, t) in tris.iter().enumerate() {
+        for p in corners(t).into_iter().flatten() {
+            faces[fill[p as usize] as usize] = f as u32;
+            fill[p as usize] += 1;
+        }
+    }
+    let around = |p: u32| &faces[start[p as usize] as usize..start[p as usize + 1] as usize];
     let cos = match creases {
         // 180° joins everything, also exactly opposite faces whose dot rounds below -1.
         Creases::Angle(deg) if deg >= 180.0 => -2.0,
@@ -128,23 +161,24 @@ pub fn generate(
     let mut out = Vec::with_capacity(vertices.len());
     let mut old = Vec::with_capacity(vertices.len());
     let mut out_idx = Vec::with_capacity(indices.len());
-    let mut seen: HashMap<(u32, [u32; 3]), u32> = HashMap::new();
+    // The first copy of each vertex made (u32::MAX: none yet); further copies with other
+    // normals (a crease through the vertex) are found in `more`.
+    let mut first = vec![u32::MAX; vertices.len()];
+    let mut more: FastMap<(u32, [u32; 3]), u32> = fast_map(0);
     // Which faces join a corner depends only on the position, the face's unit normal and its
-    // group, so corners alike share one sum: without this a position shared by k faces costs
-    // k² (a file repeating one triangle 2,000,000 times took hours).
-    let mut memo: HashMap<([u32; 3], [u64; 3], u32), Vec3> = HashMap::new();
+    // group. Around a busy position (a file repeating one triangle 2,000,000 times shares one
+    // position among 2,000,000 faces: k² took hours) corners alike share one memoised sum;
+    // around an ordinary one the sum is cheaper than the lookup (the table's cache misses
+    // were most of the dragon's normal generation).
+    let mut memo: FastMap<(u32, [u64; 3], u32), Vec3> = fast_map(0);
+    const BUSY: usize = 32;
     for (f, t) in tris.iter().enumerate() {
         for &i in t {
             let v = vertices[i as usize];
-            let group = groups.map_or(0, |s| s[f]);
-            let memo_key = (
-                key(v.position),
-                unit[f].to_array().map(|x| (x + 0.0).to_bits()),
-                group,
-            );
-            let n = *memo.entry(memo_key).or_insert_with(|| {
+            let p = pos[i as usize];
+            let sum = || {
                 let mut n = glam::DVec3::ZERO;
-                for &g in &around[&key(v.position)] {
+                for &g in around(p) {
                     let g = g as usize;
                     let joins = g == f
                         || unit[f] == glam::DVec3::ZERO
@@ -157,17 +191,40 @@ pub fn generate(
                     }
                 }
                 n.normalize_or_zero().as_vec3()
-            });
+            };
+            let n = if around(p).len() <= BUSY {
+                sum()
+            } else {
+                let group = groups.map_or(0, |s| s[f]);
+                let key = (p, unit[f].to_array().map(|x| (x + 0.0).to_bits()), group);
+                *memo.entry(key).or_insert_with(sum)
+            };
             let n = if n == Vec3::ZERO { Vec3::Y } else { n };
-            let k = (i, n.to_array().map(|x| (x + 0.0).to_bits()));
-            let idx = *seen.entry(k).or_insert_with(|| {
+            let bits = n.to_array().map(|x| (x + 0.0).to_bits());
+            let add = |out: &mut Vec<Vertex>, old: &mut Vec<u32>| {
                 out.push(Vertex {
                     normal: n.into(),
                     ..v
                 });
                 old.push(i);
                 out.len() as u32 - 1
-            });
+            };
+            let made = first[i as usize];
+            let idx = if made == u32::MAX {
+                let idx = add(&mut out, &mut old);
+                first[i as usize] = idx;
+                idx
+            } else if Vec3::from(out[made as usize].normal)
+                .to_array()
+                .map(|x| (x + 0.0).to_bits())
+                == bits
+            {
+                made
+            } else {
+                *more
+                    .entry((i, bits))
+                    .or_insert_with(|| add(&mut out, &mut old))
+            };
             out_idx.push(idx);
         }
     }
