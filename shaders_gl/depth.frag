@@ -1,4 +1,5 @@
-// Shadow pass: only depth is written (colour writes are off or there is no colour buffer).
+// Shadow pass: only depth is written. The map's framebuffer has no colour buffer (or colour
+// writes are off on the copy path), so the shader writes nothing: no fragment work beyond
+// the fixed-function depth test.
 void main() {
-    FRAG_COLOR = vec4(1.0);
 }
