@@ -9,8 +9,7 @@
 #[path = "../../fuzz/src/lib.rs"]
 mod fuzz_support;
 
-use fuzz_support::{check_scene, split_input};
-use glview::scene::obj::{load_embedded, LoadOptions};
+use fuzz_support::{check_scene, load_compared, split_input};
 use glview::scene::Scene;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
@@ -24,13 +23,12 @@ fn model_path(test: &str) -> PathBuf {
     dir.join("fuzz.obj")
 }
 
-/// Loads OBJ + MTL bytes like the fuzz target does, turning a panic into a test failure that
-/// names the fix that has not landed.
+/// Loads OBJ + MTL bytes like the fuzz target does (old path, and the fast path compared with
+/// it: `load_compared`), turning a panic into a test failure that names the fix that has not
+/// landed.
 fn load(test: &str, obj: &[u8], mtl: &[u8], fix: &str) -> (PathBuf, glview::Result<Scene>) {
     let path = model_path(test);
-    let out = catch_unwind(AssertUnwindSafe(|| {
-        load_embedded(&path, obj, mtl, &LoadOptions::default())
-    }));
+    let out = catch_unwind(AssertUnwindSafe(|| load_compared(&path, obj, mtl)));
     match out {
         Ok(r) => (path, r),
         Err(p) => {
