@@ -332,3 +332,29 @@ fn awkward_number_words_load_the_same() {
     std::fs::remove_dir_all(&dir).ok();
     eprintln!("fast path on {fast} of {n} files with awkward number words");
 }
+
+/// Fuzz finding (differential run, fuzz/README.md): a face index of 19 or more digits
+/// overflowed the fast path's i64 while being read (a panic where overflow checks are on; in
+/// release it wrapped and the index was then refused as too long). The fuzzer's input had
+/// `1/2/19223372036854775807` as a corner. Such an index must reach the old path, whose error
+/// or warning is the reference.
+#[test]
+fn face_index_of_many_digits_falls_back() {
+    let dir = std::env::temp_dir().join(format!("glview-fast-index-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("index.obj");
+    for idx in [
+        "9223372036854775807",
+        "19223372036854775807",
+        "-99999999999999999999999",
+        "1/2/19223372036854775807",
+        "1//99999999999999999999",
+        "1/99999999999999999999/1",
+        "000000000000000000000000001",
+    ] {
+        let text = format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 {idx}\n");
+        let fast = same(&path, text.as_bytes(), &[1, 8]);
+        assert!(!fast, "{idx}: taken by the fast path");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

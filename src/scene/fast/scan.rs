@@ -105,7 +105,9 @@ impl<'a> Scan<'a> {
         let mut j = start;
         let mut v: i64 = 0;
         while let Some(&c) = b.get(j).filter(|c| c.is_ascii_digit()) {
-            v = v * 10 + i64::from(c - b'0');
+            // Wrapping: 19 digits or more overflow i64 (a panic with overflow checks, found by
+            // the fuzzer), and more than 12 are refused below before `v` is used.
+            v = v.wrapping_mul(10).wrapping_add(i64::from(c - b'0'));
             j += 1;
         }
         (j > start && j - start <= 12).then_some(())?;
