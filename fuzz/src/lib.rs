@@ -3,7 +3,10 @@
 //! check scenes in exactly the same way. Depends on nothing but glview and std.
 #![allow(dead_code)]
 
+use glview::scene::fast::Parser;
+use glview::scene::obj::{load_embedded_with, LoadOptions};
 use glview::scene::Scene;
+use std::path::Path;
 
 /// Separates the OBJ part from the MTL part of one fuzz input.
 pub const SEPARATOR: &[u8] = b"\xff\x00\xff";
@@ -140,13 +143,77 @@ pub fn known_unfixed(data: &[u8]) -> Option<&'static str> {
         .map(|(name, _)| *name)
 }
 
-/// Loads one fuzz input and checks the outcome; panics (the fuzzer's "crash") on a violated
-/// invariant or an error that does not name the file.
+/// The fast OBJ parsers the differential check runs against the old path (repair pre-pass +
+/// tobj, the reference): the default chunking (one chunk for a fuzz-sized input) and chunks of
+/// about 64 bytes, so that relative indices, names and materials cross chunk boundaries.
+pub const FAST_PARSERS: &[Parser] = &[Parser::Auto, Parser::Chunked(64)];
+
+/// The outcome of a load as text: the Scene's Debug text (exact floats) or the error.
+pub fn outcome_text(r: &Result<Scene, glview::Error>) -> String {
+    match r {
+        Ok(s) => format!("{s:?}"),
+        Err(e) => format!("error: {e}"),
+    }
+}
+
+/// Where two outcome texts first differ, with some text either side (the texts of a fuzz input
+/// can be megabytes long).
+pub fn first_difference(a: &str, b: &str) -> String {
+    let at = a
+        .bytes()
+        .zip(b.bytes())
+        .position(|(x, y)| x != y)
+        .unwrap_or(a.len().min(b.len()));
+    let around = |s: &str| {
+        let mut lo = at.saturating_sub(300).min(s.len());
+        while !s.is_char_boundary(lo) {
+            lo -= 1;
+        }
+        let mut hi = (at + 300).min(s.len());
+        while !s.is_char_boundary(hi) {
+            hi += 1;
+        }
+        s[lo..hi].to_string()
+    };
+    format!(
+        "first difference at byte {at} of {} / {}:\n  old: …{}…\n  new: …{}…",
+        a.len(),
+        b.len(),
+        around(a),
+        around(b)
+    )
+}
+
+/// Loads OBJ + MTL bytes as `path` with the old path and with every [`FAST_PARSERS`] entry
+/// (`load_embedded_with`: the MTL bytes are what every `mtllib` gets, in both), and panics
+/// when a fast parser's outcome differs from the old path's in any way: the scene (meshes,
+/// vertex order, indices, materials, smoothing, warnings and their lines) or the error text.
+/// The fast path either gives the old path's result or falls back to it, so any difference is
+/// a bug in the fast path. Returns the old path's outcome.
+pub fn load_compared(path: &Path, obj: &[u8], mtl: &[u8]) -> Result<Scene, glview::Error> {
+    let opts = LoadOptions::default();
+    let want = load_embedded_with(path, obj, mtl, &opts, Parser::Tobj);
+    let want_text = outcome_text(&want);
+    for &parser in FAST_PARSERS {
+        let got = outcome_text(&load_embedded_with(path, obj, mtl, &opts, parser));
+        if got != want_text {
+            panic!(
+                "differential: the fast OBJ path ({parser:?}) differs from the old path \
+                 (repair + tobj); {}",
+                first_difference(&want_text, &got)
+            );
+        }
+    }
+    want
+}
+
+/// Loads one fuzz input with the old and the fast OBJ paths and checks the outcome; panics (the
+/// fuzzer's "crash") when the two differ ([`load_compared`]), on a violated invariant or on an
+/// error that does not name the file.
 pub fn run_one(data: &[u8]) -> Result<Scene, glview::Error> {
     let (obj, mtl) = split_input(data);
     let path = model_path();
-    let opts = glview::scene::obj::LoadOptions::default();
-    let out = glview::scene::obj::load_embedded(path, obj, mtl, &opts);
+    let out = load_compared(path, obj, mtl);
     match &out {
         Ok(scene) => {
             if let Err(e) = check_scene(scene) {

@@ -162,14 +162,19 @@ pub fn load_bytes_with(
 
 /// Loads an OBJ whose MTL library is in memory too (the built-in scene).
 pub fn load_embedded(path: &Path, obj: &[u8], mtl: &[u8], opts: &LoadOptions) -> Result<Scene> {
-    let mtl = mtl.to_vec();
-    load_with(
-        path,
-        obj,
-        opts,
-        &move |_: &Path| Ok(mtl.clone()),
-        Parser::from_env(),
-    )
+    load_embedded_with(path, obj, mtl, opts, Parser::from_env())
+}
+
+/// As [`load_embedded`] with a chosen OBJ parser: every `mtllib` gets the same in-memory MTL
+/// bytes whichever parser runs (the fuzz target compares the fast path with the old one).
+pub fn load_embedded_with(
+    path: &Path,
+    obj: &[u8],
+    mtl: &[u8],
+    opts: &LoadOptions,
+    parser: Parser,
+) -> Result<Scene> {
+    load_with(path, obj, opts, &|_: &Path| Ok(mtl.to_vec()), parser)
 }
 
 fn load_with(

@@ -126,11 +126,21 @@ pub fn from_tobj(
     warnings: &mut Vec<Warning>,
 ) -> PbrInputs {
     let mut out = PbrInputs::default();
+    // Keys match in any case, but tobj keeps them in a HashMap whose order changes from one
+    // load to the next: with two spellings in one material (`map_Pm` and `map_pm`), the first
+    // match made the same file load differently each time (found by the fuzz target's
+    // differential check). The exact spelling wins, then the smallest of the others.
     let param = |k: &str| {
         m.unknown_param
-            .iter()
-            .find(|(key, _)| key.eq_ignore_ascii_case(k))
-            .map(|(_, v)| v.trim().to_string())
+            .get(k)
+            .or_else(|| {
+                m.unknown_param
+                    .iter()
+                    .filter(|(key, _)| key.eq_ignore_ascii_case(k))
+                    .min_by(|a, b| a.0.cmp(b.0))
+                    .map(|(_, v)| v)
+            })
+            .map(|v| v.trim().to_string())
     };
     let number = |k: &str| {
         param(k)

@@ -9,8 +9,7 @@
 #[path = "../../fuzz/src/lib.rs"]
 mod fuzz_support;
 
-use fuzz_support::{check_scene, split_input};
-use glview::scene::obj::{load_embedded, LoadOptions};
+use fuzz_support::{check_scene, load_compared, split_input};
 use glview::scene::Scene;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
@@ -24,13 +23,12 @@ fn model_path(test: &str) -> PathBuf {
     dir.join("fuzz.obj")
 }
 
-/// Loads OBJ + MTL bytes like the fuzz target does, turning a panic into a test failure that
-/// names the fix that has not landed.
+/// Loads OBJ + MTL bytes like the fuzz target does (old path, and the fast path compared with
+/// it: `load_compared`), turning a panic into a test failure that names the fix that has not
+/// landed.
 fn load(test: &str, obj: &[u8], mtl: &[u8], fix: &str) -> (PathBuf, glview::Result<Scene>) {
     let path = model_path(test);
-    let out = catch_unwind(AssertUnwindSafe(|| {
-        load_embedded(&path, obj, mtl, &LoadOptions::default())
-    }));
+    let out = catch_unwind(AssertUnwindSafe(|| load_compared(&path, obj, mtl)));
     match out {
         Ok(r) => (path, r),
         Err(p) => {
@@ -193,5 +191,30 @@ fn fuzz_tiny_and_nan_normals_are_regenerated() {
         let (path, r) = load("normal_tiny", obj.as_bytes(), b"", FIX3);
         let s = assert_ok(&path, r);
         assert_eq!(s.meshes[0].vertices[0].normal, [0.0, 0.0, 1.0], "vn {vn}");
+    }
+}
+
+// --- Finding 5: one key in two spellings made the same file load differently each time ------
+// `map_pm a.tex` and `map_Pm b.tex` in one material are two keys of tobj's `unknown_param`
+// HashMap; the PBR reader took the first case-insensitive match in the map's (per-load random)
+// order. Found by the differential check (fast path vs old path differed, as did two old-path
+// loads).
+
+const FIX5: &str = "fix 5 (PBR keys looked up deterministically)";
+
+/// Regression (finding 5, fixed). The exact spelling wins, else the smallest spelling; every
+/// load gives the same scene (each `load` also compares the fast path with the old path).
+#[test]
+fn fuzz_pbr_key_in_two_spellings_is_deterministic() {
+    let mtl = b"newmtl a\nmap_pm low.tex\nmap_Pm exact.tex\nmap_pr r1.tex\nmap_PR r2.tex\n";
+    let mut first = None;
+    for _ in 0..16 {
+        let (path, r) = load("two_spellings", TRIANGLE_WITH_MATERIAL, mtl, FIX5);
+        let s = assert_ok(&path, r);
+        let maps = &s.materials[s.meshes[0].material].pbr_inputs.maps;
+        let names: Vec<_> = maps.iter().map(|(k, v, _)| format!("{k} {v}")).collect();
+        assert_eq!(names, ["map_Pm exact.tex", "map_Pr r2.tex"]);
+        let text = format!("{s:?}");
+        assert_eq!(first.get_or_insert_with(|| text.clone()), &text);
     }
 }

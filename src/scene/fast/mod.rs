@@ -8,7 +8,6 @@
 //! caller runs the old path, which stays the reference (`tests/fast_parse.rs`).
 mod build;
 mod chunk;
-mod num;
 mod scan;
 
 use chunk::{Chunk, MISSING, REL, REL_BIAS};

@@ -3,8 +3,6 @@
 //! spaces and tabs separate words, and a `\r` only counts before `\n` or at the end of the
 //! file (as the old path strips it); any other byte inside a number makes it fail, and the
 //! file falls back to the old path, which reads words split at any Unicode whitespace.
-use super::num;
-
 pub struct Scan<'a> {
     b: &'a [u8],
     pub i: usize,
@@ -63,48 +61,39 @@ impl<'a> Scan<'a> {
         }
     }
 
-    /// One word as `f64`, as `str::parse` reads it; decimals of at most 19 digits with a
-    /// mantissa up to 2^53 and a power of ten up to 22 are exact in one operation (Clinger's
-    /// fast path; the digit limit keeps the u64 from wrapping unnoticed).
+    /// One word as `f64`, exactly as `str::parse::<f64>` reads it (what the repair pass and
+    /// tobj use, so both paths give the same bits), or `None` where `str::parse` refuses the
+    /// word (the file then falls back to the old path).
+    ///
+    /// Decimals are read in place by the `fast-float2` crate: Eisel–Lemire with a correctly
+    /// rounded big-decimal fallback, the algorithm the standard library uses too, so the
+    /// value is the correctly rounded one `str::parse` gives. (A hand-written Clinger fast
+    /// path did this before; it covered short mantissas and small powers of ten only, and
+    /// sent everything else through `str::parse`.) Its decimal grammar is the standard
+    /// library's, `[+-]? (d+ | d+. d* | d*. d+) ([eE] [+-]? d+)?` (`5.`, `.5`, `+.5` taken;
+    /// `.`, `1e`, hex and `_` refused), but it reads a *prefix*: it stops at the first byte
+    /// that cannot continue the number (`1e` → `1`, `1.2.3` → `1.2`, `0x10` → `0`,
+    /// `1_0` → `1`), and takes `inf`, `infinity` and `nan` as prefixes too (`infx` → `inf`,
+    /// `nan(1)` → `nan`). So its value is used only when it is finite and the number ends
+    /// where the word ends (at a separator). Anything else (a word with other bytes, `inf`,
+    /// `nan`, a decimal that overflows to infinity, an empty word) goes to `str::parse` on the
+    /// whole word, which decides acceptance and value exactly as before.
     #[inline]
     pub fn float(&mut self) -> Option<f64> {
         let (b, start) = (self.b, self.i);
-        let mut j = start;
-        let neg = b.get(j) == Some(&b'-');
-        if neg || b.get(j) == Some(&b'+') {
-            j += 1;
-        }
-        let mut m = 0u64;
-        let int_start = j;
-        while let Some(&c) = b.get(j).filter(|c| c.is_ascii_digit()) {
-            m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-            j += 1;
-        }
-        let mut digits = j - int_start;
-        let mut frac = 0;
-        if b.get(j) == Some(&b'.') {
-            j += 1;
-            let frac_start = j;
-            while let Some(&c) = b.get(j).filter(|c| c.is_ascii_digit()) {
-                m = m.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-                j += 1;
+        if let Ok((x, n)) = fast_float2::parse_partial::<f64, _>(&b[start..]) {
+            if x.is_finite() && self.sep(start + n) {
+                self.i = start + n;
+                return Some(x);
             }
-            frac = j - frac_start;
-            digits += frac;
         }
-        if digits > 0 && digits <= 19 && m <= 1 << 53 && frac <= 22 && self.sep(j) {
-            self.i = j;
-            let v = m as f64 / POW10[frac];
-            return Some(if neg { -v } else { v });
-        }
-        // Exponents, long mantissas, `inf`/`nan`: the word goes to the general parser.
         let mut e = start;
         while !self.sep(e) {
             e += 1;
         }
         self.i = e;
         (e > start).then_some(())?;
-        num::float(&b[start..e])
+        std::str::from_utf8(&b[start..e]).ok()?.parse().ok()
     }
 
     /// A face index: `-`? up to 12 digits (more, or `+`, fall back).
@@ -116,7 +105,9 @@ impl<'a> Scan<'a> {
         let mut j = start;
         let mut v: i64 = 0;
         while let Some(&c) = b.get(j).filter(|c| c.is_ascii_digit()) {
-            v = v * 10 + i64::from(c - b'0');
+            // Wrapping: 19 digits or more overflow i64 (a panic with overflow checks, found by
+            // the fuzzer), and more than 12 are refused below before `v` is used.
+            v = v.wrapping_mul(10).wrapping_add(i64::from(c - b'0'));
             j += 1;
         }
         (j > start && j - start <= 12).then_some(())?;
@@ -139,47 +130,174 @@ impl<'a> Scan<'a> {
     }
 }
 
-const POW10: [f64; 23] = [
-    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
-    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
-];
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// `Scan::float` on `word` followed by each kind of word end, against `str::parse`.
+    fn check(word: &str) {
+        for tail in ["", " ", "\n", "\r\n", "\t", "\r", " 1.5 2.5\n"] {
+            let text = format!("{word}{tail}");
+            let mut sc = Scan::new(text.as_bytes());
+            let got = sc.float();
+            let want = word.parse::<f64>().ok();
+            assert_eq!(
+                got.map(f64::to_bits),
+                want.map(f64::to_bits),
+                "{text:?}: {got:?}, str::parse gives {want:?}"
+            );
+            if got.is_some() {
+                assert_eq!(sc.i, word.len(), "{text:?}: the word is consumed");
+            }
+        }
+    }
+
     #[test]
     fn words_read_as_std_reads_them() {
         for s in [
+            // Plain decimals, signs, missing integer or fraction digits.
             "0",
             "-0",
+            "+0",
             "1.",
+            "5.",
             ".5",
             "-.5",
+            "+.5",
             "+1.25",
             "0.123456",
             "-0.999999",
+            "3.14159265358979",
+            "0.0000000000000000000001",
+            "0.00000000000000000000012",
+            // Exponents.
             "1e5",
             "1E-5",
-            "3.14159265358979",
+            "1e+5",
+            "1E+05",
+            "1.e5",
+            "-.5e-3",
+            "0e999999999999999999",
+            "1e300",
+            "1e-320",
+            "0.1e-22",
+            "7e22",
+            "1e23",
+            "1e-400",
+            "-1e-400",
+            "1e400",
+            "-1e400",
+            "1e99999999999999999999",
+            // Long mantissas, halfway and boundary cases (correct rounding).
             "123456789012345678",
-            "0.0000000000000000000001",
+            "9007199254740993",
+            "9007199254740992.5",
+            "12345678901234567890123",
+            "0.1000000000000000055511151231257827",
+            "1.7976931348623157e308",
+            "1.7976931348623158e308",
+            "1.7976931348623159e308",
+            "2.2250738585072011e-308",
+            "2.2250738585072014e-308",
+            "4.9e-324",
+            "2.4703282292062327e-324",
+            "2.4703282292062328e-324",
+            // Infinities and NaNs: taken by str::parse, case-insensitive, with a sign.
+            "inf",
+            "-inf",
+            "+inf",
+            "INF",
+            "infinity",
+            "-Infinity",
             "nan",
-            "0.00000000000000000000012",
-            "1.2.3",
+            "-nan",
+            "+NaN",
+            // Refused by str::parse (and so by the fast path).
+            "",
             "1e",
+            "1e+",
+            "1e-",
             ".",
             "-",
+            "+",
+            "+-1",
+            "--1",
+            "e5",
+            ".e5",
+            "1.2.3",
             "1x",
             "1\r2",
+            "1e5.5",
+            "1e5e5",
+            "0x10",
+            "0x1p3",
+            "1_0",
+            "1,5",
+            "infin",
+            "infx",
+            "infinityy",
+            "nana",
+            "nan(1)",
+            "- 1",
+            "١",
         ] {
-            for tail in ["", " ", "\n", "\r\n", "\t", "\r", " 1.5 2.5\n"] {
-                let text = format!("{s}{tail}");
-                let mut sc = Scan::new(text.as_bytes());
-                let got = sc.float();
-                let want = s.parse::<f64>().ok();
-                assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits), "{text:?}");
-            }
+            check(s);
+        }
+        // More digits than the mantissa and the decimal fallback hold.
+        check(&format!("0.{}1", "0".repeat(400)));
+        check(&format!("1{}", "0".repeat(320)));
+        check(&format!("{}e-800", "7".repeat(800)));
+        // Exactly half the smallest subnormal (rounds to even: 0), and just above it.
+        const HALF: &str = concat!(
+            "2.47032822920623272088284396434110686182529901307162382212792841250337753635104375\
+             93264991818081799618989828234772285886546332835517796989819938739800539093906315\
+             03565951557022639229085839244910518443593180284993653615250031937045767824921936\
+             56236698636584807570015857692699037063119282795585513329278343384093519780155312\
+             46597263579574622766465272827220056374006485499977096599470454020828166226237857\
+             39345073633900796776193057750674017632467360096895134053553745851666113422376667\
+             86041621596804619144672918403005300575308490487653917113865916462395249126236538\
+             81879636239373280423891018672348497668235089863388587925628302755995657524455507\
+             25518931369083625477918694866799496832404970582102851318545139621383772282614543\
+             7693412532098591327667236328125",
+            "e-324"
+        );
+        check(HALF);
+        check(&HALF.replace("e-324", "1e-324"));
+    }
+
+    /// Random words from the characters numbers are made of, against `str::parse`.
+    #[test]
+    fn random_words_read_as_std_reads_them() {
+        let mut x = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = move |n: u64| {
+            x ^= x >> 12;
+            x ^= x << 25;
+            x ^= x >> 27;
+            x.wrapping_mul(0x2545_F491_4F6C_DD1D) % n
+        };
+        let alphabet = b"0123456789012345678901234567890123456789..eE+-+-infatyx";
+        for _ in 0..200_000 {
+            let len = 1 + next(24) as usize;
+            let word: String = (0..len)
+                .map(|_| alphabet[next(alphabet.len() as u64) as usize] as char)
+                .collect();
+            check(&word);
+        }
+        // Well-formed decimals with many digits and exponents near the limits.
+        for _ in 0..100_000 {
+            let int: String = (0..next(25))
+                .map(|_| char::from(b'0' + next(10) as u8))
+                .collect();
+            let frac: String = (0..next(25))
+                .map(|_| char::from(b'0' + next(10) as u8))
+                .collect();
+            let sign = ["", "-", "+"][next(3) as usize];
+            let exp = match next(3) {
+                0 => String::new(),
+                _ => format!("e{}", next(700) as i64 - 350),
+            };
+            check(&format!("{sign}{int}.{frac}{exp}"));
+            check(&format!("{sign}{int}{exp}"));
         }
     }
 }
