@@ -2,15 +2,16 @@
 # Runs glview's benchmarks and writes their results into docs/bench/:
 #   quality (run time against error for every shadow/shading knob): quality.csv/.json/.png
 #   load (parse, upload, time to PNG, peak memory against f3d):     load.csv/.json
+#   frame (the 1M-triangle sphere's and the dragon's frame, culled or not): printed
 # Installs what they need first (Debian: Mesa for headless GL, f3d and Xvfb for the peer,
 # GNU time for peak memory, a font for the plot). Options after the script's own are passed
-# to both runs, e.g. `scripts/bench.sh --quick`. `--quality` or `--load` runs one only.
+# to every run, e.g. `scripts/bench.sh --quick`. `--quality`, `--load` or `--frame` runs one only.
 # About 10 minutes on a 2-core machine (1 with --quick); other load on the machine skews times.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 which=both
-if [ "${1:-}" = "--quality" ] || [ "${1:-}" = "--load" ]; then
+if [ "${1:-}" = "--quality" ] || [ "${1:-}" = "--load" ] || [ "${1:-}" = "--frame" ]; then
   which=${1#--}
   shift
 fi
@@ -39,9 +40,12 @@ fi
 
 cargo build --release --quiet
 glview=target/release/glview
-if [ "$which" != load ]; then
+if [ "$which" = both ] || [ "$which" = quality ]; then
   "$glview" bench "$@"
 fi
-if [ "$which" != quality ]; then
+if [ "$which" = both ] || [ "$which" = load ]; then
   "$glview" bench --load "$@"
+fi
+if [ "$which" = both ] || [ "$which" = frame ]; then
+  "$glview" bench --frame "$@"
 fi
