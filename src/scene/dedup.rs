@@ -58,25 +58,16 @@ pub fn dedup_mesh(mesh: &mut Mesh) -> Dropped {
             }
         })
         .collect();
-    // Face numbers grouped by shard, each group in file order (a counting sort).
-    let shard_of = |h: u64| (h >> 60) as usize % SHARDS;
-    let mut start = [0usize; SHARDS + 1];
-    for (_, h) in faces.iter().flatten() {
-        start[shard_of(*h) + 1] += 1;
-    }
-    for k in 1..=SHARDS {
-        start[k] += start[k - 1];
-    }
-    // Each entry carries its key, so a shard reads one contiguous slice (looking keys up by
-    // face number missed the cache on every face).
-    let mut order = vec![([0u32; 3], 0u32); start[SHARDS]];
-    let mut fill = start;
-    for (k, f) in faces.iter().enumerate() {
-        if let Some((c, h)) = f {
-            order[fill[shard_of(*h)]] = (*c, k as u32);
-            fill[shard_of(*h)] += 1;
-        }
-    }
+    // Faces grouped by shard, each group in file order. Each entry carries its key, so a
+    // shard reads one contiguous slice (looking keys up by face number missed the cache on
+    // every face).
+    let (start, order) = super::buckets::group(
+        SHARDS,
+        faces
+            .iter()
+            .enumerate()
+            .filter_map(|(k, f)| f.map(|(c, h)| ((h >> 60) as usize % SHARDS, (c, k as u32)))),
+    );
     let duplicates: Vec<Vec<u32>> = (0..SHARDS)
         .into_par_iter()
         .map(|shard| {

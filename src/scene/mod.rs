@@ -1,5 +1,6 @@
 //! Scene data: meshes, materials and bounds, loaded from OBJ/MTL. No GL, no windowing, so the
 //! GPU renderer, the CPU reference renderer and the tests share it.
+pub mod buckets;
 pub mod cache;
 pub mod clusters;
 pub mod dedup;
