@@ -18,15 +18,14 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
         cx.stats.triangles += dm.triangles;
         return;
     };
-    let mut view = view;
     // Only where the draw would show every face anyway: opaque, unblended, no culling asked.
-    view.hide_back_faces = clusters.closed
+    let hide_back_faces = clusters.closed
         && !dm.translucent
         && state.cull == Cull::None
         && state.blend == Blend::Off
         && view.sees_from_outside(dm.center, dm.radius);
     let state = RenderState {
-        cull: if view.hide_back_faces {
+        cull: if hide_back_faces {
             Cull::Back
         } else {
             state.cull
@@ -34,7 +33,7 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
         ..*state
     };
     let mut ranges = std::mem::take(&mut cx.ranges);
-    let drawn = clusters.visible(&view, &mut ranges);
+    let drawn = clusters.visible(&view, hide_back_faces, &mut ranges);
     if !ranges.is_empty() {
         cx.gpu.apply(&state);
         dm.mesh.draw_ranges(&ranges);

@@ -197,11 +197,6 @@ impl View {
     }
 }
 
-/// One draw of mesh `i` with `state` (only the clusters the camera may see).
-pub(crate) fn draw_once(cx: &mut FrameCx, i: usize, state: &RenderState) {
-    super::cull::draw(cx, i, state);
-}
-
 impl Pass for Lit {
     fn name(&self) -> &'static str {
         "lit"

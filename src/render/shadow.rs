@@ -189,19 +189,18 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
     program.bind();
     let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
     for map in &maps {
+        // The map's framebuffer has no colour buffer; on the copy path the light's view is
+        // drawn into the target, whose colour must not change.
+        let state = RenderState {
+            polygon_offset: offset,
+            color_write: map.fbo.is_some(),
+            ..Default::default()
+        };
+        gpu.apply(&state);
         if let Some(fbo) = &map.fbo {
-            gpu.apply(&RenderState {
-                polygon_offset: offset,
-                ..Default::default()
-            });
             fbo.bind();
             gpu.clear(None);
         } else {
-            gpu.apply(&RenderState {
-                polygon_offset: offset,
-                color_write: false,
-                ..Default::default()
-            });
             gpu.bind_target(target.fbo, target.width, target.height);
         }
         for (f, vp) in map.views.iter().enumerate() {
@@ -218,11 +217,6 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
             }
             program.set_mat4("uLightMvp", vp);
             cx.cull = Some(ClusterView::new(*vp));
-            let state = RenderState {
-                polygon_offset: offset,
-                color_write: map.fbo.is_some(),
-                ..Default::default()
-            };
             for i in 0..cx.scene.meshes.len() {
                 if cx.scene.meshes[i].casts_shadow() {
                     super::cull::draw(cx, i, &state);

@@ -86,11 +86,18 @@ impl Clusters {
     }
 
     /// The index ranges (first index, count) of the clusters `view` may see, adjacent ones
-    /// merged, and the triangles in them.
-    pub fn visible(&self, view: &ClusterView, out: &mut Vec<(u32, u32)>) -> u64 {
+    /// merged, and the triangles in them. With `hide_back_faces` (the caller has checked the
+    /// draw shows only front faces and `view` sees this closed mesh from outside) clusters
+    /// facing away are skipped too.
+    pub fn visible(
+        &self,
+        view: &ClusterView,
+        hide_back_faces: bool,
+        out: &mut Vec<(u32, u32)>,
+    ) -> u64 {
         out.clear();
         let mut triangles = 0u64;
-        let back = view.hide_back_faces && self.closed;
+        let back = hide_back_faces && self.closed;
         for c in &self.list {
             if view.outside(c.center, c.radius) || (back && view.faces_away(c)) {
                 continue;
@@ -162,7 +169,7 @@ pub fn closed_outward(vertices: &[Vertex], indices: &[u32]) -> bool {
     if indices.len() < 12 {
         return false;
     }
-    let weld = weld(vertices);
+    let (weld, ids) = super::normals::weld(vertices);
     let (forward, backward) = indices
         .par_chunks_exact(3)
         .map(|t| {
@@ -187,7 +194,6 @@ pub fn closed_outward(vertices: &[Vertex], indices: &[u32]) -> bool {
         return false;
     }
     // Connected pieces (union-find over welded corners), and each one's signed volume.
-    let ids = weld.iter().copied().max().map_or(0, |m| m as usize + 1);
     let mut parent: Vec<u32> = (0..ids as u32).collect();
     fn root(parent: &mut [u32], mut x: u32) -> u32 {
         while parent[x as usize] != x {
@@ -215,29 +221,6 @@ pub fn closed_outward(vertices: &[Vertex], indices: &[u32]) -> bool {
     (0..ids).all(|i| parent[i] != i as u32 || volume[i] > 0.0)
 }
 
-/// An id per distinct position: vertices sorted by position bits, equal ones share an id.
-fn weld(vertices: &[Vertex]) -> Vec<u32> {
-    let mut keyed: Vec<(u128, u32)> = vertices
-        .par_iter()
-        .enumerate()
-        .map(|(i, v)| {
-            let [x, y, z] = v.position.map(f32::to_bits);
-            let key = (u128::from(x) << 64) | (u128::from(y) << 32) | u128::from(z);
-            (key, i as u32)
-        })
-        .collect();
-    keyed.par_sort_unstable();
-    let mut weld = vec![0u32; vertices.len()];
-    let mut id = 0u32;
-    for (k, &(key, i)) in keyed.iter().enumerate() {
-        if k > 0 && key != keyed[k - 1].0 {
-            id += 1;
-        }
-        weld[i as usize] = id;
-    }
-    weld
-}
-
 /// A 64-bit mix of a directed edge (splitmix64's finaliser), summed over a mesh's edges.
 fn edge_hash(a: u32, b: u32) -> u64 {
     let mut z = ((u64::from(a) << 32) | u64::from(b)).wrapping_add(0x9e37_79b9_7f4a_7c15);
@@ -246,13 +229,12 @@ fn edge_hash(a: u32, b: u32) -> u64 {
     z ^ (z >> 31)
 }
 
-/// Whom a pass draws for: a point (perspective) or a direction (orthographic), its frustum,
-/// and whether back faces of closed meshes may be skipped.
+/// Whom a pass draws for: a point (perspective) or a direction (orthographic), and its
+/// frustum.
 #[derive(Clone, Copy, Debug)]
 pub struct ClusterView {
     pub viewer: Viewer,
     planes: [Vec4; 6],
-    pub hide_back_faces: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -293,11 +275,7 @@ impl ClusterView {
         } else {
             Viewer::Direction(h.xyz().normalize_or_zero())
         };
-        ClusterView {
-            viewer,
-            planes,
-            hide_back_faces: true,
-        }
+        ClusterView { viewer, planes }
     }
 
     /// The sphere lies entirely outside one plane of the frustum.
@@ -475,7 +453,7 @@ mod tests {
             let vp = proj * view;
             let cv = ClusterView::new(vp);
             let mut ranges = Vec::new();
-            let drawn = c.visible(&cv, &mut ranges);
+            let drawn = c.visible(&cv, true, &mut ranges);
             let mut kept = vec![false; idx.len() / 3];
             for (f, n) in &ranges {
                 for t in *f / 3..(f + n) / 3 {
