@@ -68,20 +68,21 @@ pub fn run_frame(work: &Path, models_dir: &Path, rounds: usize, triangles: u64) 
         let mut off = settings.clone();
         off.shadows.enabled = false;
         let mut variants = Vec::new();
-        for name in [
-            "file order, all sent",
-            "reordered, all sent",
-            "reordered + culled",
+        for (name, reorder, cull) in [
+            ("file order, all sent", false, false),
+            ("reordered, all sent", true, false),
+            ("reordered + culled", true, true),
         ] {
             let mut s = scene.clone();
             let t = Instant::now();
-            let prepared = match name {
-                "file order, all sent" => vec![None; s.meshes.len()],
-                _ => clusters::prepare(&mut s),
+            let prepared = if reorder {
+                clusters::prepare(&mut s)
+            } else {
+                vec![None; s.meshes.len()]
             };
             let prepare_ms = t.elapsed().as_secs_f64() * 1e3;
             let mut renderer = Renderer::prepared(&hl.gpu, s, prepared)?;
-            renderer.cull_clusters = name == "reordered + culled";
+            renderer.cull_clusters = cull;
             variants.push(Variant {
                 name,
                 renderer,
