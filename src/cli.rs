@@ -249,8 +249,9 @@ pub struct Args {
     /// Print one JSON object per frame: passes, draw calls, triangles, programs, milliseconds.
     #[arg(long)]
     pub stats: bool,
-    /// Send every triangle of large meshes to the GPU (no cluster culling; the picture is the
-    /// same, only slower: for comparisons).
+    /// Send every triangle of large meshes to the GPU (no cluster culling; the same picture
+    /// but for a rare silhouette pixel where a back face won a depth tie; slower: for
+    /// comparisons).
     #[arg(long)]
     pub no_culling: bool,
     /// Print what the driver provides (version, GLSL, extensions that matter) and exit.

@@ -3,7 +3,8 @@
 //! mesh, and for a closed outward-facing mesh seen from outside (the whole of it past the
 //! near plane) so are the clusters facing away, with GL back-face culling for the rest. The
 //! image is the same: a ray from outside a closed surface meets a front face first, and
-//! nothing outside the frustum is rasterised. Passes set the view ([`FrameCx::cull`]):
+//! nothing outside the frustum is rasterised (but for a rare silhouette pixel where a back
+//! face used to win a near-tie in depth: README, The frame). Passes set the view ([`FrameCx::cull`]):
 //! the lit passes the camera's, the shadow pass each light view's.
 use super::FrameCx;
 use crate::gpu::state::{Blend, Cull, RenderState};

@@ -279,7 +279,7 @@ pub struct Renderer {
     /// Time each post step (glFinish before and after): `--stats`.
     pub time_post: bool,
     /// Skip clusters of large meshes the view cannot see (default on; `--no-culling` turns
-    /// it off, for comparisons: the picture is the same either way).
+    /// it off, for comparisons: the same picture but for rare silhouette depth ties).
     pub cull_clusters: bool,
 }
 
