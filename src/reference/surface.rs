@@ -248,6 +248,7 @@ mod tests {
         let rgba = [px(255), px(0), px(0), px(255)].concat();
         Texture {
             path: "checker".into(),
+            image: None,
             width: 2,
             height: 2,
             rgba,

@@ -174,6 +174,7 @@ fn orm_texture(gpu: &GpuRef, m: &Material) -> Result<Option<Texture2d>> {
     }
     let tex = crate::scene::Texture {
         path: m.name.clone().into(),
+        image: None,
         width: w,
         height: h,
         rgba: data,

@@ -91,20 +91,26 @@ impl SceneGpu {
             scene.materials.push(crate::scene::Material::default());
         }
         let mut textures: Vec<Texture2d> = Vec::new();
+        // A texture is its image: a file, or one image of a glTF container.
         let mut texture_paths = Vec::new();
         let mut meshes = Vec::with_capacity(scene.meshes.len());
 
         for m in &scene.meshes {
             let mat = &scene.materials[m.material];
             let texture = match (&mat.diffuse_map, m.has_uv) {
-                (Some(t), true) => Some(match texture_paths.iter().position(|p| p == &t.path) {
-                    Some(i) => i,
-                    None => {
-                        textures.push(upload_texture(gpu, t)?);
-                        texture_paths.push(t.path.clone());
-                        textures.len() - 1
-                    }
-                }),
+                (Some(t), true) => Some(
+                    match texture_paths
+                        .iter()
+                        .position(|(p, i)| p == &t.path && *i == t.image)
+                    {
+                        Some(i) => i,
+                        None => {
+                            textures.push(upload_texture(gpu, t)?);
+                            texture_paths.push((t.path.clone(), t.image));
+                            textures.len() - 1
+                        }
+                    },
+                ),
                 _ => None,
             };
             let mut b = crate::scene::Bounds::empty();

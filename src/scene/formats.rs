@@ -1,17 +1,17 @@
-//! STL (ASCII and binary, `stl_io`) and PLY (ASCII and binary, `ply-rs`), optionally gzipped
-//! (`flate2`), into the same [`Scene`] as OBJ: re-centred in f64, polygons triangulated like
+//! STL ([`super::stl`]) and PLY ([`super::ply`]), optionally gzipped (`flate2`, read as a
+//! stream), into the same [`Scene`] as OBJ: re-centred in f64, polygons triangulated like
 //! OBJ faces, normals generated with the same creases. Bad input is a one-line error naming
 //! the file, as for OBJ.
 use super::obj::LoadOptions;
 use super::{triangulate, Bounds, Material, Mesh, Scene, Vertex, Wire};
 use crate::error::{Error, Result};
 use glam::DVec3;
-use ply_rs::ply::Property;
 use std::io::Read;
 use std::path::Path;
 
-/// Largest decompressed size accepted from a `.gz` file (a gzip bomb stops here).
-const MAX_INFLATED: u64 = 4 << 30;
+/// Largest decompressed size accepted from a gzipped OBJ (a gzip bomb stops here). STL and
+/// PLY are read as streams and need no such bound: their element counts are.
+const MAX_INFLATED: u64 = 1 << 30;
 
 /// Model formats glview reads, from the file name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -51,171 +51,106 @@ pub fn gunzip(path: &Path, bytes: &[u8]) -> Result<Vec<u8>> {
         .read_to_end(&mut out)
         .map_err(|e| Error::model(path, None, format!("not a valid gzip file: {e}")))?;
     if out.len() as u64 > MAX_INFLATED {
-        return Err(Error::model(path, None, "decompresses to more than 4 GiB"));
+        return Err(Error::model(path, None, "decompresses to more than 1 GiB"));
     }
     Ok(out)
 }
 
-/// What a mesh file gave: positions, polygons, and optional per-vertex normals and colours.
+/// Loads model bytes as if they were the file `path`: the format from its name, gzipped
+/// when it ends in `.gz` (the fuzz targets and `obj::load` come through here).
+pub fn load_model_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
+    let (format, gz) = format_of(path);
+    let gz_reader = || std::io::BufReader::new(flate2::read::GzDecoder::new(bytes));
+    match (format, gz) {
+        (Format::Gltf, false) => super::gltf::load_gltf_bytes(path, bytes, opts),
+        (Format::Gltf, true) => Err(Error::model(path, None, "gzipped glTF is not supported")),
+        (Format::Stl, false) => load_stl(path, bytes, Some(bytes.len() as u64), opts),
+        (Format::Stl, true) => load_stl(path, gz_reader(), None, opts),
+        (Format::Ply, false) => load_ply(path, bytes, Some(bytes.len() as u64), opts),
+        (Format::Ply, true) => load_ply(path, gz_reader(), None, opts),
+        (Format::Obj, false) => super::obj::load_bytes(path, bytes, opts),
+        (Format::Obj, true) => super::obj::load_bytes(path, &gunzip(path, bytes)?, opts),
+    }
+}
+
+/// A stream error (gzip included) or a parse error, as one line naming the file.
+fn fail(path: &Path, (line, m): (Option<usize>, String)) -> Error {
+    Error::model(path, line, m.replace('\n', "; "))
+}
+
+/// What a mesh file gave: positions, polygons (flat corners and their counts), and optional
+/// per-vertex normals and colours.
 struct Raw {
     positions: Vec<DVec3>,
-    faces: Vec<Vec<u32>>,
+    corners: Vec<u32>,
+    sizes: Vec<u32>,
     normals: Option<Vec<[f32; 3]>>,
     colors: Option<Vec<[f32; 3]>>,
 }
 
-pub fn load_stl(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
-    let bad = |m: String| Error::model(path, None, m);
-    // A binary STL states its triangle count: check it against the size before stl_io
-    // allocates for it. ASCII files start with "solid" (binary ones may too, so the size
-    // decides first).
-    let binary_size_ok = bytes.len() >= 84 && {
-        let n = u32::from_le_bytes([bytes[80], bytes[81], bytes[82], bytes[83]]) as u64;
-        84 + 50 * n == bytes.len() as u64
-    };
-    if !binary_size_ok && !bytes.trim_ascii_start().starts_with(b"solid") {
-        return Err(bad(
-            "not an STL file (no 'solid' header, and the size does not match a binary STL's \
-             triangle count)"
-                .into(),
-        ));
-    }
-    let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes))
-        .map_err(|e| bad(format!("not a valid STL file: {e}")))?;
-    let positions = mesh
-        .vertices
-        .iter()
-        .map(|v| DVec3::new(v.0[0].into(), v.0[1].into(), v.0[2].into()))
-        .collect();
-    let faces = mesh
-        .faces
-        .iter()
-        .map(|f| f.vertices.iter().map(|&i| i as u32).collect())
-        .collect();
-    build(
+pub fn load_stl(
+    path: &Path,
+    r: impl std::io::BufRead,
+    size: Option<u64>,
+    opts: &LoadOptions,
+) -> Result<Scene> {
+    let raw = super::stl::read(r, size).map_err(|e| fail(path, e))?;
+    let (dropped, first) = raw.non_finite;
+    let n = raw.corners.len() / 3;
+    let mut scene = build(
         path,
         Raw {
-            positions,
-            faces,
+            positions: raw.positions,
+            corners: raw.corners,
+            sizes: vec![3; n],
             normals: None,
             colors: None,
         },
         opts,
     )
+    .map_err(|e| match e {
+        Error::Model { message, .. } if dropped > 0 => Error::model(
+            path,
+            None,
+            format!(
+                "{message} (facet {first} and {} more have non-finite vertices)",
+                dropped - 1
+            ),
+        ),
+        e => e,
+    })?;
+    if dropped > 0 {
+        scene.warnings.push(super::Warning {
+            file: path.to_path_buf(),
+            line: None,
+            message: format!(
+                "facet {first}{}: non-finite vertex coordinates; dropped",
+                if dropped > 1 {
+                    format!(" and {} more", dropped - 1)
+                } else {
+                    String::new()
+                }
+            ),
+        });
+    }
+    Ok(scene)
 }
 
-fn scalar(p: &Property) -> Option<f64> {
-    Some(match *p {
-        Property::Char(x) => x.into(),
-        Property::UChar(x) => x.into(),
-        Property::Short(x) => x.into(),
-        Property::UShort(x) => x.into(),
-        Property::Int(x) => x.into(),
-        Property::UInt(x) => x.into(),
-        Property::Float(x) => x.into(),
-        Property::Double(x) => x,
-        _ => return None,
-    })
-}
-
-fn list(p: &Property) -> Option<Vec<i64>> {
-    Some(match p {
-        Property::ListChar(v) => v.iter().map(|&x| x.into()).collect(),
-        Property::ListUChar(v) => v.iter().map(|&x| x.into()).collect(),
-        Property::ListShort(v) => v.iter().map(|&x| x.into()).collect(),
-        Property::ListUShort(v) => v.iter().map(|&x| x.into()).collect(),
-        Property::ListInt(v) => v.iter().map(|&x| x.into()).collect(),
-        Property::ListUInt(v) => v.iter().map(|&x| x.into()).collect(),
-        _ => return None,
-    })
-}
-
-pub fn load_ply(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
-    let bad = |m: String| Error::model(path, None, m);
-    if !bytes.starts_with(b"ply") {
-        return Err(bad("not a PLY file (no 'ply' magic)".into()));
-    }
-    // Element counts in the header are checked against the file size before ply-rs
-    // allocates for them: every element takes at least one byte.
-    let header_end = bytes
-        .windows(10)
-        .position(|w| w == b"end_header")
-        .ok_or_else(|| bad("PLY header has no end_header".into()))?;
-    for line in String::from_utf8_lossy(&bytes[..header_end]).lines() {
-        let w: Vec<&str> = line.split_whitespace().collect();
-        if w.first() == Some(&"element") {
-            let n: u64 = w.get(2).and_then(|n| n.parse().ok()).unwrap_or(u64::MAX);
-            if n > bytes.len() as u64 {
-                return Err(bad(format!(
-                    "header claims {n} {} elements, more than the file can hold",
-                    w.get(1).unwrap_or(&"?")
-                )));
-            }
-        }
-    }
-    let parser = ply_rs::parser::Parser::<ply_rs::ply::DefaultElement>::new();
-    let ply = parser
-        .read_ply(&mut std::io::Cursor::new(bytes))
-        .map_err(|e| bad(format!("not a valid PLY file: {e}")))?;
-    let empty = Vec::new();
-    let verts = ply.payload.get("vertex").unwrap_or(&empty);
-    let get = |e: &ply_rs::ply::DefaultElement, k: &str| e.get(k).and_then(scalar);
-    let mut positions = Vec::with_capacity(verts.len());
-    for (i, v) in verts.iter().enumerate() {
-        let p = match (get(v, "x"), get(v, "y"), get(v, "z")) {
-            (Some(x), Some(y), Some(z)) => DVec3::new(x, y, z),
-            _ => return Err(bad(format!("vertex {i} has no x, y, z"))),
-        };
-        if !p.is_finite() || p.abs().max_element() > f64::from(f32::MAX) {
-            return Err(bad(format!("vertex {i} position is not finite: {p}")));
-        }
-        positions.push(p);
-    }
-    let normals = verts
-        .iter()
-        .map(|v| {
-            Some([
-                get(v, "nx")? as f32,
-                get(v, "ny")? as f32,
-                get(v, "nz")? as f32,
-            ])
-        })
-        .collect::<Option<Vec<_>>>()
-        .filter(|n| !n.is_empty());
-    // Colours: uchar 0..255 (the common case) or float 0..1.
-    let colors = verts
-        .iter()
-        .map(|v| {
-            let c = |k: &str| match v.get(k)? {
-                Property::UChar(x) => Some(f32::from(*x) / 255.0),
-                p => scalar(p).map(|x| x as f32),
-            };
-            Some([c("red")?, c("green")?, c("blue")?])
-        })
-        .collect::<Option<Vec<_>>>()
-        .filter(|c| !c.is_empty());
-    let n = positions.len() as i64;
-    let mut faces = Vec::new();
-    for (i, f) in ply.payload.get("face").unwrap_or(&empty).iter().enumerate() {
-        let idx = f
-            .get("vertex_indices")
-            .or_else(|| f.get("vertex_index"))
-            .and_then(list)
-            .ok_or_else(|| bad(format!("face {i} has no vertex_indices list")))?;
-        if let Some(&k) = idx.iter().find(|&&k| k < 0 || k >= n) {
-            return Err(bad(format!(
-                "face {i}: vertex index {k} out of range (file has {n} vertices)"
-            )));
-        }
-        faces.push(idx.into_iter().map(|k| k as u32).collect());
-    }
+pub fn load_ply(
+    path: &Path,
+    r: impl std::io::BufRead,
+    size: Option<u64>,
+    opts: &LoadOptions,
+) -> Result<Scene> {
+    let raw = super::ply::read(r, size).map_err(|e| fail(path, e))?;
     build(
         path,
         Raw {
-            positions,
-            faces,
-            normals,
-            colors,
+            positions: raw.positions,
+            corners: raw.corners,
+            sizes: raw.sizes,
+            normals: raw.normals,
+            colors: raw.colors,
         },
         opts,
     )
@@ -225,11 +160,14 @@ pub fn load_ply(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> 
 fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
     let positions: Vec<DVec3> = raw.positions.iter().map(|&p| opts.up.rotate(p)).collect();
     let (lo, hi, origin) =
-        super::extent_and_origin(raw.faces.iter().flatten().map(|&i| positions[i as usize]));
+        super::extent_and_origin(raw.corners.iter().map(|&i| positions[i as usize]));
     let mut indices = Vec::new();
     let mut dropped = 0;
-    for f in &raw.faces {
-        let mut d = f.clone();
+    let mut at = 0;
+    for &size in &raw.sizes {
+        let f = &raw.corners[at..at + size as usize];
+        at += size as usize;
+        let mut d = f.to_vec();
         d.sort_unstable();
         d.dedup();
         if d.len() < 3 {

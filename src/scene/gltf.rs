@@ -1,13 +1,25 @@
-//! glTF 2.0 (`.gltf` with its buffers, `.glb`) through the `gltf` crate, into the same
-//! [`Scene`]: node transforms applied in f64, re-centred like OBJ; base colour, metallic and
-//! roughness factors and the base-colour texture kept in the material; lines and points go
-//! to [`Scene::wire`].
+//! glTF 2.0 (`.gltf` with its buffers, `.glb`) into the same [`Scene`]: the JSON is parsed by
+//! the `gltf` crate, but buffers and images are resolved here under the folder rule every
+//! format shares ([`super::uri`]), accessors are read with their sizes checked first
+//! ([`super::gltf_accessor`]) and the node graph is walked without recursion, refusing cycles
+//! ([`super::gltf_graph`]). Node transforms are applied in f64 and the scene re-centred like
+//! OBJ; lines and points go to [`Scene::wire`]. A missing or broken image is a warning.
+use super::gltf_accessor::{self as accessor, MAX_ELEMENTS};
 use super::obj::LoadOptions;
-use super::{Bounds, Material, Mesh, Scene, Texture, Vertex, Warning, Wire};
+use super::{Bounds, Mesh, Scene, Texture, Vertex, Warning, Wire};
 use crate::error::{Error, Result};
-use glam::{DMat3, DMat4, DVec3, Mat4};
+use glam::{DMat3, DVec3};
+use gltf::accessor::Dimensions as D;
+use gltf::mesh::{Mode, Semantic};
 use std::path::Path;
 use std::sync::Arc;
+
+/// Extensions whose absence would make glview draw a required extension wrongly are refused;
+/// these are the ones it implements.
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_mesh_quantization"];
+
+/// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
+const MAX_TEXTURE_BYTES: usize = 512 << 20;
 
 struct Prim {
     positions: Vec<DVec3>,
@@ -19,156 +31,220 @@ struct Prim {
     name: String,
 }
 
-fn rgba(img: &gltf::image::Data) -> Option<Vec<u8>> {
-    use gltf::image::Format as F;
-    let px = &img.pixels;
-    Some(match img.format {
-        F::R8G8B8A8 => px.clone(),
-        F::R8G8B8 => px
-            .chunks_exact(3)
-            .flat_map(|p| [p[0], p[1], p[2], 255])
-            .collect(),
-        F::R8G8 => px
-            .chunks_exact(2)
-            .flat_map(|p| [p[0], p[1], 0, 255])
-            .collect(),
-        F::R8 => px.iter().flat_map(|&r| [r, r, r, 255]).collect(),
-        _ => return None,
-    })
+pub fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene> {
+    let bytes = super::obj::read_regular_file(path)?;
+    load_gltf_bytes(path, &bytes, opts)
 }
 
-pub fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene> {
+/// Loads glTF or GLB bytes as if they were the file `path` (buffers and images are looked up
+/// beside it).
+pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     // gltf's validation errors can span lines; the user gets one.
     let bad = |m: String| Error::model(path, None, m.replace('\n', "; "));
-    let (doc, buffers, images) =
-        gltf::import(path).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
+    let parsed = gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
     let mut warnings = Vec::new();
-    let mut materials: Vec<Material> = doc
-        .materials()
-        .map(|m| {
-            let pbr = m.pbr_metallic_roughness();
-            let [r, g, b, a] = pbr.base_color_factor();
-            let tex = pbr.base_color_texture().and_then(|info| {
-                let i = info.texture().source().index();
-                let img = images.get(i)?;
-                match rgba(img) {
-                    Some(px) => Some(Arc::new(Texture {
-                        path: path.to_path_buf(),
-                        width: img.width,
-                        height: img.height,
-                        rgba: px,
-                    })),
-                    None => {
-                        warnings.push(Warning {
-                            file: path.to_path_buf(),
-                            line: None,
-                            message: format!(
-                                "material {:?}: base colour image {i} has 16-bit or float \
-                                 pixels: not used",
-                                m.name().unwrap_or("")
-                            ),
-                        });
-                        None
-                    }
-                }
-            });
-            let spec = pbr
-                .base_color_texture()
-                .map(|t| format!("baseColorTexture image {}", t.texture().source().index()));
-            Material {
-                name: m.name().unwrap_or("gltf").to_string(),
-                ambient: [r, g, b],
-                diffuse: [r, g, b],
-                specular: [0.0; 3],
-                emissive: m.emissive_factor(),
-                shininess: 0.0,
-                opacity: if m.alpha_mode() == gltf::material::AlphaMode::Blend {
-                    a
-                } else {
-                    1.0
-                },
-                illum: None,
-                diffuse_map: tex,
-                diffuse_map_spec: spec,
-                // The PBR tier reads these as it reads an MTL's Pm and Pr.
-                pbr_inputs: crate::scene::pbr_material::PbrInputs {
-                    metallic: Some(pbr.metallic_factor()),
-                    roughness: Some(pbr.roughness_factor()),
-                    ..Default::default()
-                },
-            }
+    let warn = |warnings: &mut Vec<Warning>, message: String| {
+        warnings.push(Warning {
+            file: path.to_path_buf(),
+            line: None,
+            message,
         })
-        .collect();
-    let default_index = materials.len();
-    materials.push(Material::default());
+    };
+    let mut json = parsed.document.into_json();
+    for x in &json.extensions_required {
+        if !SUPPORTED_EXTENSIONS.contains(&x.as_str()) {
+            return Err(bad(format!(
+                "requires glTF extension {x}, which glview does not support"
+            )));
+        }
+    }
+    for x in &json.extensions_used {
+        if !SUPPORTED_EXTENSIONS.contains(&x.as_str()) {
+            warn(
+                &mut warnings,
+                format!("uses glTF extension {x}, which glview ignores"),
+            );
+        }
+    }
+    // Checked above; the crate's validator refuses any it does not know itself.
+    json.extensions_required.clear();
+    let doc =
+        gltf::Document::from_json(json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let buffers =
+        super::gltf_buffers::buffers(&doc, parsed.blob, dir, opts.textures.allow_outside_paths)
+            .map_err(bad)?;
 
-    let mut prims = Vec::new();
-    let mut wire_pts: Vec<DVec3> = Vec::new();
-    let mut wire = Wire::default();
+    let mut images: Vec<Option<Option<Arc<Texture>>>> = vec![None; doc.images().len()];
+    let mut texture_bytes = 0usize;
+    let mut materials = Vec::new();
+    for m in doc.materials() {
+        let tex = m
+            .pbr_metallic_roughness()
+            .base_color_texture()
+            .and_then(|info| {
+                let i = info.texture().source().index();
+                if images[i].is_none() {
+                    let label = super::gltf_buffers::image_label(&doc, i);
+                    let t = if texture_bytes > MAX_TEXTURE_BYTES {
+                        Err(format!(
+                            "over the {} MiB texture budget",
+                            MAX_TEXTURE_BYTES >> 20
+                        ))
+                    } else {
+                        super::gltf_buffers::image(&doc, i, &buffers, path, opts.textures)
+                    };
+                    images[i] = Some(match t {
+                        Ok(t) => {
+                            texture_bytes += t.rgba.len();
+                            Some(Arc::new(t))
+                        }
+                        Err(e) => {
+                            warn(
+                                &mut warnings,
+                                format!("{label}: {e}; materials using it render without it"),
+                            );
+                            None
+                        }
+                    });
+                }
+                images[i].clone().flatten()
+            });
+        materials.push(super::gltf_material::material(&m, tex));
+    }
+    let default_index = materials.len();
+    materials.push(super::Material::default());
+
     let scene = doc
         .default_scene()
         .or_else(|| doc.scenes().next())
         .ok_or_else(|| bad("no scene in the file".into()))?;
-    let mut stack: Vec<(gltf::Node, DMat4)> = scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
-    let up = opts.up;
-    while let Some((node, parent)) = stack.pop() {
-        let local = Mat4::from_cols_array_2d(&node.transform().matrix()).as_dmat4();
-        let world = parent * local;
-        stack.extend(node.children().map(|c| (c, world)));
-        let Some(mesh) = node.mesh() else { continue };
-        let normal_m = DMat3::from_mat4(world).inverse().transpose();
+    let instances = super::gltf_graph::instances(&doc, &scene).map_err(bad)?;
+    // Meshes can be instanced by many nodes: the total is bounded before anything is read.
+    let mut total = 0usize;
+    for (node, mesh, _) in &instances {
         for p in mesh.primitives() {
-            let reader = p.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-            let Some(pos) = reader.read_positions() else {
-                continue;
-            };
-            let positions: Vec<DVec3> = pos
-                .map(|q| up.rotate(world.transform_point3(glam::Vec3::from(q).as_dvec3())))
-                .collect();
-            if positions.iter().any(|q| !q.is_finite()) {
-                return Err(bad("a position is not finite".into()));
-            }
-            let n = positions.len() as u32;
-            let indices: Vec<u32> = match reader.read_indices() {
-                Some(i) => i.into_u32().collect(),
-                None => (0..n).collect(),
-            };
-            if let Some(&k) = indices.iter().find(|&&k| k >= n) {
+            let n = p.get(&Semantic::Positions).map_or(0, |a| a.count());
+            let k = p.indices().map_or(0, |a| a.count());
+            total = total.saturating_add(n.max(k / 3));
+            if total > MAX_ELEMENTS {
                 return Err(bad(format!(
-                    "index {k} out of range (primitive has {n} vertices)"
+                    "node {node}: the scene instances more than {MAX_ELEMENTS} vertices; \
+                     refused before reading them"
                 )));
             }
-            use gltf::mesh::Mode;
-            match p.mode() {
-                Mode::Triangles => {}
-                Mode::Lines | Mode::Points => {
-                    let base = wire_pts.len() as u32;
-                    wire_pts.extend(&positions);
-                    if p.mode() == Mode::Lines {
-                        wire.segments
-                            .extend(indices.chunks_exact(2).map(|s| [base + s[0], base + s[1]]));
-                    } else {
-                        wire.points.extend(indices.iter().map(|i| base + i));
-                    }
-                    continue;
-                }
-                m => {
-                    warnings.push(Warning {
-                        file: path.to_path_buf(),
-                        line: None,
-                        message: format!("primitive mode {m:?} not supported: skipped"),
-                    });
-                    continue;
-                }
+        }
+    }
+
+    let mut prims = Vec::new();
+    let mut wire_pts: Vec<DVec3> = Vec::new();
+    let mut wire = Wire::default();
+    let up = opts.up;
+    for (_, mesh, world) in &instances {
+        let normal_m = DMat3::from_mat4(*world).inverse().transpose();
+        let mirrored = world.determinant() < 0.0;
+        for (pi, p) in mesh.primitives().enumerate() {
+            let where_ = || format!("mesh {} primitive {pi}", mesh.index());
+            let Some(pos_acc) = p.get(&Semantic::Positions) else {
+                warn(&mut warnings, format!("{}: no POSITION: skipped", where_()));
+                continue;
+            };
+            let (_, raw) = accessor::read_f32(&pos_acc, &buffers, &[D::Vec3]).map_err(bad)?;
+            if let Some(k) = raw.iter().position(|x| !x.is_finite()) {
+                return Err(bad(format!(
+                    "accessor {} (POSITION of {}): element {} is not finite",
+                    pos_acc.index(),
+                    where_(),
+                    k / 3
+                )));
             }
+            let positions: Vec<DVec3> = raw
+                .chunks_exact(3)
+                .map(|q| up.rotate(world.transform_point3(glam::Vec3::from_slice(q).as_dvec3())))
+                .collect();
+            if positions.iter().any(|q| !q.is_finite()) {
+                return Err(bad(format!(
+                    "{}: a node transform makes positions non-finite",
+                    where_()
+                )));
+            }
+            let n = positions.len() as u32;
+            let corners: Vec<u32> = match p.indices() {
+                Some(a) => accessor::read_indices(&a, &buffers).map_err(bad)?,
+                None => (0..n).collect(),
+            };
+            if let Some(k) = corners.iter().position(|&k| k >= n) {
+                return Err(bad(format!(
+                    "{}: index {} (element {k}) out of range ({n} vertices)",
+                    where_(),
+                    corners[k]
+                )));
+            }
+            let (indices, segments) = super::gltf_modes::split(p.mode(), &corners, mirrored);
+            if matches!(p.mode(), Mode::Points) || !segments.is_empty() {
+                let base = wire_pts.len() as u32;
+                wire_pts.extend(&positions);
+                if p.mode() == Mode::Points {
+                    wire.points.extend(corners.iter().map(|i| base + i));
+                }
+                wire.segments
+                    .extend(segments.iter().map(|s| [base + s[0], base + s[1]]));
+                continue;
+            }
+            let normals = match p.get(&Semantic::Normals) {
+                Some(a) => {
+                    let (_, v) = accessor::read_f32(&a, &buffers, &[D::Vec3]).map_err(bad)?;
+                    if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                        warn(
+                            &mut warnings,
+                            format!(
+                                "accessor {} (NORMAL of {}): element {} is not finite; \
+                                 normals generated",
+                                a.index(),
+                                where_(),
+                                k / 3
+                            ),
+                        );
+                        None
+                    } else {
+                        Some(
+                            v.chunks_exact(3)
+                                .map(|q| up.rotate(normal_m * glam::Vec3::from_slice(q).as_dvec3()))
+                                .collect(),
+                        )
+                    }
+                }
+                None => None,
+            };
+            let uvs = match p.get(&Semantic::TexCoords(0)) {
+                Some(a) => {
+                    let (_, v) = accessor::read_f32(&a, &buffers, &[D::Vec2]).map_err(bad)?;
+                    if v.iter().all(|x| x.is_finite()) {
+                        Some(v.chunks_exact(2).map(|q| [q[0], q[1]]).collect())
+                    } else {
+                        warn(
+                            &mut warnings,
+                            format!("accessor {}: a TEXCOORD_0 is not finite: unused", a.index()),
+                        );
+                        None
+                    }
+                }
+                None => None,
+            };
+            let colors = match p.get(&Semantic::Colors(0)) {
+                Some(a) => {
+                    let (d, v) =
+                        accessor::read_f32(&a, &buffers, &[D::Vec3, D::Vec4]).map_err(bad)?;
+                    Some(v.chunks_exact(d).map(|q| [q[0], q[1], q[2]]).collect())
+                }
+                None => None,
+            };
             prims.push(Prim {
-                normals: reader.read_normals().map(|it| {
-                    it.map(|q| up.rotate(normal_m * glam::Vec3::from(q).as_dvec3()))
-                        .collect()
-                }),
-                uvs: reader.read_tex_coords(0).map(|t| t.into_f32().collect()),
-                colors: reader.read_colors(0).map(|c| c.into_rgb_f32().collect()),
                 positions,
+                normals,
+                uvs,
+                colors,
                 indices,
                 material: p.material().index(),
                 name: mesh.name().unwrap_or("mesh").to_string(),
@@ -208,7 +284,7 @@ pub fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene> {
         let mut mesh = Mesh {
             name: p.name,
             vertices,
-            indices: p.indices[..p.indices.len() / 3 * 3].to_vec(),
+            indices: p.indices,
             material: p
                 .material
                 .filter(|&m| m < default_index)

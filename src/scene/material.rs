@@ -6,7 +6,11 @@ use std::path::{Path, PathBuf};
 /// A decoded texture, RGBA8, row 0 at the top (image order).
 #[derive(Clone, Debug)]
 pub struct Texture {
+    /// The image file, or the glTF file that holds the image.
     pub path: PathBuf,
+    /// Which image of the container at `path` (a glTF image index); `None` for an image file.
+    /// Part of the texture's identity: every image inside one `.glb` has the same `path`.
+    pub image: Option<usize>,
     pub width: u32,
     pub height: u32,
     pub rgba: Vec<u8>,
@@ -38,7 +42,7 @@ pub struct Material {
 
 impl PartialEq for Texture {
     fn eq(&self, other: &Self) -> bool {
-        self.path == other.path
+        self.path == other.path && self.image == other.image
     }
 }
 
@@ -173,56 +177,15 @@ pub fn strip_texture_options(spec: &str) -> String {
 }
 
 /// Finds a texture file: as written, with backslashes as separators, then by case-insensitive
-/// match of each component. Refuses paths that leave `dir` unless allowed.
+/// match of each component. Refuses paths that leave `dir` unless allowed (the rule every
+/// format shares: [`super::uri`]).
 pub fn resolve_texture_path(
     spec: &str,
     dir: &Path,
     allow_outside: bool,
 ) -> Result<PathBuf, String> {
     let name = strip_texture_options(spec).replace('\\', "/");
-    if name.is_empty() {
-        return Err("no file name".into());
-    }
-    let rel = Path::new(&name);
-    let candidate = if rel.exists() && rel.is_absolute() {
-        rel.to_path_buf()
-    } else {
-        let direct = dir.join(rel);
-        if direct.exists() {
-            direct
-        } else {
-            find_case_insensitive(dir, rel)
-                .ok_or_else(|| format!("file not found ({})", direct.display()))?
-        }
-    };
-    let real = candidate
-        .canonicalize()
-        .map_err(|e| format!("{}: {e}", candidate.display()))?;
-    let base = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
-    if !allow_outside && !real.starts_with(&base) {
-        return Err(format!(
-            "resolves to {} outside the model's folder; not read (use --allow-outside-paths)",
-            real.display()
-        ));
-    }
-    Ok(real)
-}
-
-fn find_case_insensitive(dir: &Path, rel: &Path) -> Option<PathBuf> {
-    let mut cur = dir.to_path_buf();
-    for comp in rel.components() {
-        let want = comp.as_os_str().to_string_lossy().to_lowercase();
-        if want == ".." || want == "." {
-            cur.push(comp);
-            continue;
-        }
-        let found = std::fs::read_dir(&cur)
-            .ok()?
-            .flatten()
-            .find(|e| e.file_name().to_string_lossy().to_lowercase() == want)?;
-        cur = found.path();
-    }
-    Some(cur)
+    super::uri::in_folder(&name, dir, allow_outside)
 }
 
 pub(crate) fn load_texture(

@@ -109,25 +109,11 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
     super::profile::begin(0);
     use super::formats::{self, Format};
     let (format, gz) = formats::format_of(path);
-    if format == Format::Gltf && !gz {
-        read_regular_file(path)?;
-        return super::gltf::load_gltf(path, opts);
-    }
     let bytes = read_regular_file(path)?;
     super::profile::set_bytes(bytes.len() as u64);
     super::profile::mark(super::profile::Stage::Read);
     if gz || format != Format::Obj {
-        let bytes = if gz {
-            formats::gunzip(path, &bytes)?
-        } else {
-            bytes
-        };
-        return match format {
-            Format::Stl => formats::load_stl(path, &bytes, opts),
-            Format::Ply => formats::load_ply(path, &bytes, opts),
-            Format::Obj => load_bytes(path, &bytes, opts),
-            Format::Gltf => Err(Error::model(path, None, "gzipped glTF is not supported")),
-        };
+        return formats::load_model_bytes(path, &bytes, opts);
     }
     let cached = opts.cache && opts.cacheable() && bytes.len() as u64 >= super::cache::MIN_SIZE;
     if cached {

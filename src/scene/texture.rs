@@ -37,13 +37,39 @@ fn max_side(opts: TextureOptions) -> u32 {
     }
 }
 
+/// Where an image's bytes are: a file, or memory (a glTF `data:` URI or buffer view).
+#[derive(Clone, Copy)]
+enum Source<'a> {
+    File(&'a Path),
+    Mem(&'a [u8]),
+}
+
+trait ReadSeek: std::io::BufRead + std::io::Seek {}
+impl<T: std::io::BufRead + std::io::Seek> ReadSeek for T {}
+
+impl<'a> Source<'a> {
+    fn open(self) -> Result<Box<dyn ReadSeek + 'a>, String> {
+        Ok(match self {
+            Source::File(p) => Box::new(std::io::BufReader::new(
+                std::fs::File::open(p).map_err(|e| e.to_string())?,
+            )),
+            Source::Mem(b) => Box::new(std::io::Cursor::new(b)),
+        })
+    }
+    fn reader(self) -> Result<image::ImageReader<Box<dyn ReadSeek + 'a>>, String> {
+        image::ImageReader::new(self.open()?)
+            .with_guessed_format()
+            .map_err(|e| e.to_string())
+    }
+}
+
 /// Reads only the header: (format, width, height).
-fn header(path: &Path) -> Result<(Option<ImageFormat>, u32, u32), String> {
-    let reader = image::ImageReader::open(path)
-        .map_err(|e| e.to_string())?
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?;
+fn header(src: Source) -> Result<(Option<ImageFormat>, u32, u32), String> {
+    let reader = src.reader()?;
     let format = reader.format();
+    if format.is_none() {
+        return Err("not an image in a known format".into());
+    }
     let (w, h) = reader
         .into_dimensions()
         .map_err(|e| format!("unreadable image: {e}"))?;
@@ -53,7 +79,7 @@ fn header(path: &Path) -> Result<(Option<ImageFormat>, u32, u32), String> {
 /// If the texture at `t.path` was decoded smaller than its file, the sentence saying so
 /// (for a warning); re-reads only the header.
 pub fn downscale_note(t: &Texture) -> Option<String> {
-    let (_, w, h) = header(&t.path).ok()?;
+    let (_, w, h) = header(Source::File(&t.path)).ok()?;
     ((w, h) != (t.width, t.height)).then(|| {
         format!(
             "texture {w}x{h} downscaled to {}x{} (at most {} pixels and the largest side allowed)",
@@ -64,7 +90,36 @@ pub fn downscale_note(t: &Texture) -> Option<String> {
 
 /// Decodes an image file already resolved (and checked against the folder rule).
 pub fn decode(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
-    let (format, w, h) = header(&path)?;
+    let (width, height, rgba) = decode_from(Source::File(&path), opts)?;
+    Ok(Texture {
+        path,
+        image: None,
+        width,
+        height,
+        rgba,
+    })
+}
+
+/// Decodes an image held in memory (image `index` of the container `path`), with the same
+/// bounds as a file.
+pub fn decode_bytes(
+    bytes: &[u8],
+    path: PathBuf,
+    index: usize,
+    opts: TextureOptions,
+) -> Result<Texture, String> {
+    let (width, height, rgba) = decode_from(Source::Mem(bytes), opts)?;
+    Ok(Texture {
+        path,
+        image: Some(index),
+        width,
+        height,
+        rgba,
+    })
+}
+
+fn decode_from(src: Source, opts: TextureOptions) -> Result<(u32, u32, Vec<u8>), String> {
+    let (format, w, h) = header(src)?;
     let max = max_side(opts);
     let pixels = u64::from(w) * u64::from(h);
     if w == 0 || h == 0 || w > max * 4 || h > max * 4 || pixels > MAX_SOURCE_PIXELS {
@@ -74,21 +129,16 @@ pub fn decode(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
     }
     let (tw, th) = target_size(w, h, max);
     let rgba = if format == Some(ImageFormat::Png) {
-        decode_png(&path, (w, h), (tw, th))?
+        decode_png(src, (w, h), (tw, th))?
     } else {
-        decode_whole(&path, (w, h), (tw, th))?
+        decode_whole(src, (w, h), (tw, th))?
     };
-    Ok(Texture {
-        path,
-        width: tw,
-        height: th,
-        rgba,
-    })
+    Ok((tw, th, rgba))
 }
 
 /// Non-streamable formats: decoded whole, allowed only while source plus result stay within
 /// four times the result (or 16 MiB for small images).
-fn decode_whole(path: &Path, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result<Vec<u8>, String> {
+fn decode_whole(src: Source, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result<Vec<u8>, String> {
     let final_bytes = u64::from(tw) * u64::from(th) * 4;
     let budget = (4 * final_bytes).max(16 << 20);
     if u64::from(w) * u64::from(h) * 4 + final_bytes > budget {
@@ -98,10 +148,7 @@ fn decode_whole(path: &Path, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result
             budget >> 20
         ));
     }
-    let mut reader = image::ImageReader::open(path)
-        .map_err(|e| e.to_string())?
-        .with_guessed_format()
-        .map_err(|e| e.to_string())?;
+    let mut reader = src.reader()?;
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(budget);
     reader.limits(limits);
@@ -120,19 +167,15 @@ fn decode_whole(path: &Path, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result
 }
 
 /// PNG, decoded row by row into the downscaler: memory is the result plus a few rows.
-fn decode_png(path: &Path, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result<Vec<u8>, String> {
-    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
-    let mut decoder = png::Decoder::new_with_limits(
-        std::io::BufReader::new(file),
-        png::Limits { bytes: 64 << 20 },
-    );
+fn decode_png(src: Source, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result<Vec<u8>, String> {
+    let mut decoder = png::Decoder::new_with_limits(src.open()?, png::Limits { bytes: 64 << 20 });
     decoder.set_transformations(png::Transformations::normalize_to_color8());
     let mut reader = decoder
         .read_info()
         .map_err(|e| format!("unreadable image: {e}"))?;
     if reader.info().interlaced {
         // Adam7 rows arrive out of order; decode whole within the same bound instead.
-        return decode_whole(path, (w, h), (tw, th));
+        return decode_whole(src, (w, h), (tw, th));
     }
     let (color, _) = reader.output_color_type();
     let channels = color.samples();

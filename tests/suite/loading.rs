@@ -360,7 +360,7 @@ fn stl_and_ply_load_into_the_same_scene() {
     let s = load(&write("loading-formats", "cube.stl", &ascii), &o).unwrap();
     assert_eq!(s.triangle_count(), 12);
     assert!((area(&s) - 6.0).abs() < 1e-9);
-    // welded by stl_io, then split at the 90° edges: 24 vertices, 3 normals per corner
+    // welded by position, then split at the 90° edges: 24 vertices, 3 normals per corner
     assert_eq!(s.vertex_count(), 24);
     let dir = out_dir("loading-formats");
     std::fs::write(dir.join("cube-bin.stl"), stl_binary(&ascii)).unwrap();

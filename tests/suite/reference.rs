@@ -431,6 +431,7 @@ fn texture_maps_texel_for_pixel() {
     quad.has_uv = true;
     let texture = glview::scene::Texture {
         path: "checker".into(),
+        image: None,
         width: tw,
         height: th,
         rgba: rgba.clone(),

@@ -1,0 +1,117 @@
+//! A glTF file's buffers and images, resolved under the one URI rule of [`super::uri`]
+//! (`data:`, percent-encoding, relative inside the model's folder). A buffer must hold its
+//! `byteLength`; its bytes are read up to that length only. Images are decoded with the bounds
+//! of [`super::texture`]; one that is missing or broken is reported to the caller, who warns.
+use super::material::TextureOptions;
+use super::uri::{self, Resolved};
+use super::Texture;
+use std::io::Read;
+use std::path::Path;
+
+/// Largest buffer glview reads (a `byteLength` beyond it is refused before reading).
+pub const MAX_BUFFER_BYTES: usize = 1 << 31;
+
+fn read_prefix(path: &Path, len: usize) -> Result<Vec<u8>, String> {
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if !meta.is_file() {
+        return Err("not a regular file".into());
+    }
+    if meta.len() < len as u64 {
+        return Err(format!(
+            "byteLength is {len} but the file has {} bytes",
+            meta.len()
+        ));
+    }
+    let mut out = Vec::with_capacity(len);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(len as u64).read_to_end(&mut out))
+        .map_err(|e| e.to_string())?;
+    Ok(out)
+}
+
+/// Every buffer's bytes, exactly `byteLength` long. `blob` is the GLB binary chunk.
+pub fn buffers(
+    doc: &gltf::Document,
+    blob: Option<Vec<u8>>,
+    dir: &Path,
+    allow_outside: bool,
+) -> Result<Vec<Vec<u8>>, String> {
+    let mut blob = blob;
+    let mut out = Vec::new();
+    for b in doc.buffers() {
+        let (i, len) = (b.index(), b.length());
+        let what = |e: String| match b.source() {
+            gltf::buffer::Source::Uri(u) if !u.starts_with("data:") => {
+                format!("buffer {i} ({u:?}): {e}")
+            }
+            _ => format!("buffer {i}: {e}"),
+        };
+        if len > MAX_BUFFER_BYTES {
+            return Err(what(format!(
+                "byteLength {len} is more than glview reads ({MAX_BUFFER_BYTES})"
+            )));
+        }
+        let mut data = match b.source() {
+            gltf::buffer::Source::Bin => blob
+                .take()
+                .ok_or_else(|| what("refers to the GLB binary chunk, which is missing".into()))?,
+            gltf::buffer::Source::Uri(u) => {
+                match uri::resolve(u, dir, allow_outside).map_err(what)? {
+                    Resolved::Data(d) => d,
+                    Resolved::File(p) => read_prefix(&p, len).map_err(what)?,
+                }
+            }
+        };
+        if data.len() < len {
+            return Err(what(format!(
+                "byteLength is {len} but only {} bytes are there",
+                data.len()
+            )));
+        }
+        data.truncate(len);
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// Decodes image `index`, or says why not (for a warning).
+pub fn image(
+    doc: &gltf::Document,
+    index: usize,
+    buffers: &[Vec<u8>],
+    path: &Path,
+    opts: TextureOptions,
+) -> Result<Texture, String> {
+    let img = doc
+        .images()
+        .nth(index)
+        .ok_or_else(|| format!("image {index} does not exist"))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    match img.source() {
+        gltf::image::Source::View { view, .. } => {
+            let data = buffers
+                .get(view.buffer().index())
+                .and_then(|d| d.get(view.offset()..view.offset().checked_add(view.length())?))
+                .ok_or_else(|| format!("buffer view {} lies outside its buffer", view.index()))?;
+            super::texture::decode_bytes(data, path.to_path_buf(), index, opts)
+        }
+        gltf::image::Source::Uri { uri: u, .. } => {
+            match uri::resolve(u, dir, opts.allow_outside_paths)? {
+                Resolved::Data(d) => {
+                    super::texture::decode_bytes(&d, path.to_path_buf(), index, opts)
+                }
+                Resolved::File(p) => super::texture::decode(p, opts),
+            }
+        }
+    }
+}
+
+/// How an image is named in a warning: its URI when it has a (non-data) one.
+pub fn image_label(doc: &gltf::Document, index: usize) -> String {
+    match doc.images().nth(index).map(|i| i.source()) {
+        Some(gltf::image::Source::Uri { uri, .. }) if !uri.starts_with("data:") => {
+            format!("image {index} ({uri:?})")
+        }
+        _ => format!("image {index}"),
+    }
+}
