@@ -54,7 +54,7 @@ fn glview(args: &[&str], render: bool) -> Output {
 
 /// Runs `cmd`, reading its output on threads (a full pipe must not block it); kills it and
 /// returns None when it outlives `deadline`.
-fn run_with_deadline(cmd: &mut Command, deadline: Duration) -> Option<Output> {
+pub(crate) fn run_with_deadline(cmd: &mut Command, deadline: Duration) -> Option<Output> {
     use std::io::Read;
     let start = Instant::now();
     let mut child = cmd
