@@ -16,7 +16,12 @@ use std::sync::Arc;
 
 /// Extensions whose absence would make glview draw a required extension wrongly are refused;
 /// these are the ones it implements.
-pub const SUPPORTED_EXTENSIONS: &[&str] = &["KHR_mesh_quantization"];
+pub const SUPPORTED_EXTENSIONS: &[&str] =
+    &["KHR_mesh_quantization", "KHR_materials_emissive_strength"];
+
+/// Optional extensions read into the material model but not yet drawn by the renderer: a
+/// file may use them (one warning says so), not require them.
+const RECORDED_EXTENSIONS: &[&str] = &["KHR_materials_unlit", "KHR_texture_transform"];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
 const MAX_TEXTURE_BYTES: usize = 512 << 20;
@@ -60,7 +65,12 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
         }
     }
     for x in &json.extensions_used {
-        if !SUPPORTED_EXTENSIONS.contains(&x.as_str()) {
+        if RECORDED_EXTENSIONS.contains(&x.as_str()) {
+            warn(
+                &mut warnings,
+                format!("uses glTF extension {x}: read into the material (--check), not yet drawn"),
+            );
+        } else if !SUPPORTED_EXTENSIONS.contains(&x.as_str()) {
             warn(
                 &mut warnings,
                 format!("uses glTF extension {x}, which glview ignores"),
@@ -80,38 +90,34 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
     let mut texture_bytes = 0usize;
     let mut materials = Vec::new();
     for m in doc.materials() {
-        let tex = m
-            .pbr_metallic_roughness()
-            .base_color_texture()
-            .and_then(|info| {
-                let i = info.texture().source().index();
-                if images[i].is_none() {
-                    let label = super::gltf_buffers::image_label(&doc, i);
-                    let t = if texture_bytes > MAX_TEXTURE_BYTES {
-                        Err(format!(
-                            "over the {} MiB texture budget",
-                            MAX_TEXTURE_BYTES >> 20
-                        ))
-                    } else {
-                        super::gltf_buffers::image(&doc, i, &buffers, path, opts.textures)
-                    };
-                    images[i] = Some(match t {
-                        Ok(t) => {
-                            texture_bytes += t.rgba.len();
-                            Some(Arc::new(t))
-                        }
-                        Err(e) => {
-                            warn(
-                                &mut warnings,
-                                format!("{label}: {e}; materials using it render without it"),
-                            );
-                            None
-                        }
-                    });
-                }
-                images[i].clone().flatten()
-            });
-        materials.push(super::gltf_material::material(&m, tex));
+        let mut image = |i: usize| {
+            if images[i].is_none() {
+                let label = super::gltf_buffers::image_label(&doc, i);
+                let t = if texture_bytes > MAX_TEXTURE_BYTES {
+                    Err(format!(
+                        "over the {} MiB texture budget",
+                        MAX_TEXTURE_BYTES >> 20
+                    ))
+                } else {
+                    super::gltf_buffers::image(&doc, i, &buffers, path, opts.textures)
+                };
+                images[i] = Some(match t {
+                    Ok(t) => {
+                        texture_bytes += t.rgba.len();
+                        Some(Arc::new(t))
+                    }
+                    Err(e) => {
+                        warn(
+                            &mut warnings,
+                            format!("{label}: {e}; materials using it render without it"),
+                        );
+                        None
+                    }
+                });
+            }
+            images[i].clone().flatten()
+        };
+        materials.push(super::gltf_material::material(&m, &mut image));
     }
     let default_index = materials.len();
     materials.push(super::Material::default());

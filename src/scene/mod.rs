@@ -15,6 +15,7 @@ pub mod gltf_graph;
 pub mod gltf_material;
 pub mod gltf_modes;
 pub mod material;
+pub mod material_model;
 pub mod normals;
 pub mod obj;
 pub mod pbr_material;

@@ -32,6 +32,9 @@ pub struct PbrInputs {
     /// Every map statement of the material as (key, file as written, what happened), for
     /// `--check`.
     pub maps: Vec<(String, String, String)>,
+    /// Samplers, UV sets, alpha mode, sidedness: the one material model of every format.
+    #[serde(default)]
+    pub model: super::material_model::Model,
 }
 
 impl PbrInputs {

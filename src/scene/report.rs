@@ -56,6 +56,13 @@ pub fn report(s: &Scene) -> String {
                 "from Pr/Pm"
             }
         );
+        if !m.pbr_inputs.model.textures.is_empty()
+            || m.pbr_inputs.model != super::material_model::Model::default()
+        {
+            for line in m.pbr_inputs.model.describe() {
+                let _ = writeln!(r, "material {}: {line}", m.name);
+            }
+        }
         for (key, spec, what) in &m.pbr_inputs.maps {
             let _ = writeln!(r, "pbr map: material {}: {key} {spec:?} -> {what}", m.name);
         }
