@@ -184,3 +184,40 @@ fn a_mirroring_node_keeps_triangles_front_facing() {
         assert!(!s.materials[0].pbr_inputs.model.double_sided);
     }
 }
+
+#[test]
+fn quantized_positions_and_colours_load_exactly() {
+    // KHR_mesh_quantization: u16 positions (not normalized) scaled by the node; COLOR_0 as
+    // normalized u16 RGB.
+    let mut bin = Vec::new();
+    for x in [0u16, 0, 0, 0, 4, 0, 0, 0, 0, 4, 0, 0] {
+        bin.extend(x.to_le_bytes());
+    }
+    for x in [65535u16, 0, 0, 0, 0, 65535, 0, 0, 0, 0, 65535, 0] {
+        bin.extend(x.to_le_bytes());
+    }
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+      "extensionsUsed": ["KHR_mesh_quantization"], "extensionsRequired": ["KHR_mesh_quantization"],
+      "nodes": [{{"mesh": 0, "scale": [0.25, 0.25, 0.25]}}],
+      "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "COLOR_0": 1}}}}]}}],
+      "buffers": [{{"uri": "data:application/octet-stream;base64,{}", "byteLength": 48}}],
+      "bufferViews": [{{"buffer": 0, "byteLength": 24, "byteStride": 8}},
+                      {{"buffer": 0, "byteOffset": 24, "byteLength": 24, "byteStride": 8}}],
+      "accessors": [{{"bufferView": 0, "componentType": 5123, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [4, 4, 0]}},
+                    {{"bufferView": 1, "componentType": 5123, "normalized": true, "count": 3, "type": "VEC3"}}]}}"#,
+        b64(&bin)
+    );
+    let p = out_dir("gltf-materials").join("quantized.gltf");
+    std::fs::write(&p, json).unwrap();
+    let s = load(&p, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    assert_eq!(
+        s.file_bounds,
+        (glam::DVec3::ZERO, glam::DVec3::new(1.0, 1.0, 0.0))
+    );
+    let c = &s.meshes[0].colors;
+    for want in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]] {
+        assert!(c.contains(&want), "{c:?}");
+    }
+}
