@@ -16,8 +16,11 @@ use std::sync::Arc;
 
 /// Extensions whose absence would make glview draw a required extension wrongly are refused;
 /// these are the ones it implements.
-pub const SUPPORTED_EXTENSIONS: &[&str] =
-    &["KHR_mesh_quantization", "KHR_materials_emissive_strength"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_mesh_quantization",
+    "KHR_materials_emissive_strength",
+    "EXT_meshopt_compression",
+];
 
 /// Optional extensions read into the material model but not yet drawn by the renderer: a
 /// file may use them (one warning says so), not require them.
@@ -85,6 +88,8 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
     let buffers =
         super::gltf_buffers::buffers(&doc, parsed.blob, dir, opts.textures.allow_outside_paths)
             .map_err(bad)?;
+    let views = super::gltf_buffers::decoded_views(&doc, &buffers).map_err(bad)?;
+    let buffers = accessor::Buffers { buffers, views };
 
     let mut images: Vec<Option<Option<Arc<Texture>>>> = vec![None; doc.images().len()];
     let mut texture_bytes = 0usize;
@@ -99,7 +104,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
                         MAX_TEXTURE_BYTES >> 20
                     ))
                 } else {
-                    super::gltf_buffers::image(&doc, i, &buffers, path, opts.textures)
+                    super::gltf_buffers::image(&doc, i, &buffers.buffers, path, opts.textures)
                 };
                 images[i] = Some(match t {
                     Ok(t) => {

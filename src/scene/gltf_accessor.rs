@@ -9,11 +9,19 @@ use gltf::accessor::{DataType, Dimensions};
 /// 16 M vertices already take ~1 GB through the loading pipeline.
 pub const MAX_ELEMENTS: usize = 1 << 24;
 
-/// The bytes of each buffer, as resolved (exactly `byteLength` long).
-pub type Buffers = [Vec<u8>];
+/// The bytes of each buffer, as resolved (exactly `byteLength` long), and of each buffer view
+/// that `EXT_meshopt_compression` decoded (which then replaces the view's own bytes).
+pub struct Buffers {
+    pub buffers: Vec<Vec<u8>>,
+    pub views: Vec<Option<Vec<u8>>>,
+}
 
 fn view_bytes<'a>(view: &gltf::buffer::View, buffers: &'a Buffers) -> Result<&'a [u8], String> {
+    if let Some(Some(d)) = buffers.views.get(view.index()) {
+        return Ok(d);
+    }
     let data = buffers
+        .buffers
         .get(view.buffer().index())
         .ok_or_else(|| format!("buffer view {}: no buffer", view.index()))?;
     view.offset()

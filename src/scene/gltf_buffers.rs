@@ -51,6 +51,15 @@ pub fn buffers(
                 "byteLength {len} is more than glview reads ({MAX_BUFFER_BYTES})"
             )));
         }
+        let fallback = b
+            .extension_value("EXT_meshopt_compression")
+            .and_then(|e| e.get("fallback")?.as_bool())
+            .unwrap_or(false);
+        if fallback && matches!(b.source(), gltf::buffer::Source::Bin) {
+            // A placeholder for views decoded from another buffer: never read.
+            out.push(Vec::new());
+            continue;
+        }
         let mut data = match b.source() {
             gltf::buffer::Source::Bin => blob
                 .take()
@@ -72,6 +81,23 @@ pub fn buffers(
         out.push(data);
     }
     Ok(out)
+}
+
+/// The bytes of every buffer view compressed with `EXT_meshopt_compression`, decoded.
+pub fn decoded_views(
+    doc: &gltf::Document,
+    buffers: &[Vec<u8>],
+) -> Result<Vec<Option<Vec<u8>>>, String> {
+    doc.views()
+        .map(|v| {
+            v.extension_value("EXT_meshopt_compression")
+                .map(|e| {
+                    super::gltf_meshopt::decode(e, buffers)
+                        .map_err(|m| format!("buffer view {}: {m}", v.index()))
+                })
+                .transpose()
+        })
+        .collect()
 }
 
 /// Decodes image `index`, or says why not (for a warning).

@@ -13,6 +13,7 @@ pub mod gltf_accessor;
 pub mod gltf_buffers;
 pub mod gltf_graph;
 pub mod gltf_material;
+pub mod gltf_meshopt;
 pub mod gltf_modes;
 pub mod material;
 pub mod material_model;

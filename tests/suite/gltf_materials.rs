@@ -8,7 +8,7 @@ use glview::scene::material_model::{AlphaMode, Filter, Slot, Wrap};
 use glview::scene::obj::{load, LoadOptions};
 use std::path::PathBuf;
 
-fn b64(data: &[u8]) -> String {
+pub fn b64(data: &[u8]) -> String {
     const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut s = String::new();
     for c in data.chunks(3) {

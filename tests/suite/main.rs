@@ -14,6 +14,7 @@ mod conformance;
 mod culling;
 mod fast_parse;
 mod fuzz_regressions;
+mod gltf_extensions;
 mod gltf_materials;
 mod gpu_vs_reference;
 mod hostile_formats;
