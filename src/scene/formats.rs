@@ -13,6 +13,9 @@ use std::path::Path;
 /// PLY are read as streams and need no such bound: their element counts are.
 const MAX_INFLATED: u64 = 1 << 30;
 
+/// Largest inflated STL or PLY stream read (the rest is not looked at).
+const MAX_STREAM: u64 = 2 << 30;
+
 /// Model formats glview reads, from the file name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -60,7 +63,10 @@ pub fn gunzip(path: &Path, bytes: &[u8]) -> Result<Vec<u8>> {
 /// when it ends in `.gz` (the fuzz targets and `obj::load` come through here).
 pub fn load_model_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     let (format, gz) = format_of(path);
-    let gz_reader = || std::io::BufReader::new(flate2::read::GzDecoder::new(bytes));
+    // Streams stop at MAX_STREAM inflated bytes: more than the element limits need, and it
+    // bounds the time a bomb of text the parsers skip (STL junk tokens) can take.
+    let gz_reader =
+        || std::io::BufReader::new(flate2::read::GzDecoder::new(bytes).take(MAX_STREAM));
     match (format, gz) {
         (Format::Gltf, false) => super::gltf::load_gltf_bytes(path, bytes, opts),
         (Format::Gltf, true) => Err(Error::model(path, None, "gzipped glTF is not supported")),
@@ -201,7 +207,11 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
             uv: [0.0; 2],
         })
         .collect();
-    let colors = raw.colors.unwrap_or_default();
+    // (A PLY with two vertex elements has more positions than colours: then none.)
+    let colors = raw
+        .colors
+        .filter(|c| c.len() == positions.len())
+        .unwrap_or_default();
     let mut mesh = Mesh {
         name: path
             .file_stem()

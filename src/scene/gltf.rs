@@ -152,8 +152,10 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
     let mut wire_pts: Vec<DVec3> = Vec::new();
     let mut wire = Wire::default();
     let up = opts.up;
-    for (_, mesh, world) in &instances {
+    for (node, mesh, world) in &instances {
         let normal_m = DMat3::from_mat4(*world).inverse().transpose();
+        // A singular transform (a zero scale) has no normal matrix: normals are generated.
+        let normal_ok = normal_m.is_finite();
         let mirrored = world.determinant() < 0.0;
         for (pi, p) in mesh.primitives().enumerate() {
             let where_ = || format!("mesh {} primitive {pi}", mesh.index());
@@ -174,9 +176,13 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
                 .chunks_exact(3)
                 .map(|q| up.rotate(world.transform_point3(glam::Vec3::from_slice(q).as_dvec3())))
                 .collect();
-            if positions.iter().any(|q| !q.is_finite()) {
+            // Beyond f32 they would become infinite when rounded after re-centring.
+            if positions
+                .iter()
+                .any(|q| !q.is_finite() || q.abs().max_element() > f64::from(f32::MAX))
+            {
                 return Err(bad(format!(
-                    "{}: a node transform makes positions non-finite",
+                    "{}: node {node} transforms positions beyond 32-bit float range",
                     where_()
                 )));
             }
@@ -203,7 +209,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
                     .extend(segments.iter().map(|s| [base + s[0], base + s[1]]));
                 continue;
             }
-            let normals = match p.get(&Semantic::Normals) {
+            let normals = match p.get(&Semantic::Normals).filter(|_| normal_ok) {
                 Some(a) => {
                     let (_, v) = accessor::read_f32(&a, &buffers, &[D::Vec3]).map_err(bad)?;
                     if let Some(k) = v.iter().position(|x| !x.is_finite()) {

@@ -26,14 +26,20 @@ struct Weld {
 }
 
 impl Weld {
-    fn facet(&mut self, v: &[[f32; 3]]) {
+    fn facet(&mut self, v: &[[f32; 3]]) -> Result<(), Fail> {
         self.facets += 1;
+        if self.out.corners.len() > 3 * MAX_ELEMENTS {
+            return Err((
+                None,
+                format!("facet {}: more than {MAX_ELEMENTS} triangles", self.facets),
+            ));
+        }
         if v.iter().flatten().any(|x| !x.is_finite()) {
             if self.out.non_finite.0 == 0 {
                 self.out.non_finite.1 = self.facets;
             }
             self.out.non_finite.0 += 1;
-            return;
+            return Ok(());
         }
         // A polygon facet (ASCII allows more than three vertices) becomes a fan.
         let ids: Vec<u32> = v
@@ -53,6 +59,7 @@ impl Weld {
         for k in 1..ids.len().saturating_sub(1) {
             self.out.corners.extend([ids[0], ids[k], ids[k + 1]]);
         }
+        Ok(())
     }
 }
 
@@ -105,7 +112,7 @@ pub fn read<R: BufRead>(mut r: R, size: Option<u64>) -> Result<Raw, Fail> {
                 .map_err(|_| (None, format!("the file ends in facet {} of {n}", i + 1)))?;
             let c = |k: usize| f32::from_le_bytes([f[k], f[k + 1], f[k + 2], f[k + 3]]);
             let v = [12, 24, 36].map(|o| [c(o), c(o + 4), c(o + 8)]);
-            w.facet(&v);
+            w.facet(&v)?;
         }
         return Ok(w.out);
     }
@@ -143,7 +150,7 @@ pub fn read<R: BufRead>(mut r: R, size: Option<u64>) -> Result<Raw, Fail> {
                 if w.facets >= MAX_ELEMENTS {
                     return Err(fail(&toks, format!("more than {MAX_ELEMENTS} facets")));
                 }
-                w.facet(&verts);
+                w.facet(&verts).map_err(|(_, m)| fail(&toks, m))?;
                 verts.clear();
             }
             _ => {}

@@ -7,7 +7,7 @@
 //! Tests marked `Regression (finding n, fixed)` reproduce a crash described in
 //! fuzz/README.md ("Findings"); its fix is in the loader, and the test keeps it there.
 #[path = "../../fuzz/src/lib.rs"]
-mod fuzz_support;
+pub(crate) mod fuzz_support;
 
 use fuzz_support::{check_scene, load_compared, split_input};
 use glview::scene::Scene;

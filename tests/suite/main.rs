@@ -13,6 +13,7 @@ mod compare;
 mod conformance;
 mod culling;
 mod fast_parse;
+mod fuzz_format_regressions;
 mod fuzz_regressions;
 mod gltf_extensions;
 mod gltf_materials;
