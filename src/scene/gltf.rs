@@ -49,6 +49,18 @@ pub fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene> {
 pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     // gltf's validation errors can span lines; the user gets one.
     let bad = |m: String| Error::model(path, None, m.replace('\n', "; "));
+    // The crate subtracts the 12-byte header from the GLB's stated length unchecked
+    // (overflow, found by the gltf fuzz target).
+    if bytes.starts_with(b"glTF") {
+        let len = bytes
+            .get(8..12)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        if len.is_none_or(|l| l < 12) {
+            return Err(bad(
+                "not a valid glTF file: GLB header shorter than 12 bytes".into(),
+            ));
+        }
+    }
     let parsed = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
     let mut warnings = Vec::new();
@@ -78,6 +90,22 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
                 &mut warnings,
                 format!("uses glTF extension {x}, which glview ignores"),
             );
+        }
+    }
+    // The crate's validator indexes the accessors with the POSITION index before it has
+    // checked that index (a panic, found by the gltf fuzz target).
+    for (mi, m) in json.meshes.iter().enumerate() {
+        for (pi, p) in m.primitives.iter().enumerate() {
+            if let Some(a) = p
+                .attributes
+                .values()
+                .find(|a| a.value() >= json.accessors.len())
+            {
+                return Err(bad(format!(
+                    "mesh {mi} primitive {pi}: accessor {} does not exist",
+                    a.value()
+                )));
+            }
         }
     }
     // Checked above; the crate's validator refuses any it does not know itself.

@@ -87,3 +87,28 @@ fn stl_facet_with_too_many_vertices_is_refused() {
         "facet 1 has more than 1024 vertices",
     );
 }
+
+/// Finding G1 (gltf target, first minute): a GLB whose header states a length below its own
+/// 12 bytes made the gltf crate subtract with overflow (a panic wherever overflow checks are
+/// on, as in tests; release builds wrapped and refused it). The smallest equivalent input.
+#[test]
+fn glb_length_below_the_header_is_refused() {
+    let mut glb = b"glTF".to_vec();
+    glb.extend(2u32.to_le_bytes());
+    glb.extend(4u32.to_le_bytes());
+    glb.extend(b"JSON{}");
+    err("fuzz.glb", &glb, "GLB header shorter than 12 bytes");
+}
+
+/// Finding G2 (gltf target): a POSITION attribute naming an accessor that does not exist
+/// panicked inside gltf-json's validator, which indexes the accessors before checking the
+/// index. The smallest equivalent input.
+#[test]
+fn position_accessor_out_of_range_is_refused() {
+    let g = br#"{"asset": {"version": "2.0"}, "meshes": [{"primitives": [{"attributes": {"POSITION": 1}}]}]}"#;
+    err(
+        "fuzz.gltf",
+        g,
+        "mesh 0 primitive 0: accessor 1 does not exist",
+    );
+}
