@@ -230,3 +230,42 @@ pub fn run_one(data: &[u8]) -> Result<Scene, glview::Error> {
     }
     out
 }
+
+/// Where a fuzzed STL, PLY or glTF file "lives": the same empty folder as the OBJ, so URIs
+/// resolve to nothing inside it and everything outside is refused by the loader's rule.
+pub fn format_path(name: &str) -> std::path::PathBuf {
+    model_path().with_file_name(name)
+}
+
+/// Loads one fuzz input as the file `name` (its extension picks the loader, `.gz` inflates
+/// it first) and checks the outcome like [`run_one`]: a scene that keeps the invariants, or an
+/// error naming the file. Used by the `stl`, `ply` and `gltf` targets.
+pub fn run_format(name: &str, data: &[u8]) -> Result<Scene, glview::Error> {
+    let path = format_path(name);
+    let out = glview::scene::formats::load_model_bytes(&path, data, &LoadOptions::default());
+    match &out {
+        Ok(scene) => {
+            if let Err(e) = check_scene(scene) {
+                panic!("invariant violated: {e}");
+            }
+        }
+        Err(e) => {
+            let msg = e.to_string();
+            assert!(
+                msg.contains(&*path.to_string_lossy()),
+                "error does not name the file: {msg}"
+            );
+            assert!(!msg.contains('\n'), "error of more than one line: {msg}");
+        }
+    }
+    out
+}
+
+/// The glTF target's file name: binary glTF when the input starts with the GLB magic.
+pub fn gltf_name(data: &[u8]) -> &'static str {
+    if data.starts_with(b"glTF") {
+        "fuzz.glb"
+    } else {
+        "fuzz.gltf"
+    }
+}
