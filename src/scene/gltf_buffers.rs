@@ -100,7 +100,8 @@ pub fn decoded_views(
         .collect()
 }
 
-/// Decodes image `index`, or says why not (for a warning).
+/// Decodes image `index`, or says why not (for a warning). Read from the JSON: the crate's
+/// `Image::source` unwraps a missing `mimeType` or `uri` (found by the gltf fuzz target).
 pub fn image(
     doc: &gltf::Document,
     index: usize,
@@ -109,35 +110,38 @@ pub fn image(
     opts: TextureOptions,
 ) -> Result<Texture, String> {
     let img = doc
-        .images()
-        .nth(index)
+        .as_json()
+        .images
+        .get(index)
         .ok_or_else(|| format!("image {index} does not exist"))?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    match img.source() {
-        gltf::image::Source::View { view, .. } => {
-            let data = buffers
-                .get(view.buffer().index())
-                .and_then(|d| d.get(view.offset()..view.offset().checked_add(view.length())?))
-                .ok_or_else(|| format!("buffer view {} lies outside its buffer", view.index()))?;
-            super::texture::decode_bytes(data, path.to_path_buf(), index, opts)
-        }
-        gltf::image::Source::Uri { uri: u, .. } => {
-            match uri::resolve(u, dir, opts.allow_outside_paths)? {
-                Resolved::Data(d) => {
-                    super::texture::decode_bytes(&d, path.to_path_buf(), index, opts)
-                }
-                Resolved::File(p) => super::texture::decode(p, opts),
-            }
-        }
+    if let Some(v) = &img.buffer_view {
+        let view = doc
+            .views()
+            .nth(v.value())
+            .ok_or_else(|| format!("buffer view {} does not exist", v.value()))?;
+        let data = buffers
+            .get(view.buffer().index())
+            .and_then(|d| d.get(view.offset()..view.offset().checked_add(view.length())?))
+            .ok_or_else(|| format!("buffer view {} lies outside its buffer", view.index()))?;
+        return super::texture::decode_bytes(data, path.to_path_buf(), index, opts);
+    }
+    let u = img.uri.as_deref().ok_or("neither a uri nor a bufferView")?;
+    match uri::resolve(u, dir, opts.allow_outside_paths)? {
+        Resolved::Data(d) => super::texture::decode_bytes(&d, path.to_path_buf(), index, opts),
+        Resolved::File(p) => super::texture::decode(p, opts),
     }
 }
 
 /// How an image is named in a warning: its URI when it has a (non-data) one.
 pub fn image_label(doc: &gltf::Document, index: usize) -> String {
-    match doc.images().nth(index).map(|i| i.source()) {
-        Some(gltf::image::Source::Uri { uri, .. }) if !uri.starts_with("data:") => {
-            format!("image {index} ({uri:?})")
-        }
+    match doc
+        .as_json()
+        .images
+        .get(index)
+        .and_then(|i| i.uri.as_deref())
+    {
+        Some(uri) if !uri.starts_with("data:") => format!("image {index} ({uri:?})"),
         _ => format!("image {index}"),
     }
 }

@@ -112,3 +112,35 @@ fn position_accessor_out_of_range_is_refused() {
         "mesh 0 primitive 0: accessor 1 does not exist",
     );
 }
+
+/// Finding G3 (gltf target, second run, ~30 s): an image with a `bufferView` but no
+/// `mimeType`, or with neither `uri` nor `bufferView`, made the crate's `Image::source`
+/// unwrap `None`. Images are now read from the JSON; both are warnings and the model loads.
+#[test]
+fn images_without_mime_type_or_source_are_warnings() {
+    for (image, expect) in [
+        (
+            r#"{"bufferView": 0}"#,
+            "image 0: not an image in a known format",
+        ),
+        ("{}", "image 0: neither a uri nor a bufferView"),
+    ] {
+        let g = String::from_utf8(tri_gltf(r#"{"mesh": 0}"#, "", &triangle(1.0)))
+            .unwrap()
+            .replace(
+                "\"meshes\"",
+                &format!(
+                    "\"images\": [{image}], \"textures\": [{{\"source\": 0}}], \"materials\": \
+                     [{{\"pbrMetallicRoughness\": {{\"baseColorTexture\": {{\"index\": 0}}}}}}], \
+                     \"meshes\""
+                ),
+            )
+            .replace("\"POSITION\": 0}", "\"POSITION\": 0}, \"material\": 0");
+        let s = ok("fuzz.gltf", g.as_bytes());
+        assert!(
+            s.warnings.iter().any(|w| w.message.contains(expect)),
+            "{expect:?} not in {:?}",
+            s.warnings
+        );
+    }
+}
