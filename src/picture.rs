@@ -44,6 +44,9 @@ pub struct Profile {
     pub compile_ms: f64,
     /// Wall time of each frame to glFinish (compiles and map precomputation included).
     pub frames_ms: Vec<f64>,
+    /// Each image texture uploaded for this picture (name, size, ms), the PBR tier's
+    /// included (made in its first frame).
+    pub textures: Vec<crate::gpu::TextureCost>,
     pub readback_ms: f64,
     pub encode_ms: f64,
     pub total_ms: f64,
@@ -193,6 +196,7 @@ pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Resul
         }
         last = Some(stats);
     }
+    profile.textures = hl.gpu.take_texture_costs();
     let compiled = kept.programs.borrow().compiled();
     profile.programs_compiled = compiled.0 - compiled_before.0;
     profile.compile_ms = compiled.1 - compiled_before.1;

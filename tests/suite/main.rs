@@ -29,6 +29,7 @@ mod shadows;
 mod stats;
 mod stress;
 mod terminator;
+mod texture_upload;
 mod translucency;
 mod window;
 mod wire_colors;
