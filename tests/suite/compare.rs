@@ -309,3 +309,67 @@ fn teaching_views_on_every_path() {
         "{err}"
     );
 }
+
+/// `--diff phong,pbr` on a model: the two tiers draw different backgrounds, so the whole
+/// picture differs almost everywhere; the model numbers cover exactly the pixels either tier's
+/// model covers (the union of their transparent renders' alpha), and a tier against itself
+/// is zero there too.
+#[test]
+fn diff_reports_the_models_pixels() {
+    let dir = out_dir("compare-diff-model");
+    let duck = shared().join("gltf-samples/Duck/Duck.glb");
+    let duck = duck.to_str().unwrap();
+    let out = dir.join("d.png");
+    let diff = |tiers: &str| {
+        let o = run(
+            &[
+                duck,
+                "--diff",
+                tiers,
+                "--size",
+                "96x72",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(dir.join("d.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()
+    };
+    let json = diff("phong,pbr");
+    let mut union = vec![false; 96 * 72];
+    for shading in ["phong", "pbr"] {
+        let t = dir.join(format!("{shading}-alpha.png"));
+        let o = run(
+            &[
+                duck,
+                "--shading",
+                shading,
+                "--transparent",
+                "--size",
+                "96x72",
+                "-o",
+                t.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let img = Rgba::load_png(&t).unwrap();
+        for (u, p) in union.iter_mut().zip(img.data.chunks_exact(4)) {
+            *u |= p[3] > 0;
+        }
+    }
+    let covered = union.iter().filter(|&&c| c).count() as u64;
+    assert!(covered > 500 && covered < 96 * 72 / 2, "{covered}");
+    assert_eq!(json["model_pixels"].as_u64(), Some(covered), "{json}");
+    let n = |part: &str, k: &str| json[part][k].as_f64().unwrap();
+    assert!(n("numbers", "over_8") > 0.9, "the backgrounds differ: {json}");
+    // A subset's worst pixel is no worse than the whole picture's.
+    assert!(n("model", "max") <= n("numbers", "max"), "{json}");
+    assert!(n("model", "mean") > 1.0, "the tiers shade differently: {json}");
+    let json = diff("pbr,pbr");
+    for k in ["mean", "max", "p99", "over_8", "one_minus_ssim"] {
+        assert_eq!(json["model"][k].as_f64(), Some(0.0), "{k}: {json}");
+    }
+}
