@@ -53,6 +53,12 @@ pub fn parse_tiers(s: &str, what: &str) -> Result<Vec<PaneTier>> {
     Ok(tiers)
 }
 
+/// The lights a frame is lit by: the placed ones and the headlight (the default kit is key,
+/// fill and headlight: 3).
+pub fn light_count(s: &FrameSettings) -> usize {
+    s.lights.len() + usize::from(s.lighting.headlight.is_some())
+}
+
 /// A pane's label: tier and the settings that matter for it.
 pub fn label(tier: PaneTier, s: &FrameSettings) -> String {
     let shadows = if s.shadows.enabled && !s.lights.is_empty() {
@@ -60,7 +66,10 @@ pub fn label(tier: PaneTier, s: &FrameSettings) -> String {
     } else {
         "no shadows".into()
     };
-    let lights = format!("{} light(s)", s.lights.len());
+    let lights = match light_count(s) {
+        1 => "1 light".to_string(),
+        n => format!("{n} lights"),
+    };
     match tier {
         PaneTier::Gpu(Shading::Pbr) | PaneTier::Reference(Shading::Pbr) => format!(
             "{} {lights} {shadows} {:?}",
@@ -190,16 +199,24 @@ pub fn compare(args: &Args, tiers_arg: &str, path: &std::path::Path) -> Result<(
     let name = scene.name.clone();
     let panes = render_panes(args, scene, &tiers)?;
     let (w, h) = args.size;
-    let mut out = canvas::blank(w * tiers.len() as u32, h + canvas::STRIP, [24, 24, 28]);
-    for (i, (img, label)) in panes.images.iter().zip(&panes.labels).enumerate() {
-        canvas::paste(&mut out, &canvas::strip(w, label), i as u32 * w, 0);
-        canvas::paste(&mut out, img, i as u32 * w, canvas::STRIP);
+    let labels: Vec<&str> = panes.labels.iter().map(String::as_str).collect();
+    let strip = canvas::strip_height(w, &labels);
+    let mut out = canvas::blank(w * tiers.len() as u32, h + strip, [24, 24, 28]);
+    for (i, (img, label)) in panes.images.iter().zip(&labels).enumerate() {
+        canvas::paste(
+            &mut out,
+            &canvas::strip_sized(w, strip, label),
+            i as u32 * w,
+            0,
+        );
+        canvas::paste(&mut out, img, i as u32 * w, strip);
     }
     let text = vec![
         ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
         ("glview.compare", tiers_arg.to_string()),
         ("glview.model", name),
         ("glview.pane_size", format!("{w}x{h}")),
+        ("glview.label_height", strip.to_string()),
     ];
     out.save_png(path, &text)
 }

@@ -37,7 +37,18 @@ fn panes_equal_separate_renders() {
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let cmp = Rgba::load_png(&out).unwrap();
-    assert_eq!((cmp.width, cmp.height), (3 * 96, 72 + STRIP));
+    // One label size: the labels wrap onto as many lines as the longest needs, in every pane.
+    let (settings, _) = settings_for(&["--size", "96x72"]);
+    let labels: Vec<String> = glview::compare::parse_tiers("phong,pbr,reference", "t")
+        .unwrap()
+        .into_iter()
+        .map(|t| glview::compare::label(t, &settings))
+        .collect();
+    assert!(labels[0].contains("3 lights"), "the default kit: {labels:?}");
+    let labels: Vec<&str> = labels.iter().map(String::as_str).collect();
+    let strip = glview::compare::canvas::strip_height(96, &labels);
+    assert!(strip > STRIP, "96-pixel panes wrap these labels");
+    assert_eq!((cmp.width, cmp.height), (3 * 96, 72 + strip));
     for (i, (name, args)) in [
         ("phong", vec!["--shading", "phong"]),
         ("pbr", vec!["--shading", "pbr"]),
@@ -48,7 +59,7 @@ fn panes_equal_separate_renders() {
         let mut a = vec!["--size", "96x72"];
         a.extend(args);
         let alone = render(&dir, name, &a, &[]);
-        let pane = crop(&cmp, i as u32 * 96, STRIP, 96, 72);
+        let pane = crop(&cmp, i as u32 * 96, strip, 96, 72);
         // The viewport's offset changes the float rounding of window coordinates: a varying
         // may land one 8-bit step apart on a handful of pixels (measured: 1 pixel by 1/255).
         assert_close(&dir, &format!("pane-{name}"), &pane, &alone, 0, 7, 1);
@@ -65,7 +76,7 @@ fn panes_equal_separate_renders() {
         &[],
     );
     assert!(o.status.success());
-    let pane = crop(&cmp, 2 * 96, STRIP, 96, 72);
+    let pane = crop(&cmp, 2 * 96, strip, 96, 72);
     assert_close(
         &dir,
         "pane-reference",
@@ -187,9 +198,12 @@ fn contact_sheet_grid() {
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s = Rgba::load_png(&out).unwrap();
-    assert_eq!((s.width, s.height), (3 * 80, 2 * (60 + STRIP)));
+    // Two rows of cells, each a label strip of whole 18-pixel lines over a 60-pixel render.
+    let strip = s.height / 2 - 60;
+    assert_eq!((s.width, s.height % 2, (strip - 2) % 18), (3 * 80, 0, 0));
+    assert!(strip >= STRIP);
     // Each cell is a render: the cells differ from each other (views and tiers).
-    let cell = |c: u32, r: u32| crop(&s, c * 80, r * (60 + STRIP) + STRIP, 80, 60);
+    let cell = |c: u32, r: u32| crop(&s, c * 80, r * (60 + strip) + strip, 80, 60);
     assert!(diff(&cell(0, 0), &cell(1, 0), 8).over > 50);
     assert!(diff(&cell(0, 0), &cell(0, 1), 8).over > 50);
     // The same cell as a separate render with the sheet's first angle.
@@ -364,10 +378,16 @@ fn diff_reports_the_models_pixels() {
     assert!(covered > 500 && covered < 96 * 72 / 2, "{covered}");
     assert_eq!(json["model_pixels"].as_u64(), Some(covered), "{json}");
     let n = |part: &str, k: &str| json[part][k].as_f64().unwrap();
-    assert!(n("numbers", "over_8") > 0.9, "the backgrounds differ: {json}");
+    assert!(
+        n("numbers", "over_8") > 0.9,
+        "the backgrounds differ: {json}"
+    );
     // A subset's worst pixel is no worse than the whole picture's.
     assert!(n("model", "max") <= n("numbers", "max"), "{json}");
-    assert!(n("model", "mean") > 1.0, "the tiers shade differently: {json}");
+    assert!(
+        n("model", "mean") > 1.0,
+        "the tiers shade differently: {json}"
+    );
     let json = diff("pbr,pbr");
     for k in ["mean", "max", "p99", "over_8", "one_minus_ssim"] {
         assert_eq!(json["model"][k].as_f64(), Some(0.0), "{k}: {json}");
