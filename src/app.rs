@@ -227,22 +227,7 @@ impl App<'_> {
         let target = live.aa.target(&live.gpu, window)?;
         let k = live.aa.scale();
         let stats = if self.compare {
-            // Two panes on one camera: the legacy tier left, PBR right.
-            let half = (w / 2).max(1) * k;
-            let h = h * k;
-            let mut last = None;
-            for (i, shading) in [Shading::Phong, Shading::Pbr].into_iter().enumerate() {
-                let s = FrameSettings {
-                    shading,
-                    ..self.settings.clone()
-                };
-                let x = i as u32 * half;
-                last = Some(
-                    live.renderer
-                        .render_viewport(&s, &target, [x, 0, half, h])?,
-                );
-            }
-            last.expect("two panes")
+            crate::compare::split::draw(&mut live.renderer, &self.settings, &target, w * k, h * k)?
         } else {
             live.renderer.render(&self.settings, &target)?
         };

@@ -5,6 +5,7 @@
 pub mod canvas;
 pub mod diff;
 pub mod sheet;
+pub mod split;
 
 use crate::cli::Args;
 use crate::frame::{FrameSettings, Shading};

@@ -44,7 +44,10 @@ fn panes_equal_separate_renders() {
         .into_iter()
         .map(|t| glview::compare::label(t, &settings))
         .collect();
-    assert!(labels[0].contains("3 lights"), "the default kit: {labels:?}");
+    assert!(
+        labels[0].contains("3 lights"),
+        "the default kit: {labels:?}"
+    );
     let labels: Vec<&str> = labels.iter().map(String::as_str).collect();
     let strip = glview::compare::canvas::strip_height(96, &labels);
     assert!(strip > STRIP, "96-pixel panes wrap these labels");
@@ -392,4 +395,65 @@ fn diff_reports_the_models_pixels() {
     for k in ["mean", "max", "p99", "over_8", "one_minus_ssim"] {
         assert_eq!(json["model"][k].as_f64(), Some(0.0), "{k}: {json}");
     }
+}
+
+/// The window's split view (`C`) frames each half for its own aspect: in a 4:3 window each
+/// half is portrait, and the whole window's framing cut the model off at the halves' sides.
+/// Each pane's model coverage (alpha of a transparent frame) must lie inside the pane, and
+/// the old framing must not (so this test sees the difference).
+#[test]
+fn split_view_panes_frame_the_model() {
+    use glview::headless::Headless;
+    use glview::platform::{Backend, GlRequest};
+    use glview::render::Renderer;
+    let duck = shared().join("gltf-samples/Duck/Duck.glb");
+    let (w, h) = (240u32, 180u32);
+    let size = format!("{w}x{h}");
+    let (mut settings, scene) = settings_for(&[duck.to_str().unwrap(), "--size", &size]);
+    settings.lighting.post.transparent = true;
+    let hl = Headless::new(Backend::Egl, GlRequest::Core, w, h).expect("EGL context");
+    let mut renderer = Renderer::new(&hl.gpu, scene).unwrap();
+    // Columns and rows the model covers in pane `i` (x relative to the pane).
+    let extent = |img: &Rgba, i: u32| {
+        let half = w / 2;
+        let (mut x0, mut x1, mut y0, mut y1) = (u32::MAX, 0, u32::MAX, 0);
+        for y in 0..h {
+            for x in 0..half {
+                if img.pixel(i * half + x, y)[3] > 0 {
+                    (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+                }
+            }
+        }
+        assert!(x0 <= x1, "pane {i} is empty");
+        (x0, x1, y0, y1)
+    };
+    glview::compare::split::draw(&mut renderer, &settings, &hl.target(), w, h).unwrap();
+    let framed = hl.read();
+    let dir = out_dir("compare-split");
+    framed.save_png(&dir.join("framed.png"), &[]).unwrap();
+    for i in 0..2 {
+        let (x0, x1, y0, y1) = extent(&framed, i);
+        assert!(
+            x0 > 0 && x1 < w / 2 - 1 && y0 > 0 && y1 < h - 1,
+            "pane {i}: the model spans x {x0}..{x1}, y {y0}..{y1} of {}x{h}",
+            w / 2
+        );
+    }
+    // The whole window's framing in each half: the duck touches the sides.
+    for (i, shading) in glview::compare::split::TIERS.into_iter().enumerate() {
+        let s = glview::render::FrameSettings {
+            shading,
+            ..settings.clone()
+        };
+        let vp = [i as u32 * w / 2, 0, w / 2, h];
+        renderer.render_viewport(&s, &hl.target(), vp).unwrap();
+    }
+    let cut = hl.read();
+    cut.save_png(&dir.join("whole-window-framing.png"), &[])
+        .unwrap();
+    let (x0, x1, _, _) = extent(&cut, 0);
+    assert!(
+        x0 == 0 || x1 == w / 2 - 1,
+        "the old framing was not cut off"
+    );
 }
