@@ -29,8 +29,8 @@ pub struct Gpu {
     texture_costs: RefCell<Vec<TextureCost>>,
 }
 
-/// What one image texture cost to upload: mipmaps, format conversion and the GL calls
-/// (CPU wall time; the drivers copy the data during the call).
+/// What one image texture cost to upload: mipmaps, format conversion and the GL calls, up to
+/// glFinish (wall time).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TextureCost {
     pub name: String,

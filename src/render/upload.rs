@@ -60,6 +60,9 @@ pub(crate) fn timed(
     let start = std::time::Instant::now();
     let (w, h, rgba) = fit_texture(gpu, t)?;
     let tex = make(w, h, &rgba)?;
+    // Drivers may queue the work (llvmpipe's glGenerateMipmap is a blit run at the next
+    // flush): wait for it, so the cost lands on the texture that caused it.
+    gpu.finish();
     gpu.record_texture(crate::gpu::TextureCost {
         name: t.path.display().to_string(),
         width: w,
