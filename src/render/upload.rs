@@ -57,6 +57,9 @@ pub(crate) fn timed(
     t: &crate::scene::Texture,
     make: impl FnOnce(u32, u32, &[u8]) -> Result<Texture2d>,
 ) -> Result<Texture2d> {
+    // Work queued before (a frame's passes, when the PBR tier makes its textures mid-frame)
+    // is not this texture's.
+    gpu.finish();
     let start = std::time::Instant::now();
     let (w, h, rgba) = fit_texture(gpu, t)?;
     let tex = make(w, h, &rgba)?;
