@@ -316,14 +316,27 @@ fn mouse_drag_and_wheel_match_keys() {
 }
 
 /// `C` shows Phong and PBR side by side on one camera (each pane the headless render of its
-/// size, to rounding); `P` cycles to the PBR tier; `H` draws the overlay over the top-left
+/// size at the pane's distance, to rounding); `P` cycles to the PBR tier; `H` draws the overlay over the top-left
 /// corner and hides it again.
 #[test]
 fn compare_mode_pbr_key_and_overlay() {
     let Some((_lock, x)) = setup() else { return };
     let dir = fresh_dir("window_compare");
-    // A fixed distance: the fitted one depends on the aspect, which the panes change.
+    // A fixed distance (so the replay below is exact); each half scales it by the ratio of
+    // its fit to the window's (`compare::split::pane_camera`), which the headless panes are
+    // given as their distance.
     let (mut v, _win) = open(&x, &dir, &["--distance", "3"]);
+    let mut window = VIEW.to_vec();
+    window.extend_from_slice(&["--distance", "3"]);
+    let (settings, scene) = common::settings_for(&window);
+    let camera = glview::compare::split::pane_camera(
+        &settings.camera,
+        &scene.bounds,
+        320.0 / 240.0,
+        160.0 / 240.0,
+    );
+    assert!(camera.distance > 3.0, "a portrait half steps back");
+    let distance = camera.distance.to_string();
     key_to_frame(&x, &mut v, "c");
     let shot = screenshot(&x, &mut v);
     let half = |img: &Rgba, right: bool| {
@@ -347,7 +360,7 @@ fn compare_mode_pbr_key_and_overlay() {
             "--pitch",
             "15",
             "--distance",
-            "3",
+            distance.as_str(),
             "--shading",
             shading,
         ]
