@@ -49,6 +49,10 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
         std::sync::Arc::new(move |done: u64, _total: u64| b.set_position(done)) as obj::ProgressFn
     });
     crate::scene::cache::set_max_bytes(args.cache_size);
+    // A hit trusts size, time and inode; this also compares the model's content hash.
+    crate::scene::cache::set_verify(
+        std::env::var_os("GLVIEW_CACHE_VERIFY").is_some_and(|v| v == "1"),
+    );
     let opts = LoadOptions {
         textures: TextureOptions {
             allow_outside_paths: args.allow_outside_paths,
