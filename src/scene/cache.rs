@@ -17,6 +17,7 @@
 //! Format: `GLVC`, a little-endian u64 header length, a JSON header (metadata, materials,
 //! warnings, payload length and hash), then each mesh's vertices and indices as raw
 //! little-endian arrays.
+use super::clusters::Clusters;
 use super::material::{self, Material, TextureOptions};
 use super::{Bounds, Mesh, Scene, Vertex, Warning};
 use glam::DVec3;
@@ -28,7 +29,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 /// Files smaller than this parse in well under 100 ms: not worth a cache entry.
 pub const MIN_SIZE: u64 = 4 << 20;
 const MAGIC: &[u8; 4] = b"GLVC";
-const FORMAT: u32 = 3;
+const FORMAT: u32 = 4;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -109,6 +110,9 @@ struct Header {
     origin: [f64; 3],
     file_bounds: [[f64; 3]; 2],
     warnings: Vec<Warning>,
+    /// Each mesh's clusters (None below `clusters::MIN_TRIANGLES`), built on the indices
+    /// stored here (already reordered): a hit prepares nothing.
+    clusters: Vec<Option<Clusters>>,
     /// Length and XXH3-128 of everything after the header: catches truncation and flipped bytes.
     payload_len: u64,
     payload_hash: u128,
@@ -156,7 +160,7 @@ fn entry_path(dir: &Path, model: &Path) -> Option<PathBuf> {
 
 /// A cached scene for `path`, if a valid entry exists: validated by the file's metadata only,
 /// unless [`verify`] is on (then its content is read and hashed too).
-pub fn lookup(path: &Path, textures: TextureOptions) -> Option<Scene> {
+pub fn lookup(path: &Path, textures: TextureOptions) -> Option<Prepared> {
     if verify() {
         let bytes = std::fs::read(path).ok()?;
         return get(path, &bytes, textures);
@@ -166,7 +170,7 @@ pub fn lookup(path: &Path, textures: TextureOptions) -> Option<Scene> {
 
 /// A cached scene for `path` whose bytes are `bytes` (content hash compared), if a valid
 /// entry exists.
-pub fn get(path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Scene> {
+pub fn get(path: &Path, bytes: &[u8], textures: TextureOptions) -> Option<Prepared> {
     get_in(&dir()?, path, Some(bytes), textures)
 }
 
@@ -177,7 +181,7 @@ pub fn get_in(
     path: &Path,
     bytes: Option<&[u8]>,
     textures: TextureOptions,
-) -> Option<Scene> {
+) -> Option<Prepared> {
     let entry = entry_path(dir, path)?;
     let data = std::fs::read(&entry).ok()?;
     let scene = decode(&data, path, bytes, textures);
@@ -186,6 +190,9 @@ pub fn get_in(
     }
     scene
 }
+
+/// A scene with its meshes' clusters, as [`super::clusters::prepare`] makes them.
+pub type Prepared = (Scene, Vec<Option<Clusters>>);
 
 /// Marks an entry as used now (its modification time is the LRU clock).
 fn touch(entry: &Path) {
@@ -199,7 +206,7 @@ fn decode(
     path: &Path,
     bytes: Option<&[u8]>,
     textures: TextureOptions,
-) -> Option<Scene> {
+) -> Option<Prepared> {
     let (header, mut rest) = parse_header(data)?;
     let canonical = path.canonicalize().ok()?;
     let valid = header.format == FORMAT
@@ -257,8 +264,20 @@ fn decode(
     if meshes.iter().any(|m| m.material >= materials.len()) {
         return None;
     }
+    let clusters = header.clusters;
+    let fits = |m: &Mesh, c: &Option<Clusters>| {
+        let triangles = m.indices.len() as u64 / 3;
+        c.as_ref().is_none_or(|c| {
+            c.list
+                .iter()
+                .all(|k| u64::from(k.first) + u64::from(k.count) <= triangles)
+        })
+    };
+    if clusters.len() != meshes.len() || !meshes.iter().zip(&clusters).all(|(m, c)| fits(m, c)) {
+        return None;
+    }
     let [lo, hi] = header.file_bounds;
-    Some(Scene {
+    let scene = Scene {
         name: header.name,
         meshes,
         materials,
@@ -269,7 +288,8 @@ fn decode(
         warnings,
         wire: Default::default(),
         maps: Vec::new(),
-    })
+    };
+    Some((scene, clusters))
 }
 
 fn parse_header(data: &[u8]) -> Option<(Header, &[u8])> {
@@ -279,11 +299,16 @@ fn parse_header(data: &[u8]) -> Option<(Header, &[u8])> {
     Some((serde_json::from_slice(json).ok()?, &rest[8 + len..]))
 }
 
-/// Stores `scene` for `path` (and the content hash of `bytes`, the file's, when given);
-/// failures only cost the next load its speed-up.
-pub fn put(path: &Path, bytes: Option<&[u8]>, textures: TextureOptions, scene: &Scene) {
+/// Stores `scene` and its `clusters` for `path` (and the content hash of `bytes`, the file's,
+/// when given); failures only cost the next load its speed-up.
+pub fn put(
+    path: &Path,
+    bytes: Option<&[u8]>,
+    textures: TextureOptions,
+    (scene, clusters): (&Scene, &[Option<Clusters>]),
+) {
     let Some(dir) = dir() else { return };
-    if let Err(e) = put_in(&dir, max_bytes(), path, bytes, textures, scene) {
+    if let Err(e) = put_in(&dir, max_bytes(), path, bytes, textures, (scene, clusters)) {
         log::debug!("mesh cache not written for {}: {e}", path.display());
     }
 }
@@ -296,7 +321,7 @@ pub fn put_in(
     path: &Path,
     bytes: Option<&[u8]>,
     textures: TextureOptions,
-    scene: &Scene,
+    (scene, clusters): (&Scene, &[Option<Clusters>]),
 ) -> std::io::Result<()> {
     let entry = entry_path(dir, path).ok_or_else(|| std::io::Error::other("no canonical path"))?;
     let canonical = path.canonicalize()?;
@@ -346,6 +371,7 @@ pub fn put_in(
             scene.file_bounds.1.to_array(),
         ],
         warnings: scene.warnings.clone(),
+        clusters: clusters.to_vec(),
         payload_len,
         payload_hash: content_hash(&payload),
     };
@@ -424,7 +450,7 @@ mod tests {
         let (p, bytes, scene) = &models[0];
         let entries = dir.join("entries");
         let tex = TextureOptions::default();
-        put_in(&entries, 1 << 20, p, Some(bytes), tex, scene).unwrap();
+        put_in(&entries, 1 << 20, p, Some(bytes), tex, (scene, &[None])).unwrap();
         let good = std::fs::read(entry(&dir, p)).unwrap();
         assert!(get_in(&entries, p, Some(bytes), tex).is_some());
         // Every truncation and a flipped bit at every 7th byte: a miss, never a panic.
@@ -442,13 +468,13 @@ mod tests {
             let got = get_in(&entries, p, Some(bytes), tex);
             // A flip inside JSON whitespace-insensitive text can leave an equal header; then
             // the entry must still decode to the same triangles.
-            if let Some(s) = got {
+            if let Some((s, _)) = got {
                 assert_eq!(s.meshes[0].indices, scene.meshes[0].indices, "case {k}");
                 assert_eq!(s.meshes[0].vertices, scene.meshes[0].vertices, "case {k}");
             }
         }
         // Rebuilt by the next write.
-        put_in(&entries, 1 << 20, p, Some(bytes), tex, scene).unwrap();
+        put_in(&entries, 1 << 20, p, Some(bytes), tex, (scene, &[None])).unwrap();
         assert!(get_in(&entries, p, Some(bytes), tex).is_some());
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -459,7 +485,7 @@ mod tests {
         let (p, bytes, scene) = &models[0];
         let entries = dir.join("entries");
         let tex = TextureOptions::default();
-        put_in(&entries, 1 << 20, p, Some(bytes), tex, scene).unwrap();
+        put_in(&entries, 1 << 20, p, Some(bytes), tex, (scene, &[None])).unwrap();
         let mut b = std::fs::read(entry(&dir, p)).unwrap();
         let last = b.len() - 1;
         b[last] ^= 1;
@@ -475,7 +501,7 @@ mod tests {
         let tex = TextureOptions::default();
         let put = |i: usize, limit: u64| {
             let (p, b, s) = &models[i];
-            put_in(&entries, limit, p, Some(b), tex, s).unwrap();
+            put_in(&entries, limit, p, Some(b), tex, (s, &[None])).unwrap();
         };
         let age = |i: usize, secs: u64| {
             let f = std::fs::File::options()
@@ -503,7 +529,7 @@ mod tests {
         evict(&entries, one, &entry(&dir, &models[2].0)).unwrap();
         assert_eq!((exists(0), exists(1), exists(2)), (false, false, true));
         let (p1, b1, s1) = &models[1];
-        assert!(put_in(&entries, 8, p1, Some(b1), tex, s1).is_err());
+        assert!(put_in(&entries, 8, p1, Some(b1), tex, (s1, &[None])).is_err());
         assert!(!exists(1));
         std::fs::remove_dir_all(&dir).unwrap();
     }

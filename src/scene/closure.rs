@@ -8,7 +8,7 @@
 //! are then welded to each other within a tolerance relative to the model's size. No GL here.
 use super::Vertex;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Corners closer than this fraction of the mesh's bounding-box diagonal (per axis) are one
 /// corner for the closedness decision: ~8 float ulps of a model's extent, far below a pixel
@@ -16,7 +16,7 @@ use serde::Serialize;
 pub const WELD_TOLERANCE: f32 = 1.0 / (1 << 20) as f32;
 
 /// What [`closure`] found.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Closure {
     /// Every edge is run once each way and each connected piece encloses a positive volume.
     Closed,

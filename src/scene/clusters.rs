@@ -50,7 +50,7 @@ pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
 }
 
 /// One run of triangles: `count` triangles from triangle `first`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Cluster {
     pub first: u32,
     pub count: u32,
@@ -64,7 +64,8 @@ pub struct Cluster {
 }
 
 /// The clusters of one mesh, and whether back faces can never be seen from outside it.
-#[derive(Clone, Debug, Default)]
+/// Stored in the mesh cache's entry with the reordered indices, so a hit builds nothing.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Clusters {
     pub list: Vec<Cluster>,
     /// Whether back faces can be seen from outside, and if so why ([`closure`]).
