@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::headless::Headless;
 use crate::platform::{Backend, GlRequest};
 use crate::render::Renderer;
-use crate::run::{env_request, frame_settings, load_scene, map_view, png_text, Repro};
+use crate::run::{env_request, frame_settings, load_scene_prepared, map_view, png_text, Repro};
 use crate::scene::clusters::Clusters;
 use crate::scene::profile::LoadProfile;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
@@ -102,11 +102,12 @@ type Loaded = (
 fn load(args: &Args) -> Loaded {
     let t = Instant::now();
     crate::scene::profile::take_last();
-    let scene = load_scene(args);
+    let scene = load_scene_prepared(args);
     let profile = crate::scene::profile::take_last();
     let c = Instant::now();
-    let scene = scene.map(|mut s| {
-        let clusters = crate::scene::clusters::prepare(&mut s);
+    // A cache hit (or the miss that wrote the entry) brings them; else they are built here.
+    let scene = scene.map(|(mut s, prepared)| {
+        let clusters = prepared.unwrap_or_else(|| crate::scene::clusters::prepare(&mut s));
         (s, clusters)
     });
     (scene, ms(t), profile, ms(c))

@@ -9,6 +9,7 @@ use crate::keys::{self, Effect};
 use crate::light::{parse_vec3, LightSpec, MAX_LIGHTS};
 use crate::pbr::precompute::IblSettings;
 use crate::pbr::{EnvRequest, EnvSource, OutputParams, PbrParams};
+use crate::scene::clusters::Clusters;
 use crate::scene::material::TextureOptions;
 use crate::scene::obj::{self, LoadOptions};
 use crate::scene::Scene;
@@ -24,6 +25,12 @@ pub const BUILTIN_MTL: &str = include_str!("../models/glass_holder.mtl");
 /// on stderr (bytes scanned, then the triangle count); it stays hidden when stderr is not a
 /// terminal.
 pub fn load_scene(args: &Args) -> Result<Scene> {
+    load_scene_prepared(args).map(|(scene, _)| scene)
+}
+
+/// As [`load_scene`], with the meshes' clusters when the mesh cache had or built them
+/// ([`obj::load_prepared`]).
+pub fn load_scene_prepared(args: &Args) -> Result<(Scene, Option<Vec<Option<Clusters>>>)> {
     let size = args
         .model
         .as_ref()
@@ -49,6 +56,10 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
         std::sync::Arc::new(move |done: u64, _total: u64| b.set_position(done)) as obj::ProgressFn
     });
     crate::scene::cache::set_max_bytes(args.cache_size);
+    // A hit trusts size, time and inode; this also compares the model's content hash.
+    crate::scene::cache::set_verify(
+        std::env::var_os("GLVIEW_CACHE_VERIFY").is_some_and(|v| v == "1"),
+    );
     let opts = LoadOptions {
         textures: TextureOptions {
             allow_outside_paths: args.allow_outside_paths,
@@ -66,31 +77,32 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
         texture: args.texture.clone(),
     };
     let scene = match &args.model {
-        Some(path) => obj::load(path, &opts),
+        Some(path) => obj::load_prepared(path, &opts),
         None => obj::load_embedded(
             Path::new("glass_holder.obj"),
             BUILTIN_OBJ.as_bytes(),
             BUILTIN_MTL.as_bytes(),
             &opts,
-        ),
+        )
+        .map(|s| (s, None)),
     };
     if let Some(b) = &bar {
         match &scene {
-            Ok(s) => b.finish_with_message(format!("loaded {} triangles", s.triangle_count())),
+            Ok((s, _)) => b.finish_with_message(format!("loaded {} triangles", s.triangle_count())),
             Err(_) => b.finish_and_clear(),
         }
     }
     let scene = match scene {
-        Ok(mut s) if !args.xray.is_empty() => {
+        Ok((mut s, c)) if !args.xray.is_empty() => {
             let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
             s.xray(&args.xray, opacity.clamp(0.0, 1.0))
                 .map_err(Error::Usage)?;
-            Ok(s)
+            Ok((s, c))
         }
         other => other,
     };
     // One warning line per problem worked around; `--check` lists them in its report instead.
-    if let (Ok(s), false) = (&scene, args.check) {
+    if let (Ok((s, _)), false) = (&scene, args.check) {
         for w in &s.warnings {
             eprintln!("warning: {w}");
         }
