@@ -12,5 +12,8 @@ if [ ! -f ../shared/MANIFEST.md ]; then
   exit 1
 fi
 cargo fmt --check
-cargo clippy --all-targets --quiet -- -D warnings
-cargo test --no-fail-fast 2>&1
+cargo clippy --workspace --all-targets --quiet -- -D warnings
+# --workspace: the Python binding's features are resolved with the tests', so building it
+# afterwards (scripts/test_python.sh) reuses this build's dependencies.
+cargo test --workspace --no-fail-fast 2>&1
+bash scripts/test_python.sh
