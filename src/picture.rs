@@ -253,9 +253,7 @@ pub fn draw(
     }
     profile.readback_ms = ms(t);
     let attributes = if attributes {
-        let a = renderer.attributes(&settings, w, h)?;
-        // The attribute pass drew into its own target; later frames bind theirs again.
-        Some(a)
+        Some(renderer.attributes(&settings, w, h, &hl.target())?)
     } else {
         None
     };

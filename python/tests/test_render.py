@@ -106,7 +106,8 @@ def test_trimesh_input_equals_file_input(bunny):
 def test_renderer_keeps_one_context_and_closes(bunny):
     with glview.Renderer(96, 64) as r:
         r.load(bunny)
-        views = [r.render(yaw=y) for y in (0, 90, 180)]
+        views = [r.render(yaw=y, depth=True) for y in (0, 90, 180)]
+        assert all(np.isfinite(v.depth).any() for v in views)
         assert len({v.color.tobytes() for v in views}) == 3
         assert views[0].stats["frame"] >= 1
     with pytest.raises(glview.GlviewError, match="closed"):

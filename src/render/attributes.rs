@@ -33,8 +33,16 @@ pub(crate) fn key() -> ProgramKey {
 }
 
 impl Renderer {
-    /// Draws the attribute buffers of the frame `s` at `width`×`height`.
-    pub fn attributes(&mut self, s: &FrameSettings, width: u32, height: u32) -> Result<Attributes> {
+    /// Draws the attribute buffers of the frame `s` at `width`×`height`, then binds
+    /// `target` again (frames expect their target bound: a deleted framebuffer leaves the
+    /// context's default one, which a surfaceless EGL context does not have).
+    pub fn attributes(
+        &mut self,
+        s: &FrameSettings,
+        width: u32,
+        height: u32,
+        target: &super::Target,
+    ) -> Result<Attributes> {
         let gpu = self.gpu.clone();
         if !TextureFormat::Rgba32F.supported(&gpu.caps) || !gpu.caps.fbo {
             return Err(Error::Unsupported(format!(
@@ -80,6 +88,8 @@ impl Renderer {
             }
             planes.push(top_first(gpu.read_rgba_f32(width, height), width));
         }
+        drop(fbo);
+        gpu.bind_framebuffer(target.fbo);
         gpu.check_error("attributes")?;
         let (ids, normals) = (&planes[0], &planes[1]);
         let covered = |p: &[f32]| p[3] > 0.5;
