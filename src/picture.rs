@@ -123,7 +123,8 @@ pub struct Given<'a> {
 }
 
 /// A drawn picture before it is written: the pixels (straight alpha), its PNG text, the
-/// last frame's stats, and with `attributes` asked for, the attribute buffers.
+/// last frame's stats, and with `attributes` asked for, the attribute buffers (normals too
+/// when `Some(true)`).
 pub struct Drawn {
     pub image: crate::image_out::Rgba,
     pub text: Vec<(&'static str, String)>,
@@ -144,7 +145,7 @@ pub fn render(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Re
         return img.save_png(path, &text);
     }
     let mut profile = Profile::default();
-    let drawn = draw(args, kept, None, false, &mut profile)?;
+    let drawn = draw(args, kept, None, None, &mut profile)?;
     let t = Instant::now();
     drawn.image.save(path, &drawn.text)?;
     profile.encode_ms = ms(t);
@@ -163,7 +164,7 @@ pub fn draw(
     args: &Options,
     kept: &mut Option<KeptContext>,
     given: Option<Given>,
-    attributes: bool,
+    attributes: Option<bool>,
     profile: &mut Profile,
 ) -> Result<Drawn> {
     let (w, h) = args.size;
@@ -252,10 +253,9 @@ pub fn draw(
         crate::run::unpremultiply(&mut image);
     }
     profile.readback_ms = ms(t);
-    let attributes = if attributes {
-        Some(renderer.attributes(&settings, w, h, &hl.target())?)
-    } else {
-        None
+    let attributes = match attributes {
+        Some(normals) => Some(renderer.attributes(&settings, w, h, &hl.target(), normals)?),
+        None => None,
     };
     Ok(Drawn {
         image,

@@ -223,7 +223,7 @@ class Renderer:
         back too."""
         native = self._get()
         want = depth or normals or ids
-        out = native.render(self._options(options), want)
+        out = native.render(self._options(options), want, normals)
         return Image(
             out["color"],
             out["text"],

@@ -165,6 +165,7 @@ impl NativeRenderer {
         py: Python<'py>,
         options_json: &str,
         attributes: bool,
+        normals: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let o = options(options_json)?;
         let r = self
@@ -172,7 +173,13 @@ impl NativeRenderer {
             .as_ref()
             .ok_or_else(|| GlviewError::new_err("the renderer is closed"))?;
         let frame = py
-            .detach(|| r.render(&o, Outputs { attributes }))
+            .detach(|| {
+                let outputs = Outputs {
+                    attributes,
+                    normals,
+                };
+                r.render(&o, outputs)
+            })
             .map_err(py_err)?;
         let out = PyDict::new(py);
         let (w, h) = (frame.color.width as usize, frame.color.height as usize);
@@ -182,8 +189,10 @@ impl NativeRenderer {
         out.set_item("stats", frame.stats.to_string())?;
         if let Some(a) = frame.attributes {
             out.set_item("depth", a.depth.into_pyarray(py).reshape([h, w])?)?;
-            let normals: Vec<f32> = a.normals.into_iter().flatten().collect();
-            out.set_item("normals", normals.into_pyarray(py).reshape([h, w, 3])?)?;
+            if normals {
+                let n: Vec<f32> = a.normals.into_iter().flatten().collect();
+                out.set_item("normals", n.into_pyarray(py).reshape([h, w, 3])?)?;
+            }
             out.set_item("object_ids", a.object_ids.into_pyarray(py).reshape([h, w])?)?;
             out.set_item(
                 "material_ids",

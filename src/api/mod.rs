@@ -96,6 +96,8 @@ impl Model {
 pub struct Outputs {
     /// Depth, normals and ids ([`Attributes`]).
     pub attributes: bool,
+    /// With `attributes`: the normals too (a second draw and read-back).
+    pub normals: bool,
 }
 
 /// One rendered picture.
@@ -201,7 +203,7 @@ impl Renderer {
                 &opts,
                 kept,
                 given,
-                outputs.attributes,
+                outputs.attributes.then_some(outputs.normals),
                 &mut Profile::default(),
             )?;
             Ok(Frame {

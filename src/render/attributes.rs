@@ -20,7 +20,7 @@ pub struct Attributes {
     /// Distance from the eye along the view axis (eye-space −z); infinity where nothing is.
     pub depth: Vec<f32>,
     /// Eye-space unit normal facing the camera (x right, y up, z towards the eye); zero where
-    /// nothing is.
+    /// nothing is. Empty unless asked for.
     pub normals: Vec<[f32; 3]>,
     /// Index of the scene mesh (object/group) seen; −1 where nothing is.
     pub object_ids: Vec<i32>,
@@ -42,6 +42,7 @@ impl Renderer {
         width: u32,
         height: u32,
         target: &super::Target,
+        normals: bool,
     ) -> Result<Attributes> {
         let gpu = self.gpu.clone();
         if !TextureFormat::Rgba32F.supported(&gpu.caps) || !gpu.caps.fbo {
@@ -74,7 +75,9 @@ impl Renderer {
         program.set_mat4("uProjection", &proj);
         program.set_mat3("uNormalMatrix", &Mat3::from_mat4(view));
         let mut planes = Vec::with_capacity(2);
-        for mode in [0.0, 1.0] {
+        // The normals' draw and read-back only when asked: it is half of the pass's time.
+        let modes: &[f32] = if normals { &[0.0, 1.0] } else { &[0.0] };
+        for &mode in modes {
             fbo.bind();
             gpu.viewport(0, 0, width, height);
             gpu.apply(&RenderState::default());
@@ -91,7 +94,8 @@ impl Renderer {
         drop(fbo);
         gpu.bind_framebuffer(target.fbo);
         gpu.check_error("attributes")?;
-        let (ids, normals) = (&planes[0], &planes[1]);
+        let ids = &planes[0];
+        let normals = planes.get(1).map_or(&[][..], |p| &p[..]);
         let covered = |p: &[f32]| p[3] > 0.5;
         Ok(Attributes {
             width,

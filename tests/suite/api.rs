@@ -46,7 +46,13 @@ fn depth_is_the_exact_spheres_and_ids_cover_exactly_the_picture() {
     ];
     let r = Renderer::new(opts(&words)).unwrap();
     let f = r
-        .render(&opts(&words), Outputs { attributes: true })
+        .render(
+            &opts(&words),
+            Outputs {
+                attributes: true,
+                normals: true,
+            },
+        )
         .unwrap();
     let a = f.attributes.expect("asked for");
     let (settings, scene) = settings_for(&words);
