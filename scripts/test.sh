@@ -25,8 +25,11 @@ step fmt cargo fmt --check
 # their test builds; the crate has no examples or benches) while compiling them for real, so the
 # tree is compiled once instead of twice (a check build, then the test build) — the clean CI
 # run's longest step. This is what `cargo clippy` itself does, with `check` instead of `test`.
+# --workspace: the Python binding is linted too, and its features are resolved with the
+# tests', so building it afterwards (scripts/test_python.sh, same wrapper) reuses this build.
 clippy_driver=$(rustup which clippy-driver 2>/dev/null || command -v clippy-driver)
 export RUSTC_WORKSPACE_WRAPPER=$clippy_driver
 export CLIPPY_ARGS="-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__"
-step "build + clippy -D warnings" cargo test --no-run --quiet
-step test cargo test --no-fail-fast 2>&1
+step "build + clippy -D warnings" cargo test --workspace --no-run --quiet
+step test cargo test --workspace --no-fail-fast 2>&1
+step python bash scripts/test_python.sh

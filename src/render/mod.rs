@@ -5,6 +5,7 @@
 //!
 //! Frame: shadow depth → background → legacy lit | PBR lit → teaching view → post (post.rs).
 pub mod aa;
+pub mod attributes;
 pub mod background;
 mod cull;
 pub mod frusta;
@@ -248,7 +249,7 @@ const PASSES: &[&dyn Pass] = &[
 
 /// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
 pub fn fixed_programs() -> Vec<ProgramKey> {
-    vec![shadow::depth_key(), shadow::show_key()]
+    vec![shadow::depth_key(), shadow::show_key(), attributes::key()]
         .into_iter()
         .chain((0..4).flat_map(|tm| {
             [
