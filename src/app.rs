@@ -227,22 +227,7 @@ impl App<'_> {
         let target = live.aa.target(&live.gpu, window)?;
         let k = live.aa.scale();
         let stats = if self.compare {
-            // Two panes on one camera: the legacy tier left, PBR right.
-            let half = (w / 2).max(1) * k;
-            let h = h * k;
-            let mut last = None;
-            for (i, shading) in [Shading::Phong, Shading::Pbr].into_iter().enumerate() {
-                let s = FrameSettings {
-                    shading,
-                    ..self.settings.clone()
-                };
-                let x = i as u32 * half;
-                last = Some(
-                    live.renderer
-                        .render_viewport(&s, &target, [x, 0, half, h])?,
-                );
-            }
-            last.expect("two panes")
+            crate::compare::split::draw(&mut live.renderer, &self.settings, &target, w * k, h * k)?
         } else {
             live.renderer.render(&self.settings, &target)?
         };
@@ -424,9 +409,23 @@ fn overlay_text(
     ms: f64,
 ) -> crate::image_out::Rgba {
     use crate::compare::canvas;
+    let lines = overlay_lines(s, &scene.name, compare, ms);
+    let width = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1) as u32 * 8 + 8;
+    let mut img = canvas::blank(width, lines.len() as u32 * 10 + 8, [0, 0, 0]);
+    for p in img.data.chunks_exact_mut(4) {
+        p[3] = 180;
+    }
+    for (i, l) in lines.iter().enumerate() {
+        canvas::text_scaled(&mut img, 4, 4 + i as u32 * 10, l, [240, 240, 240], 1);
+    }
+    img
+}
+
+/// The overlay's lines, with the font's stand-ins for characters it lacks (`→` as `->`).
+fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<String> {
     let on = |b: bool| if b { "on" } else { "off" };
     let mut lines = vec![
-        format!("{}  {:.1} ms", scene.name, ms),
+        format!("{name}  {ms:.1} ms"),
         if compare {
             "compare: Phong | PBR".to_string()
         } else {
@@ -435,7 +434,7 @@ fn overlay_text(
         format!(
             "shadows {}  lights {}  wrap {}",
             on(s.shadows.enabled),
-            s.lights.len(),
+            crate::compare::light_count(s),
             on(s.lighting.wrap)
         ),
     ];
@@ -459,15 +458,14 @@ fn overlay_text(
     ));
     lines.push(String::new());
     lines.extend(keys::help_text().lines().map(str::to_string));
-    let width = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1) as u32 * 8 + 8;
-    let mut img = canvas::blank(width, lines.len() as u32 * 10 + 8, [0, 0, 0]);
-    for p in img.data.chunks_exact_mut(4) {
-        p[3] = 180;
-    }
-    for (i, l) in lines.iter().enumerate() {
-        canvas::text_scaled(&mut img, 4, 4 + i as u32 * 10, l, [240, 240, 240], 1);
-    }
-    img
+    lines
+        .iter()
+        .map(|l| {
+            l.chars()
+                .map(crate::compare::canvas::substitute)
+                .collect::<String>()
+        })
+        .collect()
 }
 
 fn next_screenshot_path(dir: &Path) -> Result<PathBuf> {
@@ -524,6 +522,28 @@ mod tests {
             b"taken"
         );
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_overlay_prints_only_glyphs_the_font_has() {
+        use clap::Parser;
+        let args = Args::try_parse_from(["glview"]).unwrap();
+        let scene = run::load_scene(&args).unwrap();
+        let (mut s, _) = run::frame_settings(&args, &scene).unwrap();
+        for shading in [Shading::Phong, Shading::Gouraud, Shading::Pbr] {
+            s.shading = shading;
+            for compare in [false, true] {
+                let lines = overlay_lines(&s, "modèle ünïcode", compare, 12.5);
+                assert!(lines[2].contains("lights 3"), "{lines:?}");
+                for l in &lines {
+                    let missing = crate::compare::canvas::missing_glyphs(l);
+                    assert!(missing.is_empty(), "{l:?} lacks {missing:?}");
+                }
+            }
+        }
+        // The key table's arrows and minus signs come out as ASCII stand-ins.
+        let help = keys::help_text();
+        assert!(help.contains('→') && help.contains('−'));
     }
 
     #[test]

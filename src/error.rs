@@ -40,6 +40,9 @@ pub enum Error {
     Window(String),
     #[error("GL error {code:#06x} after {pass}")]
     Gl { code: u32, pass: String },
+    /// A library renderer called from a second thread while it draws for the first.
+    #[error("the renderer is in use by another thread (it draws one picture at a time: make one renderer per thread)")]
+    Busy,
     #[error("invalid option: {0}")]
     Usage(String),
     #[error("{0}")]

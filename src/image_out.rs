@@ -80,19 +80,35 @@ impl Rgba {
 
     pub fn save_png(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
         let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-        let mut enc = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+        self.write_png(std::io::BufWriter::new(file), text)
+            .map_err(|e| Error::Image {
+                path: path.into(),
+                message: e.to_string(),
+            })
+    }
+
+    /// The PNG file's bytes (with `text` chunks), for callers that keep pictures in memory.
+    pub fn png_bytes(&self, text: &[(&str, String)]) -> Vec<u8> {
+        let mut out = Vec::new();
+        // Writing into memory fails only on a bad text key, and glview's keys are fixed.
+        let _ = self.write_png(&mut out, text);
+        out
+    }
+
+    fn write_png<W: std::io::Write>(
+        &self,
+        out: W,
+        text: &[(&str, String)],
+    ) -> std::result::Result<(), png::EncodingError> {
+        let mut enc = png::Encoder::new(out, self.width, self.height);
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
-        let err = |e: png::EncodingError| Error::Image {
-            path: path.into(),
-            message: e.to_string(),
-        };
         for (k, v) in text {
-            enc.add_text_chunk(k.to_string(), v.clone()).map_err(err)?;
+            enc.add_text_chunk(k.to_string(), v.clone())?;
         }
-        let mut w = enc.write_header().map_err(err)?;
-        w.write_image_data(&self.data).map_err(err)?;
-        w.finish().map_err(err)
+        let mut w = enc.write_header()?;
+        w.write_image_data(&self.data)?;
+        w.finish()
     }
 
     pub fn load_png(path: &Path) -> Result<Rgba> {

@@ -12,6 +12,7 @@ pub mod frame;
 pub mod image_out;
 pub mod keys;
 pub mod light;
+pub mod options;
 pub mod pbr;
 pub mod repro;
 pub mod scene;
@@ -26,6 +27,7 @@ pub mod reference;
 pub mod render;
 pub mod shader;
 
+pub mod api;
 pub mod app;
 pub mod batch;
 pub mod bench;
@@ -34,3 +36,4 @@ pub mod picture;
 pub mod run;
 
 pub use error::{Error, Result};
+pub use options::Options;

@@ -78,7 +78,7 @@ fn dispatch(args: &Args) -> Result<()> {
         return run::render_reference(args, &out);
     }
     if args.check {
-        let scene = run::load_scene(args)?;
+        let scene = run::load_scene_with(args, false)?;
         print!("{}", glview::scene::report::report(&scene));
         return Ok(());
     }

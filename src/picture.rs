@@ -1,11 +1,11 @@
 //! One headless picture: context (kept between pictures where it can be), scene, frames,
 //! read-back, PNG; and with `--stats`, the profile of where its time went.
-use crate::cli::{AaMode, Args};
 use crate::error::Result;
 use crate::headless::Headless;
+use crate::options::{AaMode, Options};
 use crate::platform::{Backend, GlRequest};
 use crate::render::Renderer;
-use crate::run::{env_request, frame_settings, load_scene, map_view, png_text, Repro};
+use crate::run::{env_request, frame_settings, load_scene_prepared, map_view, png_text, Repro};
 use crate::scene::clusters::Clusters;
 use crate::scene::profile::LoadProfile;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
@@ -44,6 +44,9 @@ pub struct Profile {
     pub compile_ms: f64,
     /// Wall time of each frame to glFinish (compiles and map precomputation included).
     pub frames_ms: Vec<f64>,
+    /// Each image texture uploaded for this picture (name, size, ms), the PBR tier's
+    /// included (made in its first frame).
+    pub textures: Vec<crate::gpu::TextureCost>,
     pub readback_ms: f64,
     pub encode_ms: f64,
     pub total_ms: f64,
@@ -55,7 +58,7 @@ fn ms(since: Instant) -> f64 {
 
 /// Makes sure `kept` is a context for `args` (made, or re-targeted to the picture's size).
 fn context(
-    args: &Args,
+    args: &Options,
     size: (u32, u32),
     kept: &mut Option<KeptContext>,
     profile: &mut Profile,
@@ -85,6 +88,12 @@ fn context(
     Ok(())
 }
 
+/// Makes sure `kept` is a context for pictures of `args` (the library's renderer makes it
+/// up front, so a machine without one fails at once).
+pub fn ensure_context(args: &Options, kept: &mut Option<KeptContext>) -> Result<()> {
+    context(args, args.size, kept, &mut Profile::default())
+}
+
 /// Loads the scene of `args` (on whatever thread calls it) with its time and the loader's
 /// own profile, which is recorded per thread.
 /// The scene with its large meshes' clusters prepared, load time (clusters included), the
@@ -96,23 +105,41 @@ type Loaded = (
     f64,
 );
 
-fn load(args: &Args) -> Loaded {
+fn load(args: &Options) -> Loaded {
     let t = Instant::now();
     crate::scene::profile::take_last();
-    let scene = load_scene(args);
+    let scene = load_scene_prepared(args);
     let profile = crate::scene::profile::take_last();
     let c = Instant::now();
-    let scene = scene.map(|mut s| {
-        let clusters = crate::scene::clusters::prepare(&mut s);
+    // A cache hit (or the miss that wrote the entry) brings them; else they are built here.
+    let scene = scene.map(|(mut s, prepared)| {
+        let clusters = prepared.unwrap_or_else(|| crate::scene::clusters::prepare(&mut s));
         (s, clusters)
     });
     (scene, ms(t), profile, ms(c))
 }
 
+/// A scene given by the caller (the library API's in-memory models) instead of the
+/// options' model file: `key` names it (equal keys are the same scene, kept uploaded).
+pub struct Given<'a> {
+    pub key: &'a str,
+    pub scene: &'a crate::scene::Scene,
+}
+
+/// A drawn picture before it is written: the pixels (straight alpha), its PNG text, the
+/// last frame's stats, and with `attributes` asked for, the attribute buffers (normals too
+/// when `Some(true)`).
+pub struct Drawn {
+    pub image: crate::image_out::Rgba,
+    pub text: Vec<(&'static str, String)>,
+    pub stats: crate::render::FrameStats,
+    pub attributes: Option<crate::render::attributes::Attributes>,
+}
+
 /// Renders the model of `args` into `path`, reusing `kept` when it was made for the same
 /// backend and GL request (its target is resized), else replacing it: many pictures in one
 /// process share one context and its program cache (`glview batch`, the test fixture).
-pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Result<()> {
+pub fn render(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Result<()> {
     let start = Instant::now();
     if let Some(img) = map_view(args)? {
         let text = vec![
@@ -122,6 +149,28 @@ pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Resul
         return img.save_png(path, &text);
     }
     let mut profile = Profile::default();
+    let drawn = draw(args, kept, None, None, &mut profile)?;
+    let t = Instant::now();
+    drawn.image.save(path, &drawn.text)?;
+    profile.encode_ms = ms(t);
+    profile.total_ms = ms(start);
+    if args.stats {
+        let mut line = serde_json::to_value(&drawn.stats).unwrap_or_default();
+        line["profile"] = serde_json::to_value(&profile).unwrap_or_default();
+        println!("{line}");
+    }
+    Ok(())
+}
+
+/// Draws the picture of `args` (of `given`'s scene instead of the options' model where
+/// set) in `kept`, as [`render`] does, and returns it instead of writing it.
+pub fn draw(
+    args: &Options,
+    kept: &mut Option<KeptContext>,
+    given: Option<Given>,
+    attributes: Option<bool>,
+    profile: &mut Profile,
+) -> Result<Drawn> {
     let (w, h) = args.size;
     // SSAA renders k times larger on each axis and box-filters down.
     let k = if args.aa == AaMode::Ssaa {
@@ -131,13 +180,16 @@ pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Resul
     };
     // The same words but for camera, size and keys (a turntable, a camera sweep): the same
     // scene, environment and lights, so the renderer and what it uploaded are kept.
-    let key = crate::repro::scene_key(args);
+    let mut key = crate::repro::scene_key(args);
+    if let Some(g) = &given {
+        key = format!("{}\0{key}", g.key);
+    }
     let reuse = kept.as_ref().is_some_and(|c| {
         c.request == (args.backend, args.gl) && c.renderer.as_ref().is_some_and(|(k, _)| *k == key)
     });
     let size = (w * k, h * k);
     let scene = if reuse {
-        context(args, size, kept, &mut profile)?;
+        context(args, size, kept, profile)?;
         None
     } else {
         // The old renderer goes before a new context or scene is made.
@@ -147,8 +199,11 @@ pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Resul
         // Loading needs no GL: it runs on another thread while this one makes the context
         // (which must stay current here), so start-up costs the longer of the two.
         let (made, loaded) = std::thread::scope(|s| {
-            let loader = s.spawn(|| load(args));
-            let made = context(args, size, kept, &mut profile);
+            let loader = s.spawn(|| match &given {
+                Some(g) => given_scene(args, g.scene),
+                None => load(args),
+            });
+            let made = context(args, size, kept, profile);
             (made, loader.join())
         });
         made?;
@@ -193,23 +248,40 @@ pub fn render(args: &Args, path: &Path, kept: &mut Option<KeptContext>) -> Resul
         }
         last = Some(stats);
     }
+    profile.textures = hl.gpu.take_texture_costs();
     let compiled = kept.programs.borrow().compiled();
     profile.programs_compiled = compiled.0 - compiled_before.0;
     profile.compile_ms = compiled.1 - compiled_before.1;
     let t = Instant::now();
-    let mut img = crate::bench::metrics::downsample(&hl.read(), k);
+    let mut image = crate::bench::metrics::downsample(&hl.read(), k);
     if args.transparent {
-        crate::run::unpremultiply(&mut img);
+        crate::run::unpremultiply(&mut image);
     }
     profile.readback_ms = ms(t);
+    let attributes = match attributes {
+        Some(normals) => Some(renderer.attributes(&settings, w, h, &hl.target(), normals)?),
+        None => None,
+    };
+    Ok(Drawn {
+        image,
+        text,
+        stats: last.unwrap_or_default(),
+        attributes,
+    })
+}
+
+/// A caller's scene as [`load`] returns a file's: cloned (the caller keeps it for later
+/// pictures), x-ray applied, clusters prepared.
+fn given_scene(args: &Options, scene: &crate::scene::Scene) -> Loaded {
     let t = Instant::now();
-    img.save(path, &text)?;
-    profile.encode_ms = ms(t);
-    profile.total_ms = ms(start);
-    if let (true, Some(stats)) = (args.stats, last) {
-        let mut line = serde_json::to_value(&stats).unwrap_or_default();
-        line["profile"] = serde_json::to_value(&profile).unwrap_or_default();
-        println!("{line}");
+    let mut s = scene.clone();
+    if !args.xray.is_empty() {
+        let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
+        if let Err(e) = s.xray(&args.xray, opacity.clamp(0.0, 1.0)) {
+            return (Err(crate::Error::Usage(e)), ms(t), None, 0.0);
+        }
     }
-    Ok(())
+    let c = Instant::now();
+    let clusters = crate::scene::clusters::prepare(&mut s);
+    (Ok((s, clusters)), ms(t), None, ms(c))
 }

@@ -3,6 +3,7 @@
 //! often to write, with the camera, size and state keys of the moment in place of the ones
 //! given (a window's view has moved since start-up).
 use crate::cli::Args;
+use crate::options::Options;
 use clap::CommandFactory;
 
 /// Options that do not change the picture, or that the moment's state replaces.
@@ -47,11 +48,11 @@ fn option(cmd: &clap::Command, word: &str) -> Option<(usize, bool)> {
     Some((usize::from(takes), dropped))
 }
 
-/// `args.argv` without the dropped options and their values.
-fn kept_words(args: &Args) -> Vec<String> {
+/// `args.words` without the dropped options and their values.
+fn kept_words(args: &Options) -> Vec<String> {
     let cmd = Args::command();
     let mut out = Vec::new();
-    let mut words = args.argv.iter().peekable();
+    let mut words = args.words.iter().peekable();
     while let Some(w) = words.next() {
         let Some((takes, dropped)) = option(&cmd, w) else {
             out.push(w.clone());
@@ -76,7 +77,7 @@ fn kept_words(args: &Args) -> Vec<String> {
 /// What decides the scene, the environment and the lights of a picture: the words but for
 /// camera, size, keys and output, and the model file's size and time (so a file changed
 /// between two pictures is read again). Equal keys may share a renderer.
-pub fn scene_key(args: &Args) -> String {
+pub fn scene_key(args: &Options) -> String {
     let stamp = args
         .model
         .as_ref()
@@ -92,7 +93,7 @@ pub fn scene_key(args: &Args) -> String {
 /// `glview WORDS... --size WxH --keys "..." CAMERA`: `camera` is the camera as options
 /// (`--yaw ... --pitch ...`), `keys` the state-changing keys pressed (camera keys excluded:
 /// the camera options already hold their effect).
-pub fn command_line(args: &Args, size: (u32, u32), keys: &[String], camera: &str) -> String {
+pub fn command_line(args: &Options, size: (u32, u32), keys: &[String], camera: &str) -> String {
     let mut words = vec!["glview".to_string()];
     words.extend(kept_words(args));
     words.push("--size".into());

@@ -1,14 +1,15 @@
 //! From parsed arguments to a scene and frame settings; shared by the window and headless
 //! paths so `--keys` headless and the keys in a window give the same view.
 use crate::camera::OrbitCamera;
-use crate::cli::{Args, Diffuse, Show};
 use crate::error::{Error, Result};
 use crate::frame::{AttributeView, Translucency};
 use crate::frame::{FrameSettings, ShadowSettings};
 use crate::keys::{self, Effect};
 use crate::light::{parse_vec3, LightSpec, MAX_LIGHTS};
+use crate::options::{Diffuse, Options, Show};
 use crate::pbr::precompute::IblSettings;
 use crate::pbr::{EnvRequest, EnvSource, OutputParams, PbrParams};
+use crate::scene::clusters::Clusters;
 use crate::scene::material::TextureOptions;
 use crate::scene::obj::{self, LoadOptions};
 use crate::scene::Scene;
@@ -23,7 +24,25 @@ pub const BUILTIN_MTL: &str = include_str!("../models/glass_holder.mtl");
 /// Loads the model (or the built-in scene). Files that take a while show an indicatif bar
 /// on stderr (bytes scanned, then the triangle count); it stays hidden when stderr is not a
 /// terminal.
-pub fn load_scene(args: &Args) -> Result<Scene> {
+pub fn load_scene(args: &Options) -> Result<Scene> {
+    load_scene_with(args, true)
+}
+
+/// [`load_scene`], with the warnings printed or not (`--check` lists them in its report).
+pub fn load_scene_with(args: &Options, print_warnings: bool) -> Result<Scene> {
+    load_scene_prepared_with(args, print_warnings).map(|(scene, _)| scene)
+}
+
+/// As [`load_scene`], with the meshes' clusters when the mesh cache had or built them
+/// ([`obj::load_prepared`]).
+pub fn load_scene_prepared(args: &Options) -> Result<(Scene, Option<Vec<Option<Clusters>>>)> {
+    load_scene_prepared_with(args, true)
+}
+
+fn load_scene_prepared_with(
+    args: &Options,
+    print_warnings: bool,
+) -> Result<(Scene, Option<Vec<Option<Clusters>>>)> {
     let size = args
         .model
         .as_ref()
@@ -48,8 +67,49 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
     let progress = bar.clone().map(|b| {
         std::sync::Arc::new(move |done: u64, _total: u64| b.set_position(done)) as obj::ProgressFn
     });
+    let opts = load_options(args, progress);
+    let scene = match &args.model {
+        Some(path) => obj::load_prepared(path, &opts),
+        None => obj::load_embedded(
+            Path::new("glass_holder.obj"),
+            BUILTIN_OBJ.as_bytes(),
+            BUILTIN_MTL.as_bytes(),
+            &opts,
+        )
+        .map(|s| (s, None)),
+    };
+    if let Some(b) = &bar {
+        match &scene {
+            Ok((s, _)) => b.finish_with_message(format!("loaded {} triangles", s.triangle_count())),
+            Err(_) => b.finish_and_clear(),
+        }
+    }
+    let scene = match scene {
+        Ok((mut s, c)) if !args.xray.is_empty() => {
+            let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
+            s.xray(&args.xray, opacity.clamp(0.0, 1.0))
+                .map_err(Error::Usage)?;
+            Ok((s, c))
+        }
+        other => other,
+    };
+    // One warning line per problem worked around; `--check` lists them in its report instead.
+    if let (Ok((s, _)), true) = (&scene, print_warnings) {
+        for w in &s.warnings {
+            eprintln!("warning: {w}");
+        }
+    }
+    scene
+}
+
+/// What the options ask of the loader (the mesh cache's bound is set here too).
+pub fn load_options(args: &Options, progress: Option<obj::ProgressFn>) -> LoadOptions {
     crate::scene::cache::set_max_bytes(args.cache_size);
-    let opts = LoadOptions {
+    // A hit trusts size, time and inode; this also compares the model's content hash.
+    crate::scene::cache::set_verify(
+        std::env::var_os("GLVIEW_CACHE_VERIFY").is_some_and(|v| v == "1"),
+    );
+    LoadOptions {
         textures: TextureOptions {
             allow_outside_paths: args.allow_outside_paths,
             max_dimension: 0,
@@ -64,38 +124,7 @@ pub fn load_scene(args: &Args) -> Result<Scene> {
         },
         up: args.up,
         texture: args.texture.clone(),
-    };
-    let scene = match &args.model {
-        Some(path) => obj::load(path, &opts),
-        None => obj::load_embedded(
-            Path::new("glass_holder.obj"),
-            BUILTIN_OBJ.as_bytes(),
-            BUILTIN_MTL.as_bytes(),
-            &opts,
-        ),
-    };
-    if let Some(b) = &bar {
-        match &scene {
-            Ok(s) => b.finish_with_message(format!("loaded {} triangles", s.triangle_count())),
-            Err(_) => b.finish_and_clear(),
-        }
     }
-    let scene = match scene {
-        Ok(mut s) if !args.xray.is_empty() => {
-            let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
-            s.xray(&args.xray, opacity.clamp(0.0, 1.0))
-                .map_err(Error::Usage)?;
-            Ok(s)
-        }
-        other => other,
-    };
-    // One warning line per problem worked around; `--check` lists them in its report instead.
-    if let (Ok(s), false) = (&scene, args.check) {
-        for w in &s.warnings {
-            eprintln!("warning: {w}");
-        }
-    }
-    scene
 }
 
 fn color(s: &str, what: &str) -> Result<Vec3> {
@@ -104,7 +133,7 @@ fn color(s: &str, what: &str) -> Result<Vec3> {
 }
 
 /// The frame settings the arguments describe, with `--keys` already applied.
-pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, OrbitCamera)> {
+pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, OrbitCamera)> {
     let (w, h) = args.size;
     let aspect = w as f32 / h as f32;
     if !(args.fov > 0.0 && args.fov < 180.0) {
@@ -255,7 +284,7 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
                 mode: args.translucency,
                 blend: args.blend,
                 opacity: unit(args.opacity, "--opacity")?,
-                log_depth: args.depth == crate::cli::DepthMode::Log,
+                log_depth: args.depth == crate::options::DepthMode::Log,
             },
             post: crate::frame::Post {
                 bloom: crate::frame::Bloom {
@@ -269,7 +298,7 @@ pub fn frame_settings(args: &Args, scene: &Scene) -> Result<(FrameSettings, Orbi
                     levels: args.bloom_levels,
                     ..Default::default()
                 },
-                fxaa: args.aa == crate::cli::AaMode::Fxaa,
+                fxaa: args.aa == crate::options::AaMode::Fxaa,
                 transparent: args.transparent,
                 show_bloom: args.show == Show::Bloom,
             },
@@ -350,7 +379,7 @@ pub fn parse_terms(s: &str) -> Result<PbrTerms> {
 }
 
 /// Where the PBR tier's environment comes from, and how its maps are made.
-pub fn env_request(args: &Args) -> Result<EnvRequest> {
+pub fn env_request(args: &Options) -> Result<EnvRequest> {
     let source = match (&args.env, &args.env_color) {
         (Some(p), _) => EnvSource::File(p.clone()),
         (None, Some(c)) => {
@@ -389,14 +418,14 @@ pub enum Renderer<'a> {
 
 /// What the picture's reproducing command line is made of (see [`crate::repro`]).
 pub struct Repro<'a> {
-    pub args: &'a Args,
+    pub args: &'a Options,
     pub size: (u32, u32),
     pub state_keys: &'a [String],
 }
 
 impl<'a> Repro<'a> {
     /// A headless picture: the arguments' own size and keys.
-    pub fn headless(args: &'a Args, keys: &'a [String]) -> Self {
+    pub fn headless(args: &'a Options, keys: &'a [String]) -> Self {
         Repro {
             args,
             size: args.size,
@@ -486,7 +515,7 @@ pub fn png_text(
 
 /// `--show irradiance|specular|lut`: the PBR maps, composed on the CPU from the
 /// precomputed data (no GL needed, the same on every context). None for other views.
-pub fn map_view(args: &Args) -> Result<Option<crate::image_out::Rgba>> {
+pub fn map_view(args: &Options) -> Result<Option<crate::image_out::Rgba>> {
     let what = match args.show {
         Show::Irradiance => "irradiance",
         Show::Specular => "specular",
@@ -502,7 +531,7 @@ pub fn map_view(args: &Args) -> Result<Option<crate::image_out::Rgba>> {
 }
 
 /// Renders headless into `path` (`--frames` times; the last frame is written).
-pub fn render_headless(args: &Args, path: &Path) -> Result<()> {
+pub fn render_headless(args: &Options, path: &Path) -> Result<()> {
     crate::picture::render(args, path, &mut None)
 }
 
@@ -521,7 +550,7 @@ pub fn unpremultiply(img: &mut crate::image_out::Rgba) {
 
 /// The environment a PBR reference render integrates (None for the legacy tier).
 pub fn reference_env(
-    args: &Args,
+    args: &Options,
     shading: crate::frame::Shading,
 ) -> Result<Option<crate::reference::PbrEnv>> {
     if shading != crate::frame::Shading::Pbr {
@@ -535,7 +564,7 @@ pub fn reference_env(
 }
 
 /// `--reference`: the same scene, camera and lights through the CPU reference renderer.
-pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
+pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
     if args.show != Show::Scene {
         return Err(Error::Usage(format!(
             "--show {:?}: the reference renderer draws only the scene; drop --reference for teaching views",
@@ -576,7 +605,7 @@ pub fn render_reference(args: &Args, path: &Path) -> Result<()> {
 }
 
 /// `--compile-shaders`: every program permutation through the driver's compiler.
-pub fn compile_shaders(args: &Args) -> Result<()> {
+pub fn compile_shaders(args: &Options) -> Result<()> {
     let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
     let mut cache = crate::shader::cache::ProgramCache::new(&hl.gpu);
     let keys = crate::shader::cache::all_keys(crate::light::MAX_LIGHTS as u8);
@@ -595,7 +624,7 @@ pub fn compile_shaders(args: &Args) -> Result<()> {
 }
 
 /// `glview --info`: what the driver gave.
-pub fn print_info(args: &Args) -> Result<()> {
+pub fn print_info(args: &Options) -> Result<()> {
     let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
     println!(
         "backend: {}\n{}\nstencil bits (render target): {}",

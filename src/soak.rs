@@ -1,8 +1,8 @@
 //! `glview bench --soak N`: load, upload, render and drop a model N times in one context and
 //! report live GL objects and resident memory, to show nothing leaks (the test runs a
 //! smaller count).
-use crate::cli::Args;
 use crate::headless::Headless;
+use crate::options::Options;
 use crate::render::Renderer;
 use crate::Result;
 
@@ -36,7 +36,7 @@ pub fn trend_per_round(samples: &[u64]) -> f64 {
     sxy / sxx
 }
 
-pub fn run(args: &Args, rounds: u32) -> Result<()> {
+pub fn run(args: &Options, rounds: u32) -> Result<()> {
     let (w, h) = args.size;
     let hl = Headless::new(args.backend, args.gl, w, h)?;
     let base = hl.gpu.live_objects();

@@ -1,6 +1,6 @@
 //! Difference images with numbers: `--diff A,B` and `--diff-against FILE.png`.
 use super::canvas;
-use crate::bench::metrics::{compare, ImageError};
+use crate::bench::metrics::{compare, ImageError, WRONG_THRESHOLD};
 use crate::cli::Args;
 use crate::image_out::Rgba;
 use crate::{Error, Result};
@@ -41,6 +41,54 @@ impl DiffNumbers {
             self.one_minus_ssim
         )
     }
+}
+
+/// The numbers over the pixels `covered` marks only (the model's, where the two panes'
+/// backgrounds differ by design): mean, max, 99th percentile and share over 8/255 count
+/// those pixels alone; 1 − SSIM is the whole picture's with every other pixel made equal.
+/// None when nothing is covered.
+pub fn over_pixels(a: &Rgba, b: &Rgba, covered: &[bool]) -> Result<Option<DiffNumbers>> {
+    let n = covered.iter().filter(|&&c| c).count();
+    if n == 0 {
+        return Ok(None);
+    }
+    let ignore: Vec<bool> = covered.iter().map(|c| !c).collect();
+    let ssim = compare(a, b, &ignore)?.ssim;
+    let mut histogram = [0u64; 256];
+    let mut sum = 0u64;
+    for ((p, q), _) in a
+        .data
+        .chunks_exact(4)
+        .zip(b.data.chunks_exact(4))
+        .zip(covered)
+        .filter(|(_, &c)| c)
+    {
+        let d = [0, 1, 2].map(|c| p[c].abs_diff(q[c]));
+        sum += d.iter().map(|&v| u64::from(v)).sum::<u64>();
+        histogram[usize::from(d.into_iter().max().unwrap_or(0))] += 1;
+    }
+    let rank = (0.99 * n as f64).ceil().max(1.0) as u64;
+    let mut seen = 0;
+    let p99 = histogram
+        .iter()
+        .position(|&c| {
+            seen += c;
+            seen >= rank
+        })
+        .unwrap_or(255);
+    let over: u64 = histogram[usize::from(WRONG_THRESHOLD) + 1..].iter().sum();
+    Ok(Some(DiffNumbers {
+        mean: sum as f64 / (3 * n) as f64,
+        max: histogram.iter().rposition(|&c| c > 0).unwrap_or(0) as f64,
+        p99: p99 as f64,
+        over_8: over as f64 / n as f64,
+        one_minus_ssim: (1.0 - ssim).max(0.0),
+    }))
+}
+
+/// The union of two panes' coverage.
+pub fn union(a: &[bool], b: &[bool]) -> Vec<bool> {
+    a.iter().zip(b).map(|(x, y)| *x || *y).collect()
 }
 
 /// A colour scale from black through purple and orange to pale yellow (perceptually ordered).
@@ -110,14 +158,24 @@ pub fn run_diff(args: &Args, tiers_arg: &str, out: &Path) -> Result<()> {
         ));
     }
     let scene = crate::run::load_scene(args)?;
-    let panes = super::render_panes(args, scene, &tiers)?;
+    let panes = super::render_panes_with(args, scene, &tiers, true)?;
     let (a, b) = (&panes.images[0], &panes.images[1]);
     let (na, nb) = (tiers[0].name(), tiers[1].name());
     let numbers = DiffNumbers::from(compare(a, b, &[])?);
+    let covered = union(&panes.coverage[0], &panes.coverage[1]);
+    let model = over_pixels(a, b, &covered)?;
+    let model_pixels = covered.iter().filter(|&&c| c).count();
     a.save_png(&sibling(out, &na), &[])?;
     b.save_png(&sibling(out, &nb), &[])?;
     difference_image(a, b).save_png(out, &[("glview.diff", format!("{na},{nb}"))])?;
-    let json = serde_json::json!({"a": na, "b": nb, "numbers": numbers});
+    let json = serde_json::json!({
+        "a": na,
+        "b": nb,
+        "numbers": numbers,
+        "model": model,
+        "model_pixels": model_pixels,
+        "pixels": a.width * a.height,
+    });
     let json_path = out.with_extension("json");
     std::fs::write(
         &json_path,
@@ -125,6 +183,13 @@ pub fn run_diff(args: &Args, tiers_arg: &str, out: &Path) -> Result<()> {
     )
     .map_err(|e| Error::io(&json_path, e))?;
     print!("{}", numbers.table(&na, &nb));
+    match &model {
+        Some(m) => print!(
+            "{}",
+            m.table(&format!("{na} on the model's {model_pixels} pixels"), &nb)
+        ),
+        None => println!("(no model pixels in either pane)"),
+    }
     println!("{json}");
     Ok(())
 }
@@ -172,4 +237,46 @@ pub fn diff_against(args: &Args, stored: &Path, threshold: f64) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn img(px: &[[u8; 3]]) -> Rgba {
+        Rgba {
+            width: px.len() as u32,
+            height: 1,
+            data: px.iter().flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
+        }
+    }
+
+    #[test]
+    fn model_numbers_count_the_covered_pixels_only() {
+        // Backgrounds 255 apart; the model's two pixels differ by (3, 0, 0) and (0, 30, 0).
+        let a = img(&[[0, 0, 0], [10, 10, 10], [50, 50, 50], [0, 0, 0]]);
+        let b = img(&[[255; 3], [13, 10, 10], [50, 80, 50], [255; 3]]);
+        let covered = [false, true, true, false];
+        let m = over_pixels(&a, &b, &covered).unwrap().unwrap();
+        assert_eq!(m.mean, 33.0 / 6.0);
+        assert_eq!((m.max, m.p99, m.over_8), (30.0, 30.0, 0.5));
+        let whole = DiffNumbers::from(compare(&a, &b, &[]).unwrap());
+        assert_eq!(whole.max, 255.0);
+        // The same model on different backgrounds: zero on the model.
+        let c = img(&[[255; 3], [10, 10, 10], [50, 50, 50], [255; 3]]);
+        let m = over_pixels(&a, &c, &covered).unwrap().unwrap();
+        assert_eq!(
+            (m.mean, m.max, m.p99, m.over_8, m.one_minus_ssim),
+            (0.0, 0.0, 0.0, 0.0, 0.0)
+        );
+        assert!(over_pixels(&a, &c, &[false; 4]).unwrap().is_none());
+    }
+
+    #[test]
+    fn coverage_is_the_union() {
+        assert_eq!(
+            union(&[true, false, false], &[false, false, true]),
+            [true, false, true]
+        );
+    }
 }

@@ -5,6 +5,7 @@
 pub mod canvas;
 pub mod diff;
 pub mod sheet;
+pub mod split;
 
 use crate::cli::Args;
 use crate::frame::{FrameSettings, Shading};
@@ -53,6 +54,12 @@ pub fn parse_tiers(s: &str, what: &str) -> Result<Vec<PaneTier>> {
     Ok(tiers)
 }
 
+/// The lights a frame is lit by: the placed ones and the headlight (the default kit is key,
+/// fill and headlight: 3).
+pub fn light_count(s: &FrameSettings) -> usize {
+    s.lights.len() + usize::from(s.lighting.headlight.is_some())
+}
+
 /// A pane's label: tier and the settings that matter for it.
 pub fn label(tier: PaneTier, s: &FrameSettings) -> String {
     let shadows = if s.shadows.enabled && !s.lights.is_empty() {
@@ -60,7 +67,10 @@ pub fn label(tier: PaneTier, s: &FrameSettings) -> String {
     } else {
         "no shadows".into()
     };
-    let lights = format!("{} light(s)", s.lights.len());
+    let lights = match light_count(s) {
+        1 => "1 light".to_string(),
+        n => format!("{n} lights"),
+    };
     match tier {
         PaneTier::Gpu(Shading::Pbr) | PaneTier::Reference(Shading::Pbr) => format!(
             "{} {lights} {shadows} {:?}",
@@ -75,16 +85,31 @@ pub fn label(tier: PaneTier, s: &FrameSettings) -> String {
 pub struct Panes {
     pub images: Vec<Rgba>,
     pub labels: Vec<String>,
+    /// Per pane, where the model covers a pixel (row-major, top row first), when asked for.
+    pub coverage: Vec<Vec<bool>>,
 }
 
 /// Renders each tier at `args.size` on one camera: GPU tiers as viewports of one target,
 /// reference tiers on the CPU.
 pub fn render_panes(args: &Args, scene: Scene, tiers: &[PaneTier]) -> Result<Panes> {
+    render_panes_with(args, scene, tiers, false)
+}
+
+/// [`render_panes`], with each pane's coverage where `coverage` is set: the GPU tiers are
+/// drawn once more with a transparent background (alpha = coverage), the reference records
+/// which pixels hit a surface.
+pub fn render_panes_with(
+    args: &Args,
+    scene: Scene,
+    tiers: &[PaneTier],
+    coverage: bool,
+) -> Result<Panes> {
     let (w, h) = args.size;
     let (base, _) = crate::run::frame_settings(args, &scene)?;
     let n = tiers.len() as u32;
     let gpu_tiers = tiers.iter().any(|t| matches!(t, PaneTier::Gpu(_)));
     let mut images = vec![None; tiers.len()];
+    let mut covered = vec![Vec::new(); tiers.len()];
     if gpu_tiers {
         let hl = Headless::new(args.backend, args.gl, w * n, h)?;
         let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
@@ -107,6 +132,25 @@ pub fn render_panes(args: &Args, scene: Scene, tiers: &[PaneTier]) -> Result<Pan
                 images[i] = Some(crop(&all, i as u32 * w, w));
             }
         }
+        if coverage {
+            for (i, t) in tiers.iter().enumerate() {
+                if let PaneTier::Gpu(shading) = t {
+                    let mut s = FrameSettings {
+                        shading: *shading,
+                        ..base.clone()
+                    };
+                    s.lighting.post.transparent = true;
+                    renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
+                }
+            }
+            let all = hl.read();
+            for (i, t) in tiers.iter().enumerate() {
+                if matches!(t, PaneTier::Gpu(_)) {
+                    let pane = crop(&all, i as u32 * w, w);
+                    covered[i] = pane.data.chunks_exact(4).map(|p| p[3] > 0).collect();
+                }
+            }
+        }
     }
     for (i, t) in tiers.iter().enumerate() {
         if let PaneTier::Reference(shading) = t {
@@ -115,7 +159,14 @@ pub fn render_panes(args: &Args, scene: Scene, tiers: &[PaneTier]) -> Result<Pan
                 ..base.clone()
             };
             let env = crate::run::reference_env(args, *shading)?;
-            images[i] = Some(crate::reference::render_env(&scene, &s, env.as_ref(), w, h));
+            if coverage {
+                let (img, info) =
+                    crate::reference::render_env_with_info(&scene, &s, env.as_ref(), w, h);
+                images[i] = Some(img);
+                covered[i] = info.iter().map(|p| p.hit()).collect();
+            } else {
+                images[i] = Some(crate::reference::render_env(&scene, &s, env.as_ref(), w, h));
+            }
         }
     }
     Ok(Panes {
@@ -124,6 +175,7 @@ pub fn render_panes(args: &Args, scene: Scene, tiers: &[PaneTier]) -> Result<Pan
             .map(|i| i.expect("every pane drawn"))
             .collect(),
         labels: tiers.iter().map(|t| label(*t, &base)).collect(),
+        coverage: covered,
     })
 }
 
@@ -148,16 +200,24 @@ pub fn compare(args: &Args, tiers_arg: &str, path: &std::path::Path) -> Result<(
     let name = scene.name.clone();
     let panes = render_panes(args, scene, &tiers)?;
     let (w, h) = args.size;
-    let mut out = canvas::blank(w * tiers.len() as u32, h + canvas::STRIP, [24, 24, 28]);
-    for (i, (img, label)) in panes.images.iter().zip(&panes.labels).enumerate() {
-        canvas::paste(&mut out, &canvas::strip(w, label), i as u32 * w, 0);
-        canvas::paste(&mut out, img, i as u32 * w, canvas::STRIP);
+    let labels: Vec<&str> = panes.labels.iter().map(String::as_str).collect();
+    let strip = canvas::strip_height(w, &labels);
+    let mut out = canvas::blank(w * tiers.len() as u32, h + strip, [24, 24, 28]);
+    for (i, (img, label)) in panes.images.iter().zip(&labels).enumerate() {
+        canvas::paste(
+            &mut out,
+            &canvas::strip_sized(w, strip, label),
+            i as u32 * w,
+            0,
+        );
+        canvas::paste(&mut out, img, i as u32 * w, strip);
     }
     let text = vec![
         ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
         ("glview.compare", tiers_arg.to_string()),
         ("glview.model", name),
         ("glview.pane_size", format!("{w}x{h}")),
+        ("glview.label_height", strip.to_string()),
     ];
     out.save_png(path, &text)
 }

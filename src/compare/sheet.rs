@@ -52,7 +52,14 @@ pub fn run(cmd: &SheetCommand) -> Result<()> {
     let (base, _) = crate::run::frame_settings(&args, &scene)?;
     let (w, h) = args.size;
     let (cols, rows) = (views.len() as u32, tiers.len() as u32);
-    let cell_h = h + canvas::STRIP;
+    let label =
+        |tier: &PaneTier, yaw: f32, pitch: f32| format!("{} yaw {yaw} pitch {pitch}", tier.name());
+    let labels: Vec<String> = tiers
+        .iter()
+        .flat_map(|t| views.iter().map(move |(y, p)| label(t, *y, *p)))
+        .collect();
+    let strip = canvas::strip_height(w, &labels.iter().map(String::as_str).collect::<Vec<_>>());
+    let cell_h = h + strip;
     let mut sheet = canvas::blank(w * cols, cell_h * rows, [24, 24, 28]);
     let hl = Headless::new(args.backend, args.gl, w, h)?;
     let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
@@ -80,9 +87,9 @@ pub fn run(cmd: &SheetCommand) -> Result<()> {
                 }
             };
             let (x, y) = (c as u32 * w, r as u32 * cell_h);
-            let label = format!("{} yaw {yaw} pitch {pitch}", tier.name());
-            canvas::paste(&mut sheet, &canvas::strip(w, &label), x, y);
-            canvas::paste(&mut sheet, &img, x, y + canvas::STRIP);
+            let text = label(tier, *yaw, *pitch);
+            canvas::paste(&mut sheet, &canvas::strip_sized(w, strip, &text), x, y);
+            canvas::paste(&mut sheet, &img, x, y + strip);
             bar.inc(1);
         }
     }

@@ -6,6 +6,7 @@ pub mod buffer;
 pub mod caps;
 pub mod framebuffer;
 pub mod mesh;
+pub mod mipmaps;
 pub mod program;
 pub mod query;
 pub mod state;
@@ -13,7 +14,7 @@ pub mod texture;
 
 pub use caps::{Caps, Dialect};
 use glow::HasContext;
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
 /// A GL context's functions plus what the driver can do and a count of live GL objects
@@ -24,6 +25,18 @@ pub struct Gpu {
     live: Cell<i64>,
     /// The render state last applied (None: unknown, set everything next time).
     state: Cell<Option<state::RenderState>>,
+    /// Image textures uploaded since the last [`Gpu::take_texture_costs`], for `--stats`.
+    texture_costs: RefCell<Vec<TextureCost>>,
+}
+
+/// What one image texture cost to upload: mipmaps, format conversion and the GL calls, up to
+/// glFinish (wall time).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct TextureCost {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+    pub ms: f64,
 }
 
 pub type GpuRef = Rc<Gpu>;
@@ -36,6 +49,7 @@ impl Gpu {
             caps,
             live: Cell::new(0),
             state: Cell::new(None),
+            texture_costs: RefCell::new(Vec::new()),
         })
     }
 
@@ -50,6 +64,15 @@ impl Gpu {
 
     pub(crate) fn deleted(&self) {
         self.live.set(self.live.get() - 1);
+    }
+
+    pub(crate) fn record_texture(&self, cost: TextureCost) {
+        self.texture_costs.borrow_mut().push(cost);
+    }
+
+    /// The image textures uploaded since the last call, in upload order.
+    pub fn take_texture_costs(&self) -> Vec<TextureCost> {
+        self.texture_costs.take()
     }
 
     /// Checks `glGetError` once, at a pass boundary (never after every call: it stalls).

@@ -112,6 +112,35 @@ unsafe fn tex_image(
     );
 }
 
+/// Where a colour texture's mipmaps come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MipSource {
+    /// Built on the CPU ([`super::mipmaps`]): fast on every driver, and present without
+    /// `glGenerateMipmap`.
+    Cpu,
+    /// `glGenerateMipmap`, where the driver has it (else no mipmaps).
+    Driver,
+}
+
+/// Levels 1.. of the bound 2D texture, each RGBA8 data of its size.
+unsafe fn upload_levels(
+    gl: &glow::Context,
+    format: TextureFormat,
+    levels: &[super::mipmaps::Level],
+) {
+    for (i, (w, h, data)) in levels.iter().enumerate() {
+        tex_image(
+            gl,
+            glow::TEXTURE_2D,
+            i as i32 + 1,
+            format,
+            *w,
+            *h,
+            Pixels::U8(data),
+        );
+    }
+}
+
 unsafe fn sampler_params(gl: &glow::Context, target: u32, s: Sampling) {
     let mag = if s.linear {
         glow::LINEAR
@@ -234,13 +263,28 @@ impl Texture2d {
                 gpu.caps.version
             )));
         }
+        // 8-bit colour gets its chain from the CPU (see `mipmaps`), so every driver has one.
+        let cpu_chain = match (format, pixels) {
+            (TextureFormat::Rgba8 | TextureFormat::Srgb8A8, Pixels::U8(d)) if sampling.mipmaps => {
+                Some(super::mipmaps::chain(
+                    width,
+                    height,
+                    d,
+                    format == TextureFormat::Srgb8A8,
+                ))
+            }
+            _ => None,
+        };
+        let mipmaps = sampling.mipmaps && (cpu_chain.is_some() || gpu.caps.generate_mipmap);
         let (t, _rebind) = Self::create(gpu, width, height)?;
-        let mipmaps = sampling.mipmaps && gpu.caps.generate_mipmap;
-        // SAFETY: the caller's data holds width*height texels of the format's channels.
+        // SAFETY: the caller's data holds width*height texels of the format's channels; each
+        // CPU level holds its own w*h RGBA8 texels.
         unsafe {
             tex_image(&gpu.gl, glow::TEXTURE_2D, 0, format, width, height, pixels);
-            if mipmaps {
-                gpu.gl.generate_mipmap(glow::TEXTURE_2D);
+            match &cpu_chain {
+                Some(levels) => upload_levels(&gpu.gl, format, levels),
+                None if mipmaps => gpu.gl.generate_mipmap(glow::TEXTURE_2D),
+                None => {}
             }
             sampler_params(
                 &gpu.gl,
@@ -332,28 +376,54 @@ impl Texture2d {
         }
     }
 
-    /// An RGBA8 colour texture, row 0 = top of the image (sampled at v = 0), with mipmaps where
-    /// `glGenerateMipmap` exists (GL 3.0, ES 3.0 or the FBO extensions).
+    /// An RGBA8 colour texture, row 0 = top of the image (sampled at v = 0), mipmapped.
     pub fn from_rgba(gpu: &GpuRef, width: u32, height: u32, rgba: &[u8]) -> Result<Texture2d> {
+        Self::from_rgba_with(
+            gpu,
+            TextureFormat::Rgba8,
+            width,
+            height,
+            rgba,
+            MipSource::Cpu,
+        )
+    }
+
+    /// A mipmapped 8-bit colour texture (`Rgba8` or `Srgb8A8`, linear filtering, repeat) with
+    /// the chain from `source`: the driver's (`glGenerateMipmap`, where it exists) is kept for
+    /// tests that compare the two.
+    pub fn from_rgba_with(
+        gpu: &GpuRef,
+        format: TextureFormat,
+        width: u32,
+        height: u32,
+        rgba: &[u8],
+        source: MipSource,
+    ) -> Result<Texture2d> {
+        let srgb = match format {
+            TextureFormat::Rgba8 => false,
+            TextureFormat::Srgb8A8 if format.supported(&gpu.caps) => true,
+            _ => {
+                return Err(Error::Unsupported(format!(
+                    "{}: {format:?} is not an 8-bit colour format here",
+                    gpu.caps.version
+                )))
+            }
+        };
+        let levels = match source {
+            MipSource::Cpu => Some(super::mipmaps::chain(width, height, rgba, srgb)),
+            MipSource::Driver => None,
+        };
+        let mipmaps = levels.is_some() || gpu.caps.generate_mipmap;
         let (t, _rebind) = Self::create(gpu, width, height)?;
-        let mipmaps = gpu.caps.generate_mipmap;
         // SAFETY: rgba holds width*height*4 bytes (checked by the loader); UNPACK_ALIGNMENT 1.
         unsafe {
             let gl = &gpu.gl;
-            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
-            gl.tex_image_2d(
-                glow::TEXTURE_2D,
-                0,
-                glow::RGBA8 as i32,
-                width as i32,
-                height as i32,
-                0,
-                glow::RGBA,
-                glow::UNSIGNED_BYTE,
-                glow::PixelUnpackData::Slice(Some(rgba)),
-            );
-            if mipmaps {
-                gl.generate_mipmap(glow::TEXTURE_2D);
+            let level0 = Pixels::U8(rgba);
+            tex_image(gl, glow::TEXTURE_2D, 0, format, width, height, level0);
+            match &levels {
+                Some(levels) => upload_levels(gl, format, levels),
+                None if mipmaps => gl.generate_mipmap(glow::TEXTURE_2D),
+                None => {}
             }
         }
         let min = if mipmaps {
@@ -415,6 +485,30 @@ impl Texture2d {
                 .gl
                 .tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, f);
         }
+    }
+
+    /// Level `level` as RGBA8 bytes (row 0 first), on desktop GL (glGetTexImage); None on ES,
+    /// which cannot read a texture back. For tests of the mipmap chain.
+    pub fn read_level(&self, level: u32) -> Option<(u32, u32, Vec<u8>)> {
+        if self.gpu.caps.dialect == super::Dialect::Glsl300Es {
+            return None;
+        }
+        let (w, h) = ((self.width >> level).max(1), (self.height >> level).max(1));
+        let mut buf = vec![0u8; (w * h * 4) as usize];
+        // SAFETY: buf holds the level's w*h RGBA8 texels; PACK_ALIGNMENT 1 makes rows tight.
+        unsafe {
+            let gl = &self.gpu.gl;
+            gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+            gl.get_tex_image(
+                glow::TEXTURE_2D,
+                level as i32,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(Some(&mut buf)),
+            );
+        }
+        Some((w, h, buf))
     }
 
     /// Switches between comparison (for lighting) and raw depth reads (for `--show shadow-map`).

@@ -20,11 +20,22 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
         return;
     };
     // Only where the draw would show every face anyway: opaque, unblended, no culling asked.
-    let hide_back_faces = clusters.closed
-        && !dm.translucent
-        && state.cull == Cull::None
-        && state.blend == Blend::Off
-        && view.sees_from_outside(dm.center, dm.radius);
+    let could_hide = !dm.translucent && state.cull == Cull::None && state.blend == Blend::Off;
+    let outside = view.sees_from_outside(dm.center, dm.radius);
+    let hide_back_faces = could_hide && clusters.closed() && outside;
+    if could_hide && !hide_back_faces {
+        // A silent "0 skipped" hid an exporter's seam once; say which condition failed.
+        let why = if clusters.closed() {
+            "the viewer (camera or light) is inside its bounding sphere or the near plane cuts it"
+                .to_string()
+        } else {
+            clusters.closure.reason()
+        };
+        let note = format!("mesh {i}: {why}");
+        if !cx.stats.back_faces_kept.contains(&note) {
+            cx.stats.back_faces_kept.push(note);
+        }
+    }
     let state = RenderState {
         cull: if hide_back_faces {
             Cull::Back

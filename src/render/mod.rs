@@ -5,6 +5,7 @@
 //!
 //! Frame: shadow depth → background → legacy lit | PBR lit → teaching view → post (post.rs).
 pub mod aa;
+pub mod attributes;
 pub mod background;
 mod cull;
 pub mod frusta;
@@ -56,6 +57,9 @@ pub struct FrameStats {
     /// Triangles of large meshes not sent to the GPU, in every pass: clusters outside the
     /// view's frustum or, on closed meshes, facing away (`render/cull.rs`).
     pub triangles_skipped: u64,
+    /// Why back faces of a clustered (large) mesh were sent in some pass where a closed mesh's
+    /// would have been skipped: `mesh I: REASON`, once per mesh and reason (`render/cull.rs`).
+    pub back_faces_kept: Vec<String>,
     /// CPU wall time of the frame up to glFinish.
     pub ms: f64,
     /// GPU time of the frame (GL_TIME_ELAPSED) where the driver has timer queries.
@@ -245,7 +249,7 @@ const PASSES: &[&dyn Pass] = &[
 
 /// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
 pub fn fixed_programs() -> Vec<ProgramKey> {
-    vec![shadow::depth_key(), shadow::show_key()]
+    vec![shadow::depth_key(), shadow::show_key(), attributes::key()]
         .into_iter()
         .chain((0..4).flat_map(|tm| {
             [

@@ -132,7 +132,6 @@ pub(crate) struct MaterialTextures {
 }
 
 fn rgba_texture(gpu: &GpuRef, t: &crate::scene::Texture, srgb: bool) -> Result<Texture2d> {
-    let (w, h, data) = super::upload::fit_texture(gpu, t)?;
     let format = if srgb && TextureFormat::Srgb8A8.supported(&gpu.caps) {
         TextureFormat::Srgb8A8
     } else {
@@ -143,7 +142,9 @@ fn rgba_texture(gpu: &GpuRef, t: &crate::scene::Texture, srgb: bool) -> Result<T
         mipmaps: true,
         repeat: true,
     };
-    Texture2d::new(gpu, format, w, h, Pixels::U8(&data), s)
+    super::upload::timed(gpu, t, |w, h, data| {
+        Texture2d::new(gpu, format, w, h, Pixels::U8(data), s)
+    })
 }
 
 /// Occlusion, roughness and metallic maps packed into one texture (r, g, b), so the tier needs

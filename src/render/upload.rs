@@ -47,18 +47,42 @@ pub(crate) struct SceneGpu {
 /// Uploads a decoded texture, downscaled (with a warning) when it exceeds the driver's
 /// maximum texture size.
 fn upload_texture(gpu: &GpuRef, t: &crate::scene::Texture) -> Result<Texture2d> {
+    timed(gpu, t, |w, h, rgba| Texture2d::from_rgba(gpu, w, h, rgba))
+}
+
+/// Makes a texture from `t`'s pixels (fitted to the driver's size limit) with `make`, and
+/// records what it cost for `--stats` ([`crate::gpu::Gpu::take_texture_costs`]).
+pub(crate) fn timed(
+    gpu: &GpuRef,
+    t: &crate::scene::Texture,
+    make: impl FnOnce(u32, u32, &[u8]) -> Result<Texture2d>,
+) -> Result<Texture2d> {
+    // Work queued before (a frame's passes, when the PBR tier makes its textures mid-frame)
+    // is not this texture's.
+    gpu.finish();
+    let start = std::time::Instant::now();
     let (w, h, rgba) = fit_texture(gpu, t)?;
-    Texture2d::from_rgba(gpu, w, h, &rgba)
+    let tex = make(w, h, &rgba)?;
+    // Drivers may queue the work (llvmpipe's glGenerateMipmap is a blit run at the next
+    // flush): wait for it, so the cost lands on the texture that caused it.
+    gpu.finish();
+    gpu.record_texture(crate::gpu::TextureCost {
+        name: t.path.display().to_string(),
+        width: w,
+        height: h,
+        ms: start.elapsed().as_secs_f64() * 1e3,
+    });
+    Ok(tex)
 }
 
 /// The texture's pixels, downscaled to the driver's maximum size where larger.
-pub(crate) fn fit_texture(
+pub(crate) fn fit_texture<'a>(
     gpu: &GpuRef,
-    t: &crate::scene::Texture,
-) -> Result<(u32, u32, std::borrow::Cow<'static, [u8]>)> {
+    t: &'a crate::scene::Texture,
+) -> Result<(u32, u32, std::borrow::Cow<'a, [u8]>)> {
     let max = gpu.caps.max_texture_size.max(1);
     if t.width <= max && t.height <= max {
-        return Ok((t.width, t.height, std::borrow::Cow::Owned(t.rgba.clone())));
+        return Ok((t.width, t.height, std::borrow::Cow::Borrowed(&t.rgba)));
     }
     let scale = f64::from(max) / f64::from(t.width.max(t.height));
     let (w, h) = (

@@ -5,6 +5,7 @@
 //! outside its frustum (any mesh) and, for closed outward-facing meshes seen from outside,
 //! the runs that face away from the viewer: llvmpipe shades vertices and sets up triangles on
 //! one thread, so triangles never sent are the only ones that cost nothing. No GL here.
+use super::closure::{closure, Closure};
 use super::Vertex;
 use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
@@ -49,7 +50,7 @@ pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
 }
 
 /// One run of triangles: `count` triangles from triangle `first`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Cluster {
     pub first: u32,
     pub count: u32,
@@ -63,12 +64,12 @@ pub struct Cluster {
 }
 
 /// The clusters of one mesh, and whether back faces can never be seen from outside it.
-#[derive(Clone, Debug, Default)]
+/// Stored in the mesh cache's entry with the reordered indices, so a hit builds nothing.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Clusters {
     pub list: Vec<Cluster>,
-    /// Every edge is shared by exactly two triangles running it in opposite directions, and
-    /// the enclosed volume is positive: a closed surface facing outwards.
-    pub closed: bool,
+    /// Whether back faces can be seen from outside, and if so why ([`closure`]).
+    pub closure: Closure,
 }
 
 impl Clusters {
@@ -81,8 +82,13 @@ impl Clusters {
             .collect();
         Clusters {
             list,
-            closed: closed_outward(vertices, indices),
+            closure: closure(vertices, indices),
         }
+    }
+
+    /// A closed surface facing outwards: from outside, only its front faces can be seen.
+    pub fn closed(&self) -> bool {
+        self.closure.is_closed()
     }
 
     /// The index ranges (first index, count) of the clusters `view` may see, adjacent ones
@@ -97,7 +103,7 @@ impl Clusters {
     ) -> u64 {
         out.clear();
         let mut triangles = 0u64;
-        let back = hide_back_faces && self.closed;
+        let back = hide_back_faces && self.closed();
         for c in &self.list {
             if view.outside(c.center, c.radius) || (back && view.faces_away(c)) {
                 continue;
@@ -156,77 +162,6 @@ fn cluster(vertices: &[Vertex], run: &[u32], first: u32) -> Cluster {
         },
         cos_spread,
     }
-}
-
-/// Whether `indices` form closed, consistently wound surfaces each enclosing a positive
-/// volume, so that from outside them a ray meets a front face first. Corners are welded by
-/// exact position (vertices split at normal or UV seams share one). Pairing is tested as a
-/// multiset: the directed edges a→b and the reversed ones b→a hash to the same 64-bit sum
-/// exactly when every edge is run once each way (a face and its reverse both kept pair up
-/// too: they tie in depth, and the front one is the one drawn). Each connected piece must
-/// enclose a positive volume, so an inside-out part makes the whole mesh "not closed".
-pub fn closed_outward(vertices: &[Vertex], indices: &[u32]) -> bool {
-    if indices.len() < 12 {
-        return false;
-    }
-    let (weld, ids) = super::normals::weld(vertices);
-    let (forward, backward) = indices
-        .par_chunks_exact(3)
-        .map(|t| {
-            let w = [
-                weld[t[0] as usize],
-                weld[t[1] as usize],
-                weld[t[2] as usize],
-            ];
-            (0..3).fold((0u64, 0u64), |(f, b), k| {
-                let (x, y) = (w[k], w[(k + 1) % 3]);
-                (
-                    f.wrapping_add(edge_hash(x, y)),
-                    b.wrapping_add(edge_hash(y, x)),
-                )
-            })
-        })
-        .reduce(
-            || (0, 0),
-            |a, b| (a.0.wrapping_add(b.0), a.1.wrapping_add(b.1)),
-        );
-    if forward != backward {
-        return false;
-    }
-    // Connected pieces (union-find over welded corners), and each one's signed volume.
-    let mut parent: Vec<u32> = (0..ids as u32).collect();
-    fn root(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            let up = parent[parent[x as usize] as usize];
-            parent[x as usize] = up;
-            x = up;
-        }
-        x
-    }
-    for t in indices.chunks_exact(3) {
-        let a = root(&mut parent, weld[t[0] as usize]);
-        for &i in &t[1..] {
-            let b = root(&mut parent, weld[i as usize]);
-            if a != b {
-                parent[b as usize] = a;
-            }
-        }
-    }
-    let mut volume = vec![0.0f64; ids];
-    let p = |i: u32| glam::DVec3::from(vertices[i as usize].position.map(f64::from));
-    for t in indices.chunks_exact(3) {
-        let r = root(&mut parent, weld[t[0] as usize]);
-        volume[r as usize] += p(t[0]).dot(p(t[1]).cross(p(t[2])));
-    }
-    (0..ids).all(|i| parent[i] != i as u32 || volume[i] > 0.0)
-}
-
-/// A 64-bit mix of a directed edge (splitmix64's finaliser), summed over a mesh's edges.
-fn edge_hash(a: u32, b: u32) -> u64 {
-    let mut z = ((u64::from(a) << 32) | u64::from(b)).wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 /// Whom a pass draws for: a point (perspective) or a direction (orthographic), and its
@@ -321,6 +256,10 @@ impl ClusterView {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn closed_outward(v: &[Vertex], idx: &[u32]) -> bool {
+        closure(v, idx).is_closed()
+    }
 
     fn sphere(rings: u32, segments: u32) -> (Vec<Vertex>, Vec<u32>) {
         let mut v = vec![Vertex {
@@ -432,7 +371,7 @@ mod tests {
         let (v, mut idx) = sphere(120, 240);
         reorder(&v, &mut idx);
         let c = Clusters::build(&v, &idx);
-        assert!(c.closed);
+        assert!(c.closed());
         let p = |i: u32| Vec3::from(v[i as usize].position);
         let mut skipped_any = 0;
         for k in 0..24 {

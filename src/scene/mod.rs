@@ -2,6 +2,7 @@
 //! GPU renderer, the CPU reference renderer and the tests share it.
 pub mod buckets;
 pub mod cache;
+pub mod closure;
 pub mod clusters;
 pub mod dedup;
 pub mod fast;

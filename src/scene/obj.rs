@@ -103,10 +103,57 @@ fn load_mtl(
     })
 }
 
-/// Loads a model file: OBJ (with its MTL libraries and diffuse textures), STL or PLY, any of
-/// them gzipped (`.gz`); the format comes from the file name.
+/// Loads a model file: OBJ (with its MTL libraries and diffuse textures), STL, PLY or glTF,
+/// the first three optionally gzipped (`.gz`); the format comes from the file name. Large
+/// files of every format go through the mesh cache, whose hit reads only the entry. Large
+/// meshes come back reordered when the cache took part (see [`load_prepared`]).
 pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
+    load_prepared(path, opts).map(|(scene, _)| scene)
+}
+
+/// As [`load`], with the meshes' clusters when the mesh cache took part: a hit stores them
+/// and a miss builds them ([`super::clusters::prepare`], which reorders the indices) to write
+/// the entry; otherwise None, and the caller prepares the scene itself.
+pub fn load_prepared(
+    path: &Path,
+    opts: &LoadOptions,
+) -> Result<(Scene, Option<Vec<Option<super::clusters::Clusters>>>)> {
     super::profile::begin(0);
+    let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    let cached = opts.cache && opts.cacheable() && size >= super::cache::MIN_SIZE;
+    if cached {
+        if let Some((scene, clusters)) = super::cache::lookup(path, opts.textures) {
+            log::debug!("{}: loaded from the mesh cache", path.display());
+            super::profile::set_bytes(size);
+            super::profile::end(true);
+            return Ok((scene, Some(clusters)));
+        }
+    }
+    let mut content = None;
+    let mut scene = load_uncached(path, opts, &mut content)?;
+    // The cache stores vertices, indices and materials: colours, lines and points are parsed
+    // again, and so are textures other formats embed or name outside an MTL.
+    let plain = scene.wire.is_empty() && scene.meshes.iter().all(|m| m.colors.is_empty());
+    let own_textures = content.is_some()
+        || scene
+            .materials
+            .iter()
+            .all(|m| m.diffuse_map.is_none() && m.pbr_inputs.maps.is_empty());
+    if !(cached && plain && own_textures) {
+        return Ok((scene, None));
+    }
+    let clusters = super::clusters::prepare(&mut scene);
+    super::cache::put(path, content.as_deref(), opts.textures, (&scene, &clusters));
+    Ok((scene, Some(clusters)))
+}
+
+/// [`load`] without the cache; `obj_bytes` receives a plain OBJ's bytes (for the entry's
+/// content hash: other formats are not hashed, so their entries never pass a verified hit).
+fn load_uncached(
+    path: &Path,
+    opts: &LoadOptions,
+    obj_bytes: &mut Option<Vec<u8>>,
+) -> Result<Scene> {
     use super::formats::{self, Format};
     let (format, gz) = formats::format_of(path);
     let bytes = read_regular_file(path)?;
@@ -115,19 +162,8 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
     if gz || format != Format::Obj {
         return formats::load_model_bytes(path, &bytes, opts);
     }
-    let cached = opts.cache && opts.cacheable() && bytes.len() as u64 >= super::cache::MIN_SIZE;
-    if cached {
-        if let Some(scene) = super::cache::get(path, &bytes, opts.textures) {
-            log::debug!("{}: loaded from the mesh cache", path.display());
-            super::profile::end(true);
-            return Ok(scene);
-        }
-    }
     let scene = load_bytes(path, &bytes, opts)?;
-    // The cache stores vertices and indices only: colours, lines and points are parsed again.
-    if cached && scene.wire.is_empty() && scene.meshes.iter().all(|m| m.colors.is_empty()) {
-        super::cache::put(path, &bytes, opts.textures, &scene);
-    }
+    *obj_bytes = Some(bytes);
     Ok(scene)
 }
 

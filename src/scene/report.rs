@@ -99,6 +99,26 @@ pub fn report(s: &Scene) -> String {
             );
         }
     }
+    // Large meshes are drawn by clusters; whether their back faces can be skipped, and why not.
+    for m in s
+        .meshes
+        .iter()
+        .filter(|m| m.triangle_count() >= super::clusters::MIN_TRIANGLES)
+    {
+        let c = super::closure::closure(&m.vertices, &m.indices);
+        let _ = writeln!(
+            r,
+            "culling: object {:?}: {} triangles in clusters; back faces {}: {}",
+            m.name,
+            m.triangle_count(),
+            if c.is_closed() {
+                "skipped when seen from outside"
+            } else {
+                "drawn"
+            },
+            c.reason()
+        );
+    }
     // The loader's per-stage times for the load just done on this thread (see `profile`).
     if let Some(p) = super::profile::last() {
         let _ = writeln!(r, "load: {p}");

@@ -72,6 +72,14 @@ pub const SOURCES: &[(&str, &str)] = &[
     ),
     ("fxaa.frag", include_str!("../../shaders_gl/post/fxaa.frag")),
     ("box.frag", include_str!("../../shaders_gl/post/box.frag")),
+    (
+        "attributes.vert",
+        include_str!("../../shaders_gl/attributes.vert"),
+    ),
+    (
+        "attributes.frag",
+        include_str!("../../shaders_gl/attributes.frag"),
+    ),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -37,7 +37,21 @@ fn panes_equal_separate_renders() {
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let cmp = Rgba::load_png(&out).unwrap();
-    assert_eq!((cmp.width, cmp.height), (3 * 96, 72 + STRIP));
+    // One label size: the labels wrap onto as many lines as the longest needs, in every pane.
+    let (settings, _) = settings_for(&["--size", "96x72"]);
+    let labels: Vec<String> = glview::compare::parse_tiers("phong,pbr,reference", "t")
+        .unwrap()
+        .into_iter()
+        .map(|t| glview::compare::label(t, &settings))
+        .collect();
+    assert!(
+        labels[0].contains("3 lights"),
+        "the default kit: {labels:?}"
+    );
+    let labels: Vec<&str> = labels.iter().map(String::as_str).collect();
+    let strip = glview::compare::canvas::strip_height(96, &labels);
+    assert!(strip > STRIP, "96-pixel panes wrap these labels");
+    assert_eq!((cmp.width, cmp.height), (3 * 96, 72 + strip));
     for (i, (name, args)) in [
         ("phong", vec!["--shading", "phong"]),
         ("pbr", vec!["--shading", "pbr"]),
@@ -48,7 +62,7 @@ fn panes_equal_separate_renders() {
         let mut a = vec!["--size", "96x72"];
         a.extend(args);
         let alone = render(&dir, name, &a, &[]);
-        let pane = crop(&cmp, i as u32 * 96, STRIP, 96, 72);
+        let pane = crop(&cmp, i as u32 * 96, strip, 96, 72);
         // The viewport's offset changes the float rounding of window coordinates: a varying
         // may land one 8-bit step apart on a handful of pixels (measured: 1 pixel by 1/255).
         assert_close(&dir, &format!("pane-{name}"), &pane, &alone, 0, 7, 1);
@@ -65,7 +79,7 @@ fn panes_equal_separate_renders() {
         &[],
     );
     assert!(o.status.success());
-    let pane = crop(&cmp, 2 * 96, STRIP, 96, 72);
+    let pane = crop(&cmp, 2 * 96, strip, 96, 72);
     assert_close(
         &dir,
         "pane-reference",
@@ -187,9 +201,12 @@ fn contact_sheet_grid() {
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s = Rgba::load_png(&out).unwrap();
-    assert_eq!((s.width, s.height), (3 * 80, 2 * (60 + STRIP)));
+    // Two rows of cells, each a label strip of whole 18-pixel lines over a 60-pixel render.
+    let strip = s.height / 2 - 60;
+    assert_eq!((s.width, s.height % 2, (strip - 2) % 18), (3 * 80, 0, 0));
+    assert!(strip >= STRIP);
     // Each cell is a render: the cells differ from each other (views and tiers).
-    let cell = |c: u32, r: u32| crop(&s, c * 80, r * (60 + STRIP) + STRIP, 80, 60);
+    let cell = |c: u32, r: u32| crop(&s, c * 80, r * (60 + strip) + strip, 80, 60);
     assert!(diff(&cell(0, 0), &cell(1, 0), 8).over > 50);
     assert!(diff(&cell(0, 0), &cell(0, 1), 8).over > 50);
     // The same cell as a separate render with the sheet's first angle.
@@ -307,5 +324,136 @@ fn teaching_views_on_every_path() {
     assert!(
         !o.status.success() && err.contains("reference renderer draws only the scene"),
         "{err}"
+    );
+}
+
+/// `--diff phong,pbr` on a model: the two tiers draw different backgrounds, so the whole
+/// picture differs almost everywhere; the model numbers cover exactly the pixels either tier's
+/// model covers (the union of their transparent renders' alpha), and a tier against itself
+/// is zero there too.
+#[test]
+fn diff_reports_the_models_pixels() {
+    let dir = out_dir("compare-diff-model");
+    let duck = shared().join("gltf-samples/Duck/Duck.glb");
+    let duck = duck.to_str().unwrap();
+    let out = dir.join("d.png");
+    let diff = |tiers: &str| {
+        let o = run(
+            &[
+                duck,
+                "--diff",
+                tiers,
+                "--size",
+                "96x72",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(dir.join("d.json")).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()
+    };
+    let json = diff("phong,pbr");
+    let mut union = vec![false; 96 * 72];
+    for shading in ["phong", "pbr"] {
+        let t = dir.join(format!("{shading}-alpha.png"));
+        let o = run(
+            &[
+                duck,
+                "--shading",
+                shading,
+                "--transparent",
+                "--size",
+                "96x72",
+                "-o",
+                t.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let img = Rgba::load_png(&t).unwrap();
+        for (u, p) in union.iter_mut().zip(img.data.chunks_exact(4)) {
+            *u |= p[3] > 0;
+        }
+    }
+    let covered = union.iter().filter(|&&c| c).count() as u64;
+    assert!(covered > 500 && covered < 96 * 72 / 2, "{covered}");
+    assert_eq!(json["model_pixels"].as_u64(), Some(covered), "{json}");
+    let n = |part: &str, k: &str| json[part][k].as_f64().unwrap();
+    assert!(
+        n("numbers", "over_8") > 0.9,
+        "the backgrounds differ: {json}"
+    );
+    // A subset's worst pixel is no worse than the whole picture's.
+    assert!(n("model", "max") <= n("numbers", "max"), "{json}");
+    assert!(
+        n("model", "mean") > 1.0,
+        "the tiers shade differently: {json}"
+    );
+    let json = diff("pbr,pbr");
+    for k in ["mean", "max", "p99", "over_8", "one_minus_ssim"] {
+        assert_eq!(json["model"][k].as_f64(), Some(0.0), "{k}: {json}");
+    }
+}
+
+/// The window's split view (`C`) frames each half for its own aspect: in a 4:3 window each
+/// half is portrait, and the whole window's framing cut the model off at the halves' sides.
+/// Each pane's model coverage (alpha of a transparent frame) must lie inside the pane, and
+/// the old framing must not (so this test sees the difference).
+#[test]
+fn split_view_panes_frame_the_model() {
+    use glview::headless::Headless;
+    use glview::platform::{Backend, GlRequest};
+    use glview::render::Renderer;
+    let duck = shared().join("gltf-samples/Duck/Duck.glb");
+    let (w, h) = (240u32, 180u32);
+    let size = format!("{w}x{h}");
+    let (mut settings, scene) = settings_for(&[duck.to_str().unwrap(), "--size", &size]);
+    settings.lighting.post.transparent = true;
+    let hl = Headless::new(Backend::Egl, GlRequest::Core, w, h).expect("EGL context");
+    let mut renderer = Renderer::new(&hl.gpu, scene).unwrap();
+    // Columns and rows the model covers in pane `i` (x relative to the pane).
+    let extent = |img: &Rgba, i: u32| {
+        let half = w / 2;
+        let (mut x0, mut x1, mut y0, mut y1) = (u32::MAX, 0, u32::MAX, 0);
+        for y in 0..h {
+            for x in 0..half {
+                if img.pixel(i * half + x, y)[3] > 0 {
+                    (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+                }
+            }
+        }
+        assert!(x0 <= x1, "pane {i} is empty");
+        (x0, x1, y0, y1)
+    };
+    glview::compare::split::draw(&mut renderer, &settings, &hl.target(), w, h).unwrap();
+    let framed = hl.read();
+    let dir = out_dir("compare-split");
+    framed.save_png(&dir.join("framed.png"), &[]).unwrap();
+    for i in 0..2 {
+        let (x0, x1, y0, y1) = extent(&framed, i);
+        assert!(
+            x0 > 0 && x1 < w / 2 - 1 && y0 > 0 && y1 < h - 1,
+            "pane {i}: the model spans x {x0}..{x1}, y {y0}..{y1} of {}x{h}",
+            w / 2
+        );
+    }
+    // The whole window's framing in each half: the duck touches the sides.
+    for (i, shading) in glview::compare::split::TIERS.into_iter().enumerate() {
+        let s = glview::render::FrameSettings {
+            shading,
+            ..settings.clone()
+        };
+        let vp = [i as u32 * w / 2, 0, w / 2, h];
+        renderer.render_viewport(&s, &hl.target(), vp).unwrap();
+    }
+    let cut = hl.read();
+    cut.save_png(&dir.join("whole-window-framing.png"), &[])
+        .unwrap();
+    let (x0, x1, _, _) = extent(&cut, 0);
+    assert!(
+        x0 == 0 || x1 == w / 2 - 1,
+        "the old framing was not cut off"
     );
 }

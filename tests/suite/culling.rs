@@ -158,3 +158,88 @@ fn stats_count_the_triangles_kept_from_the_gpu() {
         (Some(total), Some(0))
     );
 }
+
+/// A UV sphere as exporters write it (Blender-like): a (rings + 1) × (segments + 1) grid of
+/// f64 angles printed in full, so the seam column appears twice and differs by ~1e-16
+/// (sin 2π ≠ 0), each pole is repeated once per segment (the south one off by ulps: sin π ≠
+/// 0), and each pole quad leaves a degenerate triangle. 2·rings·segments triangles.
+fn exported_sphere_obj(rings: u32, segments: u32) -> String {
+    let mut s = String::from("o exported\n");
+    for j in 0..=rings {
+        let th = std::f64::consts::PI * f64::from(j) / f64::from(rings);
+        for i in 0..=segments {
+            let ph = std::f64::consts::TAU * f64::from(i) / f64::from(segments);
+            let p = [th.sin() * ph.sin(), th.cos(), th.sin() * ph.cos()];
+            writeln!(s, "v {} {} {}\nvn {0} {1} {2}", p[0], p[1], p[2]).unwrap();
+        }
+    }
+    let at = |j: u32, i: u32| 1 + j * (segments + 1) + i;
+    for j in 0..rings {
+        for i in 0..segments {
+            let (a, b, c, d) = (at(j, i), at(j + 1, i), at(j + 1, i + 1), at(j, i + 1));
+            writeln!(
+                s,
+                "f {a}//{a} {b}//{b} {c}//{c}\nf {a}//{a} {c}//{c} {d}//{d}"
+            )
+            .unwrap();
+        }
+    }
+    s
+}
+
+/// The exporter's sphere is closed despite its ulp seam and repeated poles: culling skips its
+/// far side (it skipped nothing when closedness needed exactly equal corners), with the same
+/// pixels as `--no-culling`, and `--check` and `--stats` say why back faces are drawn where
+/// they are.
+#[test]
+fn an_exported_sphere_with_an_ulp_seam_is_culled_with_the_same_pixels() {
+    let dir = out_dir("culling_seam");
+    let sphere = write(&dir, "exported.obj", &exported_sphere_obj(80, 160));
+    let text = std::fs::read_to_string(&sphere).unwrap();
+    assert!(
+        text.contains("0.0000000000000002"),
+        "the seam is written off by ~1e-16"
+    );
+    let check = run(&[&sphere, "--check"], &[]);
+    let report = String::from_utf8_lossy(&check.stdout);
+    assert!(
+        report.contains("triangles in clusters; back faces skipped when seen from outside"),
+        "{report}"
+    );
+    for (name, extra) in [
+        ("front", &["--yaw", "0", "--pitch", "0"][..]),
+        ("seam", &["--yaw", "180", "--pitch", "10"]),
+        ("pole", &["--yaw", "20", "--pitch", "85"]),
+    ] {
+        let mut args = vec![sphere.as_str(), "--size", "160x120"];
+        args.extend_from_slice(extra);
+        let culled = render(&dir, &format!("{name}-culled"), &args, &[]);
+        args.push("--no-culling");
+        let whole = render(&dir, &format!("{name}-whole"), &args, &[]);
+        let d = diff(&culled, &whole, 0);
+        assert_eq!(d.max, 0, "{name}: culling changed {} pixels", d.over);
+    }
+    let out = dir.join("s.png");
+    let stats = |model: &str, extra: &[&str]| -> serde_json::Value {
+        let mut a = vec![model, "-o", out.to_str().unwrap(), "--size", "96x72"];
+        a.extend_from_slice(&["--stats", "--no-shadows"]);
+        a.extend_from_slice(extra);
+        let o = run(&a, &[]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_str(String::from_utf8_lossy(&o.stdout).lines().last().unwrap()).unwrap()
+    };
+    let s = stats(&sphere, &[]);
+    assert!(s["triangles_skipped"].as_u64().unwrap() > 25_600 / 4, "{s}");
+    assert_eq!(s["back_faces_kept"], serde_json::json!([]), "{s}");
+    let s = stats(&sphere, &["--target", "0,0,0", "--distance", "0.4"]);
+    let kept = s["back_faces_kept"].to_string();
+    assert!(kept.contains("mesh 0: the viewer"), "{s}");
+    let bowl = write(&dir, "bowl.obj", &sphere_obj(161, 160, true));
+    let s = stats(&bowl, &["--pitch", "-60"]);
+    assert!(
+        s["back_faces_kept"]
+            .to_string()
+            .contains("mesh 0: open edges at 160 corners"),
+        "{s}"
+    );
+}

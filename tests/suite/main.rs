@@ -4,6 +4,7 @@
 //! a separate binary because it judges its own process's resident memory.
 mod analytic;
 mod antialiasing;
+mod api;
 mod bad_input;
 mod batch;
 mod bloom;
@@ -34,6 +35,7 @@ mod shadows;
 mod stats;
 mod stress;
 mod terminator;
+mod texture_upload;
 mod translucency;
 mod window;
 mod wire_colors;

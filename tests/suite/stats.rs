@@ -210,3 +210,31 @@ fn stats_profile_covers_every_stage_of_a_picture() {
         f("context_ms")
     );
 }
+
+/// `--stats` lists each image texture with its size and cost: none for an untextured model,
+/// the one image of BoxTextured in the legacy tier, and in the PBR tier its sRGB copy too.
+#[test]
+fn stats_list_each_texture_upload() {
+    let boxed = shared().join("gltf-samples/BoxTextured/BoxTextured.glb");
+    let boxed = boxed.to_str().unwrap();
+    let textures = |args: &[&str]| {
+        let lines = stats(args);
+        lines.last().unwrap()["profile"]["textures"]
+            .as_array()
+            .unwrap()
+            .clone()
+    };
+    assert!(textures(&[]).is_empty());
+    for (shading, count) in [("phong", 1), ("pbr", 2)] {
+        let t = textures(&[boxed, "--shading", shading]);
+        assert_eq!(t.len(), count, "{shading}: {t:?}");
+        for t in t {
+            assert!(t["name"].as_str().unwrap().contains("BoxTextured"), "{t}");
+            assert_eq!(
+                (t["width"].as_u64(), t["height"].as_u64()),
+                (Some(256), Some(256))
+            );
+            assert!(t["ms"].as_f64().unwrap() > 0.0, "{t}");
+        }
+    }
+}

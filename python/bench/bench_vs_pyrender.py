@@ -1,0 +1,124 @@
+"""glview's Python API beside pyrender on one job: the Stanford bunny, 24 views around it at
+640×480, colour and depth arrays out, with and without a directional shadow; pictures per
+second (median of 3 timed runs after a warm-up picture), both in one table from one run.
+
+    bash scripts/bench_python.sh       # makes both venvs, then runs this
+
+Each renderer runs in its own venv (pyrender needs numpy<2 and PyOpenGL on EGL), as a child
+process of this script: `python bench_vs_pyrender.py glview|pyrender MODEL` prints one JSON
+line; without arguments it runs both children and prints the table.
+"""
+import json
+import math
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+W, H, VIEWS, RUNS = 640, 480, 24, 3
+
+
+def timed(render_all):
+    render_all()  # warm-up: context, upload, shader compiles
+    times = []
+    for _ in range(RUNS):
+        t = time.perf_counter()
+        render_all()
+        times.append(time.perf_counter() - t)
+    return VIEWS / statistics.median(times)
+
+
+def bench_glview(model):
+    import glview
+
+    out = {}
+    with glview.Renderer(W, H) as r:
+        r.load(model)
+        for shadow in (True, False):
+            def run():
+                for i in range(VIEWS):
+                    img = r.render(yaw=360 * i / VIEWS, depth=True, no_shadows=not shadow)
+                    assert img.depth is not None
+            out["shadow" if shadow else "no shadow"] = timed(run)
+    return out
+
+
+def bench_pyrender(model):
+    os.environ["PYOPENGL_PLATFORM"] = "egl"
+    import numpy as np
+    import pyrender
+    import trimesh
+
+    mesh = trimesh.load(model, force="mesh")
+    out = {}
+    renderer = pyrender.OffscreenRenderer(W, H)
+    center, radius = mesh.bounding_sphere.primitive.center, mesh.bounding_sphere.primitive.radius
+    for shadow in (True, False):
+        scene = pyrender.Scene(ambient_light=[0.2, 0.2, 0.2])
+        scene.add(pyrender.Mesh.from_trimesh(mesh))
+        light = pyrender.DirectionalLight(color=np.ones(3), intensity=3.0)
+        scene.add(light, pose=look_at(center + np.array([1.0, 2.0, 1.5]) * radius, center))
+        cam = scene.add(pyrender.PerspectiveCamera(yfov=math.radians(45)), pose=np.eye(4))
+        flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if shadow else pyrender.RenderFlags.NONE
+
+        def run():
+            for i in range(VIEWS):
+                yaw = 2 * math.pi * i / VIEWS
+                eye = center + 2.6 * radius * np.array(
+                    [math.sin(yaw) * 0.9, 0.42, math.cos(yaw) * 0.9]
+                )
+                scene.set_pose(cam, look_at(eye, center))
+                color, depth = renderer.render(scene, flags=flags)
+                assert depth.shape == (H, W)
+
+        out["shadow" if shadow else "no shadow"] = timed(run)
+    renderer.delete()
+    return out
+
+
+def look_at(eye, target):
+    import numpy as np
+
+    f = target - eye
+    f = f / np.linalg.norm(f)
+    r = np.cross(f, [0.0, 1.0, 0.0])
+    r = r / np.linalg.norm(r)
+    u = np.cross(r, f)
+    m = np.eye(4)
+    m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = r, u, -f, eye
+    return m
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    repo = os.path.dirname(os.path.dirname(here))
+    model = os.path.join(repo, "..", "shared", "models", "stanford-bunny", "stanford-bunny.obj")
+    if len(sys.argv) == 3:
+        fn = bench_glview if sys.argv[1] == "glview" else bench_pyrender
+        print(json.dumps(fn(sys.argv[2])))
+        return
+    pythons = {
+        "glview": os.path.join(repo, "target", "pyvenv", "bin", "python"),
+        "pyrender": os.path.join(repo, "target", "pyrender-venv", "bin", "python"),
+    }
+    rows = {}
+    for name, py in pythons.items():
+        p = subprocess.run([py, __file__, name, model], capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.exit(f"{name} failed:\n{p.stderr}")
+        rows[name] = json.loads(p.stdout.strip().splitlines()[-1])
+    print(f"bunny, {VIEWS} views, {W}x{H}, colour + depth arrays; pictures/s (median of {RUNS})")
+    print("| renderer | with shadow | without shadow |")
+    print("| --- | ---: | ---: |")
+    for name, r in rows.items():
+        print(f"| {name} | {r['shadow']:.1f} | {r['no shadow']:.1f} |")
+    g, p = rows["glview"], rows["pyrender"]
+    print(
+        f"| glview ÷ pyrender | {g['shadow'] / p['shadow']:.1f}× | "
+        f"{g['no shadow'] / p['no shadow']:.1f}× |"
+    )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,185 @@
+"""The Python API against the command line and against analytic truth."""
+import math
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import glview
+from glview._glview import decode_png
+
+
+def test_colour_equals_the_cli_png_pixel_for_pixel(tmp_path, bunny, cli):
+    out = tmp_path / "cli.png"
+    cli(bunny, "--size", "200x150", "--yaw", "-40", "--shading", "gouraud", "-o", out)
+    img = glview.render(bunny, size=(200, 150), yaw=-40, shading="gouraud")
+    assert img.color.dtype == np.uint8 and img.color.shape == (150, 200, 4)
+    assert np.array_equal(img.color, decode_png(str(out)))
+    assert img._repr_png_()[:8] == b"\x89PNG\r\n\x1a\n"
+    img.save(tmp_path / "py.png")
+    assert np.array_equal(decode_png(str(tmp_path / "py.png")), img.color)
+    command = dict(img.text)["glview.command"]
+    assert str(bunny) in command and "--shading gouraud" in command
+
+
+def uv_sphere(seg: int = 192):
+    rings = seg // 2
+    th = np.linspace(0, math.pi, rings + 1)[:, None]
+    ph = np.linspace(0, 2 * math.pi, seg + 1)[None, :]
+    v = np.stack(
+        [np.sin(th) * np.sin(ph), np.cos(th) * np.ones_like(ph), np.sin(th) * np.cos(ph)], -1
+    ).reshape(-1, 3)
+    idx = lambda r, k: r * (seg + 1) + k  # noqa: E731
+    faces = []
+    for r in range(rings):
+        for k in range(seg):
+            a, b, c, d = idx(r, k), idx(r + 1, k), idx(r + 1, k + 1), idx(r, k + 1)
+            if r != 0:
+                faces.append((a, b, d))
+            if r != rings - 1:
+                faces.append((b, c, d))
+    return v, np.array(faces), v.astype(np.float32)
+
+
+def camera(img):
+    """Eye, forward, right, up and tan(fov/2) from the picture's `glview.camera` text."""
+    words = dict(img.text)["glview.camera"].split()
+    opt = {words[i][2:]: words[i + 1] for i in range(0, len(words) - 1, 2)}
+    yaw, pitch = math.radians(float(opt["yaw"])), math.radians(float(opt["pitch"]))
+    target = np.array([float(x) for x in opt["target"].split(",")])
+    offset = np.array(
+        [math.sin(yaw) * math.cos(pitch), math.sin(pitch), math.cos(yaw) * math.cos(pitch)]
+    )
+    eye = target + float(opt["distance"]) * offset
+    fwd = -offset
+    right = np.cross(fwd, [0.0, 1.0, 0.0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, fwd)
+    return eye, fwd, right, up, math.tan(math.radians(float(opt["fov"])) / 2)
+
+
+def test_depth_is_the_analytic_spheres_and_normals_point_out(tmp_path):
+    v, f, n = uv_sphere()
+    w, h = 160, 120
+    img = glview.render({"vertices": v, "faces": f, "normals": n}, size=(w, h), depth=True,
+                        normals=True, no_shadows=True)
+    assert img.depth.dtype == np.float32 and img.depth.shape == (h, w)
+    eye, fwd, right, up, t = camera(img)
+    ys, xs = np.mgrid[0:h, 0:w]
+    nx = (2 * (xs + 0.5) / w - 1) * t * w / h
+    ny = (1 - 2 * (ys + 0.5) / h) * t
+    d = fwd + nx[..., None] * right + ny[..., None] * up  # z-depth t along d is the depth
+    b = (d * eye).sum(-1)
+    a = (d * d).sum(-1)
+    disc = b * b - a * ((eye * eye).sum() - 1)
+    inside = disc > 0.02 * a
+    outside = disc < -0.02 * a
+    z = (-b - np.sqrt(np.where(inside, disc, 0))) / a
+    assert inside.sum() > 2000
+    # A 192×96 tessellation lies within 1 − cos(π/96) ≈ 5e-4 of the unit sphere.
+    assert np.abs(img.depth[inside] - z[inside]).max() < 2e-3
+    assert np.isinf(img.depth[outside]).all()
+    nrm = img.normals[inside]
+    assert np.allclose(np.linalg.norm(nrm, axis=-1), 1, atol=1e-3)
+    assert (nrm[:, 2] > 0).all()
+
+
+def test_ids_cover_exactly_the_drawn_pixels(bunny):
+    img = glview.render(bunny, size=(160, 120), transparent=True, ids=True)
+    drawn = img.color[..., 3] > 0
+    assert img.object_ids.dtype == np.int32
+    assert np.array_equal(img.object_ids >= 0, drawn)
+    assert np.array_equal(img.material_ids >= 0, drawn)
+    assert drawn.sum() > 1000
+    assert set(np.unique(img.object_ids)) <= {-1} | set(range(len(img.object_names)))
+
+
+def test_trimesh_input_equals_file_input(bunny):
+    trimesh = pytest.importorskip("trimesh")
+    mesh = trimesh.load(bunny, process=False, force="mesh")
+    a = glview.render(bunny, size=(160, 120), yaw=70)
+    b = glview.render(mesh, size=(160, 120), yaw=70)
+    assert np.array_equal(a.color, b.color)
+
+
+def test_renderer_keeps_one_context_and_closes(bunny):
+    with glview.Renderer(96, 64) as r:
+        r.load(bunny)
+        views = [r.render(yaw=y, depth=True) for y in (0, 90, 180)]
+        assert all(np.isfinite(v.depth).any() for v in views)
+        assert len({v.color.tobytes() for v in views}) == 3
+        assert views[0].stats["frame"] >= 1
+    with pytest.raises(glview.GlviewError, match="closed"):
+        r.render()
+
+
+def test_bad_options_raise_with_the_cli_message(cli):
+    p = cli("--pcf", "3", "-o", "x.png", check=False)
+    assert p.returncode != 0
+    with pytest.raises(glview.OptionError) as e:
+        glview.render(pcf=3)
+    assert "PCF taps must be 1, 4, 9 or 16" in str(e.value)
+    assert "PCF taps must be 1, 4, 9 or 16" in p.stderr
+    with pytest.raises(glview.OptionError, match="--fov 200 must be between 0 and 180"):
+        glview.render(fov=200)
+    with pytest.raises(glview.OptionError, match="no-such-option"):
+        glview.render(no_such_option=1)
+
+
+def test_bad_files_and_arrays_raise_with_the_cli_message(tmp_path, cli):
+    bad = tmp_path / "bad.obj"
+    bad.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")
+    p = cli(bad, "-o", tmp_path / "x.png", check=False)
+    assert p.returncode != 0
+    with pytest.raises(glview.ModelError) as e:
+        glview.render(bad)
+    assert str(e.value) in p.stderr
+    with pytest.raises(glview.ModelError, match="missing.obj"):
+        glview.render(tmp_path / "missing.obj")
+    with pytest.raises(glview.ModelError, match="face 0 refers to vertex 5"):
+        glview.render(([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 5]]))
+    with pytest.raises(TypeError):
+        glview.render(42)
+
+
+def test_a_renderer_used_from_two_threads_at_once_is_refused(bunny):
+    r = glview.Renderer(64, 64)
+    r.load(bunny)
+    started = threading.Event()
+    errors = []
+
+    def slow():
+        started.set()
+        try:
+            r.render(size=(2048, 1536), aa="ssaa", aa_samples=3)
+        except Exception as e:  # pragma: no cover - reported below
+            errors.append(e)
+
+    t = threading.Thread(target=slow)
+    t.start()
+    started.wait()
+    time.sleep(0.3)
+    with pytest.raises(glview.BusyError, match="another thread"):
+        r.render()
+    t.join()
+    assert not errors
+    r.close()
+
+
+def test_diff_and_testing_helper(tmp_path, bunny):
+    from glview.testing import assert_matches
+
+    a = glview.render(bunny, size=(96, 64))
+    b = glview.render(bunny, size=(96, 64), yaw=60)
+    picture, numbers = glview.diff(a, a)
+    assert numbers["mean"] == 0 and numbers["max"] == 0
+    picture, numbers = glview.diff(a, b)
+    assert numbers["mean"] > 0.5 and picture.color.shape == a.color.shape
+    stored = tmp_path / "golden.png"
+    with pytest.raises(AssertionError, match="did not exist"):
+        assert_matches(a, stored)
+    assert assert_matches(a, stored)["mean"] == 0
+    with pytest.raises(AssertionError, match="mean difference"):
+        assert_matches(b, stored)
+    assert (tmp_path / "golden.actual.png").exists() and (tmp_path / "golden.diff.png").exists()

@@ -1,0 +1,242 @@
+//! The library API: load a [`Model`] (a file in any format glview reads, or arrays), make a
+//! [`Renderer`] (one kept GL context, as `glview batch` keeps it) and render [`Options`]
+//! into buffers: the colour picture, and on request depth, normals and object/material ids.
+//!
+//! A GL context is current on one thread, so a renderer draws on a thread of its own and
+//! its methods send it work: a `Renderer` may be used from any thread, but not from two at
+//! once (the second call is refused with [`Error::Busy`](crate::Error) instead of waiting).
+pub mod arrays;
+
+pub use crate::image_out::Rgba;
+pub use crate::options::Options;
+pub use crate::render::attributes::Attributes;
+pub use arrays::Arrays;
+
+use crate::error::{Error, Result};
+use crate::picture::{Given, KeptContext, Profile};
+use crate::scene::Scene;
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
+
+/// A loaded model, kept on the CPU; renderers upload it when they first draw it.
+#[derive(Clone, Debug)]
+pub struct Model {
+    scene: Arc<Scene>,
+    /// Names this model among the ones a renderer has drawn (kept uploaded while it is).
+    key: String,
+}
+
+static NEXT_MODEL: AtomicU64 = AtomicU64::new(1);
+
+impl Model {
+    fn new(scene: Scene) -> Model {
+        Model {
+            scene: Arc::new(scene),
+            key: format!("model#{}", NEXT_MODEL.fetch_add(1, Ordering::Relaxed)),
+        }
+    }
+
+    /// Loads a model file with the loading options of `opts` (`up`, `crease`, `flat`,
+    /// `texture`, `honor-transparency`, the mesh cache, ...); its warnings are logged.
+    pub fn load(path: &Path, opts: &Options) -> Result<Model> {
+        let mut o = opts.clone();
+        o.model = Some(path.to_path_buf());
+        Ok(Model::new(crate::run::load_scene_with(&o, false)?).warned())
+    }
+
+    /// The built-in scene (what `glview` shows without a model).
+    pub fn builtin(opts: &Options) -> Result<Model> {
+        let mut o = opts.clone();
+        o.model = None;
+        Ok(Model::new(crate::run::load_scene_with(&o, false)?).warned())
+    }
+
+    /// A model from arrays: the same scene as the same data in an OBJ file.
+    pub fn from_arrays(a: &Arrays, opts: &Options) -> Result<Model> {
+        let obj = a.to_obj()?;
+        let scene = crate::scene::obj::load_embedded(
+            Path::new("<arrays>.obj"),
+            obj.as_bytes(),
+            b"",
+            &crate::run::load_options(opts, None),
+        )?;
+        Ok(Model::new(scene).warned())
+    }
+
+    fn warned(self) -> Model {
+        for w in &self.scene.warnings {
+            log::warn!("{w}");
+        }
+        self
+    }
+
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// Object names by object id (the scene's meshes: OBJ objects/groups, glTF meshes).
+    pub fn object_names(&self) -> Vec<String> {
+        self.scene.meshes.iter().map(|m| m.name.clone()).collect()
+    }
+
+    /// Material names by material id.
+    pub fn material_names(&self) -> Vec<String> {
+        self.scene
+            .materials
+            .iter()
+            .map(|m| m.name.clone())
+            .collect()
+    }
+}
+
+/// What a render returns besides the colour.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Outputs {
+    /// Depth, normals and ids ([`Attributes`]).
+    pub attributes: bool,
+    /// With `attributes`: the normals too (a second draw and read-back).
+    pub normals: bool,
+}
+
+/// One rendered picture.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// RGBA8, straight alpha, top row first: the pixels `glview -o x.png` writes.
+    pub color: Rgba,
+    /// The PNG text chunks (renderer, camera, the reproducing command line).
+    pub text: Vec<(String, String)>,
+    pub attributes: Option<Attributes>,
+    /// The frame's `--stats` line.
+    pub stats: serde_json::Value,
+}
+
+impl Frame {
+    /// The picture as a PNG file's bytes, text chunks included.
+    pub fn png(&self) -> Vec<u8> {
+        let text: Vec<(&str, String)> = self
+            .text
+            .iter()
+            .map(|(k, v)| (k.as_str(), v.clone()))
+            .collect();
+        self.color.png_bytes(&text)
+    }
+}
+
+type Job = Box<dyn FnOnce(&mut Option<KeptContext>) + Send>;
+
+/// A kept GL context on a thread of its own, with the last model drawn kept uploaded.
+pub struct Renderer {
+    jobs: Mutex<Option<mpsc::Sender<Job>>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+    model: Option<Model>,
+    /// Options every render starts from (size, backend, ...) unless it gives its own.
+    pub defaults: Options,
+}
+
+impl Renderer {
+    /// A renderer for pictures of `defaults.size` on `defaults.backend`/`gl`; the context
+    /// is made now, so a machine without one fails here.
+    pub fn new(defaults: Options) -> Result<Renderer> {
+        let (tx, rx) = mpsc::channel::<Job>();
+        let thread = std::thread::Builder::new()
+            .name("glview-renderer".into())
+            .spawn(move || {
+                let mut kept = None;
+                for job in rx {
+                    job(&mut kept);
+                }
+            })
+            .map_err(|e| Error::Context(format!("no renderer thread: {e}")))?;
+        let r = Renderer {
+            jobs: Mutex::new(Some(tx)),
+            thread: Some(thread),
+            model: None,
+            defaults,
+        };
+        let opts = r.defaults.clone();
+        r.call(move |kept| crate::picture::ensure_context(&opts, kept))?;
+        Ok(r)
+    }
+
+    /// Runs `f` on the renderer's thread and waits for it; refuses a second caller.
+    fn call<T: Send + 'static>(
+        &self,
+        f: impl FnOnce(&mut Option<KeptContext>) -> Result<T> + Send + 'static,
+    ) -> Result<T> {
+        let guard = self.jobs.try_lock().map_err(|_| Error::Busy)?;
+        let tx = guard.as_ref().ok_or(Error::Busy)?;
+        let (back, answer) = mpsc::sync_channel(1);
+        let job: Job = Box::new(move |kept| {
+            // A panic in a job must not take the thread (and the context) down with it.
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(kept)))
+                .unwrap_or_else(|_| Err(Error::Unsupported("the renderer panicked".into())));
+            let _ = back.send(r);
+        });
+        tx.send(job)
+            .map_err(|_| Error::Unsupported("the renderer thread has ended".into()))?;
+        answer
+            .recv()
+            .map_err(|_| Error::Unsupported("the renderer thread has ended".into()))?
+    }
+
+    /// Draws `model` from now on instead of the options' model file.
+    pub fn load(&mut self, model: Model) {
+        self.model = Some(model);
+    }
+
+    pub fn model(&self) -> Option<&Model> {
+        self.model.as_ref()
+    }
+
+    /// Renders `opts` (the loaded model, else `opts.model` or the built-in scene).
+    pub fn render(&self, opts: &Options, outputs: Outputs) -> Result<Frame> {
+        let opts = opts.clone();
+        let model = self.model.clone();
+        self.call(move |kept| {
+            let given = model.as_ref().map(|m| Given {
+                key: &m.key,
+                scene: &m.scene,
+            });
+            let drawn = crate::picture::draw(
+                &opts,
+                kept,
+                given,
+                outputs.attributes.then_some(outputs.normals),
+                &mut Profile::default(),
+            )?;
+            Ok(Frame {
+                color: drawn.image,
+                text: drawn
+                    .text
+                    .into_iter()
+                    .map(|(k, v)| (k.to_string(), v))
+                    .collect(),
+                attributes: drawn.attributes,
+                stats: serde_json::to_value(&drawn.stats).unwrap_or_default(),
+            })
+        })
+    }
+
+    /// Ends the renderer's thread, releasing its context and everything uploaded.
+    pub fn close(&mut self) {
+        if let Ok(mut g) = self.jobs.lock() {
+            g.take();
+        }
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Renderer {
+    fn drop(&mut self) {
+        self.close();
+    }
+}
+
+/// One picture in a renderer of its own: `render(&Options::from_words(["bunny.obj"])?)`.
+pub fn render(opts: &Options, outputs: Outputs) -> Result<Frame> {
+    Renderer::new(opts.clone())?.render(opts, outputs)
+}

@@ -1,0 +1,237 @@
+//! Options ⇄ words ⇄ named values. Every [`Options`] is parsed from command-line words, so
+//! clap's parsers are the one validation of each value and its message; the serde form (and
+//! the Python binding's keyword arguments) is a map from option names to values that becomes
+//! those words again.
+use super::Options;
+use crate::error::{Error, Result};
+use clap::{CommandFactory, FromArgMatches};
+use serde_json::Value;
+
+/// The options alone, for parsing words that are not a whole command line.
+#[derive(clap::Parser)]
+#[command(name = "glview", no_binary_name = true)]
+struct Only {
+    #[command(flatten)]
+    opts: Options,
+}
+
+/// clap's message is several lines with usage; its first line says what is wrong.
+pub(crate) fn first_line(e: &clap::Error) -> String {
+    e.to_string()
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .trim_start_matches("error: ")
+        .to_string()
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options::from_words(Vec::<String>::new()).expect("the defaults parse")
+    }
+}
+
+impl Options {
+    /// Parses option words (`["model.obj", "--yaw", "30"]`) and validates them: the same
+    /// checks and messages as the command line, before any model is loaded.
+    pub fn from_words<I, T>(words: I) -> Result<Options>
+    where
+        I: IntoIterator<Item = T>,
+        T: Into<String>,
+    {
+        let words: Vec<String> = words.into_iter().map(Into::into).collect();
+        let matches = Only::command()
+            .try_get_matches_from(&words)
+            .map_err(|e| Error::Usage(first_line(&e)))?;
+        let mut opts = Only::from_arg_matches(&matches)
+            .map_err(|e| Error::Usage(first_line(&e)))?
+            .opts;
+        opts.words = words;
+        opts.validate()?;
+        Ok(opts)
+    }
+
+    /// Options from names and values: `{"yaw": 30, "light": ["dir:0,-1,0"], "size":
+    /// [640, 480], "no-shadows": true}`. Names are the long options without `--` (`_` may
+    /// stand for `-`; `model` is the model file). Values: `true` is a flag given, `false` or
+    /// null one left out; a list of numbers is one comma-separated value (`WxH` for `size`),
+    /// any other list repeats the option.
+    pub fn from_pairs<'a>(
+        pairs: impl IntoIterator<Item = (&'a str, &'a Value)>,
+    ) -> Result<Options> {
+        let mut words = Vec::new();
+        let mut model = None;
+        for (name, value) in pairs {
+            let name = name.replace('_', "-");
+            if name == "model" {
+                model = Some(scalar(value).ok_or_else(|| bad(&name, value))?);
+                continue;
+            }
+            let flag = format!("--{name}");
+            match value {
+                Value::Null | Value::Bool(false) => {}
+                Value::Bool(true) => words.push(flag),
+                Value::Array(items) if items.iter().all(Value::is_number) => {
+                    let sep = if name == "size" { "x" } else { "," };
+                    let parts: Vec<String> = items.iter().filter_map(scalar).collect();
+                    words.extend([flag, parts.join(sep)]);
+                }
+                Value::Array(items) => {
+                    for item in items {
+                        words.push(flag.clone());
+                        words.push(scalar(item).ok_or_else(|| bad(&name, item))?);
+                    }
+                }
+                other => words.extend([flag, scalar(other).ok_or_else(|| bad(&name, other))?]),
+            }
+        }
+        // The model goes first: a value-less `--ortho` must not swallow it.
+        Options::from_words(model.into_iter().chain(words))
+    }
+
+    /// The options given (defaults left out) as names and values, by name;
+    /// options given more than once are lists. The inverse of [`Options::from_pairs`].
+    pub fn to_pairs(&self) -> serde_json::Map<String, Value> {
+        let cmd = Only::command();
+        let mut map = serde_json::Map::new();
+        let mut words = self.words.iter().peekable();
+        while let Some(w) = words.next() {
+            let Some(long) = w.strip_prefix("--") else {
+                map.insert("model".into(), Value::String(w.clone()));
+                continue;
+            };
+            let (name, inline) = match long.split_once('=') {
+                Some((n, v)) => (n, Some(v.to_string())),
+                None => (long, None),
+            };
+            let Some(arg) = cmd.get_arguments().find(|a| a.get_long() == Some(name)) else {
+                continue;
+            };
+            let takes = arg.get_action().takes_values();
+            let value = match inline {
+                Some(v) => Value::String(v),
+                // `--ortho` alone fits the model: its value is optional.
+                None if takes
+                    && (name != "ortho"
+                        || words.peek().is_some_and(|v| v.parse::<f32>().is_ok())) =>
+                {
+                    Value::String(words.next().cloned().unwrap_or_default())
+                }
+                None => Value::Bool(true),
+            };
+            let repeats = matches!(arg.get_action(), clap::ArgAction::Append);
+            match map.get_mut(name) {
+                Some(Value::Array(list)) if repeats => list.push(value),
+                _ if repeats => {
+                    map.insert(name.into(), Value::Array(vec![value]));
+                }
+                _ => {
+                    map.insert(name.into(), value);
+                }
+            }
+        }
+        map
+    }
+
+    /// The checks that need more than one value or a parsed list (lights, colours, ranges
+    /// between options), with the messages the command line prints; no model is needed.
+    pub fn validate(&self) -> Result<()> {
+        let mut probe = crate::scene::Scene::from_meshes("options", Vec::new(), Vec::new());
+        probe.bounds = crate::scene::Bounds {
+            min: glam::Vec3::splat(-1.0),
+            max: glam::Vec3::splat(1.0),
+        };
+        crate::run::frame_settings(self, &probe)?;
+        crate::run::env_request(self)?;
+        Ok(())
+    }
+}
+
+fn scalar(v: &Value) -> Option<String> {
+    match v {
+        Value::String(s) => Some(s.clone()),
+        Value::Number(n) => Some(n.to_string()),
+        Value::Bool(b) => Some(b.to_string()),
+        _ => None,
+    }
+}
+
+fn bad(name: &str, v: &Value) -> Error {
+    Error::Usage(format!("--{name}: {v} is not a value of this option"))
+}
+
+impl serde::Serialize for Options {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        self.to_pairs().serialize(s)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Options {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let map = serde_json::Map::<String, Value>::deserialize(d)?;
+        Options::from_pairs(map.iter().map(|(k, v)| (k.as_str(), v)))
+            .map_err(serde::de::Error::custom)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn words_pairs_and_serde_round_trip() {
+        let o = Options::from_words([
+            "m.obj",
+            "--yaw=10",
+            "--light",
+            "dir:0,-1,0",
+            "--light",
+            "head",
+            "--no-shadows",
+            "--size",
+            "64x48",
+            "--ortho",
+        ])
+        .unwrap();
+        assert_eq!((o.yaw, o.size, o.ortho), (10.0, (64, 48), Some(None)));
+        let json = serde_json::to_string(&o).unwrap();
+        assert_eq!(
+            json,
+            r#"{"light":["dir:0,-1,0","head"],"model":"m.obj","no-shadows":true,"ortho":true,"size":"64x48","yaw":"10"}"#
+        );
+        let back: Options = serde_json::from_str(&json).unwrap();
+        assert_eq!(back.to_pairs(), o.to_pairs());
+        assert_eq!(back.lights, ["dir:0,-1,0", "head"]);
+        let typed: Options = serde_json::from_str(
+            r#"{"size": [32, 16], "ambient": [0.5, 0.5, 0.5], "no_shadows": true}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            (typed.size, typed.ambient.as_str()),
+            ((32, 16), "0.5,0.5,0.5")
+        );
+        assert!(typed.no_shadows);
+    }
+
+    #[test]
+    fn bad_values_have_the_command_lines_messages() {
+        let e = Options::from_words(["--shadow-bias", "-0.1"])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("out of range: the bias is in depth-buffer units"),
+            "{e}"
+        );
+        let e = Options::from_words(["--fov", "200"])
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, "invalid option: --fov 200 must be between 0 and 180");
+        let e = Options::from_words(["--light", "none", "--light", "head"]).unwrap_err();
+        assert!(e.to_string().contains("cannot be combined"), "{e}");
+        let e = Options::from_words(["--no-such-option"])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--no-such-option"), "{e}");
+        assert!(serde_json::from_str::<Options>(r#"{"pcf": 3}"#).is_err());
+    }
+}

@@ -1,0 +1,137 @@
+//! The attribute buffers of a frame for the library API: per pixel the depth along the view
+//! axis, the eye-space normal and the object (scene mesh) and material ids. Two draws of the
+//! scene's triangle meshes into a float target of the picture's size, with the lit pass's
+//! camera, so exactly the pixels the picture shows are covered.
+use super::Renderer;
+use crate::frame::FrameSettings;
+use crate::gpu::framebuffer::{ColorAttachment, Framebuffer};
+use crate::gpu::mesh::Primitive;
+use crate::gpu::state::RenderState;
+use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
+use crate::shader::cache::ProgramKey;
+use crate::{Error, Result};
+use glam::Mat3;
+
+/// Attribute buffers, top row first, `width * height` entries each.
+#[derive(Clone, Debug, Default)]
+pub struct Attributes {
+    pub width: u32,
+    pub height: u32,
+    /// Distance from the eye along the view axis (eye-space −z); infinity where nothing is.
+    pub depth: Vec<f32>,
+    /// Eye-space unit normal facing the camera (x right, y up, z towards the eye); zero where
+    /// nothing is. Empty unless asked for.
+    pub normals: Vec<[f32; 3]>,
+    /// Index of the scene mesh (object/group) seen; −1 where nothing is.
+    pub object_ids: Vec<i32>,
+    /// Index of the material seen; −1 where nothing is.
+    pub material_ids: Vec<i32>,
+}
+
+pub(crate) fn key() -> ProgramKey {
+    ProgramKey::new("attributes", "attributes.vert", "attributes.frag")
+}
+
+impl Renderer {
+    /// Draws the attribute buffers of the frame `s` at `width`×`height`, then binds
+    /// `target` again (frames expect their target bound: a deleted framebuffer leaves the
+    /// context's default one, which a surfaceless EGL context does not have).
+    pub fn attributes(
+        &mut self,
+        s: &FrameSettings,
+        width: u32,
+        height: u32,
+        target: &super::Target,
+        normals: bool,
+    ) -> Result<Attributes> {
+        let gpu = self.gpu.clone();
+        if !TextureFormat::Rgba32F.supported(&gpu.caps) || !gpu.caps.fbo {
+            return Err(Error::Unsupported(format!(
+                "depth, normals and ids need float render targets (GL 3.0, ES 3.0 with \
+                 EXT_color_buffer_float); {} has none",
+                gpu.caps.version
+            )));
+        }
+        let tex = Texture2d::new(
+            &gpu,
+            TextureFormat::Rgba32F,
+            width,
+            height,
+            Pixels::None,
+            Sampling {
+                linear: false,
+                mipmaps: false,
+                repeat: false,
+            },
+        )?;
+        let fbo =
+            Framebuffer::color_texture(&gpu, ColorAttachment::Level(&tex, 0), width, height, true)?;
+        let program = self.programs.borrow_mut().get(&key())?;
+        let view = s.camera.view();
+        let aspect = width as f32 / height.max(1) as f32;
+        let proj = s.camera.projection(&self.scene.scene.bounds, aspect);
+        program.bind();
+        program.set_mat4("uModelView", &view);
+        program.set_mat4("uProjection", &proj);
+        program.set_mat3("uNormalMatrix", &Mat3::from_mat4(view));
+        let mut planes = Vec::with_capacity(2);
+        // The normals' draw and read-back only when asked: it is half of the pass's time.
+        let modes: &[f32] = if normals { &[0.0, 1.0] } else { &[0.0] };
+        for &mode in modes {
+            fbo.bind();
+            gpu.viewport(0, 0, width, height);
+            gpu.apply(&RenderState::default());
+            gpu.clear_rgba(Some([-1.0, -1.0, -1.0, 0.0]));
+            program.set_f32("uMode", mode);
+            for (i, dm) in self.scene.meshes.iter().enumerate() {
+                if dm.primitive == Primitive::Triangles {
+                    program.set_vec2("uIds", glam::Vec2::new(i as f32, dm.material as f32));
+                    dm.mesh.draw();
+                }
+            }
+            planes.push(top_first(gpu.read_rgba_f32(width, height), width));
+        }
+        drop(fbo);
+        gpu.bind_framebuffer(target.fbo);
+        gpu.check_error("attributes")?;
+        let ids = &planes[0];
+        let normals = planes.get(1).map_or(&[][..], |p| &p[..]);
+        let covered = |p: &[f32]| p[3] > 0.5;
+        Ok(Attributes {
+            width,
+            height,
+            depth: ids
+                .chunks_exact(4)
+                .map(|p| if covered(p) { p[2] } else { f32::INFINITY })
+                .collect(),
+            normals: normals
+                .chunks_exact(4)
+                .map(|p| {
+                    if covered(p) {
+                        [p[0], p[1], p[2]]
+                    } else {
+                        [0.0; 3]
+                    }
+                })
+                .collect(),
+            object_ids: ids
+                .chunks_exact(4)
+                .map(|p| if covered(p) { p[0] as i32 } else { -1 })
+                .collect(),
+            material_ids: ids
+                .chunks_exact(4)
+                .map(|p| if covered(p) { p[1] as i32 } else { -1 })
+                .collect(),
+        })
+    }
+}
+
+/// GL's rows are bottom-up; the picture's are top-down.
+fn top_first(data: Vec<f32>, width: u32) -> Vec<f32> {
+    let row = width as usize * 4;
+    data.chunks_exact(row.max(1))
+        .rev()
+        .flatten()
+        .copied()
+        .collect()
+}

@@ -1,0 +1,137 @@
+//! The library API (`glview::api`): its pictures are the command line's, its depth is the
+//! exact sphere's, its ids cover exactly the drawn pixels, arrays equal the same file, and a
+//! renderer refuses bad options and files with the command line's messages.
+use crate::common::*;
+use glview::api::{self, Arrays, Model, Outputs, Renderer};
+use glview::image_out::Rgba;
+use glview::Options;
+
+fn opts(words: &[&str]) -> Options {
+    Options::from_words(words.iter().copied()).expect("valid options")
+}
+
+#[test]
+fn colour_equals_the_cli_png() {
+    let dir = out_dir("api_cli");
+    let bunny = shared().join("models/bunny-small/bunny.obj");
+    let words = [bunny.to_str().unwrap(), "--size", "200x150", "--yaw", "-40"];
+    let out = dir.join("cli.png");
+    let mut argv = words.to_vec();
+    argv.extend(["-o", out.to_str().unwrap()]);
+    let o = run(&argv, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let cli = Rgba::load_png(&out).unwrap();
+    let frame = api::render(&opts(&words), Outputs::default()).unwrap();
+    assert_eq!((frame.color.width, frame.color.height), (200, 150));
+    assert!(
+        frame.color.data == cli.data,
+        "API picture differs from the CLI's"
+    );
+    // The in-memory PNG holds the same pixels.
+    let png = dir.join("api.png");
+    std::fs::write(&png, frame.png()).unwrap();
+    assert!(Rgba::load_png(&png).unwrap().data == cli.data);
+}
+
+#[test]
+fn depth_is_the_exact_spheres_and_ids_cover_exactly_the_picture() {
+    let dir = out_dir("api_sphere");
+    let obj = crate::analytic::write_sphere(&dir, 256, "newmtl m\nKd 0.7 0.5 0.3\n");
+    let words = [
+        obj.to_str().unwrap(),
+        "--size",
+        "160x120",
+        "--no-shadows",
+        "--transparent",
+    ];
+    let r = Renderer::new(opts(&words)).unwrap();
+    let f = r
+        .render(
+            &opts(&words),
+            Outputs {
+                attributes: true,
+                normals: true,
+            },
+        )
+        .unwrap();
+    let a = f.attributes.expect("asked for");
+    let (settings, scene) = settings_for(&words);
+    let rays = PixelRays::new(&settings, &scene, 160, 120);
+    let eye = settings.camera.eye().as_dvec3();
+    let forward = (settings.camera.target.as_dvec3() - eye).normalize();
+    let (mut compared, mut worst) = (0, 0.0f64);
+    for y in 0..120 {
+        for x in 0..160 {
+            let i = (y * 160 + x) as usize;
+            // Coverage: the picture's alpha is coverage with --transparent.
+            let drawn = f.color.data[i * 4 + 3] > 0;
+            assert_eq!(a.object_ids[i] >= 0, drawn, "pixel {x},{y}");
+            assert_eq!(a.material_ids[i] >= 0, drawn, "pixel {x},{y}");
+            let (o, d) = rays.ray(x, y);
+            let o = o + scene.origin;
+            let (b, c) = (o.dot(d), o.length_squared() - 1.0);
+            let disc = b * b - c;
+            // Near the silhouette the tessellated outline differs from the circle.
+            if disc.abs() < 0.02 {
+                continue;
+            }
+            if disc < 0.0 {
+                assert!(a.depth[i].is_infinite(), "pixel {x},{y}: {}", a.depth[i]);
+                continue;
+            }
+            let hit = o + d * (-b - disc.sqrt());
+            let z = (hit - scene.origin - eye).dot(forward);
+            worst = worst.max((f64::from(a.depth[i]) - z).abs());
+            let n = glam::Vec3::from(a.normals[i]);
+            assert!((n.length() - 1.0).abs() < 1e-3, "pixel {x},{y}: {n}");
+            assert!(n.z > 0.0, "pixel {x},{y}: normal {n} faces away");
+            compared += 1;
+        }
+    }
+    assert!(compared > 2000, "{compared}");
+    // The 256×128 tessellation lies within 1 − cos(π/128) ≈ 3e-4 of the unit sphere.
+    assert!(worst < 1e-3, "depth off by {worst}");
+    assert!(a.object_ids.iter().all(|&i| i == -1 || i == 0));
+}
+
+#[test]
+fn arrays_equal_the_same_file_and_bad_input_is_refused() {
+    let dir = out_dir("api_arrays");
+    let v: [f64; 12] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+    let faces = [0i64, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3];
+    let file = dir.join("tetra.obj");
+    std::fs::write(
+        &file,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    let o = opts(&["--size", "96x64"]);
+    let mut r = Renderer::new(o.clone()).unwrap();
+    r.load(Model::load(&file, &o).unwrap());
+    let from_file = r.render(&o, Outputs::default()).unwrap();
+    let arrays = Arrays {
+        vertices: &v,
+        faces: &faces,
+        ..Default::default()
+    };
+    r.load(Model::from_arrays(&arrays, &o).unwrap());
+    let from_arrays = r.render(&o, Outputs::default()).unwrap();
+    assert!(from_file.color.data == from_arrays.color.data);
+    assert!(!from_file.color.is_uniform());
+
+    let bad = Arrays {
+        faces: &[0, 1, 9],
+        ..arrays
+    };
+    let e = Model::from_arrays(&bad, &o).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "<arrays>: face 0 refers to vertex 9, but there are 4 vertices"
+    );
+    let e = Model::load(&dir.join("missing.obj"), &o)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("missing.obj"), "{e}");
+    let e = Options::from_words(["--pcf", "3"]).unwrap_err().to_string();
+    assert!(e.contains("PCF taps must be 1, 4, 9 or 16"), "{e}");
+}
