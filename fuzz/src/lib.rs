@@ -214,36 +214,14 @@ pub fn run_one(data: &[u8]) -> Result<Scene, glview::Error> {
     let (obj, mtl) = split_input(data);
     let path = model_path();
     let out = load_compared(path, obj, mtl);
-    match &out {
-        Ok(scene) => {
-            if let Err(e) = check_scene(scene) {
-                panic!("invariant violated: {e}");
-            }
-        }
-        Err(e) => {
-            let msg = e.to_string();
-            assert!(
-                msg.contains(&*path.to_string_lossy()),
-                "error does not name the file: {msg}"
-            );
-        }
-    }
+    check_outcome(path, &out);
     out
 }
 
-/// Where a fuzzed STL, PLY or glTF file "lives": the same empty folder as the OBJ, so URIs
-/// resolve to nothing inside it and everything outside is refused by the loader's rule.
-pub fn format_path(name: &str) -> std::path::PathBuf {
-    model_path().with_file_name(name)
-}
-
-/// Loads one fuzz input as the file `name` (its extension picks the loader, `.gz` inflates
-/// it first) and checks the outcome like [`run_one`]: a scene that keeps the invariants, or an
-/// error naming the file. Used by the `stl`, `ply` and `gltf` targets.
-pub fn run_format(name: &str, data: &[u8]) -> Result<Scene, glview::Error> {
-    let path = format_path(name);
-    let out = glview::scene::formats::load_model_bytes(&path, data, &LoadOptions::default());
-    match &out {
+/// Panics (the fuzzer's "crash") on a scene that breaks an invariant, or on an error that
+/// does not name the file in one line.
+fn check_outcome(path: &std::path::Path, out: &Result<Scene, glview::Error>) {
+    match out {
         Ok(scene) => {
             if let Err(e) = check_scene(scene) {
                 panic!("invariant violated: {e}");
@@ -258,6 +236,21 @@ pub fn run_format(name: &str, data: &[u8]) -> Result<Scene, glview::Error> {
             assert!(!msg.contains('\n'), "error of more than one line: {msg}");
         }
     }
+}
+
+/// Where a fuzzed STL, PLY or glTF file "lives": the same empty folder as the OBJ, so URIs
+/// resolve to nothing inside it and everything outside is refused by the loader's rule.
+pub fn format_path(name: &str) -> std::path::PathBuf {
+    model_path().with_file_name(name)
+}
+
+/// Loads one fuzz input as the file `name` (its extension picks the loader, `.gz` inflates
+/// it first) and checks the outcome like [`run_one`]: a scene that keeps the invariants, or an
+/// error naming the file. Used by the `stl`, `ply` and `gltf` targets.
+pub fn run_format(name: &str, data: &[u8]) -> Result<Scene, glview::Error> {
+    let path = format_path(name);
+    let out = glview::scene::formats::load_model_bytes(&path, data, &LoadOptions::default());
+    check_outcome(&path, &out);
     out
 }
 

@@ -83,6 +83,15 @@ pub struct Sampling {
     pub repeat: bool,
 }
 
+impl Sampling {
+    /// Exact texel lookups, no mip chain, clamped: render targets and tables read texel by texel.
+    pub const NEAREST: Sampling = Sampling {
+        linear: false,
+        mipmaps: false,
+        repeat: false,
+    };
+}
+
 unsafe fn tex_image(
     gl: &glow::Context,
     target: u32,

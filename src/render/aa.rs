@@ -101,11 +101,7 @@ impl AaTarget {
                         w * k,
                         h * k,
                         Pixels::None,
-                        Sampling {
-                            linear: false,
-                            mipmaps: false,
-                            repeat: false,
-                        },
+                        Sampling::NEAREST,
                     )?;
                     let fb = Framebuffer::color_texture(
                         gpu,

@@ -58,11 +58,7 @@ impl Renderer {
             width,
             height,
             Pixels::None,
-            Sampling {
-                linear: false,
-                mipmaps: false,
-                repeat: false,
-            },
+            Sampling::NEAREST,
         )?;
         let fbo =
             Framebuffer::color_texture(&gpu, ColorAttachment::Level(&tex, 0), width, height, true)?;

@@ -194,11 +194,7 @@ fn upload(gpu: &GpuRef, d: &IblData, encoding: Encoding) -> Result<IblGpu> {
                 [(a >> 8) as u8, a as u8, (b >> 8) as u8, b as u8]
             })
             .collect();
-        let s = Sampling {
-            linear: false,
-            mipmaps: false,
-            repeat: false,
-        };
+        let s = Sampling::NEAREST;
         Texture2d::new(gpu, TextureFormat::Rgba8, n, n, Pixels::U8(&data), s)?
     } else {
         let s = Sampling {

@@ -102,11 +102,7 @@ pub fn compute(
             size,
             size,
             Pixels::None,
-            Sampling {
-                linear: false,
-                mipmaps: false,
-                repeat: false,
-            },
+            Sampling::NEAREST,
         )?;
         let fbo =
             Framebuffer::color_texture(gpu, ColorAttachment::Level(&target, 0), size, size, false)?;

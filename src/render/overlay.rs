@@ -21,11 +21,7 @@ impl Renderer {
             img.width,
             img.height,
             Pixels::U8(&img.data),
-            Sampling {
-                linear: false,
-                mipmaps: false,
-                repeat: false,
-            },
+            Sampling::NEAREST,
         )?;
         let program = self.programs.borrow_mut().get(&key())?;
         program.bind();

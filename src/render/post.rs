@@ -124,11 +124,7 @@ impl PostState {
                 w,
                 h,
                 Pixels::None,
-                Sampling {
-                    linear: false,
-                    mipmaps: false,
-                    repeat: false,
-                },
+                Sampling::NEAREST,
             )?);
         }
         Ok(self.behind.as_ref().expect("made above"))
