@@ -7,13 +7,12 @@
 //! (an orbiting camera), and without shadows; medians, and triangles sent per frame.
 use super::table::{num, Table};
 use super::{median, sphere};
-use crate::cli::Args;
 use crate::headless::Headless;
+use crate::options::Options;
 use crate::platform::{Backend, GlRequest};
 use crate::render::{FrameSettings, Renderer};
 use crate::scene::clusters;
 use crate::Result;
-use clap::Parser;
 use std::path::Path;
 use std::time::Instant;
 
@@ -56,13 +55,11 @@ pub fn run_frame(work: &Path, models_dir: &Path, rounds: usize, triangles: u64) 
         "triangles sent (pass + lit)",
     ]);
     for model in &models {
-        let argv = [
-            "glview".to_string(),
-            model.display().to_string(),
-            "--size".into(),
-            format!("{}x{}", SIZE.0, SIZE.1),
-        ];
-        let args = Args::try_parse_from(&argv).map_err(|e| crate::Error::Usage(e.to_string()))?;
+        let args = Options {
+            model: Some(model.clone()),
+            size: SIZE,
+            ..Options::default()
+        };
         let scene = crate::run::load_scene(&args)?;
         let (settings, _) = crate::run::frame_settings(&args, &scene)?;
         let mut off = settings.clone();

@@ -300,14 +300,11 @@ fn measure_file(
 
 /// The large model's frame time at 1280×720 with the default shadows.
 fn frame_time(file: &Path) -> Result<FrameTime> {
-    use clap::Parser;
-    let argv = [
-        "glview".to_string(),
-        file.display().to_string(),
-        "--size".into(),
-        format!("{}x{}", SIZE.0, SIZE.1),
-    ];
-    let args = crate::cli::Args::try_parse_from(&argv).map_err(|e| Error::Usage(e.to_string()))?;
+    let args = crate::options::Options {
+        model: Some(file.to_path_buf()),
+        size: SIZE,
+        ..Default::default()
+    };
     let scene = crate::run::load_scene(&args)?;
     let (settings, _) = crate::run::frame_settings(&args, &scene)?;
     let hl = Headless::new(Backend::Auto, GlRequest::Auto, SIZE.0, SIZE.1)?;

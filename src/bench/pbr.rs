@@ -6,9 +6,9 @@
 use super::plot::{self, Panel, Point};
 use super::table::{csv_line, num, Table};
 use super::{ensure_dir, median, write_file};
-use crate::cli::Args;
 use crate::headless::Headless;
 use crate::image_out::Rgba;
+use crate::options::Options;
 use crate::pbr::env::Environment;
 use crate::pbr::precompute::IblSettings;
 use crate::pbr::{srgb_decode, Encoding, EnvRequest, EnvSource, PrecomputeOn};
@@ -16,7 +16,6 @@ use crate::platform::{Backend, GlRequest};
 use crate::reference::{render_env_with_info, PbrEnv};
 use crate::render::Renderer;
 use crate::Result;
-use clap::Parser;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
@@ -26,7 +25,8 @@ struct Knob {
     label: String,
     settings: IblSettings,
     encoding: Encoding,
-    extra: &'static [&'static str],
+    /// Shader options beyond the precomputation (dominant direction, multiscatter).
+    extra: fn(&mut Options),
     /// Precompute on the GPU (`--ibl-precompute gpu`).
     gpu: bool,
 }
@@ -37,7 +37,7 @@ fn knobs() -> Vec<Knob> {
         label: label.into(),
         settings,
         encoding: Encoding::Float,
-        extra: &[],
+        extra: |_| {},
         gpu: false,
     };
     let mut v = vec![k("default", d)];
@@ -73,11 +73,11 @@ fn knobs() -> Vec<Knob> {
         ..k("rgbm", d)
     });
     v.push(Knob {
-        extra: &["--dominant-direction"],
+        extra: |o| o.dominant_direction = true,
         ..k("dominant direction", d)
     });
     v.push(Knob {
-        extra: &["--multiscatter"],
+        extra: |o| o.multiscatter = true,
         ..k("multiscatter", d)
     });
     v.push(Knob {
@@ -88,37 +88,25 @@ fn knobs() -> Vec<Knob> {
 }
 
 /// The materials the error is averaged over: (metallic, roughness).
-const MATERIALS: &[(&str, &str)] = &[("1", "0.25"), ("1", "0.5"), ("1", "0.75"), ("0", "0.5")];
+const MATERIALS: &[(f32, f32)] = &[(1.0, 0.25), (1.0, 0.5), (1.0, 0.75), (0.0, 0.5)];
 const SIZE: u32 = 128;
 
-fn args_for(hdr: &Path, metallic: &str, rough: &str, extra: &[&str]) -> Vec<String> {
-    let mut a: Vec<String> = [
-        "glview",
-        "models/sphere.obj",
-        "--shading",
-        "pbr",
-        "--light",
-        "none",
-        "--tonemap",
-        "none",
-        "--exposure",
-        "-1",
-        "--background",
-        "1,0,1",
-        "--metallic",
-        metallic,
-        "--roughness",
-        rough,
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    a.push("--env".into());
-    a.push(hdr.display().to_string());
-    a.push("--size".into());
-    a.push(format!("{SIZE}x{SIZE}"));
-    a.extend(extra.iter().map(|s| s.to_string()));
-    a
+fn options_for(hdr: &Path, metallic: f32, roughness: f32, extra: fn(&mut Options)) -> Options {
+    let mut o = Options {
+        model: Some("models/sphere.obj".into()),
+        shading: crate::frame::Shading::Pbr,
+        lights: vec!["none".into()],
+        tonemap: crate::pbr::Tonemap::None,
+        exposure: -1.0,
+        background: Some("1,0,1".into()),
+        metallic: Some(metallic),
+        roughness: Some(roughness),
+        env: Some(hdr.into()),
+        size: (SIZE, SIZE),
+        ..Options::default()
+    };
+    extra(&mut o);
+    o
 }
 
 /// Mean and max of the largest channel's linear (sRGB-decoded) difference over the pixels
@@ -151,7 +139,7 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
     eprintln!("bench --pbr: references ({samples} samples per lobe) ...");
     let mut references = Vec::new();
     for (m, r) in MATERIALS {
-        let args = Args::parse_from(args_for(hdr, m, r, &[]));
+        let args = options_for(hdr, *m, *r, |_| {});
         let scene = crate::run::load_scene(&args)?;
         let (settings, _) = crate::run::frame_settings(&args, &scene)?;
         let pe = PbrEnv {
@@ -225,7 +213,7 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
         let mut errors = Vec::new();
         let mut frame_ms = Vec::new();
         for ((m, r), (scene, reference, hit)) in MATERIALS.iter().zip(&references) {
-            let args = Args::parse_from(args_for(hdr, m, r, knob.extra));
+            let args = options_for(hdr, *m, *r, knob.extra);
             let (settings, _) = crate::run::frame_settings(&args, scene)?;
             let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
             renderer.set_environment(req.clone());
@@ -272,4 +260,27 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
     )?;
     eprintln!("wrote {}", out_dir.join("pbr.{csv,json,png}").display());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The options built in code equal the command line the bench used to parse, so its
+    /// figures are those of `glview models/sphere.obj --shading pbr ...`.
+    #[test]
+    fn options_equal_their_command_line() {
+        let hdr = Path::new("studio.hdr");
+        let words = "models/sphere.obj --shading pbr --light none --tonemap none --exposure -1 \
+                     --background 1,0,1 --metallic 1 --roughness 0.25 --env studio.hdr \
+                     --size 128x128 --multiscatter";
+        let words: Vec<&str> = words.split_whitespace().collect();
+        let parsed = Options::from_words(words.clone()).expect("the command parses");
+        let built = options_for(hdr, 1.0, 0.25, |o| o.multiscatter = true);
+        let built = Options {
+            words: words.iter().map(|w| w.to_string()).collect(),
+            ..built
+        };
+        assert_eq!(format!("{built:?}"), format!("{parsed:?}"));
+    }
 }

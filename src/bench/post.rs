@@ -4,25 +4,42 @@
 use super::median;
 use super::metrics::{compare, downsample};
 use super::table::{num, Table};
-use crate::cli::Args;
+use crate::frame::Shading;
 use crate::headless::Headless;
 use crate::image_out::Rgba;
+use crate::options::Options;
 use crate::platform::{Backend, GlRequest};
 use crate::render::Renderer;
 use crate::{Error, Result};
-use clap::Parser;
 
 const W: u32 = 640;
 const H: u32 = 480;
 
-/// Renders the built-in scene with `extra` options; `ssaa` k renders k× larger and filters
+/// The built-in scene at W×H with the defaults.
+fn base() -> Options {
+    Options {
+        size: (W, H),
+        ..Options::default()
+    }
+}
+
+/// The PBR tier with bloom (`levels` 0: the exact full-resolution blur).
+fn bloom(levels: u32) -> Options {
+    Options {
+        shading: Shading::Pbr,
+        bloom: 0.3,
+        bloom_threshold: 0.6,
+        bloom_sigma: 12.0,
+        bloom_levels: levels,
+        ..base()
+    }
+}
+
+/// Renders the built-in scene with `args`; `ssaa` k renders k× larger and filters
 /// down; `msaa` n draws into an n-sample target. Returns the image and the median frame ms.
-fn frame(extra: &[&str], ssaa: u32, msaa: u32) -> Result<(Rgba, f64)> {
-    let mut argv = vec!["glview".to_string(), "--size".into(), format!("{W}x{H}")];
-    argv.extend(extra.iter().map(|s| s.to_string()));
-    let args = Args::try_parse_from(&argv).map_err(|e| Error::Usage(e.to_string()))?;
-    let scene = crate::run::load_scene(&args)?;
-    let (s, _) = crate::run::frame_settings(&args, &scene)?;
+fn frame(args: &Options, ssaa: u32, msaa: u32) -> Result<(Rgba, f64)> {
+    let scene = crate::run::load_scene(args)?;
+    let (s, _) = crate::run::frame_settings(args, &scene)?;
     let mut hl = Headless::new(Backend::Auto, GlRequest::Auto, W * ssaa, H * ssaa)?;
     if msaa > 0 {
         hl.enable_msaa(msaa)?;
@@ -39,7 +56,7 @@ fn frame(extra: &[&str], ssaa: u32, msaa: u32) -> Result<(Rgba, f64)> {
 pub fn run_post() -> Result<()> {
     eprintln!("bench --post: the 4×4 supersampled reference ...");
     let (reference, ref_ms) =
-        frame(&[], 4, 0).map_err(|e| Error::Usage(format!("reference: {e}")))?;
+        frame(&base(), 4, 0).map_err(|e| Error::Usage(format!("reference: {e}")))?;
     let mut t = Table::new(&[
         "anti-aliasing",
         "frame ms",
@@ -47,15 +64,19 @@ pub fn run_post() -> Result<()> {
         "> 8/255 %",
         "1 - SSIM",
     ]);
-    for (label, extra, ssaa, msaa) in [
-        ("none", vec![], 1, 0),
-        ("fxaa", vec!["--aa", "fxaa"], 1, 0),
-        ("msaa 2", vec![], 1, 2),
-        ("msaa 4", vec![], 1, 4),
-        ("ssaa 2x2", vec![], 2, 0),
-        ("ssaa 3x3", vec![], 3, 0),
+    let fxaa = Options {
+        aa: crate::options::AaMode::Fxaa,
+        ..base()
+    };
+    for (label, args, ssaa, msaa) in [
+        ("none", base(), 1, 0),
+        ("fxaa", fxaa, 1, 0),
+        ("msaa 2", base(), 1, 2),
+        ("msaa 4", base(), 1, 4),
+        ("ssaa 2x2", base(), 2, 0),
+        ("ssaa 3x3", base(), 3, 0),
     ] {
-        let (img, ms) = frame(&extra, ssaa, msaa)?;
+        let (img, ms) = frame(&args, ssaa, msaa)?;
         let e = compare(&img, &reference, &[])?;
         t.row(vec![
             label.into(),
@@ -74,23 +95,13 @@ pub fn run_post() -> Result<()> {
     ]);
     println!("{}", t.render());
     eprintln!("bench --post: bloom chain depth against the full-resolution blur ...");
-    let bloom = [
-        "--shading",
-        "pbr",
-        "--bloom",
-        "0.3",
-        "--bloom-threshold",
-        "0.6",
-        "--bloom-sigma",
-        "12",
-    ];
-    let with = |levels: &str| {
-        let mut v = bloom.to_vec();
-        v.extend_from_slice(&["--bloom-levels", levels]);
-        frame(&v, 1, 0)
+    let with = |levels: u32| frame(&bloom(levels), 1, 0);
+    let (exact, exact_ms) = with(0)?;
+    let pbr = Options {
+        shading: Shading::Pbr,
+        ..base()
     };
-    let (exact, exact_ms) = with("0")?;
-    let (_, plain_ms) = frame(&["--shading", "pbr"], 1, 0)?;
+    let (_, plain_ms) = frame(&pbr, 1, 0)?;
     let mut b = Table::new(&[
         "bloom levels",
         "frame ms",
@@ -105,11 +116,11 @@ pub fn run_post() -> Result<()> {
         "0".into(),
         "0".into(),
     ]);
-    for levels in ["1", "2", "3", "4"] {
+    for levels in 1..=4 {
         let (img, ms) = with(levels)?;
         let e = compare(&img, &exact, &[])?;
         b.row(vec![
-            levels.into(),
+            levels.to_string(),
             num(ms, 1),
             num(ms - plain_ms, 1),
             num(e.mae, 3),

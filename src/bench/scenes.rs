@@ -1,11 +1,10 @@
-//! The quality benchmark's scene set: each scene is a model plus command-line options, so any
-//! row of the table can be reproduced with `glview MODEL OPTIONS --output x.png`.
-use crate::cli::Args;
+//! The quality benchmark's scene set: each scene is a model plus lights, so any row of the
+//! table can be reproduced with `glview MODEL --light L --output x.png`.
 use crate::frame::FrameSettings;
+use crate::options::Options;
 use crate::run::{frame_settings, load_scene};
 use crate::scene::{Mesh, Scene, Vertex};
 use crate::{Error, Result};
-use clap::Parser;
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -24,8 +23,8 @@ pub enum Model {
 pub struct SceneSpec {
     pub name: &'static str,
     pub model: Model,
-    /// Extra command-line options (camera, lights).
-    pub options: &'static [&'static str],
+    /// `--light` values (none: the default kit).
+    pub lights: &'static [&'static str],
     /// Add a floor under the model (in code), so it casts a shadow on something.
     pub floor: bool,
     /// Part of the `--quick` subset.
@@ -41,42 +40,42 @@ pub fn default_set() -> Vec<SceneSpec> {
         SceneSpec {
             name: "glass_holder",
             model: Model::Builtin,
-            options: &[],
+            lights: &[],
             floor: false,
             quick: false,
         },
         SceneSpec {
             name: "sphere",
             model: Model::Project("models/sphere.obj"),
-            options: &[],
+            lights: &[],
             floor: false,
             quick: true,
         },
         SceneSpec {
             name: "box_floor",
             model: Model::Project("models/box_floor.obj"),
-            options: &["--light", "dir:0.3,-0.8,-0.55"],
+            lights: &["dir:0.3,-0.8,-0.55"],
             floor: false,
             quick: true,
         },
         SceneSpec {
             name: "box_point",
             model: Model::Project("models/box_on_floor.obj"),
-            options: &["--light", "point:1.2,2.5,1.5"],
+            lights: &["point:1.2,2.5,1.5"],
             floor: false,
             quick: false,
         },
         SceneSpec {
             name: "bunny_floor",
             model: Model::Shared("stanford-bunny/stanford-bunny.obj"),
-            options: &[],
+            lights: &[],
             floor: true,
             quick: false,
         },
         SceneSpec {
             name: "dragon_floor",
             model: Model::Shared("dragon-200k/dragon_vrip_res2.obj"),
-            options: &[],
+            lights: &[],
             floor: true,
             quick: false,
         },
@@ -101,8 +100,24 @@ impl SceneSpec {
         }
     }
 
+    /// The scene's options, and the command-line words that reproduce them (the table's
+    /// command column).
+    fn options(&self, model: Option<PathBuf>, size: (u32, u32)) -> (Options, Vec<String>) {
+        let mut words: Vec<String> = model.iter().map(|p| p.display().to_string()).collect();
+        words.extend(["--size".into(), format!("{}x{}", size.0, size.1)]);
+        for light in self.lights {
+            words.extend(["--light".into(), light.to_string()]);
+        }
+        let opts = Options {
+            model,
+            size,
+            lights: self.lights.iter().map(|l| l.to_string()).collect(),
+            ..Options::default()
+        };
+        (opts, words)
+    }
+
     pub fn load(&self, models_dir: &Path, size: (u32, u32)) -> Result<LoadedScene> {
-        let mut argv: Vec<String> = vec!["glview".into()];
         let path = self.path(models_dir);
         if let Some(p) = &path {
             if !p.is_file() {
@@ -113,18 +128,14 @@ impl SceneSpec {
                     p.display()
                 )));
             }
-            argv.push(p.display().to_string());
         }
-        argv.push("--size".into());
-        argv.push(format!("{}x{}", size.0, size.1));
-        argv.extend(self.options.iter().map(|s| s.to_string()));
-        let args = Args::try_parse_from(&argv).map_err(|e| Error::Usage(e.to_string()))?;
+        let (args, words) = self.options(path, size);
         let mut scene = load_scene(&args)?;
         if self.floor {
             add_floor(&mut scene);
         }
         let (settings, _) = frame_settings(&args, &scene)?;
-        let mut command = argv[1..].join(" ");
+        let mut command = words.join(" ");
         if self.floor {
             command.push_str("  (+ floor added in code)");
         }
@@ -167,4 +178,21 @@ pub fn add_floor(scene: &mut Scene) {
         scene.origin + scene.bounds.max.as_dvec3(),
     );
     scene.meshes.push(floor);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The options built in code are the ones the printed command line parses to, so every
+    /// row of the table is reproduced by its command.
+    #[test]
+    fn options_equal_their_command_line() {
+        for spec in default_set() {
+            let (built, words) = spec.options(spec.path(Path::new("../shared/models")), (64, 48));
+            let parsed = Options::from_words(words.clone()).expect("the command parses");
+            let built = Options { words, ..built };
+            assert_eq!(format!("{built:?}"), format!("{parsed:?}"), "{}", spec.name);
+        }
+    }
 }

@@ -4,35 +4,33 @@
 //! of 10 frames after one warm-up. Prints a table.
 use super::median;
 use super::table::{num, Table};
-use crate::cli::Args;
 use crate::frame::TranslucencyMode;
 use crate::headless::Headless;
+use crate::options::Options;
 use crate::platform::{Backend, GlRequest};
 use crate::render::Renderer;
 use crate::Result;
-use clap::Parser;
 use std::path::Path;
 
 pub fn run_translucency(models_dir: &Path) -> Result<()> {
     let (w, h) = (1280, 720);
     let hl = Headless::new(Backend::Auto, GlRequest::Auto, w, h)?;
     let dragon = models_dir.join("dragon-200k/dragon_vrip_res2.obj");
-    let mut scenes: Vec<(&str, Vec<String>)> = vec![("built-in", vec![])];
+    let builtin = Options {
+        size: (w, h),
+        ..Options::default()
+    };
+    let mut scenes = vec![("built-in", builtin.clone())];
     if dragon.is_file() {
-        scenes.push((
-            "dragon 202k, x-rayed",
-            vec![
-                dragon.display().to_string(),
-                "--xray".into(),
-                "default".into(),
-            ],
-        ));
+        let xrayed = Options {
+            model: Some(dragon),
+            xray: vec!["default".into()],
+            ..builtin
+        };
+        scenes.push(("dragon 202k, x-rayed", xrayed));
     }
     let mut table = Table::new(&["scene", "mode", "depth", "frame ms", "vs opaque"]);
-    for (name, extra) in scenes {
-        let mut argv = vec!["glview".to_string(), "--size".into(), format!("{w}x{h}")];
-        argv.extend(extra);
-        let args = Args::try_parse_from(&argv).map_err(|e| crate::Error::Usage(e.to_string()))?;
+    for (name, args) in scenes {
         let scene = crate::run::load_scene(&args)?;
         let (base, _) = crate::run::frame_settings(&args, &scene)?;
         let mut opaque_scene = scene.clone();

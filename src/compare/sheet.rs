@@ -2,12 +2,12 @@
 //! views (columns) by tiers (rows), for a coursework report. One context and one upload for
 //! the whole sheet; a progress bar on a terminal.
 use super::{canvas, PaneTier};
-use crate::cli::{Args, SheetCommand};
+use crate::cli::SheetCommand;
 use crate::frame::FrameSettings;
 use crate::headless::Headless;
+use crate::options::Options;
 use crate::render::Renderer;
 use crate::{Error, Result};
-use clap::Parser;
 
 /// The (yaw, pitch) of each column: `--angles` as given, else N views around the model at the
 /// command line's pitch.
@@ -39,13 +39,13 @@ pub fn angles(cmd: &SheetCommand, pitch: f32) -> Result<Vec<(f32, f32)>> {
 }
 
 pub fn run(cmd: &SheetCommand) -> Result<()> {
-    let mut argv = vec!["glview".to_string()];
-    if let Some(m) = &cmd.model {
-        argv.push(m.display().to_string());
+    // The words after `--` are the user's: they go through the options' own parser (its
+    // checks and messages); the sheet's model and size are set on the result.
+    let mut args = Options::from_words(cmd.view_options.iter().cloned())?;
+    if cmd.model.is_some() {
+        args.model.clone_from(&cmd.model);
     }
-    argv.extend(["--size".into(), format!("{}x{}", cmd.size.0, cmd.size.1)]);
-    argv.extend(cmd.view_options.iter().cloned());
-    let args = Args::try_parse_from(&argv).map_err(|e| Error::Usage(e.to_string()))?;
+    args.size = cmd.size;
     let tiers = super::parse_tiers(&cmd.tiers, "--tiers")?;
     let views = angles(cmd, args.pitch)?;
     let scene = crate::run::load_scene(&args)?;
