@@ -12,6 +12,21 @@ use crate::gpu::state::{Blend, Cull, RenderState};
 /// Draws mesh `i` with `state`, whole or by its visible clusters.
 pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
     let dm = &cx.scene.meshes[i];
+    // glTF's single-sided materials show no back faces (in every pass, so their shadows
+    // match what is seen); a pass that already chose a face (translucency's two passes) keeps it.
+    let single_sided = !cx.scene.scene.materials[dm.material]
+        .pbr_inputs
+        .model
+        .double_sided;
+    let sided = RenderState {
+        cull: if single_sided && state.cull == Cull::None {
+            Cull::Back
+        } else {
+            state.cull
+        },
+        ..*state
+    };
+    let state = &sided;
     let (Some(clusters), Some(view), true) = (&dm.clusters, cx.cull, cx.cull_clusters) else {
         cx.gpu.apply(state);
         dm.mesh.draw();

@@ -18,6 +18,7 @@ mod fuzz_format_regressions;
 mod fuzz_regressions;
 mod gltf_extensions;
 mod gltf_materials;
+mod gltf_sidedness;
 mod gpu_vs_reference;
 mod hostile_formats;
 mod lighting;
