@@ -94,6 +94,15 @@ struct Raw {
     colors: Option<Vec<[f32; 3]>>,
 }
 
+/// "facet 7" or "facet 7 and 2 more": the dropped facets named in the error and the warning
+/// alike (the error said "and 0 more" for a single facet).
+fn facets(first: impl std::fmt::Display, dropped: usize) -> String {
+    match dropped {
+        0 | 1 => format!("facet {first}"),
+        n => format!("facet {first} and {} more", n - 1),
+    }
+}
+
 pub fn load_stl(
     path: &Path,
     r: impl std::io::BufRead,
@@ -119,8 +128,8 @@ pub fn load_stl(
             path,
             None,
             format!(
-                "{message} (facet {first} and {} more have non-finite vertices)",
-                dropped - 1
+                "{message} ({}: non-finite vertices, dropped)",
+                facets(first, dropped)
             ),
         ),
         e => e,
@@ -130,12 +139,8 @@ pub fn load_stl(
             file: path.to_path_buf(),
             line: None,
             message: format!(
-                "facet {first}{}: non-finite vertex coordinates; dropped",
-                if dropped > 1 {
-                    format!(" and {} more", dropped - 1)
-                } else {
-                    String::new()
-                }
+                "{}: non-finite vertex coordinates; dropped",
+                facets(first, dropped)
             ),
         });
     }

@@ -167,18 +167,6 @@ fn find_case_insensitive(dir: &Path, rel: &Path) -> Option<PathBuf> {
     Some(cur)
 }
 
-/// Reads a resolved file of at most `max` bytes (a regular file only: a FIFO would hang).
-pub fn read_file(path: &Path, max: u64) -> Result<Vec<u8>, String> {
-    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
-    if !meta.is_file() {
-        return Err("not a regular file".into());
-    }
-    if meta.len() > max {
-        return Err(format!("{} bytes, more than the {max} allowed", meta.len()));
-    }
-    std::fs::read(path).map_err(|e| e.to_string())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
