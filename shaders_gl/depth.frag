@@ -1,5 +1,21 @@
 // Shadow pass: only depth is written. The map's framebuffer has no colour buffer (or colour
 // writes are off on the copy path), so the shader writes nothing: no fragment work beyond
-// the fixed-function depth test.
+// the fixed-function depth test — except for MASK materials, whose cut-out texels cast no
+// shadow (the same alpha test as the lit passes).
+#if defined(ALPHA_MODE) && ALPHA_MODE == 1
+IN vec2 vUv;
+#include "material.glsl"
+#ifdef HAS_TEXTURE
+uniform sampler2D uDiffuseMap;
+#endif
+#endif
+
 void main() {
+#if defined(ALPHA_MODE) && ALPHA_MODE == 1
+    float a = uBaseAlpha;
+#ifdef HAS_TEXTURE
+    a *= TEX2D(uDiffuseMap, SLOT_UV(0)).a;
+#endif
+    glviewAlphaTest(a);
+#endif
 }

@@ -1,7 +1,21 @@
-// Shadow pass: depth from the light only.
+// Shadow pass: depth from the light only; MASK materials also pass their UVs for the cutout.
 IN vec3 aPosition;
 uniform mat4 uLightMvp;
+#if defined(ALPHA_MODE) && ALPHA_MODE == 1
+IN vec2 aUv;
+OUT vec2 vUv;
+#ifdef HAS_UV1
+IN vec2 aUv1;
+OUT vec2 vUv1;
+#endif
+#endif
 
 void main() {
+#if defined(ALPHA_MODE) && ALPHA_MODE == 1
+    vUv = aUv;
+#ifdef HAS_UV1
+    vUv1 = aUv1;
+#endif
+#endif
     gl_Position = uLightMvp * vec4(aPosition, 1.0);
 }

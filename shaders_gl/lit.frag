@@ -1,5 +1,6 @@
 // Legacy tier: colour = Ke + Ka*ambient + sum of visibility * (Kd*Lc*diffuse + Ks*Lc*spec),
-// clamped; a texture multiplies Ka and Kd. Back faces use the flipped normal.
+// clamped; a texture multiplies Ka and Kd, an emissive map Ke, a normal map bends the normal
+// (not with Gouraud). Back faces use the flipped normal. UNLIT: Kd times the texture.
 IN vec3 vEyePos;
 #ifdef LOG_DEPTH
 #include "logdepth.glsl"
@@ -26,6 +27,13 @@ vec3 safeNormalize(vec3 n) {
 #include "shadow.glsl"
 #endif
 #include "output.glsl"
+#include "material.glsl"
+#ifdef HAS_NORMAL_MAP
+#include "normalmap.glsl"
+#endif
+#ifdef HAS_EMISSIVE_MAP
+uniform sampler2D uEmissiveMap;
+#endif
 
 uniform vec3 uKa;
 uniform vec3 uKd;
@@ -40,30 +48,50 @@ uniform sampler2D uDiffuseMap;
 
 void main() {
     vec3 tex = vec3(1.0);
+    float texAlpha = 1.0;
 #ifdef HAS_TEXTURE
-    tex = TEX2D(uDiffuseMap, vUv).rgb;
+    vec4 base = TEX2D(uDiffuseMap, SLOT_UV(0));
+    tex = base.rgb;
+    texAlpha = base.a;
+#endif
+    glviewAlphaTest(uBaseAlpha * texAlpha);
+#if ALPHA_MODE == 2
+    float opacity = uOpacity * texAlpha;
+#else
+    float opacity = uOpacity;
 #endif
 #ifdef HAS_COLOR
     tex *= vColor;
 #endif
-    vec3 color = uKe + uTerms.x * uKa * tex * uAmbient;
+#ifdef UNLIT
+    FRAG_COLOR = glviewOutputRgba(uKd * tex, opacity);
+#else
+    vec3 emissive = uKe;
+#ifdef HAS_EMISSIVE_MAP
+    emissive *= TEX2D(uEmissiveMap, SLOT_UV(4)).rgb;
+#endif
+    vec3 color = emissive + uTerms.x * uKa * tex * uAmbient;
 #if NUM_LIGHTS > 0
     vec3 n = safeNormalize(vNormal);
     if (!gl_FrontFacing) n = -n;
+    vec3 geomN = n;   // shadow lookups are offset along the surface's own normal
+#ifdef HAS_NORMAL_MAP
+    n = glviewNormalMap(n, gl_FrontFacing);
+#endif
     vec3 v = normalize(-vEyePos);
     float vis[NUM_LIGHTS];
     for (int i = 0; i < NUM_LIGHTS; ++i) vis[i] = 1.0;
 #if NUM_SHADOWS > 0
-    vis[0] = shadowVisibility(uShadowMap0, 0, SHADOW_CUBE0, vEyePos, n);
+    vis[0] = shadowVisibility(uShadowMap0, 0, SHADOW_CUBE0, vEyePos, geomN);
 #endif
 #if NUM_SHADOWS > 1
-    vis[1] = shadowVisibility(uShadowMap1, 1, SHADOW_CUBE1, vEyePos, n);
+    vis[1] = shadowVisibility(uShadowMap1, 1, SHADOW_CUBE1, vEyePos, geomN);
 #endif
 #if NUM_SHADOWS > 2
-    vis[2] = shadowVisibility(uShadowMap2, 2, SHADOW_CUBE2, vEyePos, n);
+    vis[2] = shadowVisibility(uShadowMap2, 2, SHADOW_CUBE2, vEyePos, geomN);
 #endif
 #if NUM_SHADOWS > 3
-    vis[3] = shadowVisibility(uShadowMap3, 3, SHADOW_CUBE3, vEyePos, n);
+    vis[3] = shadowVisibility(uShadowMap3, 3, SHADOW_CUBE3, vEyePos, geomN);
 #endif
     for (int i = 0; i < NUM_LIGHTS; ++i) {
 #ifdef GOURAUD
@@ -74,7 +102,8 @@ void main() {
         color += vis[i] * uLightColor[i] * (uTerms.y * uKd * tex * f.x + uTerms.z * uKs * f.y);
     }
 #endif
-    FRAG_COLOR = glviewOutputRgba(color, uOpacity);
+    FRAG_COLOR = glviewOutputRgba(color, opacity);
+#endif
 #ifdef LOG_DEPTH
     glviewLogDepth();
 #endif

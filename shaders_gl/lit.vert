@@ -7,6 +7,14 @@ IN vec2 aUv;
 IN vec3 aColor;     // per-vertex colour: multiplies Ka and Kd like a texture
 OUT vec3 vColor;
 #endif
+#ifdef HAS_UV1
+IN vec2 aUv1;       // glTF TEXCOORD_1, for slots that name it
+OUT vec2 vUv1;
+#endif
+#ifdef HAS_NORMAL_MAP
+IN vec4 aTangent;
+OUT vec4 vTangent;
+#endif
 
 uniform mat4 uModelView;
 uniform mat4 uProjection;
@@ -29,6 +37,12 @@ void main() {
     vec4 eye = uModelView * vec4(aPosition, 1.0);
     vEyePos = eye.xyz;
     vUv = aUv;
+#ifdef HAS_UV1
+    vUv1 = aUv1;
+#endif
+#ifdef HAS_NORMAL_MAP
+    vTangent = vec4(uNormalMatrix * aTangent.xyz, aTangent.w);
+#endif
 #ifdef HAS_COLOR
     vColor = aColor;
 #endif

@@ -8,9 +8,9 @@ IN vec3 vEyePos;
 #endif
 IN vec2 vUv;
 IN vec3 vNormal;
+#include "material.glsl"
 #ifdef HAS_NORMAL_MAP
-IN vec4 vTangent;
-uniform sampler2D uNormalMap;
+#include "normalmap.glsl"
 #endif
 #if NUM_LIGHTS > 0
 uniform vec4 uLightPos[NUM_LIGHTS];   // w = 0: unit direction towards the light; w = 1: position
@@ -33,7 +33,12 @@ uniform vec3 uTermsB;   // ambient occlusion, shadows, emissive (0 or 1)
 uniform sampler2D uAlbedoMap;    // sRGB, decoded by the sampler or below
 #endif
 #ifdef HAS_ORM_MAP
-uniform sampler2D uOrmMap;       // r: occlusion, g: roughness, b: metallic (linear)
+uniform sampler2D uOrmMap;       // g: roughness, b: metallic, r: occlusion where uOrmAo is 1
+uniform float uOrmAo;            // 1: an MTL's packed maps; 0: glTF's metallicRoughness
+#endif
+#ifdef HAS_AO_MAP
+uniform sampler2D uAoMap;        // glTF occlusion (r, linear)
+uniform float uOcclusionStrength;
 #endif
 #ifdef HAS_EMISSIVE_MAP
 uniform sampler2D uEmissiveMap;  // sRGB
@@ -58,8 +63,17 @@ vec3 glviewToLinear(vec3 c) {
 
 void main() {
     vec3 albedo = uBaseColor;
+    float texAlpha = 1.0;
 #ifdef HAS_ALBEDO_MAP
-    albedo *= glviewToLinear(TEX2D(uAlbedoMap, vUv).rgb);
+    vec4 base = TEX2D(uAlbedoMap, SLOT_UV(0));
+    albedo *= glviewToLinear(base.rgb);
+    texAlpha = base.a;
+#endif
+    glviewAlphaTest(uBaseAlpha * texAlpha);
+#if ALPHA_MODE == 2
+    float opacity = uOpacity * texAlpha;
+#else
+    float opacity = uOpacity;
 #endif
 #ifdef HAS_COLOR
     // Vertex colours are sRGB values that no sampler decodes: always decoded here.
@@ -70,28 +84,28 @@ void main() {
     float rough = uRoughness;
     float ao = 1.0;
 #ifdef HAS_ORM_MAP
-    vec3 orm = TEX2D(uOrmMap, vUv).rgb;
-    ao = orm.r;
+    vec3 orm = TEX2D(uOrmMap, SLOT_UV(1)).rgb;
+    ao = mix(1.0, orm.r, uOrmAo);
     rough *= orm.g;
     metallic *= orm.b;
+#endif
+#ifdef HAS_AO_MAP
+    ao *= 1.0 + uOcclusionStrength * (TEX2D(uAoMap, SLOT_UV(3)).r - 1.0);
 #endif
     ao = mix(1.0, ao, uTermsB.x);
     vec3 emissive = uEmissive;
 #ifdef HAS_EMISSIVE_MAP
-    emissive *= glviewToLinear(TEX2D(uEmissiveMap, vUv).rgb);
+    emissive *= glviewToLinear(TEX2D(uEmissiveMap, SLOT_UV(4)).rgb);
 #endif
+#ifdef UNLIT
+    // KHR_materials_unlit: the base colour is the colour, through the same output step.
+    FRAG_COLOR = glviewOutputRgba(albedo, opacity);
+#else
     vec3 n = glviewSafeNormalize(vNormal);
     if (!gl_FrontFacing) n = -n;
     vec3 geomN = n;
 #ifdef HAS_NORMAL_MAP
-    vec3 t = vTangent.xyz - n * dot(n, vTangent.xyz);
-    float tl = length(t);
-    if (tl > 0.0) {
-        t /= tl;
-        vec3 b = cross(n, t) * (vTangent.w < 0.0 ? -1.0 : 1.0);
-        vec3 m = TEX2D(uNormalMap, vUv).rgb * 2.0 - 1.0;
-        n = glviewSafeNormalize(t * m.x + b * m.y + n * m.z);
-    }
+    n = glviewNormalMap(n, gl_FrontFacing);
 #endif
 #ifndef SHOW_ATTRIBUTE
 #define SHOW_ATTRIBUTE 0
@@ -163,7 +177,8 @@ void main() {
         }
     }
 #endif
-    FRAG_COLOR = glviewOutputRgba(color, uOpacity);
+    FRAG_COLOR = glviewOutputRgba(color, opacity);
+#endif
 #ifdef LOG_DEPTH
     glviewLogDepth();
 #endif

@@ -9,6 +9,10 @@ OUT vec3 vColor;
 #ifdef HAS_NORMAL_MAP
 IN vec4 aTangent;
 #endif
+#ifdef HAS_UV1
+IN vec2 aUv1;       // glTF TEXCOORD_1, for slots that name it
+OUT vec2 vUv1;
+#endif
 
 uniform mat4 uModelView;
 uniform mat4 uProjection;
@@ -28,6 +32,9 @@ void main() {
     vec4 eye = uModelView * vec4(aPosition, 1.0);
     vEyePos = eye.xyz;
     vUv = aUv;
+#ifdef HAS_UV1
+    vUv1 = aUv1;
+#endif
 #ifdef HAS_COLOR
     vColor = aColor;
 #endif

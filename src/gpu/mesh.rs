@@ -14,6 +14,8 @@ pub struct GpuMesh {
     tangents: Option<Buffer>,
     /// Per-vertex colours (rgb), attribute 4.
     colors: Option<Buffer>,
+    /// Second UV set, attribute 5.
+    uv1: Option<Buffer>,
     vao: Option<glow::VertexArray>,
     index_type: u32,
     /// GL_TRIANGLES, GL_LINES or GL_POINTS.
@@ -25,6 +27,8 @@ pub struct GpuMesh {
 pub const TANGENT_ATTRIBUTE: u32 = 3;
 /// Attribute location of the optional colour stream.
 pub const COLOR_ATTRIBUTE: u32 = 4;
+/// Attribute location of the optional second UV set.
+pub const UV1_ATTRIBUTE: u32 = 5;
 
 /// What the indices of a mesh describe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,9 +43,10 @@ pub enum Primitive {
 pub struct Streams<'a> {
     pub tangents: Option<&'a [[f32; 4]]>,
     pub colors: Option<&'a [[f32; 3]]>,
+    pub uv1: Option<&'a [[f32; 2]]>,
 }
 
-fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&Buffer>); 2]) {
+fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&Buffer>); 3]) {
     let stride = std::mem::size_of::<Vertex>() as i32;
     // SAFETY: offsets match the #[repr(C)] Vertex layout; extra streams are tightly packed
     // float vectors of the given size.
@@ -91,6 +96,7 @@ impl GpuMesh {
         };
         let tangents = stream(streams.tangents.map(bytemuck::cast_slice))?;
         let colors = stream(streams.colors.map(bytemuck::cast_slice))?;
+        let uv1 = stream(streams.uv1.map(bytemuck::cast_slice))?;
         let vbo = Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(vertices))?;
         // 16-bit indices where they suffice: half the memory, and the only kind ES 2 had.
         let (ibo, index_type) = if vertices.len() <= u16::MAX as usize + 1 {
@@ -124,7 +130,7 @@ impl GpuMesh {
                 let vao = gpu.gl.create_vertex_array().map_err(Error::Unsupported)?;
                 gpu.created();
                 gpu.gl.bind_vertex_array(Some(vao));
-                set_attributes(&gpu.gl, &vbo, extra(&tangents, &colors));
+                set_attributes(&gpu.gl, &vbo, extra(&tangents, &colors, &uv1));
                 ibo.bind();
                 gpu.gl.bind_vertex_array(None);
                 Some(vao)
@@ -138,6 +144,7 @@ impl GpuMesh {
             ibo,
             tangents,
             colors,
+            uv1,
             vao,
             index_type,
             mode: match primitive {
@@ -168,7 +175,7 @@ impl GpuMesh {
             match self.vao {
                 Some(vao) => gl.bind_vertex_array(Some(vao)),
                 None => {
-                    set_attributes(gl, &self.vbo, extra(&self.tangents, &self.colors));
+                    set_attributes(gl, &self.vbo, extra(&self.tangents, &self.colors, &self.uv1));
                     self.ibo.bind();
                 }
             }
@@ -191,10 +198,12 @@ impl GpuMesh {
 fn extra<'a>(
     tangents: &'a Option<Buffer>,
     colors: &'a Option<Buffer>,
-) -> [(u32, i32, Option<&'a Buffer>); 2] {
+    uv1: &'a Option<Buffer>,
+) -> [(u32, i32, Option<&'a Buffer>); 3] {
     [
         (TANGENT_ATTRIBUTE, 4, tangents.as_ref()),
         (COLOR_ATTRIBUTE, 3, colors.as_ref()),
+        (UV1_ATTRIBUTE, 2, uv1.as_ref()),
     ]
 }
 

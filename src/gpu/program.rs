@@ -7,12 +7,13 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Attribute locations, bound before linking so every program shares one vertex layout.
-pub const ATTRIBUTES: [(u32, &str); 5] = [
+pub const ATTRIBUTES: [(u32, &str); 6] = [
     (0, "aPosition"),
     (1, "aNormal"),
     (2, "aUv"),
     (3, "aTangent"),
     (4, "aColor"),
+    (5, "aUv1"),
 ];
 
 pub struct Program {

@@ -538,6 +538,20 @@ impl Texture2d {
         }
     }
 
+    /// Wrap modes (S, T) and filters (min, mag) as GL enums: a material's sampler, set after
+    /// the upload. A mipmapped min filter needs the chain `Sampling::mipmaps` uploaded.
+    pub fn set_sampler(&self, wrap: [u32; 2], min: u32, mag: u32) {
+        // SAFETY: parameters of our own 2D texture, bound to the active unit for the call.
+        unsafe {
+            let gl = &self.gpu.gl;
+            gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_S, wrap[0] as i32);
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_T, wrap[1] as i32);
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, min as i32);
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, mag as i32);
+        }
+    }
+
     pub fn bind(&self, unit: u32) {
         // SAFETY: binding our own texture to a unit below the driver's limit (we use < 8).
         unsafe {

@@ -9,12 +9,16 @@ use crate::gpu::program::Program;
 use crate::gpu::state::RenderState;
 use crate::light::LightKind;
 use crate::scene::clusters::ClusterView;
+use crate::scene::material_model::Slot;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 /// Texture unit of shadow map i is SHADOW_UNIT + i; unit 0 is the diffuse map.
 pub(crate) const SHADOW_UNIT: u32 = 1;
+/// The legacy tier's normal and emissive maps, after the four shadow maps.
+const NORMAL_UNIT: u32 = SHADOW_UNIT + 4;
+const EMISSIVE_UNIT: u32 = NORMAL_UNIT + 1;
 
 pub(crate) struct Lit;
 
@@ -234,10 +238,36 @@ pub(crate) fn draw(
     let s = cx.settings;
     let mut bound_texture = None;
     let mut uniforms_set: Vec<ProgramKey> = Vec::new();
+    let gouraud = s.shading == Shading::Gouraud;
     for &i in meshes {
-        let (texture, material, translucent, colored) = {
+        let (texture, material, translucent, colored, has_uv, has_uv1, has_tangents) = {
             let dm = &cx.scene.meshes[i];
-            (dm.texture, dm.material, dm.translucent, dm.has_colors)
+            (
+                dm.texture,
+                dm.material,
+                dm.translucent,
+                dm.has_colors,
+                dm.has_uv,
+                dm.has_uv1,
+                dm.has_tangents,
+            )
+        };
+        let mat = &cx.scene.scene.materials[material];
+        let model = &mat.pbr_inputs.model;
+        // The normal map bends a per-fragment normal: Gouraud has none.
+        let normal_map = match &mat.pbr_inputs.normal_map {
+            Some(t) if has_tangents && !gouraud => {
+                let smp = super::slots::sampler(model, Slot::Normal);
+                Some(cx.res.textures.get(cx.gpu, t, false, &smp)?)
+            }
+            _ => None,
+        };
+        let emissive_map = match &mat.pbr_inputs.emissive_map {
+            Some(t) if has_uv => {
+                let smp = super::slots::sampler(model, Slot::Emissive);
+                Some(cx.res.textures.get(cx.gpu, t, false, &smp)?)
+            }
+            _ => None,
         };
         let key = program_key(
             v.lights,
@@ -245,9 +275,12 @@ pub(crate) fn draw(
             s.shadows.pcf,
             v.cube_mask,
             texture.is_some(),
-            s.shading == Shading::Gouraud,
+            gouraud,
             colored,
-        );
+        )
+        .switch("HAS_NORMAL_MAP", "nrm", normal_map.is_some())
+        .switch("HAS_EMISSIVE_MAP", "emi", emissive_map.is_some());
+        let key = super::slots::flags(key, model, has_uv1, texture.is_some());
         let key = cx.lit_flags(key);
         let program = cx.program(&key)?;
         program.bind();
@@ -257,8 +290,19 @@ pub(crate) fn draw(
             uniforms_set.push(key);
             v.set_uniforms(&program, cx);
             set_legacy_uniforms(&program, cx);
+            program.set_i32("uNormalMap", NORMAL_UNIT as i32);
+            program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
         }
         let mat = &cx.scene.scene.materials[material];
+        let model = &mat.pbr_inputs.model;
+        super::slots::set_uniforms(&program, model, has_uv1);
+        program.set_f32("uNormalScale", model.normal_scale);
+        for (index, unit) in [(normal_map, NORMAL_UNIT), (emissive_map, EMISSIVE_UNIT)] {
+            if let Some(t) = index {
+                cx.res.textures.texture(t).bind(unit);
+                cx.stats.textures_bound += 1;
+            }
+        }
         program.set_vec3("uKa", Vec3::from(mat.ambient));
         program.set_vec3("uKd", Vec3::from(mat.diffuse));
         program.set_vec3("uKs", Vec3::from(mat.specular));

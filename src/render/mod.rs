@@ -16,6 +16,8 @@ pub mod overlay;
 pub mod pbr;
 pub mod post;
 pub mod shadow;
+mod slots;
+mod textures;
 pub mod translucent;
 mod upload;
 
@@ -91,6 +93,8 @@ pub(crate) struct Resources {
     pub shadow: shadow::ShadowState,
     pub ibl: ibl::IblState,
     pub pbr_textures: Option<pbr::MaterialTextures>,
+    /// Material textures of both tiers, made on first use ([`textures::TextureTable`]).
+    pub textures: textures::TextureTable,
     pub quad: Option<GpuMesh>,
     /// The background pass drew this frame (the lit passes then clear nothing).
     pub background_drawn: bool,

@@ -6,9 +6,11 @@ use super::ibl::IblGpu;
 use super::lit::{shadow_flags, View, SHADOW_UNIT};
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::state::RenderState;
-use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
+use super::textures::TextureTable;
+use crate::gpu::texture::TextureFormat;
 use crate::gpu::GpuRef;
-use crate::scene::{Material, Scene};
+use crate::scene::material_model::Slot;
+use crate::scene::{Material, Scene, Texture};
 use crate::shader::cache::ProgramKey;
 use crate::{Error, Result};
 use glam::{Mat3, Vec3, Vec4};
@@ -19,7 +21,9 @@ pub(crate) struct Pbr;
 const NORMAL_UNIT: u32 = SHADOW_UNIT + 4;
 const ORM_UNIT: u32 = NORMAL_UNIT + 1;
 const EMISSIVE_UNIT: u32 = ORM_UNIT + 1;
-const IRRADIANCE_UNIT: u32 = EMISSIVE_UNIT + 1;
+/// glTF's occlusion map (its own UV set and sampler; an MTL's is packed into the ORM map).
+const AO_UNIT: u32 = EMISSIVE_UNIT + 1;
+const IRRADIANCE_UNIT: u32 = AO_UNIT + 1;
 const LUT_UNIT: u32 = IRRADIANCE_UNIT + 1;
 const SPECULAR_UNIT: u32 = LUT_UNIT + 1;
 /// Specular levels the shader can take (`uSpecular0..7`).
@@ -38,6 +42,7 @@ pub struct Maps {
     pub albedo: bool,
     pub normal: bool,
     pub orm: bool,
+    pub ao: bool,
     pub emissive: bool,
     /// Per-vertex colours (they multiply the base colour like the albedo map).
     pub color: bool,
@@ -74,6 +79,7 @@ pub fn program_key(
     .switch("HAS_ALBEDO_MAP", "alb", maps.albedo)
     .switch("HAS_NORMAL_MAP", "nrm", maps.normal)
     .switch("HAS_ORM_MAP", "orm", maps.orm)
+    .switch("HAS_AO_MAP", "ao", maps.ao)
     .switch("HAS_EMISSIVE_MAP", "emi", maps.emissive)
     .switch("HAS_COLOR", "vc", maps.color)
     .switch("IBL_RGBM", "rgbm", o.rgbm)
@@ -97,6 +103,7 @@ pub fn all_keys(lights: u8, shadows: u8, pcf: u8, cube_mask: u8) -> Vec<ProgramK
         albedo: true,
         normal: true,
         orm: true,
+        ao: true,
         emissive: true,
         color: true,
     };
@@ -114,52 +121,36 @@ pub fn all_keys(lights: u8, shadows: u8, pcf: u8, cube_mask: u8) -> Vec<ProgramK
     ]
 }
 
-/// One material's PBR textures on the GPU (indices into `MaterialTextures::textures`).
+/// One material's PBR textures (indices into the frame's [`TextureTable`]).
 #[derive(Clone, Copy, Default)]
 struct MaterialMaps {
     albedo: Option<usize>,
     normal: Option<usize>,
     orm: Option<usize>,
+    /// The ORM map's red channel is occlusion (an MTL's packed maps), not glTF's unused red.
+    orm_ao: bool,
+    ao: Option<usize>,
     emissive: Option<usize>,
 }
 
-/// The scene's PBR textures, made on the first PBR frame (a legacy-only session never pays
-/// for them).
+/// Which table textures each material uses in the PBR tier, decided on the first PBR frame
+/// (a legacy-only session never uploads them).
 pub(crate) struct MaterialTextures {
-    textures: Vec<Texture2d>,
     materials: Vec<MaterialMaps>,
     srgb_in_shader: bool,
 }
 
-fn rgba_texture(gpu: &GpuRef, t: &crate::scene::Texture, srgb: bool) -> Result<Texture2d> {
-    let format = if srgb && TextureFormat::Srgb8A8.supported(&gpu.caps) {
-        TextureFormat::Srgb8A8
-    } else {
-        TextureFormat::Rgba8
-    };
-    let s = Sampling {
-        linear: true,
-        mipmaps: true,
-        repeat: true,
-    };
-    super::upload::timed(gpu, t, |w, h, data| {
-        Texture2d::new(gpu, format, w, h, Pixels::U8(data), s)
-    })
-}
-
-/// Occlusion, roughness and metallic maps packed into one texture (r, g, b), so the tier needs
-/// one texture unit for three inputs. Sized like the largest input; the others are sampled
-/// nearest into it. Missing inputs are 1 (the factor then acts alone).
-fn orm_texture(gpu: &GpuRef, m: &Material) -> Result<Option<Texture2d>> {
+/// An MTL's occlusion, roughness and metallic maps packed into one texture (r, g, b), so the
+/// tier needs one texture unit for three inputs. Sized like the largest input; the others are
+/// sampled nearest into it. Missing inputs are 1 (the factor then acts alone). glTF's
+/// metallic-roughness image is already packed and is used as it is.
+fn orm_texture(index: usize, m: &Material) -> Option<Texture> {
     let p = &m.pbr_inputs;
     let maps = [&p.ao_map, &p.roughness_map, &p.metallic_map];
-    let Some((w, h)) = maps
+    let (w, h) = maps
         .iter()
         .filter_map(|m| m.as_ref().map(|t| (t.width, t.height)))
-        .max_by_key(|(w, h)| w * h)
-    else {
-        return Ok(None);
-    };
+        .max_by_key(|(w, h)| w * h)?;
     let mut data = vec![255u8; (w * h * 4) as usize];
     for (c, map) in maps.iter().enumerate() {
         if let Some(t) = map {
@@ -173,44 +164,45 @@ fn orm_texture(gpu: &GpuRef, m: &Material) -> Result<Option<Texture2d>> {
             }
         }
     }
-    let tex = crate::scene::Texture {
-        path: m.name.clone().into(),
+    Some(Texture {
+        // Its identity in the texture table: no file has this name.
+        path: format!("{} (packed ORM of material {index})", m.name).into(),
         image: None,
         width: w,
         height: h,
         rgba: data,
-    };
-    rgba_texture(gpu, &tex, false).map(Some)
+    })
 }
 
 impl MaterialTextures {
-    fn new(gpu: &GpuRef, scene: &Scene) -> Result<MaterialTextures> {
+    fn new(gpu: &GpuRef, table: &mut TextureTable, scene: &Scene) -> Result<MaterialTextures> {
         let srgb_in_shader = !TextureFormat::Srgb8A8.supported(&gpu.caps);
-        let mut textures = Vec::new();
-        let mut push = |t: Texture2d| {
-            textures.push(t);
-            Some(textures.len() - 1)
-        };
         let mut materials = Vec::new();
-        for m in &scene.materials {
+        for (index, m) in scene.materials.iter().enumerate() {
             let p = &m.pbr_inputs;
-            let mut mm = MaterialMaps::default();
-            if let Some(t) = &m.diffuse_map {
-                mm.albedo = push(rgba_texture(gpu, t, true)?);
-            }
-            if let Some(t) = &p.normal_map {
-                mm.normal = push(rgba_texture(gpu, t, false)?);
-            }
-            if let Some(t) = orm_texture(gpu, m)? {
-                mm.orm = push(t);
-            }
-            if let Some(t) = &p.emissive_map {
-                mm.emissive = push(rgba_texture(gpu, t, true)?);
+            let model = &p.model;
+            let mut get = |t: &Option<std::sync::Arc<Texture>>, srgb: bool, slot: Slot| {
+                t.as_ref()
+                    .map(|t| table.get(gpu, t, srgb, &super::slots::sampler(model, slot)))
+                    .transpose()
+            };
+            let mut mm = MaterialMaps {
+                albedo: get(&m.diffuse_map, true, Slot::BaseColor)?,
+                normal: get(&p.normal_map, false, Slot::Normal)?,
+                emissive: get(&p.emissive_map, true, Slot::Emissive)?,
+                ..Default::default()
+            };
+            if p.metallic_roughness_map.is_some() || model.slot(Slot::Occlusion).is_some() {
+                // glTF: metallic-roughness and occlusion each with their own UVs and sampler.
+                mm.orm = get(&p.metallic_roughness_map, false, Slot::MetallicRoughness)?;
+                mm.ao = get(&p.ao_map, false, Slot::Occlusion)?;
+            } else if let Some(t) = orm_texture(index, m) {
+                mm.orm = Some(table.get(gpu, &t, false, &Default::default())?);
+                mm.orm_ao = true;
             }
             materials.push(mm);
         }
         Ok(MaterialTextures {
-            textures,
             materials,
             srgb_in_shader,
         })
@@ -245,7 +237,8 @@ impl Pass for Pbr {
             )));
         }
         if cx.res.pbr_textures.is_none() {
-            cx.res.pbr_textures = Some(MaterialTextures::new(cx.gpu, &cx.scene.scene)?);
+            let t = MaterialTextures::new(cx.gpu, &mut cx.res.textures, &cx.scene.scene)?;
+            cx.res.pbr_textures = Some(t);
         }
         let gpu = cx.gpu.clone();
         let (rgbm, levels) = {
@@ -298,12 +291,13 @@ fn draw(
     let on = |b: bool| if b { 1.0 } else { 0.0 };
     let mut uniforms_set: Vec<ProgramKey> = Vec::new();
     for &i in meshes {
-        let (material, translucent, has_uv, has_tangents, color) = {
+        let (material, translucent, has_uv, has_uv1, has_tangents, color) = {
             let dm = &cx.scene.meshes[i];
             (
                 dm.material,
                 dm.translucent,
                 dm.has_uv,
+                dm.has_uv1,
                 dm.has_tangents,
                 dm.has_colors,
             )
@@ -313,16 +307,17 @@ fn draw(
             albedo: has_uv && mm.albedo.is_some(),
             normal: has_tangents && mm.normal.is_some(),
             orm: has_uv && mm.orm.is_some(),
+            ao: has_uv && mm.ao.is_some(),
             emissive: has_uv && mm.emissive.is_some(),
             color,
         };
-        let key = cx.lit_flags(
-            program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts).mask(
-                "SHOW_ATTRIBUTE",
-                "show",
-                s.lighting.attribute_view.code(),
-            ),
+        let model = &cx.scene.scene.materials[material].pbr_inputs.model;
+        let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts).mask(
+            "SHOW_ATTRIBUTE",
+            "show",
+            s.lighting.attribute_view.code(),
         );
+        let key = cx.lit_flags(super::slots::flags(key, model, has_uv1, maps.albedo));
         let program = cx.program(&key)?;
         program.bind();
         if !uniforms_set.contains(&key) {
@@ -344,6 +339,7 @@ fn draw(
             program.set_i32("uNormalMap", NORMAL_UNIT as i32);
             program.set_i32("uOrmMap", ORM_UNIT as i32);
             program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
+            program.set_i32("uAoMap", AO_UNIT as i32);
             program.set_vec4(
                 "uTermsA",
                 Vec4::new(
@@ -359,6 +355,11 @@ fn draw(
             );
         }
         let mat = &cx.scene.scene.materials[material];
+        let model = &mat.pbr_inputs.model;
+        super::slots::set_uniforms(&program, model, has_uv1);
+        program.set_f32("uNormalScale", model.normal_scale);
+        program.set_f32("uOcclusionStrength", model.occlusion_strength);
+        program.set_f32("uOrmAo", if mm.orm_ao { 1.0 } else { 0.0 });
         let values = mat.pbr();
         program.set_vec3(
             "uBaseColor",
@@ -373,15 +374,15 @@ fn draw(
             super::translucent::opacity(cx, mat, translucent),
         );
         cx.set_rgbm_blend(&program);
-        let tex = cx.res.pbr_textures.as_ref().expect("made above");
         for (index, on, unit) in [
             (mm.albedo, maps.albedo, 0),
             (mm.normal, maps.normal, NORMAL_UNIT),
             (mm.orm, maps.orm, ORM_UNIT),
+            (mm.ao, maps.ao, AO_UNIT),
             (mm.emissive, maps.emissive, EMISSIVE_UNIT),
         ] {
             if let (Some(ti), true) = (index, on) {
-                tex.textures[ti].bind(unit);
+                cx.res.textures.texture(ti).bind(unit);
                 cx.stats.textures_bound += 1;
             }
         }

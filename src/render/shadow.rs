@@ -12,6 +12,7 @@ use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
 use crate::light::{Light, LightKind};
 use crate::scene::clusters::ClusterView;
+use crate::scene::material_model::AlphaMode;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::Mat4;
@@ -91,6 +92,26 @@ fn skip_reason(gpu: &GpuRef, s: &FrameSettings) -> Option<&'static str> {
     } else {
         None
     }
+}
+
+fn is_masked(cx: &FrameCx, i: usize) -> bool {
+    let m = &cx.scene.meshes[i];
+    matches!(
+        cx.scene.scene.materials[m.material].pbr_inputs.model.alpha_mode,
+        AlphaMode::Mask(_)
+    )
+}
+
+/// The depth program for mesh `i`: MASK materials discard their cut-out texels as the lit
+/// passes do, so what is not drawn casts no shadow.
+fn mask_key(cx: &FrameCx, i: usize) -> ProgramKey {
+    if !is_masked(cx, i) {
+        return depth_key();
+    }
+    let m = &cx.scene.meshes[i];
+    let model = &cx.scene.scene.materials[m.material].pbr_inputs.model;
+    let key = depth_key().switch("HAS_TEXTURE", "tex", m.texture.is_some());
+    super::slots::flags(key, model, m.has_uv1, m.texture.is_some())
 }
 
 /// The map size actually used: the request, limited by the driver and, on the copy path,
@@ -185,8 +206,6 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
             face,
         });
     }
-    let program = cx.program(&depth_key())?;
-    program.bind();
     let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
     for map in &maps {
         // The map's framebuffer has no colour buffer; on the copy path the light's view is
@@ -215,12 +234,31 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
                 gpu.viewport(0, 0, map.face, map.face);
                 gpu.clear(None);
             }
-            program.set_mat4("uLightMvp", vp);
             cx.cull = Some(ClusterView::new(*vp));
+            // MASK materials draw with the cut-out program; everything else with the plain one.
+            let mut current: Option<ProgramKey> = None;
             for i in 0..cx.scene.meshes.len() {
-                if cx.scene.meshes[i].casts_shadow() {
-                    super::cull::draw(cx, i, &state);
+                if !cx.scene.meshes[i].casts_shadow() {
+                    continue;
                 }
+                let key = mask_key(cx, i);
+                if current.as_ref() != Some(&key) {
+                    let p = cx.program(&key)?;
+                    p.bind();
+                    p.set_mat4("uLightMvp", vp);
+                    p.set_i32("uDiffuseMap", 0);
+                    current = Some(key);
+                }
+                let dm = &cx.scene.meshes[i];
+                if is_masked(cx, i) {
+                    let p = cx.program(current.as_ref().expect("set above"))?;
+                    let model = &cx.scene.scene.materials[dm.material].pbr_inputs.model;
+                    super::slots::set_uniforms(&p, model, dm.has_uv1);
+                    if let Some(t) = dm.texture {
+                        cx.scene.textures[t].bind(0);
+                    }
+                }
+                super::cull::draw(cx, i, &state);
             }
             if map.fbo.is_none() {
                 map.texture.copy_from_framebuffer(tx, ty, map.face);

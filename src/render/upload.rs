@@ -20,6 +20,8 @@ pub(crate) struct DrawMesh {
     pub translucent: bool,
     pub has_uv: bool,
     pub has_tangents: bool,
+    /// A second UV set (attribute 5, `HAS_UV1`).
+    pub has_uv1: bool,
     /// Per-vertex colours multiply the diffuse colour (attribute 4, `HAS_COLOR`).
     pub has_colors: bool,
     /// Triangles, or the scene's lines and points (drawn lit flat, casting no shadow).
@@ -115,26 +117,31 @@ impl SceneGpu {
             scene.materials.push(crate::scene::Material::default());
         }
         let mut textures: Vec<Texture2d> = Vec::new();
-        // A texture is its image: a file, or one image of a glTF container.
-        let mut texture_paths = Vec::new();
+        // A texture is its image (a file, or one image of a glTF container) with the sampler
+        // the material reads it through.
+        let mut texture_keys = Vec::new();
         let mut meshes = Vec::with_capacity(scene.meshes.len());
 
         for m in &scene.meshes {
             let mat = &scene.materials[m.material];
             let texture = match (&mat.diffuse_map, m.has_uv) {
-                (Some(t), true) => Some(
-                    match texture_paths
-                        .iter()
-                        .position(|(p, i)| p == &t.path && *i == t.image)
-                    {
+                (Some(t), true) => {
+                    let sampler = super::slots::sampler(
+                        &mat.pbr_inputs.model,
+                        crate::scene::material_model::Slot::BaseColor,
+                    );
+                    let key = (t.path.clone(), t.image, sampler);
+                    Some(match texture_keys.iter().position(|k| *k == key) {
                         Some(i) => i,
                         None => {
-                            textures.push(upload_texture(gpu, t)?);
-                            texture_paths.push((t.path.clone(), t.image));
+                            let tex = upload_texture(gpu, t)?;
+                            super::slots::apply_sampler(&tex, &sampler);
+                            textures.push(tex);
+                            texture_keys.push(key);
                             textures.len() - 1
                         }
-                    },
-                ),
+                    })
+                }
                 _ => None,
             };
             let mut b = crate::scene::Bounds::empty();
@@ -147,12 +154,20 @@ impl SceneGpu {
                 .iter()
                 .map(|v| (Vec3::from(v.position) - center).length())
                 .fold(0.0f32, f32::max);
-            let tangents = (m.has_uv && mat.pbr_inputs.normal_map.is_some())
-                .then(|| crate::scene::tangents::generate(m));
+            // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
+            let tangents = (m.has_uv && mat.pbr_inputs.normal_map.is_some()).then(|| {
+                if m.tangents.len() == m.vertices.len() {
+                    std::borrow::Cow::Borrowed(m.tangents.as_slice())
+                } else {
+                    std::borrow::Cow::Owned(crate::scene::tangents::generate(m))
+                }
+            });
             let colors = (m.colors.len() == m.vertices.len()).then_some(m.colors.as_slice());
+            let uv1 = (m.uv1.len() == m.vertices.len()).then_some(m.uv1.as_slice());
             let streams = Streams {
                 tangents: tangents.as_deref(),
                 colors,
+                uv1,
             };
             meshes.push(DrawMesh {
                 mesh: GpuMesh::with_streams(
@@ -170,6 +185,7 @@ impl SceneGpu {
                 translucent: mat.is_translucent(),
                 has_uv: m.has_uv,
                 has_tangents: tangents.is_some(),
+                has_uv1: uv1.is_some(),
                 has_colors: colors.is_some(),
                 primitive: Primitive::Triangles,
                 terminator_lift: crate::scene::terminator_lift(m) as f32,
@@ -246,6 +262,7 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
             translucent: false,
             has_uv: false,
             has_tangents: false,
+            has_uv1: false,
             has_colors: false,
             primitive,
             terminator_lift: 0.0,

@@ -245,6 +245,7 @@ fn decode(
             has_uv: m.has_uv,
             generated_normals: m.generated_normals,
             colors: Vec::new(),
+            ..Default::default()
         });
     }
     let mut materials = header.materials;

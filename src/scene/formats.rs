@@ -228,6 +228,7 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         has_uv: false,
         generated_normals: 0,
         colors,
+        ..Default::default()
     };
     // STL's per-facet normals are often wrong or zero: then generated from the geometry.
     mesh.finish_normals(normal_ok, None, opts.creases);

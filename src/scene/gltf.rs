@@ -20,11 +20,9 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_mesh_quantization",
     "KHR_materials_emissive_strength",
     "EXT_meshopt_compression",
+    "KHR_materials_unlit",
+    "KHR_texture_transform",
 ];
-
-/// Optional extensions read into the material model but not yet drawn by the renderer: a
-/// file may use them (one warning says so), not require them.
-const RECORDED_EXTENSIONS: &[&str] = &["KHR_materials_unlit", "KHR_texture_transform"];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
 const MAX_TEXTURE_BYTES: usize = 512 << 20;
@@ -33,6 +31,8 @@ struct Prim {
     positions: Vec<DVec3>,
     normals: Option<Vec<DVec3>>,
     uvs: Option<Vec<[f32; 2]>>,
+    uv1: Option<Vec<[f32; 2]>>,
+    tangents: Option<Vec<[f32; 4]>>,
     colors: Option<Vec<[f32; 3]>>,
     indices: Vec<u32>,
     material: Option<usize>,
@@ -80,12 +80,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
         }
     }
     for x in &json.extensions_used {
-        if RECORDED_EXTENSIONS.contains(&x.as_str()) {
-            warn(
-                &mut warnings,
-                format!("uses glTF extension {x}: read into the material (--check), not yet drawn"),
-            );
-        } else if !SUPPORTED_EXTENSIONS.contains(&x.as_str()) {
+        if !SUPPORTED_EXTENSIONS.contains(&x.as_str()) {
             warn(
                 &mut warnings,
                 format!("uses glTF extension {x}, which glview ignores"),
@@ -119,37 +114,10 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
     let views = super::gltf_buffers::decoded_views(&doc, &buffers).map_err(bad)?;
     let buffers = accessor::Buffers { buffers, views };
 
-    let mut images: Vec<Option<Option<Arc<Texture>>>> = vec![None; doc.images().len()];
-    let mut texture_bytes = 0usize;
+    let images = decode_images(&doc, &buffers.buffers, path, opts, &mut warnings);
     let mut materials = Vec::new();
     for m in doc.materials() {
-        let mut image = |i: usize| {
-            if images[i].is_none() {
-                let label = super::gltf_buffers::image_label(&doc, i);
-                let t = if texture_bytes > MAX_TEXTURE_BYTES {
-                    Err(format!(
-                        "over the {} MiB texture budget",
-                        MAX_TEXTURE_BYTES >> 20
-                    ))
-                } else {
-                    super::gltf_buffers::image(&doc, i, &buffers.buffers, path, opts.textures)
-                };
-                images[i] = Some(match t {
-                    Ok(t) => {
-                        texture_bytes += t.rgba.len();
-                        Some(Arc::new(t))
-                    }
-                    Err(e) => {
-                        warn(
-                            &mut warnings,
-                            format!("{label}: {e}; materials using it render without it"),
-                        );
-                        None
-                    }
-                });
-            }
-            images[i].clone().flatten()
-        };
+        let mut image = |i: usize| images.get(i).cloned().flatten();
         materials.push(super::gltf_material::material(&m, &mut image));
     }
     let default_index = materials.len();
@@ -262,15 +230,53 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
                 }
                 None => None,
             };
-            let uvs = match p.get(&Semantic::TexCoords(0)) {
+            let mut uv_set = |set: u32| -> Result<Option<Vec<[f32; 2]>>> {
+                let Some(a) = p.get(&Semantic::TexCoords(set)) else {
+                    return Ok(None);
+                };
+                let (_, v) = accessor::read_f32(&a, &buffers, &[D::Vec2]).map_err(bad)?;
+                if v.iter().all(|x| x.is_finite()) {
+                    Ok(Some(v.chunks_exact(2).map(|q| [q[0], q[1]]).collect()))
+                } else {
+                    warn(
+                        &mut warnings,
+                        format!(
+                            "accessor {}: a TEXCOORD_{set} is not finite: unused",
+                            a.index()
+                        ),
+                    );
+                    Ok(None)
+                }
+            };
+            let uvs = uv_set(0)?;
+            let uv1 = uv_set(1)?;
+            // Supplied tangents follow the node's linear part like any direction in the
+            // surface; a mirroring transform reverses cross(N, T), so the bitangent sign flips
+            // with it.
+            let tangents = match p.get(&Semantic::Tangents).filter(|_| normal_ok) {
                 Some(a) => {
-                    let (_, v) = accessor::read_f32(&a, &buffers, &[D::Vec2]).map_err(bad)?;
+                    let (_, v) = accessor::read_f32(&a, &buffers, &[D::Vec4]).map_err(bad)?;
                     if v.iter().all(|x| x.is_finite()) {
-                        Some(v.chunks_exact(2).map(|q| [q[0], q[1]]).collect())
+                        let m3 = DMat3::from_mat4(*world);
+                        let flip = if mirrored { -1.0 } else { 1.0 };
+                        Some(
+                            v.chunks_exact(4)
+                                .map(|q| {
+                                    let t = up.rotate(m3 * glam::Vec3::from_slice(q).as_dvec3());
+                                    let t = t.normalize_or_zero().as_vec3();
+                                    let w = if q[3] < 0.0 { -flip } else { flip };
+                                    [t.x, t.y, t.z, w as f32]
+                                })
+                                .collect(),
+                        )
                     } else {
                         warn(
                             &mut warnings,
-                            format!("accessor {}: a TEXCOORD_0 is not finite: unused", a.index()),
+                            format!(
+                                "accessor {} (TANGENT of {}): not finite; tangents generated",
+                                a.index(),
+                                where_()
+                            ),
                         );
                         None
                     }
@@ -289,6 +295,8 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
                 positions,
                 normals,
                 uvs,
+                uv1,
+                tangents,
                 colors,
                 indices,
                 material: p.material().index(),
@@ -337,6 +345,12 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
             has_uv,
             generated_normals: 0,
             colors: p.colors.filter(|c| c.len() == count).unwrap_or_default(),
+            uv1: p.uv1.filter(|c| c.len() == count).unwrap_or_default(),
+            // Tangents go with the file's normals: generated normals get generated tangents.
+            tangents: p
+                .tangents
+                .filter(|c| c.len() == count && has_n)
+                .unwrap_or_default(),
         };
         mesh.finish_normals(has_n, None, opts.creases);
         for v in &mesh.vertices {
@@ -367,4 +381,73 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
         wire,
         maps: Vec::new(),
     })
+}
+
+/// Every image a material uses, decoded in parallel (a few at a time, so the texture budget is
+/// checked between batches and at most one batch overshoots it); a missing, broken or
+/// over-budget image is a warning and None.
+fn decode_images(
+    doc: &gltf::Document,
+    buffers: &[Vec<u8>],
+    path: &Path,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Vec<Option<Arc<Texture>>> {
+    use rayon::prelude::*;
+    let mut used = vec![false; doc.images().len()];
+    for m in doc.materials() {
+        let pbr = m.pbr_metallic_roughness();
+        let slots = [
+            pbr.base_color_texture().map(|t| t.texture()),
+            pbr.metallic_roughness_texture().map(|t| t.texture()),
+            m.normal_texture().map(|t| t.texture()),
+            m.occlusion_texture().map(|t| t.texture()),
+            m.emissive_texture().map(|t| t.texture()),
+        ];
+        for t in slots.into_iter().flatten() {
+            if let Some(u) = used.get_mut(t.source().index()) {
+                *u = true;
+            }
+        }
+    }
+    let wanted: Vec<usize> = (0..used.len()).filter(|&i| used[i]).collect();
+    let mut out: Vec<Option<Arc<Texture>>> = vec![None; used.len()];
+    let mut texture_bytes = 0usize;
+    for batch in wanted.chunks(rayon::current_num_threads().max(1)) {
+        let decoded: Vec<(usize, std::result::Result<Texture, String>)> =
+            if texture_bytes > MAX_TEXTURE_BYTES {
+                batch
+                    .iter()
+                    .map(|&i| {
+                        let e = format!("over the {} MiB texture budget", MAX_TEXTURE_BYTES >> 20);
+                        (i, Err(e))
+                    })
+                    .collect()
+            } else {
+                batch
+                    .par_iter()
+                    .map(|&i| {
+                        (
+                            i,
+                            super::gltf_buffers::image(doc, i, buffers, path, opts.textures),
+                        )
+                    })
+                    .collect()
+            };
+        for (i, t) in decoded {
+            let label = super::gltf_buffers::image_label(doc, i);
+            match t {
+                Ok(t) => {
+                    texture_bytes += t.rgba.len();
+                    out[i] = Some(Arc::new(t));
+                }
+                Err(e) => warnings.push(Warning {
+                    file: path.to_path_buf(),
+                    line: None,
+                    message: format!("{label}: {e}; materials using it render without it"),
+                }),
+            }
+        }
+    }
+    out
 }

@@ -1,8 +1,7 @@
 //! A glTF material in the scene's material model ([`super::material_model`]): every texture
 //! slot with its sampler, UV set and `KHR_texture_transform`; alpha mode, sidedness, unlit and
-//! `KHR_materials_emissive_strength`. The PBR tier reads metallic and roughness from the red
-//! channel of separate maps (as MTL's `map_Pm`/`map_Pr`), so the metallic-roughness image's
-//! blue (metal) and green (rough) channels are copied into the red channel of one each.
+//! `KHR_materials_emissive_strength`. Images are kept as the file has them (the
+//! metallic-roughness image's blue and green channels are read by the shader, no copies).
 use super::material_model::{self as mm, AlphaMode, Slot, TextureSlot};
 use super::{Material, Texture};
 use gltf::texture::{MagFilter, MinFilter, WrappingMode};
@@ -58,18 +57,6 @@ fn slot(
         }),
         loaded,
     }
-}
-
-/// A copy of `t` with channel `c` in red (and green, blue), for maps read from red.
-fn channel_to_red(t: &Texture, c: usize) -> Arc<Texture> {
-    let mut rgba = t.rgba.clone();
-    for p in rgba.chunks_exact_mut(4) {
-        let v = p[c];
-        p[0] = v;
-        p[1] = v;
-        p[2] = v;
-    }
-    Arc::new(Texture { rgba, ..t.clone() })
 }
 
 /// `image(i)` decodes (once) or gives None after warning.
@@ -162,8 +149,7 @@ pub fn material(
         pbr_inputs: super::pbr_material::PbrInputs {
             metallic: Some(pbr.metallic_factor()),
             roughness: Some(pbr.roughness_factor()),
-            metallic_map: mr.as_ref().map(|t| channel_to_red(t, 2)),
-            roughness_map: mr.as_ref().map(|t| channel_to_red(t, 1)),
+            metallic_roughness_map: mr,
             normal_map: normal,
             ao_map: occlusion,
             emissive_map: emissive,

@@ -66,8 +66,11 @@ impl Default for Material {
 }
 
 impl Material {
+    /// Drawn blended: an opacity below 1, or glTF's BLEND (whose texture alpha may be below 1
+    /// where the factor is 1).
     pub fn is_translucent(&self) -> bool {
         self.opacity < 1.0
+            || self.pbr_inputs.model.alpha_mode == super::material_model::AlphaMode::Blend
     }
 }
 

@@ -59,6 +59,11 @@ pub struct Mesh {
     /// Per-vertex colours (`v x y z r g b`), multiplying the diffuse colour; empty when the
     /// file has none. Kept beside [`Vertex`] so the vertex layout stays the same.
     pub colors: Vec<[f32; 3]>,
+    /// Second UV set (glTF TEXCOORD_1), one per vertex; empty when the file has none.
+    pub uv1: Vec<[f32; 2]>,
+    /// Tangents as the file supplies them (glTF TANGENT: xyz, w = bitangent sign), one per
+    /// vertex; empty when absent (MikkTSpace ones are generated at upload where needed).
+    pub tangents: Vec<[f32; 4]>,
 }
 
 /// The shadow-terminator lift of a mesh: a quarter of its mean edge length (f64, local

@@ -252,8 +252,15 @@ impl super::Mesh {
             self.generated_normals = repair_normals(&mut self.vertices, &self.indices, false);
         } else {
             let (v, i, old) = generate(&self.vertices, &self.indices, groups, creases);
+            // Streams beside the vertices follow the vertices they were read with.
             if !self.colors.is_empty() {
                 self.colors = old.iter().map(|&o| self.colors[o as usize]).collect();
+            }
+            if !self.uv1.is_empty() {
+                self.uv1 = old.iter().map(|&o| self.uv1[o as usize]).collect();
+            }
+            if !self.tangents.is_empty() {
+                self.tangents = old.iter().map(|&o| self.tangents[o as usize]).collect();
             }
             self.vertices = v;
             self.indices = i;

@@ -432,6 +432,7 @@ fn load_with(
             has_uv,
             generated_normals: 0,
             colors,
+            ..Default::default()
         };
         mesh.finish_normals(
             has_normals,

@@ -23,6 +23,10 @@ pub struct PbrInputs {
     /// `map_Pr` (red channel), linear.
     #[serde(skip)]
     pub roughness_map: Option<Arc<Texture>>,
+    /// glTF's metallicRoughnessTexture as the file has it (blue metal, green roughness),
+    /// linear; sampled directly with its own sampler and UV set.
+    #[serde(skip)]
+    pub metallic_roughness_map: Option<Arc<Texture>>,
     /// `map_ao` / `map_AO` (red channel), linear; multiplies indirect light only.
     #[serde(skip)]
     pub ao_map: Option<Arc<Texture>>,
@@ -42,6 +46,7 @@ impl PbrInputs {
         self.normal_map.is_some()
             || self.metallic_map.is_some()
             || self.roughness_map.is_some()
+            || self.metallic_roughness_map.is_some()
             || self.ao_map.is_some()
             || self.emissive_map.is_some()
     }

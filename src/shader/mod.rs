@@ -32,6 +32,14 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/include/output.glsl"),
     ),
     (
+        "material.glsl",
+        include_str!("../../shaders_gl/include/material.glsl"),
+    ),
+    (
+        "normalmap.glsl",
+        include_str!("../../shaders_gl/include/normalmap.glsl"),
+    ),
+    (
         "rgbm.glsl",
         include_str!("../../shaders_gl/include/rgbm.glsl"),
     ),
