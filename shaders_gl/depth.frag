@@ -2,7 +2,7 @@
 // writes are off on the copy path), so the shader writes nothing: no fragment work beyond
 // the fixed-function depth test — except for MASK materials, whose cut-out texels cast no
 // shadow (the same alpha test as the lit passes).
-#if defined(ALPHA_MODE) && ALPHA_MODE == 1
+#ifdef ALPHA_MASK
 IN vec2 vUv;
 #include "material.glsl"
 #ifdef HAS_TEXTURE
@@ -11,7 +11,7 @@ uniform sampler2D uDiffuseMap;
 #endif
 
 void main() {
-#if defined(ALPHA_MODE) && ALPHA_MODE == 1
+#ifdef ALPHA_MASK
     float a = uBaseAlpha;
 #ifdef HAS_TEXTURE
     a *= TEX2D(uDiffuseMap, SLOT_UV(0)).a;

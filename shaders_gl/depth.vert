@@ -1,7 +1,7 @@
 // Shadow pass: depth from the light only; MASK materials also pass their UVs for the cutout.
 IN vec3 aPosition;
 uniform mat4 uLightMvp;
-#if defined(ALPHA_MODE) && ALPHA_MODE == 1
+#ifdef ALPHA_MASK
 IN vec2 aUv;
 OUT vec2 vUv;
 #ifdef HAS_UV1
@@ -11,7 +11,7 @@ OUT vec2 vUv1;
 #endif
 
 void main() {
-#if defined(ALPHA_MODE) && ALPHA_MODE == 1
+#ifdef ALPHA_MASK
     vUv = aUv;
 #ifdef HAS_UV1
     vUv1 = aUv1;

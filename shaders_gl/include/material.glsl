@@ -2,11 +2,15 @@
 // (src/render/slots.rs sets the uniforms): each texture slot reads its own UV set through its
 // KHR_texture_transform. Slots: 0 base colour, 1 metallic-roughness, 2 normal, 3 occlusion,
 // 4 emissive. ALPHA_MODE: 0 opaque, 1 mask (discard below uAlphaCutoff), 2 blend (the base
-// colour texture's alpha multiplies the opacity).
+// colour texture's alpha multiplies the opacity), from the ALPHA_MASK / ALPHA_BLEND flags.
 uniform mat3 uSlotXf[5];
 uniform float uSlotSet[5];
 uniform float uBaseAlpha;
-#ifndef ALPHA_MODE
+#if defined(ALPHA_MASK)
+#define ALPHA_MODE 1
+#elif defined(ALPHA_BLEND)
+#define ALPHA_MODE 2
+#else
 #define ALPHA_MODE 0
 #endif
 #if ALPHA_MODE == 1

@@ -175,7 +175,11 @@ impl GpuMesh {
             match self.vao {
                 Some(vao) => gl.bind_vertex_array(Some(vao)),
                 None => {
-                    set_attributes(gl, &self.vbo, extra(&self.tangents, &self.colors, &self.uv1));
+                    set_attributes(
+                        gl,
+                        &self.vbo,
+                        extra(&self.tangents, &self.colors, &self.uv1),
+                    );
                     self.ibo.bind();
                 }
             }

@@ -262,6 +262,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
             ]
         }))
         .chain(post::keys())
+        .chain(slots::variant_keys())
         // The copy path's RGBM-encoded linear frame (bloom without float render targets).
         .chain(
             [

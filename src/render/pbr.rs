@@ -4,9 +4,9 @@
 //! mapping and sRGB encoding.
 use super::ibl::IblGpu;
 use super::lit::{shadow_flags, View, SHADOW_UNIT};
+use super::textures::TextureTable;
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::state::RenderState;
-use super::textures::TextureTable;
 use crate::gpu::texture::TextureFormat;
 use crate::gpu::GpuRef;
 use crate::scene::material_model::Slot;

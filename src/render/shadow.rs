@@ -97,7 +97,10 @@ fn skip_reason(gpu: &GpuRef, s: &FrameSettings) -> Option<&'static str> {
 fn is_masked(cx: &FrameCx, i: usize) -> bool {
     let m = &cx.scene.meshes[i];
     matches!(
-        cx.scene.scene.materials[m.material].pbr_inputs.model.alpha_mode,
+        cx.scene.scene.materials[m.material]
+            .pbr_inputs
+            .model
+            .alpha_mode,
         AlphaMode::Mask(_)
     )
 }

@@ -70,16 +70,14 @@ fn transform_matrix(model: &Model, slot: Slot) -> Mat3 {
     ])
 }
 
-/// Program flags of a material: alpha mode (`ALPHA_MODE` 0 opaque, 1 mask, 2 blend), a second
-/// UV set on the mesh (`HAS_UV1`) and `UNLIT`.
+/// Program flags of a material: alpha mode (`ALPHA_MASK`, `ALPHA_BLEND`; neither is opaque),
+/// a second UV set on the mesh (`HAS_UV1`) and `UNLIT`.
 pub(crate) fn flags(key: ProgramKey, model: &Model, has_uv1: bool, textured: bool) -> ProgramKey {
-    let alpha = match model.alpha_mode {
-        AlphaMode::Opaque => 0,
-        AlphaMode::Mask(_) => 1,
-        // Without a texture the factor's alpha is the material's opacity already.
-        AlphaMode::Blend => 2 * i32::from(textured),
-    };
-    key.count("ALPHA_MODE", "am", alpha)
+    let mask = matches!(model.alpha_mode, AlphaMode::Mask(_));
+    // Without a texture the factor's alpha is the material's opacity already.
+    let blend = model.alpha_mode == AlphaMode::Blend && textured;
+    key.switch("ALPHA_MASK", "mask", mask)
+        .switch("ALPHA_BLEND", "blend", blend)
         .switch("HAS_UV1", "uv1", has_uv1)
         .switch("UNLIT", "unlit", model.unlit)
 }
@@ -98,6 +96,39 @@ pub(crate) fn set_uniforms(p: &Program, model: &Model, has_uv1: bool) {
         p.set_f32("uAlphaCutoff", c);
     }
     p.set_f32("uBaseAlpha", model.base_alpha);
+}
+
+/// The material variants of each lit program and of the depth program, for
+/// `--compile-shaders` (every flag of this module in both tiers, with every map on).
+pub(crate) fn variant_keys() -> Vec<ProgramKey> {
+    let models = [
+        Model {
+            alpha_mode: AlphaMode::Mask(0.5),
+            ..Model::default()
+        },
+        Model {
+            alpha_mode: AlphaMode::Blend,
+            unlit: true,
+            ..Model::default()
+        },
+    ];
+    let mut keys = Vec::new();
+    for m in &models {
+        for gouraud in [false, true] {
+            let lit = super::lit::program_key(1, 1, 1, 0, true, gouraud, true)
+                .switch("HAS_NORMAL_MAP", "nrm", !gouraud)
+                .switch("HAS_EMISSIVE_MAP", "emi", true);
+            keys.push(flags(lit, m, true, true));
+        }
+        for pbr in super::pbr::all_keys(1, 1, 1, 0) {
+            keys.push(flags(pbr, m, true, true));
+        }
+        for textured in [false, true] {
+            let depth = super::shadow::depth_key().switch("HAS_TEXTURE", "tex", textured);
+            keys.push(flags(depth, m, textured, textured));
+        }
+    }
+    keys
 }
 
 #[cfg(test)]
