@@ -115,12 +115,14 @@ fn quad(dir: &Path, name: &str, q: &Quad, materials: &str) -> PathBuf {
     p
 }
 
-/// The contexts every check runs on: (name, arguments, environment).
-fn contexts() -> Vec<(
+/// A context every check runs on: (name, arguments, environment).
+type Context = (
     &'static str,
     Vec<&'static str>,
     &'static [(&'static str, &'static str)],
-)> {
+);
+
+fn contexts() -> Vec<Context> {
     vec![
         ("core", vec!["--gl", "core", "--backend", "egl"], &[]),
         ("es3", vec!["--gl", "es3", "--backend", "egl"], &[]),
@@ -392,10 +394,8 @@ fn second_uv_set_and_texture_transform_equal_uvs_moved_on_the_cpu() {
         &base,
         &unlit(
             &sampler,
-            &format!(
-                r#"{{"index": 0, "extensions": {{"KHR_texture_transform":
-                {{"offset": [0.25, -0.5], "rotation": 0.3, "scale": [1.5, 2.0]}}}}}}"#
-            ),
+            r#"{"index": 0, "extensions": {"KHR_texture_transform":
+                {"offset": [0.25, -0.5], "rotation": 0.3, "scale": [1.5, 2.0]}}}"#,
             "",
         ),
     );
