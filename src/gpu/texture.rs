@@ -374,6 +374,21 @@ impl Texture2d {
         }
     }
 
+    /// Binds this texture on the active unit until the returned guard goes, then puts that
+    /// unit's previous texture back: a parameter change mid-frame (a sampler set on first use
+    /// of a material's texture) must not replace what a pass bound there, e.g. a shadow map.
+    fn bound(&self) -> Rebind {
+        // SAFETY: a binding query, then binding our own texture.
+        unsafe {
+            let previous = self.gpu.gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
+            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            Rebind {
+                gpu: self.gpu.clone(),
+                previous,
+            }
+        }
+    }
+
     fn params(&self, min: u32, mag: u32, wrap: u32) {
         let gl = &self.gpu.gl;
         // SAFETY: parameters on the texture bound by `create`.
@@ -484,9 +499,9 @@ impl Texture2d {
     /// Linear or nearest filtering (no mipmaps).
     pub fn set_filter(&self, linear: bool) {
         let f = if linear { glow::LINEAR } else { glow::NEAREST } as i32;
-        // SAFETY: parameters on our own texture.
+        let _bound = self.bound();
+        // SAFETY: parameters on our own texture, bound above.
         unsafe {
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
             self.gpu
                 .gl
                 .tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, f);
@@ -527,9 +542,9 @@ impl Texture2d {
         } else {
             glow::NONE
         };
-        // SAFETY: parameter on our own texture.
+        let _bound = self.bound();
+        // SAFETY: parameter on our own texture, bound above.
         unsafe {
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
             self.gpu.gl.tex_parameter_i32(
                 glow::TEXTURE_2D,
                 glow::TEXTURE_COMPARE_MODE,
@@ -541,10 +556,10 @@ impl Texture2d {
     /// Wrap modes (S, T) and filters (min, mag) as GL enums: a material's sampler, set after
     /// the upload. A mipmapped min filter needs the chain `Sampling::mipmaps` uploaded.
     pub fn set_sampler(&self, wrap: [u32; 2], min: u32, mag: u32) {
-        // SAFETY: parameters of our own 2D texture, bound to the active unit for the call.
+        let _bound = self.bound();
+        // SAFETY: parameters of our own 2D texture, bound above.
         unsafe {
             let gl = &self.gpu.gl;
-            gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
             gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_S, wrap[0] as i32);
             gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_T, wrap[1] as i32);
             gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, min as i32);

@@ -240,10 +240,9 @@ pub(crate) fn draw(
     let mut uniforms_set: Vec<ProgramKey> = Vec::new();
     let gouraud = s.shading == Shading::Gouraud;
     for &i in meshes {
-        let (texture, material, translucent, colored, has_uv, has_uv1, has_tangents) = {
+        let (material, translucent, colored, has_uv, has_uv1, has_tangents) = {
             let dm = &cx.scene.meshes[i];
             (
-                dm.texture,
                 dm.material,
                 dm.translucent,
                 dm.has_colors,
@@ -254,6 +253,7 @@ pub(crate) fn draw(
         };
         let mat = &cx.scene.scene.materials[material];
         let model = &mat.pbr_inputs.model;
+        let texture = base_texture(cx, material, has_uv)?;
         // The normal map bends a per-fragment normal: Gouraud has none.
         let normal_map = match &mat.pbr_inputs.normal_map {
             Some(t) if has_tangents && !gouraud => {
@@ -316,7 +316,7 @@ pub(crate) fn draw(
         cx.set_rgbm_blend(&program);
         if let Some(t) = texture {
             if bound_texture != Some(t) {
-                cx.scene.textures[t].bind(0);
+                cx.res.textures.texture(t).bind(0);
                 bound_texture = Some(t);
                 cx.stats.textures_bound += 1;
             }
@@ -326,6 +326,23 @@ pub(crate) fn draw(
     }
     cx.gpu.apply(&RenderState::default());
     Ok(())
+}
+
+/// The legacy tier's base colour texture of `material` (display values, not sRGB-decoded),
+/// with its slot's sampler; None without UVs or an image.
+pub(crate) fn base_texture(
+    cx: &mut FrameCx,
+    material: usize,
+    has_uv: bool,
+) -> Result<Option<usize>> {
+    let mat = &cx.scene.scene.materials[material];
+    match (&mat.diffuse_map, has_uv) {
+        (Some(t), true) => {
+            let smp = super::slots::sampler(&mat.pbr_inputs.model, Slot::BaseColor);
+            cx.res.textures.get(cx.gpu, t, false, &smp).map(Some)
+        }
+        _ => Ok(None),
+    }
 }
 
 fn set_legacy_uniforms(p: &Program, cx: &FrameCx) {

@@ -107,14 +107,14 @@ fn is_masked(cx: &FrameCx, i: usize) -> bool {
 
 /// The depth program for mesh `i`: MASK materials discard their cut-out texels as the lit
 /// passes do, so what is not drawn casts no shadow.
-fn mask_key(cx: &FrameCx, i: usize) -> ProgramKey {
+fn mask_key(cx: &FrameCx, i: usize, textured: bool) -> ProgramKey {
     if !is_masked(cx, i) {
         return depth_key();
     }
     let m = &cx.scene.meshes[i];
     let model = &cx.scene.scene.materials[m.material].pbr_inputs.model;
-    let key = depth_key().switch("HAS_TEXTURE", "tex", m.texture.is_some());
-    super::slots::flags(key, model, m.has_uv1, m.texture.is_some())
+    let key = depth_key().switch("HAS_TEXTURE", "tex", textured);
+    super::slots::flags(key, model, m.has_uv1, textured)
 }
 
 /// The map size actually used: the request, limited by the driver and, on the copy path,
@@ -244,7 +244,14 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
                 if !cx.scene.meshes[i].casts_shadow() {
                     continue;
                 }
-                let key = mask_key(cx, i);
+                let texture = if is_masked(cx, i) {
+                    let (material, has_uv) =
+                        (cx.scene.meshes[i].material, cx.scene.meshes[i].has_uv);
+                    super::lit::base_texture(cx, material, has_uv)?
+                } else {
+                    None
+                };
+                let key = mask_key(cx, i, texture.is_some());
                 if current.as_ref() != Some(&key) {
                     let p = cx.program(&key)?;
                     p.bind();
@@ -257,8 +264,8 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
                     let p = cx.program(current.as_ref().expect("set above"))?;
                     let model = &cx.scene.scene.materials[dm.material].pbr_inputs.model;
                     super::slots::set_uniforms(&p, model, dm.has_uv1);
-                    if let Some(t) = dm.texture {
-                        cx.scene.textures[t].bind(0);
+                    if let Some(t) = texture {
+                        cx.res.textures.texture(t).bind(0);
                     }
                 }
                 super::cull::draw(cx, i, &state);

@@ -1,6 +1,7 @@
 //! The scene in GPU buffers: one static mesh per scene mesh (with a tangent stream where its
-//! material has a normal map), diffuse textures deduplicated by file, and per-mesh bounds for
-//! culling. Shared by every pass.
+//! material has a normal map, a second UV set where the file has one) and per-mesh bounds for
+//! culling. Shared by every pass; textures are made on first use by the tier that reads them
+//! (`textures.rs`).
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
@@ -12,7 +13,6 @@ use glam::Vec3;
 pub(crate) struct DrawMesh {
     pub mesh: GpuMesh,
     pub material: usize,
-    pub texture: Option<usize>,
     pub center: Vec3,
     /// Bounding sphere radius around `center`, for frustum culling.
     pub radius: f32,
@@ -43,13 +43,6 @@ impl DrawMesh {
 pub(crate) struct SceneGpu {
     pub scene: Scene,
     pub meshes: Vec<DrawMesh>,
-    pub textures: Vec<Texture2d>,
-}
-
-/// Uploads a decoded texture, downscaled (with a warning) when it exceeds the driver's
-/// maximum texture size.
-fn upload_texture(gpu: &GpuRef, t: &crate::scene::Texture) -> Result<Texture2d> {
-    timed(gpu, t, |w, h, rgba| Texture2d::from_rgba(gpu, w, h, rgba))
 }
 
 /// Makes a texture from `t`'s pixels (fitted to the driver's size limit) with `make`, and
@@ -116,34 +109,10 @@ impl SceneGpu {
         if scene.materials.is_empty() {
             scene.materials.push(crate::scene::Material::default());
         }
-        let mut textures: Vec<Texture2d> = Vec::new();
-        // A texture is its image (a file, or one image of a glTF container) with the sampler
-        // the material reads it through.
-        let mut texture_keys = Vec::new();
         let mut meshes = Vec::with_capacity(scene.meshes.len());
 
         for m in &scene.meshes {
             let mat = &scene.materials[m.material];
-            let texture = match (&mat.diffuse_map, m.has_uv) {
-                (Some(t), true) => {
-                    let sampler = super::slots::sampler(
-                        &mat.pbr_inputs.model,
-                        crate::scene::material_model::Slot::BaseColor,
-                    );
-                    let key = (t.path.clone(), t.image, sampler);
-                    Some(match texture_keys.iter().position(|k| *k == key) {
-                        Some(i) => i,
-                        None => {
-                            let tex = upload_texture(gpu, t)?;
-                            super::slots::apply_sampler(&tex, &sampler);
-                            textures.push(tex);
-                            texture_keys.push(key);
-                            textures.len() - 1
-                        }
-                    })
-                }
-                _ => None,
-            };
             let mut b = crate::scene::Bounds::empty();
             for v in &m.vertices {
                 b.include(v.position.into());
@@ -178,7 +147,6 @@ impl SceneGpu {
                     Primitive::Triangles,
                 )?,
                 material: m.material,
-                texture,
                 center,
                 radius,
                 triangles: m.triangle_count() as u64,
@@ -201,11 +169,7 @@ impl SceneGpu {
                 caps.version
             );
         }
-        Ok(SceneGpu {
-            scene,
-            meshes,
-            textures,
-        })
+        Ok(SceneGpu { scene, meshes })
     }
 
     /// Indices of the meshes whose bounding sphere touches the view frustum of `view_proj`:
@@ -255,7 +219,6 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
         out.push(DrawMesh {
             mesh,
             material: 0,
-            texture: None,
             center,
             radius,
             triangles: 0,

@@ -71,3 +71,32 @@ fn cpu_mipmaps_equal_the_drivers() {
     }
     hl.gpu.check_error("texture readback").unwrap();
 }
+
+/// Setting a texture's parameters mid-frame (a material's sampler on its first use) binds it
+/// for the call only: the active unit keeps the texture a pass bound there. The shadow map
+/// on unit 1 was once replaced by the first material texture uploaded in the lit pass, and
+/// the window's first Phong frame lost its shadows.
+#[test]
+fn parameter_changes_keep_the_units_binding() {
+    use glow::HasContext;
+    let hl = Headless::new(Backend::Egl, GlRequest::Core, 8, 8).expect("EGL context");
+    let img = pattern(4, 4);
+    let kept = Texture2d::from_rgba(&hl.gpu, 4, 4, &img).expect("texture");
+    kept.bind(1);
+    // SAFETY: a binding query on the current context.
+    let bound = || unsafe { hl.gpu.gl.get_parameter_texture(glow::TEXTURE_BINDING_2D) };
+    let before = bound();
+    assert!(before.is_some());
+    let other = Texture2d::from_rgba(&hl.gpu, 4, 4, &img).expect("texture");
+    assert_eq!(bound(), before, "creating a texture");
+    other.set_sampler(
+        [glow::CLAMP_TO_EDGE, glow::MIRRORED_REPEAT],
+        glow::NEAREST,
+        glow::NEAREST,
+    );
+    assert_eq!(bound(), before, "set_sampler");
+    other.set_filter(false);
+    assert_eq!(bound(), before, "set_filter");
+    other.set_compare(false);
+    assert_eq!(bound(), before, "set_compare");
+}
