@@ -350,6 +350,7 @@ pub fn parse_terms(s: &str) -> Result<PbrTerms> {
         ao: false,
         shadows: false,
         emissive: false,
+        normal_map: false,
     };
     match s.trim() {
         "all" | "" => return Ok(all),
@@ -366,10 +367,11 @@ pub fn parse_terms(s: &str) -> Result<PbrTerms> {
             "ao" => &mut t.ao,
             "shadows" => &mut t.shadows,
             "emissive" => &mut t.emissive,
+            "normal-map" => &mut t.normal_map,
             other => {
                 return Err(Error::Usage(format!(
                     "--terms: unknown term {other:?} (direct-diffuse, direct-specular, \
-                     ibl-diffuse, ibl-specular, ao, shadows, emissive, all, none)"
+                     ibl-diffuse, ibl-specular, ao, shadows, emissive, normal-map, all, none)"
                 )))
             }
         };

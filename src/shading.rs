@@ -37,6 +37,8 @@ pub struct PbrTerms {
     pub ao: bool,
     pub shadows: bool,
     pub emissive: bool,
+    /// The material's normal map (both tiers); off: the interpolated normal.
+    pub normal_map: bool,
 }
 
 impl Default for PbrTerms {
@@ -49,6 +51,7 @@ impl Default for PbrTerms {
             ao: true,
             shadows: true,
             emissive: true,
+            normal_map: true,
         }
     }
 }
@@ -114,13 +117,36 @@ pub fn to_light(light: &Light, p: DVec3) -> DVec3 {
     }
 }
 
+/// What a material's textures give at one point (white where it has none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tex {
+    /// Multiplies Ka and Kd (the diffuse map, times vertex colours).
+    pub diffuse: DVec3,
+    /// Multiplies Ke (the emissive map).
+    pub emissive: DVec3,
+}
+
+impl Tex {
+    pub const WHITE: Tex = Tex {
+        diffuse: DVec3::ONE,
+        emissive: DVec3::ONE,
+    };
+
+    pub fn diffuse(c: DVec3) -> Tex {
+        Tex {
+            diffuse: c,
+            ..Tex::WHITE
+        }
+    }
+}
+
 /// Shades one point. `n` is the unit normal already flipped towards the viewer's side for
-/// back faces; `tex` multiplies Ka and Kd (white when there is no texture); `visibility[i]`
-/// is light i's shadow factor (1 = lit).
+/// back faces; `tex` multiplies Ka and Kd, and Ke; `visibility[i]` is light i's shadow
+/// factor (1 = lit).
 #[allow(clippy::too_many_arguments)] // the formula's inputs, kept flat to mirror the GLSL
 pub fn shade(
     m: &Material,
-    tex: DVec3,
+    tex: Tex,
     p: DVec3,
     n: DVec3,
     eye: DVec3,
@@ -128,10 +154,10 @@ pub fn shade(
     visibility: &[f64],
     params: &LightingParams,
 ) -> DVec3 {
-    let ka = DVec3::from(m.ambient.map(f64::from)) * tex;
-    let kd = DVec3::from(m.diffuse.map(f64::from)) * tex;
+    let ka = DVec3::from(m.ambient.map(f64::from)) * tex.diffuse;
+    let kd = DVec3::from(m.diffuse.map(f64::from)) * tex.diffuse;
     let ks = DVec3::from(m.specular.map(f64::from));
-    let mut c = DVec3::from(m.emissive.map(f64::from));
+    let mut c = DVec3::from(m.emissive.map(f64::from)) * tex.emissive;
     if params.terms.ambient {
         c += ka * params.ambient;
     }
@@ -180,7 +206,7 @@ mod tests {
         let m = Material::default();
         let c = shade(
             &m,
-            DVec3::ONE,
+            Tex::WHITE,
             DVec3::ZERO,
             DVec3::Y,
             DVec3::Y * 5.0,
@@ -205,7 +231,7 @@ mod tests {
         let m = Material::default();
         let c = shade(
             &m,
-            DVec3::ONE,
+            Tex::WHITE,
             DVec3::ZERO,
             DVec3::Y,
             DVec3::Y,
@@ -225,7 +251,7 @@ mod tests {
         };
         let c = shade(
             &m,
-            DVec3::ONE,
+            Tex::WHITE,
             DVec3::ZERO,
             DVec3::X,
             DVec3::X,

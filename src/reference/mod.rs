@@ -12,7 +12,9 @@
 //!   is drawn only where nothing was), exactly as the GPU does it; with `sorted` the layers
 //!   are composited per pixel far to near in f64, while the GPU sorts whole meshes by their
 //!   centres, so interpenetrating or self-overlapping translucent meshes can differ;
-//! - textures are sampled at level 0 (the GPU may use mipmaps where the texture is minified);
+//! - textures are sampled at level 0 with the magnification filter (the GPU may use mipmaps
+//!   where the texture is minified); the material model otherwise as the shaders read it
+//!   (`material`: samplers, UV sets, texture transforms, alpha modes, sidedness, normal maps);
 //! - `show_shadow_map` (a teaching view) is ignored.
 //!
 //! Measured on the built-in scene at 640×480 (llvmpipe): with `--no-shadows`, pixels without
@@ -20,6 +22,7 @@
 //! on edges); the glass differs by its blend order, and shadows by the shadow map's
 //! approximations. See `gpu_against_reference_builtin` in tests/suite/reference.rs.
 pub mod bvh;
+pub mod material;
 pub mod pbr;
 pub mod surface;
 pub mod view;
@@ -72,6 +75,9 @@ pub struct Context<'a> {
     pub pbr_samples: u32,
     /// Per mesh: the shadow-terminator lift (see `surface::light_visible`).
     pub terminator_lift: Vec<f64>,
+    /// Per mesh: MikkTSpace tangents where a normal map needs them and the file gave none,
+    /// as the upload makes them (empty otherwise).
+    pub generated_tangents: Vec<Vec<[f32; 4]>>,
 }
 
 impl<'a> Context<'a> {
@@ -108,6 +114,21 @@ impl<'a> Context<'a> {
                 .meshes
                 .iter()
                 .map(crate::scene::terminator_lift)
+                .collect(),
+            generated_tangents: scene
+                .meshes
+                .iter()
+                .map(|m| {
+                    let mapped = scene
+                        .materials
+                        .get(m.material)
+                        .is_some_and(|x| x.pbr_inputs.normal_map.is_some());
+                    if m.has_uv && mapped && m.tangents.len() != m.vertices.len() {
+                        crate::scene::tangents::generate(m)
+                    } else {
+                        Vec::new()
+                    }
+                })
                 .collect(),
         }
     }
@@ -219,7 +240,10 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
         info.distance = (p - ctx.view.eye).length();
         info.shadowed = std::array::from_fn(|i| shadowed & (1 << i) != 0);
     };
-    let opaque = ctx.opaque.closest(o, d, 0.0, 1.0);
+    // The material model's cut-outs and culled back faces are not drawn: the ray goes on.
+    let opaque = ctx
+        .opaque
+        .closest_where(o, d, 0.0, 1.0, |h| material::drawn(ctx, h, d));
     let mut color = background(ctx, d);
     if let Some(hit) = &opaque {
         let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);
@@ -230,7 +254,8 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
     let t_end = opaque.map_or(1.0, |h| h.t);
     sc.layers.clear();
     ctx.translucent.all(o, d, 0.0, t_end, &mut sc.layers);
-    sc.layers.retain(|l| l.t < t_end);
+    sc.layers
+        .retain(|l| l.t < t_end && material::drawn(ctx, l, d));
     sc.layers.sort_by(|a, b| b.t.total_cmp(&a.t));
     // A ray through an edge shared by two triangles of one mesh hits both (see bvh's
     // EDGE_SLACK); the rasterizer's fill rule draws such a point once.
@@ -250,10 +275,12 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
     }
     for hit in &sc.layers {
         let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
-        let alpha = f64::from(
-            tr.opacity
-                .unwrap_or(ctx.scene.materials[mesh.material].opacity),
-        );
+        let m = &ctx.scene.materials[mesh.material];
+        let mut alpha = f64::from(tr.opacity.unwrap_or(m.opacity));
+        if m.pbr_inputs.model.alpha_mode == crate::scene::material_model::AlphaMode::Blend {
+            // BLEND: the base colour texture's alpha multiplies the opacity.
+            alpha *= material::base_alpha(m, &material::Corners::new(ctx, hit)).1;
+        }
         let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);
         color = match tr.blend {
             crate::frame::BlendFormula::Alpha => s.color * alpha + color * (1.0 - alpha),

@@ -1,32 +1,76 @@
 //! The PBR tier in the reference renderer: the same BRDF as `pbr.frag`, but the environment is
 //! integrated by Monte Carlo (cosine-sampled diffuse, GGX-sampled specular, `samples` points
 //! of a Hammersley set each, f64) instead of the split sum, and direct lights get exact shadow
-//! rays. This is the truth the tier's precomputed maps are measured against. Texture maps are
-//! read like the GPU reads them except normal maps, which the reference ignores (documented).
+//! rays. This is the truth the tier's precomputed maps are measured against. Material maps
+//! are read as `pbr.frag` reads them (`super::material`): glTF's metallic-roughness image
+//! (B metal, G rough) and occlusion (R, strength) each through their own slot, an MTL's
+//! separate maps directly (the GPU packs them into one texture, nearest-resampled to the
+//! largest: where their sizes differ the two can differ), the emissive map sRGB-decoded.
+use super::material::{self, Corners};
 use super::Context;
 use crate::pbr::brdf::Surface;
-use crate::pbr::{srgb_decode, PbrParams};
+use crate::scene::material_model::Slot;
 use crate::scene::Material;
+use crate::shading::LightingParams;
 use glam::DVec3;
 
 /// Default Monte Carlo samples per lobe and pixel; the tests state the noise this leaves.
 pub const DEFAULT_SAMPLES: u32 = 2048;
 
-/// The material at a hit as the PBR formula sees it (`tex` is the diffuse map's sRGB colour,
-/// or white).
-pub fn surface(m: &Material, tex: DVec3, p: &PbrParams) -> Surface {
+/// The material at a hit as the PBR formula sees it (`base` is the base colour texture's
+/// linear colour, or white).
+pub fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams) -> Surface {
+    let p = &l.pbr;
     let v = m.pbr();
-    let base = p
+    let inputs = &m.pbr_inputs;
+    let factor = p
         .base_color
         .map(|c| c.as_dvec3())
         .unwrap_or(DVec3::from(v.base_color.map(f64::from)));
-    let tex = DVec3::new(srgb_decode(tex.x), srgb_decode(tex.y), srgb_decode(tex.z));
+    let mut metallic = f64::from(p.metallic.unwrap_or(v.metallic));
+    let mut roughness = f64::from(p.roughness.unwrap_or(v.roughness));
+    let mut ao = 1.0;
+    let red = |t: &Option<std::sync::Arc<crate::scene::Texture>>, slot| {
+        material::read(m, t.as_deref(), slot, c, false).map(|x| x.x)
+    };
+    let gltf =
+        inputs.metallic_roughness_map.is_some() || inputs.model.slot(Slot::Occlusion).is_some();
+    if gltf {
+        if let Some(mr) = material::read(
+            m,
+            inputs.metallic_roughness_map.as_deref(),
+            Slot::MetallicRoughness,
+            c,
+            false,
+        ) {
+            roughness *= mr.y;
+            metallic *= mr.z;
+        }
+        if let Some(r) = red(&inputs.ao_map, Slot::Occlusion) {
+            ao *= 1.0 + f64::from(inputs.model.occlusion_strength) * (r - 1.0);
+        }
+    } else {
+        // An MTL's maps: red channels, repeat and linear like the packed texture.
+        let plain = |t: &Option<std::sync::Arc<crate::scene::Texture>>| {
+            t.as_deref()
+                .filter(|_| c.mesh.has_uv)
+                .map(|t| material::sample(t, &Default::default(), c.uv(0), false).x)
+        };
+        ao = plain(&inputs.ao_map).unwrap_or(1.0);
+        roughness *= plain(&inputs.roughness_map).unwrap_or(1.0);
+        metallic *= plain(&inputs.metallic_map).unwrap_or(1.0);
+    }
+    if !l.pbr_terms.ao {
+        ao = 1.0;
+    }
+    let emissive = material::read(m, inputs.emissive_map.as_deref(), Slot::Emissive, c, true)
+        .map_or(DVec3::ONE, |t| t.truncate());
     Surface {
-        albedo: base * tex,
-        metallic: f64::from(p.metallic.unwrap_or(v.metallic)),
-        roughness: f64::from(p.roughness.unwrap_or(v.roughness)),
-        ao: 1.0,
-        emissive: DVec3::from(v.emissive.map(f64::from)),
+        albedo: factor * base,
+        metallic,
+        roughness,
+        ao,
+        emissive: DVec3::from(v.emissive.map(f64::from)) * emissive,
     }
 }
 

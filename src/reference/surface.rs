@@ -2,11 +2,13 @@
 //! bilinear texture, exact shadow rays, then `shading::shade` (Phong) or per-vertex factors
 //! interpolated across the triangle (Gouraud, as `lit.vert` computes them).
 use super::bvh::Hit;
+use super::material::{self, Corners};
 use super::Context;
 use crate::frame::Shading;
 use crate::light::{Light, LightKind};
-use crate::scene::{Mesh, Texture};
-use crate::shading::{reflect, shade, specular_factor, to_light};
+use crate::scene::material_model::Slot;
+use crate::scene::Mesh;
+use crate::shading::{reflect, shade, specular_factor, to_light, Tex};
 use glam::DVec3;
 
 /// What the renderer records about a shaded surface besides its colour.
@@ -19,20 +21,42 @@ pub struct Shaded {
 pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Shaded {
     let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
     let material = &ctx.scene.materials[mesh.material];
-    let base = 3 * hit.tri.tri as usize;
-    let corner = |k: usize| &mesh.vertices[mesh.indices[base + k] as usize];
-    let vtx = [corner(0), corner(1), corner(2)];
-    let w = [1.0 - hit.u - hit.v, hit.u, hit.v];
+    let corners = Corners::new(ctx, hit);
+    let vtx = corners.idx.map(|i| &mesh.vertices[i]);
+    let w = corners.w;
     let pos = vtx.map(|v| DVec3::from(v.position.map(f64::from)));
     // On the triangle itself rather than origin + t·dir, so its distance from the plane (which
     // the shadow-ray offset must exceed) does not grow with the camera's distance.
     let p = w[0] * pos[0] + w[1] * pos[1] + w[2] * pos[2];
     let ng = (pos[1] - pos[0]).cross(pos[2] - pos[0]).normalize_or_zero();
     let front = ng.dot(dir) < 0.0;
-    let tex = texture_colour(ctx, mesh, hit, &w);
+    let pbr_tier = ctx.settings.shading == Shading::Pbr;
+    // The base colour texture: display values for the legacy tier, decoded per texel for
+    // PBR (an sRGB texture format decodes before filtering).
+    let base = material::read(
+        material,
+        material.diffuse_map.as_deref(),
+        Slot::BaseColor,
+        &corners,
+        pbr_tier,
+    )
+    .map_or(DVec3::ONE, |t| t.truncate());
     // Vertex colours: interpolated like any attribute; they multiply what a texture
     // multiplies (Ka and Kd in the legacy tier, the base colour after sRGB decoding in PBR).
-    let vc = vertex_colour(mesh, hit, &w);
+    let vc = vertex_colour(mesh, &w, &corners.idx);
+    let model = &material.pbr_inputs.model;
+    if model.unlit {
+        // KHR_materials_unlit: the base colour is the colour, through the output step.
+        let color = if pbr_tier {
+            let mut s = super::pbr::surface(material, base, &corners, &ctx.settings.lighting);
+            s.albedo *= vc.map(crate::pbr::srgb_decode);
+            DVec3::from(ctx.settings.lighting.output.apply(s.albedo.to_array()))
+        } else {
+            let kd = DVec3::from(material.diffuse.map(f64::from));
+            (kd * base * vc).clamp(DVec3::ZERO, DVec3::ONE)
+        };
+        return Shaded { color, shadowed: 0 };
+    }
 
     // The interpolated normal, turned to the viewer's side of the facet like the GPU's.
     let ns = w[0] * normal_of(vtx[0].normal) + w[1] * normal_of(vtx[1].normal);
@@ -51,33 +75,58 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
         }
         vis.push(if lit { 1.0 } else { 0.0 });
     }
-    debug_assert!(p.is_finite() && tex.is_finite(), "bad hit {hit:?}");
+    debug_assert!(p.is_finite() && base.is_finite(), "bad hit {hit:?}");
+    // The normal map bends the per-fragment normal (not Gouraud's per-vertex factors).
+    let mapped = |n: DVec3| {
+        if ctx.settings.lighting.pbr_terms.normal_map {
+            material::normal_map(material, &corners, n, front)
+        } else {
+            n
+        }
+    };
 
-    let color = if ctx.settings.shading == Shading::Pbr {
-        let n = w[0] * normal_of(vtx[0].normal) + w[1] * normal_of(vtx[1].normal);
-        let n = safe_normalize(n + w[2] * normal_of(vtx[2].normal), ctx.view.back);
-        let n = if front { n } else { -n };
-        let mut s = super::pbr::surface(material, tex, &ctx.settings.lighting.pbr);
+    let color = if pbr_tier {
+        let mut s = super::pbr::surface(material, base, &corners, &ctx.settings.lighting);
         s.albedo *= vc.map(crate::pbr::srgb_decode);
-        super::pbr::shade(ctx, &s, p, n, vis)
-    } else if ctx.settings.shading == Shading::Gouraud {
-        gouraud(
-            ctx,
-            material,
-            &pos,
-            &vtx.map(|v| v.normal),
-            &w,
-            front,
-            tex * vc,
-            vis,
-        )
+        super::pbr::shade(ctx, &s, p, mapped(ns), vis)
     } else {
-        let n = w[0] * normal_of(vtx[0].normal) + w[1] * normal_of(vtx[1].normal);
-        let n = safe_normalize(n + w[2] * normal_of(vtx[2].normal), ctx.view.back);
-        let n = if front { n } else { -n };
-        debug_assert!(n.is_normalized(), "normal {n} at {hit:?}");
-        let params = &ctx.settings.lighting;
-        shade(material, tex * vc, p, n, ctx.view.eye, lights, vis, params)
+        let emissive = material::read(
+            material,
+            material.pbr_inputs.emissive_map.as_deref(),
+            Slot::Emissive,
+            &corners,
+            false,
+        )
+        .map_or(DVec3::ONE, |t| t.truncate());
+        let tex = Tex {
+            diffuse: base * vc,
+            emissive,
+        };
+        if ctx.settings.shading == Shading::Gouraud {
+            gouraud(
+                ctx,
+                material,
+                &pos,
+                &vtx.map(|v| v.normal),
+                &w,
+                front,
+                tex,
+                vis,
+            )
+        } else {
+            debug_assert!(ns.is_normalized(), "normal {ns} at {hit:?}");
+            let params = &ctx.settings.lighting;
+            shade(
+                material,
+                tex,
+                p,
+                mapped(ns),
+                ctx.view.eye,
+                lights,
+                vis,
+                params,
+            )
+        }
     };
     Shaded { color, shadowed }
 }
@@ -124,60 +173,28 @@ fn light_visible(ctx: &Context, p: DVec3, ng: DVec3, ns: DVec3, lift: f64, light
     };
     let step = if ng.dot(towards) >= 0.0 { ng } else { -ng } * ctx.epsilon;
     let o = p + step;
+    // What the shadow pass draws: the light is its viewer, looking back along the ray.
+    let drawn = |d: DVec3| move |hit: &Hit| material::drawn(ctx, hit, -d);
     match light.kind {
-        LightKind::Point(q) => !ctx.opaque.occluded(o, q.as_dvec3() - o, 0.0, 1.0),
-        LightKind::Directional(_) => !ctx.opaque.occluded(o, towards, 0.0, f64::INFINITY),
+        LightKind::Point(q) => {
+            let d = q.as_dvec3() - o;
+            !ctx.opaque.occluded_where(o, d, 0.0, 1.0, drawn(d))
+        }
+        LightKind::Directional(_) => {
+            !ctx.opaque
+                .occluded_where(o, towards, 0.0, f64::INFINITY, drawn(towards))
+        }
     }
 }
 
 /// The interpolated vertex colour at the hit (white where the mesh has none).
-fn vertex_colour(mesh: &Mesh, hit: &Hit, w: &[f64; 3]) -> DVec3 {
+fn vertex_colour(mesh: &Mesh, w: &[f64; 3], idx: &[usize; 3]) -> DVec3 {
     if mesh.colors.len() != mesh.vertices.len() {
         return DVec3::ONE;
     }
-    let base = 3 * hit.tri.tri as usize;
     (0..3).fold(DVec3::ZERO, |a, k| {
-        let c = mesh.colors[mesh.indices[base + k] as usize];
-        a + w[k] * DVec3::from(c.map(f64::from))
+        a + w[k] * DVec3::from(mesh.colors[idx[k]].map(f64::from))
     })
-}
-
-/// The diffuse map's colour at the hit (white without one), sampled like GL_LINEAR at level 0
-/// with GL_REPEAT: texel centres at (i + 0.5) / size, row 0 at v = 0.
-fn texture_colour(ctx: &Context, mesh: &Mesh, hit: &Hit, w: &[f64; 3]) -> DVec3 {
-    let material = &ctx.scene.materials[mesh.material];
-    let Some(t) = material.diffuse_map.as_deref().filter(|_| mesh.has_uv) else {
-        return DVec3::ONE;
-    };
-    let base = 3 * hit.tri.tri as usize;
-    let uv = (0..3).fold(glam::DVec2::ZERO, |a, k| {
-        let v = &mesh.vertices[mesh.indices[base + k] as usize];
-        a + w[k] * glam::DVec2::from(v.uv.map(f64::from))
-    });
-    bilinear(t, uv.x, uv.y)
-}
-
-pub fn bilinear(t: &Texture, u: f64, v: f64) -> DVec3 {
-    if t.width == 0 || t.height == 0 || !(u.is_finite() && v.is_finite()) {
-        return DVec3::ONE;
-    }
-    let (w, h) = (i64::from(t.width), i64::from(t.height));
-    let (x, y) = (u * w as f64 - 0.5, v * h as f64 - 0.5);
-    let (x0, y0) = (x.floor(), y.floor());
-    let (fx, fy) = (x - x0, y - y0);
-    let texel = |i: i64, j: i64| {
-        let k = 4 * (j.rem_euclid(h) * w + i.rem_euclid(w)) as usize;
-        DVec3::new(
-            f64::from(t.rgba[k]),
-            f64::from(t.rgba[k + 1]),
-            f64::from(t.rgba[k + 2]),
-        ) / 255.0
-    };
-    // Wrap the integer part first: huge u would lose the fraction after a float modulo.
-    let (i, j) = ((x0 % w as f64) as i64, (y0 % h as f64) as i64);
-    let top = texel(i, j) * (1.0 - fx) + texel(i + 1, j) * fx;
-    let bottom = texel(i, j + 1) * (1.0 - fx) + texel(i + 1, j + 1) * fx;
-    top * (1.0 - fy) + bottom * fy
 }
 
 /// `lightFactors` of lighting.glsl: (diffuse, specular) for one light.
@@ -203,13 +220,14 @@ fn gouraud(
     normals: &[[f32; 3]; 3],
     w: &[f64; 3],
     front: bool,
-    tex: DVec3,
+    tex: Tex,
     vis: &[f64],
 ) -> DVec3 {
     let s = ctx.settings;
     let (terms, eye) = (s.lighting.terms, ctx.view.eye);
     let rgb = |c: [f32; 3]| DVec3::from(c.map(f64::from));
-    let mut c = rgb(m.emissive);
+    let mut c = rgb(m.emissive) * tex.emissive;
+    let tex = tex.diffuse;
     if terms.ambient {
         c += rgb(m.ambient) * tex * s.lighting.ambient;
     }
@@ -241,6 +259,9 @@ fn gouraud(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::material::sample;
+    use crate::scene::material_model::Sampler;
+    use crate::scene::Texture;
 
     fn checker() -> Texture {
         // 2×2: white, black / black, white (row 0 on top).
@@ -256,17 +277,19 @@ mod tests {
     }
 
     #[test]
-    fn bilinear_hits_texel_centres_and_wraps() {
+    fn default_sampler_hits_texel_centres_and_wraps() {
         let t = checker();
-        assert_eq!(bilinear(&t, 0.25, 0.25), DVec3::ONE);
-        assert_eq!(bilinear(&t, 0.75, 0.25), DVec3::ZERO);
-        assert_eq!(bilinear(&t, 0.25, 0.75), DVec3::ZERO);
+        let s = Sampler::default();
+        let at = |u: f64, v: f64| sample(&t, &s, glam::DVec2::new(u, v), false).truncate();
+        assert_eq!(at(0.25, 0.25), DVec3::ONE);
+        assert_eq!(at(0.75, 0.25), DVec3::ZERO);
+        assert_eq!(at(0.25, 0.75), DVec3::ZERO);
         // Halfway between texel centres, and across the REPEAT seam.
-        assert!((bilinear(&t, 0.5, 0.25) - DVec3::splat(0.5)).length() < 1e-12);
-        assert!((bilinear(&t, 0.0, 0.25) - DVec3::splat(0.5)).length() < 1e-12);
-        assert_eq!(bilinear(&t, 1.25, -0.75), DVec3::ONE);
-        assert!((bilinear(&t, 1e9 + 0.25, 0.25) - DVec3::ONE).length() < 1e-6);
-        assert!(bilinear(&t, f64::NAN, 0.0).is_finite());
+        assert!((at(0.5, 0.25) - DVec3::splat(0.5)).length() < 1e-12);
+        assert!((at(0.0, 0.25) - DVec3::splat(0.5)).length() < 1e-12);
+        assert_eq!(at(1.25, -0.75), DVec3::ONE);
+        assert!((at(1e9 + 0.25, 0.25) - DVec3::ONE).length() < 1e-6);
+        assert!(at(f64::NAN, 0.0).is_finite());
     }
 
     #[test]

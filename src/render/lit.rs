@@ -256,7 +256,7 @@ pub(crate) fn draw(
         let texture = base_texture(cx, material, has_uv)?;
         // The normal map bends a per-fragment normal: Gouraud has none.
         let normal_map = match &mat.pbr_inputs.normal_map {
-            Some(t) if has_tangents && !gouraud => {
+            Some(t) if has_tangents && !gouraud && s.lighting.pbr_terms.normal_map => {
                 let smp = super::slots::sampler(model, Slot::Normal);
                 Some(cx.res.textures.get(cx.gpu, t, false, &smp)?)
             }

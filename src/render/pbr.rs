@@ -305,7 +305,7 @@ fn draw(
         let mm = cx.res.pbr_textures.as_ref().expect("made above").materials[material];
         let maps = Maps {
             albedo: has_uv && mm.albedo.is_some(),
-            normal: has_tangents && mm.normal.is_some(),
+            normal: has_tangents && mm.normal.is_some() && s.lighting.pbr_terms.normal_map,
             orm: has_uv && mm.orm.is_some(),
             ao: has_uv && mm.ao.is_some(),
             emissive: has_uv && mm.emissive.is_some(),

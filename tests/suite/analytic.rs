@@ -125,7 +125,16 @@ fn compare_with_exact(
         if mat.shininess <= 0.0 && glview::shading::to_light(&light, p).dot(p).abs() < 0.01 {
             return Some(None);
         }
-        let c = shade(mat, DVec3::ONE, p, p, eye, &[light], &[], &params);
+        let c = shade(
+            mat,
+            glview::shading::Tex::WHITE,
+            p,
+            p,
+            eye,
+            &[light],
+            &[],
+            &params,
+        );
         Some(Some(c.to_array().map(|v| (v * 255.0).round() as u8)))
     };
     let mut max = 0u8;

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 const N: u32 = 48;
 
 /// A w×h RGBA PNG as a data: URI.
-fn png(w: u32, h: u32, px: &[[u8; 4]]) -> String {
+pub(crate) fn png(w: u32, h: u32, px: &[[u8; 4]]) -> String {
     let img = image::RgbaImage::from_raw(w, h, px.concat()).unwrap();
     let mut out = std::io::Cursor::new(Vec::new());
     img.write_to(&mut out, image::ImageFormat::Png).unwrap();
@@ -24,13 +24,13 @@ fn png(w: u32, h: u32, px: &[[u8; 4]]) -> String {
 
 /// The quad's optional vertex streams and its node's x scale.
 #[derive(Clone)]
-struct Quad {
+pub(crate) struct Quad {
     /// TEXCOORD_0 at the top-left, top-right, bottom-right and bottom-left corners.
-    uv0: [[f32; 2]; 4],
-    uv1: Option<[[f32; 2]; 4]>,
-    normal: [f32; 3],
-    tangent: Option<[f32; 4]>,
-    scale_x: f32,
+    pub uv0: [[f32; 2]; 4],
+    pub uv1: Option<[[f32; 2]; 4]>,
+    pub normal: [f32; 3],
+    pub tangent: Option<[f32; 4]>,
+    pub scale_x: f32,
 }
 
 impl Default for Quad {
@@ -47,7 +47,7 @@ impl Default for Quad {
 
 /// Writes `name.gltf`: the quad (-1..1)² in z = 0 facing +Z, with `materials` (JSON fields:
 /// materials, textures, samplers, images).
-fn quad(dir: &Path, name: &str, q: &Quad, materials: &str) -> PathBuf {
+pub(crate) fn quad(dir: &Path, name: &str, q: &Quad, materials: &str) -> PathBuf {
     // Corners top-left, top-right, bottom-right, bottom-left (picture order).
     let pos = [[-1f32, 1., 0.], [1., 1., 0.], [1., -1., 0.], [-1., -1., 0.]];
     let mut bin: Vec<u8> = Vec::new();
@@ -237,7 +237,7 @@ fn assert_pixels(
 
 /// A 2×2 texture of four distinct colours (top-left red, top-right green, bottom-left blue,
 /// bottom-right yellow).
-const TEXELS: [[u8; 4]; 4] = [
+pub(crate) const TEXELS: [[u8; 4]; 4] = [
     [230, 30, 40, 255],
     [20, 200, 60, 255],
     [30, 60, 220, 255],
@@ -254,7 +254,7 @@ fn unlit(sampler: &str, texture: &str, extra: &str) -> String {
     )
 }
 
-const NEAREST: &str = r#""magFilter": 9728, "minFilter": 9728"#;
+pub(crate) const NEAREST: &str = r#""magFilter": 9728, "minFilter": 9728"#;
 
 /// PBR output without tone mapping or exposure: sRGB(linear) is the texture again.
 const PBR_PLAIN: &[&str] = &["--shading", "pbr", "--tonemap", "none", "--exposure", "0"];
@@ -317,7 +317,7 @@ fn emissive_texture_alone_is_the_texture() {
 }
 
 /// Alpha 0.1, 0.3, 0.6, 0.9 across four texel columns.
-fn alpha_ramp() -> String {
+pub(crate) fn alpha_ramp() -> String {
     let a = [26u8, 77, 153, 230];
     let px: Vec<[u8; 4]> = a.iter().map(|&a| [200, 200, 200, a]).collect();
     png(4, 1, &px)

@@ -31,6 +31,7 @@ mod post_copy;
 mod precision;
 mod quirky_formats;
 mod reference;
+mod reference_materials;
 mod repro;
 mod shaders;
 mod shadows;

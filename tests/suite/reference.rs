@@ -227,7 +227,16 @@ fn sphere_error(s: &FrameSettings, m: Material, segments: u32) -> SphereError {
                 continue;
             }
             let vis = vec![1.0; s.lights.len()];
-            let exact = shade(&m, DVec3::ONE, p, p, eye, &s.lights, &vis, &s.lighting);
+            let exact = shade(
+                &m,
+                glview::shading::Tex::WHITE,
+                p,
+                p,
+                eye,
+                &s.lights,
+                &vis,
+                &s.lighting,
+            );
             for k in 0..3 {
                 let err = (f64::from(px[k]) - exact[k] * 255.0).abs();
                 if err > e.worst {

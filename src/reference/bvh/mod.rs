@@ -75,16 +75,32 @@ impl Bvh {
 
     /// The nearest hit with `t_min <= t <= t_max`.
     pub fn closest(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<Hit> {
+        self.closest_where(o, d, t_min, t_max, |_| true)
+    }
+
+    /// The nearest hit `accept` takes (the material model's cut-outs and culled back faces
+    /// are hits the rasterizer does not draw).
+    pub fn closest_where(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_min: f64,
+        t_max: f64,
+        accept: impl Fn(&Hit) -> bool,
+    ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let mut t_max = t_max;
         self.traverse(o, d, t_min, &mut t_max, |i, t, u, v, t_max| {
-            *t_max = t;
-            best = Some(Hit {
+            let hit = Hit {
                 t,
                 u,
                 v,
                 tri: self.refs[i],
-            });
+            };
+            if accept(&hit) {
+                *t_max = t;
+                best = Some(hit);
+            }
             false
         });
         best
@@ -92,11 +108,28 @@ impl Bvh {
 
     /// Whether anything lies on the ray within `t_min < t < t_max` (shadow rays).
     pub fn occluded(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> bool {
+        self.occluded_where(o, d, t_min, t_max, |_| true)
+    }
+
+    /// Whether a hit `accept` takes lies on the ray within `t_min < t < t_max`.
+    pub fn occluded_where(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_min: f64,
+        t_max: f64,
+        accept: impl Fn(&Hit) -> bool,
+    ) -> bool {
         let mut found = false;
         let mut t_max = t_max;
-        self.traverse(o, d, t_min, &mut t_max, |_, _, _, _, _| {
-            found = true;
-            true
+        self.traverse(o, d, t_min, &mut t_max, |i, t, u, v, _| {
+            found = accept(&Hit {
+                t,
+                u,
+                v,
+                tri: self.refs[i],
+            });
+            found
         });
         found
     }
