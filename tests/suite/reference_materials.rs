@@ -249,6 +249,20 @@ fn material_maps_match_the_reference() {
             "{name}: the normal map changes too little to be checked: {flat:?}"
         );
     }
+    // `--terms` without normal-map: both draw the interpolated normal.
+    let terms = "direct-diffuse,direct-specular,emissive";
+    let mut args = PBR_DIRECT.to_vec();
+    let i = args.iter().position(|a| *a == "--terms").unwrap();
+    args[i + 1] = terms;
+    let d = against(&dir, "maps-pbr-no-normal-map", &model, &args, |_| {});
+    assert_agrees(&d, "maps-pbr-no-normal-map");
+    let flat = against(&dir, "maps-pbr-no-normal-map-vs-map", &model, &args, |s| {
+        s.lighting.pbr_terms.normal_map = true
+    });
+    assert!(
+        flat.share_over8 > 0.05,
+        "--terms ignored the normal map switch: {flat:?}"
+    );
 }
 
 /// Khronos' normal-map samples (one with MikkTSpace tangents made at load, one with a
