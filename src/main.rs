@@ -79,7 +79,11 @@ fn dispatch(args: &Args) -> Result<()> {
     }
     if args.check {
         let scene = run::load_scene_with(args, false)?;
-        print!("{}", glview::scene::report::report(&scene));
+        let format = args
+            .model
+            .as_deref()
+            .map(|p| glview::scene::formats::format_of(p).0);
+        print!("{}", glview::scene::report::report(&scene, format));
         return Ok(());
     }
     if let Some(out) = &args.output {

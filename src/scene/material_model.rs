@@ -187,6 +187,80 @@ impl Model {
     }
 }
 
+/// How `m`, loaded from a file of `format` (not glTF), maps into the material model: one
+/// line for `--check`, naming each slot's source in the file's own terms.
+pub fn mapping(
+    m: &super::Material,
+    format: super::formats::Format,
+    vertex_colours: bool,
+) -> String {
+    use super::formats::Format;
+    let p = m.pbr();
+    let i = &m.pbr_inputs;
+    let rgb = |c: [f32; 3]| format!("({:.3}, {:.3}, {:.3})", c[0], c[1], c[2]);
+    let map = |t: &Option<std::sync::Arc<super::Texture>>, key: &str| match t {
+        Some(t) => format!(
+            " x {key} {} (repeat, linear, mipmaps, UV set 0)",
+            t.path.display()
+        ),
+        None => String::new(),
+    };
+    if matches!(format, Format::Stl | Format::Ply) {
+        return format!(
+            "baseColor {}{}, metallic 0, roughness 1, no textures, OPAQUE, doubleSided \
+             (the format has no materials)",
+            rgb(p.base_color),
+            if vertex_colours {
+                " x vertex colours"
+            } else {
+                ""
+            }
+        );
+    }
+    let (metal, rough) = if p.source == "classic" {
+        (
+            if p.metallic > 0.0 {
+                "1 (Ks brighter than Kd: classic metal; baseColor from Ks)"
+            } else {
+                "0 (from Kd/Ks)"
+            }
+            .to_string(),
+            format!("{:.3} (from Ns {})", p.roughness, m.shininess),
+        )
+    } else {
+        (
+            format!("{:.2} (Pm)", p.metallic),
+            format!("{:.3} (Pr)", p.roughness),
+        )
+    };
+    let alpha = if m.is_translucent() {
+        format!("BLEND (d {:.3})", m.opacity)
+    } else {
+        "OPAQUE (d 1)".to_string()
+    };
+    format!(
+        "baseColor {} (Kd, sRGB){}, metallic {metal}{}, roughness {rough}{}, normal{}, \
+         occlusion{}, emissive {} (Ke){}, {alpha}, doubleSided (OBJ says nothing about sides)",
+        rgb(p.base_color),
+        map(&m.diffuse_map, "map_Kd"),
+        map(&i.metallic_map, "map_Pm"),
+        map(&i.roughness_map, "map_Pr"),
+        match &i.normal_map {
+            Some(t) => format!(
+                " {} (norm/map_Bump, tangents by MikkTSpace)",
+                t.path.display()
+            ),
+            None => " none".to_string(),
+        },
+        match &i.ao_map {
+            Some(t) => format!(" {} (map_ao, red)", t.path.display()),
+            None => " none".to_string(),
+        },
+        rgb(p.emissive),
+        map(&i.emissive_map, "map_Ke"),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

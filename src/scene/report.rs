@@ -2,7 +2,9 @@
 use super::Scene;
 use std::fmt::Write;
 
-pub fn report(s: &Scene) -> String {
+/// What the loader made of `s`, read from a file of `format` (None: the built-in scene,
+/// which is OBJ).
+pub fn report(s: &Scene, format: Option<super::formats::Format>) -> String {
     let mut r = String::new();
     let (lo, hi) = s.file_bounds;
     let _ = writeln!(r, "model: {}", s.name);
@@ -39,6 +41,7 @@ pub fn report(s: &Scene) -> String {
     for m in &s.maps {
         let _ = writeln!(r, "{m}");
     }
+    let has_colours = coloured > 0;
     for m in &s.materials {
         let p = m.pbr();
         let _ = writeln!(
@@ -56,12 +59,19 @@ pub fn report(s: &Scene) -> String {
                 "from Pr/Pm"
             }
         );
-        if !m.pbr_inputs.model.textures.is_empty()
-            || m.pbr_inputs.model != super::material_model::Model::default()
-        {
+        let format = format.unwrap_or(super::formats::Format::Obj);
+        if format == super::formats::Format::Gltf {
             for line in m.pbr_inputs.model.describe() {
                 let _ = writeln!(r, "material {}: {line}", m.name);
             }
+        } else {
+            // How a format without glTF's material model maps into it (README, Loading).
+            let _ = writeln!(
+                r,
+                "material model: material {}: {}",
+                m.name,
+                super::material_model::mapping(m, format, has_colours)
+            );
         }
         for (key, spec, what) in &m.pbr_inputs.maps {
             let _ = writeln!(r, "pbr map: material {}: {key} {spec:?} -> {what}", m.name);

@@ -228,3 +228,71 @@ fn quantized_positions_and_colours_load_exactly() {
         assert!(c.contains(&want), "{c:?}");
     }
 }
+
+/// `--check` says how an OBJ/MTL, STL or PLY file maps into the material model, slot by slot
+/// in the file's own terms.
+#[test]
+fn check_prints_the_mapping_of_other_formats() {
+    let dir = out_dir("material-model-mapping");
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
+    std::fs::write(
+        dir.join("m.obj"),
+        format!("mtllib m.mtl\n{tri}usemtl pbr\nf 1/1 2/2 3/3\nusemtl glass\nf 1/1 3/3 2/2\n"),
+    )
+    .unwrap();
+    std::fs::copy(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/checker.png"),
+        dir.join("c.png"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("m.mtl"),
+        "newmtl pbr\nKd 0.5 0.25 1\nPm 0.7\nPr 0.3\nKe 0.1 0 0\nmap_Kd c.png\nmap_Ke c.png\n\
+         newmtl glass\nKd 0.2 0.2 0.2\nKs 0.9 0.9 0.9\nNs 64\nd 0.4\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("m.stl"),
+        "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n\
+         endloop\nendfacet\nendsolid t\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("m.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n\
+         element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+         0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n",
+    )
+    .unwrap();
+    let check = |file: &str| {
+        let o = run(&["--check", dir.join(file).to_str().unwrap()], &[]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let obj = check("m.obj");
+    for want in [
+        "material model: material pbr: baseColor (0.500, 0.250, 1.000) (Kd, sRGB) x map_Kd ",
+        "c.png (repeat, linear, mipmaps, UV set 0), metallic 0.70 (Pm), roughness 0.300 (Pr)",
+        "emissive (0.100, 0.000, 0.000) (Ke) x map_Ke ",
+        "OPAQUE (d 1), doubleSided",
+        "material model: material glass: baseColor (0.200, 0.200, 0.200)",
+        "metallic 0 (from Kd/Ks), roughness ",
+        "(from Ns 64)",
+        "BLEND (d 0.400)",
+    ] {
+        assert!(obj.contains(want), "{want:?} not in:\n{obj}");
+    }
+    let stl = check("m.stl");
+    assert!(
+        stl.contains(
+            "baseColor (0.800, 0.800, 0.800), metallic 0, roughness 1, no textures, OPAQUE"
+        ),
+        "{stl}"
+    );
+    let ply = check("m.ply");
+    assert!(
+        ply.contains("(0.800, 0.800, 0.800) x vertex colours"),
+        "{ply}"
+    );
+}
