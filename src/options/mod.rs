@@ -113,7 +113,8 @@ pub struct Options {
     #[arg(long)]
     pub roughness: Option<f32>,
     /// PBR terms to draw, comma-separated from direct-diffuse, direct-specular, ibl-diffuse,
-    /// ibl-specular, ao, shadows, emissive; `all` (default) or `none`.
+    /// ibl-specular, ao, shadows, emissive, normal-map (also the legacy tier's); `all`
+    /// (default) or `none`.
     #[arg(long, default_value = "all")]
     pub terms: String,
     /// PBR: sample E_s along Filament's dominant direction instead of R (measured option).
