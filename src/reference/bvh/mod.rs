@@ -90,15 +90,9 @@ impl Bvh {
     ) -> Option<Hit> {
         let mut best: Option<Hit> = None;
         let mut t_max = t_max;
-        self.traverse(o, d, t_min, &mut t_max, |i, t, u, v, t_max| {
-            let hit = Hit {
-                t,
-                u,
-                v,
-                tri: self.refs[i],
-            };
+        self.traverse(o, d, t_min, &mut t_max, |hit, t_max| {
             if accept(&hit) {
-                *t_max = t;
+                *t_max = hit.t;
                 best = Some(hit);
             }
             false
@@ -122,13 +116,8 @@ impl Bvh {
     ) -> bool {
         let mut found = false;
         let mut t_max = t_max;
-        self.traverse(o, d, t_min, &mut t_max, |i, t, u, v, _| {
-            found = accept(&Hit {
-                t,
-                u,
-                v,
-                tri: self.refs[i],
-            });
+        self.traverse(o, d, t_min, &mut t_max, |hit, _| {
+            found = accept(&hit);
             found
         });
         found
@@ -137,13 +126,8 @@ impl Bvh {
     /// Appends every hit within `t_min <= t <= t_max`, unordered.
     pub fn all(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64, out: &mut Vec<Hit>) {
         let mut t_max = t_max;
-        self.traverse(o, d, t_min, &mut t_max, |i, t, u, v, _| {
-            out.push(Hit {
-                t,
-                u,
-                v,
-                tri: self.refs[i],
-            });
+        self.traverse(o, d, t_min, &mut t_max, |hit, _| {
+            out.push(hit);
             false
         });
     }
@@ -156,7 +140,7 @@ impl Bvh {
         d: DVec3,
         t_min: f64,
         t_max: &mut f64,
-        mut on_hit: impl FnMut(usize, f64, f64, f64, &mut f64) -> bool,
+        mut on_hit: impl FnMut(Hit, &mut f64) -> bool,
     ) {
         if self.nodes.is_empty() {
             return;
@@ -176,7 +160,13 @@ impl Bvh {
                 let start = node.first as usize;
                 for i in start..start + node.count as usize {
                     if let Some((t, u, v)) = intersect(&self.tris[i], o, d, t_min, *t_max) {
-                        if on_hit(i, t, u, v, t_max) {
+                        let hit = Hit {
+                            t,
+                            u,
+                            v,
+                            tri: self.refs[i],
+                        };
+                        if on_hit(hit, t_max) {
                             return;
                         }
                     }
