@@ -149,7 +149,7 @@ pub fn render(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Re
         return img.save_png(path, &text);
     }
     let mut profile = Profile::default();
-    let drawn = draw(args, kept, None, None, &mut profile)?;
+    let drawn = draw(args, kept, None, Default::default(), &mut profile)?;
     let t = Instant::now();
     drawn.image.save(path, &drawn.text)?;
     profile.encode_ms = ms(t);
@@ -168,7 +168,7 @@ pub fn draw(
     args: &Options,
     kept: &mut Option<KeptContext>,
     given: Option<Given>,
-    attributes: Option<bool>,
+    outputs: crate::render::attributes::Outputs,
     profile: &mut Profile,
 ) -> Result<Drawn> {
     let (w, h) = args.size;
@@ -258,14 +258,26 @@ pub fn draw(
         crate::run::unpremultiply(&mut image);
     }
     profile.readback_ms = ms(t);
-    let attributes = match attributes {
-        Some(normals) => Some(renderer.attributes(&settings, w, h, &hl.target(), normals)?),
-        None => None,
+    let stats = last.unwrap_or_default();
+    // The target's depth is the picture's when the frame's passes drew straight into it at
+    // the picture's size: no post-processing or teaching view, no MSAA or supersampling.
+    let frame_depth = k == 1
+        && args.aa != AaMode::Msaa
+        && stats.post.is_empty()
+        && stats.passes.iter().all(|p| {
+            ["shadow", "background", "lit", "pbr"]
+                .iter()
+                .any(|n| p.starts_with(n))
+        });
+    let attributes = if outputs.any() {
+        Some(renderer.attributes(&settings, w, h, &hl.target(), outputs, frame_depth)?)
+    } else {
+        None
     };
     Ok(Drawn {
         image,
         text,
-        stats: last.unwrap_or_default(),
+        stats,
         attributes,
     })
 }

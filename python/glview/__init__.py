@@ -222,8 +222,7 @@ class Renderer:
         these options over the renderer's; ``depth``/``normals``/``ids`` read those buffers
         back too."""
         native = self._get()
-        want = depth or normals or ids
-        out = native.render(self._options(options), want, normals)
+        out = native.render(self._options(options), depth, normals, ids)
         return Image(
             out["color"],
             out["text"],

@@ -158,14 +158,15 @@ impl NativeRenderer {
         Ok(PyBytes::new(py, &png))
     }
 
-    /// Renders; returns a dict of NumPy arrays (color, and with `attributes` depth, normals,
-    /// object_ids, material_ids) and the PNG text as a list of pairs.
+    /// Renders; returns a dict of NumPy arrays (color, and as asked depth, normals,
+    /// object_ids and material_ids) and the PNG text as a list of pairs.
     fn render<'py>(
         &self,
         py: Python<'py>,
         options_json: &str,
-        attributes: bool,
+        depth: bool,
         normals: bool,
+        ids: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let o = options(options_json)?;
         let r = self
@@ -175,8 +176,9 @@ impl NativeRenderer {
         let frame = py
             .detach(|| {
                 let outputs = Outputs {
-                    attributes,
+                    depth,
                     normals,
+                    ids,
                 };
                 r.render(&o, outputs)
             })
@@ -188,16 +190,20 @@ impl NativeRenderer {
         out.set_item("text", frame.text)?;
         out.set_item("stats", frame.stats.to_string())?;
         if let Some(a) = frame.attributes {
-            out.set_item("depth", a.depth.into_pyarray(py).reshape([h, w])?)?;
+            if depth {
+                out.set_item("depth", a.depth.into_pyarray(py).reshape([h, w])?)?;
+            }
             if normals {
                 let n: Vec<f32> = a.normals.into_iter().flatten().collect();
                 out.set_item("normals", n.into_pyarray(py).reshape([h, w, 3])?)?;
             }
-            out.set_item("object_ids", a.object_ids.into_pyarray(py).reshape([h, w])?)?;
-            out.set_item(
-                "material_ids",
-                a.material_ids.into_pyarray(py).reshape([h, w])?,
-            )?;
+            if ids {
+                out.set_item("object_ids", a.object_ids.into_pyarray(py).reshape([h, w])?)?;
+                out.set_item(
+                    "material_ids",
+                    a.material_ids.into_pyarray(py).reshape([h, w])?,
+                )?;
+            }
         }
         Ok(out)
     }

@@ -9,7 +9,7 @@ pub mod arrays;
 
 pub use crate::image_out::Rgba;
 pub use crate::options::Options;
-pub use crate::render::attributes::Attributes;
+pub use crate::render::attributes::{Attributes, Outputs};
 pub use arrays::Arrays;
 
 use crate::error::{Error, Result};
@@ -89,15 +89,6 @@ impl Model {
             .map(|m| m.name.clone())
             .collect()
     }
-}
-
-/// What a render returns besides the colour.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Outputs {
-    /// Depth, normals and ids ([`Attributes`]).
-    pub attributes: bool,
-    /// With `attributes`: the normals too (a second draw and read-back).
-    pub normals: bool,
 }
 
 /// One rendered picture.
@@ -199,13 +190,7 @@ impl Renderer {
                 key: &m.key,
                 scene: &m.scene,
             });
-            let drawn = crate::picture::draw(
-                &opts,
-                kept,
-                given,
-                outputs.attributes.then_some(outputs.normals),
-                &mut Profile::default(),
-            )?;
+            let drawn = crate::picture::draw(&opts, kept, given, outputs, &mut Profile::default())?;
             Ok(Frame {
                 color: drawn.image,
                 text: drawn

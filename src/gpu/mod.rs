@@ -138,6 +138,28 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// Reads the bound read framebuffer's depth as f32 in [0, 1], bottom row first (desktop
+    /// GL only: ES 3.0 has no depth read-back).
+    pub fn read_depth_f32(&self, width: u32, height: u32) -> Vec<f32> {
+        let mut buf = vec![0f32; (width * height) as usize];
+        // SAFETY: buf holds exactly width*height f32 values; PACK_ALIGNMENT 4 fits f32.
+        unsafe {
+            self.gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
+            self.gl.read_pixels(
+                0,
+                0,
+                width as i32,
+                height as i32,
+                glow::DEPTH_COMPONENT,
+                glow::FLOAT,
+                glow::PixelPackData::Slice(Some(bytemuck::cast_slice_mut(&mut buf))),
+            );
+        }
+        buf
+    }
+}
+
 /// Flips an image vertically in place (GL bottom-up ↔ PNG top-down).
 pub fn flip_rows(buf: &mut [u8], row_bytes: usize) {
     let rows = buf.len() / row_bytes.max(1);

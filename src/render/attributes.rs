@@ -1,7 +1,9 @@
 //! The attribute buffers of a frame for the library API: per pixel the depth along the view
 //! axis, the eye-space normal and the object (scene mesh) and material ids. Two draws of the
 //! scene's triangle meshes into a float target of the picture's size, with the lit pass's
-//! camera, so exactly the pixels the picture shows are covered.
+//! camera, so exactly the pixels the picture shows are covered. Depth alone (no normals, no
+//! ids) is read from the frame's own depth buffer where it holds the picture's depth, with no
+//! second draw: half the cost of a colour + depth picture (README, Python).
 use super::Renderer;
 use crate::frame::FrameSettings;
 use crate::gpu::framebuffer::{ColorAttachment, Framebuffer};
@@ -28,6 +30,23 @@ pub struct Attributes {
     pub material_ids: Vec<i32>,
 }
 
+/// What a render returns besides the colour.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Outputs {
+    /// Distance along the view axis per pixel.
+    pub depth: bool,
+    /// Eye-space normals (a draw and read-back of their own).
+    pub normals: bool,
+    /// Object and material ids.
+    pub ids: bool,
+}
+
+impl Outputs {
+    pub fn any(&self) -> bool {
+        self.depth || self.normals || self.ids
+    }
+}
+
 pub(crate) fn key() -> ProgramKey {
     ProgramKey::new("attributes", "attributes.vert", "attributes.frag")
 }
@@ -36,14 +55,29 @@ impl Renderer {
     /// Draws the attribute buffers of the frame `s` at `width`×`height`, then binds
     /// `target` again (frames expect their target bound: a deleted framebuffer leaves the
     /// context's default one, which a surfaceless EGL context does not have).
+    ///
+    /// `frame_depth`: the target's depth buffer is the frame's, single-sampled, at the
+    /// picture's size (no MSAA, no supersampling): then depth alone is read from it.
     pub fn attributes(
         &mut self,
         s: &FrameSettings,
         width: u32,
         height: u32,
         target: &super::Target,
-        normals: bool,
+        want: Outputs,
+        frame_depth: bool,
     ) -> Result<Attributes> {
+        if want.depth && !want.normals && !want.ids && frame_depth {
+            if let Some(depth) = self.frame_depth(s, width, height) {
+                return Ok(Attributes {
+                    width,
+                    height,
+                    depth,
+                    ..Default::default()
+                });
+            }
+        }
+        let normals = want.normals;
         let gpu = self.gpu.clone();
         if !TextureFormat::Rgba32F.supported(&gpu.caps) || !gpu.caps.fbo {
             return Err(Error::Unsupported(format!(
@@ -119,6 +153,51 @@ impl Renderer {
                 .map(|p| if covered(p) { p[1] as i32 } else { -1 })
                 .collect(),
         })
+    }
+}
+
+impl Renderer {
+    /// The bound target's depth buffer as distances along the view axis (infinity where
+    /// nothing was drawn), when it holds exactly the triangles the attribute pass would draw
+    /// (the caller has checked that the frame drew straight into it): desktop GL (ES cannot
+    /// read depth back), no logarithmic depth (the buffer holds another function of
+    /// distance), no lines or points (the attribute pass draws triangles only).
+    fn frame_depth(&self, s: &FrameSettings, width: u32, height: u32) -> Option<Vec<f32>> {
+        let gpu = &self.gpu;
+        if gpu.caps.dialect == crate::gpu::Dialect::Glsl300Es
+            || s.lighting.translucency.log_depth
+            || !self.scene.scene.wire.is_empty()
+        {
+            return None;
+        }
+        let raw = gpu.read_depth_f32(width, height);
+        let aspect = width as f32 / height.max(1) as f32;
+        let proj = s
+            .camera
+            .projection(&self.scene.scene.bounds, aspect)
+            .as_dmat4();
+        // clip z = A·z_eye + B; perspective: clip w = −z_eye, orthographic: w = 1.
+        let (a, b) = (proj.z_axis.z, proj.w_axis.z);
+        let perspective = proj.z_axis.w != 0.0;
+        let distance = |d: f32| -> f32 {
+            if d >= 1.0 {
+                return f32::INFINITY;
+            }
+            let z = 2.0 * f64::from(d) - 1.0;
+            (if perspective {
+                b / (z + a)
+            } else {
+                (b - z) / a
+            }) as f32
+        };
+        let row = width as usize;
+        Some(
+            raw.chunks_exact(row.max(1))
+                .rev()
+                .flatten()
+                .map(|&d| distance(d))
+                .collect(),
+        )
     }
 }
 

@@ -49,8 +49,9 @@ fn depth_is_the_exact_spheres_and_ids_cover_exactly_the_picture() {
         .render(
             &opts(&words),
             Outputs {
-                attributes: true,
+                depth: true,
                 normals: true,
+                ids: true,
             },
         )
         .unwrap();
@@ -92,6 +93,67 @@ fn depth_is_the_exact_spheres_and_ids_cover_exactly_the_picture() {
     // The 256×128 tessellation lies within 1 − cos(π/128) ≈ 3e-4 of the unit sphere.
     assert!(worst < 1e-3, "depth off by {worst}");
     assert!(a.object_ids.iter().all(|&i| i == -1 || i == 0));
+}
+
+/// Depth alone comes from the frame's own depth buffer (no second draw): on every context
+/// that can read depth back, in both tiers, perspective and orthographic, it covers exactly
+/// the pixels the attribute pass covers and agrees with its distances to 24-bit depth
+/// precision. Where the frame does not draw straight into the target (MSAA) the attribute
+/// pass answers, so both ways of asking give the same numbers there.
+#[test]
+fn depth_alone_equals_the_attribute_pass() {
+    let model = shared().join("gltf-samples/Duck/Duck.glb");
+    let model = model.to_str().unwrap();
+    let only_depth = Outputs {
+        depth: true,
+        ..Outputs::default()
+    };
+    let with_ids = Outputs {
+        depth: true,
+        ids: true,
+        ..Outputs::default()
+    };
+    for extra in [
+        &["--backend", "egl"][..],
+        &["--backend", "egl", "--shading", "pbr"],
+        &["--backend", "egl", "--ortho"],
+        &["--backend", "egl", "--aa", "msaa"],
+        &["--backend", "osmesa"],
+    ] {
+        let mut words = vec![model, "--size", "160x120", "--yaw", "30"];
+        words.extend_from_slice(extra);
+        let o = opts(&words);
+        let r = Renderer::new(o.clone()).unwrap();
+        let fast = r.render(&o, only_depth).unwrap();
+        let slow = r.render(&o, with_ids).unwrap();
+        assert_eq!(
+            fast.color.data, slow.color.data,
+            "{extra:?}: colour changed"
+        );
+        let (a, b) = (fast.attributes.unwrap(), slow.attributes.unwrap());
+        // The attribute pass (MSAA) fills ids too; the frame's depth buffer gives depth only.
+        let direct = !extra.contains(&"msaa");
+        assert_eq!(a.object_ids.is_empty(), direct, "{extra:?}");
+        let (mut covered, mut worst) = (0, 0.0f32);
+        for (i, (&d, &e)) in a.depth.iter().zip(&b.depth).enumerate() {
+            assert_eq!(
+                d.is_finite(),
+                b.object_ids[i] >= 0,
+                "{extra:?}: pixel {i}: depth {d}, attribute pass {e}"
+            );
+            if d.is_finite() {
+                covered += 1;
+                worst = worst.max((d - e).abs() / e);
+            }
+        }
+        eprintln!("{extra:?}: {covered} pixels, worst relative difference {worst:e}");
+        assert!(covered > 2000, "{extra:?}: {covered}");
+        // Measured: at most 2.7e-6 relative (24-bit depth over the fitted near/far range).
+        assert!(
+            worst < 1e-5,
+            "{extra:?}: depth differs by {worst} (relative)"
+        );
+    }
 }
 
 #[test]
