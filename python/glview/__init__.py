@@ -15,10 +15,11 @@ from __future__ import annotations
 import json
 import os
 import threading
-from typing import Any, Dict, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from . import _glview as _native
 from ._glview import (
     BusyError,
     ContextError,
@@ -36,6 +37,9 @@ __all__ = [
     "Renderer",
     "Image",
     "diff",
+    "diff_tiers",
+    "compare",
+    "sheet",
     "GlviewError",
     "OptionError",
     "ModelError",
@@ -235,6 +239,11 @@ class Renderer:
             stats=json.loads(out["stats"]),
         )
 
+    def hold(self, callback: Callable[[], Any]) -> None:
+        """Calls ``callback`` while this thread holds the renderer: another thread's
+        ``render`` meanwhile raises :class:`BusyError`, as it does while a picture is drawn."""
+        self._get().hold(callback)
+
     def close(self) -> None:
         """Releases the context and everything uploaded (also done on ``with`` exit)."""
         if self._native is not None:
@@ -273,23 +282,108 @@ def render(
         return r.render(depth=depth, normals=normals, ids=ids, **options)
 
 
-def diff(a: "Image | np.ndarray", b: "Image | np.ndarray") -> Tuple[Image, Dict[str, float]]:
-    """The difference of two pictures as ``glview --diff`` measures it: an image of the
-    per-pixel maximum channel difference (grey, amplified ×4) and a dict with ``mean`` (in
-    1/255), ``max``, ``p99`` and ``share_over_8`` (share of pixels differing by more than
-    8/255)."""
-    ca = (a.color if isinstance(a, Image) else np.asarray(a))[..., :3].astype(np.int16)
-    cb = (b.color if isinstance(b, Image) else np.asarray(b))[..., :3].astype(np.int16)
+def _numbers(n: Dict[str, float]) -> Dict[str, float]:
+    """The command line's numbers under the Python API's names."""
+    return {
+        "mean": n["mean"],
+        "max": n["max"],
+        "p99": n["p99"],
+        "share_over_8": n["over_8"],
+        "ssim": 1.0 - n["one_minus_ssim"],
+        "one_minus_ssim": n["one_minus_ssim"],
+    }
+
+
+def _rgba(x: "Image | np.ndarray") -> np.ndarray:
+    c = np.asarray(x.color if isinstance(x, Image) else x)
+    if c.ndim != 3 or c.shape[2] not in (3, 4):
+        raise ValueError(f"a picture is H×W×3 or H×W×4, not {c.shape}")
+    if c.shape[2] == 3:
+        c = np.dstack([c, np.full(c.shape[:2], 255, c.dtype)])
+    return np.ascontiguousarray(c, dtype=np.uint8)
+
+
+def _coverage(x: "Image | np.ndarray") -> Optional[np.ndarray]:
+    """Where a picture shows the model: its object ids where it has them, else its alpha
+    when it was rendered with a transparent background; None when it does not say."""
+    if isinstance(x, Image) and x.object_ids is not None:
+        return x.object_ids >= 0
+    c = _rgba(x)
+    return c[..., 3] > 0 if (c[..., 3] < 255).any() else None
+
+
+def diff(a: "Image | np.ndarray", b: "Image | np.ndarray") -> Tuple[Image, Dict[str, Any]]:
+    """Two pictures compared as ``glview --diff`` compares them (the same code): the
+    difference image (|a − b|, largest channel, on a colour scale with its range written
+    under it, so it is taller than the pictures) and a dict with ``mean`` (in 1/255),
+    ``max``, ``p99``, ``share_over_8`` (share of pixels more than 8/255 apart), ``ssim`` and
+    ``one_minus_ssim``. Where the pictures say which pixels are the model's (``ids=True``,
+    or ``transparent=True``), ``model`` holds the same numbers over the union of those
+    pixels and ``model_pixels`` their count; else ``model`` is None."""
+    ca, cb = _rgba(a), _rgba(b)
     if ca.shape != cb.shape:
         raise ValueError(f"pictures differ in size: {ca.shape[:2]} and {cb.shape[:2]}")
-    d = np.abs(ca - cb)
-    per_pixel = d.max(axis=2)
-    numbers = {
-        "mean": float(d.mean()),
-        "max": float(per_pixel.max()),
-        "p99": float(np.percentile(per_pixel, 99)),
-        "share_over_8": float((per_pixel > 8).mean()),
-    }
-    grey = np.clip(per_pixel.astype(np.int32) * 4, 0, 255).astype(np.uint8)
-    img = np.dstack([grey, grey, grey, np.full_like(grey, 255)])
-    return Image(np.ascontiguousarray(img)), numbers
+    cov_a, cov_b = _coverage(a), _coverage(b)
+    covered = None
+    if cov_a is not None or cov_b is not None:
+        covered = np.zeros(ca.shape[:2], bool)
+        for c in (cov_a, cov_b):
+            if c is not None:
+                covered |= c
+        covered = np.ascontiguousarray(covered).reshape(-1)
+    img, numbers = _native.diff_images(
+        ca.reshape(-1), cb.reshape(-1), ca.shape[1], ca.shape[0], covered
+    )
+    n = json.loads(numbers)
+    out: Dict[str, Any] = _numbers(n["numbers"])
+    out["model"] = _numbers(n["model"]) if n["model"] else None
+    out["model_pixels"] = n["model_pixels"]
+    return Image(img), out
+
+
+def _path_options(model: Any, options: Dict[str, Any]) -> str:
+    if model is not None and not isinstance(model, (str, os.PathLike)):
+        raise TypeError(
+            "compare, diff_tiers and sheet take a model file (or None for the built-in "
+            f"scene), not {type(model).__name__}"
+        )
+    if model is not None:
+        options = {**options, "model": os.fspath(model)}
+    return _options_json(options)
+
+
+def compare(model: Any = None, tiers: str = "phong,pbr", **options: Any) -> Image:
+    """``glview MODEL --compare TIERS``: the tiers side by side on one camera under one
+    label strip (tiers: phong, gouraud, pbr, reference, reference-pbr); ``size`` is each
+    pane's."""
+    img, text = _native.compare(_path_options(model, options), tiers)
+    return Image(img, text)
+
+
+def diff_tiers(
+    model: Any = None, tiers: str = "phong,pbr", **options: Any
+) -> Tuple[Image, Dict[str, Any]]:
+    """``glview MODEL --diff A,B``: two tiers rendered on one camera and compared. Returns
+    the difference image and the numbers as :func:`diff` names them, over the whole picture
+    and (``model``) over the model's pixels (the union of both tiers' coverage), plus the
+    two pictures (``a``, ``b``: Images) and the tiers' names (``names``)."""
+    img, a, b, numbers = _native.diff_tiers(_path_options(model, options), tiers)
+    n = json.loads(numbers)
+    out: Dict[str, Any] = _numbers(n["numbers"])
+    out["model"] = _numbers(n["model"]) if n["model"] else None
+    out["model_pixels"] = n["model_pixels"]
+    out["names"] = (n["a"], n["b"])
+    out["a"], out["b"] = Image(a), Image(b)
+    return Image(img), out
+
+
+def sheet(
+    model: Any = None,
+    tiers: str = "phong,pbr",
+    views: int = 6,
+    angles: Optional[str] = None,
+    **options: Any,
+) -> Image:
+    """``glview sheet MODEL``: a labelled grid of turntable views (columns) by tiers (rows);
+    ``angles="0:20,90:20"`` gives the views explicitly; ``size`` is each cell's."""
+    return Image(_native.sheet(_path_options(model, options), tiers, views, angles))

@@ -3,6 +3,7 @@
 //! parsers as the command line), models to `glview::api::Model`, pictures come from
 //! `glview::api::Renderer`. Buffers move into NumPy arrays without a copy.
 use glview::api::{self, Arrays, Model, Outputs};
+use glview::image_out::Rgba;
 use glview::{Error, Options};
 use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1};
 use pyo3::create_exception;
@@ -208,6 +209,17 @@ impl NativeRenderer {
         Ok(out)
     }
 
+    /// Calls `callback` while holding the renderer (other threads get BusyError meanwhile).
+    fn hold(&self, py: Python<'_>, callback: Py<PyAny>) -> PyResult<()> {
+        let r = self
+            .inner
+            .as_ref()
+            .ok_or_else(|| GlviewError::new_err("the renderer is closed"))?;
+        let _held = r.reserve().map_err(py_err)?;
+        callback.call0(py)?;
+        Ok(())
+    }
+
     /// Ends the renderer's thread and releases its context.
     fn close(&mut self, py: Python<'_>) {
         if let Some(mut r) = self.inner.take() {
@@ -252,6 +264,123 @@ fn decode_png<'py>(
     img.data.into_pyarray(py).reshape([h, w, 4])
 }
 
+/// An RGBA8 picture from a flat buffer of `width * height * 4` bytes.
+fn rgba(data: PyReadonlyArray1<u8>, width: u32, height: u32) -> PyResult<Rgba> {
+    let data = data
+        .as_slice()
+        .map_err(|e| GlviewError::new_err(e.to_string()))?
+        .to_vec();
+    if data.len() != (width as usize) * (height as usize) * 4 {
+        return Err(GlviewError::new_err("pixel buffer size mismatch"));
+    }
+    Ok(Rgba {
+        width,
+        height,
+        data,
+    })
+}
+
+fn array<'py>(py: Python<'py>, img: Rgba) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+    let (w, h) = (img.width as usize, img.height as usize);
+    img.data.into_pyarray(py).reshape([h, w, 4])
+}
+
+/// `--compare TIERS`: the panes under their labels and the PNG text.
+#[pyfunction]
+fn compare<'py>(
+    py: Python<'py>,
+    options_json: &str,
+    tiers: &str,
+) -> PyResult<(Bound<'py, numpy::PyArray3<u8>>, Vec<(String, String)>)> {
+    let o = options(options_json)?;
+    let tiers = tiers.to_string();
+    let (img, text) = py
+        .detach(move || glview::compare::compare_image(&o, &tiers))
+        .map_err(py_err)?;
+    let text = text.into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+    Ok((array(py, img)?, text))
+}
+
+/// `--diff A,B`: the difference image, both panes and the numbers as JSON.
+#[pyfunction]
+fn diff_tiers<'py>(
+    py: Python<'py>,
+    options_json: &str,
+    tiers: &str,
+) -> PyResult<(
+    Bound<'py, numpy::PyArray3<u8>>,
+    Bound<'py, numpy::PyArray3<u8>>,
+    Bound<'py, numpy::PyArray3<u8>>,
+    String,
+)> {
+    let o = options(options_json)?;
+    let tiers = tiers.to_string();
+    let d = py
+        .detach(move || glview::compare::diff::diff_tiers(&o, &tiers))
+        .map_err(py_err)?;
+    let json = d.json().to_string();
+    Ok((array(py, d.image)?, array(py, d.a)?, array(py, d.b)?, json))
+}
+
+/// Two pictures compared as `--diff` compares them; `covered` (one flag per pixel) adds the
+/// numbers over those pixels. Returns the difference image and the numbers as JSON.
+#[pyfunction]
+#[pyo3(signature = (a, b, width, height, covered))]
+fn diff_images<'py>(
+    py: Python<'py>,
+    a: PyReadonlyArray1<u8>,
+    b: PyReadonlyArray1<u8>,
+    width: u32,
+    height: u32,
+    covered: Option<PyReadonlyArray1<bool>>,
+) -> PyResult<(Bound<'py, numpy::PyArray3<u8>>, String)> {
+    let (a, b) = (rgba(a, width, height)?, rgba(b, width, height)?);
+    let covered = covered
+        .map(|c| c.as_slice().map(<[bool]>::to_vec))
+        .transpose()
+        .map_err(|e| GlviewError::new_err(e.to_string()))?;
+    if covered
+        .as_ref()
+        .is_some_and(|c| c.len() != (width * height) as usize)
+    {
+        return Err(GlviewError::new_err("coverage size mismatch"));
+    }
+    let (img, numbers, model) =
+        glview::compare::diff::diff_images(&a, &b, covered.as_deref()).map_err(py_err)?;
+    let json = serde_json::json!({
+        "numbers": numbers,
+        "model": model,
+        "model_pixels": covered.map(|c| c.iter().filter(|&&x| x).count()),
+    });
+    Ok((array(py, img)?, json.to_string()))
+}
+
+/// `glview sheet`: the labelled grid of views by tiers.
+#[pyfunction]
+#[pyo3(signature = (options_json, tiers, views, angles))]
+fn sheet<'py>(
+    py: Python<'py>,
+    options_json: &str,
+    tiers: &str,
+    views: u32,
+    angles: Option<String>,
+) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+    let o = options(options_json)?;
+    let cmd = glview::cli::SheetCommand {
+        model: o.model.clone(),
+        views,
+        angles,
+        tiers: tiers.to_string(),
+        size: o.size,
+        output: "sheet.png".into(),
+        view_options: o.words.clone(),
+    };
+    let (img, _, _) = py
+        .detach(move || glview::compare::sheet::sheet_image(&cmd))
+        .map_err(py_err)?;
+    array(py, img)
+}
+
 #[pymodule]
 fn _glview(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
@@ -259,6 +388,10 @@ fn _glview(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(encode_png, m)?)?;
     m.add_function(wrap_pyfunction!(options_words, m)?)?;
     m.add_function(wrap_pyfunction!(decode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(diff_tiers, m)?)?;
+    m.add_function(wrap_pyfunction!(diff_images, m)?)?;
+    m.add_function(wrap_pyfunction!(sheet, m)?)?;
     m.add("GlviewError", py.get_type::<GlviewError>())?;
     m.add("OptionError", py.get_type::<OptionError>())?;
     m.add("ModelError", py.get_type::<ModelError>())?;

@@ -1,7 +1,7 @@
 """The Python API against the command line and against analytic truth."""
+import json
 import math
 import threading
-import time
 
 import numpy as np
 import pytest
@@ -144,26 +144,29 @@ def test_bad_files_and_arrays_raise_with_the_cli_message(tmp_path, cli):
 
 
 def test_a_renderer_used_from_two_threads_at_once_is_refused(bunny):
+    # Deterministic: a second thread holds the renderer (as a render in progress does) until
+    # this one has been refused; no sleeping, no race with how long a picture takes.
     r = glview.Renderer(64, 64)
     r.load(bunny)
-    started = threading.Event()
+    held, refused = threading.Event(), threading.Event()
     errors = []
 
-    def slow():
-        started.set()
+    def holder():
         try:
-            r.render(size=(2048, 1536), aa="ssaa", aa_samples=3)
+            r.hold(lambda: (held.set(), refused.wait(30)))
         except Exception as e:  # pragma: no cover - reported below
             errors.append(e)
 
-    t = threading.Thread(target=slow)
+    t = threading.Thread(target=holder)
     t.start()
-    started.wait()
-    time.sleep(0.3)
+    assert held.wait(30)
     with pytest.raises(glview.BusyError, match="another thread"):
         r.render()
+    refused.set()
     t.join()
     assert not errors
+    # Released: the renderer draws again, from this thread.
+    assert r.render().color.shape == (64, 64, 4)
     r.close()
 
 
@@ -175,7 +178,10 @@ def test_diff_and_testing_helper(tmp_path, bunny):
     picture, numbers = glview.diff(a, a)
     assert numbers["mean"] == 0 and numbers["max"] == 0
     picture, numbers = glview.diff(a, b)
-    assert numbers["mean"] > 0.5 and picture.color.shape == a.color.shape
+    assert numbers["mean"] > 0.5 and 0 < numbers["ssim"] < 1
+    # The difference image is the command line's: the pictures' size plus a scale strip.
+    assert picture.width == a.width and picture.height > a.height
+    assert numbers["model"] is None  # opaque pictures without ids do not say
     stored = tmp_path / "golden.png"
     with pytest.raises(AssertionError, match="did not exist"):
         assert_matches(a, stored)
@@ -183,3 +189,40 @@ def test_diff_and_testing_helper(tmp_path, bunny):
     with pytest.raises(AssertionError, match="mean difference"):
         assert_matches(b, stored)
     assert (tmp_path / "golden.actual.png").exists() and (tmp_path / "golden.diff.png").exists()
+
+
+def test_comparison_tools_return_images_and_the_command_lines_numbers(tmp_path, bunny, cli):
+    # diff_tiers is `--diff phong,pbr`: the same numbers as the CLI's JSON, over the whole
+    # picture and over the model's pixels.
+    out = tmp_path / "d.png"
+    p = cli(bunny, "--diff", "phong,pbr", "--size", "96x72", "-o", out)
+    want = json.loads((tmp_path / "d.json").read_text())
+    picture, numbers = glview.diff_tiers(bunny, "phong,pbr", size=(96, 72))
+    assert numbers["names"] == ("phong", "pbr")
+    assert numbers["mean"] == pytest.approx(want["numbers"]["mean"])
+    assert numbers["one_minus_ssim"] == pytest.approx(want["numbers"]["one_minus_ssim"])
+    assert numbers["model"]["share_over_8"] == pytest.approx(want["model"]["over_8"])
+    assert numbers["model_pixels"] == want["model_pixels"] > 500
+    assert np.array_equal(picture.color, decode_png(str(out)))
+    assert np.array_equal(numbers["a"].color, decode_png(str(tmp_path / "d-phong.png")))
+    # diff of two renders with ids: the model numbers are over the union of their ids.
+    a = glview.render(bunny, size=(96, 72), ids=True)
+    b = glview.render(bunny, size=(96, 72), ids=True, yaw=40)
+    _, n = glview.diff(a, b)
+    union = (a.object_ids >= 0) | (b.object_ids >= 0)
+    assert n["model_pixels"] == int(union.sum())
+    assert n["model"]["mean"] > n["mean"]  # the background, equal in both, dilutes the whole
+    # compare is `--compare`: the same picture as the CLI writes.
+    img = glview.compare(bunny, "phong,pbr", size=(96, 72))
+    cli(bunny, "--compare", "phong,pbr", "--size", "96x72", "-o", tmp_path / "c.png")
+    assert np.array_equal(img.color, decode_png(str(tmp_path / "c.png")))
+    assert img.width == 2 * 96
+    # sheet: views by tiers, each cell 64×48 under its label.
+    s = glview.sheet(bunny, "phong,pbr", views=3, size=(64, 48))
+    cli("sheet", bunny, "--views", "3", "--size", "64x48", "-o", tmp_path / "s.png")
+    assert np.array_equal(s.color, decode_png(str(tmp_path / "s.png")))
+    assert s.width == 3 * 64 and s.height > 2 * 48
+    with pytest.raises(TypeError, match="model file"):
+        glview.compare(([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))
+    with pytest.raises(glview.OptionError):
+        glview.compare(bunny, "phong,nonsense")

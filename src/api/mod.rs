@@ -117,6 +117,11 @@ impl Frame {
 
 type Job = Box<dyn FnOnce(&mut Option<KeptContext>) + Send>;
 
+/// A renderer held by one caller ([`Renderer::reserve`]).
+pub struct Reserved<'a> {
+    _guard: std::sync::MutexGuard<'a, Option<mpsc::Sender<Job>>>,
+}
+
 /// A kept GL context on a thread of its own, with the last model drawn kept uploaded.
 pub struct Renderer {
     jobs: Mutex<Option<mpsc::Sender<Job>>>,
@@ -170,6 +175,15 @@ impl Renderer {
         answer
             .recv()
             .map_err(|_| Error::Unsupported("the renderer thread has ended".into()))?
+    }
+
+    /// Keeps every other caller out (they get [`Error::Busy`], as while a render runs)
+    /// until the guard goes: a caller's way to hold the renderer across several steps, and a
+    /// deterministic way to test that a second thread is refused.
+    pub fn reserve(&self) -> Result<Reserved<'_>> {
+        Ok(Reserved {
+            _guard: self.jobs.try_lock().map_err(|_| Error::Busy)?,
+        })
     }
 
     /// Draws `model` from now on instead of the options' model file.

@@ -148,9 +148,37 @@ fn sibling(path: &Path, suffix: &str) -> PathBuf {
     path.with_file_name(format!("{stem}-{suffix}.png"))
 }
 
-/// `--diff A,B`: both renders, the difference image and the numbers (table on stdout, JSON
-/// beside the images).
-pub fn run_diff(args: &Args, tiers_arg: &str, out: &Path) -> Result<()> {
+/// Two tiers' pictures of one model compared: what `--diff A,B` writes and prints.
+pub struct TierDiff {
+    /// The tiers' names, in order.
+    pub names: [String; 2],
+    pub a: Rgba,
+    pub b: Rgba,
+    /// [`difference_image`] of the two.
+    pub image: Rgba,
+    /// Over the whole picture.
+    pub numbers: DiffNumbers,
+    /// Over the model's pixels (the union of both panes' coverage); None when neither
+    /// covers any.
+    pub model: Option<DiffNumbers>,
+    pub model_pixels: usize,
+}
+
+impl TierDiff {
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "a": self.names[0],
+            "b": self.names[1],
+            "numbers": self.numbers,
+            "model": self.model,
+            "model_pixels": self.model_pixels,
+            "pixels": self.a.width * self.a.height,
+        })
+    }
+}
+
+/// Renders two tiers of `args`' model on one camera and compares them.
+pub fn diff_tiers(args: &crate::options::Options, tiers_arg: &str) -> Result<TierDiff> {
     let tiers = super::parse_tiers(tiers_arg, "--diff")?;
     if tiers.len() != 2 {
         return Err(Error::Usage(
@@ -158,35 +186,61 @@ pub fn run_diff(args: &Args, tiers_arg: &str, out: &Path) -> Result<()> {
         ));
     }
     let scene = crate::run::load_scene(args)?;
-    let panes = super::render_panes_with(args, scene, &tiers, true)?;
-    let (a, b) = (&panes.images[0], &panes.images[1]);
-    let (na, nb) = (tiers[0].name(), tiers[1].name());
-    let numbers = DiffNumbers::from(compare(a, b, &[])?);
+    let mut panes = super::render_panes_with(args, scene, &tiers, true)?;
     let covered = union(&panes.coverage[0], &panes.coverage[1]);
-    let model = over_pixels(a, b, &covered)?;
-    let model_pixels = covered.iter().filter(|&&c| c).count();
-    a.save_png(&sibling(out, &na), &[])?;
-    b.save_png(&sibling(out, &nb), &[])?;
-    difference_image(a, b).save_png(out, &[("glview.diff", format!("{na},{nb}"))])?;
-    let json = serde_json::json!({
-        "a": na,
-        "b": nb,
-        "numbers": numbers,
-        "model": model,
-        "model_pixels": model_pixels,
-        "pixels": a.width * a.height,
-    });
+    let (b, a) = (panes.images.pop(), panes.images.pop());
+    let (a, b) = (a.expect("two panes"), b.expect("two panes"));
+    let (image, numbers, model) = diff_images(&a, &b, Some(&covered))?;
+    Ok(TierDiff {
+        names: [tiers[0].name(), tiers[1].name()],
+        image,
+        numbers,
+        model,
+        model_pixels: covered.iter().filter(|&&c| c).count(),
+        a,
+        b,
+    })
+}
+
+/// Two pictures of one size compared: the difference image, the numbers over every pixel
+/// and, given which pixels are the model's, over those.
+pub fn diff_images(
+    a: &Rgba,
+    b: &Rgba,
+    covered: Option<&[bool]>,
+) -> Result<(Rgba, DiffNumbers, Option<DiffNumbers>)> {
+    let numbers = DiffNumbers::from(compare(a, b, &[])?);
+    let model = match covered {
+        Some(c) => over_pixels(a, b, c)?,
+        None => None,
+    };
+    Ok((difference_image(a, b), numbers, model))
+}
+
+/// `--diff A,B`: both renders, the difference image and the numbers (table on stdout, JSON
+/// beside the images).
+pub fn run_diff(args: &Args, tiers_arg: &str, out: &Path) -> Result<()> {
+    let d = diff_tiers(args, tiers_arg)?;
+    let [na, nb] = &d.names;
+    d.a.save_png(&sibling(out, na), &[])?;
+    d.b.save_png(&sibling(out, nb), &[])?;
+    d.image
+        .save_png(out, &[("glview.diff", format!("{na},{nb}"))])?;
+    let json = d.json();
     let json_path = out.with_extension("json");
     std::fs::write(
         &json_path,
         serde_json::to_string_pretty(&json).unwrap_or_default(),
     )
     .map_err(|e| Error::io(&json_path, e))?;
-    print!("{}", numbers.table(&na, &nb));
-    match &model {
+    print!("{}", d.numbers.table(na, nb));
+    match &d.model {
         Some(m) => print!(
             "{}",
-            m.table(&format!("{na} on the model's {model_pixels} pixels"), &nb)
+            m.table(
+                &format!("{na} on the model's {} pixels", d.model_pixels),
+                nb
+            )
         ),
         None => println!("(no model pixels in either pane)"),
     }

@@ -91,7 +91,11 @@ pub struct Panes {
 
 /// Renders each tier at `args.size` on one camera: GPU tiers as viewports of one target,
 /// reference tiers on the CPU.
-pub fn render_panes(args: &Args, scene: Scene, tiers: &[PaneTier]) -> Result<Panes> {
+pub fn render_panes(
+    args: &crate::options::Options,
+    scene: Scene,
+    tiers: &[PaneTier],
+) -> Result<Panes> {
     render_panes_with(args, scene, tiers, false)
 }
 
@@ -99,7 +103,7 @@ pub fn render_panes(args: &Args, scene: Scene, tiers: &[PaneTier]) -> Result<Pan
 /// drawn once more with a transparent background (alpha = coverage), the reference records
 /// which pixels hit a surface.
 pub fn render_panes_with(
-    args: &Args,
+    args: &crate::options::Options,
     scene: Scene,
     tiers: &[PaneTier],
     coverage: bool,
@@ -195,6 +199,15 @@ fn crop(img: &Rgba, x0: u32, w: u32) -> Rgba {
 
 /// `--compare A,B,...`: the panes side by side under label strips, one PNG.
 pub fn compare(args: &Args, tiers_arg: &str, path: &std::path::Path) -> Result<()> {
+    let (out, text) = compare_image(args, tiers_arg)?;
+    out.save_png(path, &text)
+}
+
+/// The `--compare` picture and its PNG text, without writing it (the library and Python).
+pub fn compare_image(
+    args: &crate::options::Options,
+    tiers_arg: &str,
+) -> Result<(Rgba, Vec<(&'static str, String)>)> {
     let tiers = parse_tiers(tiers_arg, "--compare")?;
     let scene = crate::run::load_scene(args)?;
     let name = scene.name.clone();
@@ -219,5 +232,5 @@ pub fn compare(args: &Args, tiers_arg: &str, path: &std::path::Path) -> Result<(
         ("glview.pane_size", format!("{w}x{h}")),
         ("glview.label_height", strip.to_string()),
     ];
-    out.save_png(path, &text)
+    Ok((out, text))
 }

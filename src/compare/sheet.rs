@@ -39,6 +39,17 @@ pub fn angles(cmd: &SheetCommand, pitch: f32) -> Result<Vec<(f32, f32)>> {
 }
 
 pub fn run(cmd: &SheetCommand) -> Result<()> {
+    let (sheet, text, summary) = sheet_image(cmd)?;
+    sheet.save_png(&cmd.output, &text)?;
+    eprintln!("sheet: {summary} written to {}", cmd.output.display());
+    Ok(())
+}
+
+/// The sheet, its PNG text and a one-line summary, without writing it (the library and
+/// Python).
+pub fn sheet_image(
+    cmd: &SheetCommand,
+) -> Result<(crate::image_out::Rgba, Vec<(&'static str, String)>, String)> {
     // The words after `--` are the user's: they go through the options' own parser (its
     // checks and messages); the sheet's model and size are set on the result.
     let mut args = Options::from_words(cmd.view_options.iter().cloned())?;
@@ -102,13 +113,6 @@ pub fn run(cmd: &SheetCommand) -> Result<()> {
         ),
         ("glview.model", scene.name.clone()),
     ];
-    sheet.save_png(&cmd.output, &text)?;
-    eprintln!(
-        "sheet: {} x {} views of {} written to {}",
-        rows,
-        cols,
-        scene.name,
-        cmd.output.display()
-    );
-    Ok(())
+    let summary = format!("{rows} x {cols} views of {}", scene.name);
+    Ok((sheet, text, summary))
 }

@@ -197,3 +197,20 @@ fn arrays_equal_the_same_file_and_bad_input_is_refused() {
     let e = Options::from_words(["--pcf", "3"]).unwrap_err().to_string();
     assert!(e.contains("PCF taps must be 1, 4, 9 or 16"), "{e}");
 }
+
+/// While one caller holds the renderer every other is refused with the Busy error, whichever
+/// thread it is on; afterwards the renderer draws again. No timing involved.
+#[test]
+fn a_reserved_renderer_refuses_other_callers() {
+    let o = opts(&["--size", "32x24"]);
+    let r = Renderer::new(o.clone()).unwrap();
+    {
+        let _held = r.reserve().unwrap();
+        let refused = std::thread::scope(|s| s.spawn(|| r.render(&o, Outputs::default())).join());
+        let err = refused.unwrap().unwrap_err();
+        assert!(matches!(err, glview::Error::Busy), "{err}");
+        assert!(err.to_string().contains("another thread"), "{err}");
+        assert!(matches!(r.reserve(), Err(glview::Error::Busy)));
+    }
+    assert_eq!(r.render(&o, Outputs::default()).unwrap().color.width, 32);
+}
