@@ -21,6 +21,9 @@ impl OutputFormat {
     }
 }
 
+/// A PNG's text chunks (key, value), as pictures carry them to the file.
+pub type PngText = Vec<(&'static str, String)>;
+
 /// An RGBA8 image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rgba {

@@ -280,7 +280,10 @@ fn rgba(data: PyReadonlyArray1<u8>, width: u32, height: u32) -> PyResult<Rgba> {
     })
 }
 
-fn array<'py>(py: Python<'py>, img: Rgba) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+/// An H×W×4 uint8 picture on the Python side.
+type Picture<'py> = Bound<'py, numpy::PyArray3<u8>>;
+
+fn array<'py>(py: Python<'py>, img: Rgba) -> PyResult<Picture<'py>> {
     let (w, h) = (img.width as usize, img.height as usize);
     img.data.into_pyarray(py).reshape([h, w, 4])
 }
@@ -291,7 +294,7 @@ fn compare<'py>(
     py: Python<'py>,
     options_json: &str,
     tiers: &str,
-) -> PyResult<(Bound<'py, numpy::PyArray3<u8>>, Vec<(String, String)>)> {
+) -> PyResult<(Picture<'py>, Vec<(String, String)>)> {
     let o = options(options_json)?;
     let tiers = tiers.to_string();
     let (img, text) = py
@@ -307,12 +310,7 @@ fn diff_tiers<'py>(
     py: Python<'py>,
     options_json: &str,
     tiers: &str,
-) -> PyResult<(
-    Bound<'py, numpy::PyArray3<u8>>,
-    Bound<'py, numpy::PyArray3<u8>>,
-    Bound<'py, numpy::PyArray3<u8>>,
-    String,
-)> {
+) -> PyResult<(Picture<'py>, Picture<'py>, Picture<'py>, String)> {
     let o = options(options_json)?;
     let tiers = tiers.to_string();
     let d = py
@@ -333,7 +331,7 @@ fn diff_images<'py>(
     width: u32,
     height: u32,
     covered: Option<PyReadonlyArray1<bool>>,
-) -> PyResult<(Bound<'py, numpy::PyArray3<u8>>, String)> {
+) -> PyResult<(Picture<'py>, String)> {
     let (a, b) = (rgba(a, width, height)?, rgba(b, width, height)?);
     let covered = covered
         .map(|c| c.as_slice().map(<[bool]>::to_vec))
@@ -364,7 +362,7 @@ fn sheet<'py>(
     tiers: &str,
     views: u32,
     angles: Option<String>,
-) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+) -> PyResult<Picture<'py>> {
     let o = options(options_json)?;
     let cmd = glview::cli::SheetCommand {
         model: o.model.clone(),

@@ -207,7 +207,7 @@ pub fn compare(args: &Args, tiers_arg: &str, path: &std::path::Path) -> Result<(
 pub fn compare_image(
     args: &crate::options::Options,
     tiers_arg: &str,
-) -> Result<(Rgba, Vec<(&'static str, String)>)> {
+) -> Result<(Rgba, crate::image_out::PngText)> {
     let tiers = parse_tiers(tiers_arg, "--compare")?;
     let scene = crate::run::load_scene(args)?;
     let name = scene.name.clone();

@@ -49,7 +49,7 @@ pub fn run(cmd: &SheetCommand) -> Result<()> {
 /// Python).
 pub fn sheet_image(
     cmd: &SheetCommand,
-) -> Result<(crate::image_out::Rgba, Vec<(&'static str, String)>, String)> {
+) -> Result<(crate::image_out::Rgba, crate::image_out::PngText, String)> {
     // The words after `--` are the user's: they go through the options' own parser (its
     // checks and messages); the sheet's model and size are set on the result.
     let mut args = Options::from_words(cmd.view_options.iter().cloned())?;
