@@ -182,6 +182,9 @@ pub struct Post {
     pub transparent: bool,
     /// `--show bloom`: the blurred bright part alone (teaching view).
     pub show_bloom: bool,
+    /// The library's float colour: the frame stays in its offscreen image, linear and
+    /// unclamped (before bloom, exposure, tone mapping and sRGB), and no post step runs.
+    pub linear_out: bool,
 }
 
 impl Post {

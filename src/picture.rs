@@ -134,6 +134,8 @@ pub struct Drawn {
     pub text: Vec<(&'static str, String)>,
     pub stats: crate::render::FrameStats,
     pub attributes: Option<crate::render::attributes::Attributes>,
+    /// With `Outputs::linear`: the linear, unclamped colour, RGB per pixel, top row first.
+    pub linear: Option<Vec<[f32; 3]>>,
 }
 
 /// Renders the model of `args` into `path`, reusing `kept` when it was made for the same
@@ -274,11 +276,27 @@ pub fn draw(
     } else {
         None
     };
+    let linear = if outputs.linear {
+        if k != 1 || args.aa == AaMode::Msaa {
+            return Err(crate::Error::Usage(
+                "float linear colour is drawn without --aa ssaa or msaa".into(),
+            ));
+        }
+        let mut s = settings.clone();
+        s.lighting.post.linear_out = true;
+        renderer.render(&s, &hl.target())?;
+        let linear = renderer.read_linear(w, h)?;
+        hl.gpu.bind_framebuffer(hl.target().fbo);
+        Some(linear)
+    } else {
+        None
+    };
     Ok(Drawn {
         image,
         text,
         stats,
         attributes,
+        linear,
     })
 }
 

@@ -301,6 +301,7 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
                 fxaa: args.aa == crate::options::AaMode::Fxaa,
                 transparent: args.transparent,
                 show_bloom: args.show == Show::Bloom,
+                linear_out: false,
             },
             attribute_view: match args.show {
                 Show::Normals => AttributeView::Normals,

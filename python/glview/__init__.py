@@ -50,7 +50,7 @@ __all__ = [
 ]
 
 # Options of the Python API that are not command-line options: which buffers to read back.
-_OUTPUTS = ("depth", "normals", "ids")
+_OUTPUTS = ("depth", "normals", "ids", "linear")
 
 
 def _value(name: str, v: Any) -> Any:
@@ -72,7 +72,9 @@ class Image:
     writes), and where asked for ``depth`` (H×W float32 distance along the view axis, ``inf``
     where empty), ``normals`` (H×W×3 float32 eye-space unit normals facing the camera, zero
     where empty), ``object_ids``/``material_ids`` (H×W int32, −1 where empty; names in
-    ``object_names``/``material_names``). Displays itself in notebooks."""
+    ``object_names``/``material_names``), ``linear`` (H×W×3 float32: the colour before bloom,
+    exposure, tone mapping and sRGB, unclamped; a second frame). Displays itself in
+    notebooks."""
 
     def __init__(
         self,
@@ -82,6 +84,7 @@ class Image:
         normals: Optional[np.ndarray] = None,
         object_ids: Optional[np.ndarray] = None,
         material_ids: Optional[np.ndarray] = None,
+        linear: Optional[np.ndarray] = None,
         object_names: Sequence[str] = (),
         material_names: Sequence[str] = (),
         stats: Optional[dict] = None,
@@ -92,6 +95,7 @@ class Image:
         self.normals = normals
         self.object_ids = object_ids
         self.material_ids = material_ids
+        self.linear = linear
         self.object_names = list(object_names)
         self.material_names = list(material_names)
         self.stats = stats or {}
@@ -220,13 +224,19 @@ class Renderer:
         return self
 
     def render(
-        self, *, depth: bool = False, normals: bool = False, ids: bool = False, **options: Any
+        self,
+        *,
+        depth: bool = False,
+        normals: bool = False,
+        ids: bool = False,
+        linear: bool = False,
+        **options: Any,
     ) -> Image:
         """Renders the loaded model (else the ``model`` option, else the built-in scene) with
         these options over the renderer's; ``depth``/``normals``/``ids`` read those buffers
         back too."""
         native = self._get()
-        out = native.render(self._options(options), depth, normals, ids)
+        out = native.render(self._options(options), depth, normals, ids, linear)
         return Image(
             out["color"],
             out["text"],
@@ -234,6 +244,7 @@ class Renderer:
             normals=out.get("normals") if normals else None,
             object_ids=out.get("object_ids") if ids else None,
             material_ids=out.get("material_ids") if ids else None,
+            linear=out.get("linear"),
             object_names=self._names[0],
             material_names=self._names[1],
             stats=json.loads(out["stats"]),
@@ -269,6 +280,7 @@ def render(
     depth: bool = False,
     normals: bool = False,
     ids: bool = False,
+    linear: bool = False,
     **options: Any,
 ) -> Image:
     """Renders one picture of ``model`` (a path, arrays, or an object with ``.vertices`` and
@@ -279,7 +291,7 @@ def render(
     with Renderer(size[0], size[1]) as r:
         if model is not None:
             r.load(model, **options)
-        return r.render(depth=depth, normals=normals, ids=ids, **options)
+        return r.render(depth=depth, normals=normals, ids=ids, linear=linear, **options)
 
 
 def _numbers(n: Dict[str, float]) -> Dict[str, float]:

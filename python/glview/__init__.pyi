@@ -22,6 +22,7 @@ class Image:
     normals: Optional[npt.NDArray[np.float32]]
     object_ids: Optional[npt.NDArray[np.int32]]
     material_ids: Optional[npt.NDArray[np.int32]]
+    linear: Optional[npt.NDArray[np.float32]]
     object_names: List[str]
     material_names: List[str]
     stats: Dict[str, Any]
@@ -33,6 +34,7 @@ class Image:
         normals: Optional[npt.NDArray[np.float32]] = ...,
         object_ids: Optional[npt.NDArray[np.int32]] = ...,
         material_ids: Optional[npt.NDArray[np.int32]] = ...,
+        linear: Optional[npt.NDArray[np.float32]] = ...,
         object_names: Sequence[str] = ...,
         material_names: Sequence[str] = ...,
         stats: Optional[Dict[str, Any]] = ...,
@@ -51,7 +53,13 @@ class Renderer:
     def __init__(self, width: int = ..., height: int = ..., **options: Any) -> None: ...
     def load(self, model: Model, **options: Any) -> "Renderer": ...
     def render(
-        self, *, depth: bool = ..., normals: bool = ..., ids: bool = ..., **options: Any
+        self,
+        *,
+        depth: bool = ...,
+        normals: bool = ...,
+        ids: bool = ...,
+        linear: bool = ...,
+        **options: Any,
     ) -> Image: ...
     def hold(self, callback: Callable[[], Any]) -> None: ...
     def close(self) -> None: ...
@@ -64,6 +72,7 @@ def render(
     depth: bool = ...,
     normals: bool = ...,
     ids: bool = ...,
+    linear: bool = ...,
     **options: Any,
 ) -> Image: ...
 def diff(

@@ -168,6 +168,7 @@ impl NativeRenderer {
         depth: bool,
         normals: bool,
         ids: bool,
+        linear: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let o = options(options_json)?;
         let r = self
@@ -180,6 +181,7 @@ impl NativeRenderer {
                     depth,
                     normals,
                     ids,
+                    linear,
                 };
                 r.render(&o, outputs)
             })
@@ -190,6 +192,10 @@ impl NativeRenderer {
         out.set_item("color", color)?;
         out.set_item("text", frame.text)?;
         out.set_item("stats", frame.stats.to_string())?;
+        if let Some(l) = frame.linear {
+            let l: Vec<f32> = l.into_iter().flatten().collect();
+            out.set_item("linear", l.into_pyarray(py).reshape([h, w, 3])?)?;
+        }
         if let Some(a) = frame.attributes {
             if depth {
                 out.set_item("depth", a.depth.into_pyarray(py).reshape([h, w])?)?;

@@ -226,3 +226,19 @@ def test_comparison_tools_return_images_and_the_command_lines_numbers(tmp_path, 
         glview.compare(([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]))
     with pytest.raises(glview.OptionError):
         glview.compare(bunny, "phong,nonsense")
+
+
+def test_linear_colour_is_the_picture_before_its_output_step(shared):
+    duck = shared / "gltf-samples" / "Duck" / "Duck.glb"
+    img = glview.render(
+        duck, size=(96, 72), shading="pbr", no_bloom=True, tonemap="none", exposure=0,
+        linear=True,
+    )
+    lin = img.linear
+    assert lin.dtype == np.float32 and lin.shape == (72, 96, 3)
+    # Without tone mapping or exposure the output step is sRGB encoding of the clamped value.
+    c = np.clip(lin.astype(np.float64), 0, 1)
+    srgb = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)
+    encoded = np.round(srgb * 255).astype(np.int16)
+    assert np.abs(encoded - img.rgb.astype(np.int16)).max() <= 1
+    assert lin.max() > 1.0  # unclamped

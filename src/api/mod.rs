@@ -99,6 +99,9 @@ pub struct Frame {
     /// The PNG text chunks (renderer, camera, the reproducing command line).
     pub text: Vec<(String, String)>,
     pub attributes: Option<Attributes>,
+    /// With [`Outputs::linear`]: the colour before bloom, exposure, tone mapping and sRGB
+    /// (linear, unclamped), RGB per pixel, top row first.
+    pub linear: Option<Vec<[f32; 3]>>,
     /// The frame's `--stats` line.
     pub stats: serde_json::Value,
 }
@@ -213,6 +216,7 @@ impl Renderer {
                     .map(|(k, v)| (k.to_string(), v))
                     .collect(),
                 attributes: drawn.attributes,
+                linear: drawn.linear,
                 stats: serde_json::to_value(&drawn.stats).unwrap_or_default(),
             })
         })

@@ -39,9 +39,12 @@ pub struct Outputs {
     pub normals: bool,
     /// Object and material ids.
     pub ids: bool,
+    /// The colour as float32, linear and unclamped (a second frame, kept offscreen).
+    pub linear: bool,
 }
 
 impl Outputs {
+    /// Whether any attribute buffer (depth, normals, ids) is asked for.
     pub fn any(&self) -> bool {
         self.depth || self.normals || self.ids
     }
@@ -202,7 +205,7 @@ impl Renderer {
 }
 
 /// GL's rows are bottom-up; the picture's are top-down.
-fn top_first(data: Vec<f32>, width: u32) -> Vec<f32> {
+pub(crate) fn top_first(data: Vec<f32>, width: u32) -> Vec<f32> {
     let row = width as usize * 4;
     data.chunks_exact(row.max(1))
         .rev()

@@ -390,8 +390,15 @@ impl Renderer {
                     bloom_on = false;
                 }
             }
-            let any_post = bloom_on || post.fxaa;
-            let offscreen = any_post && !copy;
+            if post.linear_out && copy {
+                return Err(crate::Error::Unsupported(format!(
+                    "float linear colour needs float render targets (GL 3.0, ES 3.0 with \
+                     EXT_color_buffer_float); {} has none",
+                    self.gpu.caps.version
+                )));
+            }
+            let any_post = (bloom_on || post.fxaa) && !post.linear_out;
+            let offscreen = (any_post || post.linear_out) && !copy;
             let rgbm = copy && bloom_on;
             let (w, h) = (viewport[2], viewport[3]);
             let hdr = if offscreen {
@@ -463,6 +470,16 @@ impl Renderer {
             .map(|t| t.result_ns() as f64 / 1e6)
             .filter(|&g| g <= stats.ms + 1.0);
         Ok(stats)
+    }
+
+    /// The last frame drawn with `post.linear_out`: its linear, unclamped colour, RGB per
+    /// pixel, top row first.
+    pub fn read_linear(&mut self, width: u32, height: u32) -> Result<Vec<[f32; 3]>> {
+        // The frame's own image: made at this size by the frame, so nothing is remade here.
+        let fbo = post::frame_target(&mut self.res.post, &self.gpu, width, height)?;
+        self.gpu.bind_framebuffer(Some(fbo));
+        let rgba = attributes::top_first(self.gpu.read_rgba_f32(width, height), width);
+        Ok(rgba.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect())
     }
 
     /// Makes the next frame render its shadow maps again (e.g. after the geometry changed);

@@ -52,6 +52,7 @@ fn depth_is_the_exact_spheres_and_ids_cover_exactly_the_picture() {
                 depth: true,
                 normals: true,
                 ids: true,
+                ..Outputs::default()
             },
         )
         .unwrap();
@@ -213,4 +214,46 @@ fn a_reserved_renderer_refuses_other_callers() {
         assert!(matches!(r.reserve(), Err(glview::Error::Busy)));
     }
     assert_eq!(r.render(&o, Outputs::default()).unwrap().color.width, 32);
+}
+
+/// The float linear colour is the frame before its output step: put through the CPU twin of
+/// that step (`OutputParams::apply`: exposure, tone mapping, sRGB) it is the 8-bit picture,
+/// and it is unclamped where the light is bright.
+#[test]
+fn linear_colour_is_the_picture_before_its_output_step() {
+    let model = shared().join("gltf-samples/Duck/Duck.glb");
+    let model = model.to_str().unwrap();
+    let want = Outputs {
+        linear: true,
+        ..Outputs::default()
+    };
+    for extra in [
+        &["--tonemap", "none", "--exposure", "0"][..],
+        &["--exposure", "0.5"],
+        &["--ibl-intensity", "4"],
+    ] {
+        let mut words = vec![model, "--size", "96x72", "--shading", "pbr", "--no-bloom"];
+        words.extend_from_slice(extra);
+        let o = opts(&words);
+        let f = api::render(&o, want).unwrap();
+        let linear = f.linear.expect("asked for");
+        assert_eq!(linear.len(), 96 * 72);
+        let (settings, _) = settings_for(&words);
+        let output = settings.lighting.output;
+        let mut worst = 0u8;
+        for (i, c) in linear.iter().enumerate() {
+            let shown = output.apply(c.map(f64::from));
+            for k in 0..3 {
+                let v = (shown[k].clamp(0.0, 1.0) * 255.0).round() as u8;
+                worst = worst.max(v.abs_diff(f.color.data[i * 4 + k]));
+            }
+        }
+        let brightest = linear.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
+        eprintln!("{extra:?}: worst {worst}/255, brightest linear value {brightest}");
+        // f32 on the GPU against f64 here: one step of rounding.
+        assert!(worst <= 1, "{extra:?}: {worst}/255");
+        if extra.contains(&"4") {
+            assert!(brightest > 1.0, "unclamped: {brightest}");
+        }
+    }
 }
