@@ -243,8 +243,8 @@ fn linear_colour_is_the_picture_before_its_output_step() {
         let mut worst = 0u8;
         for (i, c) in linear.iter().enumerate() {
             let shown = output.apply(c.map(f64::from));
-            for k in 0..3 {
-                let v = (shown[k].clamp(0.0, 1.0) * 255.0).round() as u8;
+            for (k, x) in shown.iter().enumerate() {
+                let v = (x.clamp(0.0, 1.0) * 255.0).round() as u8;
                 worst = worst.max(v.abs_diff(f.color.data[i * 4 + k]));
             }
         }
