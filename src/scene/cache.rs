@@ -183,8 +183,8 @@ pub fn get_in(
     textures: TextureOptions,
 ) -> Option<Prepared> {
     let entry = entry_path(dir, path)?;
-    let data = std::fs::read(&entry).ok()?;
-    let scene = decode(&data, path, bytes, textures);
+    let file = std::fs::File::open(&entry).ok()?;
+    let scene = decode(file, path, bytes, textures);
     if scene.is_some() {
         touch(&entry);
     }
@@ -201,13 +201,30 @@ fn touch(entry: &Path) {
     }
 }
 
+/// Reads an entry: the header first, validated against the model's metadata before any of
+/// the payload is read (a miss costs a few small reads), then each mesh's arrays read once,
+/// straight into their final, aligned buffers, hashed as they arrive (no whole-file buffer,
+/// no copy out of it).
 fn decode(
-    data: &[u8],
+    mut file: std::fs::File,
     path: &Path,
     bytes: Option<&[u8]>,
     textures: TextureOptions,
 ) -> Option<Prepared> {
-    let (header, mut rest) = parse_header(data)?;
+    use std::io::Read;
+    let file_len = file.metadata().ok()?.len();
+    let mut head = [0u8; 12];
+    file.read_exact(&mut head).ok()?;
+    if &head[..4] != MAGIC {
+        return None;
+    }
+    let json_len = u64::from_le_bytes(head[4..].try_into().ok()?);
+    if json_len > file_len.saturating_sub(12) {
+        return None;
+    }
+    let mut json = vec![0u8; usize::try_from(json_len).ok()?];
+    file.read_exact(&mut json).ok()?;
+    let header: Header = serde_json::from_slice(&json).ok()?;
     let canonical = path.canonicalize().ok()?;
     let valid = header.format == FORMAT
         && header.glview == env!("CARGO_PKG_VERSION")
@@ -218,22 +235,30 @@ fn decode(
             .dependencies
             .iter()
             .all(|d| stamp(&d.path).as_ref() == Some(d))
-        && rest.len() as u64 == header.payload_len
-        && content_hash(rest) == header.payload_hash;
+        && file_len == 12 + json_len + header.payload_len;
     if !valid {
         return None;
     }
+    let mut hasher = xxhash_rust::xxh3::Xxh3::new();
+    let mut left = header.payload_len;
     let mut meshes = Vec::with_capacity(header.meshes.len());
     for m in &header.meshes {
         let vbytes = m.vertices.checked_mul(std::mem::size_of::<Vertex>())?;
         let ibytes = m.indices.checked_mul(4)?;
-        if rest.len() < vbytes.checked_add(ibytes)? || m.indices % 3 != 0 {
+        let both = u64::try_from(vbytes.checked_add(ibytes)?).ok()?;
+        if both > left || m.indices % 3 != 0 {
             return None;
         }
-        // Copies (not casts) because the file's bytes carry no alignment guarantee.
-        let vertices: Vec<Vertex> = bytemuck::pod_collect_to_vec(&rest[..vbytes]);
-        let indices: Vec<u32> = bytemuck::pod_collect_to_vec(&rest[vbytes..vbytes + ibytes]);
-        rest = &rest[vbytes + ibytes..];
+        left -= both;
+        let mut vertices = vec![Vertex::default(); m.vertices];
+        let mut indices = vec![0u32; m.indices];
+        for part in [
+            bytemuck::cast_slice_mut::<Vertex, u8>(&mut vertices),
+            bytemuck::cast_slice_mut::<u32, u8>(&mut indices),
+        ] {
+            file.read_exact(part).ok()?;
+            hasher.update(part);
+        }
         if indices.iter().any(|&i| i as usize >= vertices.len()) {
             return None;
         }
@@ -247,6 +272,9 @@ fn decode(
             colors: Vec::new(),
             ..Default::default()
         });
+    }
+    if left != 0 || hasher.digest128() != header.payload_hash {
+        return None;
     }
     let mut materials = header.materials;
     let mut warnings = header.warnings;
@@ -291,13 +319,6 @@ fn decode(
         maps: Vec::new(),
     };
     Some((scene, clusters))
-}
-
-fn parse_header(data: &[u8]) -> Option<(Header, &[u8])> {
-    let rest = data.strip_prefix(MAGIC)?;
-    let len = usize::try_from(u64::from_le_bytes(rest.get(..8)?.try_into().ok()?)).ok()?;
-    let json = rest.get(8..8usize.checked_add(len)?)?;
-    Some((serde_json::from_slice(json).ok()?, &rest[8 + len..]))
 }
 
 /// Stores `scene` and its `clusters` for `path` (and the content hash of `bytes`, the file's,

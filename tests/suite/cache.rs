@@ -189,3 +189,141 @@ fn cached_loads_render_and_check_as_uncached_ones() {
         assert!(uncached.contains("result: renders"), "{uncached}");
     }
 }
+
+/// glTF files without textures go through the cache too, material model included: the hit
+/// (`--check` says "(mesh cache)") renders the same pixels and reports the same as an
+/// uncached load — an unlit material and a single-sided one seen from behind among them — and
+/// rewriting the file makes the next load a miss.
+#[test]
+fn gltf_without_textures_is_cached_with_its_material_model() {
+    let dir = common::out_dir("cache_gltf");
+    let entries = dir.join("entries");
+    let _ = std::fs::remove_dir_all(&entries);
+    let env = [("GLVIEW_CACHE_DIR", entries.to_str().unwrap())];
+    // A wavy 300×300 grid in two primitives (left half unlit, right half single-sided and
+    // emissive), embedded as base64 so the one file is above cache::MIN_SIZE.
+    let n = 300u32;
+    let mut pos = Vec::new();
+    let mut nrm = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (
+                f32::from(i as u16) / n as f32 - 0.5,
+                f32::from(j as u16) / n as f32 - 0.5,
+            );
+            let y = 0.05 * (x * 20.0).sin() * (z * 15.0).cos();
+            pos.extend([x, y, z]);
+            nrm.extend([0.0f32, 1.0, 0.0]);
+        }
+    }
+    let (mut left, mut right) = (Vec::new(), Vec::new());
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            let (b, c, d) = (a + n + 1, a + n + 2, a + 1);
+            let half = if i < n / 2 { &mut left } else { &mut right };
+            half.extend([a, b, c, a, c, d]);
+        }
+    }
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    for part in [
+        bytemuck::cast_slice::<f32, u8>(&pos),
+        bytemuck::cast_slice(&nrm),
+        bytemuck::cast_slice::<u32, u8>(&left),
+        bytemuck::cast_slice(&right),
+    ] {
+        views.push(format!(
+            r#"{{"buffer": 0, "byteOffset": {}, "byteLength": {}}}"#,
+            bin.len(),
+            part.len()
+        ));
+        bin.extend_from_slice(part);
+    }
+    let verts = (n + 1) * (n + 1);
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+      "extensionsUsed": ["KHR_materials_unlit"],
+      "nodes": [{{"mesh": 0}}],
+      "meshes": [{{"primitives": [
+        {{"attributes": {{"POSITION": 0, "NORMAL": 1}}, "indices": 2, "material": 0}},
+        {{"attributes": {{"POSITION": 0, "NORMAL": 1}}, "indices": 3, "material": 1}}]}}],
+      "materials": [
+        {{"pbrMetallicRoughness": {{"baseColorFactor": [0.9, 0.3, 0.1, 1]}},
+          "extensions": {{"KHR_materials_unlit": {{}}}}, "doubleSided": true}},
+        {{"pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.5, 0.9, 1]}},
+          "emissiveFactor": [0.1, 0.2, 0.0], "doubleSided": false}}],
+      "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}],
+      "bufferViews": [{}],
+      "accessors": [
+        {{"bufferView": 0, "componentType": 5126, "count": {verts}, "type": "VEC3",
+          "min": [-0.5, -0.05, -0.5], "max": [0.5, 0.05, 0.5]}},
+        {{"bufferView": 1, "componentType": 5126, "count": {verts}, "type": "VEC3"}},
+        {{"bufferView": 2, "componentType": 5125, "count": {}, "type": "SCALAR"}},
+        {{"bufferView": 3, "componentType": 5125, "count": {}, "type": "SCALAR"}}]}}"#,
+        bin.len(),
+        crate::gltf_materials::b64(&bin),
+        views.join(", "),
+        left.len(),
+        right.len()
+    );
+    let model = dir.join("grid.gltf");
+    std::fs::write(&model, json).unwrap();
+    assert!(std::fs::metadata(&model).unwrap().len() >= cache::MIN_SIZE);
+    let model = model.to_str().unwrap();
+    let check = |extra: &[&str]| -> (String, String) {
+        let o = common::run(&[&[model, "--check"], extra].concat(), &env);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let out = String::from_utf8_lossy(&o.stdout).into_owned();
+        let (load, rest): (Vec<&str>, Vec<&str>) =
+            out.lines().partition(|l| l.starts_with("load: "));
+        (load.join("\n"), rest.join("\n"))
+    };
+    for (view, pitch) in [("above", "30"), ("below", "-30")] {
+        for shading in ["phong", "pbr"] {
+            let name = format!("{view}-{shading}");
+            let args = [
+                model,
+                "--size",
+                "160x120",
+                "--pitch",
+                pitch,
+                "--shading",
+                shading,
+            ];
+            let fresh = common::render(
+                &dir,
+                &format!("{name}-fresh"),
+                &[&args[..], &["--no-cache"]].concat(),
+                &env,
+            );
+            let first = common::render(&dir, &format!("{name}-first"), &args, &env);
+            let hit = common::render(&dir, &format!("{name}-hit"), &args, &env);
+            for (what, img) in [("first", &first), ("hit", &hit)] {
+                let d = common::diff(&fresh, img, 0);
+                assert_eq!(d.max, 0, "{name} {what}: {} pixels differ", d.over);
+            }
+        }
+    }
+    let (uncached_load, uncached) = check(&["--no-cache"]);
+    let (cached_load, cached) = check(&[]);
+    assert!(!uncached_load.contains("(mesh cache)"), "{uncached_load}");
+    assert!(
+        cached_load.contains("(mesh cache)"),
+        "not a hit: {cached_load}"
+    );
+    assert_eq!(uncached, cached, "--check from the entry");
+    assert!(
+        cached.contains("KHR_materials_unlit") && cached.contains("doubleSided false"),
+        "{cached}"
+    );
+    // A rewritten file (same content, new modification time) is a miss, then a hit again.
+    let bytes = std::fs::read(model).unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    std::fs::write(model, bytes).unwrap();
+    assert!(
+        !check(&[]).0.contains("(mesh cache)"),
+        "a rewritten file hit"
+    );
+    assert!(check(&[]).0.contains("(mesh cache)"));
+}
