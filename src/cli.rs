@@ -131,13 +131,14 @@ pub struct SheetCommand {
     pub view_options: Vec<String>,
 }
 
+/// `glview bench ...`: the benchmarks are the command-line program's own tools, not the
+/// library's, so their options are parsed there (`glview bench --help` lists them).
 #[derive(Debug, clap::Args)]
+#[command(disable_help_flag = true)]
 pub struct BenchCommand {
-    /// Load, render and drop the scene this many times in one context (leak soak).
-    #[arg(long)]
-    pub soak: Option<u32>,
-    #[command(flatten)]
-    pub bench: crate::bench::BenchArgs,
+    /// The benchmark's options (`--load`, `--frame`, `--soak N`, ...; `--help` lists them).
+    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
+    pub words: Vec<String>,
 }
 
 /// Output files are PNG or JPEG, decided by the extension; anything else is refused before

@@ -12,12 +12,12 @@ pub mod frame;
 pub mod image_out;
 pub mod keys;
 pub mod light;
+pub mod metrics;
 pub mod options;
 pub mod pbr;
 pub mod repro;
 pub mod scene;
 pub mod shading;
-pub mod soak;
 
 #[allow(unsafe_code)]
 pub mod gpu;
@@ -30,7 +30,6 @@ pub mod shader;
 pub mod api;
 pub mod app;
 pub mod batch;
-pub mod bench;
 pub mod headless;
 pub mod picture;
 pub mod run;

@@ -1,5 +1,7 @@
 //! `glview`: parse, dispatch to one mode (the modes import `run`, never each other), print
 //! the one error, exit code.
+mod tools;
+
 use glview::cli::Args;
 use glview::{run, Error, Result};
 use std::process::ExitCode;
@@ -31,12 +33,7 @@ fn main() -> ExitCode {
 /// The dispatch: one mode per invocation.
 fn dispatch(args: &Args) -> Result<()> {
     match &args.command {
-        Some(glview::cli::Command::Bench(b)) => {
-            return match b.soak {
-                Some(rounds) => glview::soak::run(args, rounds),
-                None => glview::bench::run(&b.bench),
-            };
-        }
+        Some(glview::cli::Command::Bench(b)) => return tools::run_bench(args, &b.words),
         Some(glview::cli::Command::Sheet(s)) => return glview::compare::sheet::run(s),
         Some(glview::cli::Command::Batch(b)) => return glview::batch::run(b),
         None => {}

@@ -255,7 +255,7 @@ pub fn draw(
     profile.programs_compiled = compiled.0 - compiled_before.0;
     profile.compile_ms = compiled.1 - compiled_before.1;
     let t = Instant::now();
-    let mut image = crate::bench::metrics::downsample(&hl.read(), k);
+    let mut image = crate::metrics::downsample(&hl.read(), k);
     if args.transparent {
         crate::run::unpremultiply(&mut image);
     }

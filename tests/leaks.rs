@@ -4,9 +4,9 @@
 #[path = "suite/common.rs"]
 mod common;
 use glview::headless::Headless;
+use glview::metrics::{rss_kib, trend_per_round};
 use glview::platform::{Backend, GlRequest};
 use glview::render::Renderer;
-use glview::soak::{rss_kib, trend_per_round};
 
 #[test]
 fn gl_objects_return_to_zero_and_memory_stays_flat() {

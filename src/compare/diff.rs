@@ -1,8 +1,8 @@
 //! Difference images with numbers: `--diff A,B` and `--diff-against FILE.png`.
 use super::canvas;
-use crate::bench::metrics::{compare, ImageError, WRONG_THRESHOLD};
 use crate::cli::Args;
 use crate::image_out::Rgba;
+use crate::metrics::{compare, ImageError, WRONG_THRESHOLD};
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 

@@ -13,9 +13,9 @@ use std::sync::Arc;
 
 const SIZE: u32 = 80;
 
-/// Mean and max linear error over the model's pixels (`glview::bench::pbr::linear_error`).
+/// Mean and max linear error over the model's pixels (`glview::metrics::linear_error`).
 fn linear_error(gpu: &Rgba, reference: &Rgba, hit: &[bool]) -> (f64, f64) {
-    let (mean, max, n) = glview::bench::pbr::linear_error(gpu, reference, hit);
+    let (mean, max, n) = glview::metrics::linear_error(gpu, reference, hit);
     assert!(n > 1000, "the model covers only {n} pixels");
     (mean, max)
 }

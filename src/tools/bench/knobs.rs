@@ -1,5 +1,5 @@
 //! The quality knobs the benchmark varies, and the settings it measures.
-use crate::frame::{FrameSettings, Shading, ShadowSettings};
+use glview::frame::{FrameSettings, Shading, ShadowSettings};
 use serde::Serialize;
 
 /// One setting of the quality knobs.

@@ -1,6 +1,6 @@
 //! The load benchmark's large model: a UV sphere OBJ with about a given number of triangles,
 //! positions and unit normals (`f a//a b//b c//c`), written once into a cache folder.
-use crate::{Error, Result};
+use glview::{Error, Result};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
@@ -103,7 +103,7 @@ mod tests {
     fn small_sphere_loads_with_outward_faces() {
         let dir = std::env::temp_dir().join(format!("glview-sphere-{}", std::process::id()));
         let path = ensure(&dir, 200).unwrap();
-        let scene = crate::scene::obj::load(&path, &Default::default()).unwrap();
+        let scene = glview::scene::obj::load(&path, &Default::default()).unwrap();
         let (r, s) = grid(200);
         assert_eq!(scene.triangle_count() as u64, triangle_count(r, s));
         for m in &scene.meshes {

@@ -4,13 +4,13 @@
 use super::median;
 use super::metrics::{compare, downsample};
 use super::table::{num, Table};
-use crate::frame::Shading;
-use crate::headless::Headless;
-use crate::image_out::Rgba;
-use crate::options::Options;
-use crate::platform::{Backend, GlRequest};
-use crate::render::Renderer;
-use crate::{Error, Result};
+use glview::frame::Shading;
+use glview::headless::Headless;
+use glview::image_out::Rgba;
+use glview::options::Options;
+use glview::platform::{Backend, GlRequest};
+use glview::render::Renderer;
+use glview::{Error, Result};
 
 const W: u32 = 640;
 const H: u32 = 480;
@@ -38,8 +38,8 @@ fn bloom(levels: u32) -> Options {
 /// Renders the built-in scene with `args`; `ssaa` k renders k× larger and filters
 /// down; `msaa` n draws into an n-sample target. Returns the image and the median frame ms.
 fn frame(args: &Options, ssaa: u32, msaa: u32) -> Result<(Rgba, f64)> {
-    let scene = crate::run::load_scene(args)?;
-    let (s, _) = crate::run::frame_settings(args, &scene)?;
+    let scene = glview::run::load_scene(args)?;
+    let (s, _) = glview::run::frame_settings(args, &scene)?;
     let mut hl = Headless::new(Backend::Auto, GlRequest::Auto, W * ssaa, H * ssaa)?;
     if msaa > 0 {
         hl.enable_msaa(msaa)?;
@@ -65,7 +65,7 @@ pub fn run_post() -> Result<()> {
         "1 - SSIM",
     ]);
     let fxaa = Options {
-        aa: crate::options::AaMode::Fxaa,
+        aa: glview::options::AaMode::Fxaa,
         ..base()
     };
     for (label, args, ssaa, msaa) in [

@@ -1,11 +1,11 @@
 //! The quality benchmark's scene set: each scene is a model plus lights, so any row of the
 //! table can be reproduced with `glview MODEL --light L --output x.png`.
-use crate::frame::FrameSettings;
-use crate::options::Options;
-use crate::run::{frame_settings, load_scene};
-use crate::scene::{Mesh, Scene, Vertex};
-use crate::{Error, Result};
 use glam::Vec3;
+use glview::frame::FrameSettings;
+use glview::options::Options;
+use glview::run::{frame_settings, load_scene};
+use glview::scene::{Mesh, Scene, Vertex};
+use glview::{Error, Result};
 use std::path::{Path, PathBuf};
 
 /// Where a scene's model comes from.

@@ -5,7 +5,7 @@ use super::metrics::ImageError;
 use super::plot::{self, Panel, Point};
 use super::table::{csv_line, num, Table};
 use super::write_file;
-use crate::{Error, Result};
+use glview::{Error, Result};
 use serde::Serialize;
 use std::path::Path;
 

@@ -7,12 +7,12 @@
 //! (an orbiting camera), and without shadows; medians, and triangles sent per frame.
 use super::table::{num, Table};
 use super::{median, sphere};
-use crate::headless::Headless;
-use crate::options::Options;
-use crate::platform::{Backend, GlRequest};
-use crate::render::{FrameSettings, Renderer};
-use crate::scene::clusters;
-use crate::Result;
+use glview::headless::Headless;
+use glview::options::Options;
+use glview::platform::{Backend, GlRequest};
+use glview::render::{FrameSettings, Renderer};
+use glview::scene::clusters;
+use glview::Result;
 use std::path::Path;
 use std::time::Instant;
 
@@ -60,8 +60,8 @@ pub fn run_frame(work: &Path, models_dir: &Path, rounds: usize, triangles: u64) 
             size: SIZE,
             ..Options::default()
         };
-        let scene = crate::run::load_scene(&args)?;
-        let (settings, _) = crate::run::frame_settings(&args, &scene)?;
+        let scene = glview::run::load_scene(&args)?;
+        let (settings, _) = glview::run::frame_settings(&args, &scene)?;
         let mut off = settings.clone();
         off.shadows.enabled = false;
         let mut variants = Vec::new();

@@ -4,12 +4,12 @@
 //! of 10 frames after one warm-up. Prints a table.
 use super::median;
 use super::table::{num, Table};
-use crate::frame::TranslucencyMode;
-use crate::headless::Headless;
-use crate::options::Options;
-use crate::platform::{Backend, GlRequest};
-use crate::render::Renderer;
-use crate::Result;
+use glview::frame::TranslucencyMode;
+use glview::headless::Headless;
+use glview::options::Options;
+use glview::platform::{Backend, GlRequest};
+use glview::render::Renderer;
+use glview::Result;
 use std::path::Path;
 
 pub fn run_translucency(models_dir: &Path) -> Result<()> {
@@ -31,8 +31,8 @@ pub fn run_translucency(models_dir: &Path) -> Result<()> {
     }
     let mut table = Table::new(&["scene", "mode", "depth", "frame ms", "vs opaque"]);
     for (name, args) in scenes {
-        let scene = crate::run::load_scene(&args)?;
-        let (base, _) = crate::run::frame_settings(&args, &scene)?;
+        let scene = glview::run::load_scene(&args)?;
+        let (base, _) = glview::run::frame_settings(&args, &scene)?;
         let mut opaque_scene = scene.clone();
         for m in &mut opaque_scene.materials {
             m.opacity = 1.0;

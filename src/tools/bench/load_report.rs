@@ -2,7 +2,7 @@
 use super::child::Measured;
 use super::table::{csv_line, num, Table};
 use super::write_file;
-use crate::{Error, Result};
+use glview::{Error, Result};
 use serde::Serialize;
 use std::path::Path;
 

@@ -5,11 +5,11 @@
 use super::child::{self, Measured};
 use super::load_report::{load_table, write_outputs, FrameTime, LoadReport, LoadRow};
 use super::{ensure_dir, f3d, median, sphere};
-use crate::headless::Headless;
-use crate::platform::{Backend, GlRequest};
-use crate::render::Renderer;
-use crate::scene::obj;
-use crate::{Error, Result};
+use glview::headless::Headless;
+use glview::platform::{Backend, GlRequest};
+use glview::render::Renderer;
+use glview::scene::obj;
+use glview::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -227,7 +227,7 @@ fn measure_file(
     let scene = obj::load(file, &opts)?;
     let triangles = scene.triangle_count();
     let parse_ms = time_ms(runs, || obj::load(file, &opts))?;
-    let warm_load_ms = if bytes >= crate::scene::cache::MIN_SIZE {
+    let warm_load_ms = if bytes >= glview::scene::cache::MIN_SIZE {
         let cached = obj::LoadOptions {
             cache: true,
             ..Default::default()
@@ -300,13 +300,13 @@ fn measure_file(
 
 /// The large model's frame time at 1280×720 with the default shadows.
 fn frame_time(file: &Path) -> Result<FrameTime> {
-    let args = crate::options::Options {
+    let args = glview::options::Options {
         model: Some(file.to_path_buf()),
         size: SIZE,
         ..Default::default()
     };
-    let scene = crate::run::load_scene(&args)?;
-    let (settings, _) = crate::run::frame_settings(&args, &scene)?;
+    let scene = glview::run::load_scene(&args)?;
+    let (settings, _) = glview::run::frame_settings(&args, &scene)?;
     let hl = Headless::new(Backend::Auto, GlRequest::Auto, SIZE.0, SIZE.1)?;
     let target = hl.target();
     let triangles = scene.triangle_count();

@@ -1,6 +1,6 @@
 //! The error-against-time plot (plotters, drawn into memory and saved with `png`), and the
 //! Pareto front: the settings no other setting beats on both time and error.
-use crate::{Error, Result};
+use glview::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -108,7 +108,7 @@ pub fn error_vs_time(path: &Path, title: &str, panels: &[Panel]) -> Result<()> {
         .chunks_exact(3)
         .flat_map(|p| [p[0], p[1], p[2], 255])
         .collect();
-    crate::image_out::Rgba {
+    glview::image_out::Rgba {
         width: w,
         height: h,
         data: rgba,

@@ -1,7 +1,7 @@
 //! Timing a child process: wall time from spawn to exit, and its peak resident memory from
 //! GNU time (`/usr/bin/time -f %M`), or, without it, by polling `VmHWM` in /proc (which can
 //! miss a peak in the last few milliseconds before exit).
-use crate::{Error, Result};
+use glview::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

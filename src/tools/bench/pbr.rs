@@ -6,16 +6,16 @@
 use super::plot::{self, Panel, Point};
 use super::table::{csv_line, num, Table};
 use super::{ensure_dir, median, write_file};
-use crate::headless::Headless;
-use crate::image_out::Rgba;
-use crate::options::Options;
-use crate::pbr::env::Environment;
-use crate::pbr::precompute::IblSettings;
-use crate::pbr::{srgb_decode, Encoding, EnvRequest, EnvSource, PrecomputeOn};
-use crate::platform::{Backend, GlRequest};
-use crate::reference::{render_env_with_info, PbrEnv};
-use crate::render::Renderer;
-use crate::Result;
+use glview::headless::Headless;
+use glview::metrics::linear_error;
+use glview::options::Options;
+use glview::pbr::env::Environment;
+use glview::pbr::precompute::IblSettings;
+use glview::pbr::{Encoding, EnvRequest, EnvSource, PrecomputeOn};
+use glview::platform::{Backend, GlRequest};
+use glview::reference::{render_env_with_info, PbrEnv};
+use glview::render::Renderer;
+use glview::Result;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
@@ -94,9 +94,9 @@ const SIZE: u32 = 128;
 fn options_for(hdr: &Path, metallic: f32, roughness: f32, extra: fn(&mut Options)) -> Options {
     let mut o = Options {
         model: Some("models/sphere.obj".into()),
-        shading: crate::frame::Shading::Pbr,
+        shading: glview::frame::Shading::Pbr,
         lights: vec!["none".into()],
-        tonemap: crate::pbr::Tonemap::None,
+        tonemap: glview::pbr::Tonemap::None,
         exposure: -1.0,
         background: Some("1,0,1".into()),
         metallic: Some(metallic),
@@ -109,28 +109,6 @@ fn options_for(hdr: &Path, metallic: f32, roughness: f32, extra: fn(&mut Options
     o
 }
 
-/// Mean and max of the largest channel's linear (sRGB-decoded) difference over the pixels
-/// where `hit` is set, and how many there are.
-pub fn linear_error(gpu: &Rgba, reference: &Rgba, hit: &[bool]) -> (f64, f64, usize) {
-    let lin = |p: &[u8]| [0, 1, 2].map(|i| srgb_decode(f64::from(p[i]) / 255.0));
-    let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0usize);
-    for ((a, b), &h) in gpu
-        .data
-        .chunks_exact(4)
-        .zip(reference.data.chunks_exact(4))
-        .zip(hit)
-    {
-        if h {
-            let (la, lb) = (lin(a), lin(b));
-            let d = (0..3).map(|i| (la[i] - lb[i]).abs()).fold(0.0, f64::max);
-            sum += d;
-            max = max.max(d);
-            n += 1;
-        }
-    }
-    (sum / n.max(1) as f64, max, n)
-}
-
 /// Runs the PBR bench with `samples` Monte Carlo samples per lobe for the reference.
 pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
     ensure_dir(out_dir)?;
@@ -140,8 +118,8 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
     let mut references = Vec::new();
     for (m, r) in MATERIALS {
         let args = options_for(hdr, *m, *r, |_| {});
-        let scene = crate::run::load_scene(&args)?;
-        let (settings, _) = crate::run::frame_settings(&args, &scene)?;
+        let scene = glview::run::load_scene(&args)?;
+        let (settings, _) = glview::run::frame_settings(&args, &scene)?;
         let pe = PbrEnv {
             env: env.clone(),
             samples,
@@ -188,25 +166,25 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
             },
         };
         if knob.gpu {
-            if let Some(why) = crate::render::ibl_gpu::unsupported(&hl.gpu) {
+            if let Some(why) = glview::render::ibl_gpu::unsupported(&hl.gpu) {
                 eprintln!("  GPU precompute: skipped ({why})");
                 continue;
             }
         }
         // Precompute time: the median of three cold runs.
-        let programs = crate::shader::cache::ProgramCache::for_context(&hl.gpu);
+        let programs = glview::shader::cache::ProgramCache::for_context(&hl.gpu);
         let mut times = Vec::new();
         for _ in 0..3 {
             let t = Instant::now();
             if knob.gpu {
-                crate::render::ibl_gpu::compute(
+                glview::render::ibl_gpu::compute(
                     &hl.gpu,
                     &mut programs.borrow_mut(),
                     &env,
                     &knob.settings,
                 )?;
             } else {
-                let _ = crate::pbr::precompute::compute(&env, &knob.settings);
+                let _ = glview::pbr::precompute::compute(&env, &knob.settings);
             }
             times.push(t.elapsed().as_secs_f64() * 1e3);
         }
@@ -214,7 +192,7 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
         let mut frame_ms = Vec::new();
         for ((m, r), (scene, reference, hit)) in MATERIALS.iter().zip(&references) {
             let args = options_for(hdr, *m, *r, knob.extra);
-            let (settings, _) = crate::run::frame_settings(&args, scene)?;
+            let (settings, _) = glview::run::frame_settings(&args, scene)?;
             let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
             renderer.set_environment(req.clone());
             renderer.render(&settings, &hl.target())?;

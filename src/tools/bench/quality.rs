@@ -11,11 +11,11 @@ use super::metrics::{self, ImageError};
 use super::scenes::{self, LoadedScene};
 use super::summary::{self, Report, Row, SceneInfo};
 use super::{ensure_dir, median};
-use crate::headless::Headless;
-use crate::image_out::Rgba;
-use crate::platform::{Backend, GlRequest};
-use crate::render::Renderer;
-use crate::{Error, Result};
+use glview::headless::Headless;
+use glview::image_out::Rgba;
+use glview::platform::{Backend, GlRequest};
+use glview::render::Renderer;
+use glview::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -73,10 +73,11 @@ struct Truth {
 fn truth(loaded: &LoadedScene, size: (u32, u32), info: &mut SceneInfo) -> Truth {
     let (w, h) = size;
     let t = Instant::now();
-    let (exact, pixels) = crate::reference::render_with_info(&loaded.scene, &loaded.settings, w, h);
+    let (exact, pixels) =
+        glview::reference::render_with_info(&loaded.scene, &loaded.settings, w, h);
     info.reference_ms = t.elapsed().as_secs_f64() * 1e3;
     let t = Instant::now();
-    let fine = crate::reference::render(
+    let fine = glview::reference::render(
         &loaded.scene,
         &loaded.settings,
         w * SUPERSAMPLE,

@@ -1,7 +1,7 @@
 //! The peer: f3d (Debian's package) rendering the same files to PNG. f3d needs an X display,
 //! so the bench starts one Xvfb server for the whole run — `xvfb-run` per file would add the
 //! server's start-up (about a second) to every f3d time.
-use crate::{Error, Result};
+use glview::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};

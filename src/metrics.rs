@@ -1,6 +1,9 @@
-//! Image error against the reference: the figures peers publish tolerances in (mean absolute
-//! error, a high percentile, the share of pixels off by more than a threshold) and a
-//! structural one (SSIM, image-compare's MSSIM over 8×8 windows, worst RGB channel).
+//! Measurements: image error against a reference — the figures peers publish tolerances in
+//! (mean absolute error, a high percentile, the share of pixels off by more than a threshold)
+//! and a structural one (SSIM, image-compare's MSSIM over 8×8 windows, worst RGB channel),
+//! and the linear-light error the PBR checks use — and the process's resident memory with
+//! its trend, which the leak checks use. `--diff`, the library's pictures (supersampling),
+//! the benchmarks and the tests all measure with these.
 use crate::image_out::Rgba;
 use serde::Serialize;
 
@@ -132,8 +135,67 @@ fn ssim(a: &Rgba, b: &Rgba) -> crate::Result<f64> {
         .map_err(|e| crate::Error::Usage(format!("SSIM: {e}")))
 }
 
+/// Mean and max of the largest channel's linear (sRGB-decoded) difference over the pixels
+/// where `hit` is set, and how many there are.
+pub fn linear_error(gpu: &Rgba, reference: &Rgba, hit: &[bool]) -> (f64, f64, usize) {
+    let lin = |p: &[u8]| [0, 1, 2].map(|i| crate::pbr::srgb_decode(f64::from(p[i]) / 255.0));
+    let (mut sum, mut max, mut n) = (0.0, 0.0f64, 0usize);
+    for ((a, b), &h) in gpu
+        .data
+        .chunks_exact(4)
+        .zip(reference.data.chunks_exact(4))
+        .zip(hit)
+    {
+        if h {
+            let (la, lb) = (lin(a), lin(b));
+            let d = (0..3).map(|i| (la[i] - lb[i]).abs()).fold(0.0, f64::max);
+            sum += d;
+            max = max.max(d);
+            n += 1;
+        }
+    }
+    (sum / n.max(1) as f64, max, n)
+}
+
+/// This process's resident memory in KiB (Linux `/proc/self/statm`; 0 where unreadable).
+pub fn rss_kib() -> u64 {
+    std::fs::read_to_string("/proc/self/statm")
+        .ok()
+        .and_then(|s| {
+            s.split_whitespace()
+                .nth(1)
+                .and_then(|v| v.parse::<u64>().ok())
+        })
+        .map_or(0, |pages| pages * 4)
+}
+
+/// Least-squares slope of `samples` against their index: resident memory on llvmpipe jumps
+/// between levels 16 MiB apart from round to round, so a before/after pair says nothing and a
+/// trend over every round does.
+pub fn trend_per_round(samples: &[u64]) -> f64 {
+    let n = samples.len() as f64;
+    if samples.len() < 2 {
+        return 0.0;
+    }
+    let mx = (n - 1.0) / 2.0;
+    let my = samples.iter().map(|&v| v as f64).sum::<f64>() / n;
+    let (mut sxy, mut sxx) = (0.0, 0.0);
+    for (i, &v) in samples.iter().enumerate() {
+        sxy += (i as f64 - mx) * (v as f64 - my);
+        sxx += (i as f64 - mx).powi(2);
+    }
+    sxy / sxx
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn trend() {
+        assert_eq!(super::trend_per_round(&[5, 7, 9, 11]), 2.0);
+        assert!(super::trend_per_round(&[3, 9, 3, 9, 3, 9, 3, 9]).abs() < 1.0);
+        assert_eq!(super::trend_per_round(&[1]), 0.0);
+    }
+
     use super::*;
 
     fn image(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 3]) -> Rgba {

@@ -8,7 +8,7 @@ pub mod frame;
 pub mod knobs;
 pub mod load;
 pub mod load_report;
-pub mod metrics;
+pub use glview::metrics;
 pub mod pbr;
 pub mod plot;
 pub mod post;
@@ -53,7 +53,7 @@ pub struct BenchArgs {
 }
 
 /// Runs the benchmark `args` selects.
-pub fn run(args: &BenchArgs) -> crate::Result<()> {
+pub fn run(args: &BenchArgs) -> glview::Result<()> {
     if args.post {
         return post::run_post();
     }
@@ -118,13 +118,13 @@ pub fn default_models_dir() -> PathBuf {
 }
 
 /// Creates `dir` (and parents) or says which folder could not be made.
-pub(crate) fn ensure_dir(dir: &std::path::Path) -> crate::Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))
+pub(crate) fn ensure_dir(dir: &std::path::Path) -> glview::Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| glview::Error::io(dir, e))
 }
 
 /// Writes `text` to `path`, mapping the error to the library's.
-pub(crate) fn write_file(path: &std::path::Path, text: &str) -> crate::Result<()> {
-    std::fs::write(path, text).map_err(|e| crate::Error::io(path, e))
+pub(crate) fn write_file(path: &std::path::Path, text: &str) -> glview::Result<()> {
+    std::fs::write(path, text).map_err(|e| glview::Error::io(path, e))
 }
 
 #[cfg(test)]
