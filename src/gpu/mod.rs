@@ -120,30 +120,20 @@ impl Gpu {
     /// Reads the bound read framebuffer's float colour as RGBA f32, bottom row first (GL
     /// order; cube-face rows are stored that way).
     pub fn read_rgba_f32(&self, width: u32, height: u32) -> Vec<f32> {
-        let mut buf = vec![0f32; (width * height * 4) as usize];
-        // SAFETY: buf holds exactly width*height RGBA f32 texels; PACK_ALIGNMENT 4 fits f32.
-        unsafe {
-            self.gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
-            self.gl.read_pixels(
-                0,
-                0,
-                width as i32,
-                height as i32,
-                glow::RGBA,
-                glow::FLOAT,
-                glow::PixelPackData::Slice(Some(bytemuck::cast_slice_mut(&mut buf))),
-            );
-        }
-        buf
+        self.read_f32(width, height, glow::RGBA, 4)
     }
-}
 
-impl Gpu {
     /// Reads the bound read framebuffer's depth as f32 in [0, 1], bottom row first (desktop
     /// GL only: ES 3.0 has no depth read-back).
     pub fn read_depth_f32(&self, width: u32, height: u32) -> Vec<f32> {
-        let mut buf = vec![0f32; (width * height) as usize];
-        // SAFETY: buf holds exactly width*height f32 values; PACK_ALIGNMENT 4 fits f32.
+        self.read_f32(width, height, glow::DEPTH_COMPONENT, 1)
+    }
+
+    /// `format` with `channels` values per pixel, as f32, bottom row first.
+    fn read_f32(&self, width: u32, height: u32, format: u32, channels: usize) -> Vec<f32> {
+        let mut buf = vec![0f32; width as usize * height as usize * channels];
+        // SAFETY: buf holds exactly width*height pixels of `channels` f32 values (what
+        // `format` with FLOAT reads); PACK_ALIGNMENT 4 fits f32.
         unsafe {
             self.gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
             self.gl.read_pixels(
@@ -151,7 +141,7 @@ impl Gpu {
                 0,
                 width as i32,
                 height as i32,
-                glow::DEPTH_COMPONENT,
+                format,
                 glow::FLOAT,
                 glow::PixelPackData::Slice(Some(bytemuck::cast_slice_mut(&mut buf))),
             );
