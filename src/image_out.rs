@@ -106,6 +106,11 @@ impl Rgba {
         let mut enc = png::Encoder::new(out, self.width, self.height);
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
+        // zlib level 3 instead of the crate's default 6: measured on the bunny at 640×480
+        // and the built-in scene at 1024×768, encode 10.0 → 4.2 ms and 13.4 → 8.1 ms for
+        // files 3–5 % larger (level 1: 2–4 ms but 45 % larger). Batches are encode-bound
+        // after the frame.
+        enc.set_deflate_compression(png::DeflateCompression::Level(3));
         for (k, v) in text {
             enc.add_text_chunk(k.to_string(), v.clone())?;
         }
