@@ -34,6 +34,7 @@ pub fn display_available() -> bool {
 /// cannot be made is `Error::Context` (the caller then renders headless); a render error or a
 /// lost context later ends the loop with that error.
 pub fn run_window(args: &Args) -> Result<()> {
+    crate::platform::keep_freed_heap();
     let scene = run::load_scene(args)?;
     let (settings, home) = run::frame_settings(args, &scene)?;
     let event_loop = EventLoop::new()

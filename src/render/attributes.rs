@@ -193,14 +193,16 @@ impl Renderer {
                 (b - z) / a
             }) as f32
         };
-        let row = width as usize;
-        Some(
-            raw.chunks_exact(row.max(1))
-                .rev()
-                .flatten()
-                .map(|&d| distance(d))
-                .collect(),
-        )
+        // Row by row into a sized buffer (GL's rows are bottom-up), not through a flattened
+        // iterator chain, which checks capacity per element and does not vectorise.
+        let row = (width as usize).max(1);
+        let mut out = vec![0f32; raw.len()];
+        for (dst, src) in out.chunks_exact_mut(row).zip(raw.chunks_exact(row).rev()) {
+            for (o, &d) in dst.iter_mut().zip(src) {
+                *o = distance(d);
+            }
+        }
+        Some(out)
     }
 }
 
