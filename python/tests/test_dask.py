@@ -1,8 +1,15 @@
 """Dask: jobs rendered on a LocalCluster of two worker processes are the bytes
 `glview batch` writes for the same jobs file."""
+import os
+
 import pytest
 
-distributed = pytest.importorskip("distributed")
+# scripts/test_python.sh installs distributed; only a hand-made venv may lack it, and CI
+# must not pass by skipping.
+if os.environ.get("CI") == "true":
+    import distributed
+else:
+    distributed = pytest.importorskip("distributed")
 
 
 def test_local_cluster_equals_glview_batch(tmp_path, bunny, cli):
