@@ -263,6 +263,11 @@ mod tests {
         // (0 + 10 + 1 + 11) / 4 = 5.5 rounds to 6; (20 + 30 + 21 + 31) / 4 = 25.5 to 26.
         assert_eq!(d.pixel(0, 0), [6, 0, 255, 255]);
         assert_eq!(d.pixel(1, 0), [26, 0, 255, 255]);
+        // Factor 1 (and 0, treated as 1) is the image itself, taken by its fast path.
+        for k in [0, 1] {
+            let same = downsample(&a, k);
+            assert_eq!((same.width, same.height, &same.data), (4, 2, &a.data));
+        }
     }
 
     #[test]
