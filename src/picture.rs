@@ -255,12 +255,7 @@ pub fn draw(
     profile.programs_compiled = compiled.0 - compiled_before.0;
     profile.compile_ms = compiled.1 - compiled_before.1;
     let t = Instant::now();
-    // Without supersampling the read-back is the picture: no per-pixel copy (read-back
-    // 2.6 → 0.14 ms at 640×480, `--stats` readback_ms).
-    let mut image = match k {
-        1 => hl.read(),
-        _ => crate::metrics::downsample(&hl.read(), k),
-    };
+    let mut image = crate::metrics::downsample(hl.read(), k);
     if args.transparent {
         crate::run::unpremultiply(&mut image);
     }

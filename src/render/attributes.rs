@@ -193,25 +193,25 @@ impl Renderer {
                 (b - z) / a
             }) as f32
         };
-        // Row by row into a sized buffer (GL's rows are bottom-up), not through a flattened
-        // iterator chain, which checks capacity per element and does not vectorise.
-        let row = (width as usize).max(1);
-        let mut out = vec![0f32; raw.len()];
-        for (dst, src) in out.chunks_exact_mut(row).zip(raw.chunks_exact(row).rev()) {
-            for (o, &d) in dst.iter_mut().zip(src) {
-                *o = distance(d);
-            }
-        }
-        Some(out)
+        Some(top_first_map(&raw, width as usize, distance))
     }
 }
 
-/// GL's rows are bottom-up; the picture's are top-down.
+/// GL's rows are bottom-up; the picture's are top-down (RGBA rows of `width` pixels).
 pub(crate) fn top_first(data: Vec<f32>, width: u32) -> Vec<f32> {
-    let row = width as usize * 4;
-    data.chunks_exact(row.max(1))
-        .rev()
-        .flatten()
-        .copied()
-        .collect()
+    top_first_map(&data, width as usize * 4, |v| v)
+}
+
+/// `data`'s rows of `row` values in the other vertical order, each value through `f`: row
+/// by row into a sized buffer, not through a flattened iterator chain, which checks
+/// capacity per element and does not vectorise.
+fn top_first_map(data: &[f32], row: usize, f: impl Fn(f32) -> f32) -> Vec<f32> {
+    let row = row.max(1);
+    let mut out = vec![0f32; data.len()];
+    for (dst, src) in out.chunks_exact_mut(row).zip(data.chunks_exact(row).rev()) {
+        for (o, &v) in dst.iter_mut().zip(src) {
+            *o = f(v);
+        }
+    }
+    out
 }

@@ -49,7 +49,7 @@ fn frame(args: &Options, ssaa: u32, msaa: u32) -> Result<(Rgba, f64)> {
     let times: Vec<f64> = (0..7)
         .map(|_| r.render(&s, &hl.target()).map(|st| st.ms))
         .collect::<Result<_>>()?;
-    let img = downsample(&hl.read(), ssaa);
+    let img = downsample(hl.read(), ssaa);
     Ok((img, median(&times)))
 }
 

@@ -88,7 +88,7 @@ fn truth(loaded: &LoadedScene, size: (u32, u32), info: &mut SceneInfo) -> Truth 
     info.ignored = ignore.iter().filter(|&&i| i).count() as f64 / ignore.len().max(1) as f64;
     Truth {
         exact,
-        antialiased: metrics::downsample(&fine, SUPERSAMPLE),
+        antialiased: metrics::downsample(fine, SUPERSAMPLE),
         ignore,
     }
 }
