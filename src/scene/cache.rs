@@ -15,21 +15,45 @@
 //! the total fits.
 //!
 //! Format: `GLVC`, a little-endian u64 header length, a JSON header (metadata, materials,
-//! warnings, payload length and hash), then each mesh's vertices and indices as raw
-//! little-endian arrays.
+//! warnings, the texture table, payload length and hash), then as raw little-endian arrays
+//! each mesh's vertices, indices, colours, second UV set and tangents, the lines and points,
+//! and every distinct texture's decoded RGBA8 pixels. Everything a format can give is stored,
+//! so every format is cached, textures included: a hit decodes no image either (a glTF's
+//! JPEGs and PNGs cost more than its meshes).
 use super::clusters::Clusters;
-use super::material::{self, Material, TextureOptions};
-use super::{Bounds, Mesh, Scene, Vertex, Warning};
+use super::material::{Material, Texture, TextureOptions};
+use super::{Bounds, Mesh, Scene, Vertex, Warning, Wire};
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::{SystemTime, UNIX_EPOCH};
 
-/// Files smaller than this parse in well under 100 ms: not worth a cache entry.
+/// Files smaller than this parse in well under 100 ms: not worth a cache entry, unless their
+/// images are large (see [`worth_an_entry`]).
 pub const MIN_SIZE: u64 = 4 << 20;
+/// Decoded texture pixels above which a model is cached whatever its file size: one 2048²
+/// image costs tens of milliseconds to decode (a 3.4 MB GLB can hold five of them).
+pub const MIN_TEXTURE_PIXELS: u64 = 1 << 22;
+
+/// Whether a scene loaded from a file of `size` bytes earns an entry: a large file, or large
+/// images (a few MB of JPEG inside a GLB decode far slower than they read back raw).
+pub fn worth_an_entry(size: u64, scene: &Scene) -> bool {
+    let mut seen: Vec<&Arc<Texture>> = Vec::new();
+    let mut pixels = 0u64;
+    for m in &scene.materials {
+        for t in slots(m).into_iter().flatten() {
+            if !seen.iter().any(|u| Arc::ptr_eq(u, t)) {
+                seen.push(t);
+                pixels += u64::from(t.width) * u64::from(t.height);
+            }
+        }
+    }
+    size >= MIN_SIZE || pixels >= MIN_TEXTURE_PIXELS
+}
 const MAGIC: &[u8; 4] = b"GLVC";
-const FORMAT: u32 = 4;
+const FORMAT: u32 = 5;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -91,6 +115,58 @@ struct MeshMeta {
     generated_normals: usize,
     vertices: usize,
     indices: usize,
+    colors: usize,
+    uv1: usize,
+    tangents: usize,
+}
+
+/// One distinct decoded image (materials sharing an image share its entry).
+#[derive(Serialize, Deserialize)]
+struct TexMeta {
+    path: PathBuf,
+    image: Option<usize>,
+    width: u32,
+    height: u32,
+}
+
+/// Lengths of the scene's lines and points.
+#[derive(Serialize, Deserialize)]
+struct WireMeta {
+    positions: usize,
+    segments: usize,
+    points: usize,
+}
+
+/// A material's texture slots as indices into the header's texture table, in the order of
+/// [`slots_mut`].
+type SlotRefs = [Option<usize>; SLOTS];
+const SLOTS: usize = 7;
+
+/// Every texture slot of a material, in one fixed order (the entry's slot table follows it).
+fn slots_mut(m: &mut Material) -> [&mut Option<Arc<Texture>>; SLOTS] {
+    let p = &mut m.pbr_inputs;
+    [
+        &mut m.diffuse_map,
+        &mut p.normal_map,
+        &mut p.metallic_map,
+        &mut p.roughness_map,
+        &mut p.metallic_roughness_map,
+        &mut p.ao_map,
+        &mut p.emissive_map,
+    ]
+}
+
+fn slots(m: &Material) -> [&Option<Arc<Texture>>; SLOTS] {
+    let p = &m.pbr_inputs;
+    [
+        &m.diffuse_map,
+        &p.normal_map,
+        &p.metallic_map,
+        &p.roughness_map,
+        &p.metallic_roughness_map,
+        &p.ao_map,
+        &p.emissive_map,
+    ]
 }
 
 #[derive(Serialize, Deserialize)]
@@ -101,11 +177,18 @@ struct Header {
     /// The model's content hash, when its bytes were at hand at writing time.
     hash: Option<u128>,
     allow_outside_paths: bool,
+    /// Textures were decoded under this size limit (`TextureOptions::max_dimension`).
+    max_dimension: u32,
     dependencies: Vec<Stamp>,
     name: String,
     materials: Vec<Material>,
-    textures: Vec<Option<PathBuf>>,
+    textures: Vec<TexMeta>,
+    /// Per material, its slots' entries in `textures`.
+    slots: Vec<SlotRefs>,
     meshes: Vec<MeshMeta>,
+    wire: WireMeta,
+    /// `--check`'s texture statements.
+    maps: Vec<String>,
     bounds: Bounds,
     origin: [f64; 3],
     file_bounds: [[f64; 3]; 2],
@@ -231,6 +314,7 @@ fn decode(
         && stamp(&canonical).as_ref() == Some(&header.file)
         && bytes.is_none_or(|b| header.hash == Some(content_hash(b)))
         && header.allow_outside_paths == textures.allow_outside_paths
+        && header.max_dimension == textures.max_dimension
         && header
             .dependencies
             .iter()
@@ -239,27 +323,25 @@ fn decode(
     if !valid {
         return None;
     }
-    let mut hasher = xxhash_rust::xxh3::Xxh3::new();
-    let mut left = header.payload_len;
+    let mut payload = Payload {
+        file,
+        hasher: xxhash_rust::xxh3::Xxh3::new(),
+        left: header.payload_len,
+    };
     let mut meshes = Vec::with_capacity(header.meshes.len());
     for m in &header.meshes {
-        let vbytes = m.vertices.checked_mul(std::mem::size_of::<Vertex>())?;
-        let ibytes = m.indices.checked_mul(4)?;
-        let both = u64::try_from(vbytes.checked_add(ibytes)?).ok()?;
-        if both > left || m.indices % 3 != 0 {
+        if m.indices % 3 != 0 {
             return None;
         }
-        left -= both;
-        let mut vertices = vec![Vertex::default(); m.vertices];
-        let mut indices = vec![0u32; m.indices];
-        for part in [
-            bytemuck::cast_slice_mut::<Vertex, u8>(&mut vertices),
-            bytemuck::cast_slice_mut::<u32, u8>(&mut indices),
-        ] {
-            file.read_exact(part).ok()?;
-            hasher.update(part);
-        }
-        if indices.iter().any(|&i| i as usize >= vertices.len()) {
+        let vertices: Vec<Vertex> = payload.read(m.vertices)?;
+        let indices: Vec<u32> = payload.read(m.indices)?;
+        let colors: Vec<[f32; 3]> = payload.read(m.colors)?;
+        let uv1: Vec<[f32; 2]> = payload.read(m.uv1)?;
+        let tangents: Vec<[f32; 4]> = payload.read(m.tangents)?;
+        let per_vertex = |n: usize| n == 0 || n == vertices.len();
+        if indices.iter().any(|&i| i as usize >= vertices.len())
+            || !(per_vertex(colors.len()) && per_vertex(uv1.len()) && per_vertex(tangents.len()))
+        {
             return None;
         }
         meshes.push(Mesh {
@@ -269,27 +351,52 @@ fn decode(
             material: m.material,
             has_uv: m.has_uv,
             generated_normals: m.generated_normals,
-            colors: Vec::new(),
-            ..Default::default()
+            colors,
+            uv1,
+            tangents,
         });
     }
-    if left != 0 || hasher.digest128() != header.payload_hash {
+    let w = &header.wire;
+    let wire = Wire {
+        positions: payload.read(w.positions)?,
+        segments: payload.read(w.segments)?,
+        points: payload.read(w.points)?,
+    };
+    let in_wire = |i: u32| (i as usize) < wire.positions.len();
+    if !(wire.segments.iter().flatten().all(|&i| in_wire(i))
+        && wire.points.iter().all(|&i| in_wire(i)))
+    {
+        return None;
+    }
+    let mut table = Vec::with_capacity(header.textures.len());
+    for t in &header.textures {
+        let n = (t.width as usize)
+            .checked_mul(t.height as usize)?
+            .checked_mul(4)?;
+        table.push(Arc::new(Texture {
+            path: t.path.clone(),
+            image: t.image,
+            width: t.width,
+            height: t.height,
+            rgba: payload.read(n)?,
+        }));
+    }
+    if payload.left != 0 || payload.hasher.digest128() != header.payload_hash {
         return None;
     }
     let mut materials = header.materials;
-    let mut warnings = header.warnings;
-    for (m, t) in materials.iter_mut().zip(&header.textures) {
-        if let Some(p) = t {
-            match material::decode_texture(p.clone(), textures) {
-                Ok(tex) => m.diffuse_map = Some(std::sync::Arc::new(tex)),
-                Err(e) => warnings.push(Warning {
-                    file: p.clone(),
-                    line: None,
-                    message: format!("material {}: {e}; using its colours", m.name),
-                }),
-            }
+    if header.slots.len() != materials.len() {
+        return None;
+    }
+    for (m, refs) in materials.iter_mut().zip(&header.slots) {
+        for (slot, r) in slots_mut(m).into_iter().zip(refs) {
+            *slot = match r {
+                Some(i) => Some(table.get(*i)?.clone()),
+                None => None,
+            };
         }
     }
+    let warnings = header.warnings;
     if meshes.iter().any(|m| m.material >= materials.len()) {
         return None;
     }
@@ -315,10 +422,35 @@ fn decode(
         file_bounds: (DVec3::from(lo), DVec3::from(hi)),
         dependencies: header.dependencies.into_iter().map(|d| d.path).collect(),
         warnings,
-        wire: Default::default(),
-        maps: Vec::new(),
+        wire,
+        maps: header.maps,
     };
     Some((scene, clusters))
+}
+
+/// The entry's payload being read: what is left of its stated length, and its running hash.
+struct Payload {
+    file: std::fs::File,
+    hasher: xxhash_rust::xxh3::Xxh3,
+    left: u64,
+}
+
+impl Payload {
+    /// The next `n` elements, read straight into their final, aligned buffer and hashed; None
+    /// past the stated length or the file's end.
+    fn read<T: bytemuck::Pod + Default>(&mut self, n: usize) -> Option<Vec<T>> {
+        use std::io::Read;
+        let bytes = u64::try_from(n.checked_mul(std::mem::size_of::<T>())?).ok()?;
+        if bytes > self.left {
+            return None;
+        }
+        self.left -= bytes;
+        let mut v = vec![T::default(); n];
+        let part = bytemuck::cast_slice_mut::<T, u8>(&mut v);
+        self.file.read_exact(part).ok()?;
+        self.hasher.update(part);
+        Some(v)
+    }
 }
 
 /// Stores `scene` and its `clusters` for `path` (and the content hash of `bytes`, the file's,
@@ -347,18 +479,47 @@ pub fn put_in(
 ) -> std::io::Result<()> {
     let entry = entry_path(dir, path).ok_or_else(|| std::io::Error::other("no canonical path"))?;
     let canonical = path.canonicalize()?;
-    let payload_len: u64 = scene
-        .meshes
+    // Distinct images in first-use order; materials sharing one share its entry.
+    let mut table: Vec<&Arc<Texture>> = Vec::new();
+    let slot_refs: Vec<SlotRefs> = scene
+        .materials
         .iter()
-        .map(|m| (std::mem::size_of_val(&m.vertices[..]) + m.indices.len() * 4) as u64)
-        .sum();
-    if payload_len > max_bytes {
-        return Err(std::io::Error::other("entry larger than --cache-size"));
-    }
-    let mut payload = Vec::with_capacity(payload_len as usize);
+        .map(|m| {
+            slots(m).map(|t| {
+                let t = t.as_ref()?;
+                Some(
+                    match table.iter().position(|u| Arc::ptr_eq(u, t) || **u == *t) {
+                        Some(i) => i,
+                        None => {
+                            table.push(t);
+                            table.len() - 1
+                        }
+                    },
+                )
+            })
+        })
+        .collect();
+    let mut payload: Vec<u8> = Vec::new();
     for m in &scene.meshes {
         payload.extend_from_slice(bytemuck::cast_slice(&m.vertices));
         payload.extend_from_slice(bytemuck::cast_slice(&m.indices));
+        payload.extend_from_slice(bytemuck::cast_slice(&m.colors));
+        payload.extend_from_slice(bytemuck::cast_slice(&m.uv1));
+        payload.extend_from_slice(bytemuck::cast_slice(&m.tangents));
+        if payload.len() as u64 > max_bytes {
+            return Err(std::io::Error::other("entry larger than --cache-size"));
+        }
+    }
+    let w = &scene.wire;
+    payload.extend_from_slice(bytemuck::cast_slice(&w.positions));
+    payload.extend_from_slice(bytemuck::cast_slice(&w.segments));
+    payload.extend_from_slice(bytemuck::cast_slice(&w.points));
+    for t in &table {
+        payload.extend_from_slice(&t.rgba);
+    }
+    let payload_len = payload.len() as u64;
+    if payload_len > max_bytes {
+        return Err(std::io::Error::other("entry larger than --cache-size"));
     }
     let header = Header {
         format: FORMAT,
@@ -366,14 +527,20 @@ pub fn put_in(
         file: stamp(&canonical).ok_or_else(|| std::io::Error::other("no mtime"))?,
         hash: bytes.map(content_hash),
         allow_outside_paths: textures.allow_outside_paths,
+        max_dimension: textures.max_dimension,
         dependencies: scene.dependencies.iter().filter_map(|d| stamp(d)).collect(),
         name: scene.name.clone(),
         materials: scene.materials.clone(),
-        textures: scene
-            .materials
+        textures: table
             .iter()
-            .map(|m| m.diffuse_map.as_ref().map(|t| t.path.clone()))
+            .map(|t| TexMeta {
+                path: t.path.clone(),
+                image: t.image,
+                width: t.width,
+                height: t.height,
+            })
             .collect(),
+        slots: slot_refs,
         meshes: scene
             .meshes
             .iter()
@@ -384,8 +551,17 @@ pub fn put_in(
                 generated_normals: m.generated_normals,
                 vertices: m.vertices.len(),
                 indices: m.indices.len(),
+                colors: m.colors.len(),
+                uv1: m.uv1.len(),
+                tangents: m.tangents.len(),
             })
             .collect(),
+        wire: WireMeta {
+            positions: w.positions.len(),
+            segments: w.segments.len(),
+            points: w.points.len(),
+        },
+        maps: scene.maps.clone(),
         bounds: scene.bounds,
         origin: scene.origin.to_array(),
         file_bounds: [

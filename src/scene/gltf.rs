@@ -113,6 +113,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
             .map_err(bad)?;
     let views = super::gltf_buffers::decoded_views(&doc, &buffers).map_err(bad)?;
     let buffers = accessor::Buffers { buffers, views };
+    let dependencies = super::gltf_buffers::external_files(&doc, dir, opts.textures);
 
     let images = decode_images(&doc, &buffers.buffers, path, opts, &mut warnings);
     let mut materials = Vec::new();
@@ -376,7 +377,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
         bounds,
         origin,
         file_bounds: (lo, hi),
-        dependencies: Vec::new(),
+        dependencies,
         warnings,
         wire,
         maps: Vec::new(),

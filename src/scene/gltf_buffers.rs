@@ -6,7 +6,7 @@ use super::material::TextureOptions;
 use super::uri::{self, Resolved};
 use super::Texture;
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Largest buffer glview reads (a `byteLength` beyond it is refused before reading).
 pub const MAX_BUFFER_BYTES: usize = 1 << 31;
@@ -131,6 +131,22 @@ pub fn image(
         Resolved::Data(d) => super::texture::decode_bytes(&d, path.to_path_buf(), index, opts),
         Resolved::File(p) => super::texture::decode(p, opts),
     }
+}
+
+/// The files outside the glTF file that its buffers and images name (not `data:` URIs, not
+/// the GLB's own chunk): the mesh cache checks them as it checks an OBJ's MTL and textures.
+pub fn external_files(doc: &gltf::Document, dir: &Path, opts: TextureOptions) -> Vec<PathBuf> {
+    let json = doc.as_json();
+    let buffer_uris = json.buffers.iter().filter_map(|b| b.uri.as_deref());
+    let image_uris = json.images.iter().filter_map(|i| i.uri.as_deref());
+    buffer_uris
+        .chain(image_uris)
+        .filter(|u| !u.get(..5).is_some_and(|p| p.eq_ignore_ascii_case("data:")))
+        .filter_map(|u| match uri::resolve(u, dir, opts.allow_outside_paths) {
+            Ok(Resolved::File(p)) => Some(p),
+            _ => None,
+        })
+        .collect()
 }
 
 /// How an image is named in a warning: its URI when it has a (non-data) one.

@@ -120,7 +120,9 @@ pub fn load_prepared(
 ) -> Result<(Scene, Option<Vec<Option<super::clusters::Clusters>>>)> {
     super::profile::begin(0);
     let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    let cached = opts.cache && opts.cacheable() && size >= super::cache::MIN_SIZE;
+    // Looked up whatever the size (a miss is one failed open): a small file with large
+    // images has an entry too.
+    let cached = opts.cache && opts.cacheable();
     if cached {
         if let Some((scene, clusters)) = super::cache::lookup(path, opts.textures) {
             log::debug!("{}: loaded from the mesh cache", path.display());
@@ -131,15 +133,9 @@ pub fn load_prepared(
     }
     let mut content = None;
     let mut scene = load_uncached(path, opts, &mut content)?;
-    // The cache stores vertices, indices and materials: colours, lines and points are parsed
-    // again, and so are textures other formats embed or name outside an MTL.
-    let plain = scene.wire.is_empty() && scene.meshes.iter().all(|m| m.colors.is_empty());
-    let own_textures = content.is_some()
-        || scene
-            .materials
-            .iter()
-            .all(|m| m.diffuse_map.is_none() && m.pbr_inputs.maps.is_empty());
-    if !(cached && plain && own_textures) {
+    // The entry holds everything a format gives (colours, both UV sets, tangents, lines,
+    // points, decoded textures), so every format is cached.
+    if !(cached && super::cache::worth_an_entry(size, &scene)) {
         return Ok((scene, None));
     }
     let clusters = super::clusters::prepare(&mut scene);

@@ -327,3 +327,157 @@ fn gltf_without_textures_is_cached_with_its_material_model() {
     );
     assert!(check(&[]).0.contains("(mesh cache)"));
 }
+
+/// A textured glTF is cached with everything it gives: its decoded images (shared between
+/// slots that name the same one), the second UV set and the supplied tangents. Rendered from
+/// the entry in both tiers it equals the uncached picture, and a hit decodes no image; an
+/// external image is a dependency, so rewriting it makes the entry a miss.
+#[test]
+fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
+    use crate::gltf_draw::{png, quad, Quad};
+    use glview::scene::clusters;
+    let dir = common::out_dir("cache_gltf_textured");
+    let entries = dir.join("entries");
+    let _ = std::fs::remove_dir_all(&entries);
+    let env = [("GLVIEW_CACHE_DIR", entries.to_str().unwrap())];
+    // A 1100² base colour of noise (PNG cannot compress it), so the file is above MIN_SIZE.
+    let mut seed = 0x2545_f491_u32;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed
+    };
+    let noise: Vec<[u8; 4]> = (0..1100 * 1100)
+        .map(|_| {
+            let v = next().to_le_bytes();
+            [v[0], v[1], v[2], 255]
+        })
+        .collect();
+    // A normal map of slopes in x and y, and an emissive ramp.
+    let normals: Vec<[u8; 4]> = (0..16 * 16)
+        .map(|i| [96 + (i % 16) as u8 * 4, 96 + (i / 16) as u8 * 4, 230, 255])
+        .collect();
+    let emissive: Vec<[u8; 4]> = (0..8 * 8).map(|i| [i as u8 * 3, 0, 40, 255]).collect();
+    let q = Quad {
+        uv0: [[0., 0.], [3., 0.], [3., 3.], [0., 3.]],
+        uv1: Some([[0., 0.], [1., 0.], [1., 1.], [0., 1.]]),
+        tangent: Some([1., 0., 0., 1.]),
+        ..Quad::default()
+    };
+    let materials = format!(
+        r#""materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}},
+            "metallicRoughnessTexture": {{"index": 2, "texCoord": 1}}}},
+          "normalTexture": {{"index": 1, "texCoord": 1}},
+          "emissiveTexture": {{"index": 2, "texCoord": 1}}, "emissiveFactor": [1, 1, 1]}}],
+        "textures": [{{"source": 0}}, {{"source": 1}}, {{"source": 2}}],
+        "images": [{{"uri": "{}"}}, {{"uri": "{}"}}, {{"uri": "{}"}}]"#,
+        png(1100, 1100, &noise),
+        png(16, 16, &normals),
+        png(8, 8, &emissive)
+    );
+    let model = quad(&dir, "textured", &q, &materials);
+    assert!(std::fs::metadata(&model).unwrap().len() >= cache::MIN_SIZE);
+    let m = model.to_str().unwrap();
+    for shading in ["phong", "pbr"] {
+        let args = [
+            m,
+            "--size",
+            "96x96",
+            "--ortho",
+            "2",
+            "--yaw",
+            "20",
+            "--pitch",
+            "10",
+            "--shading",
+            shading,
+        ];
+        let fresh = common::render(
+            &dir,
+            &format!("{shading}-fresh"),
+            &[&args[..], &["--no-cache"]].concat(),
+            &env,
+        );
+        let first = common::render(&dir, &format!("{shading}-first"), &args, &env);
+        let hit = common::render(&dir, &format!("{shading}-hit"), &args, &env);
+        for (what, img) in [("first", &first), ("hit", &hit)] {
+            let d = common::diff(&fresh, img, 0);
+            if d.max != 0 {
+                common::write_diff(&dir, &format!("{shading}-{what}"), &fresh, img);
+            }
+            assert_eq!(d.max, 0, "{shading} {what}: {} pixels differ", d.over);
+        }
+    }
+    let o = common::run(&[m, "--check"], &env);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("load: ") && l.contains("(mesh cache)")),
+        "not a hit: {out}"
+    );
+
+    // In process, against the fresh scene: every stream and every image, the metallic-
+    // roughness and emissive slots sharing one image.
+    let off = LoadOptions {
+        cache: false,
+        ..Default::default()
+    };
+    let tex = TextureOptions::default();
+    let mut fresh = load(&model, &off).unwrap();
+    let prepared = clusters::prepare(&mut fresh);
+    let own = dir.join("own-entries");
+    let _ = std::fs::remove_dir_all(&own);
+    cache::put_in(&own, 1 << 30, &model, None, tex, (&fresh, &prepared)).unwrap();
+    let (hit, _) = cache::get_in(&own, &model, None, tex).expect("a hit");
+    for (a, b) in hit.meshes.iter().zip(&fresh.meshes) {
+        assert_eq!(
+            (&a.vertices, &a.indices, &a.uv1, &a.tangents, &a.colors),
+            (&b.vertices, &b.indices, &b.uv1, &b.tangents, &b.colors)
+        );
+        assert_eq!(a.uv1.len(), a.vertices.len());
+        assert_eq!(a.tangents.len(), a.vertices.len());
+    }
+    let (a, b) = (&hit.materials[0], &fresh.materials[0]);
+    assert_eq!(a, b);
+    let pixels = |t: &Option<std::sync::Arc<glview::scene::material::Texture>>| {
+        let t = t.as_ref().expect("a texture");
+        (t.width, t.height, t.rgba.clone(), t.image)
+    };
+    let (pa, pb) = (&a.pbr_inputs, &b.pbr_inputs);
+    assert_eq!(pixels(&a.diffuse_map), pixels(&b.diffuse_map));
+    assert_eq!(pixels(&pa.normal_map), pixels(&pb.normal_map));
+    assert_eq!(pixels(&pa.emissive_map), pixels(&pb.emissive_map));
+    assert_eq!(
+        pixels(&pa.metallic_roughness_map),
+        pixels(&pb.metallic_roughness_map)
+    );
+    assert!(std::sync::Arc::ptr_eq(
+        pa.emissive_map.as_ref().unwrap(),
+        pa.metallic_roughness_map.as_ref().unwrap()
+    ));
+
+    // An external image is a dependency: rewriting it is a miss.
+    let ext = dir.join("ext.png");
+    image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 255, 0, 255])
+        .unwrap()
+        .save(&ext)
+        .unwrap();
+    let materials = r#""materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"source": 0}], "images": [{"uri": "ext.png"}]"#;
+    let model = quad(&dir, "external", &Quad::default(), materials);
+    let mut fresh = load(&model, &off).unwrap();
+    assert_eq!(fresh.dependencies, vec![ext.canonicalize().unwrap()]);
+    let prepared = clusters::prepare(&mut fresh);
+    cache::put_in(&own, 1 << 30, &model, None, tex, (&fresh, &prepared)).unwrap();
+    assert!(cache::get_in(&own, &model, None, tex).is_some());
+    std::thread::sleep(Duration::from_millis(20));
+    image::RgbaImage::from_raw(1, 1, vec![0, 0, 255, 255])
+        .unwrap()
+        .save(&ext)
+        .unwrap();
+    assert!(
+        cache::get_in(&own, &model, None, tex).is_none(),
+        "a rewritten external image hit"
+    );
+}
