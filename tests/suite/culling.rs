@@ -243,3 +243,56 @@ fn an_exported_sphere_with_an_ulp_seam_is_culled_with_the_same_pixels() {
         "{s}"
     );
 }
+
+/// The shared scans are really open: `--check` says so with the number of corners on open
+/// edges, and that number is the one an independent count finds — corners (welded by exact
+/// position) where some neighbour is reached by a different number of edges out than in.
+#[test]
+fn scanned_models_report_the_open_corners_they_have() {
+    use std::collections::HashMap;
+    for rel in [
+        "models/stanford-bunny/stanford-bunny.obj",
+        "models/dragon-200k/dragon_vrip_res2.obj",
+    ] {
+        let path = shared().join(rel);
+        let o = run(&[path.to_str().unwrap(), "--check", "--no-cache"], &[]);
+        let out = String::from_utf8_lossy(&o.stdout);
+        let said: usize = out
+            .split("back faces drawn: open edges at ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next()?.parse().ok())
+            .unwrap_or_else(|| panic!("{rel}: no open-edge reason in --check:\n{out}"));
+        let scene = glview::scene::obj::load(&path, &Default::default()).unwrap();
+        let mut exact = 0;
+        for m in &scene.meshes {
+            let mut id: HashMap<[u32; 3], u32> = HashMap::new();
+            let weld: Vec<u32> = m
+                .vertices
+                .iter()
+                .map(|v| {
+                    let n = id.len() as u32;
+                    *id.entry(v.position.map(f32::to_bits)).or_insert(n)
+                })
+                .collect();
+            let mut edges: HashMap<(u32, u32), i64> = HashMap::new();
+            for t in m.indices.chunks_exact(3) {
+                for k in 0..3 {
+                    let (a, b) = (weld[t[k] as usize], weld[t[(k + 1) % 3] as usize]);
+                    *edges.entry((a, b)).or_default() += 1;
+                }
+            }
+            let mut open = std::collections::HashSet::new();
+            for (&(a, b), &n) in &edges {
+                if edges.get(&(b, a)).copied().unwrap_or(0) != n {
+                    open.extend([a, b]);
+                }
+            }
+            exact += open.len();
+        }
+        assert!(said > 0, "{rel}");
+        assert_eq!(
+            said, exact,
+            "{rel}: --check and the independent count differ"
+        );
+    }
+}
