@@ -305,11 +305,8 @@ pub fn draw(
 fn given_scene(args: &Options, scene: &crate::scene::Scene) -> Loaded {
     let t = Instant::now();
     let mut s = scene.clone();
-    if !args.xray.is_empty() {
-        let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
-        if let Err(e) = s.xray(&args.xray, opacity.clamp(0.0, 1.0)) {
-            return (Err(crate::Error::Usage(e)), ms(t), None, 0.0);
-        }
+    if let Err(e) = crate::run::adjust_scene(args, &mut s) {
+        return (Err(e), ms(t), None, 0.0);
     }
     let c = Instant::now();
     let clusters = crate::scene::clusters::prepare(&mut s);

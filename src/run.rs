@@ -85,10 +85,8 @@ fn load_scene_prepared_with(
         }
     }
     let scene = match scene {
-        Ok((mut s, c)) if !args.xray.is_empty() => {
-            let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
-            s.xray(&args.xray, opacity.clamp(0.0, 1.0))
-                .map_err(Error::Usage)?;
+        Ok((mut s, c)) => {
+            adjust_scene(args, &mut s)?;
             Ok((s, c))
         }
         other => other,
@@ -100,6 +98,22 @@ fn load_scene_prepared_with(
         }
     }
     scene
+}
+
+/// What the options change in a loaded scene (a file's, or one a program passed in): the
+/// x-rayed materials and objects, and `--single-sided`.
+pub(crate) fn adjust_scene(args: &Options, s: &mut crate::scene::Scene) -> Result<()> {
+    if !args.xray.is_empty() {
+        let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
+        s.xray(&args.xray, opacity.clamp(0.0, 1.0))
+            .map_err(Error::Usage)?;
+    }
+    if args.single_sided {
+        for m in &mut s.materials {
+            m.pbr_inputs.model.double_sided = false;
+        }
+    }
+    Ok(())
 }
 
 /// What the options ask of the loader (the mesh cache's bound is set here too).

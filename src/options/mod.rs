@@ -234,6 +234,12 @@ pub struct Options {
     /// are drawn opaque with a warning (exporters often mean opaque).
     #[arg(long)]
     pub honor_transparency: bool,
+    /// Draw every material single-sided, as glTF's `doubleSided: false`: back faces are culled
+    /// in every pass (and clusters facing away are not sent). OBJ, STL and PLY say nothing
+    /// about sides, so by default glview draws both; a closed model seen from outside looks
+    /// the same either way. pyrender and most engines draw meshes single-sided.
+    #[arg(long)]
+    pub single_sided: bool,
     /// Crease angle in degrees for generated normals: edges sharper than this stay sharp
     /// (files without normals; smoothing groups `s` take precedence). Default 60.
     #[arg(long, value_name = "DEG", value_parser = parse::parse_crease, conflicts_with = "flat")]

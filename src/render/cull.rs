@@ -1,7 +1,8 @@
 //! Drawing one mesh with only the clusters the current view may see
 //! ([`crate::scene::clusters`]): clusters outside the view's frustum are skipped for every
 //! mesh, and for a closed outward-facing mesh seen from outside (the whole of it past the
-//! near plane) so are the clusters facing away, with GL back-face culling for the rest. The
+//! near plane) so are the clusters facing away, with GL back-face culling for the rest; a
+//! draw that culls back faces anyway (single-sided materials) skips them for any mesh. The
 //! image is the same: a ray from outside a closed surface meets a front face first, and
 //! nothing outside the frustum is rasterised (but for a rare silhouette pixel where a back
 //! face used to win a near-tie in depth: README, The frame). Passes set the view ([`FrameCx::cull`]):
@@ -37,7 +38,10 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
     // Only where the draw would show every face anyway: opaque, unblended, no culling asked.
     let could_hide = !dm.translucent && state.cull == Cull::None && state.blend == Blend::Off;
     let outside = view.sees_from_outside(dm.center, dm.radius);
-    let hide_back_faces = could_hide && clusters.closed() && outside;
+    // A draw that culls back faces (single-sided materials, a pass that chose front faces)
+    // would drop every facet of a cluster facing away whatever the mesh's shape: skipping
+    // the cluster is exact for open meshes and from inside too.
+    let hide_back_faces = state.cull == Cull::Back || (could_hide && clusters.closed() && outside);
     if could_hide && !hide_back_faces {
         // A silent "0 skipped" hid an exporter's seam once; say which condition failed.
         let why = if clusters.closed() {

@@ -1,6 +1,7 @@
 //! Large meshes drawn in parts. Their triangles are put in an order that is both
 //! vertex-cache friendly and spatially coherent (meshopt: cache optimisation, then meshlets
-//! laid end to end), and the index buffer is cut into runs of [`RUN`] triangles ("clusters")
+//! laid end to end), and the index buffer is cut into runs of [`MIN_RUN`]–[`RUN`] triangles
+//! ("clusters")
 //! with a bounding sphere and a normal cone each. A pass then skips, on the CPU, the runs
 //! outside its frustum (any mesh) and, for closed outward-facing meshes seen from outside,
 //! the runs that face away from the viewer: llvmpipe shades vertices and sets up triangles on
@@ -12,9 +13,23 @@ use rayon::prelude::*;
 
 /// Meshes with fewer triangles are drawn whole: one draw call is cheaper than the test.
 pub const MIN_TRIANGLES: usize = 1 << 14;
-/// Triangles per cluster: small enough that a sphere's silhouette band is a few percent of
-/// it, large enough that a 1M-triangle mesh has only ~4,000 to test.
+/// Triangles per cluster at most: small enough that a sphere's silhouette band is a few
+/// percent of it, large enough that a 1M-triangle mesh has only ~4,000 to test.
 pub const RUN: usize = 256;
+/// Triangles per cluster at least: a smaller mesh gets smaller runs (up to [`CLUSTERS`] of
+/// them), whose tighter normal cones let a noisy scan skip more of its far side.
+pub const MIN_RUN: usize = 64;
+/// How many clusters a mesh is cut into at most, while runs can shrink towards [`MIN_RUN`].
+pub const CLUSTERS: usize = 4096;
+
+/// Triangles per cluster for a mesh of `triangles`: the power of two between [`MIN_RUN`] and
+/// [`RUN`] that keeps the count near [`CLUSTERS`].
+pub fn run_length(triangles: usize) -> usize {
+    triangles
+        .div_ceil(CLUSTERS)
+        .next_power_of_two()
+        .clamp(MIN_RUN, RUN)
+}
 /// Triangles per reordering job: big meshes are reordered in independent slices in parallel.
 const SLICE: usize = 1 << 16;
 
@@ -75,10 +90,11 @@ pub struct Clusters {
 impl Clusters {
     /// Bounds and cones of every run of `indices`, and whether the mesh is closed.
     pub fn build(vertices: &[Vertex], indices: &[u32]) -> Clusters {
+        let run = run_length(indices.len() / 3);
         let list = indices
-            .par_chunks(RUN * 3)
+            .par_chunks(run * 3)
             .enumerate()
-            .map(|(k, run)| cluster(vertices, run, (k * RUN) as u32))
+            .map(|(k, r)| cluster(vertices, r, (k * run) as u32))
             .collect();
         Clusters {
             list,
@@ -92,9 +108,9 @@ impl Clusters {
     }
 
     /// The index ranges (first index, count) of the clusters `view` may see, adjacent ones
-    /// merged, and the triangles in them. With `hide_back_faces` (the caller has checked the
-    /// draw shows only front faces and `view` sees this closed mesh from outside) clusters
-    /// facing away are skipped too.
+    /// merged, and the triangles in them. With `hide_back_faces` clusters whose every facet
+    /// faces away from the viewer are skipped too: the caller has checked that no back face
+    /// could show (the draw culls back faces, or `view` sees this closed mesh from outside).
     pub fn visible(
         &self,
         view: &ClusterView,
@@ -103,9 +119,8 @@ impl Clusters {
     ) -> u64 {
         out.clear();
         let mut triangles = 0u64;
-        let back = hide_back_faces && self.closed();
         for c in &self.list {
-            if view.outside(c.center, c.radius) || (back && view.faces_away(c)) {
+            if view.outside(c.center, c.radius) || (hide_back_faces && view.faces_away(c)) {
                 continue;
             }
             triangles += u64::from(c.count);
@@ -365,13 +380,27 @@ mod tests {
     }
 
     /// Every triangle of a skipped cluster faces away from the viewer or lies outside the
-    /// frustum: checked triangle by triangle from many viewpoints, perspective and ortho.
+    /// frustum: checked triangle by triangle from many viewpoints, perspective and ortho, on a
+    /// closed sphere and on an open bowl (what a back-face-culling draw may skip), from
+    /// outside and from inside.
     #[test]
     fn skipped_clusters_hold_only_invisible_triangles() {
-        let (v, mut idx) = sphere(120, 240);
-        reorder(&v, &mut idx);
-        let c = Clusters::build(&v, &idx);
-        assert!(c.closed());
+        let (v, sphere_idx) = sphere(120, 240);
+        let bowl: Vec<u32> = sphere_idx
+            .chunks_exact(3)
+            .filter(|t| t.iter().all(|&i| v[i as usize].position[1] <= 0.0))
+            .flatten()
+            .copied()
+            .collect();
+        for (closed, mut idx) in [(true, sphere_idx), (false, bowl)] {
+            reorder(&v, &mut idx);
+            let c = Clusters::build(&v, &idx);
+            assert_eq!(c.closed(), closed);
+            skipped_only_invisible(&v, &idx, &c);
+        }
+    }
+
+    fn skipped_only_invisible(v: &[Vertex], idx: &[u32], c: &Clusters) {
         let p = |i: u32| Vec3::from(v[i as usize].position);
         let mut skipped_any = 0;
         for k in 0..24 {
@@ -382,7 +411,13 @@ mod tests {
                 pitch.sin(),
                 pitch.cos() * yaw.cos(),
             );
-            let eye = dir * (1.5 + k as f32 * 0.3);
+            // Every fifth view from inside the unit sphere.
+            let eye = dir
+                * if k % 5 == 4 {
+                    0.5
+                } else {
+                    1.5 + k as f32 * 0.3
+                };
             let view = Mat4::look_at_rh(eye, Vec3::new(0.2, 0.0, 0.0), Vec3::Y);
             let proj = if k % 3 == 0 {
                 Mat4::orthographic_rh_gl(-1.5, 1.5, -1.0, 1.0, 0.1, 20.0)
