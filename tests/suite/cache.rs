@@ -291,18 +291,7 @@ fn gltf_without_textures_is_cached_with_its_material_model() {
                 "--shading",
                 shading,
             ];
-            let fresh = common::render(
-                &dir,
-                &format!("{name}-fresh"),
-                &[&args[..], &["--no-cache"]].concat(),
-                &env,
-            );
-            let first = common::render(&dir, &format!("{name}-first"), &args, &env);
-            let hit = common::render(&dir, &format!("{name}-hit"), &args, &env);
-            for (what, img) in [("first", &first), ("hit", &hit)] {
-                let d = common::diff(&fresh, img, 0);
-                assert_eq!(d.max, 0, "{name} {what}: {} pixels differ", d.over);
-            }
+            miss_and_hit_equal_uncached(&dir, &name, &args, &env);
         }
     }
     let (uncached_load, uncached) = check(&["--no-cache"]);
@@ -393,21 +382,7 @@ fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
             "--shading",
             shading,
         ];
-        let fresh = common::render(
-            &dir,
-            &format!("{shading}-fresh"),
-            &[&args[..], &["--no-cache"]].concat(),
-            &env,
-        );
-        let first = common::render(&dir, &format!("{shading}-first"), &args, &env);
-        let hit = common::render(&dir, &format!("{shading}-hit"), &args, &env);
-        for (what, img) in [("first", &first), ("hit", &hit)] {
-            let d = common::diff(&fresh, img, 0);
-            if d.max != 0 {
-                common::write_diff(&dir, &format!("{shading}-{what}"), &fresh, img);
-            }
-            assert_eq!(d.max, 0, "{shading} {what}: {} pixels differ", d.over);
-        }
+        miss_and_hit_equal_uncached(&dir, shading, &args, &env);
     }
     let o = common::run(&[m, "--check"], &env);
     let out = String::from_utf8_lossy(&o.stdout);
@@ -480,4 +455,28 @@ fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
         cache::get_in(&own, &model, None, tex).is_none(),
         "a rewritten external image hit"
     );
+}
+
+/// Renders `args` uncached, then twice with the cache (the miss that writes the entry, the
+/// hit that reads it): both must be the uncached picture exactly (a diff image on failure).
+fn miss_and_hit_equal_uncached(
+    dir: &std::path::Path,
+    name: &str,
+    args: &[&str],
+    env: &[(&str, &str)],
+) {
+    let fresh = common::render(
+        dir,
+        &format!("{name}-fresh"),
+        &[args, &["--no-cache"]].concat(),
+        env,
+    );
+    for what in ["first", "hit"] {
+        let img = common::render(dir, &format!("{name}-{what}"), args, env);
+        let d = common::diff(&fresh, &img, 0);
+        if d.max != 0 {
+            common::write_diff(dir, &format!("{name}-{what}"), &fresh, &img);
+        }
+        assert_eq!(d.max, 0, "{name} {what}: {} pixels differ", d.over);
+    }
 }
