@@ -220,7 +220,8 @@ pub struct Options {
     /// With --show specular: the roughness level to show (0 = sharpest).
     #[arg(long, default_value_t = 0)]
     pub show_level: u32,
-    /// Do not use the mesh cache (a second load of a large unchanged OBJ skips parsing).
+    /// Do not use glview's disk caches: the mesh cache (a second load of an unchanged large or
+    /// textured model skips parsing and decoding) and the PBR tier's precomputed maps.
     #[arg(long)]
     pub no_cache: bool,
     /// Bound on the mesh cache folder's total size: bytes, or with K, M, G (powers of 1024).
