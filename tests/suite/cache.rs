@@ -384,13 +384,23 @@ fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
         ];
         miss_and_hit_equal_uncached(&dir, shading, &args, &env);
     }
-    let o = common::run(&[m, "--check"], &env);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        out.lines()
-            .any(|l| l.starts_with("load: ") && l.contains("(mesh cache)")),
-        "not a hit: {out}"
-    );
+    // `--check` from the entry says what the fresh load says (texture lines included).
+    let check = |extra: &[&str]| -> (bool, Vec<String>) {
+        let o = common::run(&[&[m, "--check"], extra].concat(), &env);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let out = String::from_utf8_lossy(&o.stdout).into_owned();
+        let hit = out
+            .lines()
+            .any(|l| l.starts_with("load: ") && l.contains("(mesh cache)"));
+        let rest = out.lines().filter(|l| !l.starts_with("load: "));
+        (hit, rest.map(str::to_owned).collect())
+    };
+    let ((hit, cached), (_, fresh)) = (check(&[]), check(&["--no-cache"]));
+    assert!(hit, "not a hit: {cached:?}");
+    assert_eq!(cached, fresh, "--check from the entry");
+    assert!(cached
+        .iter()
+        .any(|l| l.contains("TEXCOORD_1") || l.contains("UV set 1")));
 
     // In process, against the fresh scene: every stream and every image, the metallic-
     // roughness and emissive slots sharing one image.
