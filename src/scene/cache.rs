@@ -40,17 +40,37 @@ pub const MIN_TEXTURE_PIXELS: u64 = 1 << 22;
 /// Whether a scene loaded from a file of `size` bytes earns an entry: a large file, or large
 /// images (a few MB of JPEG inside a GLB decode far slower than they read back raw).
 pub fn worth_an_entry(size: u64, scene: &Scene) -> bool {
-    let mut seen: Vec<&Arc<Texture>> = Vec::new();
-    let mut pixels = 0u64;
-    for m in &scene.materials {
-        for t in slots(m).into_iter().flatten() {
-            if !seen.iter().any(|u| Arc::ptr_eq(u, t)) {
-                seen.push(t);
-                pixels += u64::from(t.width) * u64::from(t.height);
-            }
-        }
-    }
+    let pixels: u64 = image_table(scene)
+        .0
+        .iter()
+        .map(|t| u64::from(t.width) * u64::from(t.height))
+        .sum();
     size >= MIN_SIZE || pixels >= MIN_TEXTURE_PIXELS
+}
+
+/// The scene's distinct images in first-use order (one image in several slots or materials
+/// is one entry), and per material its slots' indices into that list.
+fn image_table(scene: &Scene) -> (Vec<&Arc<Texture>>, Vec<SlotRefs>) {
+    let mut table: Vec<&Arc<Texture>> = Vec::new();
+    let refs = scene
+        .materials
+        .iter()
+        .map(|m| {
+            slots(m).map(|t| {
+                let t = t.as_ref()?;
+                Some(
+                    match table.iter().position(|u| Arc::ptr_eq(u, t) || **u == *t) {
+                        Some(i) => i,
+                        None => {
+                            table.push(t);
+                            table.len() - 1
+                        }
+                    },
+                )
+            })
+        })
+        .collect();
+    (table, refs)
 }
 const MAGIC: &[u8; 4] = b"GLVC";
 const FORMAT: u32 = 5;
@@ -479,26 +499,7 @@ pub fn put_in(
 ) -> std::io::Result<()> {
     let entry = entry_path(dir, path).ok_or_else(|| std::io::Error::other("no canonical path"))?;
     let canonical = path.canonicalize()?;
-    // Distinct images in first-use order; materials sharing one share its entry.
-    let mut table: Vec<&Arc<Texture>> = Vec::new();
-    let slot_refs: Vec<SlotRefs> = scene
-        .materials
-        .iter()
-        .map(|m| {
-            slots(m).map(|t| {
-                let t = t.as_ref()?;
-                Some(
-                    match table.iter().position(|u| Arc::ptr_eq(u, t) || **u == *t) {
-                        Some(i) => i,
-                        None => {
-                            table.push(t);
-                            table.len() - 1
-                        }
-                    },
-                )
-            })
-        })
-        .collect();
+    let (table, slot_refs) = image_table(scene);
     // The payload's parts in file order, borrowed: hashed, then written, never copied into
     // one buffer (a textured entry is mostly its images: 84 MB for DamagedHelmet).
     let w = &scene.wire;
