@@ -1,11 +1,11 @@
 //! Large meshes drawn in parts. Their triangles are put in an order that is both
 //! vertex-cache friendly and spatially coherent (meshopt: cache optimisation, then meshlets
 //! laid end to end), and the index buffer is cut into runs of [`MIN_RUN`]–[`RUN`] triangles
-//! ("clusters")
-//! with a bounding sphere and a normal cone each. A pass then skips, on the CPU, the runs
-//! outside its frustum (any mesh) and, for closed outward-facing meshes seen from outside,
-//! the runs that face away from the viewer: llvmpipe shades vertices and sets up triangles on
-//! one thread, so triangles never sent are the only ones that cost nothing. No GL here.
+//! ("clusters") with a bounding sphere and a normal cone each. A pass then skips, on the CPU,
+//! the runs outside its frustum (any mesh) and, for closed outward-facing meshes seen from
+//! outside or for draws that cull back faces anyway, the runs that face away from the
+//! viewer: llvmpipe shades vertices and sets up triangles on one thread, so triangles never
+//! sent are the only ones that cost nothing. No GL here.
 use super::closure::{closure, Closure};
 use super::Vertex;
 use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
