@@ -1,11 +1,15 @@
 // Legacy tier: colour = Ke + Ka*ambient + sum of visibility * (Kd*Lc*diffuse + Ks*Lc*spec),
 // clamped; a texture multiplies Ka and Kd, an emissive map Ke, a normal map bends the normal
 // (not with Gouraud). Back faces use the flipped normal. UNLIT: Kd times the texture.
+// The products of uniforms (Ka*ambient, Kd*Lc, Ks*Lc and the term switches) are formed once
+// per draw on the CPU (lit.rs, `MaterialTerms`): llvmpipe would form them per fragment.
 IN vec3 vEyePos;
 #ifdef LOG_DEPTH
 #include "logdepth.glsl"
 #endif
+#if defined(HAS_TEXTURE) || defined(HAS_EMISSIVE_MAP) || defined(HAS_NORMAL_MAP)
 IN vec2 vUv;
+#endif
 #ifdef HAS_COLOR
 IN vec3 vColor;
 #endif
@@ -14,14 +18,15 @@ IN vec3 vNormal;
 #ifdef GOURAUD
 IN vec4 vFactors[NUM_LIGHTS];
 uniform vec4 uLightPos[NUM_LIGHTS];
-uniform vec3 uLightColor[NUM_LIGHTS];
 vec3 safeNormalize(vec3 n) {
-    float len = length(n);
-    return len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+    float len2 = dot(n, n);
+    return len2 > 0.0 ? n * inversesqrt(len2) : vec3(0.0, 0.0, 1.0);
 }
 #else
 #include "lighting.glsl"
 #endif
+uniform vec3 uLightDiffuse[NUM_LIGHTS];    // Kd * light colour (0 with the diffuse term off)
+uniform vec3 uLightSpecular[NUM_LIGHTS];   // Ks * light colour (0 with the specular term off)
 #endif
 #if NUM_SHADOWS > 0
 #include "shadow.glsl"
@@ -35,13 +40,10 @@ vec3 safeNormalize(vec3 n) {
 uniform sampler2D uEmissiveMap;
 #endif
 
-uniform vec3 uKa;
-uniform vec3 uKd;
-uniform vec3 uKs;
+uniform vec3 uKd;            // UNLIT's colour
 uniform vec3 uKe;
+uniform vec3 uAmbientTerm;   // Ka * ambient (0 with the ambient term off)
 uniform float uOpacity;
-uniform vec3 uAmbient;
-uniform vec3 uTerms;   // ambient, diffuse, specular switches (0 or 1)
 #ifdef HAS_TEXTURE
 uniform sampler2D uDiffuseMap;
 #endif
@@ -70,7 +72,7 @@ void main() {
 #ifdef HAS_EMISSIVE_MAP
     emissive *= TEX2D(uEmissiveMap, SLOT_UV(4)).rgb;
 #endif
-    vec3 color = emissive + uTerms.x * uKa * tex * uAmbient;
+    vec3 color = emissive + uAmbientTerm * tex;
 #if NUM_LIGHTS > 0
     vec3 n = safeNormalize(vNormal);
     if (!gl_FrontFacing) n = -n;
@@ -99,7 +101,7 @@ void main() {
 #else
         vec2 f = lightFactors(toLight(uLightPos[i], vEyePos), n, v);
 #endif
-        color += vis[i] * uLightColor[i] * (uTerms.y * uKd * tex * f.x + uTerms.z * uKs * f.y);
+        color += vis[i] * (uLightDiffuse[i] * tex * f.x + uLightSpecular[i] * f.y);
     }
 #endif
     FRAG_COLOR = glviewOutputRgba(color, opacity);

@@ -24,7 +24,9 @@ OUT vec3 vEyePos;
 #ifdef LOG_DEPTH
 OUT float vClipW;   // for the logarithmic depth written per fragment
 #endif
+#if defined(HAS_TEXTURE) || defined(HAS_EMISSIVE_MAP) || defined(HAS_NORMAL_MAP)
 OUT vec2 vUv;
+#endif
 OUT vec3 vNormal;   // also used by Gouraud: the shadow lookup is offset along it
 #ifdef GOURAUD
 #if NUM_LIGHTS > 0
@@ -36,7 +38,9 @@ OUT vec4 vFactors[NUM_LIGHTS];   // xy: front face, zw: back face
 void main() {
     vec4 eye = uModelView * vec4(aPosition, 1.0);
     vEyePos = eye.xyz;
+#if defined(HAS_TEXTURE) || defined(HAS_EMISSIVE_MAP) || defined(HAS_NORMAL_MAP)
     vUv = aUv;
+#endif
 #ifdef HAS_UV1
     vUv1 = aUv1;
 #endif

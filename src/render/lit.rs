@@ -280,6 +280,7 @@ pub(crate) fn draw(
         )
         .switch("HAS_NORMAL_MAP", "nrm", normal_map.is_some())
         .switch("HAS_EMISSIVE_MAP", "emi", emissive_map.is_some());
+        let key = light_flags(key, s);
         let key = super::slots::flags(key, model, has_uv1, texture.is_some());
         let key = cx.lit_flags(key);
         let program = cx.program(&key)?;
@@ -289,7 +290,6 @@ pub(crate) fn draw(
         if !uniforms_set.contains(&key) {
             uniforms_set.push(key);
             v.set_uniforms(&program, cx);
-            set_legacy_uniforms(&program, cx);
             program.set_i32("uNormalMap", NORMAL_UNIT as i32);
             program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
         }
@@ -303,9 +303,8 @@ pub(crate) fn draw(
                 cx.stats.textures_bound += 1;
             }
         }
-        program.set_vec3("uKa", Vec3::from(mat.ambient));
+        set_material_terms(&program, s, mat);
         program.set_vec3("uKd", Vec3::from(mat.diffuse));
-        program.set_vec3("uKs", Vec3::from(mat.specular));
         program.set_vec3("uKe", Vec3::from(mat.emissive));
         program.set_f32("uNs", mat.shininess);
         program.set_f32("uTerminatorLift", cx.scene.meshes[i].terminator_lift);
@@ -345,14 +344,34 @@ pub(crate) fn base_texture(
     }
 }
 
-fn set_legacy_uniforms(p: &Program, cx: &FrameCx) {
-    let s = cx.settings;
-    p.set_vec3("uAmbient", s.lighting.ambient.as_vec3());
+/// The legacy program's compile-time light flags: `POINT_LIGHTS` where some light has a
+/// position (else every light's direction is a uniform, no per-fragment normalisation),
+/// `WRAP` for wrap lighting.
+pub(crate) fn light_flags(key: ProgramKey, s: &crate::frame::FrameSettings) -> ProgramKey {
+    let point = s
+        .lights
+        .iter()
+        .any(|l| matches!(l.kind, LightKind::Point(_)));
+    key.switch("POINT_LIGHTS", "pt", point)
+        .switch("WRAP", "wrap", s.lighting.wrap)
+}
+
+/// The material's colours times the ambient light and each light's colour, with the term
+/// switches (`--terms`) applied: products of uniforms, formed here once per draw rather than
+/// per fragment (lit.frag).
+fn set_material_terms(p: &Program, s: &crate::frame::FrameSettings, mat: &crate::scene::Material) {
     let t = s.lighting.terms;
     let on = |b: bool| if b { 1.0 } else { 0.0 };
-    p.set_vec3(
-        "uTerms",
-        Vec3::new(on(t.ambient), on(t.diffuse), on(t.specular)),
-    );
-    p.set_f32("uWrap", on(s.lighting.wrap));
+    let ambient = on(t.ambient) * Vec3::from(mat.ambient) * s.lighting.ambient.as_vec3();
+    p.set_vec3("uAmbientTerm", ambient);
+    for (i, l) in s.lights.iter().enumerate() {
+        p.set_vec3(
+            &format!("uLightDiffuse[{i}]"),
+            on(t.diffuse) * Vec3::from(mat.diffuse) * l.color,
+        );
+        p.set_vec3(
+            &format!("uLightSpecular[{i}]"),
+            on(t.specular) * Vec3::from(mat.specular) * l.color,
+        );
+    }
 }

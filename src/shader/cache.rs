@@ -223,11 +223,15 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
         for (shadows, pcf, cube_mask) in shadow_variants {
             for textured in [false, true] {
                 for gouraud in [false, true] {
-                    // Vertex colours with the textured variants: every flag is compiled
-                    // without doubling the permutations.
-                    keys.push(crate::render::lit::program_key(
-                        lights, shadows, pcf, cube_mask, textured, gouraud, textured,
-                    ));
+                    // Vertex colours, point lights and wrap lighting with the textured
+                    // variants: every flag is compiled without doubling the permutations.
+                    keys.push(
+                        crate::render::lit::program_key(
+                            lights, shadows, pcf, cube_mask, textured, gouraud, textured,
+                        )
+                        .switch("POINT_LIGHTS", "pt", textured)
+                        .switch("WRAP", "wrap", textured),
+                    );
                 }
             }
             keys.extend(crate::render::pbr::all_keys(
