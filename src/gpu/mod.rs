@@ -123,10 +123,27 @@ impl Gpu {
         self.read_f32(width, height, glow::RGBA, 4)
     }
 
-    /// Reads the bound read framebuffer's depth as f32 in [0, 1], bottom row first (desktop
-    /// GL only: ES 3.0 has no depth read-back).
-    pub fn read_depth_f32(&self, width: u32, height: u32) -> Vec<f32> {
-        self.read_f32(width, height, glow::DEPTH_COMPONENT, 1)
+    /// Reads the bound read framebuffer's depth as u32 (0 near, `u32::MAX` at the far plane),
+    /// bottom row first (desktop GL only: ES 3.0 has no depth read-back). Integers, not
+    /// floats: Mesa copies a 24-bit depth buffer's rows out as integers on a fast path,
+    /// where FLOAT goes through its generic per-pixel unpacking (~2× the time on llvmpipe).
+    pub fn read_depth_u32(&self, width: u32, height: u32) -> Vec<u32> {
+        let mut buf = vec![0u32; width as usize * height as usize];
+        // SAFETY: buf holds exactly width*height u32 values (DEPTH_COMPONENT with
+        // UNSIGNED_INT); PACK_ALIGNMENT 4 fits u32.
+        unsafe {
+            self.gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
+            self.gl.read_pixels(
+                0,
+                0,
+                width as i32,
+                height as i32,
+                glow::DEPTH_COMPONENT,
+                glow::UNSIGNED_INT,
+                glow::PixelPackData::Slice(Some(bytemuck::cast_slice_mut(&mut buf))),
+            );
+        }
+        buf
     }
 
     /// `format` with `channels` values per pixel, as f32, bottom row first.

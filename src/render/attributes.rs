@@ -173,28 +173,57 @@ impl Renderer {
         {
             return None;
         }
-        let raw = gpu.read_depth_f32(width, height);
+        let raw = gpu.read_depth_u32(width, height);
         let aspect = width as f32 / height.max(1) as f32;
         let proj = s
             .camera
             .projection(&self.scene.scene.bounds, aspect)
             .as_dmat4();
-        // clip z = A·z_eye + B; perspective: clip w = −z_eye, orthographic: w = 1.
-        let (a, b) = (proj.z_axis.z, proj.w_axis.z);
-        let perspective = proj.z_axis.w != 0.0;
-        let distance = |d: f32| -> f32 {
-            if d >= 1.0 {
-                return f32::INFINITY;
-            }
-            let z = 2.0 * f64::from(d) - 1.0;
-            (if perspective {
-                b / (z + a)
-            } else {
-                (b - z) / a
-            }) as f32
-        };
-        Some(top_first_map(&raw, width as usize, distance))
+        Some(depth_distances(&raw, width as usize, &proj))
     }
+}
+
+/// Window depths read as u32 (bottom row first) to distances along the view axis, top row
+/// first; infinity where the depth is the far plane's (nothing drawn).
+///
+/// A u32 read of a 24-bit buffer is its value z with its top bits repeated below it, so
+/// z = u >> 8 exactly, and window depth d = z / Z (Z = 2^24 − 1, also the far plane). With
+/// NDC depth 2d − 1 and clip z = A·z_eye + B: perspective (clip w = −z_eye) gives
+/// distance B / (2d − 1 + A) = K / (z − C), K = B·Z/2, C = (1 − A)·Z/2; orthographic (w = 1)
+/// gives (B + 1 − 2d) / A, linear in z. z − C is formed as the integer difference z − ⌊C⌋,
+/// exact, then rounded once to f32 (it cancels towards the far plane, where a float depth
+/// would lose it), and the fraction of C taken off: so the loop is integer and f32 lanes
+/// only, with no branch, and vectorises.
+pub(crate) fn depth_distances(raw: &[u32], width: usize, proj: &glam::DMat4) -> Vec<f32> {
+    const Z: u32 = (1 << 24) - 1;
+    let zf = f64::from(Z);
+    let (a, b) = (proj.z_axis.z, proj.w_axis.z);
+    let perspective = proj.z_axis.w != 0.0;
+    let c = (1.0 - a) * zf / 2.0;
+    let (ci, cf) = (c.floor(), (c - c.floor()) as f32);
+    let ci = ci.clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32;
+    let k = (b * zf / 2.0) as f32;
+    let (p, q) = (((b + 1.0) / a) as f32, (-2.0 / (a * zf)) as f32);
+    let width = width.max(1);
+    let rows = raw.len() / width;
+    let mut out = vec![0f32; rows * width];
+    for (r, dst) in out.chunks_exact_mut(width).enumerate() {
+        let src = &raw[(rows - 1 - r) * width..][..width];
+        if perspective {
+            for (o, &u) in dst.iter_mut().zip(src) {
+                let z = u >> 8;
+                let v = k / (((z as i32).wrapping_sub(ci)) as f32 - cf);
+                *o = if z == Z { f32::INFINITY } else { v };
+            }
+        } else {
+            for (o, &u) in dst.iter_mut().zip(src) {
+                let z = u >> 8;
+                let v = p + q * z as f32;
+                *o = if z == Z { f32::INFINITY } else { v };
+            }
+        }
+    }
+    out
 }
 
 /// GL's rows are bottom-up; the picture's are top-down (RGBA rows of `width` pixels).
@@ -214,4 +243,68 @@ fn top_first_map(data: &[f32], row: usize, f: impl Fn(f32) -> f32) -> Vec<f32> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::depth_distances;
+    use glam::DMat4;
+
+    /// The window depth a 24-bit buffer stores for eye distance `t`, read back as u32 (the
+    /// value with its top byte repeated below it, as GL converts it).
+    fn stored(proj: &DMat4, t: f64) -> u32 {
+        let clip = *proj * glam::DVec4::new(0.0, 0.0, -t, 1.0);
+        let d = (clip.z / clip.w + 1.0) / 2.0;
+        let z = (d * f64::from((1u32 << 24) - 1)).round() as u32;
+        (z << 8) | (z >> 16)
+    }
+
+    /// Against the distance the stored 24-bit value stands for, in f64: within a few f32
+    /// roundings (the buffer's own step is the larger error, and it is not this function's).
+    #[test]
+    fn distances_equal_the_f64_inverse_of_the_stored_depth() {
+        for proj in [
+            DMat4::perspective_rh_gl(0.8, 1.5, 0.05, 400.0),
+            DMat4::perspective_rh_gl(0.8, 1.5, 2.0, 9.0),
+            DMat4::orthographic_rh_gl(-2.0, 2.0, -1.5, 1.5, 0.5, 30.0),
+        ] {
+            let (near, far) = if proj.z_axis.w != 0.0 {
+                let (a, b) = (proj.z_axis.z, proj.w_axis.z);
+                (b / (a - 1.0), b / (a + 1.0))
+            } else {
+                let (a, b) = (proj.z_axis.z, proj.w_axis.z);
+                ((b + 1.0) / a, (b - 1.0) / a)
+            };
+            let ts: Vec<f64> = (0..=64)
+                .map(|i| near + (far - near) * f64::from(i) / 64.0 * 0.999)
+                .collect();
+            // Two rows, so the bottom-up order is checked too: the second row is the first
+            // row of the picture.
+            let mut raw: Vec<u32> = ts.iter().map(|&t| stored(&proj, t)).collect();
+            raw.extend(std::iter::repeat_n(u32::MAX, ts.len()));
+            let out = depth_distances(&raw, ts.len(), &proj);
+            let (top, bottom) = out.split_at(ts.len());
+            assert!(
+                top.iter().all(|v| v.is_infinite()),
+                "cleared depth is infinity"
+            );
+            for ((&t, &got), &u) in ts.iter().zip(bottom).zip(&raw) {
+                let z = f64::from(u >> 8);
+                let d = z / f64::from((1u32 << 24) - 1);
+                let (a, b) = (proj.z_axis.z, proj.w_axis.z);
+                let exact = if proj.z_axis.w != 0.0 {
+                    b / (2.0 * d - 1.0 + a)
+                } else {
+                    (b - (2.0 * d - 1.0)) / a
+                };
+                let err = (f64::from(got) - exact).abs() / exact;
+                assert!(
+                    err < 4e-7,
+                    "t {t}: {got} against {exact} (relative {err:e})"
+                );
+                // And near the distance drawn: the buffer's step at this depth.
+                assert!((f64::from(got) - t).abs() / t < 2e-3, "t {t}: {got}");
+            }
+        }
+    }
 }
