@@ -50,11 +50,19 @@ fn option(cmd: &clap::Command, word: &str) -> Option<(usize, bool)> {
 
 /// `args.words` without the dropped options and their values.
 fn kept_words(args: &Options) -> Vec<String> {
-    let cmd = Args::command();
+    thread_local! {
+        // Built once per thread: building it cost more than the rest of a kept render's
+        // set-up.
+        static CMD: clap::Command = Args::command();
+    }
+    CMD.with(|cmd| kept_words_with(cmd, args))
+}
+
+fn kept_words_with(cmd: &clap::Command, args: &Options) -> Vec<String> {
     let mut out = Vec::new();
     let mut words = args.words.iter().peekable();
     while let Some(w) = words.next() {
-        let Some((takes, dropped)) = option(&cmd, w) else {
+        let Some((takes, dropped)) = option(cmd, w) else {
             out.push(w.clone());
             continue;
         };

@@ -15,6 +15,12 @@ struct Only {
     opts: Options,
 }
 
+thread_local! {
+    /// The options' parser, built once per thread: building clap's command (a hundred
+    /// arguments) cost more than parsing with it, on every render of the library API.
+    static PARSER: std::cell::RefCell<clap::Command> = std::cell::RefCell::new(Only::command());
+}
+
 /// clap's message is several lines with usage; its first line says what is wrong.
 pub(crate) fn first_line(e: &clap::Error) -> String {
     e.to_string()
@@ -40,8 +46,8 @@ impl Options {
         T: Into<String>,
     {
         let words: Vec<String> = words.into_iter().map(Into::into).collect();
-        let matches = Only::command()
-            .try_get_matches_from(&words)
+        let matches = PARSER
+            .with(|p| p.borrow_mut().try_get_matches_from_mut(&words))
             .map_err(|e| Error::Usage(first_line(&e)))?;
         let mut opts = Only::from_arg_matches(&matches)
             .map_err(|e| Error::Usage(first_line(&e)))?
@@ -92,7 +98,10 @@ impl Options {
     /// The options given (defaults left out) as names and values, by name;
     /// options given more than once are lists. The inverse of [`Options::from_pairs`].
     pub fn to_pairs(&self) -> serde_json::Map<String, Value> {
-        let cmd = Only::command();
+        PARSER.with(|p| self.pairs_with(&p.borrow()))
+    }
+
+    fn pairs_with(&self, cmd: &clap::Command) -> serde_json::Map<String, Value> {
         let mut map = serde_json::Map::new();
         let mut words = self.words.iter().peekable();
         while let Some(w) = words.next() {
