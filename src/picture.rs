@@ -4,6 +4,7 @@ use crate::error::Result;
 use crate::headless::Headless;
 use crate::options::{AaMode, Options};
 use crate::platform::{Backend, GlRequest};
+use crate::render::attributes::FrameDepth;
 use crate::render::Renderer;
 use crate::run::{env_request, frame_settings, load_scene_prepared, map_view, png_text, Repro};
 use crate::scene::clusters::Clusters;
@@ -263,14 +264,22 @@ pub fn draw(
     let stats = last.unwrap_or_default();
     // The target's depth is the picture's when the frame's passes drew straight into it at
     // the picture's size: no post-processing or teaching view, no MSAA or supersampling.
-    let frame_depth = k == 1
+    let frame_depth = if k == 1
         && args.aa != AaMode::Msaa
         && stats.post.is_empty()
         && stats.passes.iter().all(|p| {
             ["shadow", "background", "lit", "pbr"]
                 .iter()
                 .any(|n| p.starts_with(n))
-        });
+        }) {
+        if hl.stencil_bits() > 0 && hl.gpu.caps.depth_stencil {
+            FrameDepth::WithStencil
+        } else {
+            FrameDepth::Depth
+        }
+    } else {
+        FrameDepth::No
+    };
     let attributes = if outputs.any() {
         Some(renderer.attributes(&settings, w, h, &hl.target(), outputs, frame_depth)?)
     } else {

@@ -63,6 +63,8 @@ pub struct Caps {
     pub seamless_cube: bool,
     /// Packed depth + stencil formats: GL 3.0, ES 3.0 or EXT/OES_packed_depth_stencil.
     pub depth_stencil: bool,
+    /// `glReadPixels` can return rows top first (GL_MESA_pack_invert): no flip afterwards.
+    pub pack_invert: bool,
     /// 32-bit float colour render targets read back as floats: GL 3.0, or ES 3.0 with
     /// EXT_color_buffer_float.
     pub float_render: bool,
@@ -191,6 +193,7 @@ impl Caps {
                 depth_stencil: es3
                     || desktop_at_least(3, 0)
                     || has(&["GL_EXT_packed_depth_stencil", "GL_OES_packed_depth_stencil"]),
+                pack_invert: !embedded && has(&["GL_MESA_pack_invert"]),
                 float_render: desktop_at_least(3, 0)
                     || (es3 && has(&["GL_EXT_color_buffer_float"])),
                 max_samples: if es3 || desktop_at_least(3, 0) {

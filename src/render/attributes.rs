@@ -50,6 +50,15 @@ impl Outputs {
     }
 }
 
+/// Whether a frame's target holds the picture's depth (see [`Renderer::attributes`]), and
+/// whether a stencil buffer is beside it (which picks the faster read).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameDepth {
+    No,
+    Depth,
+    WithStencil,
+}
+
 pub(crate) fn key() -> ProgramKey {
     ProgramKey::new("attributes", "attributes.vert", "attributes.frag")
 }
@@ -59,8 +68,8 @@ impl Renderer {
     /// `target` again (frames expect their target bound: a deleted framebuffer leaves the
     /// context's default one, which a surfaceless EGL context does not have).
     ///
-    /// `frame_depth`: the target's depth buffer is the frame's, single-sampled, at the
-    /// picture's size (no MSAA, no supersampling): then depth alone is read from it.
+    /// `frame_depth`: whether the target's depth buffer is the frame's, single-sampled, at
+    /// the picture's size (no MSAA, no supersampling): then depth alone is read from it.
     pub fn attributes(
         &mut self,
         s: &FrameSettings,
@@ -68,10 +77,11 @@ impl Renderer {
         height: u32,
         target: &super::Target,
         want: Outputs,
-        frame_depth: bool,
+        frame_depth: FrameDepth,
     ) -> Result<Attributes> {
-        if want.depth && !want.normals && !want.ids && frame_depth {
-            if let Some(depth) = self.frame_depth(s, width, height) {
+        if want.depth && !want.normals && !want.ids && frame_depth != FrameDepth::No {
+            let stencil = frame_depth == FrameDepth::WithStencil;
+            if let Some(depth) = self.frame_depth(s, width, height, stencil) {
                 return Ok(Attributes {
                     width,
                     height,
@@ -165,7 +175,13 @@ impl Renderer {
     /// (the caller has checked that the frame drew straight into it): desktop GL (ES cannot
     /// read depth back), no logarithmic depth (the buffer holds another function of
     /// distance), no lines or points (the attribute pass draws triangles only).
-    fn frame_depth(&self, s: &FrameSettings, width: u32, height: u32) -> Option<Vec<f32>> {
+    fn frame_depth(
+        &self,
+        s: &FrameSettings,
+        width: u32,
+        height: u32,
+        stencil: bool,
+    ) -> Option<Vec<f32>> {
         let gpu = &self.gpu;
         if gpu.caps.dialect == crate::gpu::Dialect::Glsl300Es
             || s.lighting.translucency.log_depth
@@ -173,28 +189,35 @@ impl Renderer {
         {
             return None;
         }
-        let raw = gpu.read_depth_u32(width, height);
+        let (raw, top_first) = gpu.read_depth_u32(width, height, stencil);
         let aspect = width as f32 / height.max(1) as f32;
         let proj = s
             .camera
             .projection(&self.scene.scene.bounds, aspect)
             .as_dmat4();
-        Some(depth_distances(&raw, width as usize, &proj))
+        Some(depth_distances(&raw, width as usize, top_first, &proj))
     }
 }
 
-/// Window depths read as u32 (bottom row first) to distances along the view axis, top row
-/// first; infinity where the depth is the far plane's (nothing drawn).
+/// Window depths read as u32 (top row first where `top_first`, else bottom row first) to
+/// distances along the view axis, top row first; infinity where the depth is the far
+/// plane's (nothing drawn).
 ///
-/// A u32 read of a 24-bit buffer is its value z with its top bits repeated below it, so
-/// z = u >> 8 exactly, and window depth d = z / Z (Z = 2^24 − 1, also the far plane). With
-/// NDC depth 2d − 1 and clip z = A·z_eye + B: perspective (clip w = −z_eye) gives
+/// The top 24 bits of each value are the 24-bit buffer's z (a DEPTH_COMPONENT read repeats
+/// z's top bits below it, a DEPTH_STENCIL read puts the stencil there), so z = u >> 8,
+/// and window depth d = z / Z (Z = 2^24 − 1, also the far plane). With NDC depth 2d − 1 and clip z = A·z_eye + B: perspective (clip w = −z_eye) gives
 /// distance B / (2d − 1 + A) = K / (z − C), K = B·Z/2, C = (1 − A)·Z/2; orthographic (w = 1)
 /// gives (B + 1 − 2d) / A, linear in z. z − C is formed as the integer difference z − ⌊C⌋,
 /// exact, then rounded once to f32 (it cancels towards the far plane, where a float depth
 /// would lose it), and the fraction of C taken off: so the loop is integer and f32 lanes
-/// only, with no branch, and vectorises.
-pub(crate) fn depth_distances(raw: &[u32], width: usize, proj: &glam::DMat4) -> Vec<f32> {
+/// only, with no branch, and vectorises. Runs of [`RUN`] pixels that are all background
+/// (most of a picture of one model) are filled with infinity without dividing.
+pub(crate) fn depth_distances(
+    raw: &[u32],
+    width: usize,
+    top_first: bool,
+    proj: &glam::DMat4,
+) -> Vec<f32> {
     const Z: u32 = (1 << 24) - 1;
     let zf = f64::from(Z);
     let (a, b) = (proj.z_axis.z, proj.w_axis.z);
@@ -207,9 +230,10 @@ pub(crate) fn depth_distances(raw: &[u32], width: usize, proj: &glam::DMat4) -> 
     let width = width.max(1);
     let rows = raw.len() / width;
     let mut out = vec![0f32; rows * width];
-    for (r, dst) in out.chunks_exact_mut(width).enumerate() {
-        let src = &raw[(rows - 1 - r) * width..][..width];
-        if perspective {
+    let convert = |dst: &mut [f32], src: &[u32]| {
+        if src.iter().all(|&u| u >> 8 == Z) {
+            dst.fill(f32::INFINITY);
+        } else if perspective {
             for (o, &u) in dst.iter_mut().zip(src) {
                 let z = u >> 8;
                 let v = k / (((z as i32).wrapping_sub(ci)) as f32 - cf);
@@ -222,9 +246,22 @@ pub(crate) fn depth_distances(raw: &[u32], width: usize, proj: &glam::DMat4) -> 
                 *o = if z == Z { f32::INFINITY } else { v };
             }
         }
+    };
+    for (r, dst) in out.chunks_exact_mut(width).enumerate() {
+        let row = if top_first { r } else { rows - 1 - r };
+        let src = &raw[row * width..][..width];
+        let mut runs = dst.chunks_exact_mut(RUN).zip(src.chunks_exact(RUN));
+        for (d, s) in &mut runs {
+            convert(d, s);
+        }
+        let done = width - width % RUN;
+        convert(&mut dst[done..], &src[done..]);
     }
     out
 }
+
+/// Pixels per background test in [`depth_distances`].
+const RUN: usize = 16;
 
 /// GL's rows are bottom-up; the picture's are top-down (RGBA rows of `width` pixels).
 pub(crate) fn top_first(data: Vec<f32>, width: u32) -> Vec<f32> {
@@ -282,12 +319,34 @@ mod tests {
             // row of the picture.
             let mut raw: Vec<u32> = ts.iter().map(|&t| stored(&proj, t)).collect();
             raw.extend(std::iter::repeat_n(u32::MAX, ts.len()));
-            let out = depth_distances(&raw, ts.len(), &proj);
+            let out = depth_distances(&raw, ts.len(), false, &proj);
             let (top, bottom) = out.split_at(ts.len());
             assert!(
                 top.iter().all(|v| v.is_infinite()),
                 "cleared depth is infinity"
             );
+            let same = depth_distances(&raw, ts.len(), true, &proj);
+            assert_eq!(
+                same[..ts.len()],
+                bottom[..],
+                "top-first rows are not flipped"
+            );
+            // A DEPTH_STENCIL read has the stencil byte where the repeated bits were.
+            let with_stencil: Vec<u32> = raw.iter().map(|u| u & !0xFF | 0x5A).collect();
+            let out_stencil = depth_distances(&with_stencil, ts.len(), false, &proj);
+            assert_eq!(out_stencil, out, "the stencil byte changes no distance");
+            // Background among drawn pixels, inside a run of 16 and in the last, short one.
+            let mut holes = raw.clone();
+            holes[5] = u32::MAX;
+            holes[64] = u32::MAX;
+            let out_holes = depth_distances(&holes, ts.len(), false, &proj);
+            for (i, (h, o)) in out_holes[ts.len()..].iter().zip(bottom).enumerate() {
+                if i == 5 || i == 64 {
+                    assert!(h.is_infinite(), "pixel {i}: {h}");
+                } else {
+                    assert_eq!(h, o, "pixel {i}");
+                }
+            }
             for ((&t, &got), &u) in ts.iter().zip(bottom).zip(&raw) {
                 let z = f64::from(u >> 8);
                 let d = z / f64::from((1u32 << 24) - 1);
