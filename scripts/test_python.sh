@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The Python package's tests (python/tests), run by scripts/test.sh after the Rust tests:
-# a venv in target/pyvenv, `pip install ./python` built with the dev profile into the
+# a venv in target/pyvenv, `pip install ./python` built with the dev profile (pyproject's is
+# release, for users; MATURIN_PEP517_ARGS overrides it here) into the
 # repository's target/ (so only pyo3, numpy and the binding compile on top of the test
 # build, whose workspace features match), then pytest. pytest's exit code 5 (no tests
 # collected) fails like any other.
@@ -12,7 +13,7 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 "$venv/bin/pip" install --quiet maturin numpy pytest trimesh distributed
 t=$(date +%s)
-CARGO_TARGET_DIR="$PWD/target" "$venv/bin/pip" install --quiet --force-reinstall --no-deps ./python
+MATURIN_PEP517_ARGS="--profile dev" CARGO_TARGET_DIR="$PWD/target" "$venv/bin/pip" install --quiet --force-reinstall --no-deps ./python
 echo "scripts/test_python.sh: pip install ./python: $(( $(date +%s) - t )) s"
 # The tests compare with target/debug/glview, built by `cargo test --workspace` just before.
 rc=0
