@@ -15,10 +15,25 @@ struct Only {
     opts: Options,
 }
 
+/// The camera's options: what changes from picture to picture of one scene.
+const CAMERA: &[&str] = &["yaw", "pitch", "distance", "target", "fov"];
+
 thread_local! {
     /// The options' parser, built once per thread: building clap's command (a hundred
     /// arguments) cost more than parsing with it, on every render of the library API.
     static PARSER: std::cell::RefCell<clap::Command> = std::cell::RefCell::new(Only::command());
+    /// A parser of the [`CAMERA`] options alone (the same arguments, cloned).
+    static CAMERA_PARSER: std::cell::RefCell<clap::Command> = std::cell::RefCell::new(
+        clap::Command::new("glview").no_binary_name(true).args(
+            Only::command()
+                .get_arguments()
+                .filter(|a| CAMERA.contains(&a.get_id().as_str()))
+                .cloned(),
+        ),
+    );
+    /// The last non-camera words [`Options::from_pairs`] parsed, and what they gave.
+    static LAST: std::cell::RefCell<Option<(Vec<String>, Options)>> =
+        const { std::cell::RefCell::new(None) };
 }
 
 /// clap's message is several lines with usage; its first line says what is wrong.
@@ -45,7 +60,13 @@ impl Options {
         I: IntoIterator<Item = T>,
         T: Into<String>,
     {
-        let words: Vec<String> = words.into_iter().map(Into::into).collect();
+        let opts = Options::parse(words.into_iter().map(Into::into).collect())?;
+        opts.validate()?;
+        Ok(opts)
+    }
+
+    /// clap's part of [`Options::from_words`]: each value's parser, no validation.
+    fn parse(words: Vec<String>) -> Result<Options> {
         let matches = PARSER
             .with(|p| p.borrow_mut().try_get_matches_from_mut(&words))
             .map_err(|e| Error::Usage(first_line(&e)))?;
@@ -53,7 +74,6 @@ impl Options {
             .map_err(|e| Error::Usage(first_line(&e)))?
             .opts;
         opts.words = words;
-        opts.validate()?;
         Ok(opts)
     }
 
@@ -62,10 +82,16 @@ impl Options {
     /// stand for `-`; `model` is the model file). Values: `true` is a flag given, `false` or
     /// null one left out; a list of numbers is one comma-separated value (`WxH` for `size`),
     /// any other list repeats the option.
+    ///
+    /// Renders of a turntable or a sweep (the Python binding's calls) change only the
+    /// camera: the other options' words are parsed once per thread while they stay the same
+    /// ([`LAST`]), and the camera's by a parser of just those arguments (clap's parse of all
+    /// of them, defaults included, took ~45 µs a call). The result is the full parse's.
     pub fn from_pairs<'a>(
         pairs: impl IntoIterator<Item = (&'a str, &'a Value)>,
     ) -> Result<Options> {
         let mut words = Vec::new();
+        let mut camera = Vec::new();
         let mut model = None;
         for (name, value) in pairs {
             let name = name.replace('_', "-");
@@ -74,6 +100,11 @@ impl Options {
                 continue;
             }
             let flag = format!("--{name}");
+            let words = if CAMERA.contains(&name.as_str()) {
+                &mut camera
+            } else {
+                &mut words
+            };
             match value {
                 Value::Null | Value::Bool(false) => {}
                 Value::Bool(true) => words.push(flag),
@@ -92,7 +123,38 @@ impl Options {
             }
         }
         // The model goes first: a value-less `--ortho` must not swallow it.
-        Options::from_words(model.into_iter().chain(words))
+        let rest: Vec<String> = model.into_iter().chain(words).collect();
+        let cached = LAST.with(|l| {
+            l.borrow()
+                .as_ref()
+                .filter(|(w, _)| *w == rest)
+                .map(|(_, o)| o.clone())
+        });
+        let opts = match cached {
+            Some(o) => o,
+            None => {
+                let o = Options::parse(rest.clone())?;
+                LAST.with(|l| *l.borrow_mut() = Some((rest.clone(), o.clone())));
+                o
+            }
+        };
+        let mut opts = opts;
+        if !camera.is_empty() {
+            let m = CAMERA_PARSER
+                .with(|p| p.borrow_mut().try_get_matches_from_mut(&camera))
+                .map_err(|e| Error::Usage(first_line(&e)))?;
+            // The field types of `Options` (yaw, pitch and fov have defaults, so are there).
+            let f32_of = |id: &str| m.get_one::<f32>(id).copied();
+            opts.yaw = f32_of("yaw").unwrap_or(opts.yaw);
+            opts.pitch = f32_of("pitch").unwrap_or(opts.pitch);
+            opts.fov = f32_of("fov").unwrap_or(opts.fov);
+            opts.distance = f32_of("distance");
+            opts.target = m.get_one::<String>("target").cloned();
+        }
+        opts.words = rest;
+        opts.words.extend(camera);
+        opts.validate()?;
+        Ok(opts)
     }
 
     /// The options given (defaults left out) as names and values, by name;
@@ -186,6 +248,45 @@ impl<'de> serde::Deserialize<'de> for Options {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `from_pairs` parses the camera apart from the rest and keeps the rest's parse: the
+    /// options must be what the whole command line gives, on a repeated rest (the kept
+    /// parse), after another rest, and camera values must fail with the command line's words.
+    #[test]
+    fn camera_pairs_parse_as_the_whole_command_line() {
+        let rests = [
+            serde_json::json!({"light": ["dir:0,-1,0"], "single_sided": true}),
+            serde_json::json!({"model": "m.obj", "ortho": true, "size": [64, 48]}),
+        ];
+        let cameras = [
+            serde_json::json!({}),
+            serde_json::json!({"yaw": 15}),
+            serde_json::json!({"yaw": -40.5, "pitch": 10, "distance": 3.5, "target": "1,-2,3", "fov": 30}),
+            serde_json::json!({"pitch": -80}),
+        ];
+        for rest in rests.iter().chain(rests.iter()) {
+            for camera in &cameras {
+                let mut map = rest.as_object().unwrap().clone();
+                map.extend(camera.as_object().unwrap().clone());
+                let got = Options::from_pairs(map.iter().map(|(k, v)| (k.as_str(), v))).unwrap();
+                let mut whole = Options::from_words(got.words.clone()).unwrap();
+                whole.words.clone_from(&got.words);
+                assert_eq!(format!("{got:?}"), format!("{whole:?}"), "{map:?}");
+            }
+        }
+        for (name, value) in [
+            ("yaw", serde_json::json!("abc")),
+            ("distance", serde_json::json!(-1)),
+            ("fov", serde_json::json!("wide")),
+        ] {
+            let map = serde_json::json!({ name: value.clone() });
+            let map = map.as_object().unwrap();
+            let got = Options::from_pairs(map.iter().map(|(k, v)| (k.as_str(), v))).unwrap_err();
+            let v = scalar(&value).unwrap();
+            let whole = Options::from_words([format!("--{name}"), v]).unwrap_err();
+            assert_eq!(got.to_string(), whole.to_string());
+        }
+    }
 
     #[test]
     fn words_pairs_and_serde_round_trip() {
