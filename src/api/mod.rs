@@ -120,6 +120,54 @@ impl Frame {
 
 type Job = Box<dyn FnOnce(&mut Option<KeptContext>) + Send>;
 
+/// How long a thread polls before it sleeps: waking a sleeping thread took ~50 µs each way
+/// here (a virtual machine's idle CPU), twice per picture, against a 6 ms picture.
+const SPIN: std::time::Duration = std::time::Duration::from_micros(300);
+
+/// The renderer thread's next job: polled for [`SPIN`] after the last one (a caller
+/// rendering many pictures sends the next within microseconds), then waited for.
+fn next_job(rx: &mpsc::Receiver<Job>) -> Option<Job> {
+    let start = std::time::Instant::now();
+    while start.elapsed() < SPIN {
+        match rx.try_recv() {
+            Ok(job) => return Some(job),
+            Err(mpsc::TryRecvError::Disconnected) => return None,
+            Err(mpsc::TryRecvError::Empty) => std::thread::yield_now(),
+        }
+    }
+    rx.recv().ok()
+}
+
+/// A job's answer: slept for until [`SPIN`] before the time the last job took, then polled.
+fn wait_answer<T>(
+    answer: &mpsc::Receiver<T>,
+    last: &Mutex<std::time::Duration>,
+) -> std::result::Result<T, mpsc::RecvError> {
+    let start = std::time::Instant::now();
+    let expected = last.lock().map(|d| *d).unwrap_or_default();
+    let r = (|| {
+        if let Some(sleep) = expected.checked_sub(SPIN) {
+            match answer.recv_timeout(sleep) {
+                Ok(v) => return Ok(v),
+                Err(mpsc::RecvTimeoutError::Disconnected) => return Err(mpsc::RecvError),
+                Err(mpsc::RecvTimeoutError::Timeout) => {}
+            }
+        }
+        while start.elapsed() < expected + SPIN {
+            match answer.try_recv() {
+                Ok(v) => return Ok(v),
+                Err(mpsc::TryRecvError::Disconnected) => return Err(mpsc::RecvError),
+                Err(mpsc::TryRecvError::Empty) => std::thread::yield_now(),
+            }
+        }
+        answer.recv()
+    })();
+    if let Ok(mut d) = last.lock() {
+        *d = start.elapsed();
+    }
+    r
+}
+
 /// A renderer held by one caller ([`Renderer::reserve`]).
 pub struct Reserved<'a> {
     _guard: std::sync::MutexGuard<'a, Option<mpsc::Sender<Job>>>,
@@ -130,6 +178,8 @@ pub struct Renderer {
     jobs: Mutex<Option<mpsc::Sender<Job>>>,
     thread: Option<std::thread::JoinHandle<()>>,
     model: Option<Model>,
+    /// How long the last call took ([`wait_answer`]).
+    last_job: Mutex<std::time::Duration>,
     /// Options every render starts from (size, backend, ...) unless it gives its own.
     pub defaults: Options,
 }
@@ -143,7 +193,7 @@ impl Renderer {
             .name("glview-renderer".into())
             .spawn(move || {
                 let mut kept = None;
-                for job in rx {
+                while let Some(job) = next_job(&rx) {
                     job(&mut kept);
                 }
             })
@@ -152,6 +202,7 @@ impl Renderer {
             jobs: Mutex::new(Some(tx)),
             thread: Some(thread),
             model: None,
+            last_job: Mutex::new(std::time::Duration::ZERO),
             defaults,
         };
         let opts = r.defaults.clone();
@@ -175,8 +226,7 @@ impl Renderer {
         });
         tx.send(job)
             .map_err(|_| Error::Unsupported("the renderer thread has ended".into()))?;
-        answer
-            .recv()
+        wait_answer(&answer, &self.last_job)
             .map_err(|_| Error::Unsupported("the renderer thread has ended".into()))?
     }
 
