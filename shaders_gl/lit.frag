@@ -1,6 +1,7 @@
 // Legacy tier: colour = Ke + Ka*ambient + sum of visibility * (Kd*Lc*diffuse + Ks*Lc*spec),
 // clamped; a texture multiplies Ka and Kd, an emissive map Ke, a normal map bends the normal
-// (not with Gouraud). Back faces use the flipped normal. UNLIT: Kd times the texture.
+// (not with Gouraud). Back faces use the flipped normal (FRONT_ONLY: the draw culls them, so
+// none arrive). UNLIT: Kd times the texture.
 // The products of uniforms (Ka*ambient, Kd*Lc, Ks*Lc and the term switches) are formed once
 // per draw on the CPU (lit.rs, `MaterialTerms`): llvmpipe would form them per fragment.
 IN vec3 vEyePos;
@@ -75,7 +76,9 @@ void main() {
     vec3 color = emissive + uAmbientTerm * tex;
 #if NUM_LIGHTS > 0
     vec3 n = safeNormalize(vNormal);
+#ifndef FRONT_ONLY
     if (!gl_FrontFacing) n = -n;
+#endif
     vec3 geomN = n;   // shadow lookups are offset along the surface's own normal
 #ifdef HAS_NORMAL_MAP
     n = glviewNormalMap(n, gl_FrontFacing);
@@ -97,7 +100,11 @@ void main() {
 #endif
     for (int i = 0; i < NUM_LIGHTS; ++i) {
 #ifdef GOURAUD
+#ifdef FRONT_ONLY
+        vec2 f = vFactors[i].xy;
+#else
         vec2 f = gl_FrontFacing ? vFactors[i].xy : vFactors[i].zw;
+#endif
 #else
         vec2 f = lightFactors(toLight(uLightPos[i], vEyePos), n, v);
 #endif

@@ -280,7 +280,9 @@ pub(crate) fn draw(
         )
         .switch("HAS_NORMAL_MAP", "nrm", normal_map.is_some())
         .switch("HAS_EMISSIVE_MAP", "emi", emissive_map.is_some());
-        let key = light_flags(key, s);
+        // Single-sided opaque draws cull back faces (cull.rs): no fragment needs the flip.
+        let front_only = !model.double_sided && !translucent;
+        let key = light_flags(key, s).switch("FRONT_ONLY", "front", front_only);
         let key = super::slots::flags(key, model, has_uv1, texture.is_some());
         let key = cx.lit_flags(key);
         let program = cx.program(&key)?;

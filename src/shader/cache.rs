@@ -223,14 +223,16 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
         for (shadows, pcf, cube_mask) in shadow_variants {
             for textured in [false, true] {
                 for gouraud in [false, true] {
-                    // Vertex colours, point lights and wrap lighting with the textured
-                    // variants: every flag is compiled without doubling the permutations.
+                    // Vertex colours, point lights, wrap lighting and front faces only with
+                    // the textured variants: every flag is compiled without doubling the
+                    // permutations.
                     keys.push(
                         crate::render::lit::program_key(
                             lights, shadows, pcf, cube_mask, textured, gouraud, textured,
                         )
                         .switch("POINT_LIGHTS", "pt", textured)
-                        .switch("WRAP", "wrap", textured),
+                        .switch("WRAP", "wrap", textured)
+                        .switch("FRONT_ONLY", "front", textured),
                     );
                 }
             }

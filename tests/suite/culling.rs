@@ -360,3 +360,47 @@ fn single_sided_skips_back_facing_clusters_of_open_meshes_exactly() {
         "--single-sided changed nothing"
     );
 }
+
+/// Single-sided opaque draws use a program without the back-face normal flip (`FRONT_ONLY`:
+/// culling lets no back face through). On a closed sphere seen from outside only front faces
+/// show either way, so the single-sided picture is the two-sided one, Phong and Gouraud, with
+/// a point light too; only silhouette pixels where a back face won a depth tie may differ.
+#[test]
+fn front_only_programs_draw_what_two_sided_ones_draw() {
+    let dir = out_dir("culling_front_only");
+    let sphere = write(&dir, "sphere.obj", &sphere_obj(60, 80, false));
+    for shading in ["phong", "gouraud"] {
+        for light in ["dir:-1,-2,-1.5", "point:2,3,4"] {
+            let name = format!("{shading}-{}", &light[..3]);
+            let args = [
+                sphere.as_str(),
+                "--size",
+                "160x120",
+                "--shading",
+                shading,
+                "--light",
+                light,
+                "--light",
+                "head",
+                "--no-culling",
+            ];
+            let two = render(&dir, &format!("{name}-two"), &args, &[]);
+            let one = render(
+                &dir,
+                &format!("{name}-one"),
+                &[&args[..], &["--single-sided"]].concat(),
+                &[],
+            );
+            let d = diff(&one, &two, 2);
+            if d.over > 0 {
+                write_diff(&dir, &name, &one, &two);
+            }
+            // 160×120 = 19,200 pixels; the silhouette is ~300 of them.
+            assert!(
+                d.over <= 20,
+                "{name}: {} pixels differ by more than 2/255",
+                d.over
+            );
+        }
+    }
+}
