@@ -3,7 +3,7 @@
 // (not with Gouraud). Back faces use the flipped normal (FRONT_ONLY: the draw culls them, so
 // none arrive). UNLIT: Kd times the texture.
 // The products of uniforms (Ka*ambient, Kd*Lc, Ks*Lc and the term switches) are formed once
-// per draw on the CPU (lit.rs, `MaterialTerms`): llvmpipe would form them per fragment.
+// per draw on the CPU (lit.rs, `set_material_terms`): llvmpipe would form them per fragment.
 IN vec3 vEyePos;
 #ifdef LOG_DEPTH
 #include "logdepth.glsl"

@@ -92,6 +92,9 @@ impl Options {
     ) -> Result<Options> {
         let mut words = Vec::new();
         let mut camera = Vec::new();
+        // Every word in the pairs' order: the whole command line, parsed where the split
+        // parse fails, so a bad value gets the error (and the order of errors) it always had.
+        let mut all = Vec::new();
         let mut model = None;
         for (name, value) in pairs {
             let name = name.replace('_', "-");
@@ -100,48 +103,63 @@ impl Options {
                 continue;
             }
             let flag = format!("--{name}");
-            let words = if CAMERA.contains(&name.as_str()) {
-                &mut camera
-            } else {
-                &mut words
-            };
+            let mut these = Vec::new();
             match value {
                 Value::Null | Value::Bool(false) => {}
-                Value::Bool(true) => words.push(flag),
+                Value::Bool(true) => these.push(flag),
                 Value::Array(items) if items.iter().all(Value::is_number) => {
                     let sep = if name == "size" { "x" } else { "," };
                     let parts: Vec<String> = items.iter().filter_map(scalar).collect();
-                    words.extend([flag, parts.join(sep)]);
+                    these.extend([flag, parts.join(sep)]);
                 }
                 Value::Array(items) => {
                     for item in items {
-                        words.push(flag.clone());
-                        words.push(scalar(item).ok_or_else(|| bad(&name, item))?);
+                        these.push(flag.clone());
+                        these.push(scalar(item).ok_or_else(|| bad(&name, item))?);
                     }
                 }
-                other => words.extend([flag, scalar(other).ok_or_else(|| bad(&name, other))?]),
+                other => these.extend([flag, scalar(other).ok_or_else(|| bad(&name, other))?]),
+            }
+            all.extend(these.iter().cloned());
+            if CAMERA.contains(&name.as_str()) {
+                camera.extend(these);
+            } else {
+                words.extend(these);
             }
         }
         // The model goes first: a value-less `--ortho` must not swallow it.
+        let all: Vec<String> = model.iter().cloned().chain(all).collect();
         let rest: Vec<String> = model.into_iter().chain(words).collect();
+        match Options::split_parse(rest, &camera) {
+            Ok(mut opts) => {
+                opts.words = all;
+                opts.validate()?;
+                Ok(opts)
+            }
+            Err(_) => Options::from_words(all),
+        }
+    }
+
+    /// [`Options::from_pairs`]'s parse: `rest` (the non-camera words) as last time or by
+    /// clap, then the `camera` words over it; not validated, `words` not set.
+    fn split_parse(rest: Vec<String>, camera: &[String]) -> Result<Options> {
         let cached = LAST.with(|l| {
             l.borrow()
                 .as_ref()
                 .filter(|(w, _)| *w == rest)
                 .map(|(_, o)| o.clone())
         });
-        let opts = match cached {
+        let mut opts = match cached {
             Some(o) => o,
             None => {
                 let o = Options::parse(rest.clone())?;
-                LAST.with(|l| *l.borrow_mut() = Some((rest.clone(), o.clone())));
+                LAST.with(|l| *l.borrow_mut() = Some((rest, o.clone())));
                 o
             }
         };
-        let mut opts = opts;
         if !camera.is_empty() {
             let m = CAMERA_PARSER
-                .with(|p| p.borrow_mut().try_get_matches_from_mut(&camera))
+                .with(|p| p.borrow_mut().try_get_matches_from_mut(camera))
                 .map_err(|e| Error::Usage(first_line(&e)))?;
             // The field types of `Options` (yaw, pitch and fov have defaults, so are there).
             let f32_of = |id: &str| m.get_one::<f32>(id).copied();
@@ -151,9 +169,6 @@ impl Options {
             opts.distance = f32_of("distance");
             opts.target = m.get_one::<String>("target").cloned();
         }
-        opts.words = rest;
-        opts.words.extend(camera);
-        opts.validate()?;
         Ok(opts)
     }
 
@@ -285,6 +300,28 @@ mod tests {
             let v = scalar(&value).unwrap();
             let whole = Options::from_words([format!("--{name}"), v]).unwrap_err();
             assert_eq!(got.to_string(), whole.to_string());
+        }
+        // Where the split parse fails, the error is the whole command line's, first error
+        // first (here a conflict among the rest, or a flag where a value belongs, before a
+        // bad camera value). The map's keys are in sorted order, as the words below.
+        for (pairs, words) in [
+            (
+                serde_json::json!({"crease": 30, "flat": true, "yaw": "abc"}),
+                &["--crease", "30", "--flat", "--yaw", "abc"][..],
+            ),
+            (
+                serde_json::json!({"light": true, "yaw": 15}),
+                &["--light", "--yaw", "15"],
+            ),
+            (
+                serde_json::json!({"target": true, "yaw": 5}),
+                &["--target", "--yaw", "5"],
+            ),
+        ] {
+            let map = pairs.as_object().unwrap();
+            let got = Options::from_pairs(map.iter().map(|(k, v)| (k.as_str(), v))).unwrap_err();
+            let whole = Options::from_words(words.iter().copied()).unwrap_err();
+            assert_eq!(got.to_string(), whole.to_string(), "{pairs}");
         }
     }
 

@@ -189,7 +189,12 @@ impl Renderer {
         {
             return None;
         }
-        let (raw, top_first) = gpu.read_depth_u32(width, height, stencil);
+        let (mut raw, mut top_first) = gpu.read_depth_u32(width, height, stencil);
+        // A framebuffer without the stencil buffer it was taken to have refuses the
+        // DEPTH_STENCIL read (INVALID_OPERATION): read the depth alone then.
+        if stencil && gpu.check_error("depth read-back").is_err() {
+            (raw, top_first) = gpu.read_depth_u32(width, height, false);
+        }
         let aspect = width as f32 / height.max(1) as f32;
         let proj = s
             .camera
@@ -224,6 +229,8 @@ pub(crate) fn depth_distances(
     let perspective = proj.z_axis.w != 0.0;
     let c = (1.0 - a) * zf / 2.0;
     let (ci, cf) = (c.floor(), (c - c.floor()) as f32);
+    // C beyond i32 (far/(far − near) > 128: a near plane at the far one) takes f64 per pixel.
+    let wide = !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&ci);
     let ci = ci.clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32;
     let k = (b * zf / 2.0) as f32;
     let (p, q) = (((b + 1.0) / a) as f32, (-2.0 / (a * zf)) as f32);
@@ -233,6 +240,12 @@ pub(crate) fn depth_distances(
     let convert = |dst: &mut [f32], src: &[u32]| {
         if src.iter().all(|&u| u >> 8 == Z) {
             dst.fill(f32::INFINITY);
+        } else if perspective && wide {
+            for (o, &u) in dst.iter_mut().zip(src) {
+                let z = u >> 8;
+                let v = (b * zf / 2.0 / (f64::from(z) - c)) as f32;
+                *o = if z == Z { f32::INFINITY } else { v };
+            }
         } else if perspective {
             for (o, &u) in dst.iter_mut().zip(src) {
                 let z = u >> 8;
@@ -303,6 +316,8 @@ mod tests {
         for proj in [
             DMat4::perspective_rh_gl(0.8, 1.5, 0.05, 400.0),
             DMat4::perspective_rh_gl(0.8, 1.5, 2.0, 9.0),
+            // A near plane at the far one: C beyond i32, the f64 path.
+            DMat4::perspective_rh_gl(0.8, 1.5, 1.0, 1.001),
             DMat4::orthographic_rh_gl(-2.0, 2.0, -1.5, 1.5, 0.5, 30.0),
         ] {
             let (near, far) = if proj.z_axis.w != 0.0 {
