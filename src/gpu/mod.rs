@@ -98,8 +98,15 @@ impl Gpu {
     pub fn read_rgba(&self, width: u32, height: u32) -> Vec<u8> {
         let (w, h) = (width as usize, height as usize);
         let mut buf = vec![0u8; w * h * 4];
-        let top_first =
-            self.read_pixels(width, height, glow::RGBA, glow::UNSIGNED_BYTE, 1, &mut buf);
+        let top_first = self.read_pixels(
+            width,
+            height,
+            glow::RGBA,
+            glow::UNSIGNED_BYTE,
+            1,
+            &mut buf,
+            true,
+        );
         if !top_first {
             flip_rows(&mut buf, w * 4);
         }
@@ -127,13 +134,16 @@ impl Gpu {
             ty,
             4,
             bytemuck::cast_slice_mut(&mut buf),
+            true,
         );
         (buf, top_first)
     }
 
     /// `glReadPixels` of the whole `width`×`height` into `buf` (which must hold exactly what
-    /// `format`/`ty` give with rows aligned to `align`); rows top first where the driver can
-    /// (MESA_pack_invert, then the return is true), else bottom first.
+    /// `format`/`ty` give with rows aligned to `align`): bottom row first (GL's order), or
+    /// with `top_first` asked for, top row first where the driver can (MESA_pack_invert);
+    /// returns whether the rows are top first.
+    #[allow(clippy::too_many_arguments)]
     fn read_pixels(
         &self,
         width: u32,
@@ -142,9 +152,10 @@ impl Gpu {
         ty: u32,
         align: i32,
         buf: &mut [u8],
+        top_first: bool,
     ) -> bool {
         const PACK_INVERT_MESA: u32 = 0x8758;
-        let invert = self.caps.pack_invert;
+        let invert = top_first && self.caps.pack_invert;
         // SAFETY: the caller sized buf for width*height pixels of format/ty at this
         // alignment; PACK_INVERT_MESA is set only where the extension exists, and reset.
         unsafe {
@@ -173,26 +184,9 @@ impl Gpu {
     /// Reads the bound read framebuffer's float colour as RGBA f32, bottom row first (GL
     /// order; cube-face rows are stored that way).
     pub fn read_rgba_f32(&self, width: u32, height: u32) -> Vec<f32> {
-        self.read_f32(width, height, glow::RGBA, 4)
-    }
-
-    /// `format` with `channels` values per pixel, as f32, bottom row first.
-    fn read_f32(&self, width: u32, height: u32, format: u32, channels: usize) -> Vec<f32> {
-        let mut buf = vec![0f32; width as usize * height as usize * channels];
-        // SAFETY: buf holds exactly width*height pixels of `channels` f32 values (what
-        // `format` with FLOAT reads); PACK_ALIGNMENT 4 fits f32.
-        unsafe {
-            self.gl.pixel_store_i32(glow::PACK_ALIGNMENT, 4);
-            self.gl.read_pixels(
-                0,
-                0,
-                width as i32,
-                height as i32,
-                format,
-                glow::FLOAT,
-                glow::PixelPackData::Slice(Some(bytemuck::cast_slice_mut(&mut buf))),
-            );
-        }
+        let mut buf = vec![0f32; width as usize * height as usize * 4];
+        let bytes = bytemuck::cast_slice_mut(&mut buf);
+        self.read_pixels(width, height, glow::RGBA, glow::FLOAT, 4, bytes, false);
         buf
     }
 }

@@ -210,9 +210,10 @@ impl Renderer {
 ///
 /// The top 24 bits of each value are the 24-bit buffer's z (a DEPTH_COMPONENT read repeats
 /// z's top bits below it, a DEPTH_STENCIL read puts the stencil there), so z = u >> 8,
-/// and window depth d = z / Z (Z = 2^24 − 1, also the far plane). With NDC depth 2d − 1 and clip z = A·z_eye + B: perspective (clip w = −z_eye) gives
-/// distance B / (2d − 1 + A) = K / (z − C), K = B·Z/2, C = (1 − A)·Z/2; orthographic (w = 1)
-/// gives (B + 1 − 2d) / A, linear in z. z − C is formed as the integer difference z − ⌊C⌋,
+/// and window depth d = z / Z (Z = 2^24 − 1, also the far plane). With NDC depth 2d − 1
+/// and clip z = A·z_eye + B: perspective (clip w = −z_eye) gives distance
+/// B / (2d − 1 + A) = K / (z − C), K = B·Z/2, C = (1 − A)·Z/2; orthographic (w = 1) gives
+/// (B + 1 − 2d) / A, linear in z. z − C is formed as the integer difference z − ⌊C⌋,
 /// exact, then rounded once to f32 (it cancels towards the far plane, where a float depth
 /// would lose it), and the fraction of C taken off: so the loop is integer and f32 lanes
 /// only, with no branch, and vectorises. Runs of [`RUN`] pixels that are all background
@@ -232,7 +233,8 @@ pub(crate) fn depth_distances(
     // C beyond i32 (far/(far − near) > 128: a near plane at the far one) takes f64 per pixel.
     let wide = !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&ci);
     let ci = ci.clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32;
-    let k = (b * zf / 2.0) as f32;
+    let k64 = b * zf / 2.0;
+    let k = k64 as f32;
     let (p, q) = (((b + 1.0) / a) as f32, (-2.0 / (a * zf)) as f32);
     let width = width.max(1);
     let rows = raw.len() / width;
@@ -243,7 +245,7 @@ pub(crate) fn depth_distances(
         } else if perspective && wide {
             for (o, &u) in dst.iter_mut().zip(src) {
                 let z = u >> 8;
-                let v = (b * zf / 2.0 / (f64::from(z) - c)) as f32;
+                let v = (k64 / (f64::from(z) - c)) as f32;
                 *o = if z == Z { f32::INFINITY } else { v };
             }
         } else if perspective {
@@ -277,22 +279,10 @@ pub(crate) fn depth_distances(
 const RUN: usize = 16;
 
 /// GL's rows are bottom-up; the picture's are top-down (RGBA rows of `width` pixels).
-pub(crate) fn top_first(data: Vec<f32>, width: u32) -> Vec<f32> {
-    top_first_map(&data, width as usize * 4, |v| v)
-}
-
-/// `data`'s rows of `row` values in the other vertical order, each value through `f`: row
-/// by row into a sized buffer, not through a flattened iterator chain, which checks
-/// capacity per element and does not vectorise.
-fn top_first_map(data: &[f32], row: usize, f: impl Fn(f32) -> f32) -> Vec<f32> {
-    let row = row.max(1);
-    let mut out = vec![0f32; data.len()];
-    for (dst, src) in out.chunks_exact_mut(row).zip(data.chunks_exact(row).rev()) {
-        for (o, &v) in dst.iter_mut().zip(src) {
-            *o = f(v);
-        }
-    }
-    out
+pub(crate) fn top_first(mut data: Vec<f32>, width: u32) -> Vec<f32> {
+    let row_bytes = width as usize * 4 * std::mem::size_of::<f32>();
+    crate::gpu::flip_rows(bytemuck::cast_slice_mut(&mut data), row_bytes);
+    data
 }
 
 #[cfg(test)]

@@ -349,7 +349,7 @@ pub(crate) fn base_texture(
 /// The legacy program's compile-time light flags: `POINT_LIGHTS` where some light has a
 /// position (else every light's direction is a uniform, no per-fragment normalisation),
 /// `WRAP` for wrap lighting.
-pub(crate) fn light_flags(key: ProgramKey, s: &crate::frame::FrameSettings) -> ProgramKey {
+fn light_flags(key: ProgramKey, s: &crate::frame::FrameSettings) -> ProgramKey {
     let point = s
         .lights
         .iter()
