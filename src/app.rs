@@ -42,13 +42,13 @@ pub fn run_window(args: &Args) -> Result<()> {
     event_loop.set_control_flow(ControlFlow::Wait);
     let mut app = App {
         args,
-        state_keys: crate::repro::state_keys(args.keys.as_deref()),
+        state_keys: crate::repro::state_keys(args.camera.keys.as_deref()),
         bounds: scene.bounds,
         scene: Some(scene),
         settings,
         home,
         live: None,
-        size: PhysicalSize::new(args.size.0, args.size.1),
+        size: PhysicalSize::new(args.picture.size.0, args.picture.size.1),
         cursor: None,
         left_down: false,
         screenshot: false,
@@ -108,11 +108,11 @@ impl App<'_> {
         let attributes = Window::default_attributes()
             .with_title(format!("glview — {} — loading", scene.name))
             .with_inner_size(self.size);
-        let window = WindowContext::new(event_loop, attributes, self.args.gl)?;
+        let window = WindowContext::new(event_loop, attributes, self.args.context.gl)?;
         let gpu = Gpu::new(window.glow_context());
         let mut renderer = Renderer::new(&gpu, scene)?;
-        renderer.time_post = self.args.stats;
-        renderer.cull_clusters = !self.args.no_culling;
+        renderer.time_post = self.args.picture.stats;
+        renderer.cull_clusters = self.args.render.culling;
         self.size = window.window.inner_size();
         window.resize(self.size.width, self.size.height);
         let aa = AaTarget::new(&gpu, window_aa(self.args))?;
@@ -265,7 +265,7 @@ impl App<'_> {
             }
         }
         live.window.swap_buffers()?;
-        if self.args.stats {
+        if self.args.picture.stats {
             println!("{}", serde_json::to_string(&stats).unwrap_or_default());
         }
         Ok(())
@@ -490,9 +490,9 @@ fn next_screenshot_path(dir: &Path) -> Result<PathBuf> {
 
 /// The window's anti-aliasing from `--aa` (FXAA is a post pass of every frame: nothing here).
 fn window_aa(args: &Args) -> WindowAa {
-    match args.aa {
-        crate::cli::AaMode::Msaa => WindowAa::Msaa(args.aa_samples),
-        crate::cli::AaMode::Ssaa => WindowAa::Ssaa(args.aa_samples.clamp(1, 4)),
+    match args.post.aa {
+        crate::cli::AaMode::Msaa => WindowAa::Msaa(args.post.aa_samples),
+        crate::cli::AaMode::Ssaa => WindowAa::Ssaa(args.post.aa_samples.clamp(1, 4)),
         crate::cli::AaMode::None | crate::cli::AaMode::Fxaa => WindowAa::None,
     }
 }

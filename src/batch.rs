@@ -65,6 +65,7 @@ fn job_args(job: &Job) -> std::result::Result<Args, String> {
             .trim_start_matches("error: ")
             .to_string()
     })?;
+    args.options().map_err(|e| e.to_string())?;
     let other_mode = args.command.is_some()
         || args.reference
         || args.compare.is_some()

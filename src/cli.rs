@@ -1,12 +1,14 @@
-//! The command line (clap): the modes and where pictures go; the options of the picture
-//! itself are [`Options`] (flattened in). Every option is in `--help` and the README.
-use crate::options::Options;
+//! The command line (clap): the modes and where pictures go. The picture's options are
+//! [`Options`]; their arguments are made from the option specs ([`PictureArgs`]), so each
+//! is declared, parsed and documented once, in `options`.
+use crate::options::{specs, Form, OptionSpec, Options};
 pub use crate::options::{AaMode, DepthMode, Diffuse, Show};
-use clap::Parser;
+use clap::builder::{PossibleValue, PossibleValuesParser};
+use clap::{Arg, ArgAction, ArgMatches, Parser};
 use std::path::PathBuf;
 
 #[derive(Debug, Parser)]
-#[command(name = "glview", version, args_conflicts_with_subcommands = true, about = "Legacy-compatible OpenGL OBJ/MTL viewer: per-fragment Phong and shadow mapping on GL 2.1, GL ES 3.0 and GL 3.3 core.", after_help = crate::keys::help_text())]
+#[command(name = "glview", version, args_conflicts_with_subcommands = true, about = "glview: a model viewer (OBJ/MTL, STL, PLY, glTF) with Phong and PBR tiers, shadows and translucency on GL 2.1, GL ES 3.0 and GL 3.3; headless PNGs, comparisons, batches and a Python API.", after_help = crate::keys::help_text())]
 pub struct Args {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -47,40 +49,146 @@ pub struct Args {
     /// Folder for F12 screenshots in the window.
     #[arg(long, default_value = ".")]
     pub screenshot_dir: PathBuf,
+    /// Render again the picture a PNG of glview's was drawn from: its options (the JSON in
+    /// its `glview.options` text) into --output (default glview-repro.png).
+    #[arg(long, value_name = "FILE.png", conflicts_with_all = ["compare", "diff", "diff_against"])]
+    pub repro: Option<PathBuf>,
+    /// Print the options reference (Markdown, docs/options.md) generated from the options'
+    /// declaration, and exit.
+    #[arg(long, hide = true)]
+    pub options_reference: bool,
     #[command(flatten)]
-    pub opts: Options,
+    pub opts: PictureArgs,
+}
+
+/// The picture's options as command-line arguments, made from the option specs, and the
+/// first problem with them (kept, not raised in clap's parse, so it is printed as every
+/// other error is: one `error:` line, exit code 1; [`Args::options`] returns it).
+#[derive(Clone, Debug, Default)]
+pub struct PictureArgs(pub Options, pub Option<crate::options::OptionError>);
+
+fn arg_of(s: &'static OptionSpec) -> Arg {
+    if s.name == "model" {
+        return Arg::new("model")
+            .value_name("MODEL")
+            .help(s.summary())
+            .long_help(s.doc.trim_end());
+    }
+    let default = s
+        .default
+        .as_deref()
+        .filter(|d| !d.is_empty())
+        .map(|d| format!(" [default: {d}]"))
+        .unwrap_or_default();
+    let mut a = Arg::new(s.name)
+        .long(s.name)
+        .help(format!("{}{default}", s.summary()))
+        .long_help(format!("{}{default}", s.doc.trim_end()));
+    a = match s.form {
+        Form::Flag | Form::NoFlag => a.action(ArgAction::SetTrue),
+        Form::Optional => a
+            .num_args(0..=1)
+            .default_missing_value("")
+            .allow_negative_numbers(true)
+            .value_name("HEIGHT"),
+        Form::Value => a.action(ArgAction::Set).allow_hyphen_values(true),
+        Form::Repeat => a.action(ArgAction::Append).allow_hyphen_values(true),
+        Form::List => a.action(ArgAction::Append).value_delimiter(','),
+    };
+    if !s.choices.is_empty() {
+        let values: Vec<PossibleValue> = s
+            .choices
+            .iter()
+            .map(|(w, d)| PossibleValue::new(*w).help(*d))
+            .collect();
+        a = a.value_parser(PossibleValuesParser::new(values));
+    }
+    a
+}
+
+impl clap::FromArgMatches for PictureArgs {
+    fn from_arg_matches(m: &ArgMatches) -> Result<Self, clap::Error> {
+        let mut p = PictureArgs::default();
+        p.update_from_arg_matches(m)?;
+        Ok(p)
+    }
+
+    /// Every given argument through its spec's setter, then the options' checks: a bad
+    /// value is the same error here as in a batch line or a Python keyword.
+    fn update_from_arg_matches(&mut self, m: &ArgMatches) -> Result<(), clap::Error> {
+        let (o, problem) = (&mut self.0, &mut self.1);
+        for s in specs() {
+            let given: Vec<&str> = match s.form {
+                Form::Flag | Form::NoFlag => {
+                    if m.get_flag(s.name) {
+                        vec![""]
+                    } else {
+                        Vec::new()
+                    }
+                }
+                _ => m
+                    .get_many::<String>(s.name)
+                    .into_iter()
+                    .flatten()
+                    .map(String::as_str)
+                    .collect(),
+            };
+            for v in given {
+                if let Err(msg) = (s.set_word)(o, v) {
+                    problem.get_or_insert(crate::options::OptionError::new(s.name, msg));
+                }
+            }
+        }
+        if problem.is_none() {
+            *problem = o.validate().err();
+        }
+        Ok(())
+    }
+}
+
+impl clap::Args for PictureArgs {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        cmd.args(specs().iter().map(arg_of))
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
 }
 
 /// The modes read the picture's options through the arguments (`args.yaw`).
 impl std::ops::Deref for Args {
     type Target = Options;
     fn deref(&self) -> &Options {
-        &self.opts
+        &self.opts.0
     }
 }
 
 impl std::ops::DerefMut for Args {
     fn deref_mut(&mut self) -> &mut Options {
-        &mut self.opts
+        &mut self.opts.0
     }
 }
 
 impl Args {
-    /// Parses `words` (without the program name) and keeps them for the PNG text's
-    /// reproducing command line (non-UTF-8 words are kept lossily there, exactly here).
+    /// The picture's options, or the first problem with them.
+    pub fn options(&self) -> crate::Result<&Options> {
+        match &self.opts.1 {
+            Some(e) => Err(e.clone().into()),
+            None => Ok(&self.opts.0),
+        }
+    }
+
+    /// Parses `words` (without the program name).
     pub fn from_words<I, T>(words: I) -> Result<Args, clap::Error>
     where
         I: IntoIterator<Item = T>,
-        T: Into<std::ffi::OsString>,
+        T: Into<std::ffi::OsString> + Clone,
     {
-        let words: Vec<std::ffi::OsString> = words.into_iter().map(Into::into).collect();
-        let mut args =
-            Args::try_parse_from(std::iter::once("glview".into()).chain(words.iter().cloned()))?;
-        args.opts.words = words
-            .iter()
-            .map(|w| w.to_string_lossy().into_owned())
-            .collect();
-        Ok(args)
+        Args::try_parse_from(
+            std::iter::once(std::ffi::OsString::from("glview"))
+                .chain(words.into_iter().map(Into::into)),
+        )
     }
 }
 
@@ -110,7 +218,7 @@ pub struct BatchCommand {
 
 #[derive(Debug, clap::Args)]
 pub struct SheetCommand {
-    /// OBJ file (default: the built-in scene).
+    /// Model file (default: the built-in scene).
     pub model: Option<PathBuf>,
     /// Number of turntable views (yaw 0, 360/N, ...).
     #[arg(long, default_value_t = 6)]
@@ -172,7 +280,7 @@ mod tests {
             );
         }
         let a = Args::try_parse_from(["glview", "-o", "x.JPG", "--up", "-Z"]).unwrap();
-        assert_eq!(a.up, crate::scene::UpAxis::NegZ);
+        assert_eq!(a.load.up, crate::scene::UpAxis::NegZ);
     }
 
     #[test]

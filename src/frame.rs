@@ -6,13 +6,14 @@ use crate::shading::LightingParams;
 use glam::Vec3;
 use serde::Serialize;
 
-/// The shading tier: the legacy formula per fragment or per vertex, or the PBR/IBL tier.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-pub enum Shading {
-    Phong,
-    Gouraud,
-    /// Metallic/roughness PBR with image-based lighting (the seed document's split sum).
-    Pbr,
+crate::choice! {
+    /// The shading tier: the legacy formula per fragment or per vertex, or the PBR/IBL tier.
+    pub enum Shading {
+        Phong = "phong",
+        Gouraud = "gouraud",
+        /// Metallic/roughness PBR with image-based lighting (the seed document's split sum).
+        Pbr = "pbr",
+    }
 }
 
 impl Shading {
@@ -76,26 +77,28 @@ pub struct FrameSettings {
     pub show_shadow_map: bool,
 }
 
-/// How translucent surfaces (`d` < 1 or `Tr` > 0) are drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-pub enum TranslucencyMode {
-    /// The second seed document's technique: translucent surfaces into depth only, then again
-    /// with depth test EQUAL and blending, so only the nearest translucent layer of each
-    /// pixel blends over what lies behind; independent of draw order; the background is
-    /// drawn afterwards only where the stencil says nothing was.
-    Nearest,
-    /// Whole meshes sorted back to front by their centres and blended, back faces first
-    /// (the legacy behaviour, kept for comparison).
-    Sorted,
+crate::choice! {
+    /// How translucent surfaces (`d` < 1 or `Tr` > 0) are drawn.
+    pub enum TranslucencyMode {
+        /// The second seed document's technique: translucent surfaces into depth only, then again
+        /// with depth test EQUAL and blending, so only the nearest translucent layer of each
+        /// pixel blends over what lies behind; independent of draw order; the background is
+        /// drawn afterwards only where the stencil says nothing was.
+        Nearest = "nearest",
+        /// Whole meshes sorted back to front by their centres and blended, back faces first
+        /// (the legacy behaviour, kept for comparison).
+        Sorted = "sorted",
+    }
 }
 
-/// How a translucent layer combines with what lies behind it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-pub enum BlendFormula {
-    /// C = α·C_src + (1 − α)·C_dst (the seed's 2.7)
-    Alpha,
-    /// C = α·C_src + C_dst (the seed's 2.9)
-    Add,
+crate::choice! {
+    /// How a translucent layer combines with what lies behind it.
+    pub enum BlendFormula {
+        /// C = α·C_src + (1 − α)·C_dst (the seed's 2.7)
+        Alpha = "alpha",
+        /// C = α·C_src + C_dst (the seed's 2.9)
+        Add = "add",
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -68,6 +68,62 @@ impl LightSpec {
     }
 }
 
+/// A `--light` value as given: a light, the camera's headlight, or no lights at all. A
+/// direction is kept as typed (made unit when the frame's lights are made), so the option
+/// writes back exactly as it was read.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LightOpt {
+    Point(DVec3),
+    Dir(DVec3),
+    Head,
+    None,
+}
+
+impl std::str::FromStr for LightOpt {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "head" => return Ok(LightOpt::Head),
+            "none" => return Ok(LightOpt::None),
+            _ => {}
+        }
+        // The one parser of a light's words (and its messages).
+        LightSpec::parse(s)?;
+        let (kind, rest) = s.split_once(':').unwrap_or_default();
+        let v = parse_vec3(rest)?;
+        Ok(match kind {
+            "point" => LightOpt::Point(v),
+            "dir" => LightOpt::Dir(v),
+            _ => LightOpt::None,
+        })
+    }
+}
+
+impl std::fmt::Display for LightOpt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LightOpt::Point(p) => write!(f, "point:{},{},{}", p.x, p.y, p.z),
+            LightOpt::Dir(d) => write!(f, "dir:{},{},{}", d.x, d.y, d.z),
+            LightOpt::Head => f.write_str("head"),
+            LightOpt::None => f.write_str("none"),
+        }
+    }
+}
+
+crate::word_value!(LightOpt, "point:X,Y,Z, dir:X,Y,Z, head or none");
+
+impl LightOpt {
+    /// The light this value places, if it is one (not `head` or `none`): a direction is
+    /// made unit here, in f64, as the command line always did.
+    pub fn spec(self) -> Option<LightSpec> {
+        match self {
+            LightOpt::Point(p) => Some(LightSpec::Point(p)),
+            LightOpt::Dir(d) => Some(LightSpec::Directional(d.normalize())),
+            LightOpt::Head | LightOpt::None => None,
+        }
+    }
+}
+
 /// Parses `X,Y,Z` of finite numbers.
 pub fn parse_vec3(s: &str) -> Result<DVec3, String> {
     let parts: Vec<f64> = s

@@ -32,11 +32,24 @@ fn main() -> ExitCode {
 
 /// The dispatch: one mode per invocation.
 fn dispatch(args: &Args) -> Result<()> {
+    args.options()?;
     match &args.command {
         Some(glview::cli::Command::Bench(b)) => return tools::run_bench(args, &b.words),
         Some(glview::cli::Command::Sheet(s)) => return glview::compare::sheet::run(s),
         Some(glview::cli::Command::Batch(b)) => return glview::batch::run(b),
         None => {}
+    }
+    if args.options_reference {
+        print!("{}", glview::options::reference_markdown());
+        return Ok(());
+    }
+    if let Some(png) = &args.repro {
+        let opts = glview::repro::options_of_png(png)?;
+        let out = args
+            .output
+            .clone()
+            .unwrap_or_else(|| "glview-repro.png".into());
+        return run::render_headless(&opts, &out);
     }
     if args.reference && (args.compare.is_some() || args.diff.is_some()) {
         return Err(Error::Usage(
@@ -77,6 +90,7 @@ fn dispatch(args: &Args) -> Result<()> {
     if args.check {
         let scene = run::load_scene_with(args, false)?;
         let format = args
+            .load
             .model
             .as_deref()
             .map(|p| glview::scene::formats::format_of(p).0);

@@ -64,7 +64,7 @@ fn context(
     kept: &mut Option<KeptContext>,
     profile: &mut Profile,
 ) -> Result<()> {
-    let request = (args.backend, args.gl);
+    let request = (args.context.backend, args.context.gl);
     let reused = match kept {
         Some(c) if c.request == request => c.hl.reset_target(size.0, size.1).is_ok(),
         _ => false,
@@ -73,7 +73,7 @@ fn context(
         // The old context goes first: one context alive at a time.
         *kept = None;
         let t = Instant::now();
-        let hl = Headless::new(args.backend, args.gl, size.0, size.1)?;
+        let hl = Headless::new(args.context.backend, args.context.gl, size.0, size.1)?;
         profile.context_ms = ms(t);
         *kept = Some(KeptContext {
             renderer: None,
@@ -83,8 +83,8 @@ fn context(
         });
     }
     let kept = kept.as_mut().expect("context made above");
-    if args.aa == AaMode::Msaa {
-        kept.hl.enable_msaa(args.aa_samples)?;
+    if args.post.aa == AaMode::Msaa {
+        kept.hl.enable_msaa(args.post.aa_samples)?;
     }
     Ok(())
 }
@@ -92,7 +92,7 @@ fn context(
 /// Makes sure `kept` is a context for pictures of `args` (the library's renderer makes it
 /// up front, so a machine without one fails at once).
 pub fn ensure_context(args: &Options, kept: &mut Option<KeptContext>) -> Result<()> {
-    context(args, args.size, kept, &mut Profile::default())
+    context(args, args.picture.size, kept, &mut Profile::default())
 }
 
 /// Loads the scene of `args` (on whatever thread calls it) with its time and the loader's
@@ -147,7 +147,10 @@ pub fn render(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Re
     if let Some(img) = map_view(args)? {
         let text = vec![
             ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
-            ("glview.show", format!("{:?}", args.show).to_lowercase()),
+            (
+                "glview.show",
+                format!("{:?}", args.render.show).to_lowercase(),
+            ),
         ];
         return img.save_png(path, &text);
     }
@@ -157,7 +160,7 @@ pub fn render(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Re
     drawn.image.save(path, &drawn.text)?;
     profile.encode_ms = ms(t);
     profile.total_ms = ms(start);
-    if args.stats {
+    if args.picture.stats {
         let mut line = serde_json::to_value(&drawn.stats).unwrap_or_default();
         line["profile"] = serde_json::to_value(&profile).unwrap_or_default();
         println!("{line}");
@@ -174,10 +177,10 @@ pub fn draw(
     outputs: crate::render::attributes::Outputs,
     profile: &mut Profile,
 ) -> Result<Drawn> {
-    let (w, h) = args.size;
+    let (w, h) = args.picture.size;
     // SSAA renders k times larger on each axis and box-filters down.
-    let k = if args.aa == AaMode::Ssaa {
-        args.aa_samples.clamp(1, 4)
+    let k = if args.post.aa == AaMode::Ssaa {
+        args.post.aa_samples.clamp(1, 4)
     } else {
         1
     };
@@ -188,7 +191,8 @@ pub fn draw(
         key = format!("{}\0{key}", g.key);
     }
     let reuse = kept.as_ref().is_some_and(|c| {
-        c.request == (args.backend, args.gl) && c.renderer.as_ref().is_some_and(|(k, _)| *k == key)
+        c.request == (args.context.backend, args.context.gl)
+            && c.renderer.as_ref().is_some_and(|(k, _)| *k == key)
     });
     let size = (w * k, h * k);
     let scene = if reuse {
@@ -226,14 +230,14 @@ pub fn draw(
         kept.renderer = Some((key, r));
     }
     let (hl, renderer) = (&kept.hl, &mut kept.renderer.as_mut().expect("made above").1);
-    renderer.time_post = args.stats;
-    renderer.cull_clusters = !args.no_culling;
+    renderer.time_post = args.picture.stats;
+    renderer.cull_clusters = args.render.culling;
     let (settings, _) = frame_settings(args, renderer.scene())?;
     let gpu = crate::run::Renderer::Gpu {
         caps: &hl.gpu.caps,
         backend: hl.backend_name(),
     };
-    let keys = crate::repro::state_keys(args.keys.as_deref());
+    let keys = crate::repro::state_keys(args.camera.keys.as_deref());
     let text = png_text(
         gpu,
         &settings,
@@ -241,12 +245,12 @@ pub fn draw(
         &Repro::headless(args, &keys),
     );
     let compiled_before = kept.programs.borrow().compiled();
-    let frames = args.frames.max(1);
+    let frames = args.picture.frames.max(1);
     let mut last = None;
     for i in 0..frames {
         let stats = renderer.render(&settings, &hl.target())?;
         profile.frames_ms.push(stats.ms);
-        if args.stats && i + 1 < frames {
+        if args.picture.stats && i + 1 < frames {
             println!("{}", serde_json::to_string(&stats).unwrap_or_default());
         }
         last = Some(stats);
@@ -257,7 +261,7 @@ pub fn draw(
     profile.compile_ms = compiled.1 - compiled_before.1;
     let t = Instant::now();
     let mut image = crate::metrics::downsample(hl.read(), k);
-    if args.transparent {
+    if args.post.transparent {
         crate::run::unpremultiply(&mut image);
     }
     profile.readback_ms = ms(t);
@@ -265,7 +269,7 @@ pub fn draw(
     // The target's depth is the picture's when the frame's passes drew straight into it at
     // the picture's size: no post-processing or teaching view, no MSAA or supersampling.
     let frame_depth = if k == 1
-        && args.aa != AaMode::Msaa
+        && args.post.aa != AaMode::Msaa
         && stats.post.is_empty()
         && stats.passes.iter().all(|p| {
             ["shadow", "background", "lit", "pbr"]
@@ -286,7 +290,7 @@ pub fn draw(
         None
     };
     let linear = if outputs.linear {
-        if k != 1 || args.aa == AaMode::Msaa {
+        if k != 1 || args.post.aa == AaMode::Msaa {
             return Err(crate::Error::Usage(
                 "float linear colour is drawn without --aa ssaa or msaa".into(),
             ));

@@ -1,124 +1,93 @@
-//! The command line that reproduces a picture, for its PNG text: the words the user gave
-//! (every option that changes pixels, as typed) without the ones that say where and how
-//! often to write, with the camera, size and state keys of the moment in place of the ones
-//! given (a window's view has moved since start-up).
-use crate::cli::Args;
-use crate::options::Options;
-use clap::CommandFactory;
+//! What reproduces a picture, for its PNG text: the options it was drawn with, the camera,
+//! size and state keys of the moment in place of the ones given (a window's view has moved
+//! since start-up), as JSON (`glview.options`, read back by `glview --repro FILE.png`) and
+//! as a command line for people (`glview.command`).
+use crate::camera::OrbitCamera;
+use crate::options::{Camera, Options, Ortho, Picture};
 
-/// Options that do not change the picture, or that the moment's state replaces.
-const DROPPED: &[&str] = &[
-    "output",
-    "stats",
-    "frames",
-    "screenshot-dir",
-    "keys",
-    "size",
-    "yaw",
-    "pitch",
-    "distance",
-    "target",
-    "fov",
-    "ortho",
-    "near",
-];
-
-/// How many values the option `word` (`--name`, `--name=value` or `-x`) takes from the
-/// following words, and whether it is dropped. None: not an option (a model path, a value).
-fn option(cmd: &clap::Command, word: &str) -> Option<(usize, bool)> {
-    let (arg, inline) = if let Some(long) = word.strip_prefix("--") {
-        let (name, value) = long
-            .split_once('=')
-            .map_or((long, false), |(n, _)| (n, true));
-        (
-            cmd.get_arguments().find(|a| a.get_long() == Some(name))?,
-            value,
-        )
-    } else {
-        let mut chars = word.strip_prefix('-')?.chars();
-        let short = chars.next()?;
-        let inline = chars.next().is_some();
-        (
-            cmd.get_arguments().find(|a| a.get_short() == Some(short))?,
-            inline,
-        )
-    };
-    let takes = arg.get_action().takes_values() && !inline;
-    let dropped = arg.get_long().is_some_and(|l| DROPPED.contains(&l));
-    Some((usize::from(takes), dropped))
+/// The options without what does not decide the scene, the environment or the lights
+/// (camera, size, keys, frames, stats).
+fn scene_part(args: &Options) -> Options {
+    let mut o = args.clone();
+    o.camera = Camera::default();
+    o.picture = Picture::default();
+    o
 }
 
-/// `args.words` without the dropped options and their values.
-fn kept_words(args: &Options) -> Vec<String> {
-    thread_local! {
-        // Built once per thread: building it cost more than the rest of a kept render's
-        // set-up.
-        static CMD: clap::Command = Args::command();
-    }
-    CMD.with(|cmd| kept_words_with(cmd, args))
-}
-
-fn kept_words_with(cmd: &clap::Command, args: &Options) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut words = args.words.iter().peekable();
-    while let Some(w) = words.next() {
-        let Some((takes, dropped)) = option(cmd, w) else {
-            out.push(w.clone());
-            continue;
-        };
-        let mut value = None;
-        if takes == 1 {
-            // `--ortho` takes its value only when one follows.
-            let optional = w == "--ortho";
-            if !optional || words.peek().is_some_and(|v| v.parse::<f32>().is_ok()) {
-                value = words.next();
-            }
-        }
-        if !dropped {
-            out.push(w.clone());
-            out.extend(value.cloned());
-        }
-    }
-    out
-}
-
-/// What decides the scene, the environment and the lights of a picture: the words but for
-/// camera, size, keys and output, and the model file's size and time (so a file changed
+/// What decides the scene, the environment and the lights of a picture: the options but
+/// for camera, size, keys and output, and the model file's size and time (so a file changed
 /// between two pictures is read again). Equal keys may share a renderer.
 pub fn scene_key(args: &Options) -> String {
     let stamp = args
+        .load
         .model
         .as_ref()
         .and_then(|m| std::fs::metadata(m).ok())
         .map(|m| format!("{} {:?}", m.len(), m.modified().ok()))
         .unwrap_or_default();
-    let mut key = kept_words(args).join("\0");
+    let mut key = serde_json::to_string(&scene_part(args)).unwrap_or_default();
     key.push('\0');
     key.push_str(&stamp);
     key
 }
 
-/// `glview WORDS... --size WxH --keys "..." CAMERA`: `camera` is the camera as options
-/// (`--yaw ... --pitch ...`), `keys` the state-changing keys pressed (camera keys excluded:
-/// the camera options already hold their effect).
-pub fn command_line(args: &Options, size: (u32, u32), keys: &[String], camera: &str) -> String {
-    let mut words = vec!["glview".to_string()];
-    words.extend(kept_words(args));
-    words.push("--size".into());
-    words.push(format!("{}x{}", size.0, size.1));
-    if !keys.is_empty() {
-        words.push("--keys".into());
-        words.push(keys.join(" "));
-    }
-    let quoted: Vec<String> = words
-        .iter()
+/// The options that draw this picture again: `args` with the camera as it is (`target` in
+/// the file's coordinates), this size and the state-changing keys pressed (camera keys
+/// excluded: the camera already holds their effect).
+pub fn shown_options(
+    args: &Options,
+    camera: &OrbitCamera,
+    target: [f64; 3],
+    size: (u32, u32),
+    keys: &[String],
+) -> Options {
+    let mut o = scene_part(args);
+    o.picture.size = size;
+    let c = &mut o.camera;
+    c.yaw = camera.yaw_deg;
+    c.pitch = camera.pitch_deg;
+    c.distance = Some(camera.distance);
+    c.target = Some(target);
+    c.fov = camera.fov_y_deg;
+    c.ortho = camera.ortho_height.map(Ortho::Height);
+    c.near = camera.near;
+    c.keys = (!keys.is_empty()).then(|| keys.join(" "));
+    o
+}
+
+/// `glview WORDS...`, shell-quoted.
+pub fn command_line(o: &Options) -> String {
+    let words: Vec<String> = std::iter::once("glview".to_string())
+        .chain(o.to_words())
         .map(|w| {
-            shlex::try_quote(w)
+            shlex::try_quote(&w)
                 .map(|q| q.into_owned())
                 .unwrap_or_else(|_| w.clone())
         })
         .collect();
-    format!("{} {camera}", quoted.join(" "))
+    words.join(" ")
+}
+
+/// The options a PNG of glview's was drawn with (its `glview.options` text).
+pub fn options_of_png(path: &std::path::Path) -> crate::Result<Options> {
+    let text = crate::image_out::png_text(path)?;
+    let json = text
+        .iter()
+        .find(|(k, _)| k == "glview.options")
+        .map(|(_, v)| v)
+        .ok_or_else(|| {
+            crate::Error::Usage(format!(
+                "{}: no glview.options text (not drawn by glview, or by a glview before 0.2)",
+                path.display()
+            ))
+        })?;
+    Options::from_json(json).map_err(|e| {
+        crate::Error::Usage(format!(
+            "{}: glview.options: {}",
+            path.display(),
+            e.as_keyword()
+        ))
+    })
 }
 
 /// The keys of `--keys` that change state rather than the camera, in order.
@@ -134,16 +103,10 @@ pub fn state_keys(keys: Option<&str>) -> Vec<String> {
 mod tests {
     use super::*;
 
-    fn args(words: &[&str]) -> Args {
-        Args::from_words(words.iter().map(|w| w.to_string())).unwrap()
-    }
-
     #[test]
-    fn drops_output_camera_and_counts_and_keeps_the_rest() {
-        let a = args(&[
+    fn the_scene_key_ignores_the_camera_and_the_command_keeps_the_rest() {
+        let a = Options::from_words([
             "my model.obj",
-            "-o",
-            "out.png",
             "--yaw=10",
             "--ortho",
             "--light",
@@ -155,22 +118,35 @@ mod tests {
             "50",
             "--keys",
             "Left S",
-        ]);
-        assert_eq!(
-            kept_words(&a),
-            [
-                "my model.obj",
-                "--light",
-                "dir:0,-1,0",
-                "--shadow-bias",
-                "0.001"
-            ]
+        ])
+        .unwrap();
+        let b = Options::from_words([
+            "my model.obj",
+            "--light",
+            "dir:0,-1,0",
+            "--shadow-bias",
+            "0.001",
+        ])
+        .unwrap();
+        assert_eq!(scene_key(&a), scene_key(&b));
+        let b = crate::scene::Bounds {
+            min: glam::Vec3::splat(-1.0),
+            max: glam::Vec3::splat(1.0),
+        };
+        let cam = OrbitCamera::fit(&b, 45.0, 1.0);
+        let keys = state_keys(a.camera.keys.as_deref());
+        let shown = shown_options(&a, &cam, [1.0, 2.0, 3.0], (64, 48), &keys);
+        let line = command_line(&shown);
+        assert!(
+            line.starts_with("glview 'my model.obj' --yaw ")
+                && line.contains("--keys S ")
+                && line.contains("--light 'dir:0,-1,0' ")
+                && line.contains("--shadow-bias 0.001 ")
+                && line.contains("--size 64x48")
+                && !line.contains("--stats"),
+            "{line}"
         );
-        let line = command_line(&a, (64, 48), &state_keys(a.keys.as_deref()), "--yaw 1");
-        assert_eq!(
-            line,
-            "glview 'my model.obj' --light 'dir:0,-1,0' --shadow-bias 0.001 --size 64x48 \
-             --keys S --yaw 1"
-        );
+        let again = Options::from_json(&serde_json::to_string(&shown).unwrap()).unwrap();
+        assert_eq!(again, shown);
     }
 }

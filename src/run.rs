@@ -5,15 +5,15 @@ use crate::error::{Error, Result};
 use crate::frame::{AttributeView, Translucency};
 use crate::frame::{FrameSettings, ShadowSettings};
 use crate::keys::{self, Effect};
-use crate::light::{parse_vec3, LightSpec, MAX_LIGHTS};
-use crate::options::{Diffuse, Options, Show};
+use crate::light::{LightOpt, LightSpec, MAX_LIGHTS};
+use crate::options::{Diffuse, Options, Ortho, Show};
 use crate::pbr::precompute::IblSettings;
 use crate::pbr::{EnvRequest, EnvSource, OutputParams, PbrParams};
 use crate::scene::clusters::Clusters;
 use crate::scene::material::TextureOptions;
 use crate::scene::obj::{self, LoadOptions};
 use crate::scene::Scene;
-use crate::shading::{LightingParams, PbrTerms};
+use crate::shading::LightingParams;
 use glam::Vec3;
 use std::path::Path;
 
@@ -44,6 +44,7 @@ fn load_scene_prepared_with(
     print_warnings: bool,
 ) -> Result<(Scene, Option<Vec<Option<Clusters>>>)> {
     let size = args
+        .load
         .model
         .as_ref()
         .and_then(|p| std::fs::metadata(p).ok())
@@ -57,6 +58,7 @@ fn load_scene_prepared_with(
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
         b.set_style(style);
         let name = args
+            .load
             .model
             .as_ref()
             .map(|p| p.display().to_string())
@@ -68,7 +70,7 @@ fn load_scene_prepared_with(
         std::sync::Arc::new(move |done: u64, _total: u64| b.set_position(done)) as obj::ProgressFn
     });
     let opts = load_options(args, progress);
-    let scene = match &args.model {
+    let scene = match &args.load.model {
         Some(path) => obj::load_prepared(path, &opts),
         None => obj::load_embedded(
             Path::new("glass_holder.obj"),
@@ -103,12 +105,15 @@ fn load_scene_prepared_with(
 /// What the options change in a loaded scene (a file's, or one a program passed in): the
 /// x-rayed materials and objects, and `--single-sided`.
 pub(crate) fn adjust_scene(args: &Options, s: &mut crate::scene::Scene) -> Result<()> {
-    if !args.xray.is_empty() {
-        let opacity = args.opacity.unwrap_or(crate::scene::xray::XRAY_OPACITY);
-        s.xray(&args.xray, opacity.clamp(0.0, 1.0))
+    if !args.load.xray.is_empty() {
+        let opacity = args
+            .render
+            .opacity
+            .unwrap_or(crate::scene::xray::XRAY_OPACITY);
+        s.xray(&args.load.xray, opacity.clamp(0.0, 1.0))
             .map_err(Error::Usage)?;
     }
-    if args.single_sided {
+    if args.load.single_sided {
         for m in &mut s.materials {
             m.pbr_inputs.model.double_sided = false;
         }
@@ -118,206 +123,107 @@ pub(crate) fn adjust_scene(args: &Options, s: &mut crate::scene::Scene) -> Resul
 
 /// What the options ask of the loader (the mesh cache's bound is set here too).
 pub fn load_options(args: &Options, progress: Option<obj::ProgressFn>) -> LoadOptions {
-    crate::scene::cache::set_max_bytes(args.cache_size);
+    crate::scene::cache::set_max_bytes(args.load.cache_size.0);
     // A hit trusts size, time and inode; this also compares the model's content hash.
     crate::scene::cache::set_verify(
         std::env::var_os("GLVIEW_CACHE_VERIFY").is_some_and(|v| v == "1"),
     );
     LoadOptions {
         textures: TextureOptions {
-            allow_outside_paths: args.allow_outside_paths,
+            allow_outside_paths: args.load.allow_outside_paths,
             max_dimension: 0,
         },
         progress,
-        cache: !args.no_cache,
-        honor_transparency: args.honor_transparency,
-        creases: match (args.flat, args.crease) {
+        cache: args.load.cache,
+        honor_transparency: args.load.honor_transparency,
+        creases: match (args.load.flat, args.load.crease) {
             (true, _) => crate::scene::normals::Creases::Flat,
             (false, Some(d)) => crate::scene::normals::Creases::Angle(d),
             (false, None) => Default::default(),
         },
-        up: args.up,
-        texture: args.texture.clone(),
+        up: args.load.up,
+        texture: args.load.texture.clone(),
     }
 }
 
-fn color(s: &str, what: &str) -> Result<Vec3> {
-    let v = parse_vec3(s).map_err(|e| Error::Usage(format!("{what}: {e}")))?;
-    Ok(v.as_vec3())
-}
-
-/// The frame settings the arguments describe, with `--keys` already applied.
+/// The frame settings the options describe, with `--keys` already applied. The options
+/// are typed and checked ([`Options::validate`]); this only places them in the scene.
 pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, OrbitCamera)> {
-    let (w, h) = args.size;
+    let (w, h) = args.picture.size;
     let aspect = w as f32 / h as f32;
-    if !(args.fov > 0.0 && args.fov < 180.0) {
-        return Err(Error::Usage(format!(
-            "--fov {} must be between 0 and 180",
-            args.fov
-        )));
+    let cam = &args.camera;
+    let mut camera = OrbitCamera::fit(&scene.bounds, cam.fov, aspect);
+    camera.yaw_deg = cam.yaw;
+    camera.pitch_deg = cam.pitch;
+    if let Some(t) = cam.target {
+        camera.target = scene.to_local(glam::DVec3::from_array(t));
     }
-    let mut camera = OrbitCamera::fit(&scene.bounds, args.fov, aspect);
-    camera.yaw_deg = args.yaw;
-    camera.pitch_deg = args.pitch;
-    if let Some(t) = &args.target {
-        let t = parse_vec3(t).map_err(|e| Error::Usage(format!("--target: {e}")))?;
-        camera.target = scene.to_local(t);
-    }
-    if let Some(d) = args.distance {
-        if !(d.is_finite() && d > 0.0) {
-            return Err(Error::Usage(format!("--distance {d} must be positive")));
-        }
+    if let Some(d) = cam.distance {
         camera.distance = d;
     }
-    if let Some(n) = args.near {
-        if !(n.is_finite() && n > 0.0) {
-            return Err(Error::Usage(format!("--near {n} must be positive")));
-        }
-        camera.near = Some(n);
-    }
-    match args.ortho {
-        Some(Some(h)) if !(h.is_finite() && h > 0.0) => {
-            return Err(Error::Usage(format!("--ortho {h} must be positive")));
-        }
-        Some(Some(h)) => camera.ortho_height = Some(h),
-        Some(None) => {
+    camera.near = cam.near;
+    match cam.ortho {
+        Some(Ortho::Height(h)) => camera.ortho_height = Some(h),
+        Some(Ortho::Fit) => {
             camera.ortho_height = Some(OrbitCamera::fit_ortho_height(&scene.bounds, aspect))
         }
         None => {}
     }
-    if args.lights.len() > 1 && args.lights.iter().any(|l| l == "none") {
-        return Err(Error::Usage(
-            "--light none means no lights; it cannot be combined with other --light options".into(),
-        ));
-    }
-    let mut specs = Vec::new();
-    let mut headlight = None;
-    let colors: Vec<Vec3> = args
-        .light_colors
-        .iter()
-        .map(|c| color(c, "--light-color"))
-        .collect::<Result<_>>()?;
-    for l in &args.lights {
-        if l == "head" {
-            let i = specs.len();
-            headlight = Some(
-                colors
-                    .get(i)
-                    .or(colors.last())
-                    .copied()
-                    .unwrap_or(Vec3::ONE),
-            );
-        } else if let Some(spec) = LightSpec::parse(l).map_err(Error::Usage)? {
-            specs.push(spec);
-        }
-    }
-    // The default kit: a key light that casts the shadow, a fill from the other side and a
-    // headlight, so every side of a model is readable from any orbit.
-    let kit = args.lights.is_empty();
-    let mut kit_colors = Vec::new();
-    if kit {
-        specs.push(LightSpec::default_light());
-        specs.push(LightSpec::fill_light());
-        kit_colors = vec![
-            Vec3::splat(crate::light::KIT_KEY),
-            Vec3::splat(crate::light::KIT_FILL),
-        ];
-        headlight = Some(Vec3::splat(crate::light::KIT_HEAD));
-    }
-    if specs.len() + usize::from(headlight.is_some()) > MAX_LIGHTS {
-        return Err(Error::Usage(format!(
-            "{} lights given; at most {MAX_LIGHTS}",
-            specs.len()
-        )));
-    }
-    let colors = if kit && colors.is_empty() {
-        kit_colors
-    } else {
-        colors
-    };
-    let lights = specs
-        .iter()
-        .enumerate()
-        .map(|(i, spec)| {
-            let c = colors
-                .get(i)
-                .or(colors.last())
-                .copied()
-                .unwrap_or(Vec3::ONE);
-            spec.to_local(scene.origin, c)
-        })
-        .collect();
-    let ambient = color(&args.ambient, "--ambient")?.as_dvec3();
-    let unit = |v: Option<f32>, what: &str| -> Result<Option<f32>> {
-        match v {
-            Some(x) if !(0.0..=1.0).contains(&x) => {
-                Err(Error::Usage(format!("{what} {x} must be between 0 and 1")))
-            }
-            v => Ok(v),
-        }
-    };
+    let (lights, headlight, kit) = lights(args, scene);
+    let pbr_opts = &args.pbr;
     let pbr = PbrParams {
-        base_color: args
-            .base_color
-            .as_deref()
-            .map(|c| color(c, "--base-color"))
-            .transpose()?,
-        metallic: unit(args.metallic, "--metallic")?,
-        roughness: unit(args.roughness, "--roughness")?,
-        dominant_direction: args.dominant_direction,
-        multiscatter: args.multiscatter,
-        skybox: args.background.is_none(),
-        skybox_blur: unit(Some(args.env_blur), "--env-blur")?.unwrap_or(0.0),
-        ibl_intensity: args.ibl_intensity.max(0.0),
+        base_color: pbr_opts.base_color.map(Vec3::from_array),
+        metallic: pbr_opts.metallic,
+        roughness: pbr_opts.roughness,
+        dominant_direction: pbr_opts.dominant_direction,
+        multiscatter: pbr_opts.multiscatter,
+        skybox: args.render.background.is_none(),
+        skybox_blur: pbr_opts.env_blur,
+        ibl_intensity: pbr_opts.ibl_intensity.max(0.0),
     };
-    if !args.exposure.is_finite() {
-        return Err(Error::Usage(format!(
-            "--exposure {} must be finite",
-            args.exposure
-        )));
-    }
+    let post = &args.post;
     let mut settings = FrameSettings {
         camera,
         lights,
         lighting: LightingParams {
-            ambient,
-            wrap: args.diffuse == Diffuse::Wrap,
+            ambient: Vec3::from_array(args.light.ambient).as_dvec3(),
+            wrap: args.light.diffuse == Diffuse::Wrap,
             pbr,
-            pbr_terms: parse_terms(&args.terms)?,
+            pbr_terms: args.render.terms,
             output: OutputParams {
-                exposure_ev: args.exposure,
-                tonemap: args.tonemap,
+                exposure_ev: pbr_opts.exposure,
+                tonemap: pbr_opts.tonemap,
             },
             headlight,
-            shadow_casters: match args.shadow_lights {
+            shadow_casters: match args.shadow.lights {
                 Some(n) => n.min(MAX_LIGHTS as u8),
                 None if kit => 1,
                 None => MAX_LIGHTS as u8,
             },
             translucency: Translucency {
-                mode: args.translucency,
-                blend: args.blend,
-                opacity: unit(args.opacity, "--opacity")?,
-                log_depth: args.depth == crate::options::DepthMode::Log,
+                mode: args.render.translucency,
+                blend: args.render.blend,
+                opacity: args.render.opacity,
+                log_depth: args.render.depth == crate::options::DepthMode::Log,
             },
             post: crate::frame::Post {
                 bloom: crate::frame::Bloom {
-                    strength: if args.no_bloom {
+                    strength: if post.no_bloom {
                         0.0
                     } else {
-                        args.bloom.max(0.0)
+                        post.bloom.max(0.0)
                     },
-                    threshold: args.bloom_threshold,
-                    sigma: args.bloom_sigma.clamp(0.5, 64.0),
-                    levels: args.bloom_levels,
+                    threshold: post.bloom_threshold,
+                    sigma: post.bloom_sigma.clamp(0.5, 64.0),
+                    levels: post.bloom_levels,
                     ..Default::default()
                 },
-                fxaa: args.aa == crate::options::AaMode::Fxaa,
-                transparent: args.transparent,
-                show_bloom: args.show == Show::Bloom,
+                fxaa: post.aa == crate::options::AaMode::Fxaa,
+                transparent: post.transparent,
+                show_bloom: args.render.show == Show::Bloom,
                 linear_out: false,
             },
-            attribute_view: match args.show {
+            attribute_view: match args.render.show {
                 Show::Normals => AttributeView::Normals,
                 Show::Uvs => AttributeView::Uvs,
                 Show::Roughness => AttributeView::Roughness,
@@ -326,22 +232,19 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
             },
             ..Default::default()
         },
-        shading: args.shading,
-        background: color(
-            args.background.as_deref().unwrap_or(DEFAULT_BACKGROUND),
-            "--background",
-        )?,
+        shading: args.render.shading,
+        background: Vec3::from_array(args.background()),
         shadows: ShadowSettings {
-            enabled: !args.no_shadows,
-            size: args.shadow_size,
-            pcf: args.pcf,
-            bias: args.shadow_bias,
+            enabled: args.shadow.enabled,
+            size: args.shadow.size,
+            pcf: args.shadow.pcf,
+            bias: args.shadow.bias,
             ..Default::default()
         },
-        show_shadow_map: args.show == Show::ShadowMap,
+        show_shadow_map: args.render.show == Show::ShadowMap,
     };
     let home = settings.camera;
-    if let Some(k) = &args.keys {
+    if let Some(k) = &cam.keys {
         for action in keys::parse_keys(k).map_err(Error::Usage)? {
             if keys::apply(action, &mut settings, &home, &scene.bounds, aspect) == Effect::Quit {
                 break;
@@ -351,76 +254,73 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
     Ok((settings, home))
 }
 
-/// The background colour without `--background`.
-pub const DEFAULT_BACKGROUND: &str = "0.1,0.1,0.12";
-
-/// `--terms a,b,...`: the PBR terms to draw.
-pub fn parse_terms(s: &str) -> Result<PbrTerms> {
-    let all = PbrTerms::default();
-    let none = PbrTerms {
-        direct_diffuse: false,
-        direct_specular: false,
-        ibl_diffuse: false,
-        ibl_specular: false,
-        ao: false,
-        shadows: false,
-        emissive: false,
-        normal_map: false,
+/// The frame's lights in the scene's coordinates, the headlight's colour, and whether they
+/// are the default kit (no `--light`): a key light that casts the shadow, a fill from the
+/// other side and a headlight, so every side of a model is readable from any orbit.
+fn lights(args: &Options, scene: &Scene) -> (Vec<crate::light::Light>, Option<Vec3>, bool) {
+    let given = &args.light.lights;
+    let mut colors: Vec<Vec3> = args
+        .light
+        .colors
+        .iter()
+        .map(|c| Vec3::from_array(*c))
+        .collect();
+    let pick = |colors: &[Vec3], i: usize| {
+        colors
+            .get(i)
+            .or(colors.last())
+            .copied()
+            .unwrap_or(Vec3::ONE)
     };
-    match s.trim() {
-        "all" | "" => return Ok(all),
-        "none" => return Ok(none),
-        _ => {}
+    let mut specs = Vec::new();
+    let mut headlight = None;
+    for l in given {
+        if *l == LightOpt::Head {
+            headlight = Some(pick(&colors, specs.len()));
+        } else if let Some(spec) = l.spec() {
+            specs.push(spec);
+        }
     }
-    let mut t = none;
-    for name in s.split(',').map(str::trim) {
-        let b = match name {
-            "direct-diffuse" => &mut t.direct_diffuse,
-            "direct-specular" => &mut t.direct_specular,
-            "ibl-diffuse" => &mut t.ibl_diffuse,
-            "ibl-specular" => &mut t.ibl_specular,
-            "ao" => &mut t.ao,
-            "shadows" => &mut t.shadows,
-            "emissive" => &mut t.emissive,
-            "normal-map" => &mut t.normal_map,
-            other => {
-                return Err(Error::Usage(format!(
-                    "--terms: unknown term {other:?} (direct-diffuse, direct-specular, \
-                     ibl-diffuse, ibl-specular, ao, shadows, emissive, normal-map, all, none)"
-                )))
-            }
-        };
-        *b = true;
+    let kit = given.is_empty();
+    if kit {
+        specs.push(LightSpec::default_light());
+        specs.push(LightSpec::fill_light());
+        headlight = Some(Vec3::splat(crate::light::KIT_HEAD));
+        if colors.is_empty() {
+            colors = vec![
+                Vec3::splat(crate::light::KIT_KEY),
+                Vec3::splat(crate::light::KIT_FILL),
+            ];
+        }
     }
-    Ok(t)
+    let lights = specs
+        .iter()
+        .enumerate()
+        .map(|(i, spec)| spec.to_local(scene.origin, pick(&colors, i)))
+        .collect();
+    (lights, headlight, kit)
 }
 
 /// Where the PBR tier's environment comes from, and how its maps are made.
 pub fn env_request(args: &Options) -> Result<EnvRequest> {
-    let source = match (&args.env, &args.env_color) {
+    let source = match (&args.pbr.env, args.pbr.env_color) {
         (Some(p), _) => EnvSource::File(p.clone()),
-        (None, Some(c)) => {
-            let c = color(c, "--env-color")?;
-            if c.min_element() < 0.0 {
-                return Err(Error::Usage("--env-color must not be negative".into()));
-            }
-            EnvSource::Uniform(c.to_array())
-        }
+        (None, Some(c)) => EnvSource::Uniform(c),
         (None, None) => EnvSource::Builtin,
     };
     Ok(EnvRequest {
         source,
         settings: IblSettings {
-            irradiance_size: args.irradiance_size,
-            specular_size: args.ibl_size,
-            levels: args.ibl_levels,
-            samples: args.ibl_samples,
-            lut_size: args.lut_size,
+            irradiance_size: args.pbr.irradiance_size,
+            specular_size: args.pbr.ibl_size,
+            levels: args.pbr.ibl_levels,
+            samples: args.pbr.ibl_samples,
+            lut_size: args.pbr.lut_size,
             ..Default::default()
         },
-        encoding: args.ibl_encoding,
-        cache: !args.no_cache,
-        precompute: args.ibl_precompute,
+        encoding: args.pbr.ibl_encoding,
+        cache: args.load.cache,
+        precompute: args.pbr.ibl_precompute,
     })
 }
 
@@ -445,7 +345,7 @@ impl<'a> Repro<'a> {
     pub fn headless(args: &'a Options, keys: &'a [String]) -> Self {
         Repro {
             args,
-            size: args.size,
+            size: args.picture.size,
             state_keys: keys,
         }
     }
@@ -524,8 +424,19 @@ pub fn png_text(
             .unwrap_or_default(),
         c.near.map(|n| format!(" --near {n}")).unwrap_or_default()
     );
-    let command = crate::repro::command_line(repro.args, repro.size, repro.state_keys, &camera);
+    let shown = crate::repro::shown_options(
+        repro.args,
+        c,
+        target.to_array(),
+        repro.size,
+        repro.state_keys,
+    );
+    let command = crate::repro::command_line(&shown);
     text.push(("glview.camera", camera));
+    text.push((
+        "glview.options",
+        serde_json::to_string(&shown).unwrap_or_default(),
+    ));
     text.push(("glview.command", command));
     text
 }
@@ -533,7 +444,7 @@ pub fn png_text(
 /// `--show irradiance|specular|lut`: the PBR maps, composed on the CPU from the
 /// precomputed data (no GL needed, the same on every context). None for other views.
 pub fn map_view(args: &Options) -> Result<Option<crate::image_out::Rgba>> {
-    let what = match args.show {
+    let what = match args.render.show {
         Show::Irradiance => "irradiance",
         Show::Specular => "specular",
         Show::Lut => "lut",
@@ -541,10 +452,15 @@ pub fn map_view(args: &Options) -> Result<Option<crate::image_out::Rgba>> {
     };
     let (data, _) = crate::render::ibl::load_or_compute(&env_request(args)?)?;
     let out = OutputParams {
-        exposure_ev: args.exposure,
-        tonemap: args.tonemap,
+        exposure_ev: args.pbr.exposure,
+        tonemap: args.pbr.tonemap,
     };
-    Ok(crate::pbr::views::view(&data, what, args.show_level, &out))
+    Ok(crate::pbr::views::view(
+        &data,
+        what,
+        args.render.show_level,
+        &out,
+    ))
 }
 
 /// Renders headless into `path` (`--frames` times; the last frame is written).
@@ -576,35 +492,35 @@ pub fn reference_env(
     let req = env_request(args)?;
     Ok(Some(crate::reference::PbrEnv {
         env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(&req.source)?),
-        samples: args.reference_samples.max(1),
+        samples: args.pbr.reference_samples.max(1),
     }))
 }
 
 /// `--reference`: the same scene, camera and lights through the CPU reference renderer.
 pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
-    if args.show != Show::Scene {
+    if args.render.show != Show::Scene {
         return Err(Error::Usage(format!(
             "--show {:?}: the reference renderer draws only the scene; drop --reference for teaching views",
-            args.show
+            args.render.show
         )
         .to_lowercase()));
     }
     // The same bound as the GPU path on llvmpipe (its maximum viewport), checked before the
     // model is loaded or any framebuffer allocated.
     const MAX: u32 = 16384;
-    if args.size.0 > MAX || args.size.1 > MAX {
+    if args.picture.size.0 > MAX || args.picture.size.1 > MAX {
         return Err(Error::Usage(format!(
             "--size {}x{}: the reference renderer draws at most {MAX}x{MAX}",
-            args.size.0, args.size.1
+            args.picture.size.0, args.picture.size.1
         )));
     }
     let scene = load_scene(args)?;
     let (settings, _) = frame_settings(args, &scene)?;
-    let (w, h) = args.size;
+    let (w, h) = args.picture.size;
     let start = std::time::Instant::now();
     let env = reference_env(args, settings.shading)?;
     let img = crate::reference::render_env(&scene, &settings, env.as_ref(), w, h);
-    let keys = crate::repro::state_keys(args.keys.as_deref());
+    let keys = crate::repro::state_keys(args.camera.keys.as_deref());
     let text = png_text(
         Renderer::Reference,
         &settings,
@@ -612,7 +528,7 @@ pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
         &Repro::headless(args, &keys),
     );
     img.save(path, &text)?;
-    if args.stats {
+    if args.picture.stats {
         println!(
             "{}",
             serde_json::json!({"reference": true, "ms": start.elapsed().as_secs_f64() * 1e3, "triangles": scene.triangle_count()})
@@ -623,7 +539,7 @@ pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
 
 /// `--compile-shaders`: every program permutation through the driver's compiler.
 pub fn compile_shaders(args: &Options) -> Result<()> {
-    let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
+    let hl = crate::headless::Headless::new(args.context.backend, args.context.gl, 16, 16)?;
     let mut cache = crate::shader::cache::ProgramCache::new(&hl.gpu);
     let keys = crate::shader::cache::all_keys(crate::light::MAX_LIGHTS as u8);
     let start = std::time::Instant::now();
@@ -642,7 +558,7 @@ pub fn compile_shaders(args: &Options) -> Result<()> {
 
 /// `glview --info`: what the driver gave.
 pub fn print_info(args: &Options) -> Result<()> {
-    let hl = crate::headless::Headless::new(args.backend, args.gl, 16, 16)?;
+    let hl = crate::headless::Headless::new(args.context.backend, args.context.gl, 16, 16)?;
     println!(
         "backend: {}\n{}\nstencil bits (render target): {}",
         hl.backend_name(),

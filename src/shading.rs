@@ -28,7 +28,7 @@ impl Default for Terms {
 }
 
 /// Which terms of the PBR formula are drawn (`--terms`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PbrTerms {
     pub direct_diffuse: bool,
     pub direct_specular: bool,
@@ -55,6 +55,82 @@ impl Default for PbrTerms {
         }
     }
 }
+
+impl PbrTerms {
+    /// No term drawn.
+    pub const NONE: PbrTerms = PbrTerms {
+        direct_diffuse: false,
+        direct_specular: false,
+        ibl_diffuse: false,
+        ibl_specular: false,
+        ao: false,
+        shadows: false,
+        emissive: false,
+        normal_map: false,
+    };
+
+    /// Each term's `--terms` word and switch, in the order the words are written.
+    fn named(&mut self) -> [(&'static str, &mut bool); 8] {
+        [
+            ("direct-diffuse", &mut self.direct_diffuse),
+            ("direct-specular", &mut self.direct_specular),
+            ("ibl-diffuse", &mut self.ibl_diffuse),
+            ("ibl-specular", &mut self.ibl_specular),
+            ("ao", &mut self.ao),
+            ("shadows", &mut self.shadows),
+            ("emissive", &mut self.emissive),
+            ("normal-map", &mut self.normal_map),
+        ]
+    }
+}
+
+/// `all`, `none` or terms comma-separated.
+impl std::str::FromStr for PbrTerms {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "all" | "" => return Ok(PbrTerms::default()),
+            "none" => return Ok(PbrTerms::NONE),
+            _ => {}
+        }
+        let mut t = PbrTerms::NONE;
+        for name in s.split(',').map(str::trim) {
+            let mut named = t.named();
+            let Some((_, on)) = named.iter_mut().find(|(n, _)| *n == name) else {
+                return Err(format!(
+                    "unknown term {name:?} (direct-diffuse, direct-specular, ibl-diffuse, \
+                     ibl-specular, ao, shadows, emissive, normal-map, all, none)"
+                ));
+            };
+            **on = true;
+        }
+        Ok(t)
+    }
+}
+
+impl std::fmt::Display for PbrTerms {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if *self == PbrTerms::default() {
+            return f.write_str("all");
+        }
+        if *self == PbrTerms::NONE {
+            return f.write_str("none");
+        }
+        let mut t = *self;
+        let on: Vec<&str> = t
+            .named()
+            .into_iter()
+            .filter(|(_, b)| **b)
+            .map(|(n, _)| n)
+            .collect();
+        f.write_str(&on.join(","))
+    }
+}
+
+crate::word_value!(
+    PbrTerms,
+    "all, none or terms: direct-diffuse,ibl-specular,..."
+);
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightingParams {

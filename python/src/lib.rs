@@ -1,6 +1,6 @@
 //! `glview._glview`: the native half of the Python package. It holds no rendering of its
-//! own: options go to `glview::Options` (as JSON names and values, validated by the same
-//! parsers as the command line), models to `glview::api::Model`, pictures come from
+//! own: options go to `glview::Options` (keyword names and JSON values, through the option
+//! specs the command line is made from), models to `glview::api::Model`, pictures come from
 //! `glview::api::Renderer`. Buffers move into NumPy arrays without a copy.
 use glview::api::{self, Arrays, Model, Outputs};
 use glview::image_out::Rgba;
@@ -48,16 +48,19 @@ fn py_err(e: Error) -> PyErr {
     }
 }
 
+/// Keyword arguments (a JSON object of names and values) straight into `Options`; an error
+/// names the keyword: `yaw: expected a number, got 'north'`.
 fn options(json: &str) -> PyResult<Options> {
     let map: serde_json::Map<String, serde_json::Value> =
         serde_json::from_str(json).map_err(|e| OptionError::new_err(e.to_string()))?;
-    Options::from_pairs(map.iter().map(|(k, v)| (k.as_str(), v))).map_err(py_err)
+    Options::from_keywords(map.iter().map(|(k, v)| (k.as_str(), v)))
+        .map_err(|e| OptionError::new_err(e.as_keyword()))
 }
 
 /// Options as the command line's words after the model (`options_words('{"yaw": 5}')`).
 #[pyfunction]
 fn options_words(json: &str) -> PyResult<Vec<String>> {
-    Ok(options(json)?.words)
+    Ok(options(json)?.to_words())
 }
 
 /// A kept OpenGL context on a thread of its own (see `glview.Renderer`).
@@ -148,7 +151,8 @@ impl NativeRenderer {
         py: Python<'py>,
         words: Vec<String>,
     ) -> PyResult<Bound<'py, PyBytes>> {
-        let o = Options::from_words(words).map_err(py_err)?;
+        let o =
+            Options::from_words(words).map_err(|e| OptionError::new_err(e.on_command_line()))?;
         let r = self
             .inner
             .as_ref()
@@ -371,13 +375,13 @@ fn sheet<'py>(
 ) -> PyResult<Picture<'py>> {
     let o = options(options_json)?;
     let cmd = glview::cli::SheetCommand {
-        model: o.model.clone(),
+        model: o.load.model.clone(),
         views,
         angles,
         tiers: tiers.to_string(),
-        size: o.size,
+        size: o.picture.size,
         output: "sheet.png".into(),
-        view_options: o.words.clone(),
+        view_options: o.to_words(),
     };
     let (img, _, _) = py
         .detach(move || glview::compare::sheet::sheet_image(&cmd))

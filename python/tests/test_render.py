@@ -129,17 +129,23 @@ def test_renderer_keeps_one_context_and_closes(bunny):
         r.render()
 
 
-def test_bad_options_raise_with_the_cli_message(cli):
+def test_bad_options_raise_naming_the_keyword(cli):
     p = cli("--pcf", "3", "-o", "x.png", check=False)
     assert p.returncode != 0
     with pytest.raises(glview.OptionError) as e:
         glview.render(pcf=3)
     assert "PCF taps must be 1, 4, 9 or 16" in str(e.value)
     assert "PCF taps must be 1, 4, 9 or 16" in p.stderr
-    with pytest.raises(glview.OptionError, match="--fov 200 must be between 0 and 180"):
+    # The keyword's name and value, never a command-line flag.
+    with pytest.raises(glview.OptionError, match="^fov: 200 is out of range: must be between 0 and 180$"):
         glview.render(fov=200)
-    with pytest.raises(glview.OptionError, match="no-such-option"):
+    with pytest.raises(glview.OptionError, match="^yaw: expected a number, got 'north'$"):
+        glview.render(yaw="north")
+    with pytest.raises(glview.OptionError, match="^shading: expected one of phong, gouraud, pbr, got 'toon'$"):
+        glview.render(shading="toon")
+    with pytest.raises(glview.OptionError, match="^no_such_option: unknown option$"):
         glview.render(no_such_option=1)
+    assert "--fov: 200 is out of range" in cli("--fov", "200", "-o", "x.png", check=False).stderr
 
 
 def test_bad_files_and_arrays_raise_with_the_cli_message(tmp_path, cli):

@@ -42,14 +42,14 @@ impl Model {
     /// `texture`, `honor-transparency`, the mesh cache, ...); its warnings are logged.
     pub fn load(path: &Path, opts: &Options) -> Result<Model> {
         let mut o = opts.clone();
-        o.model = Some(path.to_path_buf());
+        o.load.model = Some(path.to_path_buf());
         Ok(Model::new(crate::run::load_scene_with(&o, false)?).warned())
     }
 
     /// The built-in scene (what `glview` shows without a model).
     pub fn builtin(opts: &Options) -> Result<Model> {
         let mut o = opts.clone();
-        o.model = None;
+        o.load.model = None;
         Ok(Model::new(crate::run::load_scene_with(&o, false)?).warned())
     }
 

@@ -108,14 +108,14 @@ pub fn render_panes_with(
     tiers: &[PaneTier],
     coverage: bool,
 ) -> Result<Panes> {
-    let (w, h) = args.size;
+    let (w, h) = args.picture.size;
     let (base, _) = crate::run::frame_settings(args, &scene)?;
     let n = tiers.len() as u32;
     let gpu_tiers = tiers.iter().any(|t| matches!(t, PaneTier::Gpu(_)));
     let mut images = vec![None; tiers.len()];
     let mut covered = vec![Vec::new(); tiers.len()];
     if gpu_tiers {
-        let hl = Headless::new(args.backend, args.gl, w * n, h)?;
+        let hl = Headless::new(args.context.backend, args.context.gl, w * n, h)?;
         let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
         renderer.set_environment(crate::run::env_request(args)?);
         for (i, t) in tiers.iter().enumerate() {
@@ -125,7 +125,7 @@ pub fn render_panes_with(
                     ..base.clone()
                 };
                 let stats = renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
-                if args.stats {
+                if args.picture.stats {
                     println!("{}", serde_json::to_string(&stats).unwrap_or_default());
                 }
             }
@@ -212,7 +212,7 @@ pub fn compare_image(
     let scene = crate::run::load_scene(args)?;
     let name = scene.name.clone();
     let panes = render_panes(args, scene, &tiers)?;
-    let (w, h) = args.size;
+    let (w, h) = args.picture.size;
     let labels: Vec<&str> = panes.labels.iter().map(String::as_str).collect();
     let strip = canvas::strip_height(w, &labels);
     let mut out = canvas::blank(w * tiers.len() as u32, h + strip, [24, 24, 28]);

@@ -54,14 +54,14 @@ pub fn sheet_image(
     // checks and messages); the sheet's model and size are set on the result.
     let mut args = Options::from_words(cmd.view_options.iter().cloned())?;
     if cmd.model.is_some() {
-        args.model.clone_from(&cmd.model);
+        args.load.model.clone_from(&cmd.model);
     }
-    args.size = cmd.size;
+    args.picture.size = cmd.size;
     let tiers = super::parse_tiers(&cmd.tiers, "--tiers")?;
-    let views = angles(cmd, args.pitch)?;
+    let views = angles(cmd, args.camera.pitch)?;
     let scene = crate::run::load_scene(&args)?;
     let (base, _) = crate::run::frame_settings(&args, &scene)?;
-    let (w, h) = args.size;
+    let (w, h) = args.picture.size;
     let (cols, rows) = (views.len() as u32, tiers.len() as u32);
     let label =
         |tier: &PaneTier, yaw: f32, pitch: f32| format!("{} yaw {yaw} pitch {pitch}", tier.name());
@@ -72,7 +72,7 @@ pub fn sheet_image(
     let strip = canvas::strip_height(w, &labels.iter().map(String::as_str).collect::<Vec<_>>());
     let cell_h = h + strip;
     let mut sheet = canvas::blank(w * cols, cell_h * rows, [24, 24, 28]);
-    let hl = Headless::new(args.backend, args.gl, w, h)?;
+    let hl = Headless::new(args.context.backend, args.context.gl, w, h)?;
     let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
     renderer.set_environment(crate::run::env_request(&args)?);
     let bar = indicatif::ProgressBar::new(u64::from(cols * rows));

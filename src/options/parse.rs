@@ -26,37 +26,88 @@ pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-/// A finite number > 0; negative numbers reach here (`allow_negative_numbers`) so the error
-/// says what is wrong instead of clap's "use -- -1" hint.
-pub(crate) fn parse_positive(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
-        Ok(_) => Err(format!("{s} is out of range: must be a positive number")),
-        Err(_) => Err(format!("{s:?} is not a number")),
-    }
+/// A value an option's check reads: the value itself, or an optional one (None passes).
+pub(crate) trait Checked<T> {
+    fn value(&self) -> Option<T>;
 }
 
-pub(crate) fn parse_bias(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(x) if (0.0..=1.0).contains(&x) => Ok(x),
-        Ok(_) => Err(format!(
-            "{s} is out of range: the bias is in depth-buffer units, 0..1"
+macro_rules! checked {
+    ($($t:ty),*) => {$(
+        impl Checked<$t> for $t {
+            fn value(&self) -> Option<$t> {
+                Some(*self)
+            }
+        }
+        impl Checked<$t> for Option<$t> {
+            fn value(&self) -> Option<$t> {
+                *self
+            }
+        }
+    )*};
+}
+checked!(f32, u32, u8);
+
+/// `lo..=hi`.
+pub(crate) fn in_range<T, V>(lo: T, hi: T) -> impl Fn(&V) -> Result<(), String>
+where
+    T: PartialOrd + std::fmt::Display + Copy,
+    V: Checked<T>,
+{
+    move |v| match v.value() {
+        Some(x) if !(lo..=hi).contains(&x) => Err(format!(
+            "{x} is out of range: must be between {lo} and {hi}"
         )),
-        Err(_) => Err(format!("{s:?} is not a number")),
+        _ => Ok(()),
     }
 }
 
-pub(crate) fn parse_crease(s: &str) -> Result<f32, String> {
-    match s.parse::<f32>() {
-        Ok(d) if (0.0..=180.0).contains(&d) => Ok(d),
-        _ => Err(format!("crease angle must be 0..180 degrees, not {s:?}")),
+/// At least `lo`.
+pub(crate) fn at_least<T, V>(lo: T) -> impl Fn(&V) -> Result<(), String>
+where
+    T: PartialOrd + std::fmt::Display + Copy,
+    V: Checked<T>,
+{
+    move |v| match v.value() {
+        Some(x) if x < lo => Err(format!("{x} is out of range: must be at least {lo}")),
+        _ => Ok(()),
     }
 }
 
-pub(crate) fn parse_pcf(s: &str) -> Result<u8, String> {
-    match s {
-        "1" | "4" | "9" | "16" => Ok(s.parse().unwrap_or(1)),
-        _ => Err("PCF taps must be 1, 4, 9 or 16".into()),
+/// One of these values, else `message`.
+pub(crate) fn one_of<T, V>(
+    allowed: &'static [T],
+    message: &'static str,
+) -> impl Fn(&V) -> Result<(), String>
+where
+    T: PartialEq + std::fmt::Display + Copy,
+    V: Checked<T>,
+{
+    move |v| match v.value() {
+        Some(x) if !allowed.contains(&x) => Err(format!("{x}: {message}")),
+        _ => Ok(()),
+    }
+}
+
+/// A finite number > 0.
+pub(crate) fn positive(v: &f32) -> Result<(), String> {
+    if v.is_finite() && *v > 0.0 {
+        Ok(())
+    } else {
+        Err(format!("{v} is out of range: must be a positive number"))
+    }
+}
+
+pub(crate) fn positive_or_none(v: &Option<f32>) -> Result<(), String> {
+    v.as_ref().map_or(Ok(()), positive)
+}
+
+/// 0..1, or unset.
+pub(crate) fn unit_or_none(v: &Option<f32>) -> Result<(), String> {
+    match v {
+        Some(x) if !(0.0..=1.0).contains(x) => {
+            Err(format!("{x} is out of range: must be between 0 and 1"))
+        }
+        _ => Ok(()),
     }
 }
 

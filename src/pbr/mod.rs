@@ -18,17 +18,18 @@ use std::path::PathBuf;
 /// The dielectric reflectance at normal incidence.
 pub const F0: f64 = 0.04;
 
-/// Tone mapping of the exposed linear colour before sRGB encoding.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-pub enum Tonemap {
-    /// Narkowicz's ACES filmic fit (input scaled by 0.6).
-    Aces,
-    /// x / (1 + x)
-    Reinhard,
-    /// Khronos PBR Neutral: identity below 0.76, base colours kept.
-    KhronosNeutral,
-    /// Clamp to [0, 1].
-    None,
+crate::choice! {
+    /// Tone mapping of the exposed linear colour before sRGB encoding.
+    pub enum Tonemap {
+        /// Narkowicz's ACES filmic fit (input scaled by 0.6).
+        Aces = "aces",
+        /// x / (1 + x)
+        Reinhard = "reinhard",
+        /// Khronos PBR Neutral: identity below 0.76, base colours kept.
+        KhronosNeutral = "khronos-neutral",
+        /// Clamp to [0, 1].
+        None = "none",
+    }
 }
 
 impl Tonemap {
@@ -163,24 +164,27 @@ pub enum EnvSource {
     File(PathBuf),
 }
 
-/// Texture encoding of the precomputed maps.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum, Serialize)]
-pub enum Encoding {
-    /// 16-bit float where the driver has it, else RGBM.
-    Auto,
-    Float,
-    /// 8-bit RGB·M (M in alpha, range 8), decoded in the shader.
-    Rgbm,
+crate::choice! {
+    /// Texture encoding of the precomputed maps.
+    #[derive(Hash)]
+    pub enum Encoding {
+        /// 16-bit float where the driver has it, else RGBM.
+        Auto = "auto",
+        Float = "float",
+        /// 8-bit RGB·M (M in alpha, range 8), decoded in the shader.
+        Rgbm = "rgbm",
+    }
 }
 
-/// Where the maps are computed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-pub enum PrecomputeOn {
-    /// The GPU where it can and is not a software rasterizer, else the CPU (the bench's
-    /// measurement on llvmpipe: the CPU is faster there).
-    Auto,
-    Cpu,
-    Gpu,
+crate::choice! {
+    /// Where the maps are computed.
+    pub enum PrecomputeOn {
+        /// The GPU where it can and is not a software rasterizer, else the CPU (the bench's
+        /// measurement on llvmpipe: the CPU is faster there).
+        Auto = "auto",
+        Cpu = "cpu",
+        Gpu = "gpu",
+    }
 }
 
 /// What the PBR pass needs to make (or read from the cache) its maps.

@@ -5,20 +5,18 @@ pub mod egl;
 pub mod osmesa;
 pub mod window;
 
-use serde::Serialize;
-
-/// The context a user asks for with `--gl`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-pub enum GlRequest {
-    /// The best that works: GL 3.3 core, then GL ES 3.0, then GL 2.1.
-    Auto,
-    /// Desktop GL 2.1 (GLSL 1.20), compatibility profile.
-    #[value(name = "2.1")]
-    Gl21,
-    /// OpenGL ES 3.0 (GLSL ES 3.00).
-    Es3,
-    /// OpenGL 3.3 core (GLSL 3.30).
-    Core,
+crate::choice! {
+    /// The context a user asks for with `--gl`.
+    pub enum GlRequest {
+        /// The best that works: GL 3.3 core, then GL ES 3.0, then GL 2.1.
+        Auto = "auto",
+        /// Desktop GL 2.1 (GLSL 1.20), compatibility profile.
+        Gl21 = "2.1",
+        /// OpenGL ES 3.0 (GLSL ES 3.00).
+        Es3 = "es3",
+        /// OpenGL 3.3 core (GLSL 3.30).
+        Core = "core",
+    }
 }
 
 impl GlRequest {
@@ -33,13 +31,14 @@ impl GlRequest {
     }
 }
 
-/// Where headless frames are rendered (`--backend`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, Serialize)]
-pub enum Backend {
-    /// EGL, then OSMesa.
-    Auto,
-    Egl,
-    Osmesa,
+crate::choice! {
+    /// Where headless frames are rendered (`--backend`).
+    pub enum Backend {
+        /// EGL, then OSMesa.
+        Auto = "auto",
+        Egl = "egl",
+        Osmesa = "osmesa",
+    }
 }
 
 /// What glutin is asked for, per request; shared by the EGL headless and the window paths.

@@ -245,6 +245,21 @@ impl std::str::FromStr for UpAxis {
     }
 }
 
+impl std::fmt::Display for UpAxis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            UpAxis::PosY => "+Y",
+            UpAxis::NegY => "-Y",
+            UpAxis::PosX => "+X",
+            UpAxis::NegX => "-X",
+            UpAxis::PosZ => "+Z",
+            UpAxis::NegZ => "-Z",
+        })
+    }
+}
+
+crate::word_value!(UpAxis, "an axis: +Y, -Y, +X, -X, +Z or -Z");
+
 impl UpAxis {
     /// The proper rotation (no mirroring) taking this axis to +Y; exact (only swaps and
     /// sign changes).

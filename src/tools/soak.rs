@@ -8,8 +8,8 @@ use glview::render::Renderer;
 use glview::Result;
 
 pub fn run(args: &Options, rounds: u32) -> Result<()> {
-    let (w, h) = args.size;
-    let hl = Headless::new(args.backend, args.gl, w, h)?;
+    let (w, h) = args.picture.size;
+    let hl = Headless::new(args.context.backend, args.context.gl, w, h)?;
     let base = hl.gpu.live_objects();
     let mut rss = Vec::with_capacity(rounds as usize);
     let start = std::time::Instant::now();

@@ -55,10 +55,11 @@ pub fn run_frame(work: &Path, models_dir: &Path, rounds: usize, triangles: u64) 
         "triangles sent (pass + lit)",
     ]);
     for model in &models {
-        let args = Options {
-            model: Some(model.clone()),
-            size: SIZE,
-            ..Options::default()
+        let args = {
+            let mut o = Options::default();
+            o.load.model = Some(model.clone());
+            o.picture.size = SIZE;
+            o
         };
         let scene = glview::run::load_scene(&args)?;
         let (settings, _) = glview::run::frame_settings(&args, &scene)?;

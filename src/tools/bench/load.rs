@@ -300,10 +300,11 @@ fn measure_file(
 
 /// The large model's frame time at 1280×720 with the default shadows.
 fn frame_time(file: &Path) -> Result<FrameTime> {
-    let args = glview::options::Options {
-        model: Some(file.to_path_buf()),
-        size: SIZE,
-        ..Default::default()
+    let args = {
+        let mut o: glview::options::Options = Default::default();
+        o.load.model = Some(file.to_path_buf());
+        o.picture.size = SIZE;
+        o
     };
     let scene = glview::run::load_scene(&args)?;
     let (settings, _) = glview::run::frame_settings(&args, &scene)?;

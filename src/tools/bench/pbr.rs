@@ -73,11 +73,11 @@ fn knobs() -> Vec<Knob> {
         ..k("rgbm", d)
     });
     v.push(Knob {
-        extra: |o| o.dominant_direction = true,
+        extra: |o| o.pbr.dominant_direction = true,
         ..k("dominant direction", d)
     });
     v.push(Knob {
-        extra: |o| o.multiscatter = true,
+        extra: |o| o.pbr.multiscatter = true,
         ..k("multiscatter", d)
     });
     v.push(Knob {
@@ -92,18 +92,19 @@ const MATERIALS: &[(f32, f32)] = &[(1.0, 0.25), (1.0, 0.5), (1.0, 0.75), (0.0, 0
 const SIZE: u32 = 128;
 
 fn options_for(hdr: &Path, metallic: f32, roughness: f32, extra: fn(&mut Options)) -> Options {
-    let mut o = Options {
-        model: Some("models/sphere.obj".into()),
-        shading: glview::frame::Shading::Pbr,
-        lights: vec!["none".into()],
-        tonemap: glview::pbr::Tonemap::None,
-        exposure: -1.0,
-        background: Some("1,0,1".into()),
-        metallic: Some(metallic),
-        roughness: Some(roughness),
-        env: Some(hdr.into()),
-        size: (SIZE, SIZE),
-        ..Options::default()
+    let mut o = {
+        let mut o: Options = Options::default();
+        o.load.model = Some("models/sphere.obj".into());
+        o.render.shading = glview::frame::Shading::Pbr;
+        o.light.lights = vec![glview::light::LightOpt::None];
+        o.pbr.tonemap = glview::pbr::Tonemap::None;
+        o.pbr.exposure = -1.0;
+        o.render.background = Some([1.0, 0.0, 1.0]);
+        o.pbr.metallic = Some(metallic);
+        o.pbr.roughness = Some(roughness);
+        o.pbr.env = Some(hdr.into());
+        o.picture.size = (SIZE, SIZE);
+        o
     };
     extra(&mut o);
     o
@@ -254,11 +255,7 @@ mod tests {
                      --size 128x128 --multiscatter";
         let words: Vec<&str> = words.split_whitespace().collect();
         let parsed = Options::from_words(words.clone()).expect("the command parses");
-        let built = options_for(hdr, 1.0, 0.25, |o| o.multiscatter = true);
-        let built = Options {
-            words: words.iter().map(|w| w.to_string()).collect(),
-            ..built
-        };
-        assert_eq!(format!("{built:?}"), format!("{parsed:?}"));
+        let built = options_for(hdr, 1.0, 0.25, |o| o.pbr.multiscatter = true);
+        assert_eq!(built, parsed);
     }
 }

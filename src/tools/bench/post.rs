@@ -17,21 +17,23 @@ const H: u32 = 480;
 
 /// The built-in scene at W×H with the defaults.
 fn base() -> Options {
-    Options {
-        size: (W, H),
-        ..Options::default()
+    {
+        let mut o: Options = Options::default();
+        o.picture.size = (W, H);
+        o
     }
 }
 
 /// The PBR tier with bloom (`levels` 0: the exact full-resolution blur).
 fn bloom(levels: u32) -> Options {
-    Options {
-        shading: Shading::Pbr,
-        bloom: 0.3,
-        bloom_threshold: 0.6,
-        bloom_sigma: 12.0,
-        bloom_levels: levels,
-        ..base()
+    {
+        let mut o: Options = base();
+        o.render.shading = Shading::Pbr;
+        o.post.bloom = 0.3;
+        o.post.bloom_threshold = 0.6;
+        o.post.bloom_sigma = 12.0;
+        o.post.bloom_levels = levels;
+        o
     }
 }
 
@@ -64,9 +66,10 @@ pub fn run_post() -> Result<()> {
         "> 8/255 %",
         "1 - SSIM",
     ]);
-    let fxaa = Options {
-        aa: glview::options::AaMode::Fxaa,
-        ..base()
+    let fxaa = {
+        let mut o: Options = base();
+        o.post.aa = glview::options::AaMode::Fxaa;
+        o
     };
     for (label, args, ssaa, msaa) in [
         ("none", base(), 1, 0),
@@ -97,9 +100,10 @@ pub fn run_post() -> Result<()> {
     eprintln!("bench --post: bloom chain depth against the full-resolution blur ...");
     let with = |levels: u32| frame(&bloom(levels), 1, 0);
     let (exact, exact_ms) = with(0)?;
-    let pbr = Options {
-        shading: Shading::Pbr,
-        ..base()
+    let pbr = {
+        let mut o: Options = base();
+        o.render.shading = Shading::Pbr;
+        o
     };
     let (_, plain_ms) = frame(&pbr, 1, 0)?;
     let mut b = Table::new(&[

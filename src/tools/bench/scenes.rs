@@ -108,11 +108,16 @@ impl SceneSpec {
         for light in self.lights {
             words.extend(["--light".into(), light.to_string()]);
         }
-        let opts = Options {
-            model,
-            size,
-            lights: self.lights.iter().map(|l| l.to_string()).collect(),
-            ..Options::default()
+        let opts = {
+            let mut o: Options = Options::default();
+            o.load.model = model;
+            o.picture.size = size;
+            o.light.lights = self
+                .lights
+                .iter()
+                .map(|l| l.parse().expect("a bench light"))
+                .collect();
+            o
         };
         (opts, words)
     }
@@ -191,8 +196,7 @@ mod tests {
         for spec in default_set() {
             let (built, words) = spec.options(spec.path(Path::new("../shared/models")), (64, 48));
             let parsed = Options::from_words(words.clone()).expect("the command parses");
-            let built = Options { words, ..built };
-            assert_eq!(format!("{built:?}"), format!("{parsed:?}"), "{}", spec.name);
+            assert_eq!(built, parsed, "{}", spec.name);
         }
     }
 }

@@ -16,16 +16,18 @@ pub fn run_translucency(models_dir: &Path) -> Result<()> {
     let (w, h) = (1280, 720);
     let hl = Headless::new(Backend::Auto, GlRequest::Auto, w, h)?;
     let dragon = models_dir.join("dragon-200k/dragon_vrip_res2.obj");
-    let builtin = Options {
-        size: (w, h),
-        ..Options::default()
+    let builtin = {
+        let mut o: Options = Options::default();
+        o.picture.size = (w, h);
+        o
     };
     let mut scenes = vec![("built-in", builtin.clone())];
     if dragon.is_file() {
-        let xrayed = Options {
-            model: Some(dragon),
-            xray: vec!["default".into()],
-            ..builtin
+        let xrayed = {
+            let mut o: Options = builtin;
+            o.load.model = Some(dragon);
+            o.load.xray = vec!["default".into()];
+            o
         };
         scenes.push(("dragon 202k, x-rayed", xrayed));
     }
