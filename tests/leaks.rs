@@ -1,7 +1,7 @@
 //! No leaks: every GL object the GPU layer creates is deleted when its owner is dropped, and
 //! loading and dropping a model again and again keeps memory flat. (The 1,000-round soak is
 //! `glview bench --soak`; the test runs a smaller count.) The library API's contexts too:
-//! renderers opened and closed again and again keep memory flat.
+//! one-shot pictures and renderers opened and closed again and again keep memory flat.
 //!
 //! The tests measure the process's resident memory, so they take turns (`serial`).
 #[path = "suite/common.rs"]
@@ -99,6 +99,22 @@ fn stays_flat(what: &str, warm_up: usize, rounds: usize, mut round: impl FnMut(u
     eprintln!("{what}: RSS {base} KiB after warm-up, at most {top} KiB over {rounds} rounds");
 }
 
+/// One-shot `api::render` calls share one kept renderer: 1,000 of them keep memory flat
+/// (each made and dropped a context before, and each context stayed: ~30 MB a call).
+#[test]
+fn one_shot_renders_keep_memory_flat() {
+    let _serial = serial();
+    let o = api_options(&["--size", "32x24", "--backend", "egl"]);
+    let first = api::render(&o, Outputs::default()).expect("EGL context");
+    stays_flat("one-shot api::render", 20, 1000, |_| {
+        let f = api::render(&o, Outputs::default()).unwrap();
+        assert!(
+            f.color.data == first.color.data,
+            "the kept renderer drew another picture"
+        );
+    });
+}
+
 /// 200 renderers opened and closed keep memory flat; every tenth draws a picture first (a
 /// context that has drawn holds its compiled programs and llvmpipe's buffers).
 #[test]
@@ -112,4 +128,29 @@ fn renderers_opened_and_closed_keep_memory_flat() {
         }
         r.close();
     });
+}
+
+/// Two threads calling `api::render` at once both get their pictures (the one that finds the
+/// shared renderer busy draws in a temporary one, which is closed and freed), and after
+/// `api::release` the next call makes a new renderer.
+#[test]
+fn one_shot_renders_from_two_threads_and_release() {
+    let _serial = serial();
+    let o = api_options(&["--size", "32x24", "--backend", "egl", "--yaw", "30"]);
+    let first = api::render(&o, Outputs::default()).expect("EGL context");
+    stays_flat("one-shot api::render from two threads", 4, 20, |_| {
+        std::thread::scope(|s| {
+            let threads: Vec<_> = (0..2)
+                .map(|_| s.spawn(|| api::render(&o, Outputs::default())))
+                .collect();
+            for t in threads {
+                let f = t.join().unwrap().unwrap();
+                assert!(f.color.data == first.color.data);
+            }
+        });
+    });
+    api::release();
+    api::release();
+    let again = api::render(&o, Outputs::default()).unwrap();
+    assert!(again.color.data == first.color.data);
 }
