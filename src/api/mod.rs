@@ -244,6 +244,12 @@ impl Renderer {
         self.model = Some(model);
     }
 
+    /// Draws the options' model file (or the built-in scene) again instead of a loaded
+    /// model, which is no longer kept.
+    pub fn unload(&mut self) {
+        self.model = None;
+    }
+
     pub fn model(&self) -> Option<&Model> {
         self.model.as_ref()
     }
