@@ -144,6 +144,13 @@ impl NativeRenderer {
         Ok(names)
     }
 
+    /// Draws the `model` option's file (or the built-in scene) again instead of the loaded
+    /// model (`glview.render` reuses one renderer for many models).
+    fn unload(&mut self) -> PyResult<()> {
+        self.get()?.unload();
+        Ok(())
+    }
+
     /// Renders a job of `glview batch`: the words of its line without `--output`; returns
     /// the PNG file's bytes, the same bytes `glview batch` writes for that line.
     fn render_words<'py>(

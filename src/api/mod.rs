@@ -244,6 +244,12 @@ impl Renderer {
         self.model = Some(model);
     }
 
+    /// Draws the options' model file (or the built-in scene) again instead of a loaded
+    /// model, which is no longer kept.
+    pub fn unload(&mut self) {
+        self.model = None;
+    }
+
     pub fn model(&self) -> Option<&Model> {
         self.model.as_ref()
     }
@@ -289,7 +295,45 @@ impl Drop for Renderer {
     }
 }
 
-/// One picture in a renderer of its own: `render(&Options::from_words(["bunny.obj"])?)`.
+/// The renderer one-shot [`render`] calls share, made by the first and kept until
+/// [`release`]: a new context per picture cost 40-50 ms and compiled every program again.
+static SHARED: Mutex<Option<Renderer>> = Mutex::new(None);
+
+/// One picture: `render(&Options::from_words(["bunny.obj"])?, Outputs::default())`.
+///
+/// Calls share one process-wide renderer (made by the first call, kept warm until
+/// [`release`]), so a picture costs what it costs on a kept [`Renderer`]: the context and
+/// the compiled programs are reused, and so is the uploaded scene while the model file and
+/// the options that make the scene stay the same. A call made while another thread's call
+/// draws on it does not wait: it draws in a temporary renderer of its own, made and closed
+/// for that picture (slower, as every call was before the renderer was shared).
 pub fn render(opts: &Options, outputs: Outputs) -> Result<Frame> {
-    Renderer::new(opts.clone())?.render(opts, outputs)
+    let mut shared = match SHARED.try_lock() {
+        Ok(g) => g,
+        // A panic while it was held: the renderer may be half made; make it anew.
+        Err(std::sync::TryLockError::Poisoned(p)) => {
+            let mut g = p.into_inner();
+            *g = None;
+            SHARED.clear_poison();
+            g
+        }
+        Err(std::sync::TryLockError::WouldBlock) => {
+            return Renderer::new(opts.clone())?.render(opts, outputs)
+        }
+    };
+    if shared.is_none() {
+        *shared = Some(Renderer::new(opts.clone())?);
+    }
+    shared.as_ref().expect("made above").render(opts, outputs)
+}
+
+/// Closes the renderer one-shot [`render`] calls share, releasing its context and what it
+/// uploaded (the next call makes a new one). Waits for a call drawing on it to finish.
+/// Without it the renderer lives until the process ends.
+pub fn release() {
+    let r = match SHARED.lock() {
+        Ok(mut g) => g.take(),
+        Err(p) => p.into_inner().take(),
+    };
+    drop(r);
 }
