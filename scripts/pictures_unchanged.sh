@@ -80,7 +80,7 @@ trap 'exit 130' INT TERM
 
 # The path of the glview executable a `cargo build` in the current folder produced.
 cargo_build_glview() {
-  cargo build -p glview --bin glview --message-format=json-render-diagnostics \
+  cargo build --bin glview --message-format=json-render-diagnostics \
     | "$py" -c '
 import json, sys
 exe = None

@@ -19,7 +19,20 @@ if [ ! -f ../shared/MANIFEST.md ]; then
   echo "error: ../shared (test models and conformance files) is missing beside the repository" >&2
   exit 1
 fi
-step fmt cargo fmt --check
+step fmt cargo fmt --all --check
+# The library is what Python, Dask and the server hold: none of the command line's, the
+# window's or the tools' crates may reach it (cli/ has them).
+lib_deps() {
+  local bad
+  bad=$(cargo tree -p glview -e normal --prefix none | awk '{print $1}' |
+    grep -xE 'clap|winit|glutin-winit|indicatif|plotters|shlex|env_logger' | sort -u || true)
+  if [ -n "$bad" ]; then
+    echo "error: the glview library depends on: $bad" >&2
+    return 1
+  fi
+  echo "glview library: $(cargo tree -p glview -e normal --prefix none | sort -u | wc -l) crates, none of clap/winit/indicatif/plotters/shlex"
+}
+step "library dependencies" lib_deps
 # Clippy runs inside the test build instead of as `cargo clippy` before it: clippy-driver as
 # the workspace wrapper lints every target `cargo clippy --all-targets` lints (lib, bins, tests,
 # their test builds; the crate has no examples or benches) while compiling them for real, so the
@@ -32,4 +45,7 @@ export RUSTC_WORKSPACE_WRAPPER=$clippy_driver
 export CLIPPY_ARGS="-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__"
 step "build + clippy -D warnings" cargo test --workspace --no-run --quiet
 step test cargo test --workspace --no-fail-fast 2>&1
+# The library's docs build without a warning (broken links, bad code blocks); its examples
+# ran as doctests above.
+RUSTDOCFLAGS="-D warnings" step doc cargo doc --no-deps -p glview --quiet
 step python bash scripts/test_python.sh

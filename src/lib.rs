@@ -1,11 +1,12 @@
-//! glview: a legacy-compatible OpenGL OBJ/MTL viewer.
+//! glview: a legacy-compatible OpenGL model viewer as a library (OBJ/MTL, STL, PLY, glTF):
+//! options, loading, rendering on every context, comparisons and the Python/serving API.
+//! The command line, the window and the tools are the `glview-cli` crate.
 //!
-//! Dependencies point one way: `app`/`headless` → `render` → {`scene`, `camera`, `light`,
+//! Dependencies point one way: `api`/`headless` → `render` → {`scene`, `camera`, `light`,
 //! `shader`, `gpu`} → `platform`. Only `gpu` and `platform` contain `unsafe`.
 #![deny(unsafe_code)]
 
 pub mod camera;
-pub mod cli;
 pub mod compare;
 pub mod error;
 pub mod frame;
@@ -28,10 +29,9 @@ pub mod render;
 pub mod shader;
 
 pub mod api;
-pub mod app;
-pub mod batch;
 pub mod headless;
 pub mod picture;
+pub mod progress;
 pub mod run;
 
 pub use error::{Error, Result};

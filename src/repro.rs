@@ -59,13 +59,20 @@ pub fn shown_options(
 pub fn command_line(o: &Options) -> String {
     let words: Vec<String> = std::iter::once("glview".to_string())
         .chain(o.to_words())
-        .map(|w| {
-            shlex::try_quote(&w)
-                .map(|q| q.into_owned())
-                .unwrap_or_else(|_| w.clone())
-        })
+        .map(|w| quote(&w))
         .collect();
     words.join(" ")
+}
+
+/// A word as a POSIX shell reads it back: as it is when it has only safe characters, else
+/// in single quotes (a `'` inside closes, escapes and reopens them).
+fn quote(w: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || "-_.,:/=+@%^".contains(c);
+    if !w.is_empty() && w.chars().all(safe) {
+        w.to_string()
+    } else {
+        format!("'{}'", w.replace('\'', "'\\''"))
+    }
 }
 
 /// The options a PNG of glview's was drawn with (its `glview.options` text).
@@ -140,12 +147,14 @@ mod tests {
         assert!(
             line.starts_with("glview 'my model.obj' --yaw ")
                 && line.contains("--keys S ")
-                && line.contains("--light 'dir:0,-1,0' ")
+                && line.contains("--light dir:0,-1,0 ")
                 && line.contains("--shadow-bias 0.001 ")
                 && line.contains("--size 64x48")
                 && !line.contains("--stats"),
             "{line}"
         );
+        assert_eq!(quote("it's"), "'it'\\''s'");
+        assert_eq!(quote(""), "''");
         let again = Options::from_json(&serde_json::to_string(&shown).unwrap()).unwrap();
         assert_eq!(again, shown);
     }

@@ -21,9 +21,8 @@ use std::path::Path;
 pub const BUILTIN_OBJ: &str = include_str!("../models/glass_holder.obj");
 pub const BUILTIN_MTL: &str = include_str!("../models/glass_holder.mtl");
 
-/// Loads the model (or the built-in scene). Files that take a while show an indicatif bar
-/// on stderr (bytes scanned, then the triangle count); it stays hidden when stderr is not a
-/// terminal.
+/// Loads the model (or the built-in scene). Files that take a while report their progress
+/// (bytes scanned, then the triangle count) to the installed reporter ([`crate::progress`]).
 pub fn load_scene(args: &Options) -> Result<Scene> {
     load_scene_with(args, true)
 }
@@ -50,25 +49,25 @@ fn load_scene_prepared_with(
         .and_then(|p| std::fs::metadata(p).ok())
         .map_or(0, |m| m.len());
     // About 1 s of loading on a slow machine: below that a bar would only flicker.
-    let bar = (size > 16 << 20).then(|| {
-        let b = indicatif::ProgressBar::new(size);
-        let style = indicatif::ProgressStyle::with_template(
-            "{msg} [{bar:30}] {bytes}/{total_bytes} {elapsed}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
-        b.set_style(style);
-        let name = args
-            .load
-            .model
-            .as_ref()
-            .map(|p| p.display().to_string())
-            .unwrap_or_default();
-        b.set_message(format!("loading {name}"));
-        b
-    });
-    let progress = bar.clone().map(|b| {
-        std::sync::Arc::new(move |done: u64, _total: u64| b.set_position(done)) as obj::ProgressFn
-    });
+    let bar: Option<std::sync::Arc<dyn crate::progress::Task>> = (size > 16 << 20)
+        .then(|| {
+            let name = args
+                .load
+                .model
+                .as_ref()
+                .map(|p| p.display().to_string())
+                .unwrap_or_default();
+            crate::progress::start(
+                &format!("loading {name}"),
+                size,
+                crate::progress::Unit::Bytes,
+            )
+        })
+        .flatten()
+        .map(std::sync::Arc::from);
+    let progress = bar
+        .clone()
+        .map(|b| std::sync::Arc::new(move |done: u64, _total: u64| b.set(done)) as obj::ProgressFn);
     let opts = load_options(args, progress);
     let scene = match &args.load.model {
         Some(path) => obj::load_prepared(path, &opts),
@@ -82,8 +81,8 @@ fn load_scene_prepared_with(
     };
     if let Some(b) = &bar {
         match &scene {
-            Ok((s, _)) => b.finish_with_message(format!("loaded {} triangles", s.triangle_count())),
-            Err(_) => b.finish_and_clear(),
+            Ok((s, _)) => b.finish(Some(format!("loaded {} triangles", s.triangle_count()))),
+            Err(_) => b.finish(None),
         }
     }
     let scene = match scene {

@@ -381,14 +381,12 @@ fn sheet<'py>(
     angles: Option<String>,
 ) -> PyResult<Picture<'py>> {
     let o = options(options_json)?;
-    let cmd = glview::cli::SheetCommand {
-        model: o.load.model.clone(),
+    let cmd = glview::compare::sheet::Sheet {
+        size: o.picture.size,
+        options: o,
         views,
         angles,
         tiers: tiers.to_string(),
-        size: o.picture.size,
-        output: "sheet.png".into(),
-        view_options: o.to_words(),
     };
     let (img, _, _) = py
         .detach(move || glview::compare::sheet::sheet_image(&cmd))

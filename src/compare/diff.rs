@@ -1,8 +1,8 @@
 //! Difference images with numbers: `--diff A,B` and `--diff-against FILE.png`.
 use super::canvas;
-use crate::cli::Args;
 use crate::image_out::Rgba;
 use crate::metrics::{compare, ImageError, WRONG_THRESHOLD};
+use crate::options::Options;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -219,7 +219,7 @@ pub fn diff_images(
 
 /// `--diff A,B`: both renders, the difference image and the numbers (table on stdout, JSON
 /// beside the images).
-pub fn run_diff(args: &Args, tiers_arg: &str, out: &Path) -> Result<()> {
+pub fn run_diff(args: &Options, tiers_arg: &str, out: &Path) -> Result<()> {
     let d = diff_tiers(args, tiers_arg)?;
     let [na, nb] = &d.names;
     d.a.save_png(&sibling(out, na), &[])?;
@@ -250,12 +250,15 @@ pub fn run_diff(args: &Args, tiers_arg: &str, out: &Path) -> Result<()> {
 
 /// `--diff-against FILE.png`: the render against a stored picture. A missing picture is
 /// written from the render and the run fails saying so; a mismatch beyond `threshold` (mean
-/// error in 1/255) writes the render and the difference image beside it and fails.
-pub fn diff_against(args: &Args, stored: &Path, threshold: f64) -> Result<()> {
-    let out = args
-        .output
-        .clone()
-        .unwrap_or_else(|| sibling(stored, "render"));
+/// error in 1/255) writes the render and the difference image beside it and fails. The
+/// render goes to `output`, else beside the stored picture.
+pub fn diff_against(
+    args: &Options,
+    output: Option<&Path>,
+    stored: &Path,
+    threshold: f64,
+) -> Result<()> {
+    let out = output.map_or_else(|| sibling(stored, "render"), Path::to_path_buf);
     crate::run::render_headless(args, &out)?;
     let render = Rgba::load_png(&out)?;
     if !stored.exists() {

@@ -7,7 +7,6 @@ pub mod diff;
 pub mod sheet;
 pub mod split;
 
-use crate::cli::Args;
 use crate::frame::{FrameSettings, Shading};
 use crate::headless::Headless;
 use crate::image_out::Rgba;
@@ -198,7 +197,11 @@ fn crop(img: &Rgba, x0: u32, w: u32) -> Rgba {
 }
 
 /// `--compare A,B,...`: the panes side by side under label strips, one PNG.
-pub fn compare(args: &Args, tiers_arg: &str, path: &std::path::Path) -> Result<()> {
+pub fn compare(
+    args: &crate::options::Options,
+    tiers_arg: &str,
+    path: &std::path::Path,
+) -> Result<()> {
     let (out, text) = compare_image(args, tiers_arg)?;
     out.save_png(path, &text)
 }

@@ -1,17 +1,31 @@
 //! `glview sheet MODEL --views N --tiers phong,pbr -o sheet.png`: a labelled grid of turntable
 //! views (columns) by tiers (rows), for a coursework report. One context and one upload for
-//! the whole sheet; a progress bar on a terminal.
+//! the whole sheet; its progress goes to the installed reporter.
 use super::{canvas, PaneTier};
-use crate::cli::SheetCommand;
 use crate::frame::FrameSettings;
 use crate::headless::Headless;
 use crate::options::Options;
 use crate::render::Renderer;
 use crate::{Error, Result};
 
+/// A contact sheet's layout: which views (columns) of which tiers (rows), each cell `size`.
+#[derive(Clone, Debug)]
+pub struct Sheet {
+    /// The picture options every cell starts from (model, lights, PBR settings, ...).
+    pub options: Options,
+    /// Number of turntable views (yaw 0, 360/N, ...).
+    pub views: u32,
+    /// Explicit views instead: YAW:PITCH,YAW:PITCH,...
+    pub angles: Option<String>,
+    /// Rows: tiers (phong, gouraud, pbr, reference, reference-pbr).
+    pub tiers: String,
+    /// Size of each cell.
+    pub size: (u32, u32),
+}
+
 /// The (yaw, pitch) of each column: `--angles` as given, else N views around the model at the
 /// command line's pitch.
-pub fn angles(cmd: &SheetCommand, pitch: f32) -> Result<Vec<(f32, f32)>> {
+pub fn angles(cmd: &Sheet, pitch: f32) -> Result<Vec<(f32, f32)>> {
     if let Some(list) = &cmd.angles {
         return list
             .split(',')
@@ -38,24 +52,12 @@ pub fn angles(cmd: &SheetCommand, pitch: f32) -> Result<Vec<(f32, f32)>> {
         .collect())
 }
 
-pub fn run(cmd: &SheetCommand) -> Result<()> {
-    let (sheet, text, summary) = sheet_image(cmd)?;
-    sheet.save_png(&cmd.output, &text)?;
-    eprintln!("sheet: {summary} written to {}", cmd.output.display());
-    Ok(())
-}
-
 /// The sheet, its PNG text and a one-line summary, without writing it (the library and
 /// Python).
 pub fn sheet_image(
-    cmd: &SheetCommand,
+    cmd: &Sheet,
 ) -> Result<(crate::image_out::Rgba, crate::image_out::PngText, String)> {
-    // The words after `--` are the user's: they go through the options' own parser (its
-    // checks and messages); the sheet's model and size are set on the result.
-    let mut args = Options::from_words(cmd.view_options.iter().cloned())?;
-    if cmd.model.is_some() {
-        args.load.model.clone_from(&cmd.model);
-    }
+    let mut args = cmd.options.clone();
     args.picture.size = cmd.size;
     let tiers = super::parse_tiers(&cmd.tiers, "--tiers")?;
     let views = angles(cmd, args.camera.pitch)?;
@@ -75,11 +77,12 @@ pub fn sheet_image(
     let hl = Headless::new(args.context.backend, args.context.gl, w, h)?;
     let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
     renderer.set_environment(crate::run::env_request(&args)?);
-    let bar = indicatif::ProgressBar::new(u64::from(cols * rows));
-    if let Ok(style) = indicatif::ProgressStyle::with_template("sheet [{bar:30}] {pos}/{len} {msg}")
-    {
-        bar.set_style(style);
-    }
+    let bar = crate::progress::start(
+        "sheet",
+        u64::from(cols * rows),
+        crate::progress::Unit::Items,
+    );
+    let mut done = 0;
     for (r, tier) in tiers.iter().enumerate() {
         for (c, (yaw, pitch)) in views.iter().enumerate() {
             let mut s: FrameSettings = base.clone();
@@ -101,10 +104,15 @@ pub fn sheet_image(
             let text = label(tier, *yaw, *pitch);
             canvas::paste(&mut sheet, &canvas::strip_sized(w, strip, &text), x, y);
             canvas::paste(&mut sheet, &img, x, y + strip);
-            bar.inc(1);
+            done += 1;
+            if let Some(b) = &bar {
+                b.set(done);
+            }
         }
     }
-    bar.finish_and_clear();
+    if let Some(b) = &bar {
+        b.finish(None);
+    }
     let text = vec![
         ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
         (

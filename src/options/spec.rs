@@ -39,6 +39,11 @@ impl OptionSpec {
         self.doc.lines().next().unwrap_or_default()
     }
 
+    /// Sets this option from a command-line word (the value; empty for a switch).
+    pub fn set(&self, o: &mut super::Options, word: &str) -> Result<(), String> {
+        (self.set_word)(o, word)
+    }
+
     /// Whether the command line takes a value after the name.
     pub fn takes_value(&self) -> bool {
         matches!(self.form, Form::Value | Form::Repeat | Form::List)

@@ -265,13 +265,13 @@ fn defaults_are_the_documented_ones() {
 }
 
 /// docs/options.md is generated from the specs; regenerate it with
-/// `cargo run -- --options-reference > docs/options.md`.
+/// `cargo run --bin glview -- --options-reference > docs/options.md`.
 #[test]
 fn the_committed_reference_is_current() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/options.md");
     let committed = std::fs::read_to_string(path).unwrap_or_default();
     assert!(
         committed == reference_markdown(),
-        "docs/options.md is stale: run `cargo run -- --options-reference > docs/options.md`"
+        "docs/options.md is stale: run `cargo run --bin glview -- --options-reference > docs/options.md`"
     );
 }

@@ -1,9 +1,8 @@
 //! Context creation: EGL headless (device platform, surfaceless), OSMesa (loaded at run time)
-//! and the window (winit + glutin-winit, in `window`). Each gives a `glow::Context`; the same
+//! and, for the binary's window (winit + glutin-winit), the attributes of a context request. Each gives a `glow::Context`; the same
 //! renderer draws in all of them.
 pub mod egl;
 pub mod osmesa;
-pub mod window;
 
 crate::choice! {
     /// The context a user asks for with `--gl`.
@@ -42,7 +41,7 @@ crate::choice! {
 }
 
 /// What glutin is asked for, per request; shared by the EGL headless and the window paths.
-pub(crate) fn context_attributes(
+pub fn context_attributes(
     request: GlRequest,
     window: Option<raw_window_handle::RawWindowHandle>,
 ) -> glutin::context::ContextAttributes {

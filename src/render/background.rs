@@ -2,7 +2,7 @@
 //! the far plane reading one specular level: sharp, or blurred with `--env-blur`). Otherwise
 //! the lit pass clears to the background colour and this pass does not run. With
 //! nearest-layer translucency the background is drawn after the model instead, only where
-//! the stencil is not 1 ([`fill_unmarked`]).
+//! the stencil is not 1 (`fill_unmarked`).
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::state::{DepthFunc, RenderState, Stencil, StencilFunc};
 use crate::shader::cache::ProgramKey;

@@ -1,5 +1,5 @@
 //! The frame as a list of passes over one frame context. Each pass is a small type in its own
-//! file implementing [`Pass`]: it looks at the context (settings, uploaded scene, resources
+//! file implementing `Pass`: it looks at the context (settings, uploaded scene, resources
 //! kept between frames) and either draws or says why it did not. `--stats` lists the passes
 //! that ran (`passes`) and every decision (`pass_log`).
 //!

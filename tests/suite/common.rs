@@ -6,7 +6,19 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 pub fn bin() -> &'static str {
+    at_repo();
     env!("CARGO_BIN_EXE_glview")
+}
+
+/// The tests name files relative to the repository's root (`models/sphere.obj`), as a user
+/// there would, but cargo runs them in the package's folder (cli/): every helper moves the
+/// process there first (the same folder from every thread, so the order does not matter).
+pub fn at_repo() {
+    static DONE: std::sync::Once = std::sync::Once::new();
+    DONE.call_once(|| {
+        std::env::set_current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join(".."))
+            .expect("the repository's root");
+    });
 }
 
 pub fn in_ci() -> bool {
@@ -15,14 +27,22 @@ pub fn in_ci() -> bool {
 
 /// Where failing tests leave their images.
 pub fn out_dir(test: &str) -> PathBuf {
+    at_repo();
     let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(test);
     std::fs::create_dir_all(&d).expect("create test output dir");
     d
 }
 
+/// The repository's root (the tests are the cli package's, in cli/).
+pub fn repo() -> PathBuf {
+    at_repo();
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
 /// The shared test data folder (../shared beside the repository).
 pub fn shared() -> PathBuf {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
+    at_repo();
+    let p = repo().join("../shared");
     assert!(
         p.join("MANIFEST.md").exists(),
         "../shared is missing: the tests need the shared models and conformance files at {}",
@@ -32,11 +52,13 @@ pub fn shared() -> PathBuf {
 }
 
 pub fn models() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("models")
+    at_repo();
+    repo().join("models")
 }
 
 /// Runs glview with arguments and extra environment variables.
 pub fn run(args: &[&str], env: &[(&str, &str)]) -> Output {
+    at_repo();
     let mut c = Command::new(bin());
     c.args(args);
     for (k, v) in env {
@@ -186,10 +208,8 @@ pub const GL21_NO_FBO: &[(&str, &str)] = &[
 
 /// The exact frame settings glview uses for these command-line arguments, and the scene.
 pub fn settings_for(args: &[&str]) -> (glview::render::FrameSettings, glview::scene::Scene) {
-    use clap::Parser;
-    let mut all = vec!["glview"];
-    all.extend_from_slice(args);
-    let a = glview::cli::Args::parse_from(all);
+    at_repo();
+    let a = glview::Options::from_words(args.iter().copied()).expect("valid options");
     let scene = glview::run::load_scene(&a).expect("load scene");
     let (s, _) = glview::run::frame_settings(&a, &scene).expect("settings");
     (s, scene)
@@ -294,8 +314,6 @@ pub fn box_obj(lo: [f64; 3], hi: [f64; 3], before: usize) -> String {
 /// and renders every request in turn, as the binary would. Tests run on many threads and a
 /// GL context is current on one thread only, hence the channel.
 pub mod fixture {
-    use clap::Parser;
-    use glview::cli::Args;
     use std::sync::mpsc::{channel, Sender};
     use std::sync::{Mutex, OnceLock};
 
@@ -309,8 +327,7 @@ pub mod fixture {
                 let mut kept = None;
                 for (argv, reply) in rx {
                     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                        let args = Args::from_words(&argv[1..]).map_err(|e| e.to_string())?;
-                        let out = args.output.clone().expect("fixture jobs have --output");
+                        let (args, out) = one_picture(&argv[1..]).ok_or("not one picture")?;
                         glview::picture::render(&args, &out, &mut kept)
                             .map_err(|e| format!("error: {e}"))
                     }));
@@ -328,24 +345,55 @@ pub mod fixture {
 
     /// Renders `args` (with `--output`) in this process, or None when the arguments ask
     /// for another mode than one headless picture (those run the binary).
+    ///
+    /// The picture's options and `--output` of words that ask for one headless picture and
+    /// nothing else (no mode flag, no subcommand, valid options: the binary reports errors).
+    fn one_picture(words: &[String]) -> Option<(glview::Options, std::path::PathBuf)> {
+        const MODES: &[&str] = &[
+            "bench",
+            "sheet",
+            "batch",
+            "--reference",
+            "--compare",
+            "--diff",
+            "--diff-against",
+            "--threshold",
+            "--info",
+            "--compile-shaders",
+            "--check",
+            "--screenshot-dir",
+            "--repro",
+            "--options-reference",
+            "--help",
+            "-h",
+            "--version",
+            "-V",
+        ];
+        let mut rest = Vec::new();
+        let mut output = None;
+        let mut it = words.iter();
+        while let Some(w) = it.next() {
+            let name = w.split('=').next().unwrap_or_default();
+            if MODES.contains(&name) {
+                return None;
+            }
+            match (w.as_str(), w.strip_prefix("--output=")) {
+                ("-o" | "--output", _) => output = Some(std::path::PathBuf::from(it.next()?)),
+                (_, Some(v)) => output = Some(v.into()),
+                _ => rest.push(w.clone()),
+            }
+        }
+        let out = output?;
+        glview::image_out::OutputFormat::of(&out)?;
+        Some((glview::Options::from_words(rest).ok()?, out))
+    }
     pub fn render(args: &[&str]) -> Option<Result<(), String>> {
+        super::at_repo();
         let argv: Vec<String> = std::iter::once("glview")
             .chain(args.iter().copied())
             .map(String::from)
             .collect();
-        let a = Args::try_parse_from(&argv).ok()?;
-        let one_picture = a.command.is_none()
-            && !a.reference
-            && a.compare.is_none()
-            && a.diff.is_none()
-            && a.diff_against.is_none()
-            && !a.info
-            && !a.compile_shaders
-            && !a.check
-            && a.output.is_some();
-        if !one_picture {
-            return None;
-        }
+        one_picture(&argv[1..])?;
         let (tx, rx) = channel();
         queue()
             .lock()

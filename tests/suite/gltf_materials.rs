@@ -241,7 +241,7 @@ fn check_prints_the_mapping_of_other_formats() {
     )
     .unwrap();
     std::fs::copy(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/checker.png"),
+        crate::common::repo().join("models/checker.png"),
         dir.join("c.png"),
     )
     .unwrap();

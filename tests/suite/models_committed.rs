@@ -4,12 +4,12 @@
 use glview::scene::generate;
 use std::fs::File;
 use std::io::BufReader;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 const REGENERATE: &str = "run `cargo run --bin gen_models` and commit models/";
 
 fn models_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("models")
+    crate::common::repo().join("models")
 }
 
 /// 1-based number of the first line where the two texts differ, to make a failure actionable

@@ -1,9 +1,9 @@
 //! The fast OBJ path: one pass over the bytes that does what [`super::repair`] and tobj do
 //! together, for files where that is certain. The file is cut into chunks at line ends and
-//! the chunks are parsed in parallel ([`chunk`]); element counts are prefix-summed so
-//! relative indices resolve ([`resolve`]); then one ordered pass applies names, materials and
+//! the chunks are parsed in parallel (`chunk`); element counts are prefix-summed so
+//! relative indices resolve (`resolve`); then one ordered pass applies names, materials and
 //! smoothing groups and builds tobj's own `Model`s with its vertex order and dedup
-//! ([`build`]), so the loader's later stages are unchanged. Anything else (an unknown
+//! (`build`), so the loader's later stages are unchanged. Anything else (an unknown
 //! statement, a quirk the repair pass fixes or reports, an error) returns `None` and the
 //! caller runs the old path, which stays the reference (`tests/fast_parse.rs`).
 mod build;

@@ -3,8 +3,8 @@
 //! environment-map cache and the mesh cache. A failing job is reported with its line and
 //! the others still render.
 use crate::cli::{Args, BatchCommand};
-use crate::error::{Error, Result};
-use crate::picture::KeptContext;
+use glview::error::{Error, Result};
+use glview::picture::KeptContext;
 use std::io::Read;
 use std::path::Path;
 use std::time::Instant;
@@ -102,7 +102,7 @@ pub fn run(cmd: &BatchCommand) -> Result<()> {
         let result = job_args(job).and_then(|args| {
             let out = args.output.clone().unwrap_or_default();
             bar.set_message(out.display().to_string());
-            crate::picture::render(&args, &out, &mut kept).map_err(|e| e.to_string())
+            glview::picture::render(&args, &out, &mut kept).map_err(|e| e.to_string())
         });
         if let Err(e) = result {
             bar.suspend(|| eprintln!("error: {name}:{}: {e}", job.line));

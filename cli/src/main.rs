@@ -1,8 +1,13 @@
-//! `glview`: parse, dispatch to one mode (the modes import `run`, never each other), print
-//! the one error, exit code.
+//! `glview`: the command line over the glview library. Parse, dispatch to one mode (the
+//! modes import the library, never each other), print the one error, exit code; progress
+//! bars for the library's long steps.
+mod app;
+mod batch;
+mod cli;
 mod tools;
+mod window;
 
-use glview::cli::Args;
+use crate::cli::Args;
 use glview::{run, Error, Result};
 use std::process::ExitCode;
 
@@ -20,6 +25,7 @@ fn main() -> ExitCode {
             writeln!(buf, "{level}: {}", record.args())
         })
         .init();
+    glview::progress::install(Box::new(progress_bar));
     let args = Args::from_words(std::env::args_os().skip(1)).unwrap_or_else(|e| e.exit());
     match dispatch(&args) {
         Ok(()) => ExitCode::SUCCESS,
@@ -30,13 +36,46 @@ fn main() -> ExitCode {
     }
 }
 
+/// The library's long steps as indicatif bars on stderr (hidden when it is not a terminal).
+fn progress_bar(
+    what: &str,
+    total: u64,
+    unit: glview::progress::Unit,
+) -> Box<dyn glview::progress::Task> {
+    let template = match unit {
+        glview::progress::Unit::Bytes => "{msg} [{bar:30}] {bytes}/{total_bytes} {elapsed}",
+        glview::progress::Unit::Items => "{msg} [{bar:30}] {pos}/{len}",
+    };
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(template)
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message(what.to_string());
+    Box::new(Bar(bar))
+}
+
+struct Bar(indicatif::ProgressBar);
+
+impl glview::progress::Task for Bar {
+    fn set(&self, done: u64) {
+        self.0.set_position(done);
+    }
+    fn finish(&self, message: Option<String>) {
+        match message {
+            Some(m) => self.0.finish_with_message(m),
+            None => self.0.finish_and_clear(),
+        }
+    }
+}
+
 /// The dispatch: one mode per invocation.
 fn dispatch(args: &Args) -> Result<()> {
     args.options()?;
     match &args.command {
-        Some(glview::cli::Command::Bench(b)) => return tools::run_bench(args, &b.words),
-        Some(glview::cli::Command::Sheet(s)) => return glview::compare::sheet::run(s),
-        Some(glview::cli::Command::Batch(b)) => return glview::batch::run(b),
+        Some(crate::cli::Command::Bench(b)) => return tools::run_bench(args, &b.words),
+        Some(crate::cli::Command::Sheet(s)) => return s.run(),
+        Some(crate::cli::Command::Batch(b)) => return crate::batch::run(b),
         None => {}
     }
     if args.options_reference {
@@ -72,7 +111,12 @@ fn dispatch(args: &Args) -> Result<()> {
         return glview::compare::diff::run_diff(args, tiers, &out);
     }
     if let Some(stored) = &args.diff_against {
-        return glview::compare::diff::diff_against(args, stored, args.threshold);
+        return glview::compare::diff::diff_against(
+            args,
+            args.output.as_deref(),
+            stored,
+            args.threshold,
+        );
     }
     if args.info {
         return run::print_info(args);
@@ -100,8 +144,8 @@ fn dispatch(args: &Args) -> Result<()> {
     if let Some(out) = &args.output {
         return run::render_headless(args, out);
     }
-    if glview::app::display_available() {
-        match glview::app::run_window(args) {
+    if crate::app::display_available() {
+        match crate::app::run_window(args) {
             Err(Error::Context(e)) => eprintln!("warning: no window ({e}); rendering headless"),
             other => return other,
         }

@@ -7,16 +7,16 @@
 //! `DisplayBuilder` falls back from GLX to EGL only when the *display* fails, not when the
 //! context does (Mesa can offer GL ES through EGL but not through an old GLX), and because
 //! its config picker cannot report "no config" without panicking.
-use super::GlRequest;
-use crate::gpu::Gpu;
-use crate::image_out::Rgba;
-use crate::{Error, Result};
 use glow::HasContext;
 use glutin::config::{Api, Config, ConfigTemplateBuilder};
 use glutin::context::{NotCurrentContext, PossiblyCurrentContext};
 use glutin::display::{Display, DisplayApiPreference};
 use glutin::prelude::*;
 use glutin::surface::{Surface, SurfaceAttributesBuilder, SwapInterval, WindowSurface};
+use glview::gpu::Gpu;
+use glview::image_out::Rgba;
+use glview::platform::GlRequest;
+use glview::{Error, Result};
 use raw_window_handle::{HasDisplayHandle, HasWindowHandle, RawWindowHandle};
 use std::num::NonZeroU32;
 use winit::event_loop::ActiveEventLoop;
@@ -30,8 +30,6 @@ pub struct WindowContext {
     context: PossiblyCurrentContext,
     display: Display,
     pub window: Window,
-    /// The candidate that worked.
-    pub request: GlRequest,
     /// "glx" or "egl".
     pub platform: &'static str,
 }
@@ -158,7 +156,6 @@ impl WindowContext {
                             context,
                             display,
                             window,
-                            request: candidate,
                             platform: name,
                         });
                     }
@@ -233,6 +230,11 @@ fn create_context(
     window: RawWindowHandle,
 ) -> Result<NotCurrentContext, String> {
     // SAFETY: the attributes name a window that is alive for the whole call.
-    unsafe { display.create_context(config, &super::context_attributes(request, Some(window))) }
-        .map_err(|e| e.to_string())
+    unsafe {
+        display.create_context(
+            config,
+            &glview::platform::context_attributes(request, Some(window)),
+        )
+    }
+    .map_err(|e| e.to_string())
 }

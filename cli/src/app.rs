@@ -1,16 +1,16 @@
 //! The interactive window loop: winit events → `keys::apply` → a redraw only when the frame
 //! settings, the window size or the OS (expose) asks for one. Between events the loop sleeps
 //! (`ControlFlow::Wait`), so an idle viewer draws nothing and uses no CPU.
-use crate::camera::{CameraMove, OrbitCamera, ZOOM_STEP};
 use crate::cli::Args;
-use crate::frame::{FrameSettings, Shading};
-use crate::gpu::{Gpu, GpuRef};
-use crate::keys::{self, Action, Effect};
-use crate::platform::window::WindowContext;
-use crate::render::aa::{AaTarget, WindowAa};
-use crate::render::{Renderer, Target};
-use crate::scene::{Bounds, Scene};
-use crate::{run, Error, Result};
+use crate::window::WindowContext;
+use glview::camera::{CameraMove, OrbitCamera, ZOOM_STEP};
+use glview::frame::{FrameSettings, Shading};
+use glview::gpu::{Gpu, GpuRef};
+use glview::keys::{self, Action, Effect};
+use glview::render::aa::{AaTarget, WindowAa};
+use glview::render::{Renderer, Target};
+use glview::scene::{Bounds, Scene};
+use glview::{run, Error, Result};
 use std::path::{Path, PathBuf};
 use winit::application::ApplicationHandler;
 use winit::dpi::{PhysicalPosition, PhysicalSize};
@@ -34,7 +34,7 @@ pub fn display_available() -> bool {
 /// cannot be made is `Error::Context` (the caller then renders headless); a render error or a
 /// lost context later ends the loop with that error.
 pub fn run_window(args: &Args) -> Result<()> {
-    crate::platform::keep_freed_heap();
+    glview::platform::keep_freed_heap();
     let scene = run::load_scene(args)?;
     let (settings, home) = run::frame_settings(args, &scene)?;
     let event_loop = EventLoop::new()
@@ -42,7 +42,7 @@ pub fn run_window(args: &Args) -> Result<()> {
     event_loop.set_control_flow(ControlFlow::Wait);
     let mut app = App {
         args,
-        state_keys: crate::repro::state_keys(args.camera.keys.as_deref()),
+        state_keys: glview::repro::state_keys(args.camera.keys.as_deref()),
         bounds: scene.bounds,
         scene: Some(scene),
         settings,
@@ -228,7 +228,7 @@ impl App<'_> {
         let target = live.aa.target(&live.gpu, window)?;
         let k = live.aa.scale();
         let stats = if self.compare {
-            crate::compare::split::draw(&mut live.renderer, &self.settings, &target, w * k, h * k)?
+            glview::compare::split::draw(&mut live.renderer, &self.settings, &target, w * k, h * k)?
         } else {
             live.renderer.render(&self.settings, &target)?
         };
@@ -408,8 +408,8 @@ fn overlay_text(
     scene: &Scene,
     compare: bool,
     ms: f64,
-) -> crate::image_out::Rgba {
-    use crate::compare::canvas;
+) -> glview::image_out::Rgba {
+    use glview::compare::canvas;
     let lines = overlay_lines(s, &scene.name, compare, ms);
     let width = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1) as u32 * 8 + 8;
     let mut img = canvas::blank(width, lines.len() as u32 * 10 + 8, [0, 0, 0]);
@@ -435,7 +435,7 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
         format!(
             "shadows {}  lights {}  wrap {}",
             on(s.shadows.enabled),
-            crate::compare::light_count(s),
+            glview::compare::light_count(s),
             on(s.lighting.wrap)
         ),
     ];
@@ -463,7 +463,7 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
         .iter()
         .map(|l| {
             l.chars()
-                .map(crate::compare::canvas::substitute)
+                .map(glview::compare::canvas::substitute)
                 .collect::<String>()
         })
         .collect()
@@ -537,7 +537,7 @@ mod tests {
                 let lines = overlay_lines(&s, "modèle ünïcode", compare, 12.5);
                 assert!(lines[2].contains("lights 3"), "{lines:?}");
                 for l in &lines {
-                    let missing = crate::compare::canvas::missing_glyphs(l);
+                    let missing = glview::compare::canvas::missing_glyphs(l);
                     assert!(missing.is_empty(), "{l:?} lacks {missing:?}");
                 }
             }

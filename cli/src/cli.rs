@@ -1,14 +1,14 @@
 //! The command line (clap): the modes and where pictures go. The picture's options are
 //! [`Options`]; their arguments are made from the option specs ([`PictureArgs`]), so each
 //! is declared, parsed and documented once, in `options`.
-use crate::options::{specs, Form, OptionSpec, Options};
-pub use crate::options::{AaMode, DepthMode, Diffuse, Show};
 use clap::builder::{PossibleValue, PossibleValuesParser};
 use clap::{Arg, ArgAction, ArgMatches, Parser};
+pub use glview::options::AaMode;
+use glview::options::{specs, Form, OptionSpec, Options};
 use std::path::PathBuf;
 
 #[derive(Debug, Parser)]
-#[command(name = "glview", version, args_conflicts_with_subcommands = true, about = "glview: a model viewer (OBJ/MTL, STL, PLY, glTF) with Phong and PBR tiers, shadows and translucency on GL 2.1, GL ES 3.0 and GL 3.3; headless PNGs, comparisons, batches and a Python API.", after_help = crate::keys::help_text())]
+#[command(name = "glview", version, args_conflicts_with_subcommands = true, about = "glview: a model viewer (OBJ/MTL, STL, PLY, glTF) with Phong and PBR tiers, shadows and translucency on GL 2.1, GL ES 3.0 and GL 3.3; headless PNGs, comparisons, batches and a Python API.", after_help = glview::keys::help_text())]
 pub struct Args {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -65,7 +65,7 @@ pub struct Args {
 /// first problem with them (kept, not raised in clap's parse, so it is printed as every
 /// other error is: one `error:` line, exit code 1; [`Args::options`] returns it).
 #[derive(Clone, Debug, Default)]
-pub struct PictureArgs(pub Options, pub Option<crate::options::OptionError>);
+pub struct PictureArgs(pub Options, pub Option<glview::options::OptionError>);
 
 fn arg_of(s: &'static OptionSpec) -> Arg {
     if s.name == "model" {
@@ -134,8 +134,8 @@ impl clap::FromArgMatches for PictureArgs {
                     .collect(),
             };
             for v in given {
-                if let Err(msg) = (s.set_word)(o, v) {
-                    problem.get_or_insert(crate::options::OptionError::new(s.name, msg));
+                if let Err(msg) = s.set(o, v) {
+                    problem.get_or_insert(glview::options::OptionError::new(s.name, msg));
                 }
             }
         }
@@ -172,7 +172,7 @@ impl std::ops::DerefMut for Args {
 
 impl Args {
     /// The picture's options, or the first problem with them.
-    pub fn options(&self) -> crate::Result<&Options> {
+    pub fn options(&self) -> glview::Result<&Options> {
         match &self.opts.1 {
             Some(e) => Err(e.clone().into()),
             None => Ok(&self.opts.0),
@@ -230,7 +230,7 @@ pub struct SheetCommand {
     #[arg(long, default_value = "phong,pbr")]
     pub tiers: String,
     /// Size of each cell.
-    #[arg(long, default_value = "320x240", value_parser = crate::options::parse::parse_size)]
+    #[arg(long, default_value = "320x240", value_parser = parse_size)]
     pub size: (u32, u32),
     #[arg(short, long, default_value = "sheet.png")]
     pub output: PathBuf,
@@ -249,11 +249,38 @@ pub struct BenchCommand {
     pub words: Vec<String>,
 }
 
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    <(u32, u32) as glview::options::OptionValue>::parse_word(s)
+}
+
+impl SheetCommand {
+    /// `glview sheet`: the sheet of these options, written to `--output`.
+    pub fn run(&self) -> glview::Result<()> {
+        // The words after `--` are the user's: they go through the options' own parser (its
+        // checks and messages); the sheet's model is set on the result.
+        let mut options = glview::Options::from_words(self.view_options.iter().cloned())?;
+        if self.model.is_some() {
+            options.load.model.clone_from(&self.model);
+        }
+        let sheet = glview::compare::sheet::Sheet {
+            options,
+            views: self.views,
+            angles: self.angles.clone(),
+            tiers: self.tiers.clone(),
+            size: self.size,
+        };
+        let (img, text, summary) = glview::compare::sheet::sheet_image(&sheet)?;
+        img.save_png(&self.output, &text)?;
+        eprintln!("sheet: {summary} written to {}", self.output.display());
+        Ok(())
+    }
+}
+
 /// Output files are PNG or JPEG, decided by the extension; anything else is refused before
 /// rendering rather than written as PNG bytes under a misleading name.
 fn parse_output(s: &str) -> Result<PathBuf, String> {
     let p = PathBuf::from(s);
-    match crate::image_out::OutputFormat::of(&p) {
+    match glview::image_out::OutputFormat::of(&p) {
         Some(_) => Ok(p),
         None => Err(format!("{s}: output must end in .png, .jpg or .jpeg")),
     }
@@ -272,7 +299,11 @@ mod tests {
             &["glview", "--shadow-size", "0"],
             &["glview", "-o", "out.bmp"],
         ] {
-            let e = Args::try_parse_from(args).unwrap_err().to_string();
+            // Output names are clap's to refuse; option values the options' checks'.
+            let e = match Args::try_parse_from(args) {
+                Ok(a) => a.options().unwrap_err().to_string(),
+                Err(e) => e.to_string(),
+            };
             assert!(!e.contains("-- -"), "{args:?}: {e}");
             assert!(
                 e.contains("range") || e.contains("must") || e.contains("not in"),
@@ -280,7 +311,7 @@ mod tests {
             );
         }
         let a = Args::try_parse_from(["glview", "-o", "x.JPG", "--up", "-Z"]).unwrap();
-        assert_eq!(a.load.up, crate::scene::UpAxis::NegZ);
+        assert_eq!(a.load.up, glview::scene::UpAxis::NegZ);
     }
 
     #[test]
