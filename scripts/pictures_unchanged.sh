@@ -19,6 +19,9 @@
 #       must be reported as failed on both sides. Exit 0 if all three are reported so (the
 #       table itself then says 1 differs and 1 failed, as a real run would).
 #
+# Then every "after" picture whose PNG keeps its options (glview.options) is drawn again with
+# `glview --repro PICTURE.png` and must equal it pixel for pixel (when the after binary has
+# --repro).
 # Prints `name | pixels differing | max diff | size` per picture and `N pictures, M differ`;
 # exits 1 if any picture differs or any case failed to render with either binary (a case that
 # fails with both, e.g. an option the old binary lacks, is reported as failed, not skipped),
@@ -314,6 +317,29 @@ secs() { printf '%d.%d s' $(($1 / 1000)) $(($1 % 1000 / 100)); }
 echo "rendering: before $(secs $before_ms), after $(secs $after_ms); whole comparison $(secs $total_ms)"
 echo "pictures: $out/{before,after}/NAME.png; differences: $out/diff/; logs: $out/logs/"
 
+# Every picture whose PNG keeps its options (glview.options) is drawn again from them alone
+# (`glview --repro`) and must come out pixel for pixel the same.
+n_repro=0 n_repro_differ=0
+if [ $self_test = 0 ] && "$after_bin" --help 2>/dev/null | grep -q -- '--repro'; then
+  mkdir -p "$out/repro"
+  for a in "$out"/after/*.png; do
+    pic=$(basename "$a" .png)
+    r="$out/repro/$pic.png"
+    if ! "$after_bin" --repro "$a" -o "$r" >/dev/null 2>"$out/logs/$pic.repro.err"; then
+      grep -q 'no glview.options text' "$out/logs/$pic.repro.err" && continue
+      n_repro=$((n_repro + 1)) n_repro_differ=$((n_repro_differ + 1))
+      echo "repro $pic: FAILED: $(grep -i '^error' "$out/logs/$pic.repro.err" | tail -n 1)"
+      continue
+    fi
+    n_repro=$((n_repro + 1))
+    if ! result=$("$py" "$png_diff" "$a" "$r" --diff-out "$out/diff/$pic.repro.png" 2>&1); then
+      n_repro_differ=$((n_repro_differ + 1))
+      echo "repro $pic: differs: $result"
+    fi
+  done
+  echo "--repro: $n_repro pictures drawn again from their glview.options, $n_repro_differ differ"
+fi
+
 if [ $self_test = 1 ]; then
   ok=1
   check() { # NAME EXPECTED-ROW-PATTERN
@@ -327,4 +353,4 @@ if [ $self_test = 1 ]; then
   [ $n_differ -eq 1 ] && [ $n_failed -eq 1 ] || { echo "self-test: counts WRONG"; ok=0; }
   if [ $ok = 1 ]; then echo "self-test passed"; exit 0; else echo "self-test FAILED"; exit 1; fi
 fi
-[ $n_differ -eq 0 ] && [ $n_failed -eq 0 ]
+[ $n_differ -eq 0 ] && [ $n_failed -eq 0 ] && [ $n_repro_differ -eq 0 ]

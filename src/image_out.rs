@@ -160,3 +160,16 @@ pub fn png_text(path: &Path) -> Result<Vec<(String, String)>> {
     }
     Ok(out)
 }
+
+/// The framebuffer holds colour multiplied by coverage (blending over a cleared transparent
+/// black, resolved or box-filtered edges); PNG wants straight alpha.
+pub fn unpremultiply(img: &mut Rgba) {
+    for p in img.data.chunks_exact_mut(4) {
+        let a = u32::from(p[3]);
+        if a > 0 && a < 255 {
+            for c in &mut p[..3] {
+                *c = ((u32::from(*c) * 255 + a / 2) / a).min(255) as u8;
+            }
+        }
+    }
+}

@@ -30,9 +30,8 @@ pub mod shader;
 
 pub mod api;
 pub mod headless;
-pub mod picture;
 pub mod progress;
-pub mod run;
+pub mod session;
 
 pub use error::{Error, Result};
 pub use options::Options;

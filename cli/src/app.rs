@@ -10,7 +10,7 @@ use glview::keys::{self, Action, Effect};
 use glview::render::aa::{AaTarget, WindowAa};
 use glview::render::{Renderer, Target};
 use glview::scene::{Bounds, Scene};
-use glview::{run, Error, Result};
+use glview::{session, Error, Result};
 use std::path::{Path, PathBuf};
 use winit::application::ApplicationHandler;
 use winit::dpi::{PhysicalPosition, PhysicalSize};
@@ -35,8 +35,8 @@ pub fn display_available() -> bool {
 /// lost context later ends the loop with that error.
 pub fn run_window(args: &Args) -> Result<()> {
     glview::platform::keep_freed_heap();
-    let scene = run::load_scene(args)?;
-    let (settings, home) = run::frame_settings(args, &scene)?;
+    let scene = session::load_scene(args)?;
+    let (settings, home) = session::frame_settings(args, &scene)?;
     let event_loop = EventLoop::new()
         .map_err(|e| Error::Context(format!("window: cannot connect to the display: {e}")))?;
     event_loop.set_control_flow(ControlFlow::Wait);
@@ -247,16 +247,16 @@ impl App<'_> {
         if std::mem::take(&mut self.screenshot) {
             let img = WindowContext::read_back_buffer(&live.gpu, w, h);
             let backend = format!("window ({})", live.window.platform);
-            let gpu = run::Renderer::Gpu {
+            let gpu = session::Drawer::Gpu {
                 caps: &live.gpu.caps,
                 backend: &backend,
             };
-            let repro = run::Repro {
+            let repro = session::Repro {
                 args: self.args,
                 size: (w, h),
                 state_keys: &self.state_keys,
             };
-            let text = run::png_text(gpu, &self.settings, live.renderer.scene(), &repro);
+            let text = session::png_text(gpu, &self.settings, live.renderer.scene(), &repro);
             match next_screenshot_path(&self.args.screenshot_dir)
                 .and_then(|p| img.save_png(&p, &text).map(|_| p))
             {
@@ -529,8 +529,8 @@ mod tests {
     fn the_overlay_prints_only_glyphs_the_font_has() {
         use clap::Parser;
         let args = Args::try_parse_from(["glview"]).unwrap();
-        let scene = run::load_scene(&args).unwrap();
-        let (mut s, _) = run::frame_settings(&args, &scene).unwrap();
+        let scene = session::load_scene(&args).unwrap();
+        let (mut s, _) = session::frame_settings(&args, &scene).unwrap();
         for shading in [Shading::Phong, Shading::Gouraud, Shading::Pbr] {
             s.shading = shading;
             for compare in [false, true] {

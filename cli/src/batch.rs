@@ -4,7 +4,7 @@
 //! the others still render.
 use crate::cli::{Args, BatchCommand};
 use glview::error::{Error, Result};
-use glview::picture::KeptContext;
+use glview::session::Session;
 use std::io::Read;
 use std::path::Path;
 use std::time::Instant;
@@ -96,13 +96,13 @@ pub fn run(cmd: &BatchCommand) -> Result<()> {
         bar.set_style(style);
     }
     let start = Instant::now();
-    let mut kept: Option<KeptContext> = None;
+    let mut session = Session::new();
     let mut failed = Vec::new();
     for job in &jobs {
         let result = job_args(job).and_then(|args| {
             let out = args.output.clone().unwrap_or_default();
             bar.set_message(out.display().to_string());
-            glview::picture::render(&args, &out, &mut kept).map_err(|e| e.to_string())
+            session.write(&args, &out).map_err(|e| e.to_string())
         });
         if let Err(e) = result {
             bar.suspend(|| eprintln!("error: {name}:{}: {e}", job.line));

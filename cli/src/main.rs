@@ -8,7 +8,7 @@ mod tools;
 mod window;
 
 use crate::cli::Args;
-use glview::{run, Error, Result};
+use glview::{session, Error, Result};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
@@ -88,7 +88,7 @@ fn dispatch(args: &Args) -> Result<()> {
             .output
             .clone()
             .unwrap_or_else(|| "glview-repro.png".into());
-        return run::render_headless(&opts, &out);
+        return session::render_headless(&opts, &out);
     }
     if args.reference && (args.compare.is_some() || args.diff.is_some()) {
         return Err(Error::Usage(
@@ -119,20 +119,20 @@ fn dispatch(args: &Args) -> Result<()> {
         );
     }
     if args.info {
-        return run::print_info(args);
+        return session::print_info(args);
     }
     if args.compile_shaders {
-        return run::compile_shaders(args);
+        return session::compile_shaders(args);
     }
     if args.reference {
         let out = args
             .output
             .clone()
             .unwrap_or_else(|| "glview-reference.png".into());
-        return run::render_reference(args, &out);
+        return session::render_reference(args, &out);
     }
     if args.check {
-        let scene = run::load_scene_with(args, false)?;
+        let scene = session::load_scene_with(args, false)?;
         let format = args
             .load
             .model
@@ -142,7 +142,7 @@ fn dispatch(args: &Args) -> Result<()> {
         return Ok(());
     }
     if let Some(out) = &args.output {
-        return run::render_headless(args, out);
+        return session::render_headless(args, out);
     }
     if crate::app::display_available() {
         match crate::app::run_window(args) {
@@ -156,7 +156,7 @@ fn dispatch(args: &Args) -> Result<()> {
         .map(std::path::PathBuf::from)
         .find(|p| !p.exists())
         .unwrap_or_else(|| "glview.png".into());
-    run::render_headless(args, &out)?;
+    session::render_headless(args, &out)?;
     eprintln!("no display: wrote {}", out.display());
     Ok(())
 }

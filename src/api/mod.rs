@@ -1,5 +1,5 @@
 //! The library API: load a [`Model`] (a file in any format glview reads, or arrays), make a
-//! [`Renderer`] (one kept GL context, as `glview batch` keeps it) and render [`Options`]
+//! [`Renderer`] (a [`Session`] on a thread of its own, as `glview batch` keeps one) and render [`Options`]
 //! into buffers: the colour picture, and on request depth, normals and object/material ids.
 //!
 //! A GL context is current on one thread, so a renderer draws on a thread of its own and
@@ -13,8 +13,8 @@ pub use crate::render::attributes::{Attributes, Outputs};
 pub use arrays::Arrays;
 
 use crate::error::{Error, Result};
-use crate::picture::{Given, KeptContext, Profile};
 use crate::scene::Scene;
+use crate::session::{Given, Profile, Session};
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc;
@@ -43,14 +43,14 @@ impl Model {
     pub fn load(path: &Path, opts: &Options) -> Result<Model> {
         let mut o = opts.clone();
         o.load.model = Some(path.to_path_buf());
-        Ok(Model::new(crate::run::load_scene_with(&o, false)?).warned())
+        Ok(Model::new(crate::session::load_scene_with(&o, false)?).warned())
     }
 
     /// The built-in scene (what `glview` shows without a model).
     pub fn builtin(opts: &Options) -> Result<Model> {
         let mut o = opts.clone();
         o.load.model = None;
-        Ok(Model::new(crate::run::load_scene_with(&o, false)?).warned())
+        Ok(Model::new(crate::session::load_scene_with(&o, false)?).warned())
     }
 
     /// A model from arrays: the same scene as the same data in an OBJ file.
@@ -60,7 +60,7 @@ impl Model {
             Path::new("<arrays>.obj"),
             obj.as_bytes(),
             b"",
-            &crate::run::load_options(opts, None),
+            &crate::session::load_options(opts, None),
         )?;
         Ok(Model::new(scene).warned())
     }
@@ -118,7 +118,7 @@ impl Frame {
     }
 }
 
-type Job = Box<dyn FnOnce(&mut Option<KeptContext>) + Send>;
+type Job = Box<dyn FnOnce(&mut Session) + Send>;
 
 /// How long a thread polls before it sleeps: waking a sleeping thread took ~50 µs each way
 /// here (a virtual machine's idle CPU), twice per picture, against a 6 ms picture.
@@ -192,9 +192,9 @@ impl Renderer {
         let thread = std::thread::Builder::new()
             .name("glview-renderer".into())
             .spawn(move || {
-                let mut kept = None;
+                let mut session = Session::new();
                 while let Some(job) = next_job(&rx) {
-                    job(&mut kept);
+                    job(&mut session);
                 }
             })
             .map_err(|e| Error::Context(format!("no renderer thread: {e}")))?;
@@ -206,21 +206,24 @@ impl Renderer {
             defaults,
         };
         let opts = r.defaults.clone();
-        r.call(move |kept| crate::picture::ensure_context(&opts, kept))?;
+        r.call(move |session| {
+            *session = Session::open(&opts)?;
+            Ok(())
+        })?;
         Ok(r)
     }
 
     /// Runs `f` on the renderer's thread and waits for it; refuses a second caller.
     fn call<T: Send + 'static>(
         &self,
-        f: impl FnOnce(&mut Option<KeptContext>) -> Result<T> + Send + 'static,
+        f: impl FnOnce(&mut Session) -> Result<T> + Send + 'static,
     ) -> Result<T> {
         let guard = self.jobs.try_lock().map_err(|_| Error::Busy)?;
         let tx = guard.as_ref().ok_or(Error::Busy)?;
         let (back, answer) = mpsc::sync_channel(1);
-        let job: Job = Box::new(move |kept| {
+        let job: Job = Box::new(move |session| {
             // A panic in a job must not take the thread (and the context) down with it.
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(kept)))
+            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| f(session)))
                 .unwrap_or_else(|_| Err(Error::Unsupported("the renderer panicked".into())));
             let _ = back.send(r);
         });
@@ -258,12 +261,12 @@ impl Renderer {
     pub fn render(&self, opts: &Options, outputs: Outputs) -> Result<Frame> {
         let opts = opts.clone();
         let model = self.model.clone();
-        self.call(move |kept| {
+        self.call(move |session| {
             let given = model.as_ref().map(|m| Given {
                 key: &m.key,
                 scene: &m.scene,
             });
-            let drawn = crate::picture::draw(&opts, kept, given, outputs, &mut Profile::default())?;
+            let drawn = session.draw(&opts, given, outputs, &mut Profile::default())?;
             Ok(Frame {
                 color: drawn.image,
                 text: drawn

@@ -185,7 +185,7 @@ pub fn diff_tiers(args: &crate::options::Options, tiers_arg: &str) -> Result<Tie
             "--diff takes exactly two tiers, e.g. phong,pbr".into(),
         ));
     }
-    let scene = crate::run::load_scene(args)?;
+    let scene = crate::session::load_scene(args)?;
     let mut panes = super::render_panes_with(args, scene, &tiers, true)?;
     let covered = union(&panes.coverage[0], &panes.coverage[1]);
     let (b, a) = (panes.images.pop(), panes.images.pop());
@@ -259,7 +259,7 @@ pub fn diff_against(
     threshold: f64,
 ) -> Result<()> {
     let out = output.map_or_else(|| sibling(stored, "render"), Path::to_path_buf);
-    crate::run::render_headless(args, &out)?;
+    crate::session::render_headless(args, &out)?;
     let render = Rgba::load_png(&out)?;
     if !stored.exists() {
         render.save_png(stored, &[])?;

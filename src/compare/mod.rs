@@ -108,7 +108,7 @@ pub fn render_panes_with(
     coverage: bool,
 ) -> Result<Panes> {
     let (w, h) = args.picture.size;
-    let (base, _) = crate::run::frame_settings(args, &scene)?;
+    let (base, _) = crate::session::frame_settings(args, &scene)?;
     let n = tiers.len() as u32;
     let gpu_tiers = tiers.iter().any(|t| matches!(t, PaneTier::Gpu(_)));
     let mut images = vec![None; tiers.len()];
@@ -116,7 +116,7 @@ pub fn render_panes_with(
     if gpu_tiers {
         let hl = Headless::new(args.context.backend, args.context.gl, w * n, h)?;
         let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
-        renderer.set_environment(crate::run::env_request(args)?);
+        renderer.set_environment(crate::session::env_request(args)?);
         for (i, t) in tiers.iter().enumerate() {
             if let PaneTier::Gpu(shading) = t {
                 let s = FrameSettings {
@@ -161,7 +161,7 @@ pub fn render_panes_with(
                 shading: *shading,
                 ..base.clone()
             };
-            let env = crate::run::reference_env(args, *shading)?;
+            let env = crate::session::reference_env(args, *shading)?;
             if coverage {
                 let (img, info) =
                     crate::reference::render_env_with_info(&scene, &s, env.as_ref(), w, h);
@@ -212,7 +212,7 @@ pub fn compare_image(
     tiers_arg: &str,
 ) -> Result<(Rgba, crate::image_out::PngText)> {
     let tiers = parse_tiers(tiers_arg, "--compare")?;
-    let scene = crate::run::load_scene(args)?;
+    let scene = crate::session::load_scene(args)?;
     let name = scene.name.clone();
     let panes = render_panes(args, scene, &tiers)?;
     let (w, h) = args.picture.size;

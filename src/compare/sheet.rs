@@ -61,8 +61,8 @@ pub fn sheet_image(
     args.picture.size = cmd.size;
     let tiers = super::parse_tiers(&cmd.tiers, "--tiers")?;
     let views = angles(cmd, args.camera.pitch)?;
-    let scene = crate::run::load_scene(&args)?;
-    let (base, _) = crate::run::frame_settings(&args, &scene)?;
+    let scene = crate::session::load_scene(&args)?;
+    let (base, _) = crate::session::frame_settings(&args, &scene)?;
     let (w, h) = args.picture.size;
     let (cols, rows) = (views.len() as u32, tiers.len() as u32);
     let label =
@@ -76,7 +76,7 @@ pub fn sheet_image(
     let mut sheet = canvas::blank(w * cols, cell_h * rows, [24, 24, 28]);
     let hl = Headless::new(args.context.backend, args.context.gl, w, h)?;
     let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
-    renderer.set_environment(crate::run::env_request(&args)?);
+    renderer.set_environment(crate::session::env_request(&args)?);
     let bar = crate::progress::start(
         "sheet",
         u64::from(cols * rows),
@@ -96,7 +96,7 @@ pub fn sheet_image(
                 }
                 PaneTier::Reference(shading) => {
                     s.shading = *shading;
-                    let env = crate::run::reference_env(&args, *shading)?;
+                    let env = crate::session::reference_env(&args, *shading)?;
                     crate::reference::render_env(&scene, &s, env.as_ref(), w, h)
                 }
             };

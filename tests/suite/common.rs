@@ -210,8 +210,8 @@ pub const GL21_NO_FBO: &[(&str, &str)] = &[
 pub fn settings_for(args: &[&str]) -> (glview::render::FrameSettings, glview::scene::Scene) {
     at_repo();
     let a = glview::Options::from_words(args.iter().copied()).expect("valid options");
-    let scene = glview::run::load_scene(&a).expect("load scene");
-    let (s, _) = glview::run::frame_settings(&a, &scene).expect("settings");
+    let scene = glview::session::load_scene(&a).expect("load scene");
+    let (s, _) = glview::session::frame_settings(&a, &scene).expect("settings");
     (s, scene)
 }
 
@@ -324,16 +324,17 @@ pub mod fixture {
         QUEUE.get_or_init(|| {
             let (tx, rx) = channel::<Job>();
             std::thread::spawn(move || {
-                let mut kept = None;
+                let mut session = glview::session::Session::new();
                 for (argv, reply) in rx {
                     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                         let (args, out) = one_picture(&argv[1..]).ok_or("not one picture")?;
-                        glview::picture::render(&args, &out, &mut kept)
+                        session
+                            .write(&args, &out)
                             .map_err(|e| format!("error: {e}"))
                     }));
                     let result = result.unwrap_or_else(|_| {
                         // The context's state is unknown after a panic: start afresh.
-                        kept = None;
+                        session.close();
                         Err("glview panicked".into())
                     });
                     let _ = reply.send(result);

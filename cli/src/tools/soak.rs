@@ -14,8 +14,8 @@ pub fn run(args: &Options, rounds: u32) -> Result<()> {
     let mut rss = Vec::with_capacity(rounds as usize);
     let start = std::time::Instant::now();
     for round in 1..=rounds {
-        let scene = glview::run::load_scene(args)?;
-        let (settings, _) = glview::run::frame_settings(args, &scene)?;
+        let scene = glview::session::load_scene(args)?;
+        let (settings, _) = glview::session::frame_settings(args, &scene)?;
         let mut r = Renderer::new(&hl.gpu, scene)?;
         r.render(&settings, &hl.target())?;
         drop(r);

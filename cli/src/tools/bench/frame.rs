@@ -61,8 +61,8 @@ pub fn run_frame(work: &Path, models_dir: &Path, rounds: usize, triangles: u64) 
             o.picture.size = SIZE;
             o
         };
-        let scene = glview::run::load_scene(&args)?;
-        let (settings, _) = glview::run::frame_settings(&args, &scene)?;
+        let scene = glview::session::load_scene(&args)?;
+        let (settings, _) = glview::session::frame_settings(&args, &scene)?;
         let mut off = settings.clone();
         off.shadows.enabled = false;
         let mut variants = Vec::new();

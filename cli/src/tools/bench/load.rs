@@ -306,8 +306,8 @@ fn frame_time(file: &Path) -> Result<FrameTime> {
         o.picture.size = SIZE;
         o
     };
-    let scene = glview::run::load_scene(&args)?;
-    let (settings, _) = glview::run::frame_settings(&args, &scene)?;
+    let scene = glview::session::load_scene(&args)?;
+    let (settings, _) = glview::session::frame_settings(&args, &scene)?;
     let hl = Headless::new(Backend::Auto, GlRequest::Auto, SIZE.0, SIZE.1)?;
     let target = hl.target();
     let triangles = scene.triangle_count();

@@ -119,8 +119,8 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
     let mut references = Vec::new();
     for (m, r) in MATERIALS {
         let args = options_for(hdr, *m, *r, |_| {});
-        let scene = glview::run::load_scene(&args)?;
-        let (settings, _) = glview::run::frame_settings(&args, &scene)?;
+        let scene = glview::session::load_scene(&args)?;
+        let (settings, _) = glview::session::frame_settings(&args, &scene)?;
         let pe = PbrEnv {
             env: env.clone(),
             samples,
@@ -193,7 +193,7 @@ pub fn run_pbr(out_dir: &Path, hdr: &Path, samples: u32) -> Result<()> {
         let mut frame_ms = Vec::new();
         for ((m, r), (scene, reference, hit)) in MATERIALS.iter().zip(&references) {
             let args = options_for(hdr, *m, *r, knob.extra);
-            let (settings, _) = glview::run::frame_settings(&args, scene)?;
+            let (settings, _) = glview::session::frame_settings(&args, scene)?;
             let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
             renderer.set_environment(req.clone());
             renderer.render(&settings, &hl.target())?;

@@ -40,8 +40,8 @@ fn bloom(levels: u32) -> Options {
 /// Renders the built-in scene with `args`; `ssaa` k renders k× larger and filters
 /// down; `msaa` n draws into an n-sample target. Returns the image and the median frame ms.
 fn frame(args: &Options, ssaa: u32, msaa: u32) -> Result<(Rgba, f64)> {
-    let scene = glview::run::load_scene(args)?;
-    let (s, _) = glview::run::frame_settings(args, &scene)?;
+    let scene = glview::session::load_scene(args)?;
+    let (s, _) = glview::session::frame_settings(args, &scene)?;
     let mut hl = Headless::new(Backend::Auto, GlRequest::Auto, W * ssaa, H * ssaa)?;
     if msaa > 0 {
         hl.enable_msaa(msaa)?;

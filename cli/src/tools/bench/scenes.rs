@@ -3,8 +3,8 @@
 use glam::Vec3;
 use glview::frame::FrameSettings;
 use glview::options::Options;
-use glview::run::{frame_settings, load_scene};
 use glview::scene::{Mesh, Scene, Vertex};
+use glview::session::{frame_settings, load_scene};
 use glview::{Error, Result};
 use std::path::{Path, PathBuf};
 

@@ -33,8 +33,8 @@ pub fn run_translucency(models_dir: &Path) -> Result<()> {
     }
     let mut table = Table::new(&["scene", "mode", "depth", "frame ms", "vs opaque"]);
     for (name, args) in scenes {
-        let scene = glview::run::load_scene(&args)?;
-        let (base, _) = glview::run::frame_settings(&args, &scene)?;
+        let scene = glview::session::load_scene(&args)?;
+        let (base, _) = glview::session::frame_settings(&args, &scene)?;
         let mut opaque_scene = scene.clone();
         for m in &mut opaque_scene.materials {
             m.opacity = 1.0;

@@ -1,16 +1,43 @@
-//! One headless picture: context (kept between pictures where it can be), scene, frames,
-//! read-back, PNG; and with `--stats`, the profile of where its time went.
+//! The session: one headless context, kept, with its program cache and the last picture's
+//! renderer (uploaded scene, environment maps, shadow maps), and what it does with them:
+//! load, draw (options and the outputs asked for → colour, depth, normals, ids), write.
+//! The library API, `glview batch`, the tests' fixture and the server draw through a
+//! [`Session`]; nothing here calls back up. What a picture is made of comes from
+//! [`settings`] (no GL), its PNG text from [`text`], the other headless modes are [`modes`].
+//!
+//! ```no_run
+//! let mut session = glview::session::Session::new();
+//! let mut o = glview::Options::default();
+//! o.picture.size = (320, 240);
+//! session.write(&o, std::path::Path::new("builtin.png"))?;
+//! o.camera.yaw = 60.0; // same scene: the upload and the maps are kept
+//! session.write(&o, std::path::Path::new("builtin-60.png"))?;
+//! # Ok::<(), glview::Error>(())
+//! ```
+pub mod modes;
+mod profile;
+pub mod settings;
+pub mod text;
+
+pub use modes::{compile_shaders, map_view, print_info, render_headless, render_reference};
+pub use profile::Profile;
+pub use settings::{
+    env_request, frame_settings, load_options, load_scene, load_scene_with, reference_env,
+    BUILTIN_MTL, BUILTIN_OBJ,
+};
+pub use text::{png_text, Drawer, Repro};
+
 use crate::error::Result;
 use crate::headless::Headless;
 use crate::options::{AaMode, Options};
 use crate::platform::{Backend, GlRequest};
-use crate::render::attributes::FrameDepth;
+use crate::render::attributes::{FrameDepth, Outputs};
 use crate::render::Renderer;
-use crate::run::{env_request, frame_settings, load_scene_prepared, map_view, png_text, Repro};
 use crate::scene::clusters::Clusters;
 use crate::scene::profile::LoadProfile;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
-use serde::Serialize;
+use profile::ms;
+use settings::load_scene_prepared;
 use std::path::Path;
 use std::time::Instant;
 
@@ -18,43 +45,11 @@ use std::time::Instant;
 /// program cache (held so that programs outlive the renderers that compiled them); and the
 /// last picture's renderer (its uploaded scene, environment maps and shadow maps) with the
 /// options it was made for. Field order is drop order: GL objects before their context.
-pub struct KeptContext {
+struct KeptContext {
     renderer: Option<(String, Renderer)>,
     programs: SharedPrograms,
     hl: Headless,
     request: (Backend, GlRequest),
-}
-
-/// Where one picture's time went (`--stats` adds it to the last frame's line as `profile`,
-/// printed once the PNG is written). Stages that did not run because their result was kept
-/// are zero / null.
-#[derive(Debug, Default, Serialize)]
-pub struct Profile {
-    /// The loader's own stages (read, repair, parse, textures, meshes, normals, finish).
-    pub load: Option<LoadProfile>,
-    /// Loading as seen from here (arguments to scene, textures included). It runs on another
-    /// thread while the context is made, so the two overlap.
-    pub load_ms: f64,
-    /// Of `load_ms`: large meshes reordered and cut into clusters (`scene::clusters`).
-    pub clusters_ms: f64,
-    pub context_ms: f64,
-    /// Vertex/index buffers and textures to the GPU.
-    pub upload_ms: f64,
-    /// Programs compiled and linked during the frames, and the time it took.
-    pub programs_compiled: usize,
-    pub compile_ms: f64,
-    /// Wall time of each frame to glFinish (compiles and map precomputation included).
-    pub frames_ms: Vec<f64>,
-    /// Each image texture uploaded for this picture (name, size, ms), the PBR tier's
-    /// included (made in its first frame).
-    pub textures: Vec<crate::gpu::TextureCost>,
-    pub readback_ms: f64,
-    pub encode_ms: f64,
-    pub total_ms: f64,
-}
-
-fn ms(since: Instant) -> f64 {
-    since.elapsed().as_secs_f64() * 1e3
 }
 
 /// Makes sure `kept` is a context for `args` (made, or re-targeted to the picture's size).
@@ -89,10 +84,56 @@ fn context(
     Ok(())
 }
 
-/// Makes sure `kept` is a context for pictures of `args` (the library's renderer makes it
-/// up front, so a machine without one fails at once).
-pub fn ensure_context(args: &Options, kept: &mut Option<KeptContext>) -> Result<()> {
-    context(args, args.picture.size, kept, &mut Profile::default())
+/// A headless context made on first use and kept between pictures (re-targeted to each
+/// picture's size; made anew when a picture asks for another backend or GL request), its
+/// program cache, and the last picture's renderer, kept while the scene's options stay the
+/// same: a turntable or a camera sweep loads and uploads once.
+#[derive(Default)]
+pub struct Session {
+    kept: Option<KeptContext>,
+}
+
+impl Session {
+    /// A session without a context yet (the first picture makes it).
+    pub fn new() -> Session {
+        Session::default()
+    }
+
+    /// A session whose context is made now, for pictures of `args` (so a machine without
+    /// one fails here, not at the first picture).
+    pub fn open(args: &Options) -> Result<Session> {
+        let mut s = Session::new();
+        context(
+            args,
+            args.picture.size,
+            &mut s.kept,
+            &mut Profile::default(),
+        )?;
+        Ok(s)
+    }
+
+    /// Draws the picture of `args` (of `given`'s scene instead of the options' model where
+    /// set) and returns it, with the buffers `outputs` asks for.
+    pub fn draw(
+        &mut self,
+        args: &Options,
+        given: Option<Given>,
+        outputs: Outputs,
+        profile: &mut Profile,
+    ) -> Result<Drawn> {
+        draw(args, &mut self.kept, given, outputs, profile)
+    }
+
+    /// Renders the model of `args` into `path` (PNG or JPEG; `--frames` times, the last
+    /// one written; `--stats` printed).
+    pub fn write(&mut self, args: &Options, path: &Path) -> Result<()> {
+        write(args, path, &mut self.kept)
+    }
+
+    /// Drops the renderer and the context now (the session makes a new one if used again).
+    pub fn close(&mut self) {
+        self.kept = None;
+    }
 }
 
 /// Loads the scene of `args` (on whatever thread calls it) with its time and the loader's
@@ -139,12 +180,11 @@ pub struct Drawn {
     pub linear: Option<Vec<[f32; 3]>>,
 }
 
-/// Renders the model of `args` into `path`, reusing `kept` when it was made for the same
-/// backend and GL request (its target is resized), else replacing it: many pictures in one
-/// process share one context and its program cache (`glview batch`, the test fixture).
-pub fn render(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Result<()> {
+/// [`Session::write`]: `kept` is reused when it was made for the same backend and GL request
+/// (its target is resized), else replaced.
+fn write(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Result<()> {
     let start = Instant::now();
-    if let Some(img) = map_view(args)? {
+    if let Some(img) = modes::map_view(args)? {
         let text = vec![
             ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
             (
@@ -168,13 +208,12 @@ pub fn render(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Re
     Ok(())
 }
 
-/// Draws the picture of `args` (of `given`'s scene instead of the options' model where
-/// set) in `kept`, as [`render`] does, and returns it instead of writing it.
-pub fn draw(
+/// [`Session::draw`].
+fn draw(
     args: &Options,
     kept: &mut Option<KeptContext>,
     given: Option<Given>,
-    outputs: crate::render::attributes::Outputs,
+    outputs: Outputs,
     profile: &mut Profile,
 ) -> Result<Drawn> {
     let (w, h) = args.picture.size;
@@ -184,8 +223,86 @@ pub fn draw(
     } else {
         1
     };
-    // The same words but for camera, size and keys (a turntable, a camera sweep): the same
-    // scene, environment and lights, so the renderer and what it uploaded are kept.
+    let kept = prepare(args, kept, given, (w * k, h * k), profile)?;
+    let (hl, renderer) = (&kept.hl, &mut kept.renderer.as_mut().expect("made above").1);
+    renderer.time_post = args.picture.stats;
+    renderer.cull_clusters = args.render.culling;
+    let (settings, _) = frame_settings(args, renderer.scene())?;
+    let gpu = Drawer::Gpu {
+        caps: &hl.gpu.caps,
+        backend: hl.backend_name(),
+    };
+    let keys = crate::repro::state_keys(args.camera.keys.as_deref());
+    let text = png_text(
+        gpu,
+        &settings,
+        renderer.scene(),
+        &Repro::headless(args, &keys),
+    );
+    let compiled_before = kept.programs.borrow().compiled();
+    let frames = args.picture.frames.max(1);
+    let mut last = None;
+    for i in 0..frames {
+        let stats = renderer.render(&settings, &hl.target())?;
+        profile.frames_ms.push(stats.ms);
+        if args.picture.stats && i + 1 < frames {
+            println!("{}", serde_json::to_string(&stats).unwrap_or_default());
+        }
+        last = Some(stats);
+    }
+    profile.textures = hl.gpu.take_texture_costs();
+    let compiled = kept.programs.borrow().compiled();
+    profile.programs_compiled = compiled.0 - compiled_before.0;
+    profile.compile_ms = compiled.1 - compiled_before.1;
+    let t = Instant::now();
+    let mut image = crate::metrics::downsample(hl.read(), k);
+    if args.post.transparent {
+        crate::image_out::unpremultiply(&mut image);
+    }
+    profile.readback_ms = ms(t);
+    let stats = last.unwrap_or_default();
+    let direct = k == 1 && args.post.aa != AaMode::Msaa;
+    let attributes = if outputs.any() {
+        let depth = frame_depth(hl, &stats, direct);
+        Some(renderer.attributes(&settings, w, h, &hl.target(), outputs, depth)?)
+    } else {
+        None
+    };
+    let linear = if outputs.linear {
+        if !direct {
+            return Err(crate::Error::Usage(
+                "float linear colour is drawn without --aa ssaa or msaa".into(),
+            ));
+        }
+        let mut s = settings.clone();
+        s.lighting.post.linear_out = true;
+        renderer.render(&s, &hl.target())?;
+        let linear = renderer.read_linear(w, h)?;
+        hl.gpu.bind_framebuffer(hl.target().fbo);
+        Some(linear)
+    } else {
+        None
+    };
+    Ok(Drawn {
+        image,
+        text,
+        stats,
+        attributes,
+        linear,
+    })
+}
+
+/// The kept context re-targeted to `size`, with a renderer for the scene of `args` (or
+/// `given`): the kept one while the scene's options are the same (a turntable, a camera
+/// sweep: the same scene, environment and lights), else the scene loaded (on another thread
+/// while the context is made) and uploaded.
+fn prepare<'k>(
+    args: &Options,
+    kept: &'k mut Option<KeptContext>,
+    given: Option<Given>,
+    size: (u32, u32),
+    profile: &mut Profile,
+) -> Result<&'k mut KeptContext> {
     let mut key = crate::repro::scene_key(args);
     if let Some(g) = &given {
         key = format!("{}\0{key}", g.key);
@@ -194,7 +311,6 @@ pub fn draw(
         c.request == (args.context.backend, args.context.gl)
             && c.renderer.as_ref().is_some_and(|(k, _)| *k == key)
     });
-    let size = (w * k, h * k);
     let scene = if reuse {
         context(args, size, kept, profile)?;
         None
@@ -229,88 +345,26 @@ pub fn draw(
         r.set_environment(env_request(args)?);
         kept.renderer = Some((key, r));
     }
-    let (hl, renderer) = (&kept.hl, &mut kept.renderer.as_mut().expect("made above").1);
-    renderer.time_post = args.picture.stats;
-    renderer.cull_clusters = args.render.culling;
-    let (settings, _) = frame_settings(args, renderer.scene())?;
-    let gpu = crate::run::Renderer::Gpu {
-        caps: &hl.gpu.caps,
-        backend: hl.backend_name(),
-    };
-    let keys = crate::repro::state_keys(args.camera.keys.as_deref());
-    let text = png_text(
-        gpu,
-        &settings,
-        renderer.scene(),
-        &Repro::headless(args, &keys),
-    );
-    let compiled_before = kept.programs.borrow().compiled();
-    let frames = args.picture.frames.max(1);
-    let mut last = None;
-    for i in 0..frames {
-        let stats = renderer.render(&settings, &hl.target())?;
-        profile.frames_ms.push(stats.ms);
-        if args.picture.stats && i + 1 < frames {
-            println!("{}", serde_json::to_string(&stats).unwrap_or_default());
-        }
-        last = Some(stats);
-    }
-    profile.textures = hl.gpu.take_texture_costs();
-    let compiled = kept.programs.borrow().compiled();
-    profile.programs_compiled = compiled.0 - compiled_before.0;
-    profile.compile_ms = compiled.1 - compiled_before.1;
-    let t = Instant::now();
-    let mut image = crate::metrics::downsample(hl.read(), k);
-    if args.post.transparent {
-        crate::run::unpremultiply(&mut image);
-    }
-    profile.readback_ms = ms(t);
-    let stats = last.unwrap_or_default();
-    // The target's depth is the picture's when the frame's passes drew straight into it at
-    // the picture's size: no post-processing or teaching view, no MSAA or supersampling.
-    let frame_depth = if k == 1
-        && args.post.aa != AaMode::Msaa
-        && stats.post.is_empty()
+    Ok(kept)
+}
+
+/// The target's depth is the picture's when the frame's passes drew straight into it at
+/// the picture's size (`direct`: no MSAA or supersampling) and nothing came after them (no
+/// post-processing or teaching view).
+fn frame_depth(hl: &Headless, stats: &crate::render::FrameStats, direct: bool) -> FrameDepth {
+    let plain = stats.post.is_empty()
         && stats.passes.iter().all(|p| {
             ["shadow", "background", "lit", "pbr"]
                 .iter()
                 .any(|n| p.starts_with(n))
-        }) {
-        if hl.stencil_bits() > 0 && hl.gpu.caps.depth_stencil {
-            FrameDepth::WithStencil
-        } else {
-            FrameDepth::Depth
-        }
-    } else {
+        });
+    if !(direct && plain) {
         FrameDepth::No
-    };
-    let attributes = if outputs.any() {
-        Some(renderer.attributes(&settings, w, h, &hl.target(), outputs, frame_depth)?)
+    } else if hl.stencil_bits() > 0 && hl.gpu.caps.depth_stencil {
+        FrameDepth::WithStencil
     } else {
-        None
-    };
-    let linear = if outputs.linear {
-        if k != 1 || args.post.aa == AaMode::Msaa {
-            return Err(crate::Error::Usage(
-                "float linear colour is drawn without --aa ssaa or msaa".into(),
-            ));
-        }
-        let mut s = settings.clone();
-        s.lighting.post.linear_out = true;
-        renderer.render(&s, &hl.target())?;
-        let linear = renderer.read_linear(w, h)?;
-        hl.gpu.bind_framebuffer(hl.target().fbo);
-        Some(linear)
-    } else {
-        None
-    };
-    Ok(Drawn {
-        image,
-        text,
-        stats,
-        attributes,
-        linear,
-    })
+        FrameDepth::Depth
+    }
 }
 
 /// A caller's scene as [`load`] returns a file's: cloned (the caller keeps it for later
@@ -318,7 +372,7 @@ pub fn draw(
 fn given_scene(args: &Options, scene: &crate::scene::Scene) -> Loaded {
     let t = Instant::now();
     let mut s = scene.clone();
-    if let Err(e) = crate::run::adjust_scene(args, &mut s) {
+    if let Err(e) = settings::adjust_scene(args, &mut s) {
         return (Err(e), ms(t), None, 0.0);
     }
     let c = Instant::now();

@@ -1,5 +1,7 @@
-//! From parsed arguments to a scene and frame settings; shared by the window and headless
-//! paths so `--keys` headless and the keys in a window give the same view.
+//! From options to what a picture is made of: the loaded scene (the built-in one, or a
+//! file's), the frame settings (camera, lights, tiers, post) and the PBR environment. No GL:
+//! the session, the window, the reference renderer and the tools all start here, so
+//! `--keys` headless and the keys in a window give the same view.
 use crate::camera::OrbitCamera;
 use crate::error::{Error, Result};
 use crate::frame::{AttributeView, Translucency};
@@ -18,8 +20,8 @@ use glam::Vec3;
 use std::path::Path;
 
 /// The built-in scene: the committed output of `src/scene/generate.rs`.
-pub const BUILTIN_OBJ: &str = include_str!("../models/glass_holder.obj");
-pub const BUILTIN_MTL: &str = include_str!("../models/glass_holder.mtl");
+pub const BUILTIN_OBJ: &str = include_str!("../../models/glass_holder.obj");
+pub const BUILTIN_MTL: &str = include_str!("../../models/glass_holder.mtl");
 
 /// Loads the model (or the built-in scene). Files that take a while report their progress
 /// (bytes scanned, then the triangle count) to the installed reporter ([`crate::progress`]).
@@ -323,163 +325,6 @@ pub fn env_request(args: &Options) -> Result<EnvRequest> {
     })
 }
 
-/// Who drew a picture, for its PNG text chunks.
-pub enum Renderer<'a> {
-    Gpu {
-        caps: &'a crate::gpu::Caps,
-        backend: &'a str,
-    },
-    Reference,
-}
-
-/// What the picture's reproducing command line is made of (see [`crate::repro`]).
-pub struct Repro<'a> {
-    pub args: &'a Options,
-    pub size: (u32, u32),
-    pub state_keys: &'a [String],
-}
-
-impl<'a> Repro<'a> {
-    /// A headless picture: the arguments' own size and keys.
-    pub fn headless(args: &'a Options, keys: &'a [String]) -> Self {
-        Repro {
-            args,
-            size: args.picture.size,
-            state_keys: keys,
-        }
-    }
-}
-
-/// PNG text chunks that let anyone reproduce a picture: renderer, context, the camera as
-/// command-line options and `glview.command`, a whole command line that renders it again.
-pub fn png_text(
-    r: Renderer,
-    s: &FrameSettings,
-    scene: &Scene,
-    repro: &Repro,
-) -> Vec<(&'static str, String)> {
-    let mut text = vec![("Software", format!("glview {}", env!("CARGO_PKG_VERSION")))];
-    match r {
-        Renderer::Gpu { caps, backend } => text.extend([
-            ("glview.renderer", caps.renderer.clone()),
-            ("glview.gl_version", caps.version.clone()),
-            ("glview.dialect", caps.dialect.name().into()),
-            ("glview.backend", backend.into()),
-        ]),
-        Renderer::Reference => text.push((
-            "glview.renderer",
-            "reference (CPU ray casting, f64, exact shadows)".into(),
-        )),
-    }
-    let c = &s.camera;
-    let target = scene.origin + c.target.as_dvec3();
-    let p = &s.lighting.pbr;
-    let o = &s.lighting.output;
-    if s.shading == crate::frame::Shading::Pbr {
-        text.push((
-            "glview.pbr",
-            format!(
-                "--exposure {} --tonemap {}{}{}{}{}{}",
-                o.exposure_ev,
-                format!("{:?}", o.tonemap).to_lowercase(),
-                p.metallic
-                    .map(|m| format!(" --metallic {m}"))
-                    .unwrap_or_default(),
-                p.roughness
-                    .map(|r| format!(" --roughness {r}"))
-                    .unwrap_or_default(),
-                p.base_color
-                    .map(|c| format!(" --base-color {},{},{}", c.x, c.y, c.z))
-                    .unwrap_or_default(),
-                if p.dominant_direction {
-                    " --dominant-direction"
-                } else {
-                    ""
-                },
-                if p.multiscatter {
-                    " --multiscatter"
-                } else {
-                    ""
-                },
-            ),
-        ));
-    }
-    text.extend([
-        ("glview.tier", s.shading.tier().into()),
-        ("glview.shading", format!("{:?}", s.shading).to_lowercase()),
-        ("glview.model", scene.name.clone()),
-    ]);
-    let camera = format!(
-        "--yaw {} --pitch {} --distance {} --target {},{},{} --fov {}{}{}",
-        c.yaw_deg,
-        c.pitch_deg,
-        c.distance,
-        target.x,
-        target.y,
-        target.z,
-        c.fov_y_deg,
-        c.ortho_height
-            .map(|h| format!(" --ortho {h}"))
-            .unwrap_or_default(),
-        c.near.map(|n| format!(" --near {n}")).unwrap_or_default()
-    );
-    let shown = crate::repro::shown_options(
-        repro.args,
-        c,
-        target.to_array(),
-        repro.size,
-        repro.state_keys,
-    );
-    let command = crate::repro::command_line(&shown);
-    text.push(("glview.camera", camera));
-    text.push((
-        "glview.options",
-        serde_json::to_string(&shown).unwrap_or_default(),
-    ));
-    text.push(("glview.command", command));
-    text
-}
-
-/// `--show irradiance|specular|lut`: the PBR maps, composed on the CPU from the
-/// precomputed data (no GL needed, the same on every context). None for other views.
-pub fn map_view(args: &Options) -> Result<Option<crate::image_out::Rgba>> {
-    let what = match args.render.show {
-        Show::Irradiance => "irradiance",
-        Show::Specular => "specular",
-        Show::Lut => "lut",
-        _ => return Ok(None),
-    };
-    let (data, _) = crate::render::ibl::load_or_compute(&env_request(args)?)?;
-    let out = OutputParams {
-        exposure_ev: args.pbr.exposure,
-        tonemap: args.pbr.tonemap,
-    };
-    Ok(crate::pbr::views::view(
-        &data,
-        what,
-        args.render.show_level,
-        &out,
-    ))
-}
-
-/// Renders headless into `path` (`--frames` times; the last frame is written).
-pub fn render_headless(args: &Options, path: &Path) -> Result<()> {
-    crate::picture::render(args, path, &mut None)
-}
-
-/// The framebuffer holds colour multiplied by coverage (blending over a cleared transparent
-/// black, resolved or box-filtered edges); PNG wants straight alpha.
-pub fn unpremultiply(img: &mut crate::image_out::Rgba) {
-    for p in img.data.chunks_exact_mut(4) {
-        let a = u32::from(p[3]);
-        if a > 0 && a < 255 {
-            for c in &mut p[..3] {
-                *c = ((u32::from(*c) * 255 + a / 2) / a).min(255) as u8;
-            }
-        }
-    }
-}
-
 /// The environment a PBR reference render integrates (None for the legacy tier).
 pub fn reference_env(
     args: &Options,
@@ -493,76 +338,4 @@ pub fn reference_env(
         env: std::sync::Arc::new(crate::pbr::env::Environment::from_source(&req.source)?),
         samples: args.pbr.reference_samples.max(1),
     }))
-}
-
-/// `--reference`: the same scene, camera and lights through the CPU reference renderer.
-pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
-    if args.render.show != Show::Scene {
-        return Err(Error::Usage(format!(
-            "--show {:?}: the reference renderer draws only the scene; drop --reference for teaching views",
-            args.render.show
-        )
-        .to_lowercase()));
-    }
-    // The same bound as the GPU path on llvmpipe (its maximum viewport), checked before the
-    // model is loaded or any framebuffer allocated.
-    const MAX: u32 = 16384;
-    if args.picture.size.0 > MAX || args.picture.size.1 > MAX {
-        return Err(Error::Usage(format!(
-            "--size {}x{}: the reference renderer draws at most {MAX}x{MAX}",
-            args.picture.size.0, args.picture.size.1
-        )));
-    }
-    let scene = load_scene(args)?;
-    let (settings, _) = frame_settings(args, &scene)?;
-    let (w, h) = args.picture.size;
-    let start = std::time::Instant::now();
-    let env = reference_env(args, settings.shading)?;
-    let img = crate::reference::render_env(&scene, &settings, env.as_ref(), w, h);
-    let keys = crate::repro::state_keys(args.camera.keys.as_deref());
-    let text = png_text(
-        Renderer::Reference,
-        &settings,
-        &scene,
-        &Repro::headless(args, &keys),
-    );
-    img.save(path, &text)?;
-    if args.picture.stats {
-        println!(
-            "{}",
-            serde_json::json!({"reference": true, "ms": start.elapsed().as_secs_f64() * 1e3, "triangles": scene.triangle_count()})
-        );
-    }
-    Ok(())
-}
-
-/// `--compile-shaders`: every program permutation through the driver's compiler.
-pub fn compile_shaders(args: &Options) -> Result<()> {
-    let hl = crate::headless::Headless::new(args.context.backend, args.context.gl, 16, 16)?;
-    let mut cache = crate::shader::cache::ProgramCache::new(&hl.gpu);
-    let keys = crate::shader::cache::all_keys(crate::light::MAX_LIGHTS as u8);
-    let start = std::time::Instant::now();
-    for key in &keys {
-        cache.get(key)?;
-    }
-    println!(
-        "compiled and linked {} programs for {} ({}) in {:.1} s",
-        keys.len(),
-        hl.gpu.caps.dialect.name(),
-        hl.gpu.caps.version,
-        start.elapsed().as_secs_f64()
-    );
-    Ok(())
-}
-
-/// `glview --info`: what the driver gave.
-pub fn print_info(args: &Options) -> Result<()> {
-    let hl = crate::headless::Headless::new(args.context.backend, args.context.gl, 16, 16)?;
-    println!(
-        "backend: {}\n{}\nstencil bits (render target): {}",
-        hl.backend_name(),
-        hl.gpu.caps.report(),
-        hl.stencil_bits()
-    );
-    Ok(())
 }

@@ -1,0 +1,36 @@
+//! Where one picture's time went (`--stats`).
+use crate::scene::profile::LoadProfile;
+use serde::Serialize;
+use std::time::Instant;
+
+/// Where one picture's time went (`--stats` adds it to the last frame's line as `profile`,
+/// printed once the PNG is written). Stages that did not run because their result was kept
+/// are zero / null.
+#[derive(Debug, Default, Serialize)]
+pub struct Profile {
+    /// The loader's own stages (read, repair, parse, textures, meshes, normals, finish).
+    pub load: Option<LoadProfile>,
+    /// Loading as seen from here (arguments to scene, textures included). It runs on another
+    /// thread while the context is made, so the two overlap.
+    pub load_ms: f64,
+    /// Of `load_ms`: large meshes reordered and cut into clusters (`scene::clusters`).
+    pub clusters_ms: f64,
+    pub context_ms: f64,
+    /// Vertex/index buffers and textures to the GPU.
+    pub upload_ms: f64,
+    /// Programs compiled and linked during the frames, and the time it took.
+    pub programs_compiled: usize,
+    pub compile_ms: f64,
+    /// Wall time of each frame to glFinish (compiles and map precomputation included).
+    pub frames_ms: Vec<f64>,
+    /// Each image texture uploaded for this picture (name, size, ms), the PBR tier's
+    /// included (made in its first frame).
+    pub textures: Vec<crate::gpu::TextureCost>,
+    pub readback_ms: f64,
+    pub encode_ms: f64,
+    pub total_ms: f64,
+}
+
+pub(super) fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
