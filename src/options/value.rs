@@ -185,7 +185,7 @@ impl OptionValue for Bytes {
     }
     fn to_word(&self) -> String {
         for (unit, shift) in [("G", 30), ("M", 20), ("K", 10)] {
-            if self.0 >= 1 << shift && self.0 % (1 << shift) == 0 {
+            if self.0 >= 1 << shift && self.0.is_multiple_of(1 << shift) {
                 return format!("{}{unit}", self.0 >> shift);
             }
         }
