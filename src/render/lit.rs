@@ -9,7 +9,6 @@ use crate::gpu::program::Program;
 use crate::gpu::state::RenderState;
 use crate::light::LightKind;
 use crate::scene::clusters::ClusterView;
-use crate::scene::material_model::Slot;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
@@ -252,21 +251,18 @@ pub(crate) fn draw(
             )
         };
         let mat = &cx.scene.scene.materials[material];
-        let model = &mat.pbr_inputs.model;
         let texture = base_texture(cx, material, has_uv)?;
+        // The legacy tier works in display values: every image is read as it is (not
+        // sRGB-decoded), whatever its slot's colour space.
         // The normal map bends a per-fragment normal: Gouraud has none.
-        let normal_map = match &mat.pbr_inputs.normal_map {
+        let normal_map = match &mat.normal_texture {
             Some(t) if has_tangents && !gouraud && s.lighting.pbr_terms.normal_map => {
-                let smp = super::slots::sampler(model, Slot::Normal);
-                Some(cx.res.textures.get(cx.gpu, t, false, &smp)?)
+                Some(cx.res.textures.get(cx.gpu, &t.image, false, &t.sampler)?)
             }
             _ => None,
         };
-        let emissive_map = match &mat.pbr_inputs.emissive_map {
-            Some(t) if has_uv => {
-                let smp = super::slots::sampler(model, Slot::Emissive);
-                Some(cx.res.textures.get(cx.gpu, t, false, &smp)?)
-            }
+        let emissive_map = match &mat.emissive_texture {
+            Some(t) if has_uv => Some(cx.res.textures.get(cx.gpu, &t.image, false, &t.sampler)?),
             _ => None,
         };
         let key = program_key(
@@ -281,9 +277,9 @@ pub(crate) fn draw(
         .switch("HAS_NORMAL_MAP", "nrm", normal_map.is_some())
         .switch("HAS_EMISSIVE_MAP", "emi", emissive_map.is_some());
         // Single-sided opaque draws cull back faces (cull.rs): no fragment needs the flip.
-        let front_only = !model.double_sided && !translucent;
+        let front_only = !mat.double_sided && !translucent;
         let key = light_flags(key, s).switch("FRONT_ONLY", "front", front_only);
-        let key = super::slots::flags(key, model, has_uv1, texture.is_some());
+        let key = super::slots::flags(key, mat, has_uv1, texture.is_some());
         let key = cx.lit_flags(key);
         let program = cx.program(&key)?;
         program.bind();
@@ -296,19 +292,19 @@ pub(crate) fn draw(
             program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
         }
         let mat = &cx.scene.scene.materials[material];
-        let model = &mat.pbr_inputs.model;
-        super::slots::set_uniforms(&program, model, has_uv1);
-        program.set_f32("uNormalScale", model.normal_scale);
+        super::slots::set_uniforms(&program, mat, has_uv1);
+        program.set_f32("uNormalScale", mat.normal_scale);
         for (index, unit) in [(normal_map, NORMAL_UNIT), (emissive_map, EMISSIVE_UNIT)] {
             if let Some(t) = index {
                 cx.res.textures.texture(t).bind(unit);
                 cx.stats.textures_bound += 1;
             }
         }
-        set_material_terms(&program, s, mat);
-        program.set_vec3("uKd", Vec3::from(mat.diffuse));
+        let phong = mat.phong_terms();
+        set_material_terms(&program, s, &phong);
+        program.set_vec3("uKd", Vec3::from(phong.diffuse));
         program.set_vec3("uKe", Vec3::from(mat.emissive));
-        program.set_f32("uNs", mat.shininess);
+        program.set_f32("uNs", phong.shininess);
         program.set_f32("uTerminatorLift", cx.scene.meshes[i].terminator_lift);
         program.set_f32(
             "uOpacity",
@@ -337,11 +333,12 @@ pub(crate) fn base_texture(
     has_uv: bool,
 ) -> Result<Option<usize>> {
     let mat = &cx.scene.scene.materials[material];
-    match (&mat.diffuse_map, has_uv) {
-        (Some(t), true) => {
-            let smp = super::slots::sampler(&mat.pbr_inputs.model, Slot::BaseColor);
-            cx.res.textures.get(cx.gpu, t, false, &smp).map(Some)
-        }
+    match (&mat.base_color_texture, has_uv) {
+        (Some(t), true) => cx
+            .res
+            .textures
+            .get(cx.gpu, &t.image, false, &t.sampler)
+            .map(Some),
         _ => Ok(None),
     }
 }
@@ -361,7 +358,11 @@ fn light_flags(key: ProgramKey, s: &crate::frame::FrameSettings) -> ProgramKey {
 /// The material's colours times the ambient light and each light's colour, with the term
 /// switches (`--terms`) applied: products of uniforms, formed here once per draw rather than
 /// per fragment (lit.frag).
-fn set_material_terms(p: &Program, s: &crate::frame::FrameSettings, mat: &crate::scene::Material) {
+fn set_material_terms(
+    p: &Program,
+    s: &crate::frame::FrameSettings,
+    mat: &crate::scene::material::PhongTerms,
+) {
     let t = s.lighting.terms;
     let on = |b: bool| if b { 1.0 } else { 0.0 };
     let ambient = on(t.ambient) * Vec3::from(mat.ambient) * s.lighting.ambient.as_vec3();

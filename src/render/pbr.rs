@@ -9,7 +9,7 @@ use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::state::RenderState;
 use crate::gpu::texture::TextureFormat;
 use crate::gpu::GpuRef;
-use crate::scene::material_model::Slot;
+use crate::scene::texture_slot::{ColorSpace, TextureSlot};
 use crate::scene::{Material, Scene, Texture};
 use crate::shader::cache::ProgramKey;
 use crate::{Error, Result};
@@ -145,11 +145,15 @@ pub(crate) struct MaterialTextures {
 /// sampled nearest into it. Missing inputs are 1 (the factor then acts alone). glTF's
 /// metallic-roughness image is already packed and is used as it is.
 fn orm_texture(index: usize, m: &Material) -> Option<Texture> {
-    let p = &m.pbr_inputs;
-    let maps = [&p.ao_map, &p.roughness_map, &p.metallic_map];
+    let maps = [
+        &m.occlusion_texture,
+        &m.roughness_texture,
+        &m.metallic_texture,
+    ]
+    .map(|s| s.as_ref().map(|s| &*s.image));
     let (w, h) = maps
         .iter()
-        .filter_map(|m| m.as_ref().map(|t| (t.width, t.height)))
+        .filter_map(|m| m.map(|t| (t.width, t.height)))
         .max_by_key(|(w, h)| w * h)?;
     let mut data = vec![255u8; (w * h * 4) as usize];
     for (c, map) in maps.iter().enumerate() {
@@ -179,23 +183,26 @@ impl MaterialTextures {
         let srgb_in_shader = !TextureFormat::Srgb8A8.supported(&gpu.caps);
         let mut materials = Vec::new();
         for (index, m) in scene.materials.iter().enumerate() {
-            let p = &m.pbr_inputs;
-            let model = &p.model;
-            let mut get = |t: &Option<std::sync::Arc<Texture>>, srgb: bool, slot: Slot| {
+            // Each slot's image as its colour space says (sRGB decoded by the texture format),
+            // with its own sampler.
+            let mut get = |t: &Option<TextureSlot>| {
                 t.as_ref()
-                    .map(|t| table.get(gpu, t, srgb, &super::slots::sampler(model, slot)))
+                    .map(|t| {
+                        let srgb = t.color_space == ColorSpace::Srgb;
+                        table.get(gpu, &t.image, srgb, &t.sampler)
+                    })
                     .transpose()
             };
             let mut mm = MaterialMaps {
-                albedo: get(&m.diffuse_map, true, Slot::BaseColor)?,
-                normal: get(&p.normal_map, false, Slot::Normal)?,
-                emissive: get(&p.emissive_map, true, Slot::Emissive)?,
+                albedo: get(&m.base_color_texture)?,
+                normal: get(&m.normal_texture)?,
+                emissive: get(&m.emissive_texture)?,
                 ..Default::default()
             };
-            if p.metallic_roughness_map.is_some() || model.slot(Slot::Occlusion).is_some() {
+            if !m.packs_orm() {
                 // glTF: metallic-roughness and occlusion each with their own UVs and sampler.
-                mm.orm = get(&p.metallic_roughness_map, false, Slot::MetallicRoughness)?;
-                mm.ao = get(&p.ao_map, false, Slot::Occlusion)?;
+                mm.orm = get(&m.metallic_roughness_texture)?;
+                mm.ao = get(&m.occlusion_texture)?;
             } else if let Some(t) = orm_texture(index, m) {
                 mm.orm = Some(table.get(gpu, &t, false, &Default::default())?);
                 mm.orm_ao = true;
@@ -311,7 +318,7 @@ fn draw(
             emissive: has_uv && mm.emissive.is_some(),
             color,
         };
-        let model = &cx.scene.scene.materials[material].pbr_inputs.model;
+        let model = &cx.scene.scene.materials[material];
         let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts).mask(
             "SHOW_ATTRIBUTE",
             "show",
@@ -355,20 +362,18 @@ fn draw(
             );
         }
         let mat = &cx.scene.scene.materials[material];
-        let model = &mat.pbr_inputs.model;
-        super::slots::set_uniforms(&program, model, has_uv1);
-        program.set_f32("uNormalScale", model.normal_scale);
-        program.set_f32("uOcclusionStrength", model.occlusion_strength);
+        super::slots::set_uniforms(&program, mat, has_uv1);
+        program.set_f32("uNormalScale", mat.normal_scale);
+        program.set_f32("uOcclusionStrength", mat.occlusion_strength);
         program.set_f32("uOrmAo", if mm.orm_ao { 1.0 } else { 0.0 });
-        let values = mat.pbr();
         program.set_vec3(
             "uBaseColor",
-            p.base_color.unwrap_or(Vec3::from(values.base_color)),
+            p.base_color.unwrap_or(Vec3::from(mat.base_color)),
         );
-        program.set_f32("uMetallic", p.metallic.unwrap_or(values.metallic));
+        program.set_f32("uMetallic", p.metallic.unwrap_or(mat.metallic));
         program.set_f32("uTerminatorLift", cx.scene.meshes[i].terminator_lift);
-        program.set_f32("uRoughness", p.roughness.unwrap_or(values.roughness));
-        program.set_vec3("uEmissive", Vec3::from(values.emissive));
+        program.set_f32("uRoughness", p.roughness.unwrap_or(mat.roughness));
+        program.set_vec3("uEmissive", Vec3::from(mat.emissive));
         program.set_f32(
             "uOpacity",
             super::translucent::opacity(cx, mat, translucent),
