@@ -284,4 +284,28 @@ mod tests {
             ([0.2; 3], [0.8; 3], [0.0; 3], 0.0)
         );
     }
+
+    /// Translucency is one field: every way a material becomes translucent sets `opacity`,
+    /// and `is_translucent` reads nothing else.
+    #[test]
+    fn translucency_is_decided_from_one_field() {
+        assert_eq!(translucency(1.0, AlphaMode::Opaque), None);
+        assert_eq!(translucency(0.5, AlphaMode::Opaque), Some(0.5));
+        assert_eq!(translucency(1.0, AlphaMode::Blend), Some(1.0));
+        assert_eq!(translucency(1.0, AlphaMode::Mask(0.5)), None);
+        let mut m = Material::default();
+        assert!(!m.is_translucent());
+        // Nothing but `opacity` changes the answer: a BLEND alpha mode alone does not.
+        m.alpha_mode = AlphaMode::Blend;
+        assert!(!m.is_translucent());
+        m.opacity = Some(1.0);
+        assert!(m.is_translucent());
+        m.set_opacity(1.0);
+        assert_eq!(m.opacity, Some(1.0), "BLEND stays translucent at opacity 1");
+        m.alpha_mode = AlphaMode::Opaque;
+        m.set_opacity(1.0);
+        assert!(!m.is_translucent());
+        m.set_opacity(0.3);
+        assert_eq!((m.is_translucent(), m.draw_opacity()), (true, 0.3));
+    }
 }

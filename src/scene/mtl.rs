@@ -227,3 +227,7 @@ pub fn looks_like_normal_map(t: &Texture) -> bool {
     let [r, g, b] = sum.map(|s| s / n);
     b > 0.65 && (r - 0.5).abs() < 0.2 && (g - 0.5).abs() < 0.2
 }
+
+#[cfg(test)]
+#[path = "mtl_tests.rs"]
+mod tests;

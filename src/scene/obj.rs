@@ -535,6 +535,36 @@ mod tests {
         assert_eq!(s.materials[s.meshes[0].material], Material::default());
     }
 
+    /// The MTL is read once: its file is opened once and each material statement block is
+    /// read once (`mtl::read` takes tobj's material by value; this counts the calls), on both
+    /// OBJ parsers.
+    #[test]
+    fn mtl_is_read_once() {
+        let obj = b"mtllib a.mtl\nv 0 0 0\nv 2 0 0\nv 0 2 0\nusemtl red\nf 1 2 3\n";
+        let mtl = b"newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\nd 0.5\n";
+        for parser in [Parser::Auto, Parser::Tobj] {
+            let opened = std::cell::Cell::new(0);
+            let source = |_: &Path| {
+                opened.set(opened.get() + 1);
+                Ok(mtl.to_vec())
+            };
+            super::super::mtl::READS.with(|r| r.set(0));
+            let s = load_with(
+                Path::new("t.obj"),
+                obj,
+                &LoadOptions::default(),
+                &source,
+                parser,
+            )
+            .unwrap();
+            let reads = super::super::mtl::READS.with(|r| r.get());
+            assert_eq!((opened.get(), reads), (1, 2), "{parser:?}");
+            assert_eq!(s.materials.len(), 3);
+            assert_eq!(s.materials[0].base_color, [1.0, 0.0, 0.0]);
+            assert_eq!(s.materials[1].opacity, Some(0.5));
+        }
+    }
+
     #[test]
     fn no_triangles_is_an_error() {
         let e = load_bytes(Path::new("t.obj"), b"v 0 0 0\n", &LoadOptions::default()).unwrap_err();
