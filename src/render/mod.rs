@@ -19,6 +19,7 @@ pub mod programs;
 pub mod shadow;
 mod slots;
 mod textures;
+mod tier;
 pub mod translucent;
 mod upload;
 
