@@ -230,9 +230,10 @@ pub fn shade(
     visibility: &[f64],
     params: &LightingParams,
 ) -> DVec3 {
-    let ka = DVec3::from(m.ambient.map(f64::from)) * tex.diffuse;
-    let kd = DVec3::from(m.diffuse.map(f64::from)) * tex.diffuse;
-    let ks = DVec3::from(m.specular.map(f64::from));
+    let ph = m.phong_terms();
+    let ka = DVec3::from(ph.ambient.map(f64::from)) * tex.diffuse;
+    let kd = DVec3::from(ph.diffuse.map(f64::from)) * tex.diffuse;
+    let ks = DVec3::from(ph.specular.map(f64::from));
     let mut c = DVec3::from(m.emissive.map(f64::from)) * tex.emissive;
     if params.terms.ambient {
         c += ka * params.ambient;
@@ -254,7 +255,7 @@ pub fn shade(
         }
         if params.terms.specular && n_dot_l > 0.0 {
             let r = reflect(-l, n);
-            lit += ks * lc * specular_factor(r.dot(v), f64::from(m.shininess));
+            lit += ks * lc * specular_factor(r.dot(v), f64::from(ph.shininess));
         }
         c += vis * lit;
     }

@@ -1,4 +1,4 @@
-//! The material model ([`crate::scene::material_model`]) read on the CPU the way the shaders
+//! The material ([`crate::scene::material`]) read on the CPU the way the shaders
 //! read it (`material.glsl`, `normalmap.glsl`, `lit.frag`, `pbr.frag`): each slot's UV set and
 //! `KHR_texture_transform`, its sampler's wrap modes and filter, MASK cut-outs, BLEND alpha
 //! from the base colour texture, single-sided culling, tangent-space normal maps.
@@ -10,7 +10,8 @@
 use super::bvh::Hit;
 use super::Context;
 use crate::pbr::srgb_decode;
-use crate::scene::material_model::{AlphaMode, Filter, Model, Sampler, Slot, Wrap};
+use crate::scene::material::AlphaMode;
+use crate::scene::texture_slot::{Filter, Sampler, Slot, Wrap};
 use crate::scene::{Material, Mesh, Texture};
 use glam::{DVec2, DVec3, DVec4};
 
@@ -65,7 +66,7 @@ impl<'a> Corners<'a> {
 }
 
 /// The UV slot `slot` reads: its set, through its transform (`uSlotXf`).
-pub fn slot_uv(model: &Model, slot: Slot, c: &Corners) -> DVec2 {
+pub fn slot_uv(model: &Material, slot: Slot, c: &Corners) -> DVec2 {
     let Some(s) = model.slot(slot) else {
         return c.uv(0);
     };
@@ -84,7 +85,7 @@ pub fn slot_uv(model: &Model, slot: Slot, c: &Corners) -> DVec2 {
 }
 
 /// The sampler a slot is read with (the viewer's repeat/linear where the file has none).
-pub fn slot_sampler(model: &Model, slot: Slot) -> Sampler {
+pub fn slot_sampler(model: &Material, slot: Slot) -> Sampler {
     model.slot(slot).map(|s| s.sampler).unwrap_or_default()
 }
 
@@ -162,19 +163,14 @@ pub fn read(
     srgb: bool,
 ) -> Option<DVec4> {
     let t = t.filter(|_| c.mesh.has_uv)?;
-    let model = &m.pbr_inputs.model;
-    Some(sample(
-        t,
-        &slot_sampler(model, slot),
-        slot_uv(model, slot, c),
-        srgb,
-    ))
+    Some(sample(t, &slot_sampler(m, slot), slot_uv(m, slot, c), srgb))
 }
 
 /// The base colour texture's alpha times the factor's: what MASK tests and BLEND uses.
 pub fn base_alpha(m: &Material, c: &Corners) -> (f64, f64) {
-    let tex = read(m, m.diffuse_map.as_deref(), Slot::BaseColor, c, false).map_or(1.0, |t| t.w);
-    (f64::from(m.pbr_inputs.model.base_alpha) * tex, tex)
+    let image = m.image(Slot::BaseColor).map(|t| &**t);
+    let tex = read(m, image, Slot::BaseColor, c, false).map_or(1.0, |t| t.w);
+    (f64::from(m.base_alpha) * tex, tex)
 }
 
 /// Whether the rasterizer draws this hit at all: single-sided materials show no back faces
@@ -185,8 +181,7 @@ pub fn drawn(ctx: &Context, hit: &Hit, dir: DVec3) -> bool {
     let Some(m) = ctx.scene.materials.get(mesh.material) else {
         return true;
     };
-    let model = &m.pbr_inputs.model;
-    if !model.double_sided {
+    if !m.double_sided {
         let base = 3 * hit.tri.tri as usize;
         let p = |k: usize| {
             DVec3::from(
@@ -200,7 +195,7 @@ pub fn drawn(ctx: &Context, hit: &Hit, dir: DVec3) -> bool {
             return false;
         }
     }
-    match model.alpha_mode {
+    match m.alpha_mode {
         AlphaMode::Mask(cutoff) => base_alpha(m, &Corners::new(ctx, hit)).0 >= f64::from(cutoff),
         _ => true,
     }
@@ -213,7 +208,7 @@ pub fn normal_map(m: &Material, c: &Corners, n: DVec3, front: bool) -> DVec3 {
     let (Some(t), Some(tan)) = (
         read(
             m,
-            m.pbr_inputs.normal_map.as_deref(),
+            m.image(Slot::Normal).map(|t| &**t),
             Slot::Normal,
             c,
             false,
@@ -232,7 +227,7 @@ pub fn normal_map(m: &Material, c: &Corners, n: DVec3, front: bool) -> DVec3 {
     let tt = tt / tl;
     let b = n.cross(tt) * if tan.w < 0.0 { -side } else { side };
     let mut mn = t.truncate() * 2.0 - DVec3::ONE;
-    let scale = f64::from(m.pbr_inputs.model.normal_scale);
+    let scale = f64::from(m.normal_scale);
     mn.x *= scale;
     mn.y *= scale;
     let r = tt * mn.x + b * mn.y + n * mn.z;

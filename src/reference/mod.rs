@@ -122,7 +122,7 @@ impl<'a> Context<'a> {
                     let mapped = scene
                         .materials
                         .get(m.material)
-                        .is_some_and(|x| x.pbr_inputs.normal_map.is_some());
+                        .is_some_and(|x| x.normal_texture.is_some());
                     if m.has_uv && mapped && m.tangents.len() != m.vertices.len() {
                         crate::scene::tangents::generate(m)
                     } else {
@@ -276,8 +276,8 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
     for hit in &sc.layers {
         let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
         let m = &ctx.scene.materials[mesh.material];
-        let mut alpha = f64::from(tr.opacity.unwrap_or(m.opacity));
-        if m.pbr_inputs.model.alpha_mode == crate::scene::material_model::AlphaMode::Blend {
+        let mut alpha = f64::from(tr.opacity.unwrap_or(m.draw_opacity()));
+        if m.alpha_mode == crate::scene::material::AlphaMode::Blend {
             // BLEND: the base colour texture's alpha multiplies the opacity.
             alpha *= material::base_alpha(m, &material::Corners::new(ctx, hit)).1;
         }

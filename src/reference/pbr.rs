@@ -9,7 +9,7 @@
 use super::material::{self, Corners};
 use super::Context;
 use crate::pbr::brdf::Surface;
-use crate::scene::material_model::Slot;
+use crate::scene::texture_slot::{Slot, TextureSlot};
 use crate::scene::Material;
 use crate::shading::LightingParams;
 use glam::DVec3;
@@ -21,24 +21,17 @@ pub const DEFAULT_SAMPLES: u32 = 2048;
 /// linear colour, or white).
 pub fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams) -> Surface {
     let p = &l.pbr;
-    let v = m.pbr();
-    let inputs = &m.pbr_inputs;
     let factor = p
         .base_color
         .map(|c| c.as_dvec3())
-        .unwrap_or(DVec3::from(v.base_color.map(f64::from)));
-    let mut metallic = f64::from(p.metallic.unwrap_or(v.metallic));
-    let mut roughness = f64::from(p.roughness.unwrap_or(v.roughness));
+        .unwrap_or(DVec3::from(m.base_color.map(f64::from)));
+    let mut metallic = f64::from(p.metallic.unwrap_or(m.metallic));
+    let mut roughness = f64::from(p.roughness.unwrap_or(m.roughness));
     let mut ao = 1.0;
-    let red = |t: &Option<std::sync::Arc<crate::scene::Texture>>, slot| {
-        material::read(m, t.as_deref(), slot, c, false).map(|x| x.x)
-    };
-    let gltf =
-        inputs.metallic_roughness_map.is_some() || inputs.model.slot(Slot::Occlusion).is_some();
-    if gltf {
+    if !m.packs_orm() {
         if let Some(mr) = material::read(
             m,
-            inputs.metallic_roughness_map.as_deref(),
+            image(&m.metallic_roughness_texture),
             Slot::MetallicRoughness,
             c,
             false,
@@ -46,32 +39,38 @@ pub fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams) -> Su
             roughness *= mr.y;
             metallic *= mr.z;
         }
-        if let Some(r) = red(&inputs.ao_map, Slot::Occlusion) {
-            ao *= 1.0 + f64::from(inputs.model.occlusion_strength) * (r - 1.0);
+        let occlusion = material::read(m, image(&m.occlusion_texture), Slot::Occlusion, c, false);
+        if let Some(r) = occlusion.map(|x| x.x) {
+            ao *= 1.0 + f64::from(m.occlusion_strength) * (r - 1.0);
         }
     } else {
         // An MTL's maps: red channels, repeat and linear like the packed texture.
-        let plain = |t: &Option<std::sync::Arc<crate::scene::Texture>>| {
-            t.as_deref()
+        let plain = |t: &Option<TextureSlot>| {
+            image(t)
                 .filter(|_| c.mesh.has_uv)
                 .map(|t| material::sample(t, &Default::default(), c.uv(0), false).x)
         };
-        ao = plain(&inputs.ao_map).unwrap_or(1.0);
-        roughness *= plain(&inputs.roughness_map).unwrap_or(1.0);
-        metallic *= plain(&inputs.metallic_map).unwrap_or(1.0);
+        ao = plain(&m.occlusion_texture).unwrap_or(1.0);
+        roughness *= plain(&m.roughness_texture).unwrap_or(1.0);
+        metallic *= plain(&m.metallic_texture).unwrap_or(1.0);
     }
     if !l.pbr_terms.ao {
         ao = 1.0;
     }
-    let emissive = material::read(m, inputs.emissive_map.as_deref(), Slot::Emissive, c, true)
+    let emissive = material::read(m, image(&m.emissive_texture), Slot::Emissive, c, true)
         .map_or(DVec3::ONE, |t| t.truncate());
     Surface {
         albedo: factor * base,
         metallic,
         roughness,
         ao,
-        emissive: DVec3::from(v.emissive.map(f64::from)) * emissive,
+        emissive: DVec3::from(m.emissive.map(f64::from)) * emissive,
     }
+}
+
+/// A slot's decoded image.
+fn image(t: &Option<TextureSlot>) -> Option<&crate::scene::Texture> {
+    t.as_ref().map(|t| &*t.image)
 }
 
 /// Linear radiance leaving point `p` towards the eye, then the output step (display value).

@@ -6,7 +6,7 @@ use super::material::{self, Corners};
 use super::Context;
 use crate::frame::Shading;
 use crate::light::{Light, LightKind};
-use crate::scene::material_model::Slot;
+use crate::scene::texture_slot::Slot;
 use crate::scene::Mesh;
 use crate::shading::{reflect, shade, specular_factor, to_light, Tex};
 use glam::DVec3;
@@ -35,7 +35,7 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
     // PBR (an sRGB texture format decodes before filtering).
     let base = material::read(
         material,
-        material.diffuse_map.as_deref(),
+        material.image(Slot::BaseColor).map(|t| &**t),
         Slot::BaseColor,
         &corners,
         pbr_tier,
@@ -44,15 +44,14 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
     // Vertex colours: interpolated like any attribute; they multiply what a texture
     // multiplies (Ka and Kd in the legacy tier, the base colour after sRGB decoding in PBR).
     let vc = vertex_colour(mesh, &w, &corners.idx);
-    let model = &material.pbr_inputs.model;
-    if model.unlit {
+    if material.unlit {
         // KHR_materials_unlit: the base colour is the colour, through the output step.
         let color = if pbr_tier {
             let mut s = super::pbr::surface(material, base, &corners, &ctx.settings.lighting);
             s.albedo *= vc.map(crate::pbr::srgb_decode);
             DVec3::from(ctx.settings.lighting.output.apply(s.albedo.to_array()))
         } else {
-            let kd = DVec3::from(material.diffuse.map(f64::from));
+            let kd = DVec3::from(material.phong_terms().diffuse.map(f64::from));
             (kd * base * vc).clamp(DVec3::ZERO, DVec3::ONE)
         };
         return Shaded { color, shadowed: 0 };
@@ -92,7 +91,7 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
     } else {
         let emissive = material::read(
             material,
-            material.pbr_inputs.emissive_map.as_deref(),
+            material.image(Slot::Emissive).map(|t| &**t),
             Slot::Emissive,
             &corners,
             false,
@@ -226,10 +225,11 @@ fn gouraud(
     let s = ctx.settings;
     let (terms, eye) = (s.lighting.terms, ctx.view.eye);
     let rgb = |c: [f32; 3]| DVec3::from(c.map(f64::from));
+    let ph = m.phong_terms();
     let mut c = rgb(m.emissive) * tex.emissive;
     let tex = tex.diffuse;
     if terms.ambient {
-        c += rgb(m.ambient) * tex * s.lighting.ambient;
+        c += rgb(ph.ambient) * tex * s.lighting.ambient;
     }
     for (i, light) in s.lights.iter().enumerate() {
         let (mut fd, mut fs) = (0.0, 0.0);
@@ -239,17 +239,17 @@ fn gouraud(
             debug_assert!(n.is_normalized(), "normal {n}");
             let v = (eye - pos[k]).normalize_or_zero();
             let l = to_light(light, pos[k]);
-            let (d, sp) = light_factors(l, n, v, f64::from(m.shininess), s.lighting.wrap);
+            let (d, sp) = light_factors(l, n, v, f64::from(ph.shininess), s.lighting.wrap);
             fd += w[k] * d;
             fs += w[k] * sp;
         }
         let lc = light.color.as_dvec3();
         let mut lit = DVec3::ZERO;
         if terms.diffuse {
-            lit += rgb(m.diffuse) * tex * lc * fd;
+            lit += rgb(ph.diffuse) * tex * lc * fd;
         }
         if terms.specular {
-            lit += rgb(m.specular) * lc * fs;
+            lit += rgb(ph.specular) * lc * fs;
         }
         c += vis.get(i).copied().unwrap_or(1.0) * lit;
     }
@@ -260,7 +260,7 @@ fn gouraud(
 mod tests {
     use super::*;
     use crate::reference::material::sample;
-    use crate::scene::material_model::Sampler;
+    use crate::scene::texture_slot::Sampler;
     use crate::scene::Texture;
 
     fn checker() -> Texture {

@@ -15,10 +15,7 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
     let dm = &cx.scene.meshes[i];
     // glTF's single-sided materials show no back faces (in every pass, so their shadows
     // match what is seen); a pass that already chose a face (translucency's two passes) keeps it.
-    let single_sided = !cx.scene.scene.materials[dm.material]
-        .pbr_inputs
-        .model
-        .double_sided;
+    let single_sided = !cx.scene.scene.materials[dm.material].double_sided;
     let sided = RenderState {
         cull: if single_sided && state.cull == Cull::None {
             Cull::Back

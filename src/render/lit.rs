@@ -1,15 +1,14 @@
 //! Pass "lit" (legacy tier): every mesh with the Phong (or Gouraud) program matching its
 //! features; opaque meshes first, then translucent ones back to front with blending (each
 //! drawn back faces first, then front faces, so a glass shows its far wall behind its near
-//! wall). The helpers here (view set-up, light and shadow uniforms, draw order) are shared
-//! with the PBR pass.
+//! wall). The skeleton is the one both tiers share ([`super::tier`]); the helpers here (view
+//! set-up, light and shadow uniforms, draw order) are shared with the PBR pass.
 use super::frusta::ShadowProjection;
+use super::tier::{MeshDraw, Prepared};
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::program::Program;
-use crate::gpu::state::RenderState;
 use crate::light::LightKind;
 use crate::scene::clusters::ClusterView;
-use crate::scene::material_model::Slot;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
@@ -216,57 +215,53 @@ impl Pass for Lit {
                 "attribute view (drawn by the PBR program)".into(),
             ));
         }
-        let v = View::new(cx);
-        cx.bind_target();
-        super::translucent::clear(cx);
-        let (order, first) = v.draw_order(cx);
-        super::translucent::draw_frame(cx, &order, first, &mut |cx, meshes, states| {
-            draw(cx, &v, meshes, states)
-        })?;
+        let tier = LegacyTier {
+            gouraud: s.shading == Shading::Gouraud,
+            bound_texture: None,
+        };
+        super::tier::run(cx, tier)?;
         Ok(Outcome::Ran("lit".into()))
     }
 }
 
-/// Draws `meshes` with the legacy programs; `states` gives each mesh's draws (one render
-/// state per draw call, by whether the mesh is translucent).
-pub(crate) fn draw(
-    cx: &mut FrameCx,
-    v: &View,
-    meshes: &[usize],
-    states: &dyn Fn(bool) -> Vec<RenderState>,
-) -> Result<()> {
-    let s = cx.settings;
-    let mut bound_texture = None;
-    let mut uniforms_set: Vec<ProgramKey> = Vec::new();
-    let gouraud = s.shading == Shading::Gouraud;
-    for &i in meshes {
-        let (material, translucent, colored, has_uv, has_uv1, has_tangents) = {
-            let dm = &cx.scene.meshes[i];
-            (
-                dm.material,
-                dm.translucent,
-                dm.has_colors,
-                dm.has_uv,
-                dm.has_uv1,
-                dm.has_tangents,
-            )
-        };
-        let mat = &cx.scene.scene.materials[material];
-        let model = &mat.pbr_inputs.model;
-        let texture = base_texture(cx, material, has_uv)?;
+/// The legacy tier in the lit skeleton ([`super::tier`]): Phong or Gouraud programs.
+#[derive(Clone)]
+struct LegacyTier {
+    gouraud: bool,
+    /// The base colour texture bound to unit 0 by this draw call (not bound again).
+    bound_texture: Option<usize>,
+}
+
+/// A mesh's legacy textures (indices into the frame's texture table).
+struct LegacyMaps {
+    texture: Option<usize>,
+    normal: Option<usize>,
+    emissive: Option<usize>,
+}
+
+impl super::tier::Tier for LegacyTier {
+    type Maps = LegacyMaps;
+
+    fn prepare(
+        &mut self,
+        cx: &mut FrameCx,
+        v: &View,
+        m: &MeshDraw,
+    ) -> Result<Prepared<LegacyMaps>> {
+        let s = cx.settings;
+        let mat = &cx.scene.scene.materials[m.material];
+        let texture = base_texture(cx, m.material, m.has_uv)?;
+        // The legacy tier works in display values: every image is read as it is (not
+        // sRGB-decoded), whatever its slot's colour space.
         // The normal map bends a per-fragment normal: Gouraud has none.
-        let normal_map = match &mat.pbr_inputs.normal_map {
-            Some(t) if has_tangents && !gouraud && s.lighting.pbr_terms.normal_map => {
-                let smp = super::slots::sampler(model, Slot::Normal);
-                Some(cx.res.textures.get(cx.gpu, t, false, &smp)?)
+        let normal = match &mat.normal_texture {
+            Some(t) if m.has_tangents && !self.gouraud && s.lighting.pbr_terms.normal_map => {
+                Some(cx.res.textures.get(cx.gpu, &t.image, false, &t.sampler)?)
             }
             _ => None,
         };
-        let emissive_map = match &mat.pbr_inputs.emissive_map {
-            Some(t) if has_uv => {
-                let smp = super::slots::sampler(model, Slot::Emissive);
-                Some(cx.res.textures.get(cx.gpu, t, false, &smp)?)
-            }
+        let emissive = match &mat.emissive_texture {
+            Some(t) if m.has_uv => Some(cx.res.textures.get(cx.gpu, &t.image, false, &t.sampler)?),
             _ => None,
         };
         let key = program_key(
@@ -275,58 +270,51 @@ pub(crate) fn draw(
             s.shadows.pcf,
             v.cube_mask,
             texture.is_some(),
-            gouraud,
-            colored,
+            self.gouraud,
+            m.has_colors,
         )
-        .switch("HAS_NORMAL_MAP", "nrm", normal_map.is_some())
-        .switch("HAS_EMISSIVE_MAP", "emi", emissive_map.is_some());
+        .switch("HAS_NORMAL_MAP", "nrm", normal.is_some())
+        .switch("HAS_EMISSIVE_MAP", "emi", emissive.is_some());
         // Single-sided opaque draws cull back faces (cull.rs): no fragment needs the flip.
-        let front_only = !model.double_sided && !translucent;
-        let key = light_flags(key, s).switch("FRONT_ONLY", "front", front_only);
-        let key = super::slots::flags(key, model, has_uv1, texture.is_some());
-        let key = cx.lit_flags(key);
-        let program = cx.program(&key)?;
-        program.bind();
-        // A program keeps its uniforms: the per-frame ones are set once per program per
-        // frame, only the material changes from mesh to mesh.
-        if !uniforms_set.contains(&key) {
-            uniforms_set.push(key);
-            v.set_uniforms(&program, cx);
-            program.set_i32("uNormalMap", NORMAL_UNIT as i32);
-            program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
-        }
-        let mat = &cx.scene.scene.materials[material];
-        let model = &mat.pbr_inputs.model;
-        super::slots::set_uniforms(&program, model, has_uv1);
-        program.set_f32("uNormalScale", model.normal_scale);
-        for (index, unit) in [(normal_map, NORMAL_UNIT), (emissive_map, EMISSIVE_UNIT)] {
+        let front_only = !mat.double_sided && !m.translucent;
+        Ok(Prepared {
+            key: light_flags(key, s).switch("FRONT_ONLY", "front", front_only),
+            textured: texture.is_some(),
+            maps: LegacyMaps {
+                texture,
+                normal,
+                emissive,
+            },
+        })
+    }
+
+    fn program_uniforms(&self, p: &Program, _: &FrameCx, _: &View) {
+        p.set_i32("uNormalMap", NORMAL_UNIT as i32);
+        p.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
+    }
+
+    fn material(&mut self, p: &Program, cx: &mut FrameCx, m: &MeshDraw, maps: LegacyMaps) {
+        let mat = &cx.scene.scene.materials[m.material];
+        for (index, unit) in [(maps.normal, NORMAL_UNIT), (maps.emissive, EMISSIVE_UNIT)] {
             if let Some(t) = index {
                 cx.res.textures.texture(t).bind(unit);
                 cx.stats.textures_bound += 1;
             }
         }
-        set_material_terms(&program, s, mat);
-        program.set_vec3("uKd", Vec3::from(mat.diffuse));
-        program.set_vec3("uKe", Vec3::from(mat.emissive));
-        program.set_f32("uNs", mat.shininess);
-        program.set_f32("uTerminatorLift", cx.scene.meshes[i].terminator_lift);
-        program.set_f32(
-            "uOpacity",
-            super::translucent::opacity(cx, mat, translucent),
-        );
-        cx.set_rgbm_blend(&program);
-        if let Some(t) = texture {
-            if bound_texture != Some(t) {
+        let phong = mat.phong_terms();
+        set_material_terms(p, cx.settings, &phong);
+        p.set_vec3("uKd", Vec3::from(phong.diffuse));
+        p.set_vec3("uKe", Vec3::from(mat.emissive));
+        p.set_f32("uNs", phong.shininess);
+        if let Some(t) = maps.texture {
+            if self.bound_texture != Some(t) {
                 cx.res.textures.texture(t).bind(0);
-                bound_texture = Some(t);
+                self.bound_texture = Some(t);
                 cx.stats.textures_bound += 1;
             }
-            program.set_i32("uDiffuseMap", 0);
+            p.set_i32("uDiffuseMap", 0);
         }
-        super::translucent::draw_states(cx, i, &program, &states(translucent))?;
     }
-    cx.gpu.apply(&RenderState::default());
-    Ok(())
 }
 
 /// The legacy tier's base colour texture of `material` (display values, not sRGB-decoded),
@@ -337,11 +325,12 @@ pub(crate) fn base_texture(
     has_uv: bool,
 ) -> Result<Option<usize>> {
     let mat = &cx.scene.scene.materials[material];
-    match (&mat.diffuse_map, has_uv) {
-        (Some(t), true) => {
-            let smp = super::slots::sampler(&mat.pbr_inputs.model, Slot::BaseColor);
-            cx.res.textures.get(cx.gpu, t, false, &smp).map(Some)
-        }
+    match (&mat.base_color_texture, has_uv) {
+        (Some(t), true) => cx
+            .res
+            .textures
+            .get(cx.gpu, &t.image, false, &t.sampler)
+            .map(Some),
         _ => Ok(None),
     }
 }
@@ -361,7 +350,11 @@ fn light_flags(key: ProgramKey, s: &crate::frame::FrameSettings) -> ProgramKey {
 /// The material's colours times the ambient light and each light's colour, with the term
 /// switches (`--terms`) applied: products of uniforms, formed here once per draw rather than
 /// per fragment (lit.frag).
-fn set_material_terms(p: &Program, s: &crate::frame::FrameSettings, mat: &crate::scene::Material) {
+fn set_material_terms(
+    p: &Program,
+    s: &crate::frame::FrameSettings,
+    mat: &crate::scene::material::PhongTerms,
+) {
     let t = s.lighting.terms;
     let on = |b: bool| if b { 1.0 } else { 0.0 };
     let ambient = on(t.ambient) * Vec3::from(mat.ambient) * s.lighting.ambient.as_vec3();

@@ -15,9 +15,11 @@ pub mod lit;
 pub mod overlay;
 pub mod pbr;
 pub mod post;
+pub mod programs;
 pub mod shadow;
 mod slots;
 mod textures;
+mod tier;
 pub mod translucent;
 mod upload;
 
@@ -250,32 +252,6 @@ const PASSES: &[&dyn Pass] = &[
     &pbr::Pbr,
     &shadow::ShowShadowMap,
 ];
-
-/// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
-pub fn fixed_programs() -> Vec<ProgramKey> {
-    vec![shadow::depth_key(), shadow::show_key(), attributes::key()]
-        .into_iter()
-        .chain((0..4).flat_map(|tm| {
-            [
-                background::skybox_key(false, tm),
-                background::skybox_key(true, tm),
-            ]
-        }))
-        .chain(post::keys())
-        .chain(slots::variant_keys())
-        // The copy path's RGBM-encoded linear frame (bloom without float render targets).
-        .chain(
-            [
-                background::skybox_key(true, 3),
-                lit::program_key(1, 1, 1, 0, true, false, true),
-            ]
-            .map(|k| {
-                k.switch("LINEAR_OUTPUT", "lin", true)
-                    .switch("FRAME_RGBM", "hdr8", true)
-            }),
-        )
-        .collect()
-}
 
 /// The scene on the GPU, the context's programs and the passes' kept state.
 pub struct Renderer {

@@ -5,11 +5,12 @@
 use super::ibl::IblGpu;
 use super::lit::{shadow_flags, View, SHADOW_UNIT};
 use super::textures::TextureTable;
+use super::tier::{MeshDraw, Prepared};
 use super::{FrameCx, Outcome, Pass, Shading};
-use crate::gpu::state::RenderState;
+use crate::gpu::program::Program;
 use crate::gpu::texture::TextureFormat;
 use crate::gpu::GpuRef;
-use crate::scene::material_model::Slot;
+use crate::scene::texture_slot::{ColorSpace, TextureSlot};
 use crate::scene::{Material, Scene, Texture};
 use crate::shader::cache::ProgramKey;
 use crate::{Error, Result};
@@ -145,11 +146,15 @@ pub(crate) struct MaterialTextures {
 /// sampled nearest into it. Missing inputs are 1 (the factor then acts alone). glTF's
 /// metallic-roughness image is already packed and is used as it is.
 fn orm_texture(index: usize, m: &Material) -> Option<Texture> {
-    let p = &m.pbr_inputs;
-    let maps = [&p.ao_map, &p.roughness_map, &p.metallic_map];
+    let maps = [
+        &m.occlusion_texture,
+        &m.roughness_texture,
+        &m.metallic_texture,
+    ]
+    .map(|s| s.as_ref().map(|s| &*s.image));
     let (w, h) = maps
         .iter()
-        .filter_map(|m| m.as_ref().map(|t| (t.width, t.height)))
+        .filter_map(|m| m.map(|t| (t.width, t.height)))
         .max_by_key(|(w, h)| w * h)?;
     let mut data = vec![255u8; (w * h * 4) as usize];
     for (c, map) in maps.iter().enumerate() {
@@ -179,23 +184,26 @@ impl MaterialTextures {
         let srgb_in_shader = !TextureFormat::Srgb8A8.supported(&gpu.caps);
         let mut materials = Vec::new();
         for (index, m) in scene.materials.iter().enumerate() {
-            let p = &m.pbr_inputs;
-            let model = &p.model;
-            let mut get = |t: &Option<std::sync::Arc<Texture>>, srgb: bool, slot: Slot| {
+            // Each slot's image as its colour space says (sRGB decoded by the texture format),
+            // with its own sampler.
+            let mut get = |t: &Option<TextureSlot>| {
                 t.as_ref()
-                    .map(|t| table.get(gpu, t, srgb, &super::slots::sampler(model, slot)))
+                    .map(|t| {
+                        let srgb = t.color_space == ColorSpace::Srgb;
+                        table.get(gpu, &t.image, srgb, &t.sampler)
+                    })
                     .transpose()
             };
             let mut mm = MaterialMaps {
-                albedo: get(&m.diffuse_map, true, Slot::BaseColor)?,
-                normal: get(&p.normal_map, false, Slot::Normal)?,
-                emissive: get(&p.emissive_map, true, Slot::Emissive)?,
+                albedo: get(&m.base_color_texture)?,
+                normal: get(&m.normal_texture)?,
+                emissive: get(&m.emissive_texture)?,
                 ..Default::default()
             };
-            if p.metallic_roughness_map.is_some() || model.slot(Slot::Occlusion).is_some() {
+            if !m.packs_orm() {
                 // glTF: metallic-roughness and occlusion each with their own UVs and sampler.
-                mm.orm = get(&p.metallic_roughness_map, false, Slot::MetallicRoughness)?;
-                mm.ao = get(&p.ao_map, false, Slot::Occlusion)?;
+                mm.orm = get(&m.metallic_roughness_texture)?;
+                mm.ao = get(&m.occlusion_texture)?;
             } else if let Some(t) = orm_texture(index, m) {
                 mm.orm = Some(table.get(gpu, &t, false, &Default::default())?);
                 mm.orm_ao = true;
@@ -247,10 +255,6 @@ impl Pass for Pbr {
             (ibl.rgbm, ibl.specular.len() as u32)
         };
         cx.stats.textures_bound += 2 + levels;
-        let v = View::new(cx);
-        cx.bind_target();
-        super::translucent::clear(cx);
-        let (order, first) = v.draw_order(cx);
         let srgb_in_shader = cx
             .res
             .pbr_textures
@@ -264,9 +268,7 @@ impl Pass for Pbr {
             dominant: s.lighting.pbr.dominant_direction,
             multiscatter: s.lighting.pbr.multiscatter,
         };
-        super::translucent::draw_frame(cx, &order, first, &mut |cx, meshes, states| {
-            draw(cx, &v, opts, meshes, states)
-        })?;
+        super::tier::run(cx, PbrTier { opts })?;
         Ok(Outcome::Ran(format!(
             "pbr({levels} levels, {}, env {})",
             if rgbm { "rgbm" } else { "float" },
@@ -275,105 +277,102 @@ impl Pass for Pbr {
     }
 }
 
-/// Draws `meshes` with the PBR programs; `states` gives each mesh's draws.
-fn draw(
-    cx: &mut FrameCx,
-    v: &View,
+/// The PBR tier in the lit skeleton ([`super::tier`]).
+#[derive(Clone)]
+struct PbrTier {
     opts: Options,
-    meshes: &[usize],
-    states: &dyn Fn(bool) -> Vec<RenderState>,
-) -> Result<()> {
-    let s = cx.settings;
-    let levels = opts.levels;
-    let p = s.lighting.pbr;
-    let out = s.lighting.output;
-    let t = s.lighting.pbr_terms;
-    let on = |b: bool| if b { 1.0 } else { 0.0 };
-    let mut uniforms_set: Vec<ProgramKey> = Vec::new();
-    for &i in meshes {
-        let (material, translucent, has_uv, has_uv1, has_tangents, color) = {
-            let dm = &cx.scene.meshes[i];
-            (
-                dm.material,
-                dm.translucent,
-                dm.has_uv,
-                dm.has_uv1,
-                dm.has_tangents,
-                dm.has_colors,
-            )
-        };
-        let mm = cx.res.pbr_textures.as_ref().expect("made above").materials[material];
+}
+
+impl super::tier::Tier for PbrTier {
+    type Maps = (MaterialMaps, Maps);
+
+    fn prepare(
+        &mut self,
+        cx: &mut FrameCx,
+        v: &View,
+        m: &MeshDraw,
+    ) -> Result<Prepared<(MaterialMaps, Maps)>> {
+        let s = cx.settings;
+        let mm = cx.res.pbr_textures.as_ref().expect("made by run").materials[m.material];
+        let has_uv = m.has_uv;
         let maps = Maps {
             albedo: has_uv && mm.albedo.is_some(),
-            normal: has_tangents && mm.normal.is_some() && s.lighting.pbr_terms.normal_map,
+            normal: m.has_tangents && mm.normal.is_some() && s.lighting.pbr_terms.normal_map,
             orm: has_uv && mm.orm.is_some(),
             ao: has_uv && mm.ao.is_some(),
             emissive: has_uv && mm.emissive.is_some(),
-            color,
+            color: m.has_colors,
         };
-        let model = &cx.scene.scene.materials[material].pbr_inputs.model;
-        let key = program_key(v.lights, v.shadows, s.shadows.pcf, v.cube_mask, maps, opts).mask(
-            "SHOW_ATTRIBUTE",
-            "show",
-            s.lighting.attribute_view.code(),
+        let key = program_key(
+            v.lights,
+            v.shadows,
+            s.shadows.pcf,
+            v.cube_mask,
+            maps,
+            self.opts,
+        )
+        .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code());
+        Ok(Prepared {
+            key,
+            textured: maps.albedo,
+            maps: (mm, maps),
+        })
+    }
+
+    fn program_uniforms(&self, program: &Program, cx: &FrameCx, v: &View) {
+        let s = cx.settings;
+        let (p, out, t) = (s.lighting.pbr, s.lighting.output, s.lighting.pbr_terms);
+        let on = |b: bool| if b { 1.0 } else { 0.0 };
+        program.set_mat3("uEnvFromEye", &Mat3::from_mat4(v.view).transpose());
+        program.set_f32("uIblIntensity", p.ibl_intensity);
+        program.set_f32("uExposure", 2f32.powf(out.exposure_ev));
+        program.set_i32("uIrradiance", IRRADIANCE_UNIT as i32);
+        program.set_i32("uBrdfLut", LUT_UNIT as i32);
+        program.set_f32(
+            "uLutSize",
+            cx.res.ibl.data().map_or(1, |d| d.lut.size) as f32,
         );
-        let key = cx.lit_flags(super::slots::flags(key, model, has_uv1, maps.albedo));
-        let program = cx.program(&key)?;
-        program.bind();
-        if !uniforms_set.contains(&key) {
-            uniforms_set.push(key);
-            v.set_uniforms(&program, cx);
-            program.set_mat3("uEnvFromEye", &Mat3::from_mat4(v.view).transpose());
-            program.set_f32("uIblIntensity", p.ibl_intensity);
-            program.set_f32("uExposure", 2f32.powf(out.exposure_ev));
-            program.set_i32("uIrradiance", IRRADIANCE_UNIT as i32);
-            program.set_i32("uBrdfLut", LUT_UNIT as i32);
-            program.set_f32(
-                "uLutSize",
-                cx.res.ibl.data().map_or(1, |d| d.lut.size) as f32,
-            );
-            for l in 0..levels {
-                program.set_i32(&format!("uSpecular{l}"), (SPECULAR_UNIT + l) as i32);
-            }
-            program.set_i32("uAlbedoMap", 0);
-            program.set_i32("uNormalMap", NORMAL_UNIT as i32);
-            program.set_i32("uOrmMap", ORM_UNIT as i32);
-            program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
-            program.set_i32("uAoMap", AO_UNIT as i32);
-            program.set_vec4(
-                "uTermsA",
-                Vec4::new(
-                    on(t.direct_diffuse),
-                    on(t.direct_specular),
-                    on(t.ibl_diffuse),
-                    on(t.ibl_specular),
-                ),
-            );
-            program.set_vec3(
-                "uTermsB",
-                Vec3::new(on(t.ao), on(t.shadows), on(t.emissive)),
-            );
+        for l in 0..self.opts.levels {
+            program.set_i32(&format!("uSpecular{l}"), (SPECULAR_UNIT + l) as i32);
         }
-        let mat = &cx.scene.scene.materials[material];
-        let model = &mat.pbr_inputs.model;
-        super::slots::set_uniforms(&program, model, has_uv1);
-        program.set_f32("uNormalScale", model.normal_scale);
-        program.set_f32("uOcclusionStrength", model.occlusion_strength);
+        program.set_i32("uAlbedoMap", 0);
+        program.set_i32("uNormalMap", NORMAL_UNIT as i32);
+        program.set_i32("uOrmMap", ORM_UNIT as i32);
+        program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
+        program.set_i32("uAoMap", AO_UNIT as i32);
+        program.set_vec4(
+            "uTermsA",
+            Vec4::new(
+                on(t.direct_diffuse),
+                on(t.direct_specular),
+                on(t.ibl_diffuse),
+                on(t.ibl_specular),
+            ),
+        );
+        program.set_vec3(
+            "uTermsB",
+            Vec3::new(on(t.ao), on(t.shadows), on(t.emissive)),
+        );
+    }
+
+    fn material(
+        &mut self,
+        program: &Program,
+        cx: &mut FrameCx,
+        m: &MeshDraw,
+        (mm, maps): (MaterialMaps, Maps),
+    ) {
+        let p = cx.settings.lighting.pbr;
+        let mat = &cx.scene.scene.materials[m.material];
+        program.set_f32("uOcclusionStrength", mat.occlusion_strength);
         program.set_f32("uOrmAo", if mm.orm_ao { 1.0 } else { 0.0 });
-        let values = mat.pbr();
         program.set_vec3(
             "uBaseColor",
-            p.base_color.unwrap_or(Vec3::from(values.base_color)),
+            p.base_color.unwrap_or(Vec3::from(mat.base_color)),
         );
-        program.set_f32("uMetallic", p.metallic.unwrap_or(values.metallic));
-        program.set_f32("uTerminatorLift", cx.scene.meshes[i].terminator_lift);
-        program.set_f32("uRoughness", p.roughness.unwrap_or(values.roughness));
-        program.set_vec3("uEmissive", Vec3::from(values.emissive));
-        program.set_f32(
-            "uOpacity",
-            super::translucent::opacity(cx, mat, translucent),
-        );
-        cx.set_rgbm_blend(&program);
+        program.set_f32("uMetallic", p.metallic.unwrap_or(mat.metallic));
+        program.set_f32("uRoughness", p.roughness.unwrap_or(mat.roughness));
+        program.set_vec3("uEmissive", Vec3::from(mat.emissive));
         for (index, on, unit) in [
             (mm.albedo, maps.albedo, 0),
             (mm.normal, maps.normal, NORMAL_UNIT),
@@ -386,8 +385,5 @@ fn draw(
                 cx.stats.textures_bound += 1;
             }
         }
-        super::translucent::draw_states(cx, i, &program, &states(translucent))?;
     }
-    cx.gpu.apply(&RenderState::default());
-    Ok(())
 }

@@ -12,7 +12,7 @@ use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
 use crate::light::{Light, LightKind};
 use crate::scene::clusters::ClusterView;
-use crate::scene::material_model::AlphaMode;
+use crate::scene::material::AlphaMode;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::Mat4;
@@ -97,10 +97,7 @@ fn skip_reason(gpu: &GpuRef, s: &FrameSettings) -> Option<&'static str> {
 fn is_masked(cx: &FrameCx, i: usize) -> bool {
     let m = &cx.scene.meshes[i];
     matches!(
-        cx.scene.scene.materials[m.material]
-            .pbr_inputs
-            .model
-            .alpha_mode,
+        cx.scene.scene.materials[m.material].alpha_mode,
         AlphaMode::Mask(_)
     )
 }
@@ -112,7 +109,7 @@ fn mask_key(cx: &FrameCx, i: usize, textured: bool) -> ProgramKey {
         return depth_key();
     }
     let m = &cx.scene.meshes[i];
-    let model = &cx.scene.scene.materials[m.material].pbr_inputs.model;
+    let model = &cx.scene.scene.materials[m.material];
     let key = depth_key().switch("HAS_TEXTURE", "tex", textured);
     super::slots::flags(key, model, m.has_uv1, textured)
 }
@@ -262,7 +259,7 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
                 let dm = &cx.scene.meshes[i];
                 if is_masked(cx, i) {
                     let p = cx.program(current.as_ref().expect("set above"))?;
-                    let model = &cx.scene.scene.materials[dm.material].pbr_inputs.model;
+                    let model = &cx.scene.scene.materials[dm.material];
                     super::slots::set_uniforms(&p, model, dm.has_uv1);
                     if let Some(t) = texture {
                         cx.res.textures.texture(t).bind(0);

@@ -5,7 +5,8 @@
 //! 4 emissive.
 use crate::gpu::program::Program;
 use crate::gpu::texture::Texture2d;
-use crate::scene::material_model::{AlphaMode, Filter, Model, Sampler, Slot, Wrap};
+use crate::scene::material::{AlphaMode, Material};
+use crate::scene::texture_slot::{Filter, Sampler, Slot, Wrap};
 use crate::shader::cache::ProgramKey;
 use glam::Mat3;
 
@@ -46,13 +47,8 @@ pub(crate) fn apply_sampler(t: &Texture2d, s: &Sampler) {
     );
 }
 
-/// The sampler a slot of `model` asks for (the default — repeat, trilinear — without one).
-pub(crate) fn sampler(model: &Model, slot: Slot) -> Sampler {
-    model.slot(slot).map(|t| t.sampler).unwrap_or_default()
-}
-
 /// `KHR_texture_transform` as the 3×3 matrix uv' = T · R · S · uv (column-major).
-fn transform_matrix(model: &Model, slot: Slot) -> Mat3 {
+fn transform_matrix(model: &Material, slot: Slot) -> Mat3 {
     let Some(x) = model.slot(slot).and_then(|t| t.transform) else {
         return Mat3::IDENTITY;
     };
@@ -72,7 +68,12 @@ fn transform_matrix(model: &Model, slot: Slot) -> Mat3 {
 
 /// Program flags of a material: alpha mode (`ALPHA_MASK`, `ALPHA_BLEND`; neither is opaque),
 /// a second UV set on the mesh (`HAS_UV1`) and `UNLIT`.
-pub(crate) fn flags(key: ProgramKey, model: &Model, has_uv1: bool, textured: bool) -> ProgramKey {
+pub(crate) fn flags(
+    key: ProgramKey,
+    model: &Material,
+    has_uv1: bool,
+    textured: bool,
+) -> ProgramKey {
     let mask = matches!(model.alpha_mode, AlphaMode::Mask(_));
     // Without a texture the factor's alpha is the material's opacity already.
     let blend = model.alpha_mode == AlphaMode::Blend && textured;
@@ -84,7 +85,7 @@ pub(crate) fn flags(key: ProgramKey, model: &Model, has_uv1: bool, textured: boo
 
 /// Per-material uniforms: each slot's UV set and transform, the alpha cutoff and the base
 /// colour factor's alpha.
-pub(crate) fn set_uniforms(p: &Program, model: &Model, has_uv1: bool) {
+pub(crate) fn set_uniforms(p: &Program, model: &Material, has_uv1: bool) {
     for (i, slot) in SLOTS.into_iter().enumerate() {
         p.set_mat3(&format!("uSlotXf[{i}]"), &transform_matrix(model, slot));
         let set = model.slot(slot).map_or(0, |t| t.uv_set);
@@ -102,14 +103,14 @@ pub(crate) fn set_uniforms(p: &Program, model: &Model, has_uv1: bool) {
 /// `--compile-shaders` (every flag of this module in both tiers, with every map on).
 pub(crate) fn variant_keys() -> Vec<ProgramKey> {
     let models = [
-        Model {
+        Material {
             alpha_mode: AlphaMode::Mask(0.5),
-            ..Model::default()
+            ..Material::gltf_default()
         },
-        Model {
+        Material {
             alpha_mode: AlphaMode::Blend,
             unlit: true,
-            ..Model::default()
+            ..Material::gltf_default()
         },
     ];
     let mut keys = Vec::new();
@@ -134,7 +135,7 @@ pub(crate) fn variant_keys() -> Vec<ProgramKey> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::material_model::{TexTransform, TextureSlot};
+    use crate::scene::texture_slot::{ColorSpace, TexTransform, TextureSlot};
 
     #[test]
     fn matrix_equals_the_extensions_formula() {
@@ -143,16 +144,12 @@ mod tests {
             rotation: 0.7,
             scale: [2.0, 3.0],
         };
-        let model = Model {
-            textures: vec![TextureSlot {
-                slot: Slot::Emissive,
-                image: 0,
-                sampler: Sampler::default(),
-                uv_set: 0,
+        let model = Material {
+            emissive_texture: Some(TextureSlot {
                 transform: Some(x),
-                loaded: true,
-            }],
-            ..Model::default()
+                ..TextureSlot::plain(Default::default(), ColorSpace::Srgb)
+            }),
+            ..Material::gltf_default()
         };
         let m = transform_matrix(&model, Slot::Emissive);
         for uv in [[0.0, 0.0], [1.0, 0.0], [0.3, 0.9], [-2.0, 5.0]] {

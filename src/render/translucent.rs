@@ -70,7 +70,7 @@ pub(crate) fn draw_states(
 pub(crate) fn opacity(cx: &FrameCx, m: &Material, translucent: bool) -> f32 {
     match cx.settings.lighting.translucency.opacity {
         Some(a) if translucent => a,
-        _ => m.opacity,
+        _ => m.draw_opacity(),
     }
 }
 

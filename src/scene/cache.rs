@@ -56,8 +56,8 @@ fn image_table(scene: &Scene) -> (Vec<&Arc<Texture>>, Vec<SlotRefs>) {
         .materials
         .iter()
         .map(|m| {
-            slots(m).map(|t| {
-                let t = t.as_ref()?;
+            m.slots().map(|t| {
+                let t = &t.as_ref()?.image;
                 Some(
                     match table.iter().position(|u| Arc::ptr_eq(u, t) || **u == *t) {
                         Some(i) => i,
@@ -73,7 +73,8 @@ fn image_table(scene: &Scene) -> (Vec<&Arc<Texture>>, Vec<SlotRefs>) {
     (table, refs)
 }
 const MAGIC: &[u8; 4] = b"GLVC";
-const FORMAT: u32 = 5;
+/// 6: one flat material (issue 28): glTF-shaped values and slots, the MTL's Phong terms apart.
+const FORMAT: u32 = 6;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -158,36 +159,9 @@ struct WireMeta {
 }
 
 /// A material's texture slots as indices into the header's texture table, in the order of
-/// [`slots_mut`].
+/// [`Material::slots_mut`].
 type SlotRefs = [Option<usize>; SLOTS];
 const SLOTS: usize = 7;
-
-/// Every texture slot of a material, in one fixed order (the entry's slot table follows it).
-fn slots_mut(m: &mut Material) -> [&mut Option<Arc<Texture>>; SLOTS] {
-    let p = &mut m.pbr_inputs;
-    [
-        &mut m.diffuse_map,
-        &mut p.normal_map,
-        &mut p.metallic_map,
-        &mut p.roughness_map,
-        &mut p.metallic_roughness_map,
-        &mut p.ao_map,
-        &mut p.emissive_map,
-    ]
-}
-
-fn slots(m: &Material) -> [&Option<Arc<Texture>>; SLOTS] {
-    let p = &m.pbr_inputs;
-    [
-        &m.diffuse_map,
-        &p.normal_map,
-        &p.metallic_map,
-        &p.roughness_map,
-        &p.metallic_roughness_map,
-        &p.ao_map,
-        &p.emissive_map,
-    ]
-}
 
 #[derive(Serialize, Deserialize)]
 struct Header {
@@ -409,11 +383,13 @@ fn decode(
         return None;
     }
     for (m, refs) in materials.iter_mut().zip(&header.slots) {
-        for (slot, r) in slots_mut(m).into_iter().zip(refs) {
-            *slot = match r {
-                Some(i) => Some(table.get(*i)?.clone()),
-                None => None,
-            };
+        // A slot and its image reference come together: one without the other is corrupt.
+        for (slot, r) in m.slots_mut().into_iter().zip(refs) {
+            match (slot, r) {
+                (Some(s), Some(i)) => s.image = table.get(*i)?.clone(),
+                (None, None) => {}
+                _ => return None,
+            }
         }
     }
     let warnings = header.warnings;

@@ -1,6 +1,7 @@
 //! The loader's last step, after the meshes are built: redundant faces dropped
 //! ([`super::dedup`]) and a warning for every texture decoded smaller than its file
 //! ([`super::texture`]). One call from `obj.rs`, so the parser's code stays apart.
+use super::texture_slot::Slot;
 use super::{dedup, texture, Material, Mesh, Warning};
 use std::path::Path;
 
@@ -20,7 +21,9 @@ pub fn finish(
 pub fn texture_warnings(materials: &[Material], warnings: &mut Vec<Warning>) {
     let mut seen = std::collections::HashSet::new();
     for m in materials {
-        let Some(t) = &m.diffuse_map else { continue };
+        let Some(t) = m.image(Slot::BaseColor) else {
+            continue;
+        };
         if !seen.insert(t.path.clone()) {
             continue;
         }

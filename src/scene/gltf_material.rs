@@ -1,8 +1,10 @@
-//! A glTF material in the scene's material model ([`super::material_model`]): every texture
-//! slot with its sampler, UV set and `KHR_texture_transform`; alpha mode, sidedness, unlit and
+//! A glTF material as the scene's [`Material`]: every texture slot with its sampler, UV set,
+//! `KHR_texture_transform` and colour space; alpha mode, sidedness, unlit and
 //! `KHR_materials_emissive_strength`. Images are kept as the file has them (the
 //! metallic-roughness image's blue and green channels are read by the shader, no copies).
-use super::material_model::{self as mm, AlphaMode, Slot, TextureSlot};
+use super::material::{translucency, AlphaMode};
+use super::material_report::{slot_line, SlotFacts};
+use super::texture_slot::{self as mm, ColorSpace, Slot, TextureSlot};
 use super::{Material, Texture};
 use gltf::texture::{MagFilter, MinFilter, WrappingMode};
 use std::sync::Arc;
@@ -26,17 +28,20 @@ fn min_filter(f: MinFilter) -> mm::Filter {
     }
 }
 
-fn slot(
+/// The slot's facts as the file gives them (its `--check` line is made from these whether or
+/// not the image decodes).
+fn facts(
     s: Slot,
     tex: gltf::Texture,
     tex_coord: u32,
     transform: Option<gltf::texture::TextureTransform>,
-    loaded: bool,
-) -> TextureSlot {
+    scale: f32,
+) -> SlotFacts {
     let smp = tex.sampler();
-    TextureSlot {
+    SlotFacts {
         slot: s,
         image: tex.source().index(),
+        loaded: false,
         sampler: mm::Sampler {
             wrap_s: wrap(smp.wrap_s()),
             wrap_t: wrap(smp.wrap_t()),
@@ -55,7 +60,7 @@ fn slot(
             rotation: t.rotation(),
             scale: t.scale(),
         }),
-        loaded,
+        scale,
     }
 }
 
@@ -67,94 +72,97 @@ pub fn material(
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, a] = pbr.base_color_factor();
     let strength = m.emissive_strength().unwrap_or(1.0);
-    let mut model = mm::Model {
-        alpha_mode: match m.alpha_mode() {
-            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
-            gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
-            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
-        },
+    let alpha_mode = match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+        gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
+        gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+    };
+    let mut out = Material {
+        name: m.name().unwrap_or("gltf").to_string(),
+        base_color: [r, g, b],
+        base_alpha: a,
+        alpha_mode,
+        // The factor's alpha is the opacity only in BLEND (MASK tests it, OPAQUE ignores it).
+        opacity: translucency(
+            if alpha_mode == AlphaMode::Blend {
+                a
+            } else {
+                1.0
+            },
+            alpha_mode,
+        ),
+        metallic: pbr.metallic_factor().clamp(0.0, 1.0),
+        roughness: pbr.roughness_factor().clamp(0.0, 1.0),
+        emissive: m.emissive_factor().map(|e| e * strength),
+        emissive_strength: strength,
         double_sided: m.double_sided(),
         unlit: m.unlit(),
-        normal_scale: 1.0,
-        occlusion_strength: 1.0,
-        emissive_strength: strength,
-        base_alpha: a,
-        textures: Vec::new(),
+        ..Material::gltf_default()
     };
-    let mut load = |s: Slot, t: gltf::Texture, uv: u32, x, model: &mut mm::Model| {
-        let img = image(t.source().index());
-        model.textures.push(slot(s, t, uv, x, img.is_some()));
-        img
+    out.check.base_color = pbr
+        .base_color_texture()
+        .map(|t| format!("baseColorTexture image {}", t.texture().source().index()));
+    // Slots in glTF's order, so `--check` lists them so.
+    let mut load = |f: SlotFacts, cs: ColorSpace, out: &mut Material| {
+        let img = image(f.image);
+        out.check.gltf_slots.push(slot_line(&SlotFacts {
+            loaded: img.is_some(),
+            ..f
+        }));
+        img.map(|image| TextureSlot {
+            image,
+            sampler: f.sampler,
+            uv_set: f.uv_set,
+            transform: f.transform,
+            color_space: cs,
+        })
     };
-    let base = pbr.base_color_texture().and_then(|i| {
-        load(
+    let (srgb, lin) = (ColorSpace::Srgb, ColorSpace::Linear);
+    if let Some(i) = pbr.base_color_texture() {
+        let f = facts(
             Slot::BaseColor,
             i.texture(),
             i.tex_coord(),
             i.texture_transform(),
-            &mut model,
-        )
-    });
-    let mr = pbr.metallic_roughness_texture().and_then(|i| {
-        load(
+            1.0,
+        );
+        out.base_color_texture = load(f, srgb, &mut out);
+    }
+    if let Some(i) = pbr.metallic_roughness_texture() {
+        let f = facts(
             Slot::MetallicRoughness,
             i.texture(),
             i.tex_coord(),
             i.texture_transform(),
-            &mut model,
-        )
-    });
-    let normal = m.normal_texture().and_then(|n| {
-        model.normal_scale = n.scale();
-        load(Slot::Normal, n.texture(), n.tex_coord(), None, &mut model)
-    });
-    let occlusion = m.occlusion_texture().and_then(|o| {
-        model.occlusion_strength = o.strength();
-        load(
+            1.0,
+        );
+        out.metallic_roughness_texture = load(f, lin, &mut out);
+    }
+    if let Some(n) = m.normal_texture() {
+        out.normal_scale = n.scale();
+        let f = facts(Slot::Normal, n.texture(), n.tex_coord(), None, n.scale());
+        out.normal_texture = load(f, lin, &mut out);
+    }
+    if let Some(o) = m.occlusion_texture() {
+        out.occlusion_strength = o.strength();
+        let f = facts(
             Slot::Occlusion,
             o.texture(),
             o.tex_coord(),
             None,
-            &mut model,
-        )
-    });
-    let emissive = m.emissive_texture().and_then(|i| {
-        load(
+            o.strength(),
+        );
+        out.occlusion_texture = load(f, lin, &mut out);
+    }
+    if let Some(i) = m.emissive_texture() {
+        let f = facts(
             Slot::Emissive,
             i.texture(),
             i.tex_coord(),
             i.texture_transform(),
-            &mut model,
-        )
-    });
-    let spec = pbr
-        .base_color_texture()
-        .map(|t| format!("baseColorTexture image {}", t.texture().source().index()));
-    Material {
-        name: m.name().unwrap_or("gltf").to_string(),
-        ambient: [r, g, b],
-        diffuse: [r, g, b],
-        specular: [0.0; 3],
-        emissive: m.emissive_factor().map(|e| e * strength),
-        shininess: 0.0,
-        opacity: if m.alpha_mode() == gltf::material::AlphaMode::Blend {
-            a
-        } else {
-            1.0
-        },
-        illum: None,
-        diffuse_map: base,
-        diffuse_map_spec: spec,
-        // The PBR tier reads these as it reads an MTL's Pm and Pr and their maps.
-        pbr_inputs: super::pbr_material::PbrInputs {
-            metallic: Some(pbr.metallic_factor()),
-            roughness: Some(pbr.roughness_factor()),
-            metallic_roughness_map: mr,
-            normal_map: normal,
-            ao_map: occlusion,
-            emissive_map: emissive,
-            model,
-            ..Default::default()
-        },
+            1.0,
+        );
+        out.emissive_texture = load(f, srgb, &mut out);
     }
+    out
 }

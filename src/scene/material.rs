@@ -1,10 +1,16 @@
-//! Materials from MTL, with the fixed-function GL defaults where a value is not given, and
-//! diffuse textures decoded to RGBA8 (no GL here; the renderer uploads them).
-use super::Warning;
-use std::path::{Path, PathBuf};
+//! The one CPU material every format loads into: glTF 2.0's metallic-roughness model on the
+//! outside (base colour and alpha mode, metallic, roughness, emissive, normal scale,
+//! occlusion strength, sidedness, unlit, one [`TextureSlot`] per map), and the Phong terms an
+//! MTL gives ([`PhongTerms`]) as an optional part, which the legacy tier draws with. An MTL is
+//! mapped into the PBR values once, at load ([`super::mtl_mapping`]); a glTF material has
+//! no Phong terms and the legacy tier derives them from the base colour
+//! ([`Material::phong_terms`]). Decoded images (RGBA8) are here too; no GL.
+use super::texture_slot::{Slot, TextureSlot};
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
 
 /// A decoded texture, RGBA8, row 0 at the top (image order).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Texture {
     /// The image file, or the glTF file that holds the image.
     pub path: PathBuf,
@@ -16,61 +22,9 @@ pub struct Texture {
     pub rgba: Vec<u8>,
 }
 
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Material {
-    pub name: String,
-    pub ambient: [f32; 3],
-    pub diffuse: [f32; 3],
-    pub specular: [f32; 3],
-    pub emissive: [f32; 3],
-    /// Phong exponent; Ns <= 0 means "specular factor 1 wherever N·L > 0" (the limit x^0 = 1
-    /// of the fixed-function formula), evaluated without calling pow.
-    pub shininess: f32,
-    /// Opacity (`d`, or 1 - `Tr`).
-    pub opacity: f32,
-    pub illum: Option<u8>,
-    /// Decoded pixels are not cached (see `scene::cache`): they are decoded again from the
-    /// resolved path.
-    #[serde(skip)]
-    pub diffuse_map: Option<std::sync::Arc<Texture>>,
-    /// `map_Kd` as written in the MTL, whether or not it could be loaded.
-    pub diffuse_map_spec: Option<String>,
-    /// The PBR tier's inputs (`Pr`, `Pm`, their maps, normal, AO and emissive maps).
-    #[serde(default)]
-    pub pbr_inputs: super::pbr_material::PbrInputs,
-}
-
 impl PartialEq for Texture {
     fn eq(&self, other: &Self) -> bool {
         self.path == other.path && self.image == other.image
-    }
-}
-
-impl Default for Material {
-    /// The fixed-function OpenGL material defaults.
-    fn default() -> Self {
-        Material {
-            name: "default".into(),
-            ambient: [0.2; 3],
-            diffuse: [0.8; 3],
-            specular: [0.0; 3],
-            emissive: [0.0; 3],
-            shininess: 0.0,
-            opacity: 1.0,
-            illum: None,
-            diffuse_map: None,
-            diffuse_map_spec: None,
-            pbr_inputs: Default::default(),
-        }
-    }
-}
-
-impl Material {
-    /// Drawn blended: an opacity below 1, or glTF's BLEND (whose texture alpha may be below 1
-    /// where the factor is 1).
-    pub fn is_translucent(&self) -> bool {
-        self.opacity < 1.0
-            || self.pbr_inputs.model.alpha_mode == super::material_model::AlphaMode::Blend
     }
 }
 
@@ -83,127 +37,239 @@ pub struct TextureOptions {
     pub max_dimension: u32,
 }
 
-fn to_rgb(v: Option<[f64; 3]>, default: [f32; 3]) -> [f32; 3] {
-    v.map(|c| c.map(|x| if x.is_finite() { x as f32 } else { 0.0 }))
-        .unwrap_or(default)
+/// How the base colour's alpha (factor times texture) is used: glTF's `alphaMode`. An MTL's
+/// materials are OPAQUE here (its `d` is [`Material::opacity`]; `map_Kd`'s alpha is not
+/// used: MTL has `map_d` for that, which glview ignores).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum AlphaMode {
+    #[default]
+    Opaque,
+    /// Discard below the cutoff.
+    Mask(f32),
+    /// The base colour texture's alpha multiplies the opacity.
+    Blend,
 }
 
-/// Builds our material from tobj's, loading the diffuse map relative to `dir`.
-pub fn from_tobj(
-    m: &tobj::Material,
-    dir: &Path,
-    mtl_file: &Path,
-    opts: TextureOptions,
-    warnings: &mut Vec<Warning>,
-) -> Material {
-    let d = Material::default();
-    let opacity = m
-        .dissolve
-        .map(|x| x as f32)
-        .or_else(|| {
-            m.unknown_param
-                .get("Tr")
-                .and_then(|t| t.trim().parse::<f32>().ok())
-                .map(|t| 1.0 - t)
-        })
-        .filter(|x| x.is_finite())
-        .unwrap_or(1.0)
-        .clamp(0.0, 1.0);
-    let shininess = m
-        .shininess
-        .map(|x| x as f32)
-        .filter(|x| x.is_finite())
-        .unwrap_or(d.shininess);
-    let diffuse_map =
-        m.diffuse_texture
-            .as_deref()
-            .and_then(|spec| match load_texture(spec, dir, opts) {
-                Ok(t) => Some(std::sync::Arc::new(t)),
-                Err(msg) => {
-                    warnings.push(Warning {
-                        file: mtl_file.to_path_buf(),
-                        line: None,
-                        message: format!(
-                            "material {}: map_Kd {spec:?}: {msg}; using its colours",
-                            m.name
-                        ),
-                    });
-                    None
-                }
-            });
-    Material {
-        name: m.name.clone(),
-        ambient: to_rgb(m.ambient, d.ambient),
-        diffuse: to_rgb(m.diffuse, d.diffuse),
-        specular: to_rgb(m.specular, d.specular),
-        emissive: to_rgb(m.emissive, d.emissive),
-        shininess,
-        opacity,
-        illum: m.illumination_model,
-        diffuse_map,
-        diffuse_map_spec: m.diffuse_texture.clone(),
-        pbr_inputs: super::pbr_material::from_tobj(m, dir, mtl_file, opts, warnings),
-    }
+/// The fixed-function (legacy tier) colours and exponent of an MTL material.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PhongTerms {
+    /// `Ka`
+    pub ambient: [f32; 3],
+    /// `Kd`: the base colour too, except for a classic metal, whose base colour is `Ks`.
+    pub diffuse: [f32; 3],
+    /// `Ks`
+    pub specular: [f32; 3],
+    /// `Ns`; Ns <= 0 means "specular factor 1 wherever N·L > 0" (the limit x^0 = 1 of the
+    /// fixed-function formula), evaluated without calling pow.
+    pub shininess: f32,
+    pub illum: Option<u8>,
+    /// The PBR values were mapped from these terms (the MTL gives no `Pr`/`Pm`); x-ray
+    /// maps them again, as the mapping's glass rule reads the translucency.
+    pub mapped: bool,
 }
 
-/// Options of MTL texture statements and how many arguments each takes.
-fn option_arity(opt: &str) -> Option<usize> {
-    Some(match opt {
-        "-blendu" | "-blendv" | "-cc" | "-clamp" | "-imfchan" | "-type" | "-bm" | "-boost"
-        | "-texres" | "-colorspace" => 1,
-        "-mm" => 2,
-        "-o" | "-s" | "-t" => 3,
-        _ => return None,
-    })
-}
-
-/// Strips MTL texture options (`-s 1 1 1 file.png`) and returns the file name. `-o`, `-s` and
-/// `-t` take 1 to 3 numbers, so numeric words after them are consumed greedily.
-pub fn strip_texture_options(spec: &str) -> String {
-    let words: Vec<&str> = spec.split_whitespace().collect();
-    let mut i = 0;
-    while i < words.len() {
-        let Some(n) = option_arity(words[i]) else {
-            break;
-        };
-        i += 1;
-        let mut taken = 0;
-        while taken < n && i < words.len() - 1 {
-            if n == 3 && taken > 0 && words[i].parse::<f64>().is_err() {
-                break;
-            }
-            i += 1;
-            taken += 1;
+impl Default for PhongTerms {
+    /// The fixed-function OpenGL material defaults.
+    fn default() -> Self {
+        PhongTerms {
+            ambient: [0.2; 3],
+            diffuse: [0.8; 3],
+            specular: [0.0; 3],
+            shininess: 0.0,
+            illum: None,
+            mapped: true,
         }
     }
-    words[i.min(words.len())..].join(" ")
 }
 
-/// Finds a texture file: as written, with backslashes as separators, then by case-insensitive
-/// match of each component. Refuses paths that leave `dir` unless allowed (the rule every
-/// format shares: [`super::uri`]).
-pub fn resolve_texture_path(
-    spec: &str,
-    dir: &Path,
-    allow_outside: bool,
-) -> Result<PathBuf, String> {
-    let name = strip_texture_options(spec).replace('\\', "/");
-    super::uri::in_folder(&name, dir, allow_outside)
+/// What `--check` says about a material's textures beyond its slots: what the file named,
+/// loaded or not (a slot exists only for a decoded image).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CheckNotes {
+    /// The base colour texture as the file names it (`map_Kd` as written, `--texture`'s
+    /// path, glTF's "baseColorTexture image N").
+    pub base_color: Option<String>,
+    /// Every other MTL map statement as (key, file as written, what happened).
+    pub maps: Vec<(String, String, String)>,
+    /// A glTF material's texture slots in glTF terms, one line each, the failed ones too.
+    pub gltf_slots: Vec<String>,
 }
 
-pub(crate) fn load_texture(
-    spec: &str,
-    dir: &Path,
-    opts: TextureOptions,
-) -> Result<Texture, String> {
-    let path = resolve_texture_path(spec, dir, opts.allow_outside_paths)?;
-    decode_texture(path, opts)
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Material {
+    pub name: String,
+    /// Linear RGB factor (glTF `baseColorFactor` rgb; an MTL's mapped `Kd` or `Ks`).
+    pub base_color: [f32; 3],
+    /// glTF `baseColorFactor` alpha: what MASK's cutoff is compared with (times the texture).
+    pub base_alpha: f32,
+    pub alpha_mode: AlphaMode,
+    /// The one field translucency is decided from: `Some(opacity)` is drawn blended with
+    /// that opacity (an MTL's `d` or `1 - Tr` below 1, glTF's BLEND, x-ray), `None` opaque.
+    pub opacity: Option<f32>,
+    pub metallic: f32,
+    pub roughness: f32,
+    /// Linear RGB, `KHR_materials_emissive_strength` already multiplied in.
+    pub emissive: [f32; 3],
+    pub emissive_strength: f32,
+    pub normal_scale: f32,
+    pub occlusion_strength: f32,
+    /// OBJ, STL and PLY say nothing about sides: double-sided.
+    pub double_sided: bool,
+    /// `KHR_materials_unlit`: the base colour is the colour.
+    pub unlit: bool,
+    pub base_color_texture: Option<TextureSlot>,
+    /// glTF's packed image: roughness in green, metallic in blue.
+    pub metallic_roughness_texture: Option<TextureSlot>,
+    pub normal_texture: Option<TextureSlot>,
+    /// Red channel.
+    pub occlusion_texture: Option<TextureSlot>,
+    pub emissive_texture: Option<TextureSlot>,
+    /// An MTL's separate `map_Pm` (red channel), which glTF packs into
+    /// `metallic_roughness_texture`.
+    pub metallic_texture: Option<TextureSlot>,
+    /// An MTL's separate `map_Pr` (red channel).
+    pub roughness_texture: Option<TextureSlot>,
+    /// The MTL's terms (also the defaults of STL, PLY and OBJ without a material); None for
+    /// glTF.
+    pub phong: Option<PhongTerms>,
+    #[serde(default)]
+    pub check: CheckNotes,
 }
 
-/// Decodes an image file already resolved (and checked against the folder rule), within the
-/// memory bounds of [`super::texture`].
-pub fn decode_texture(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
-    super::texture::decode(path, opts)
+impl Default for Material {
+    /// The fixed-function OpenGL material defaults, mapped as an MTL without values is.
+    fn default() -> Self {
+        Material::with_phong(PhongTerms::default())
+    }
+}
+
+impl Material {
+    /// glTF's defaults where a PBR value is concerned, no textures, no Phong terms.
+    pub fn gltf_default() -> Self {
+        Material {
+            name: "default".into(),
+            base_color: [1.0; 3],
+            base_alpha: 1.0,
+            alpha_mode: AlphaMode::Opaque,
+            opacity: None,
+            metallic: 1.0,
+            roughness: 1.0,
+            emissive: [0.0; 3],
+            emissive_strength: 1.0,
+            normal_scale: 1.0,
+            occlusion_strength: 1.0,
+            double_sided: true,
+            unlit: false,
+            base_color_texture: None,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            occlusion_texture: None,
+            emissive_texture: None,
+            metallic_texture: None,
+            roughness_texture: None,
+            phong: None,
+            check: CheckNotes::default(),
+        }
+    }
+
+    /// A material with these Phong terms (no `Pr`/`Pm`), its PBR values mapped from them.
+    pub fn with_phong(phong: PhongTerms) -> Self {
+        let mut m = Material {
+            phong: Some(phong),
+            ..Material::gltf_default()
+        };
+        super::mtl_mapping::map(&mut m, None, None);
+        m
+    }
+
+    /// Drawn blended, in the translucent pass.
+    pub fn is_translucent(&self) -> bool {
+        self.opacity.is_some()
+    }
+
+    /// The opacity the material is drawn with (1 when opaque).
+    pub fn draw_opacity(&self) -> f32 {
+        self.opacity.unwrap_or(1.0)
+    }
+
+    /// Sets the opacity as x-ray does (the only change made to a loaded material that an
+    /// input of the MTL mapping depends on): translucent below 1 or where the alpha mode is
+    /// BLEND, and the classic mapping made again, whose glass rule reads the translucency.
+    pub fn set_opacity(&mut self, opacity: f32) {
+        self.opacity = translucency(opacity, self.alpha_mode);
+        if self.phong.is_some_and(|p| p.mapped) {
+            super::mtl_mapping::map(self, None, None);
+        }
+    }
+
+    /// The legacy tier's terms: the MTL's, or, for glTF, the base colour as ambient and
+    /// diffuse colour and no specular highlight.
+    pub fn phong_terms(&self) -> PhongTerms {
+        self.phong.unwrap_or(PhongTerms {
+            ambient: self.base_color,
+            diffuse: self.base_color,
+            specular: [0.0; 3],
+            shininess: 0.0,
+            illum: None,
+            mapped: false,
+        })
+    }
+
+    /// The slot `s` (the glTF slots; an MTL's separate metallic and roughness maps are
+    /// fields of their own).
+    pub fn slot(&self, s: Slot) -> Option<&TextureSlot> {
+        match s {
+            Slot::BaseColor => self.base_color_texture.as_ref(),
+            Slot::MetallicRoughness => self.metallic_roughness_texture.as_ref(),
+            Slot::Normal => self.normal_texture.as_ref(),
+            Slot::Occlusion => self.occlusion_texture.as_ref(),
+            Slot::Emissive => self.emissive_texture.as_ref(),
+        }
+    }
+
+    /// The decoded image of slot `s`.
+    pub fn image(&self, s: Slot) -> Option<&std::sync::Arc<Texture>> {
+        self.slot(s).map(|t| &t.image)
+    }
+
+    /// Every texture slot in one fixed order (the mesh cache's slot table follows it).
+    pub fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 7] {
+        [
+            &mut self.base_color_texture,
+            &mut self.normal_texture,
+            &mut self.metallic_texture,
+            &mut self.roughness_texture,
+            &mut self.metallic_roughness_texture,
+            &mut self.occlusion_texture,
+            &mut self.emissive_texture,
+        ]
+    }
+
+    /// As [`Material::slots_mut`], read only.
+    pub fn slots(&self) -> [&Option<TextureSlot>; 7] {
+        [
+            &self.base_color_texture,
+            &self.normal_texture,
+            &self.metallic_texture,
+            &self.roughness_texture,
+            &self.metallic_roughness_texture,
+            &self.occlusion_texture,
+            &self.emissive_texture,
+        ]
+    }
+
+    /// Whether the occlusion, roughness and metallic maps are an MTL's single-channel images,
+    /// which the GPU packs into one texture (glTF's are used as they are). MTL materials are
+    /// the ones with Phong terms.
+    pub fn packs_orm(&self) -> bool {
+        self.phong.is_some()
+    }
+}
+
+/// Translucency from an opacity and an alpha mode: below 1, or BLEND (whose texture alpha
+/// may be below 1 where the factor is 1).
+pub fn translucency(opacity: f32, mode: AlphaMode) -> Option<f32> {
+    (opacity < 1.0 || mode == AlphaMode::Blend).then_some(opacity)
 }
 
 #[cfg(test)]
@@ -211,22 +277,35 @@ mod tests {
     use super::*;
 
     #[test]
-    fn options_are_stripped() {
-        assert_eq!(strip_texture_options("-s 1 1 1 tex.png"), "tex.png");
-        assert_eq!(
-            strip_texture_options("-bm 2 -clamp on bump 01.png"),
-            "bump 01.png"
-        );
-        assert_eq!(strip_texture_options("-o 0.1 tex.png"), "tex.png");
-        assert_eq!(strip_texture_options("texture 01.png"), "texture 01.png");
-    }
-
-    #[test]
     fn defaults_are_fixed_function() {
-        let m = Material::default();
+        let m = Material::default().phong_terms();
         assert_eq!(
             (m.ambient, m.diffuse, m.specular, m.shininess),
             ([0.2; 3], [0.8; 3], [0.0; 3], 0.0)
         );
+    }
+
+    /// Translucency is one field: every way a material becomes translucent sets `opacity`,
+    /// and `is_translucent` reads nothing else.
+    #[test]
+    fn translucency_is_decided_from_one_field() {
+        assert_eq!(translucency(1.0, AlphaMode::Opaque), None);
+        assert_eq!(translucency(0.5, AlphaMode::Opaque), Some(0.5));
+        assert_eq!(translucency(1.0, AlphaMode::Blend), Some(1.0));
+        assert_eq!(translucency(1.0, AlphaMode::Mask(0.5)), None);
+        let mut m = Material::default();
+        assert!(!m.is_translucent());
+        // Nothing but `opacity` changes the answer: a BLEND alpha mode alone does not.
+        m.alpha_mode = AlphaMode::Blend;
+        assert!(!m.is_translucent());
+        m.opacity = Some(1.0);
+        assert!(m.is_translucent());
+        m.set_opacity(1.0);
+        assert_eq!(m.opacity, Some(1.0), "BLEND stays translucent at opacity 1");
+        m.alpha_mode = AlphaMode::Opaque;
+        m.set_opacity(1.0);
+        assert!(!m.is_translucent());
+        m.set_opacity(0.3);
+        assert_eq!((m.is_translucent(), m.draw_opacity()), (true, 0.3));
     }
 }

@@ -1,7 +1,7 @@
 //! OBJ/MTL → [`Scene`]: tobj does the parsing (after [`super::repair`]); positions are read as
 //! f64 and re-centred on the bounding-box centre before they are rounded to f32.
 use super::fast::Parser;
-use super::material::{self, TextureOptions};
+use super::material::TextureOptions;
 use super::normals::Creases;
 use super::{
     quirks, repair, triangulate, Bounds, Material, Mesh, Scene, UpAxis, Vertex, Warning, Wire,
@@ -260,16 +260,26 @@ fn load_with(
         .first()
         .cloned()
         .unwrap_or_else(|| path.to_path_buf());
-    let mut materials: Vec<Material> = tobj_mats
-        .iter()
-        .map(|m| material::from_tobj(m, &dir, &mtl_file, opts.textures, &mut warnings))
+    // Each tobj material is read once (taken by value), its quirks handled, then mapped into
+    // the PBR values once.
+    let files = super::mtl::Files {
+        dir: &dir,
+        mtl_file: &mtl_file,
+        opts: opts.textures,
+    };
+    let read: Vec<super::mtl::Read> = tobj_mats
+        .into_iter()
+        .map(|m| super::mtl::read(m, &files, &mut warnings))
         .collect();
     let mut maps = Vec::new();
-    for m in &mut materials {
+    let mut materials: Vec<Material> = Vec::with_capacity(read.len() + 1);
+    for mut r in read {
+        let m = r.material_mut();
         let origin = mtl_lines.get(&m.name).map(|(f, l)| (f.as_path(), l));
         quirks::fix_invisible(m, origin, opts.honor_transparency, &mut warnings);
         quirks::fix_ns_zero(m, origin, &mut warnings);
         maps.extend(quirks::map_report(m, origin));
+        materials.push(r.map());
     }
     super::profile::mark(super::profile::Stage::Textures);
     let mut reported = std::collections::HashSet::new();
@@ -285,10 +295,13 @@ fn load_with(
     let default_index = materials.len();
     let mut default = Material::default();
     if let Some(t) = &opts.texture {
-        match material::decode_texture(t.clone(), opts.textures) {
+        match super::texture_path::decode_texture(t.clone(), opts.textures) {
             Ok(tex) => {
-                default.diffuse_map = Some(std::sync::Arc::new(tex));
-                default.diffuse_map_spec = Some(t.display().to_string());
+                default.base_color_texture = Some(super::texture_slot::TextureSlot::plain(
+                    std::sync::Arc::new(tex),
+                    super::texture_slot::ColorSpace::Srgb,
+                ));
+                default.check.base_color = Some(t.display().to_string());
                 maps.push(format!(
                     "map: --texture {}: base colour of meshes without a material",
                     t.display()
@@ -305,7 +318,7 @@ fn load_with(
     dependencies.extend(
         materials
             .iter()
-            .filter_map(|m| m.diffuse_map.as_ref().map(|t| t.path.clone())),
+            .filter_map(|m| m.base_color_texture.as_ref().map(|t| t.image.path.clone())),
     );
 
     let up = opts.up;
@@ -520,6 +533,36 @@ mod tests {
             s.warnings
         );
         assert_eq!(s.materials[s.meshes[0].material], Material::default());
+    }
+
+    /// The MTL is read once: its file is opened once and each material statement block is
+    /// read once (`mtl::read` takes tobj's material by value; this counts the calls), on both
+    /// OBJ parsers.
+    #[test]
+    fn mtl_is_read_once() {
+        let obj = b"mtllib a.mtl\nv 0 0 0\nv 2 0 0\nv 0 2 0\nusemtl red\nf 1 2 3\n";
+        let mtl = b"newmtl red\nKd 1 0 0\nnewmtl blue\nKd 0 0 1\nd 0.5\n";
+        for parser in [Parser::Auto, Parser::Tobj] {
+            let opened = std::cell::Cell::new(0);
+            let source = |_: &Path| {
+                opened.set(opened.get() + 1);
+                Ok(mtl.to_vec())
+            };
+            super::super::mtl::READS.with(|r| r.set(0));
+            let s = load_with(
+                Path::new("t.obj"),
+                obj,
+                &LoadOptions::default(),
+                &source,
+                parser,
+            )
+            .unwrap();
+            let reads = super::super::mtl::READS.with(|r| r.get());
+            assert_eq!((opened.get(), reads), (1, 2), "{parser:?}");
+            assert_eq!(s.materials.len(), 3);
+            assert_eq!(s.materials[0].base_color, [1.0, 0.0, 0.0]);
+            assert_eq!(s.materials[1].opacity, Some(0.5));
+        }
     }
 
     #[test]

@@ -22,10 +22,10 @@ fn warn(warnings: &mut Vec<Warning>, origin: Origin, line: Option<usize>, msg: S
 /// write those values meaning opaque, and a model vanishing without a word is never what a
 /// user wants. `honor` keeps the file's value.
 pub fn fix_invisible(m: &mut Material, origin: Origin, honor: bool, w: &mut Vec<Warning>) {
-    if m.opacity > 0.0 || honor {
+    if !matches!(m.opacity, Some(a) if a <= 0.0) || honor {
         return;
     }
-    m.opacity = 1.0;
+    m.opacity = None;
     warn(
         w,
         origin,
@@ -42,10 +42,14 @@ pub fn fix_invisible(m: &mut Material, origin: Origin, honor: bool, w: &mut Vec<
 /// point white. Exporters write it for the roughest surface (Blender's exporter maps
 /// roughness 1 to Ns 0), so the material is made matte (Ks 0).
 pub fn fix_ns_zero(m: &mut Material, origin: Origin, w: &mut Vec<Warning>) {
-    if m.shininess > 0.0 || m.specular.iter().all(|&k| k <= 0.0) || origin.is_none() {
+    let Some(p) = &mut m.phong else {
+        return;
+    };
+    if p.shininess > 0.0 || p.specular.iter().all(|&k| k <= 0.0) || origin.is_none() {
         return;
     }
-    m.specular = [0.0; 3];
+    p.specular = [0.0; 3];
+    let shininess = p.shininess;
     warn(
         w,
         origin,
@@ -53,7 +57,7 @@ pub fn fix_ns_zero(m: &mut Material, origin: Origin, w: &mut Vec<Warning>) {
         format!(
             "material {}: Ns {} with a specular colour means the roughest surface: drawn matte \
              (Ks 0)",
-            m.name, m.shininess
+            m.name, shininess
         ),
     );
 }
@@ -80,7 +84,7 @@ pub fn map_report(m: &Material, origin: Origin) -> Vec<String> {
         .maps
         .iter()
         .map(|(line, kw, arg)| {
-            let what = if kw == "map_Kd" && m.diffuse_map.is_none() {
+            let what = if kw == "map_Kd" && m.base_color_texture.is_none() {
                 "not loaded (see warnings)"
             } else {
                 map_outcome(kw)
@@ -97,6 +101,7 @@ pub fn map_report(m: &Material, origin: Origin) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::material::PhongTerms;
 
     #[test]
     fn invisible_becomes_opaque_with_line() {
@@ -105,19 +110,19 @@ mod tests {
             ..Default::default()
         };
         let mut m = Material {
-            opacity: 0.0,
+            opacity: Some(0.0),
             ..Default::default()
         };
         let mut w = Vec::new();
         fix_invisible(&mut m, Some((Path::new("a.mtl"), &lines)), false, &mut w);
-        assert_eq!(m.opacity, 1.0);
+        assert_eq!(m.opacity, None);
         assert!(w[0].to_string().starts_with("a.mtl:4: material default"));
         let mut m = Material {
-            opacity: 0.0,
+            opacity: Some(0.0),
             ..Default::default()
         };
         fix_invisible(&mut m, Some((Path::new("a.mtl"), &lines)), true, &mut w);
-        assert_eq!(m.opacity, 0.0);
+        assert_eq!(m.opacity, Some(0.0));
     }
 
     #[test]
@@ -126,20 +131,20 @@ mod tests {
             shininess: Some(2),
             ..Default::default()
         };
-        let mut m = Material {
+        let mut m = Material::with_phong(PhongTerms {
             specular: [0.5; 3],
             ..Default::default()
-        };
+        });
         let mut w = Vec::new();
         fix_ns_zero(&mut m, Some((Path::new("a.mtl"), &lines)), &mut w);
-        assert_eq!(m.specular, [0.0; 3]);
+        assert_eq!(m.phong_terms().specular, [0.0; 3]);
         assert_eq!(w[0].line, Some(2));
         // Materials built in code (no MTL) keep the formula's Ns 0 meaning.
-        let mut m = Material {
+        let mut m = Material::with_phong(PhongTerms {
             specular: [0.5; 3],
             ..Default::default()
-        };
+        });
         fix_ns_zero(&mut m, None, &mut w);
-        assert_eq!(m.specular, [0.5; 3]);
+        assert_eq!(m.phong_terms().specular, [0.5; 3]);
     }
 }

@@ -43,17 +43,16 @@ pub fn report(s: &Scene, format: Option<super::formats::Format>) -> String {
     }
     let has_colours = coloured > 0;
     for m in &s.materials {
-        let p = m.pbr();
         let _ = writeln!(
             r,
             "pbr: material {}: base colour ({:.3}, {:.3}, {:.3}), metallic {:.2}, roughness {:.3} ({})",
             m.name,
-            p.base_color[0],
-            p.base_color[1],
-            p.base_color[2],
-            p.metallic,
-            p.roughness,
-            if p.source == "classic" {
+            m.base_color[0],
+            m.base_color[1],
+            m.base_color[2],
+            m.metallic,
+            m.roughness,
+            if m.phong.is_some_and(|p| p.mapped) {
                 "mapped from Kd/Ks/Ns"
             } else {
                 "from Pr/Pm"
@@ -61,7 +60,7 @@ pub fn report(s: &Scene, format: Option<super::formats::Format>) -> String {
         );
         let format = format.unwrap_or(super::formats::Format::Obj);
         if format == super::formats::Format::Gltf {
-            for line in m.pbr_inputs.model.describe() {
+            for line in super::material_report::describe(m) {
                 let _ = writeln!(r, "material {}: {line}", m.name);
             }
         } else {
@@ -70,15 +69,16 @@ pub fn report(s: &Scene, format: Option<super::formats::Format>) -> String {
                 r,
                 "material model: material {}: {}",
                 m.name,
-                super::material_model::mapping(m, format, has_colours)
+                super::material_report::mapping(m, format, has_colours)
             );
         }
-        for (key, spec, what) in &m.pbr_inputs.maps {
+        for (key, spec, what) in &m.check.maps {
             let _ = writeln!(r, "pbr map: material {}: {key} {spec:?} -> {what}", m.name);
         }
-        if let Some(spec) = &m.diffuse_map_spec {
-            match &m.diffuse_map {
-                Some(t) => {
+        if let Some(spec) = &m.check.base_color {
+            match &m.base_color_texture {
+                Some(slot) => {
+                    let t = &slot.image;
                     let _ = writeln!(
                         r,
                         "texture: material {}: map_Kd {spec:?} -> {} ({}x{})",

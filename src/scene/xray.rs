@@ -34,14 +34,14 @@ impl Scene {
                 ));
             }
             for i in by_material {
-                self.materials[i].opacity = opacity;
+                self.materials[i].set_opacity(opacity);
                 rayed[i] = true;
             }
             for i in by_mesh {
                 // A copy of the mesh's material, so other meshes sharing it stay opaque.
                 let mut m = self.materials[self.meshes[i].material].clone();
                 m.name = format!("{} (x-ray)", m.name);
-                m.opacity = opacity;
+                m.set_opacity(opacity);
                 self.materials.push(m);
                 rayed.push(true);
                 self.meshes[i].material = self.materials.len() - 1;
@@ -49,7 +49,7 @@ impl Scene {
         }
         for (m, rayed) in self.materials.iter_mut().zip(rayed) {
             if !rayed {
-                m.opacity = 1.0;
+                m.set_opacity(1.0);
             }
         }
         Ok(())
@@ -67,14 +67,14 @@ mod tests {
             ..Default::default()
         };
         let glass = Material {
-            opacity: 0.5,
+            opacity: Some(0.5),
             ..Default::default()
         };
         let mut s = Scene::from_meshes("t", vec![mesh("a"), mesh("b")], vec![glass]);
         s.xray(&["b".into()], 0.3).unwrap();
         // The inner mask: what is not x-rayed is opaque, even glass.
-        assert_eq!(s.materials[s.meshes[0].material].opacity, 1.0);
-        assert_eq!(s.materials[s.meshes[1].material].opacity, 0.3);
+        assert_eq!(s.materials[s.meshes[0].material].opacity, None);
+        assert_eq!(s.materials[s.meshes[1].material].opacity, Some(0.3));
         assert!(s.xray(&["nope".into()], 0.3).unwrap_err().contains("nope"));
     }
 }

@@ -80,7 +80,7 @@ pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
 pub fn compile_shaders(args: &Options) -> Result<()> {
     let hl = crate::headless::Headless::new(args.context.backend, args.context.gl, 16, 16)?;
     let mut cache = crate::shader::cache::ProgramCache::new(&hl.gpu);
-    let keys = crate::shader::cache::all_keys(crate::light::MAX_LIGHTS as u8);
+    let keys = crate::render::programs::all_keys(crate::light::MAX_LIGHTS as u8);
     let start = std::time::Instant::now();
     for key in &keys {
         cache.get(key)?;

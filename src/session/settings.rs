@@ -116,7 +116,7 @@ pub(crate) fn adjust_scene(args: &Options, s: &mut crate::scene::Scene) -> Resul
     }
     if args.load.single_sided {
         for m in &mut s.materials {
-            m.pbr_inputs.model.double_sided = false;
+            m.double_sided = false;
         }
     }
     Ok(())

@@ -122,7 +122,9 @@ fn compare_with_exact(
         }
         let t = -bq - disc.sqrt();
         let p = a + d * t;
-        if mat.shininess <= 0.0 && glview::shading::to_light(&light, p).dot(p).abs() < 0.01 {
+        if mat.phong_terms().shininess <= 0.0
+            && glview::shading::to_light(&light, p).dot(p).abs() < 0.01
+        {
             return Some(None);
         }
         let c = shade(

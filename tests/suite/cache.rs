@@ -113,7 +113,7 @@ fn second_load_hits_and_changes_invalidate() {
         "MTL change not seen"
     );
     let reloaded = load(&model, &on).unwrap();
-    assert_eq!(reloaded.materials[0].diffuse, [0.9, 0.1, 0.1]);
+    assert_eq!(reloaded.materials[0].base_color, [0.9, 0.1, 0.1]);
 }
 
 /// A cached load is the uncached one: the same pixels and the same `--check` report (but for
@@ -425,21 +425,22 @@ fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
     }
     let (a, b) = (&hit.materials[0], &fresh.materials[0]);
     assert_eq!(a, b);
-    let pixels = |t: &Option<std::sync::Arc<glview::scene::material::Texture>>| {
-        let t = t.as_ref().expect("a texture");
+    use glview::scene::texture_slot::Slot;
+    let pixels = |m: &glview::scene::Material, s: Slot| {
+        let t = m.image(s).expect("a texture");
         (t.width, t.height, t.rgba.clone(), t.image)
     };
-    let (pa, pb) = (&a.pbr_inputs, &b.pbr_inputs);
-    assert_eq!(pixels(&a.diffuse_map), pixels(&b.diffuse_map));
-    assert_eq!(pixels(&pa.normal_map), pixels(&pb.normal_map));
-    assert_eq!(pixels(&pa.emissive_map), pixels(&pb.emissive_map));
-    assert_eq!(
-        pixels(&pa.metallic_roughness_map),
-        pixels(&pb.metallic_roughness_map)
-    );
+    for s in [
+        Slot::BaseColor,
+        Slot::Normal,
+        Slot::Emissive,
+        Slot::MetallicRoughness,
+    ] {
+        assert_eq!(pixels(a, s), pixels(b, s), "{s:?}");
+    }
     assert!(std::sync::Arc::ptr_eq(
-        pa.emissive_map.as_ref().unwrap(),
-        pa.metallic_roughness_map.as_ref().unwrap()
+        a.image(Slot::Emissive).unwrap(),
+        a.image(Slot::MetallicRoughness).unwrap()
     ));
 
     // An external image is a dependency: rewriting it is a miss.

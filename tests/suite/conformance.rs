@@ -73,7 +73,7 @@ fn tinyobjloader_expectations() {
         .materials
         .iter()
         .filter(|m| m.name != "default")
-        .all(|m| m.opacity == 0.75));
+        .all(|m| m.opacity == Some(0.75)));
 
     let s = ok(&tiny("usemtl-issue-104.obj"));
     assert_eq!(s.meshes.len(), 1);
@@ -140,8 +140,8 @@ fn tobj_expectations() {
         ]
     );
     let light = s.materials.iter().find(|m| m.name == "light").unwrap();
-    assert_eq!(light.opacity, 0.8);
-    assert_eq!(light.ambient, [20.0; 3]);
+    assert_eq!(light.opacity, Some(0.8));
+    assert_eq!(light.phong_terms().ambient, [20.0; 3]);
     let white = s.materials.iter().find(|m| m.name == "white").unwrap();
     assert_eq!(white.emissive, [1.0; 3]);
 

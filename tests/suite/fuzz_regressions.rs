@@ -108,7 +108,11 @@ fn fuzz_crash_mtl_colour_missing_numbers() {
             let s = assert_ok(&path, r);
             let m = &s.materials[s.meshes[0].material];
             assert_eq!(m.name, "a", "{kw}{args}: the rest of the material is kept");
-            assert_eq!(m.shininess, 10.0, "{kw}{args}: later lines are still read");
+            assert_eq!(
+                m.phong_terms().shininess,
+                10.0,
+                "{kw}{args}: later lines are still read"
+            );
             let w = s
                 .warnings
                 .iter()
@@ -132,7 +136,7 @@ fn fuzz_crash_mtl_colour_one_number_is_grey() {
         FIX1,
     );
     let s = assert_ok(&path, r);
-    assert_eq!(s.materials[s.meshes[0].material].diffuse, [0.5; 3]);
+    assert_eq!(s.materials[s.meshes[0].material].base_color, [0.5; 3]);
 }
 
 // --- Finding 2: positions beyond f32 range become inf --------------------------------------
@@ -211,7 +215,7 @@ fn fuzz_pbr_key_in_two_spellings_is_deterministic() {
     for _ in 0..16 {
         let (path, r) = load("two_spellings", TRIANGLE_WITH_MATERIAL, mtl, FIX5);
         let s = assert_ok(&path, r);
-        let maps = &s.materials[s.meshes[0].material].pbr_inputs.maps;
+        let maps = &s.materials[s.meshes[0].material].check.maps;
         let names: Vec<_> = maps.iter().map(|(k, v, _)| format!("{k} {v}")).collect();
         assert_eq!(names, ["map_Pm exact.tex", "map_Pr r2.tex"]);
         let text = format!("{s:?}");

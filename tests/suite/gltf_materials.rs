@@ -4,8 +4,9 @@
 //! one file distinct textures; COLOR_0 in integer encodings; winding kept front-facing under a
 //! mirroring node.
 use crate::common::*;
-use glview::scene::material_model::{AlphaMode, Filter, Slot, Wrap};
+use glview::scene::material::AlphaMode;
 use glview::scene::obj::{load, LoadOptions};
+use glview::scene::texture_slot::{ColorSpace, Filter, Slot, Wrap};
 use std::path::PathBuf;
 
 pub fn b64(data: &[u8]) -> String {
@@ -93,7 +94,7 @@ fn every_slot_sampler_and_mode_is_read() {
     let p = model("full.gltf", 1.0, &format!("{FULL}, {}", images()));
     let s = load(&p, &LoadOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let m = &s.materials[s.meshes[0].material];
-    let md = &m.pbr_inputs.model;
+    let md = m;
     assert_eq!(md.alpha_mode, AlphaMode::Mask(0.3));
     assert!(md.double_sided && md.unlit);
     assert_eq!(
@@ -118,22 +119,41 @@ fn every_slot_sampler_and_mode_is_read() {
         md.slot(Slot::MetallicRoughness).unwrap().sampler.wrap_s,
         Wrap::Repeat
     );
-    assert!(md.textures.iter().all(|t| t.loaded));
+    assert!(m.check.gltf_slots.iter().all(|l| !l.contains("not loaded")));
+    assert_eq!(m.check.gltf_slots.len(), 5);
+    // Colour slots are sRGB, data slots linear.
+    let space = |s: Slot| md.slot(s).unwrap().color_space;
+    assert_eq!(
+        [
+            Slot::BaseColor,
+            Slot::MetallicRoughness,
+            Slot::Normal,
+            Slot::Occlusion,
+            Slot::Emissive
+        ]
+        .map(space),
+        [
+            ColorSpace::Srgb,
+            ColorSpace::Linear,
+            ColorSpace::Linear,
+            ColorSpace::Linear,
+            ColorSpace::Srgb
+        ]
+    );
     // The metallic-roughness image is kept as the file has it (the shader reads metal from
     // blue and roughness from green); occlusion is read from red of its own image.
-    let p_in = &m.pbr_inputs;
-    let channel = |t: &Option<std::sync::Arc<glview::scene::Texture>>, c: usize| {
-        let t = t.as_ref().unwrap();
+    let channel = |s: Slot, c: usize| {
+        let t = md.image(s).unwrap();
         [t.rgba[c], t.rgba[4 + c]]
     };
-    assert_eq!(channel(&p_in.metallic_roughness_map, 2), [30, 60]);
-    assert_eq!(channel(&p_in.metallic_roughness_map, 1), [20, 50]);
-    assert!(p_in.metallic_map.is_none() && p_in.roughness_map.is_none());
-    assert_eq!(channel(&p_in.ao_map, 0), [10, 40]);
-    assert_eq!(channel(&p_in.emissive_map, 0), [255, 0]);
+    assert_eq!(channel(Slot::MetallicRoughness, 2), [30, 60]);
+    assert_eq!(channel(Slot::MetallicRoughness, 1), [20, 50]);
+    assert!(m.metallic_texture.is_none() && m.roughness_texture.is_none());
+    assert_eq!(channel(Slot::Occlusion, 0), [10, 40]);
+    assert_eq!(channel(Slot::Emissive, 0), [255, 0]);
     // TEXCOORD_1 is kept beside the vertices.
     assert_eq!(s.meshes[0].uv1.len(), s.meshes[0].vertices.len());
-    assert!(p_in.normal_map.is_some());
+    assert!(m.normal_texture.is_some());
     // COLOR_0 as normalized u8 RGBA.
     assert!(s.meshes[0].colors.contains(&[1.0, 0.0, 0.0]));
     assert!(s.meshes[0].colors.contains(&[0.0, 0.0, 1.0]));
@@ -164,8 +184,8 @@ fn images_of_one_file_are_distinct_textures() {
     let p = model("two.gltf", 1.0, &format!("{mats}, {}", images()));
     let s = load(&p, &LoadOptions::default()).unwrap();
     let (a, b) = (
-        s.materials[0].diffuse_map.as_ref().unwrap(),
-        s.materials[1].diffuse_map.as_ref().unwrap(),
+        s.materials[0].image(Slot::BaseColor).unwrap(),
+        s.materials[1].image(Slot::BaseColor).unwrap(),
     );
     assert_eq!(a.path, b.path);
     assert_eq!((a.image, b.image), (Some(0), Some(1)));
@@ -188,7 +208,7 @@ fn a_mirroring_node_keeps_triangles_front_facing() {
         let n = glam::Vec3::from(m.vertices[t[0] as usize].normal);
         assert!(face.dot(n) > 0.0, "{name}: winding against the normal");
         assert!(face.z > 0.0, "{name}: faces +z after the mirror");
-        assert!(!s.materials[0].pbr_inputs.model.double_sided);
+        assert!(!s.materials[0].double_sided);
     }
 }
 

@@ -216,7 +216,7 @@ fn invisible_materials_and_ns_zero() {
     let p = write("loading-mtl", "m.obj", obj);
     let s = load(&p, &LoadOptions::default()).unwrap();
     let glass = s.materials.iter().find(|m| m.name == "glass").unwrap();
-    assert_eq!(glass.opacity, 1.0);
+    assert_eq!(glass.opacity, None);
     let w = s
         .warnings
         .iter()
@@ -227,6 +227,7 @@ fn invisible_materials_and_ns_zero() {
         ("m.mtl".as_ref(), Some(3))
     );
     let shiny = s.materials.iter().find(|m| m.name == "shiny").unwrap();
+    let shiny = shiny.phong_terms();
     assert_eq!((shiny.specular, shiny.shininess), ([0.0; 3], 0.0));
     assert!(s.warnings.iter().any(|w| w.line == Some(7)));
     let honor = LoadOptions {
@@ -235,7 +236,7 @@ fn invisible_materials_and_ns_zero() {
     };
     let s = load(&p, &honor).unwrap();
     let glass = s.materials.iter().find(|m| m.name == "glass").unwrap();
-    assert_eq!(glass.opacity, 0.0);
+    assert_eq!(glass.opacity, Some(0.0));
 }
 
 #[test]
@@ -302,7 +303,7 @@ fn check_reports_maps_colours_lines_and_texture() {
     };
     let s = load(&spot.join("spot_triangulated.obj"), &o).unwrap();
     let m = &s.materials[s.meshes[0].material];
-    let t = m.diffuse_map.as_ref().expect("texture loaded");
+    let t = &m.base_color_texture.as_ref().expect("texture loaded").image;
     assert!(t.width > 0 && t.height > 0);
     assert!(s.meshes[0].has_uv);
 }
@@ -446,13 +447,8 @@ fn gltf_quad_with_transform_and_pbr_material() {
     );
     let m = &s.materials[s.meshes[0].material];
     assert_eq!(
-        (
-            m.name.as_str(),
-            m.diffuse,
-            m.pbr_inputs.metallic,
-            m.pbr_inputs.roughness
-        ),
-        ("paint", [0.5, 0.25, 1.0], Some(0.25), Some(0.75))
+        (m.name.as_str(), m.base_color, m.metallic, m.roughness),
+        ("paint", [0.5, 0.25, 1.0], 0.25, 0.75)
     );
     assert_eq!(s.meshes[0].vertices[0].normal, [0.0, 0.0, 1.0]);
     // Broken files: one line naming the file.

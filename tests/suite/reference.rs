@@ -7,6 +7,8 @@ use glview::camera::OrbitCamera;
 use glview::light::{Light, LightKind};
 use glview::reference::{render_with_info, PixelInfo};
 use glview::render::{FrameSettings, Shading, ShadowSettings};
+use glview::scene::material::PhongTerms;
+use glview::scene::texture_slot::{ColorSpace, TextureSlot};
 use glview::scene::{Material, Mesh, Scene, Vertex};
 use glview::shading::{shade, to_light, LightingParams};
 
@@ -113,12 +115,12 @@ fn cuboid(min: DVec3, max: DVec3, material: usize) -> Mesh {
 }
 
 fn material(kd: f32, ks: f32, ns: f32) -> Material {
-    Material {
+    Material::with_phong(PhongTerms {
         diffuse: [kd; 3],
         specular: [ks; 3],
         shininess: ns,
         ..Default::default()
-    }
+    })
 }
 
 fn settings(sc: &Scene, yaw: f32, pitch: f32, lights: Vec<Light>, aspect: f32) -> FrameSettings {
@@ -222,7 +224,7 @@ fn sphere_error(s: &FrameSettings, m: Material, segments: u32) -> SphereError {
             // (2π / segments) of it a pixel may land on either side of the jump.
             let band = std::f64::consts::TAU / f64::from(segments);
             let step = s.lights.iter().any(|l| to_light(l, p).dot(p).abs() < band);
-            if m.shininess <= 0.0 && step {
+            if m.phong_terms().shininess <= 0.0 && step {
                 e.skipped += 1;
                 continue;
             }
@@ -382,10 +384,12 @@ fn box_shadow_is_its_footprint() {
 #[test]
 fn translucent_layers_blend_far_to_near_and_cast_no_shadow() {
     let ka = |c: [f32; 3], opacity: f32| Material {
-        ambient: c,
-        diffuse: [0.0; 3],
-        opacity,
-        ..Default::default()
+        opacity: (opacity < 1.0).then_some(opacity),
+        ..Material::with_phong(PhongTerms {
+            ambient: c,
+            diffuse: [0.0; 3],
+            ..Default::default()
+        })
     };
     let mats = vec![
         ka([1.0, 0.0, 0.0], 1.0),
@@ -446,10 +450,15 @@ fn texture_maps_texel_for_pixel() {
         rgba: rgba.clone(),
     };
     let m = Material {
-        ambient: [1.0; 3],
-        diffuse: [0.0; 3],
-        diffuse_map: Some(std::sync::Arc::new(texture)),
-        ..Default::default()
+        base_color_texture: Some(TextureSlot::plain(
+            std::sync::Arc::new(texture),
+            ColorSpace::Srgb,
+        )),
+        ..Material::with_phong(PhongTerms {
+            ambient: [1.0; 3],
+            diffuse: [0.0; 3],
+            ..Default::default()
+        })
     };
     let sc = scene(vec![quad], vec![m]);
     let mut s = settings(&sc, 0.0, 90.0, vec![], 1.0);

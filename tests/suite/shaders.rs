@@ -7,7 +7,7 @@ use common::*;
 
 #[test]
 fn every_permutation_compiles_in_every_dialect() {
-    let expected = glview::shader::cache::all_keys(glview::light::MAX_LIGHTS as u8).len();
+    let expected = glview::render::programs::all_keys(glview::light::MAX_LIGHTS as u8).len();
     for (name, args, env) in [
         (
             "GLSL 3.30",

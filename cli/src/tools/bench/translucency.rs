@@ -37,7 +37,7 @@ pub fn run_translucency(models_dir: &Path) -> Result<()> {
         let (base, _) = glview::session::frame_settings(&args, &scene)?;
         let mut opaque_scene = scene.clone();
         for m in &mut opaque_scene.materials {
-            m.opacity = 1.0;
+            m.opacity = None;
         }
         let mut opaque_ms = f64::NAN;
         for (mode, log) in [

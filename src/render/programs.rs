@@ -1,0 +1,72 @@
+//! Every program key the renderer can ask for, listed in one place for `--compile-shaders`
+//! (which compiles them all ahead of any frame) and its test. The renderer owns the keys (each
+//! pass builds its own), so the list lives here and the shader cache only stores programs.
+use super::{attributes, background, lit, pbr, post, shadow, slots};
+use crate::shader::cache::ProgramKey;
+
+/// Every program key the renderer can ask for with up to `max_lights` lights: the legacy
+/// tier's permutations (see [`lit::program_key`]), the PBR tier's, and the depth,
+/// background and teaching-view programs.
+pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
+    let mut keys = fixed_programs();
+    for lights in 0..=max_lights {
+        let shadow_variants: Vec<(u8, u8, u8)> = if lights == 0 {
+            vec![(0, 1, 0)]
+        } else {
+            let all = (1u8 << lights) - 1;
+            let mut v = vec![(0, 1, 0)];
+            for pcf in [1, 4, 9, 16] {
+                for mask in [0, 1, all] {
+                    v.push((lights, pcf, mask));
+                }
+            }
+            v.dedup();
+            v
+        };
+        for (shadows, pcf, cube_mask) in shadow_variants {
+            for textured in [false, true] {
+                for gouraud in [false, true] {
+                    // Vertex colours, point lights, wrap lighting and front faces only with
+                    // the textured variants: every flag is compiled without doubling the
+                    // permutations.
+                    keys.push(
+                        lit::program_key(
+                            lights, shadows, pcf, cube_mask, textured, gouraud, textured,
+                        )
+                        .switch("POINT_LIGHTS", "pt", textured)
+                        .switch("WRAP", "wrap", textured)
+                        .switch("FRONT_ONLY", "front", textured),
+                    );
+                }
+            }
+            keys.extend(pbr::all_keys(lights, shadows, pcf, cube_mask));
+        }
+    }
+    keys
+}
+
+/// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
+pub fn fixed_programs() -> Vec<ProgramKey> {
+    vec![shadow::depth_key(), shadow::show_key(), attributes::key()]
+        .into_iter()
+        .chain((0..4).flat_map(|tm| {
+            [
+                background::skybox_key(false, tm),
+                background::skybox_key(true, tm),
+            ]
+        }))
+        .chain(post::keys())
+        .chain(slots::variant_keys())
+        // The copy path's RGBM-encoded linear frame (bloom without float render targets).
+        .chain(
+            [
+                background::skybox_key(true, 3),
+                lit::program_key(1, 1, 1, 0, true, false, true),
+            ]
+            .map(|k| {
+                k.switch("LINEAR_OUTPUT", "lin", true)
+                    .switch("FRAME_RGBM", "hdr8", true)
+            }),
+        )
+        .collect()
+}

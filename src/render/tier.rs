@@ -1,0 +1,106 @@
+//! The skeleton both lit tiers (the legacy `lit` pass and `pbr`) share, so each tier says only
+//! what differs ([`Tier`]): the view is set up, the target cleared, the visible meshes put in
+//! draw order and drawn through the translucency scheme ([`run`]); each mesh gets its
+//! program, the program its per-frame uniforms once, then the material's uniforms and
+//! textures, and the mesh is drawn with each of its render states ([`draw_meshes`]).
+use super::lit::View;
+use super::FrameCx;
+use crate::gpu::program::Program;
+use crate::gpu::state::RenderState;
+use crate::shader::cache::ProgramKey;
+use crate::Result;
+
+/// What the skeleton knows about a mesh to draw.
+pub(crate) struct MeshDraw {
+    pub material: usize,
+    pub translucent: bool,
+    pub has_uv: bool,
+    pub has_uv1: bool,
+    pub has_tangents: bool,
+    pub has_colors: bool,
+}
+
+/// A mesh's program, before the material's flags ([`super::slots::flags`]) and the frame's
+/// ([`FrameCx::lit_flags`]) are added, and the tier's textures for it.
+pub(crate) struct Prepared<M> {
+    pub key: ProgramKey,
+    /// The base colour texture is drawn (BLEND reads its alpha only then).
+    pub textured: bool,
+    pub maps: M,
+}
+
+/// What a lit tier does differently. A value lives for one [`draw_meshes`] call (a fresh
+/// clone each), so state kept in it (a texture known to be bound) starts over with each call.
+pub(crate) trait Tier: Clone {
+    /// The textures `prepare` found for a mesh, for `material` to bind.
+    type Maps;
+    /// The mesh's program key and textures (uploading them on first use).
+    fn prepare(&mut self, cx: &mut FrameCx, v: &View, m: &MeshDraw)
+        -> Result<Prepared<Self::Maps>>;
+    /// The tier's uniforms a program keeps for the frame, set the first time it draws (after
+    /// the view's).
+    fn program_uniforms(&self, p: &Program, cx: &FrameCx, v: &View);
+    /// The tier's material uniforms and texture bindings for mesh `m`.
+    fn material(&mut self, p: &Program, cx: &mut FrameCx, m: &MeshDraw, maps: Self::Maps);
+}
+
+/// A lit pass after its own checks and set-up: view, clear, draw order, then the meshes
+/// through the translucency scheme ([`super::translucent::draw_frame`]).
+pub(crate) fn run<T: Tier>(cx: &mut FrameCx, tier: T) -> Result<()> {
+    let v = View::new(cx);
+    cx.bind_target();
+    super::translucent::clear(cx);
+    let (order, first) = v.draw_order(cx);
+    super::translucent::draw_frame(cx, &order, first, &mut |cx, meshes, states| {
+        draw_meshes(cx, &v, tier.clone(), meshes, states)
+    })
+}
+
+/// Draws `meshes` with `tier`'s programs; `states` gives each mesh's draws (one render state
+/// per draw call, by whether the mesh is translucent).
+pub(crate) fn draw_meshes<T: Tier>(
+    cx: &mut FrameCx,
+    v: &View,
+    mut tier: T,
+    meshes: &[usize],
+    states: &dyn Fn(bool) -> Vec<RenderState>,
+) -> Result<()> {
+    let scene = cx.scene;
+    // A program keeps its uniforms: the per-frame ones are set once per program per frame,
+    // only the material changes from mesh to mesh.
+    let mut uniforms_set: Vec<ProgramKey> = Vec::new();
+    for &i in meshes {
+        let dm = &scene.meshes[i];
+        let m = MeshDraw {
+            material: dm.material,
+            translucent: dm.translucent,
+            has_uv: dm.has_uv,
+            has_uv1: dm.has_uv1,
+            has_tangents: dm.has_tangents,
+            has_colors: dm.has_colors,
+        };
+        let mat = &scene.scene.materials[m.material];
+        let prepared = tier.prepare(cx, v, &m)?;
+        let key = super::slots::flags(prepared.key, mat, m.has_uv1, prepared.textured);
+        let key = cx.lit_flags(key);
+        let program = cx.program(&key)?;
+        program.bind();
+        if !uniforms_set.contains(&key) {
+            uniforms_set.push(key);
+            v.set_uniforms(&program, cx);
+            tier.program_uniforms(&program, cx, v);
+        }
+        super::slots::set_uniforms(&program, mat, m.has_uv1);
+        program.set_f32("uNormalScale", mat.normal_scale);
+        program.set_f32("uTerminatorLift", dm.terminator_lift);
+        program.set_f32(
+            "uOpacity",
+            super::translucent::opacity(cx, mat, m.translucent),
+        );
+        cx.set_rgbm_blend(&program);
+        tier.material(&program, cx, &m, prepared.maps);
+        super::translucent::draw_states(cx, i, &program, &states(m.translucent))?;
+    }
+    cx.gpu.apply(&RenderState::default());
+    Ok(())
+}
