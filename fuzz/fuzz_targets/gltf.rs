@@ -1,4 +1,4 @@
-//! glTF JSON or GLB bytes (external URIs resolve into an empty folder) in → `glview::scene::formats::load_model_bytes` → a scene that passes
+//! glTF JSON or GLB bytes (external URIs resolve into an empty folder) in → `glview::scene::load::load_bytes` → a scene that passes
 //! `glview_fuzz::check_scene`, or a one-line error naming the file. A panic, an OOM over
 //! `-rss_limit_mb` or a hang over `-timeout` is a finding (see fuzz/README.md).
 #![no_main]

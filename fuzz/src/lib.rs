@@ -4,8 +4,8 @@
 #![allow(dead_code)]
 
 use glview::scene::fast::Parser;
-use glview::scene::obj::{load_embedded_with, LoadOptions};
 use glview::scene::Scene;
+use glview::scene::{obj::load_embedded_with, LoadOptions};
 use std::path::Path;
 
 /// Separates the OBJ part from the MTL part of one fuzz input.
@@ -249,7 +249,7 @@ pub fn format_path(name: &str) -> std::path::PathBuf {
 /// error naming the file. Used by the `stl`, `ply` and `gltf` targets.
 pub fn run_format(name: &str, data: &[u8]) -> Result<Scene, glview::Error> {
     let path = format_path(name);
-    let out = glview::scene::formats::load_model_bytes(&path, data, &LoadOptions::default());
+    let out = glview::scene::load::load_bytes(&path, data, &LoadOptions::default());
     check_outcome(&path, &out);
     out
 }

@@ -602,7 +602,7 @@ pub fn evict(dir: &Path, max_bytes: u64, keep: &Path) -> std::io::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::obj::{load_bytes, LoadOptions};
+    use crate::scene::{obj::load_bytes, LoadOptions};
     use std::time::Duration;
 
     /// A fresh folder with `n` small models; returns it and (path, bytes, scene) per model.

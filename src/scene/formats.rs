@@ -2,7 +2,7 @@
 //! stream), into the same [`Scene`] as OBJ: re-centred in f64, polygons triangulated like
 //! OBJ faces, normals generated with the same creases. Bad input is a one-line error naming
 //! the file, as for OBJ.
-use super::obj::LoadOptions;
+use super::load::LoadOptions;
 use super::{triangulate, Bounds, Material, Mesh, Scene, Vertex, Wire};
 use crate::error::{Error, Result};
 use glam::DVec3;
@@ -14,7 +14,7 @@ use std::path::Path;
 const MAX_INFLATED: u64 = 1 << 30;
 
 /// Largest inflated STL or PLY stream read (the rest is not looked at).
-const MAX_STREAM: u64 = 2 << 30;
+pub(crate) const MAX_STREAM: u64 = 2 << 30;
 
 /// Model formats glview reads, from the file name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,26 +57,6 @@ pub fn gunzip(path: &Path, bytes: &[u8]) -> Result<Vec<u8>> {
         return Err(Error::model(path, None, "decompresses to more than 1 GiB"));
     }
     Ok(out)
-}
-
-/// Loads model bytes as if they were the file `path`: the format from its name, gzipped
-/// when it ends in `.gz` (the fuzz targets and `obj::load` come through here).
-pub fn load_model_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
-    let (format, gz) = format_of(path);
-    // Streams stop at MAX_STREAM inflated bytes: more than the element limits need, and it
-    // bounds the time a bomb of text the parsers skip (STL junk tokens) can take.
-    let gz_reader =
-        || std::io::BufReader::new(flate2::read::GzDecoder::new(bytes).take(MAX_STREAM));
-    match (format, gz) {
-        (Format::Gltf, false) => super::gltf::load_gltf_bytes(path, bytes, opts),
-        (Format::Gltf, true) => Err(Error::model(path, None, "gzipped glTF is not supported")),
-        (Format::Stl, false) => load_stl(path, bytes, Some(bytes.len() as u64), opts),
-        (Format::Stl, true) => load_stl(path, gz_reader(), None, opts),
-        (Format::Ply, false) => load_ply(path, bytes, Some(bytes.len() as u64), opts),
-        (Format::Ply, true) => load_ply(path, gz_reader(), None, opts),
-        (Format::Obj, false) => super::obj::load_bytes(path, bytes, opts),
-        (Format::Obj, true) => super::obj::load_bytes(path, &gunzip(path, bytes)?, opts),
-    }
 }
 
 /// A stream error (gzip included) or a parse error, as one line naming the file.

@@ -5,7 +5,7 @@
 //! ([`super::gltf_graph`]). Node transforms are applied in f64 and the scene re-centred like
 //! OBJ; lines and points go to [`Scene::wire`]. A missing or broken image is a warning.
 use super::gltf_accessor::{self as accessor, MAX_ELEMENTS};
-use super::obj::LoadOptions;
+use super::LoadOptions;
 use super::{Bounds, Mesh, Scene, Texture, Vertex, Warning, Wire};
 use crate::error::{Error, Result};
 use glam::{DMat3, DVec3};
@@ -40,7 +40,7 @@ struct Prim {
 }
 
 pub fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene> {
-    let bytes = super::obj::read_regular_file(path)?;
+    let bytes = super::load::read_regular_file(path)?;
     load_gltf_bytes(path, &bytes, opts)
 }
 

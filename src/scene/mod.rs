@@ -16,6 +16,7 @@ pub mod gltf_graph;
 pub mod gltf_material;
 pub mod gltf_meshopt;
 pub mod gltf_modes;
+pub mod load;
 pub mod material;
 pub mod material_report;
 pub mod mtl;
@@ -38,6 +39,7 @@ pub mod uri;
 pub mod xray;
 
 use glam::{DVec3, Vec3};
+pub use load::{load, load_prepared, LoadOptions, ProgressFn};
 pub use material::{Material, Texture};
 
 /// One interleaved vertex as uploaded to the vertex buffer.

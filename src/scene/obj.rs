@@ -1,7 +1,7 @@
-//! OBJ/MTL → [`Scene`]: tobj does the parsing (after [`super::repair`]); positions are read as
+//! OBJ/MTL bytes → [`Scene`] (files reach it through [`super::load`]): tobj does the parsing (after [`super::repair`]); positions are read as
 //! f64 and re-centred on the bounding-box centre before they are rounded to f32.
 use super::fast::Parser;
-use super::material::TextureOptions;
+use super::load::{read_regular_file, LoadOptions};
 use super::normals::Creases;
 use super::{
     quirks, repair, triangulate, Bounds, Material, Mesh, Scene, UpAxis, Vertex, Warning, Wire,
@@ -11,49 +11,8 @@ use glam::DVec3;
 use std::cell::RefCell;
 use std::path::Path;
 
-/// Called with (bytes scanned, total bytes) while a file is read.
-pub type ProgressFn = std::sync::Arc<dyn Fn(u64, u64) + Send + Sync>;
-
-#[derive(Clone, Default)]
-pub struct LoadOptions {
-    pub textures: TextureOptions,
-    pub progress: Option<ProgressFn>,
-    /// Use the mesh cache (`scene::cache`) for large files.
-    pub cache: bool,
-    /// Keep fully transparent materials (`d 0`, `Tr 1`) invisible instead of opaque.
-    pub honor_transparency: bool,
-    /// How generated normals treat sharp edges (`--crease`, `--flat`).
-    pub creases: Creases,
-    /// Which file axis is up (`--up`).
-    pub up: UpAxis,
-    /// A base-colour texture for meshes without a material of their own (`--texture`).
-    pub texture: Option<std::path::PathBuf>,
-}
-
-impl LoadOptions {
-    /// Whether these options give the scene the mesh cache stores (it keys on the file only).
-    fn cacheable(&self) -> bool {
-        !self.honor_transparency
-            && self.creases == Creases::default()
-            && self.up == UpAxis::PosY
-            && self.texture.is_none()
-    }
-}
-
 type MtlLineMap =
     RefCell<std::collections::HashMap<String, (std::path::PathBuf, repair::MtlLines)>>;
-
-/// Reads a file, refusing what is not a regular file (directories, devices, FIFOs would hang).
-pub fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.is_dir() {
-        return Err(Error::model(path, None, "is a directory, not an OBJ file"));
-    }
-    if !meta.is_file() {
-        return Err(Error::model(path, None, "is not a regular file"));
-    }
-    std::fs::read(path).map_err(|e| Error::io(path, e))
-}
 
 /// Where MTL bytes come from: files beside the OBJ, or memory for the built-in scene.
 type MtlSource<'a> = &'a dyn Fn(&Path) -> Result<Vec<u8>>;
@@ -103,66 +62,6 @@ fn load_mtl(
     })
 }
 
-/// Loads a model file: OBJ (with its MTL libraries and diffuse textures), STL, PLY or glTF,
-/// the first three optionally gzipped (`.gz`); the format comes from the file name. Large
-/// files of every format go through the mesh cache, whose hit reads only the entry. Large
-/// meshes come back reordered when the cache took part (see [`load_prepared`]).
-pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
-    load_prepared(path, opts).map(|(scene, _)| scene)
-}
-
-/// As [`load`], with the meshes' clusters when the mesh cache took part: a hit stores them
-/// and a miss builds them ([`super::clusters::prepare`], which reorders the indices) to write
-/// the entry; otherwise None, and the caller prepares the scene itself.
-pub fn load_prepared(
-    path: &Path,
-    opts: &LoadOptions,
-) -> Result<(Scene, Option<Vec<Option<super::clusters::Clusters>>>)> {
-    super::profile::begin(0);
-    let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
-    // Looked up whatever the size (a miss is one failed open): a small file with large
-    // images has an entry too.
-    let cached = opts.cache && opts.cacheable();
-    if cached {
-        if let Some((scene, clusters)) = super::cache::lookup(path, opts.textures) {
-            log::debug!("{}: loaded from the mesh cache", path.display());
-            super::profile::set_bytes(size);
-            super::profile::end(true);
-            return Ok((scene, Some(clusters)));
-        }
-    }
-    let mut content = None;
-    let mut scene = load_uncached(path, opts, &mut content)?;
-    // The entry holds everything a format gives (colours, both UV sets, tangents, lines,
-    // points, decoded textures), so every format is cached.
-    if !(cached && super::cache::worth_an_entry(size, &scene)) {
-        return Ok((scene, None));
-    }
-    let clusters = super::clusters::prepare(&mut scene);
-    super::cache::put(path, content.as_deref(), opts.textures, (&scene, &clusters));
-    Ok((scene, Some(clusters)))
-}
-
-/// [`load`] without the cache; `obj_bytes` receives a plain OBJ's bytes (for the entry's
-/// content hash: other formats are not hashed, so their entries never pass a verified hit).
-fn load_uncached(
-    path: &Path,
-    opts: &LoadOptions,
-    obj_bytes: &mut Option<Vec<u8>>,
-) -> Result<Scene> {
-    use super::formats::{self, Format};
-    let (format, gz) = formats::format_of(path);
-    let bytes = read_regular_file(path)?;
-    super::profile::set_bytes(bytes.len() as u64);
-    super::profile::mark(super::profile::Stage::Read);
-    if gz || format != Format::Obj {
-        return formats::load_model_bytes(path, &bytes, opts);
-    }
-    let scene = load_bytes(path, &bytes, opts)?;
-    *obj_bytes = Some(bytes);
-    Ok(scene)
-}
-
 /// Loads OBJ bytes as if they were the file `path` (MTL and textures are looked up beside it).
 pub fn load_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     load_bytes_with(path, bytes, opts, Parser::from_env())
@@ -195,26 +94,40 @@ pub fn load_embedded_with(
     load_with(path, obj, opts, &|_: &Path| Ok(mtl.to_vec()), parser)
 }
 
-fn load_with(
+/// What the OBJ parse gave: tobj's models and materials, the pre-pass's findings (lines,
+/// points, `usemtl` lines, smoothing groups), the warnings so far, each material's MTL lines
+/// and the MTL files read.
+struct Parsed {
+    models: Vec<tobj::Model>,
+    mats: Result<Vec<tobj::Material>, tobj::LoadError>,
+    repaired: repair::Repaired,
+    warnings: Vec<Warning>,
+    mtl_lines: std::collections::HashMap<String, (std::path::PathBuf, repair::MtlLines)>,
+    dependencies: Vec<std::path::PathBuf>,
+}
+
+/// Parses OBJ bytes: the fast parser where it can (it takes the MTL libraries as it meets
+/// them), else the repair pre-pass and tobj.
+fn parse(
     path: &Path,
+    dir: &Path,
     bytes: &[u8],
     opts: &LoadOptions,
     mtl_source: MtlSource,
     parser: Parser,
-) -> Result<Scene> {
+) -> Result<Parsed> {
     let total = bytes.len() as u64;
     let report = |done: u64| {
         if let Some(p) = &opts.progress {
             p(done, total)
         }
     };
-    let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let warnings = RefCell::new(Vec::new());
     let mtl_files = RefCell::new(Vec::new());
     let mtl_lines: MtlLineMap = RefCell::default();
     let mut mtl = |p: &Path| {
         mtl_files.borrow_mut().push(dir.join(p));
-        load_mtl(&dir, p, mtl_source, &warnings, &mtl_lines)
+        load_mtl(dir, p, mtl_source, &warnings, &mtl_lines)
     };
     let fast = match parser {
         Parser::Auto => super::fast::parse(bytes, None, &report, &mut mtl),
@@ -250,9 +163,32 @@ fn load_with(
         }
     };
     super::profile::mark(super::profile::Stage::Parse);
-    let mut warnings = warnings.into_inner();
-    let mtl_lines = mtl_lines.into_inner();
-    let mut dependencies = mtl_files.into_inner();
+    Ok(Parsed {
+        models,
+        mats,
+        repaired,
+        warnings: warnings.into_inner(),
+        mtl_lines: mtl_lines.into_inner(),
+        dependencies: mtl_files.into_inner(),
+    })
+}
+
+/// The OBJ's materials, each MTL material read once, its exporters' quirks handled and
+/// mapped into the one material model once; `usemtl` of undefined names warned about (once
+/// each); and last the default material (with `--texture`'s image where given), which meshes
+/// without a material use. Also the `--check` lines of their maps; their textures become
+/// dependencies.
+#[allow(clippy::too_many_arguments)]
+fn materials(
+    path: &Path,
+    dir: &Path,
+    mats: Result<Vec<tobj::Material>, tobj::LoadError>,
+    mtl_lines: &std::collections::HashMap<String, (std::path::PathBuf, repair::MtlLines)>,
+    usemtl: &[(usize, String)],
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+    dependencies: &mut Vec<std::path::PathBuf>,
+) -> (Vec<Material>, Vec<String>) {
     let tobj_mats = mats.unwrap_or_default();
     // Texture warnings name the material library that was read (tobj does not say which of
     // several libraries a material came from; then the first one is named).
@@ -263,27 +199,27 @@ fn load_with(
     // Each tobj material is read once (taken by value), its quirks handled, then mapped into
     // the PBR values once.
     let files = super::mtl::Files {
-        dir: &dir,
+        dir,
         mtl_file: &mtl_file,
         opts: opts.textures,
     };
     let read: Vec<super::mtl::Read> = tobj_mats
         .into_iter()
-        .map(|m| super::mtl::read(m, &files, &mut warnings))
+        .map(|m| super::mtl::read(m, &files, warnings))
         .collect();
     let mut maps = Vec::new();
     let mut materials: Vec<Material> = Vec::with_capacity(read.len() + 1);
     for mut r in read {
         let m = r.material_mut();
         let origin = mtl_lines.get(&m.name).map(|(f, l)| (f.as_path(), l));
-        quirks::fix_invisible(m, origin, opts.honor_transparency, &mut warnings);
-        quirks::fix_ns_zero(m, origin, &mut warnings);
+        quirks::fix_invisible(m, origin, opts.honor_transparency, warnings);
+        quirks::fix_ns_zero(m, origin, warnings);
         maps.extend(quirks::map_report(m, origin));
         materials.push(r.map());
     }
     super::profile::mark(super::profile::Stage::Textures);
     let mut reported = std::collections::HashSet::new();
-    for (line, name) in &repaired.usemtl {
+    for (line, name) in usemtl {
         if !materials.iter().any(|m| &m.name == name) && reported.insert(name.clone()) {
             warnings.push(Warning {
                 file: path.to_path_buf(),
@@ -292,7 +228,6 @@ fn load_with(
             });
         }
     }
-    let default_index = materials.len();
     let mut default = Material::default();
     if let Some(t) = &opts.texture {
         match super::texture_path::decode_texture(t.clone(), opts.textures) {
@@ -320,6 +255,166 @@ fn load_with(
             .iter()
             .filter_map(|m| m.base_color_texture.as_ref().map(|t| t.image.path.clone())),
     );
+    (materials, maps)
+}
+
+/// The file's lines and points (`l`, `p`) over the vertices they use (`used`, sorted),
+/// placed as the meshes are; their extent is added to `bounds`.
+fn wire_of(
+    repaired: &repair::Repaired,
+    used: &[u32],
+    rotated: &dyn Fn(&[f64]) -> DVec3,
+    origin: DVec3,
+    bounds: &mut Bounds,
+) -> Wire {
+    let mut wire = Wire::default();
+    if used.is_empty() {
+        return wire;
+    }
+    let mut local = std::collections::HashMap::new();
+    for &i in used {
+        local.insert(i, wire.positions.len() as u32);
+        let p = (rotated(&repaired.positions[i as usize]) - origin).as_vec3();
+        bounds.include(p);
+        wire.positions.push(p.into());
+    }
+    wire.segments = repaired
+        .segments
+        .iter()
+        .map(|s| s.map(|i| local[&i]))
+        .collect();
+    wire.points = repaired.points.iter().map(|i| local[i]).collect();
+    wire
+}
+
+/// One tobj model as a mesh: polygons triangulated (ear clipping where concave) with their
+/// smoothing groups (`groups`, per face in file order, counted by `face_no` across models),
+/// vertices rotated upright and re-centred on `origin` in f64, UVs flipped to the textures'
+/// top-first rows, normals finished. None when the model has no faces.
+fn mesh_of(
+    m: tobj::Model,
+    up: UpAxis,
+    origin: DVec3,
+    groups: Option<&[u32]>,
+    face_no: &mut usize,
+    default_index: usize,
+    creases: Creases,
+) -> Option<Mesh> {
+    let mesh = m.mesh;
+    let n = mesh.positions.len() / 3;
+    let rotated = |s: &[f64]| up.rotate(DVec3::new(s[0], s[1], s[2]));
+    let pos = |i: u32| rotated(&mesh.positions[i as usize * 3..i as usize * 3 + 3]);
+    let arities = if mesh.face_arities.is_empty() {
+        vec![3; mesh.indices.len() / 3]
+    } else {
+        mesh.face_arities.clone()
+    };
+    let mut indices = Vec::with_capacity(mesh.indices.len());
+    let mut tri_groups = Vec::new();
+    let mut k = 0;
+    for a in arities {
+        let face = &mesh.indices[k..k + a as usize];
+        k += a as usize;
+        let g = groups.map_or(0, |g| g[*face_no]);
+        *face_no += 1;
+        if face.len() == 3 {
+            indices.extend_from_slice(face);
+            tri_groups.push(g);
+        } else if face.len() > 3 {
+            let p: Vec<DVec3> = face.iter().map(|&i| pos(i)).collect();
+            for t in triangulate::polygon(&p) {
+                indices.extend(t.map(|c| face[c]));
+                tri_groups.push(g);
+            }
+        }
+    }
+    if indices.is_empty() {
+        return None;
+    }
+    let has_normals = mesh.normals.len() == n * 3;
+    let has_uv = mesh.texcoords.len() == n * 2;
+    let has_colors = mesh.vertex_color.len() == n * 3;
+    let vertices: Vec<Vertex> = (0..n)
+        .map(|i| {
+            let p = pos(i as u32) - origin;
+            let normal = if has_normals {
+                let s = up.rotate(DVec3::from_slice(&mesh.normals[i * 3..i * 3 + 3]));
+                [s.x as f32, s.y as f32, s.z as f32]
+            } else {
+                [0.0; 3]
+            };
+            // OBJ's v = 0 is the image's bottom row; textures are uploaded top row first.
+            // A non-finite coordinate would make the lookup undefined: 0 instead.
+            let finite = |x: f64| if x.is_finite() { x as f32 } else { 0.0 };
+            let uv = if has_uv {
+                [
+                    finite(mesh.texcoords[i * 2]),
+                    1.0 - finite(mesh.texcoords[i * 2 + 1]),
+                ]
+            } else {
+                [0.0; 2]
+            };
+            Vertex {
+                position: p.as_vec3().into(),
+                normal,
+                uv,
+            }
+        })
+        .collect();
+    let colors: Vec<[f32; 3]> = if has_colors {
+        mesh.vertex_color
+            .chunks_exact(3)
+            .map(|c| c.iter().map(|&x| x as f32).collect::<Vec<_>>())
+            .map(|c| [c[0], c[1], c[2]].map(|x| if x.is_finite() { x } else { 1.0 }))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let material = mesh
+        .material_id
+        .filter(|&i| i < default_index)
+        .unwrap_or(default_index);
+    let mut mesh = Mesh {
+        name: m.name,
+        vertices,
+        indices,
+        material,
+        has_uv,
+        generated_normals: 0,
+        colors,
+        ..Default::default()
+    };
+    mesh.finish_normals(has_normals, groups.map(|_| tri_groups.as_slice()), creases);
+    Some(mesh)
+}
+
+fn load_with(
+    path: &Path,
+    bytes: &[u8],
+    opts: &LoadOptions,
+    mtl_source: MtlSource,
+    parser: Parser,
+) -> Result<Scene> {
+    let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    let Parsed {
+        models,
+        mats,
+        repaired,
+        mut warnings,
+        mtl_lines,
+        mut dependencies,
+    } = parse(path, &dir, bytes, opts, mtl_source, parser)?;
+    let (materials, maps) = materials(
+        path,
+        &dir,
+        mats,
+        &mtl_lines,
+        &repaired.usemtl,
+        opts,
+        &mut warnings,
+        &mut dependencies,
+    );
+    let default_index = materials.len() - 1;
 
     let up = opts.up;
     let rotated = |s: &[f64]| up.rotate(DVec3::new(s[0], s[1], s[2]));
@@ -355,120 +450,28 @@ fn load_with(
         })
         .sum();
     let groups = (!repaired.face_groups.is_empty() && repaired.face_groups.len() == face_total)
-        .then_some(&repaired.face_groups);
+        .then_some(repaired.face_groups.as_slice());
     let mut face_no = 0usize;
     let mut meshes = Vec::with_capacity(models.len());
     let mut bounds = Bounds::empty();
     for m in models {
-        let mesh = m.mesh;
-        let n = mesh.positions.len() / 3;
-        let pos = |i: u32| rotated(&mesh.positions[i as usize * 3..i as usize * 3 + 3]);
-        let arities = if mesh.face_arities.is_empty() {
-            vec![3; mesh.indices.len() / 3]
-        } else {
-            mesh.face_arities.clone()
-        };
-        let mut indices = Vec::with_capacity(mesh.indices.len());
-        let mut tri_groups = Vec::new();
-        let mut k = 0;
-        for a in arities {
-            let face = &mesh.indices[k..k + a as usize];
-            k += a as usize;
-            let g = groups.map_or(0, |g| g[face_no]);
-            face_no += 1;
-            if face.len() == 3 {
-                indices.extend_from_slice(face);
-                tri_groups.push(g);
-            } else if face.len() > 3 {
-                let p: Vec<DVec3> = face.iter().map(|&i| pos(i)).collect();
-                for t in triangulate::polygon(&p) {
-                    indices.extend(t.map(|c| face[c]));
-                    tri_groups.push(g);
-                }
-            }
-        }
-        if indices.is_empty() {
-            continue;
-        }
-        let has_normals = mesh.normals.len() == n * 3;
-        let has_uv = mesh.texcoords.len() == n * 2;
-        let has_colors = mesh.vertex_color.len() == n * 3;
-        let vertices: Vec<Vertex> = (0..n)
-            .map(|i| {
-                let p = pos(i as u32) - origin;
-                let normal = if has_normals {
-                    let s = up.rotate(DVec3::from_slice(&mesh.normals[i * 3..i * 3 + 3]));
-                    [s.x as f32, s.y as f32, s.z as f32]
-                } else {
-                    [0.0; 3]
-                };
-                // OBJ's v = 0 is the image's bottom row; textures are uploaded top row first.
-                // A non-finite coordinate would make the lookup undefined: 0 instead.
-                let finite = |x: f64| if x.is_finite() { x as f32 } else { 0.0 };
-                let uv = if has_uv {
-                    [
-                        finite(mesh.texcoords[i * 2]),
-                        1.0 - finite(mesh.texcoords[i * 2 + 1]),
-                    ]
-                } else {
-                    [0.0; 2]
-                };
-                Vertex {
-                    position: p.as_vec3().into(),
-                    normal,
-                    uv,
-                }
-            })
-            .collect();
-        let colors: Vec<[f32; 3]> = if has_colors {
-            mesh.vertex_color
-                .chunks_exact(3)
-                .map(|c| c.iter().map(|&x| x as f32).collect::<Vec<_>>())
-                .map(|c| [c[0], c[1], c[2]].map(|x| if x.is_finite() { x } else { 1.0 }))
-                .collect()
-        } else {
-            Vec::new()
-        };
-        let material = mesh
-            .material_id
-            .filter(|&i| i < default_index)
-            .unwrap_or(default_index);
-        let mut mesh = Mesh {
-            name: m.name,
-            vertices,
-            indices,
-            material,
-            has_uv,
-            generated_normals: 0,
-            colors,
-            ..Default::default()
-        };
-        mesh.finish_normals(
-            has_normals,
-            groups.map(|_| tri_groups.as_slice()),
+        let Some(mesh) = mesh_of(
+            m,
+            up,
+            origin,
+            groups,
+            &mut face_no,
+            default_index,
             opts.creases,
-        );
+        ) else {
+            continue;
+        };
         for v in &mesh.vertices {
             bounds.include(v.position.into());
         }
         meshes.push(mesh);
     }
-    let mut wire = Wire::default();
-    if !wire_used.is_empty() {
-        let mut local = std::collections::HashMap::new();
-        for &i in &wire_used {
-            local.insert(i, wire.positions.len() as u32);
-            let p = (rotated(&repaired.positions[i as usize]) - origin).as_vec3();
-            bounds.include(p);
-            wire.positions.push(p.into());
-        }
-        wire.segments = repaired
-            .segments
-            .iter()
-            .map(|s| s.map(|i| local[&i]))
-            .collect();
-        wire.points = repaired.points.iter().map(|i| local[i]).collect();
-    }
+    let wire = wire_of(&repaired, &wire_used, &rotated, origin, &mut bounds);
     super::profile::mark(super::profile::Stage::Meshes);
     super::finish::finish(path, &mut meshes, &materials, &mut warnings);
     if meshes.is_empty() && wire.is_empty() {

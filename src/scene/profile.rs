@@ -176,7 +176,7 @@ pub fn take_last() -> Option<LoadProfile> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::obj::{load, LoadOptions};
+    use crate::scene::{load, LoadOptions};
 
     #[test]
     fn a_load_records_every_stage_and_they_add_up() {

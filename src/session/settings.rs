@@ -13,8 +13,8 @@ use crate::pbr::precompute::IblSettings;
 use crate::pbr::{EnvRequest, EnvSource, OutputParams, PbrParams};
 use crate::scene::clusters::Clusters;
 use crate::scene::material::TextureOptions;
-use crate::scene::obj::{self, LoadOptions};
 use crate::scene::Scene;
+use crate::scene::{obj, LoadOptions, ProgressFn};
 use crate::shading::LightingParams;
 use glam::Vec3;
 use std::path::Path;
@@ -35,7 +35,7 @@ pub fn load_scene_with(args: &Options, print_warnings: bool) -> Result<Scene> {
 }
 
 /// As [`load_scene`], with the meshes' clusters when the mesh cache had or built them
-/// ([`obj::load_prepared`]).
+/// ([`crate::scene::load_prepared`]).
 pub fn load_scene_prepared(args: &Options) -> Result<(Scene, Option<Vec<Option<Clusters>>>)> {
     load_scene_prepared_with(args, true)
 }
@@ -69,10 +69,10 @@ fn load_scene_prepared_with(
         .map(std::sync::Arc::from);
     let progress = bar
         .clone()
-        .map(|b| std::sync::Arc::new(move |done: u64, _total: u64| b.set(done)) as obj::ProgressFn);
+        .map(|b| std::sync::Arc::new(move |done: u64, _total: u64| b.set(done)) as ProgressFn);
     let opts = load_options(args, progress);
     let scene = match &args.load.model {
-        Some(path) => obj::load_prepared(path, &opts),
+        Some(path) => crate::scene::load_prepared(path, &opts),
         None => obj::load_embedded(
             Path::new("glass_holder.obj"),
             BUILTIN_OBJ.as_bytes(),
@@ -123,7 +123,7 @@ pub(crate) fn adjust_scene(args: &Options, s: &mut crate::scene::Scene) -> Resul
 }
 
 /// What the options ask of the loader (the mesh cache's bound is set here too).
-pub fn load_options(args: &Options, progress: Option<obj::ProgressFn>) -> LoadOptions {
+pub fn load_options(args: &Options, progress: Option<ProgressFn>) -> LoadOptions {
     crate::scene::cache::set_max_bytes(args.load.cache_size.0);
     // A hit trusts size, time and inode; this also compares the model's content hash.
     crate::scene::cache::set_verify(

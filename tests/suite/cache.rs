@@ -3,7 +3,7 @@
 use crate::common;
 use glview::scene::cache;
 use glview::scene::material::TextureOptions;
-use glview::scene::obj::{load, LoadOptions};
+use glview::scene::{load, LoadOptions};
 use std::time::{Duration, SystemTime};
 
 #[test]

@@ -3,8 +3,8 @@
 //! deliberately differs from tobj or tinyobjloader, the test says so.
 use crate::common;
 use common::shared;
-use glview::scene::obj::{load, LoadOptions};
 use glview::scene::Scene;
+use glview::scene::{load, LoadOptions};
 use std::path::{Path, PathBuf};
 
 fn tiny(name: &str) -> PathBuf {

@@ -263,7 +263,7 @@ fn scanned_models_report_the_open_corners_they_have() {
             .nth(1)
             .and_then(|r| r.split(' ').next()?.parse().ok())
             .unwrap_or_else(|| panic!("{rel}: no open-edge reason in --check:\n{out}"));
-        let scene = glview::scene::obj::load(&path, &Default::default()).unwrap();
+        let scene = glview::scene::load(&path, &Default::default()).unwrap();
         let mut exact = 0;
         for m in &scene.meshes {
             let mut id: HashMap<[u32; 3], u32> = HashMap::new();

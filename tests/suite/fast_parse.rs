@@ -4,8 +4,8 @@
 //! files are also parsed in chunks of a few dozen bytes so that relative indices cross chunks.
 use crate::common::shared;
 use glview::scene::fast::Parser;
-use glview::scene::obj::{load_bytes_with, LoadOptions};
 use glview::scene::profile;
+use glview::scene::{obj::load_bytes_with, LoadOptions};
 use std::path::{Path, PathBuf};
 
 /// Loads with `parser`; the Scene as Debug text (exact floats) or the error, and whether the

@@ -3,7 +3,7 @@
 //! the plain file; an unknown required extension is named.
 use crate::common::*;
 use crate::gltf_materials::b64;
-use glview::scene::obj::{load, LoadOptions};
+use glview::scene::{load, LoadOptions};
 
 #[test]
 fn meshopt_compressed_views_decode_to_the_plain_geometry() {

@@ -5,8 +5,8 @@
 //! mirroring node.
 use crate::common::*;
 use glview::scene::material::AlphaMode;
-use glview::scene::obj::{load, LoadOptions};
 use glview::scene::texture_slot::{ColorSpace, Filter, Slot, Wrap};
+use glview::scene::{load, LoadOptions};
 use std::path::PathBuf;
 
 pub fn b64(data: &[u8]) -> String {

@@ -4,7 +4,7 @@ use crate::common;
 use common::{box_obj, out_dir, run, shared};
 use glam::{DVec3, Vec3};
 use glview::scene::normals::Creases;
-use glview::scene::obj::{load, LoadOptions};
+use glview::scene::{load, LoadOptions};
 use glview::scene::{Scene, UpAxis};
 use std::f64::consts::TAU;
 use std::path::PathBuf;

@@ -3,7 +3,7 @@
 //! big-endian PLY with extra properties, `vertex_index`, comments and `obj_info`, and a glTF
 //! hierarchy 10,000 nodes deep.
 use crate::common::*;
-use glview::scene::obj::{load, LoadOptions};
+use glview::scene::{load, LoadOptions};
 use std::path::PathBuf;
 
 /// Triangle (0,0,0) (1,0,0) (0,1,0) and (1,0,0) (1,1,0) (0,1,0): the unit square.

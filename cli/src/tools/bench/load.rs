@@ -8,7 +8,7 @@ use super::{ensure_dir, f3d, median, sphere};
 use glview::headless::Headless;
 use glview::platform::{Backend, GlRequest};
 use glview::render::Renderer;
-use glview::scene::obj;
+use glview::scene;
 use glview::{Error, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -223,17 +223,17 @@ fn measure_file(
     let bytes = std::fs::metadata(file)
         .map_err(|e| Error::io(file, e))?
         .len();
-    let opts = obj::LoadOptions::default();
-    let scene = obj::load(file, &opts)?;
+    let opts = scene::LoadOptions::default();
+    let scene = scene::load(file, &opts)?;
     let triangles = scene.triangle_count();
-    let parse_ms = time_ms(runs, || obj::load(file, &opts))?;
+    let parse_ms = time_ms(runs, || scene::load(file, &opts))?;
     let warm_load_ms = if bytes >= glview::scene::cache::MIN_SIZE {
-        let cached = obj::LoadOptions {
+        let cached = scene::LoadOptions {
             cache: true,
             ..Default::default()
         };
-        obj::load(file, &cached)?;
-        Some(time_ms(runs, || obj::load(file, &cached))?)
+        scene::load(file, &cached)?;
+        Some(time_ms(runs, || scene::load(file, &cached))?)
     } else {
         None
     };

@@ -103,7 +103,7 @@ mod tests {
     fn small_sphere_loads_with_outward_faces() {
         let dir = std::env::temp_dir().join(format!("glview-sphere-{}", std::process::id()));
         let path = ensure(&dir, 200).unwrap();
-        let scene = glview::scene::obj::load(&path, &Default::default()).unwrap();
+        let scene = glview::scene::load(&path, &Default::default()).unwrap();
         let (r, s) = grid(200);
         assert_eq!(scene.triangle_count() as u64, triangle_count(r, s));
         for m in &scene.meshes {

@@ -1,0 +1,131 @@
+//! The one router from a model file to a [`Scene`]: the mesh cache first, then the loader
+//! of the file's format (by its name: OBJ, STL, PLY, glTF, the first three optionally
+//! gzipped). Each format's loader sits beside the others (`obj`, `formats` for STL and PLY,
+//! `gltf`) and none dispatches to another; what every loader is asked is [`LoadOptions`].
+use super::formats::{self, format_of, Format, MAX_STREAM};
+use super::material::TextureOptions;
+use super::normals::Creases;
+use super::{Scene, UpAxis};
+use crate::error::{Error, Result};
+use std::io::Read;
+use std::path::Path;
+
+/// Called with (bytes scanned, total bytes) while a file is read.
+pub type ProgressFn = std::sync::Arc<dyn Fn(u64, u64) + Send + Sync>;
+
+#[derive(Clone, Default)]
+pub struct LoadOptions {
+    pub textures: TextureOptions,
+    pub progress: Option<ProgressFn>,
+    /// Use the mesh cache (`scene::cache`) for large files.
+    pub cache: bool,
+    /// Keep fully transparent materials (`d 0`, `Tr 1`) invisible instead of opaque.
+    pub honor_transparency: bool,
+    /// How generated normals treat sharp edges (`--crease`, `--flat`).
+    pub creases: Creases,
+    /// Which file axis is up (`--up`).
+    pub up: UpAxis,
+    /// A base-colour texture for meshes without a material of their own (`--texture`).
+    pub texture: Option<std::path::PathBuf>,
+}
+
+impl LoadOptions {
+    /// Whether these options give the scene the mesh cache stores (it keys on the file only).
+    pub(crate) fn cacheable(&self) -> bool {
+        !self.honor_transparency
+            && self.creases == Creases::default()
+            && self.up == UpAxis::PosY
+            && self.texture.is_none()
+    }
+}
+
+/// Reads a file, refusing what is not a regular file (directories, devices, FIFOs would hang).
+pub fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.is_dir() {
+        return Err(Error::model(path, None, "is a directory, not an OBJ file"));
+    }
+    if !meta.is_file() {
+        return Err(Error::model(path, None, "is not a regular file"));
+    }
+    std::fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+/// Loads a model file: OBJ (with its MTL libraries and diffuse textures), STL, PLY or glTF,
+/// the first three optionally gzipped (`.gz`); the format comes from the file name. Large
+/// files of every format go through the mesh cache, whose hit reads only the entry. Large
+/// meshes come back reordered when the cache took part (see [`load_prepared`]).
+pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
+    load_prepared(path, opts).map(|(scene, _)| scene)
+}
+
+/// As [`load`], with the meshes' clusters when the mesh cache took part: a hit stores them
+/// and a miss builds them ([`super::clusters::prepare`], which reorders the indices) to write
+/// the entry; otherwise None, and the caller prepares the scene itself.
+pub fn load_prepared(
+    path: &Path,
+    opts: &LoadOptions,
+) -> Result<(Scene, Option<Vec<Option<super::clusters::Clusters>>>)> {
+    super::profile::begin(0);
+    let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    // Looked up whatever the size (a miss is one failed open): a small file with large
+    // images has an entry too.
+    let cached = opts.cache && opts.cacheable();
+    if cached {
+        if let Some((scene, clusters)) = super::cache::lookup(path, opts.textures) {
+            log::debug!("{}: loaded from the mesh cache", path.display());
+            super::profile::set_bytes(size);
+            super::profile::end(true);
+            return Ok((scene, Some(clusters)));
+        }
+    }
+    let mut content = None;
+    let mut scene = load_uncached(path, opts, &mut content)?;
+    // The entry holds everything a format gives (colours, both UV sets, tangents, lines,
+    // points, decoded textures), so every format is cached.
+    if !(cached && super::cache::worth_an_entry(size, &scene)) {
+        return Ok((scene, None));
+    }
+    let clusters = super::clusters::prepare(&mut scene);
+    super::cache::put(path, content.as_deref(), opts.textures, (&scene, &clusters));
+    Ok((scene, Some(clusters)))
+}
+
+/// [`load`] without the cache; `obj_bytes` receives a plain OBJ's bytes (for the entry's
+/// content hash: other formats are not hashed, so their entries never pass a verified hit).
+fn load_uncached(
+    path: &Path,
+    opts: &LoadOptions,
+    obj_bytes: &mut Option<Vec<u8>>,
+) -> Result<Scene> {
+    let (format, gz) = formats::format_of(path);
+    let bytes = read_regular_file(path)?;
+    super::profile::set_bytes(bytes.len() as u64);
+    super::profile::mark(super::profile::Stage::Read);
+    if gz || format != Format::Obj {
+        return load_bytes(path, &bytes, opts);
+    }
+    let scene = super::obj::load_bytes(path, &bytes, opts)?;
+    *obj_bytes = Some(bytes);
+    Ok(scene)
+}
+
+/// Loads model bytes as if they were the file `path`: the format from its name, gzipped
+/// when it ends in `.gz` (the fuzz targets and [`load`] come through here).
+pub fn load_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
+    let (format, gz) = format_of(path);
+    // Streams stop at MAX_STREAM inflated bytes: more than the element limits need, and it
+    // bounds the time a bomb of text the parsers skip (STL junk tokens) can take.
+    let gz_reader =
+        || std::io::BufReader::new(flate2::read::GzDecoder::new(bytes).take(MAX_STREAM));
+    match (format, gz) {
+        (Format::Gltf, false) => super::gltf::load_gltf_bytes(path, bytes, opts),
+        (Format::Gltf, true) => Err(Error::model(path, None, "gzipped glTF is not supported")),
+        (Format::Stl, false) => formats::load_stl(path, bytes, Some(bytes.len() as u64), opts),
+        (Format::Stl, true) => formats::load_stl(path, gz_reader(), None, opts),
+        (Format::Ply, false) => formats::load_ply(path, bytes, Some(bytes.len() as u64), opts),
+        (Format::Ply, true) => formats::load_ply(path, gz_reader(), None, opts),
+        (Format::Obj, false) => super::obj::load_bytes(path, bytes, opts),
+        (Format::Obj, true) => super::obj::load_bytes(path, &formats::gunzip(path, bytes)?, opts),
+    }
+}
