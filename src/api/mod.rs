@@ -40,6 +40,22 @@ impl Model {
 
     /// Loads a model file with the loading options of `opts` (`up`, `crease`, `flat`,
     /// `texture`, `honor-transparency`, the mesh cache, ...); its warnings are logged.
+    ///
+    /// ```
+    /// use glview::api::{Model, Outputs, Renderer};
+    /// let model = Model::load("models/sphere.obj".as_ref(), &glview::Options::default())?;
+    /// assert!(model.scene().triangle_count() > 0);
+    /// let mut o = glview::Options::default();
+    /// o.picture.size = (64, 48);
+    /// let mut r = Renderer::new(o.clone())?;
+    /// r.load(model);
+    /// for yaw in [0.0, 90.0] {
+    ///     o.camera.yaw = yaw; // the same scene: uploaded once
+    ///     let frame = r.render(&o, Outputs::default())?;
+    ///     assert_eq!((frame.color.width, frame.color.height), (64, 48));
+    /// }
+    /// # Ok::<(), glview::Error>(())
+    /// ```
     pub fn load(path: &Path, opts: &Options) -> Result<Model> {
         let mut o = opts.clone();
         o.load.model = Some(path.to_path_buf());
@@ -310,6 +326,17 @@ static SHARED: Mutex<Option<Renderer>> = Mutex::new(None);
 /// the options that make the scene stay the same. A call made while another thread's call
 /// draws on it does not wait: it draws in a temporary renderer of its own, made and closed
 /// for that picture (slower, as every call was before the renderer was shared).
+///
+/// ```
+/// let mut o = glview::Options::default(); // the built-in scene
+/// o.picture.size = (64, 48);
+/// let frame = glview::api::render(&o, glview::api::Outputs { depth: true, ..Default::default() })?;
+/// let depth = &frame.attributes.as_ref().expect("asked for").depth;
+/// assert!(depth.iter().any(|d| d.is_finite()));
+/// std::fs::write(std::env::temp_dir().join("glview-doc.png"), frame.png()).unwrap();
+/// glview::api::release();
+/// # Ok::<(), glview::Error>(())
+/// ```
 pub fn render(opts: &Options, outputs: Outputs) -> Result<Frame> {
     let mut shared = match SHARED.try_lock() {
         Ok(g) => g,

@@ -1,7 +1,7 @@
 //! Pass "lit" (legacy tier): every mesh with the Phong (or Gouraud) program matching its
 //! features; opaque meshes first, then translucent ones back to front with blending (each
 //! drawn back faces first, then front faces, so a glass shows its far wall behind its near
-//! wall). The skeleton is the one both tiers share ([`super::tier`]); the helpers here (view
+//! wall). The skeleton is the one both tiers share (`super::tier`); the helpers here (view
 //! set-up, light and shadow uniforms, draw order) are shared with the PBR pass.
 use super::frusta::ShadowProjection;
 use super::tier::{MeshDraw, Prepared};

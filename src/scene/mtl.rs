@@ -63,27 +63,43 @@ pub struct Files<'a> {
 pub fn read(m: tobj::Material, files: &Files, warnings: &mut Vec<Warning>) -> Read {
     #[cfg(test)]
     READS.with(|r| r.set(r.get() + 1));
-    // Keys match in any case, but tobj keeps them in a HashMap whose order changes from one
-    // load to the next: with two spellings in one material (`map_Pm` and `map_pm`), the first
-    // match made the same file load differently each time (found by the fuzz target's
-    // differential check). The exact spelling wins, then the smallest of the others.
-    let param = |k: &str| {
-        m.unknown_param
-            .get(k)
-            .or_else(|| {
-                m.unknown_param
-                    .iter()
-                    .filter(|(key, _)| key.eq_ignore_ascii_case(k))
-                    .min_by(|a, b| a.0.cmp(b.0))
-                    .map(|(_, v)| v)
-            })
-            .map(|v| v.trim().to_string())
-    };
-    let number = |k: &str| {
-        param(k)
-            .and_then(|v| v.split_whitespace().next()?.parse::<f32>().ok())
-            .filter(|x| x.is_finite())
-    };
+    let mut out = values(&m);
+    let (pm, pr) = (number(&m, "Pm"), number(&m, "Pr"));
+    read_maps(&m, files, &mut out, warnings);
+    Read {
+        material: out,
+        pm,
+        pr,
+    }
+}
+
+/// A statement's value by key. Keys match in any case, but tobj keeps them in a HashMap
+/// whose order changes from one load to the next: with two spellings in one material
+/// (`map_Pm` and `map_pm`), the first match made the same file load differently each time
+/// (found by the fuzz target's differential check). The exact spelling wins, then the
+/// smallest of the others.
+fn param(m: &tobj::Material, k: &str) -> Option<String> {
+    m.unknown_param
+        .get(k)
+        .or_else(|| {
+            m.unknown_param
+                .iter()
+                .filter(|(key, _)| key.eq_ignore_ascii_case(k))
+                .min_by(|a, b| a.0.cmp(b.0))
+                .map(|(_, v)| v)
+        })
+        .map(|v| v.trim().to_string())
+}
+
+/// A statement's first number, if finite.
+fn number(m: &tobj::Material, k: &str) -> Option<f32> {
+    param(m, k)
+        .and_then(|v| v.split_whitespace().next()?.parse::<f32>().ok())
+        .filter(|x| x.is_finite())
+}
+
+/// The material's values (colours, shininess, illum, opacity, emissive), no maps.
+fn values(m: &tobj::Material) -> Material {
     // `d`, else `1 - Tr` (that exact spelling), clamped to [0, 1].
     let opacity = m
         .dissolve
@@ -110,14 +126,21 @@ pub fn read(m: tobj::Material, files: &Files, warnings: &mut Vec<Warning>) -> Re
         illum: m.illumination_model,
         mapped: true,
     };
-    let mut out = Material {
+    Material {
         name: m.name.clone(),
         emissive: to_rgb(m.emissive, [0.0; 3]),
         opacity: translucency(opacity, AlphaMode::Opaque),
         phong: Some(phong),
         ..Material::gltf_default()
-    };
-    let (pm, pr) = (number("Pm"), number("Pr"));
+    }
+}
+
+/// The material's maps: `map_Kd` as the base colour (its colours stay where it fails), and
+/// metallic, roughness, occlusion, emissive and normal maps (`norm`, else a `map_Bump` that
+/// looks like one). A failure is warned about and noted as it happens; the loaded maps are
+/// noted for `--check` after all of them, in this order.
+fn read_maps(m: &tobj::Material, files: &Files, out: &mut Material, warnings: &mut Vec<Warning>) {
+    let param = |k: &str| param(m, k);
     let load = |spec: &str| load_texture(spec, files.dir, files.opts).map(Arc::new);
     let warn = |warnings: &mut Vec<Warning>, message: String| {
         warnings.push(Warning {
@@ -140,8 +163,6 @@ pub fn read(m: tobj::Material, files: &Files, warnings: &mut Vec<Warning>) -> Re
             ),
         }
     }
-    // The other maps: a failure is noted (and warned about) as it happens, the loaded ones
-    // after all of them, in this order.
     let mut loaded = Vec::new();
     let mut map = |key: &str, spec: Option<String>, warnings: &mut Vec<Warning>| {
         let spec = spec?;
@@ -207,11 +228,6 @@ pub fn read(m: tobj::Material, files: &Files, warnings: &mut Vec<Warning>) -> Re
             .into_iter()
             .map(|(k, s, w)| (k.to_string(), s, w.to_string())),
     );
-    Read {
-        material: out,
-        pm,
-        pr,
-    }
 }
 
 /// A normal map is mostly "up" in tangent space: blue high, red and green near one half. A

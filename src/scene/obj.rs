@@ -1,4 +1,4 @@
-//! OBJ/MTL bytes → [`Scene`] (files reach it through [`super::load`]): tobj does the parsing (after [`super::repair`]); positions are read as
+//! OBJ/MTL bytes → [`Scene`] (files reach it through [`super::load()`]): tobj does the parsing (after [`super::repair`]); positions are read as
 //! f64 and re-centred on the bounding-box centre before they are rounded to f32.
 use super::fast::Parser;
 use super::load::{read_regular_file, LoadOptions};
