@@ -48,4 +48,7 @@ step test cargo test --workspace --no-fail-fast 2>&1
 # The library's docs build without a warning (broken links, bad code blocks); its examples
 # ran as doctests above.
 RUSTDOCFLAGS="-D warnings" step doc cargo doc --no-deps -p glview --quiet
+# The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells
+# equal, different and failed renders apart.
+step "pictures checker self-test" bash scripts/pictures_unchanged.sh --self-test --after-bin target/debug/glview
 step python bash scripts/test_python.sh

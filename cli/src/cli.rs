@@ -82,6 +82,7 @@ fn arg_of(s: &'static OptionSpec) -> Arg {
         .unwrap_or_default();
     let mut a = Arg::new(s.name)
         .long(s.name)
+        .value_name(s.name.to_uppercase().replace('-', "_"))
         .help(format!("{}{default}", s.summary()))
         .long_help(format!("{}{default}", s.doc.trim_end()));
     a = match s.form {

@@ -8,7 +8,8 @@
 Options are the command line's options as keyword arguments (``--no-shadows`` is
 ``no_shadows=True``, ``--light dir:0,-1,0 --light head`` is ``light=["dir:0,-1,0", "head"]``,
 ``--size 640x480`` is ``size=(640, 480)``, colours are tuples); they are checked by the same
-parsers as the command line and a bad one raises :class:`OptionError` with its message.
+specs as the command line (the list: docs/options.md) and a bad one raises
+:class:`OptionError` naming the keyword and the value (``yaw: expected a number, got 'north'``).
 """
 from __future__ import annotations
 
