@@ -85,3 +85,100 @@ fn png_text_command_rerenders_the_same_picture() {
         "the fitted height is written out: {c}"
     );
 }
+
+/// `glview --repro PICTURE.png` draws the picture again from its `glview.options` JSON alone
+/// (the camera as it was after keys moved it, the size, the state keys), pixel for pixel;
+/// a PNG without it is refused with a one-line error naming the file.
+#[test]
+fn repro_draws_the_picture_again_from_its_options() {
+    let dir = out_dir("repro-json");
+    for (name, args) in [
+        (
+            "legacy",
+            &[
+                "--size",
+                "96x72",
+                "--light",
+                "point:2,3,1",
+                "--light",
+                "head",
+                "--pcf",
+                "4",
+                "--keys",
+                "Left Up S",
+                "--background",
+                "0.3,0.1,0.1",
+            ][..],
+        ),
+        (
+            "pbr",
+            &[
+                "--size",
+                "80x60",
+                "--shading",
+                "pbr",
+                "--metallic",
+                "0.8",
+                "--roughness",
+                "0.3",
+                "--ortho",
+                "--terms",
+                "ibl-diffuse,ibl-specular",
+            ],
+        ),
+    ] {
+        let first = render(&dir, name, args, &[]);
+        let png = dir.join(format!("{name}.png"));
+        let json = png_text(&png)
+            .unwrap()
+            .into_iter()
+            .find(|(k, _)| k == "glview.options")
+            .expect("glview.options in the PNG text")
+            .1;
+        let opts = glview::Options::from_json(&json).expect("the JSON is valid options");
+        assert_eq!(opts.picture.size, first_size(&first), "{json}");
+        let again = dir.join(format!("{name}-repro.png"));
+        let o = run(
+            &[
+                "--repro",
+                png.to_str().unwrap(),
+                "-o",
+                again.to_str().unwrap(),
+            ],
+            &[],
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_close(
+            &dir,
+            &format!("{name}-repro"),
+            &first,
+            &Rgba::load_png(&again).unwrap(),
+            0,
+            0,
+            0,
+        );
+    }
+    // A picture without glview.options (a comparison sheet's, or another program's).
+    let plain = dir.join("plain.png");
+    Rgba {
+        width: 2,
+        height: 2,
+        data: vec![0; 16],
+    }
+    .save_png(&plain, &[])
+    .unwrap();
+    let o = run(
+        &["--repro", plain.to_str().unwrap(), "-o", "/tmp/never.png"],
+        &[],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("plain.png") && err.contains("glview.options"),
+        "{err}"
+    );
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+}
+
+fn first_size(img: &Rgba) -> (u32, u32) {
+    (img.width, img.height)
+}
