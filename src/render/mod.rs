@@ -14,6 +14,7 @@ pub mod ibl_gpu;
 pub mod lit;
 pub mod overlay;
 pub mod pbr;
+mod plan;
 pub mod post;
 pub mod programs;
 pub mod shadow;
@@ -334,50 +335,9 @@ impl Renderer {
         }
         {
             let mut programs = self.programs.borrow_mut();
-            let post = s.lighting.post;
-            let copy = post::copy_path(&self.gpu);
-            // `--show bloom` shows the bloom buffer whether or not a strength was given.
-            let mut bloom_on = post.bloom.strength > 0.0 || post.show_bloom;
-            if copy && bloom_on {
-                // RGBM takes the alpha channel: no coverage to keep; glass blends in its shader
-                // over a copy of the frame, on a unit of its own.
-                let glass = self.scene.meshes.iter().any(|m| m.translucent);
-                let why = if self.gpu.framebuffer_samples(target.fbo) > 0 {
-                    Some("the target is multisampled (--aa msaa), which glCopyTexSubImage2D cannot read: use --aa ssaa")
-                } else if post.transparent {
-                    Some("--transparent: the 8-bit frame's alpha would hold the RGBM multiplier")
-                } else if glass && self.gpu.caps.max_texture_units <= translucent::BEHIND_UNIT {
-                    Some("no texture unit is left for the copy translucent surfaces blend over")
-                } else {
-                    None
-                };
-                if why.is_none()
-                    && glass
-                    && s.lighting.translucency.mode != crate::frame::TranslucencyMode::Nearest
-                {
-                    stats.pass_log.push(
-                        "translucent: RGBM frame: each blended draw blends in the shader over a copy of the frame; where one draw overlaps itself (a cup's walls) only its last layer shows".into(),
-                    );
-                }
-                if let Some(why) = why {
-                    stats.pass_log.push(format!(
-                        "bloom: skipped (no float render targets here, and {why}; drawn without bloom)"
-                    ));
-                    bloom_on = false;
-                }
-            }
-            if post.linear_out && copy {
-                return Err(crate::Error::Unsupported(format!(
-                    "float linear colour needs float render targets (GL 3.0, ES 3.0 with \
-                     EXT_color_buffer_float); {} has none",
-                    self.gpu.caps.version
-                )));
-            }
-            let any_post = (bloom_on || post.fxaa) && !post.linear_out;
-            let offscreen = (any_post || post.linear_out) && !copy;
-            let rgbm = copy && bloom_on;
+            let plan = plan::FramePlan::new(&self.gpu, &self.scene, s, target, &mut stats)?;
             let (w, h) = (viewport[2], viewport[3]);
-            let hdr = if offscreen {
+            let hdr = if plan.offscreen {
                 Target {
                     fbo: Some(post::frame_target(&mut self.res.post, &self.gpu, w, h)?),
                     width: w,
@@ -393,43 +353,31 @@ impl Renderer {
                 res: &mut self.res,
                 settings: s,
                 target: &hdr,
-                viewport: if offscreen { [0, 0, w, h] } else { viewport },
+                viewport: if plan.offscreen {
+                    [0, 0, w, h]
+                } else {
+                    viewport
+                },
                 stats: &mut stats,
-                linear: offscreen || rgbm,
-                rgbm,
+                linear: plan.offscreen || plan.rgbm,
+                rgbm: plan.rgbm,
                 rgbm_blend: 0.0,
                 cull: None,
                 cull_clusters: self.cull_clusters,
                 ranges: Vec::new(),
             };
-            for pass in PASSES {
-                match pass.run(&mut cx)? {
-                    Outcome::Ran(entry) => {
-                        cx.stats.pass_log.push(format!("{}: ran", pass.name()));
-                        cx.stats.passes.push(entry);
-                    }
-                    Outcome::Skipped(why) => cx
-                        .stats
-                        .pass_log
-                        .push(format!("{}: skipped ({why})", pass.name())),
-                }
-            }
-            if any_post {
-                let mut laps = post::Laps::start(cx.gpu, self.time_post);
-                cx.target = target;
-                cx.viewport = viewport;
-                cx.linear = false;
-                cx.rgbm = false;
-                let entry = post::run(&mut cx, bloom_on, &mut laps)?;
-                cx.stats.passes.push(entry);
-                cx.stats.pass_log.push(if copy {
-                    "post: ran (copy-to-texture path: no framebuffer objects with float render targets)".into()
-                } else {
-                    "post: ran".into()
-                });
-                cx.stats.post = laps.steps;
+            run_passes(&mut cx)?;
+            if plan.any_post {
+                run_post(&mut cx, &plan, target, viewport, self.time_post)?;
             }
         }
+        self.finish_frame(start, &mut stats)?;
+        Ok(stats)
+    }
+
+    /// Ends the frame: checks for GL errors (debug builds), stops the timer query, waits
+    /// for the GPU (glFinish) and records the frame's wall and GPU times in `stats`.
+    fn finish_frame(&self, start: Instant, stats: &mut FrameStats) -> Result<()> {
         if cfg!(debug_assertions) {
             self.gpu.check_error("frame")?;
         }
@@ -445,7 +393,7 @@ impl Renderer {
             .as_ref()
             .map(|t| t.result_ns() as f64 / 1e6)
             .filter(|&g| g <= stats.ms + 1.0);
-        Ok(stats)
+        Ok(())
     }
 
     /// The last frame drawn with `post.linear_out`: its linear, unclamped colour, RGB per
@@ -463,4 +411,46 @@ impl Renderer {
     pub fn invalidate_shadows(&mut self) {
         self.res.shadow.invalidate();
     }
+}
+
+/// Runs every pass of [`PASSES`] in order, logging what each did or why it did not.
+fn run_passes(cx: &mut FrameCx) -> Result<()> {
+    for pass in PASSES {
+        match pass.run(cx)? {
+            Outcome::Ran(entry) => {
+                cx.stats.pass_log.push(format!("{}: ran", pass.name()));
+                cx.stats.passes.push(entry);
+            }
+            Outcome::Skipped(why) => cx
+                .stats
+                .pass_log
+                .push(format!("{}: skipped ({why})", pass.name())),
+        }
+    }
+    Ok(())
+}
+
+/// The post steps (bloom, FXAA) from the offscreen or RGBM frame into the caller's
+/// `target` and `viewport`, which the frame context now points at (display colour).
+fn run_post<'a>(
+    cx: &mut FrameCx<'a>,
+    plan: &plan::FramePlan,
+    target: &'a Target,
+    viewport: [u32; 4],
+    time_post: bool,
+) -> Result<()> {
+    let mut laps = post::Laps::start(cx.gpu, time_post);
+    cx.target = target;
+    cx.viewport = viewport;
+    cx.linear = false;
+    cx.rgbm = false;
+    let entry = post::run(cx, plan.bloom, &mut laps)?;
+    cx.stats.passes.push(entry);
+    cx.stats.pass_log.push(if plan.copy {
+        "post: ran (copy-to-texture path: no framebuffer objects with float render targets)".into()
+    } else {
+        "post: ran".into()
+    });
+    cx.stats.post = laps.steps;
+    Ok(())
 }

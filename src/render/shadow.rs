@@ -13,6 +13,7 @@ use crate::gpu::GpuRef;
 use crate::light::{Light, LightKind};
 use crate::scene::clusters::ClusterView;
 use crate::scene::material::AlphaMode;
+use crate::scene::Bounds;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::Mat4;
@@ -153,32 +154,82 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
         return Ok(Outcome::Skipped(cx.stats.shadow.clone()));
     }
     let gpu = cx.gpu.clone();
+    let maps = allocate_maps(cx, casters, size)?;
+    let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
+    for map in &maps {
+        draw_map(cx, map, offset)?;
+    }
+    cx.cull = None;
+    gpu.apply(&RenderState::default());
+    let entry = log_entry(&maps, size, gpu.caps.fbo);
+    cx.stats.shadow = "rendered".into();
+    gpu.check_error("shadow pass")?;
+    cx.res.shadow = ShadowState {
+        maps,
+        key: Some(key),
+    };
+    Ok(Outcome::Ran(entry))
+}
+
+/// Where one light's map lies in its depth texture.
+struct Layout {
+    /// The light's view-projections: one, or six cube faces.
+    views: Vec<Mat4>,
+    projection: ShadowProjection,
+    /// Side of one view's square in texels.
+    face: u32,
+    /// The depth texture's size.
+    width: u32,
+    height: u32,
+}
+
+/// Spot and directional lights get one square view of `size`; point lights that do not
+/// fit one frustum get six cube faces in a 3×2 atlas.
+fn layout(light: &Light, bounds: &Bounds, size: u32) -> Layout {
+    match (light_view_proj(light, bounds), light.kind) {
+        (Some((vp, projection)), _) => Layout {
+            views: vec![vp],
+            projection,
+            face: size,
+            width: size,
+            height: size,
+        },
+        (None, LightKind::Point(p)) => {
+            // Six faces at half the size keep the atlas (3×2 faces) near the texel count
+            // of one full-size map.
+            let face = (size / 2).max(16);
+            Layout {
+                views: frusta::cube_faces(p, bounds).to_vec(),
+                projection: ShadowProjection::Cube,
+                face,
+                width: face * 3,
+                height: face * 2,
+            }
+        }
+        (None, LightKind::Directional(_)) => unreachable!("directional lights always fit"),
+    }
+}
+
+/// One map per casting light, laid out by [`layout`]. Depth textures (and their FBOs) of
+/// the right size are kept from the last pass: allocating a 2048² map costs more than
+/// drawing into it on llvmpipe. Textures are all made before any is drawn into.
+fn allocate_maps(cx: &mut FrameCx, casters: &[Light], size: u32) -> Result<Vec<ShadowMap>> {
+    let gpu = cx.gpu.clone();
     let use_fbo = gpu.caps.fbo;
     let bounds = cx.scene.scene.bounds;
     let mut maps = Vec::new();
-    // Depth textures (and their FBOs) of the right size are kept from the last pass:
-    // allocating a 2048² map costs more than drawing into it on llvmpipe.
     let mut old: Vec<Option<ShadowMap>> = std::mem::take(&mut cx.res.shadow.maps)
         .into_iter()
         .map(Some)
         .collect();
     for light in casters {
-        let (views, projection, face, w, h) = match (light_view_proj(light, &bounds), light.kind) {
-            (Some((vp, kind)), _) => (vec![vp], kind, size, size, size),
-            (None, LightKind::Point(p)) => {
-                // Six faces at half the size keep the atlas (3×2 faces) near the texel count
-                // of one full-size map.
-                let face = (size / 2).max(16);
-                (
-                    frusta::cube_faces(p, &bounds).to_vec(),
-                    ShadowProjection::Cube,
-                    face,
-                    face * 3,
-                    face * 2,
-                )
-            }
-            (None, LightKind::Directional(_)) => unreachable!("directional lights always fit"),
-        };
+        let Layout {
+            views,
+            projection,
+            face,
+            width: w,
+            height: h,
+        } = layout(light, &bounds, size);
         let kept = old
             .iter_mut()
             .find(|m| {
@@ -206,91 +257,98 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
             face,
         });
     }
-    let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
-    for map in &maps {
-        // The map's framebuffer has no colour buffer; on the copy path the light's view is
-        // drawn into the target, whose colour must not change.
-        let state = RenderState {
-            polygon_offset: offset,
-            color_write: map.fbo.is_some(),
-            ..Default::default()
-        };
-        gpu.apply(&state);
-        if let Some(fbo) = &map.fbo {
-            fbo.bind();
-            gpu.clear(None);
+    Ok(maps)
+}
+
+/// Renders one light's depth into `map`: each view (one, or six atlas tiles) in turn,
+/// through the map's FBO or, on the copy path, into the target and copied from there.
+fn draw_map(cx: &mut FrameCx, map: &ShadowMap, offset: Option<(f32, f32)>) -> Result<()> {
+    let gpu = cx.gpu.clone();
+    let target = cx.target;
+    // The map's framebuffer has no colour buffer; on the copy path the light's view is
+    // drawn into the target, whose colour must not change.
+    let state = RenderState {
+        polygon_offset: offset,
+        color_write: map.fbo.is_some(),
+        ..Default::default()
+    };
+    gpu.apply(&state);
+    if let Some(fbo) = &map.fbo {
+        fbo.bind();
+        gpu.clear(None);
+    } else {
+        gpu.bind_target(target.fbo, target.width, target.height);
+    }
+    for (f, vp) in map.views.iter().enumerate() {
+        let (tx, ty) = if map.views.len() > 1 {
+            ((f as u32 % 3) * map.face, (f as u32 / 3) * map.face)
         } else {
-            gpu.bind_target(target.fbo, target.width, target.height);
+            (0, 0)
+        };
+        if map.fbo.is_some() {
+            gpu.viewport(tx, ty, map.face, map.face);
+        } else {
+            gpu.viewport(0, 0, map.face, map.face);
+            gpu.clear(None);
         }
-        for (f, vp) in map.views.iter().enumerate() {
-            let (tx, ty) = if map.views.len() > 1 {
-                ((f as u32 % 3) * map.face, (f as u32 / 3) * map.face)
-            } else {
-                (0, 0)
-            };
-            if map.fbo.is_some() {
-                gpu.viewport(tx, ty, map.face, map.face);
-            } else {
-                gpu.viewport(0, 0, map.face, map.face);
-                gpu.clear(None);
-            }
-            cx.cull = Some(ClusterView::new(*vp));
-            // MASK materials draw with the cut-out program; everything else with the plain one.
-            let mut current: Option<ProgramKey> = None;
-            for i in 0..cx.scene.meshes.len() {
-                if !cx.scene.meshes[i].casts_shadow() {
-                    continue;
-                }
-                let texture = if is_masked(cx, i) {
-                    let (material, has_uv) =
-                        (cx.scene.meshes[i].material, cx.scene.meshes[i].has_uv);
-                    super::lit::base_texture(cx, material, has_uv)?
-                } else {
-                    None
-                };
-                let key = mask_key(cx, i, texture.is_some());
-                if current.as_ref() != Some(&key) {
-                    let p = cx.program(&key)?;
-                    p.bind();
-                    p.set_mat4("uLightMvp", vp);
-                    p.set_i32("uDiffuseMap", 0);
-                    current = Some(key);
-                }
-                let dm = &cx.scene.meshes[i];
-                if is_masked(cx, i) {
-                    let p = cx.program(current.as_ref().expect("set above"))?;
-                    let model = &cx.scene.scene.materials[dm.material];
-                    super::slots::set_uniforms(&p, model, dm.has_uv1);
-                    if let Some(t) = texture {
-                        cx.res.textures.texture(t).bind(0);
-                    }
-                }
-                super::cull::draw(cx, i, &state);
-            }
-            if map.fbo.is_none() {
-                map.texture.copy_from_framebuffer(tx, ty, map.face);
-            }
+        cx.cull = Some(ClusterView::new(*vp));
+        draw_casters(cx, vp, &state)?;
+        if map.fbo.is_none() {
+            map.texture.copy_from_framebuffer(tx, ty, map.face);
         }
     }
-    cx.cull = None;
-    gpu.apply(&RenderState::default());
+    Ok(())
+}
+
+/// Draws every shadow-casting mesh with the light's view-projection `vp`. MASK materials
+/// draw with the cut-out program (their base texture bound); everything else with the plain
+/// one, which is bound again only when the program changes.
+fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> {
+    let mut current: Option<ProgramKey> = None;
+    for i in 0..cx.scene.meshes.len() {
+        if !cx.scene.meshes[i].casts_shadow() {
+            continue;
+        }
+        let texture = if is_masked(cx, i) {
+            let (material, has_uv) = (cx.scene.meshes[i].material, cx.scene.meshes[i].has_uv);
+            super::lit::base_texture(cx, material, has_uv)?
+        } else {
+            None
+        };
+        let key = mask_key(cx, i, texture.is_some());
+        if current.as_ref() != Some(&key) {
+            let p = cx.program(&key)?;
+            p.bind();
+            p.set_mat4("uLightMvp", vp);
+            p.set_i32("uDiffuseMap", 0);
+            current = Some(key);
+        }
+        let dm = &cx.scene.meshes[i];
+        if is_masked(cx, i) {
+            let p = cx.program(current.as_ref().expect("set above"))?;
+            let model = &cx.scene.scene.materials[dm.material];
+            super::slots::set_uniforms(&p, model, dm.has_uv1);
+            if let Some(t) = texture {
+                cx.res.textures.texture(t).bind(0);
+            }
+        }
+        super::cull::draw(cx, i, state);
+    }
+    Ok(())
+}
+
+/// The pass entry of `--stats`: how many maps, their projections, size and path.
+fn log_entry(maps: &[ShadowMap], size: u32, use_fbo: bool) -> String {
     let kinds: Vec<String> = maps
         .iter()
         .map(|m| format!("{:?}", m.projection).to_lowercase())
         .collect();
-    let entry = format!(
+    format!(
         "shadow({} map(s) [{}], {size}², {})",
         maps.len(),
         kinds.join(","),
         if use_fbo { "fbo" } else { "copy" }
-    );
-    cx.stats.shadow = "rendered".into();
-    gpu.check_error("shadow pass")?;
-    cx.res.shadow = ShadowState {
-        maps,
-        key: Some(key),
-    };
-    Ok(Outcome::Ran(entry))
+    )
 }
 
 impl Pass for ShadowDepth {
