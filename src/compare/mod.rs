@@ -8,9 +8,7 @@ pub mod sheet;
 pub mod split;
 
 use crate::frame::{FrameSettings, Shading};
-use crate::headless::Headless;
 use crate::image_out::Rgba;
-use crate::render::Renderer;
 use crate::scene::Scene;
 use crate::{Error, Result};
 
@@ -114,46 +112,48 @@ pub fn render_panes_with(
     let mut images = vec![None; tiers.len()];
     let mut covered = vec![Vec::new(); tiers.len()];
     if gpu_tiers {
-        let hl = Headless::new(args.context.backend, args.context.gl, w * n, h)?;
-        let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
-        renderer.set_environment(crate::session::env_request(args)?);
-        for (i, t) in tiers.iter().enumerate() {
-            if let PaneTier::Gpu(shading) = t {
-                let s = FrameSettings {
-                    shading: *shading,
-                    ..base.clone()
-                };
-                let stats = renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
-                if args.picture.stats {
-                    println!("{}", serde_json::to_string(&stats).unwrap_or_default());
-                }
-            }
-        }
-        let all = hl.read();
-        for (i, t) in tiers.iter().enumerate() {
-            if matches!(t, PaneTier::Gpu(_)) {
-                images[i] = Some(crop(&all, i as u32 * w, w));
-            }
-        }
-        if coverage {
+        let mut session = crate::session::Session::new();
+        session.with_scene(args, scene.clone(), (w * n, h), |hl, renderer| {
             for (i, t) in tiers.iter().enumerate() {
                 if let PaneTier::Gpu(shading) = t {
-                    let mut s = FrameSettings {
+                    let s = FrameSettings {
                         shading: *shading,
                         ..base.clone()
                     };
-                    s.lighting.post.transparent = true;
-                    renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
+                    let stats =
+                        renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
+                    if args.picture.stats {
+                        println!("{}", serde_json::to_string(&stats).unwrap_or_default());
+                    }
                 }
             }
             let all = hl.read();
             for (i, t) in tiers.iter().enumerate() {
                 if matches!(t, PaneTier::Gpu(_)) {
-                    let pane = crop(&all, i as u32 * w, w);
-                    covered[i] = pane.data.chunks_exact(4).map(|p| p[3] > 0).collect();
+                    images[i] = Some(crop(&all, i as u32 * w, w));
                 }
             }
-        }
+            if coverage {
+                for (i, t) in tiers.iter().enumerate() {
+                    if let PaneTier::Gpu(shading) = t {
+                        let mut s = FrameSettings {
+                            shading: *shading,
+                            ..base.clone()
+                        };
+                        s.lighting.post.transparent = true;
+                        renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
+                    }
+                }
+                let all = hl.read();
+                for (i, t) in tiers.iter().enumerate() {
+                    if matches!(t, PaneTier::Gpu(_)) {
+                        let pane = crop(&all, i as u32 * w, w);
+                        covered[i] = pane.data.chunks_exact(4).map(|p| p[3] > 0).collect();
+                    }
+                }
+            }
+            Ok(())
+        })?;
     }
     for (i, t) in tiers.iter().enumerate() {
         if let PaneTier::Reference(shading) = t {

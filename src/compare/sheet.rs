@@ -3,9 +3,7 @@
 //! the whole sheet; its progress goes to the installed reporter.
 use super::{canvas, PaneTier};
 use crate::frame::FrameSettings;
-use crate::headless::Headless;
 use crate::options::Options;
-use crate::render::Renderer;
 use crate::{Error, Result};
 
 /// A contact sheet's layout: which views (columns) of which tiers (rows), each cell `size`.
@@ -74,42 +72,43 @@ pub fn sheet_image(
     let strip = canvas::strip_height(w, &labels.iter().map(String::as_str).collect::<Vec<_>>());
     let cell_h = h + strip;
     let mut sheet = canvas::blank(w * cols, cell_h * rows, [24, 24, 28]);
-    let hl = Headless::new(args.context.backend, args.context.gl, w, h)?;
-    let mut renderer = Renderer::new(&hl.gpu, scene.clone())?;
-    renderer.set_environment(crate::session::env_request(&args)?);
     let bar = crate::progress::start(
         "sheet",
         u64::from(cols * rows),
         crate::progress::Unit::Items,
     );
     let mut done = 0;
-    for (r, tier) in tiers.iter().enumerate() {
-        for (c, (yaw, pitch)) in views.iter().enumerate() {
-            let mut s: FrameSettings = base.clone();
-            s.camera.yaw_deg = *yaw;
-            s.camera.pitch_deg = *pitch;
-            let img = match tier {
-                PaneTier::Gpu(shading) => {
-                    s.shading = *shading;
-                    renderer.render(&s, &hl.target())?;
-                    hl.read()
+    let mut session = crate::session::Session::new();
+    session.with_scene(&args, scene.clone(), (w, h), |hl, renderer| {
+        for (r, tier) in tiers.iter().enumerate() {
+            for (c, (yaw, pitch)) in views.iter().enumerate() {
+                let mut s: FrameSettings = base.clone();
+                s.camera.yaw_deg = *yaw;
+                s.camera.pitch_deg = *pitch;
+                let img = match tier {
+                    PaneTier::Gpu(shading) => {
+                        s.shading = *shading;
+                        renderer.render(&s, &hl.target())?;
+                        hl.read()
+                    }
+                    PaneTier::Reference(shading) => {
+                        s.shading = *shading;
+                        let env = crate::session::reference_env(&args, *shading)?;
+                        crate::reference::render_env(&scene, &s, env.as_ref(), w, h)
+                    }
+                };
+                let (x, y) = (c as u32 * w, r as u32 * cell_h);
+                let text = label(tier, *yaw, *pitch);
+                canvas::paste(&mut sheet, &canvas::strip_sized(w, strip, &text), x, y);
+                canvas::paste(&mut sheet, &img, x, y + strip);
+                done += 1;
+                if let Some(b) = &bar {
+                    b.set(done);
                 }
-                PaneTier::Reference(shading) => {
-                    s.shading = *shading;
-                    let env = crate::session::reference_env(&args, *shading)?;
-                    crate::reference::render_env(&scene, &s, env.as_ref(), w, h)
-                }
-            };
-            let (x, y) = (c as u32 * w, r as u32 * cell_h);
-            let text = label(tier, *yaw, *pitch);
-            canvas::paste(&mut sheet, &canvas::strip_sized(w, strip, &text), x, y);
-            canvas::paste(&mut sheet, &img, x, y + strip);
-            done += 1;
-            if let Some(b) = &bar {
-                b.set(done);
             }
         }
-    }
+        Ok(())
+    })?;
     if let Some(b) = &bar {
         b.finish(None);
     }

@@ -130,6 +130,26 @@ impl Session {
         write(args, path, &mut self.kept)
     }
 
+    /// Runs `draw` with this session's context, re-targeted to `size` and single-sampled (a
+    /// comparison's panes and a sheet's cells are viewports of one target), and a renderer
+    /// of `scene` with the environment of `args`, made for the call and dropped after it.
+    pub fn with_scene<T>(
+        &mut self,
+        args: &Options,
+        scene: crate::scene::Scene,
+        size: (u32, u32),
+        draw: impl FnOnce(&Headless, &mut Renderer) -> Result<T>,
+    ) -> Result<T> {
+        let mut plain = args.clone();
+        plain.post.aa = AaMode::None;
+        context(&plain, size, &mut self.kept, &mut Profile::default())?;
+        let kept = self.kept.as_mut().expect("context made above");
+        kept.renderer = None;
+        let mut renderer = Renderer::new(&kept.hl.gpu, scene)?;
+        renderer.set_environment(env_request(args)?);
+        draw(&kept.hl, &mut renderer)
+    }
+
     /// Drops the renderer and the context now (the session makes a new one if used again).
     pub fn close(&mut self) {
         self.kept = None;
