@@ -288,6 +288,57 @@ fn decode(
     bytes: Option<&[u8]>,
     textures: TextureOptions,
 ) -> Option<Prepared> {
+    let header = read_header(&mut file, path, bytes, textures)?;
+    let mut payload = Payload {
+        file,
+        hasher: xxhash_rust::xxh3::Xxh3::new(),
+        left: header.payload_len,
+    };
+    let meshes = read_meshes(&mut payload, &header.meshes)?;
+    let wire = read_wire(&mut payload, &header.wire)?;
+    let table = read_textures(&mut payload, &header.textures)?;
+    if payload.left != 0 || payload.hasher.digest128() != header.payload_hash {
+        return None;
+    }
+    let mut materials = header.materials;
+    if header.slots.len() != materials.len() {
+        return None;
+    }
+    attach_images(&mut materials, &header.slots, &table)?;
+    let warnings = header.warnings;
+    if meshes.iter().any(|m| m.material >= materials.len()) {
+        return None;
+    }
+    let clusters = header.clusters;
+    if !clusters_fit(&meshes, &clusters) {
+        return None;
+    }
+    let [lo, hi] = header.file_bounds;
+    let scene = Scene {
+        name: header.name,
+        meshes,
+        materials,
+        bounds: header.bounds,
+        origin: DVec3::from(header.origin),
+        file_bounds: (DVec3::from(lo), DVec3::from(hi)),
+        dependencies: header.dependencies.into_iter().map(|d| d.path).collect(),
+        warnings,
+        wire,
+        maps: header.maps,
+    };
+    Some((scene, clusters))
+}
+
+/// The entry's header, if it is one for this model as it is now: magic, header length, cache
+/// format and glview version, the model's and every dependency's stamp, the content hash when
+/// `bytes` are given, the texture options, and the file's total length must all match. Leaves
+/// `file` at the start of the payload.
+fn read_header(
+    file: &mut std::fs::File,
+    path: &Path,
+    bytes: Option<&[u8]>,
+    textures: TextureOptions,
+) -> Option<Header> {
     use std::io::Read;
     let file_len = file.metadata().ok()?.len();
     let mut head = [0u8; 12];
@@ -314,16 +365,14 @@ fn decode(
             .iter()
             .all(|d| stamp(&d.path).as_ref() == Some(d))
         && file_len == 12 + json_len + header.payload_len;
-    if !valid {
-        return None;
-    }
-    let mut payload = Payload {
-        file,
-        hasher: xxhash_rust::xxh3::Xxh3::new(),
-        left: header.payload_len,
-    };
-    let mut meshes = Vec::with_capacity(header.meshes.len());
-    for m in &header.meshes {
+    valid.then_some(header)
+}
+
+/// Each mesh's arrays in header order; None if any is short or inconsistent (a partial
+/// triangle, an index past the vertices, a per-vertex array of another length).
+fn read_meshes(payload: &mut Payload, metas: &[MeshMeta]) -> Option<Vec<Mesh>> {
+    let mut meshes = Vec::with_capacity(metas.len());
+    for m in metas {
         if m.indices % 3 != 0 {
             return None;
         }
@@ -350,7 +399,11 @@ fn decode(
             tangents,
         });
     }
-    let w = &header.wire;
+    Some(meshes)
+}
+
+/// The lines and points; None if short or if an index is past the wire's positions.
+fn read_wire(payload: &mut Payload, w: &WireMeta) -> Option<Wire> {
     let wire = Wire {
         positions: payload.read(w.positions)?,
         segments: payload.read(w.segments)?,
@@ -362,8 +415,14 @@ fn decode(
     {
         return None;
     }
-    let mut table = Vec::with_capacity(header.textures.len());
-    for t in &header.textures {
+    Some(wire)
+}
+
+/// Every distinct texture's RGBA8 pixels, in the table's order; None if short or if a stated
+/// size overflows.
+fn read_textures(payload: &mut Payload, metas: &[TexMeta]) -> Option<Vec<Arc<Texture>>> {
+    let mut table = Vec::with_capacity(metas.len());
+    for t in metas {
         let n = (t.width as usize)
             .checked_mul(t.height as usize)?
             .checked_mul(4)?;
@@ -375,15 +434,18 @@ fn decode(
             rgba: payload.read(n)?,
         }));
     }
-    if payload.left != 0 || payload.hasher.digest128() != header.payload_hash {
-        return None;
-    }
-    let mut materials = header.materials;
-    if header.slots.len() != materials.len() {
-        return None;
-    }
-    for (m, refs) in materials.iter_mut().zip(&header.slots) {
-        // A slot and its image reference come together: one without the other is corrupt.
+    Some(table)
+}
+
+/// Gives each material's texture slots their images from `table`; None if a slot and its
+/// image reference do not come together (one without the other is corrupt) or a reference is
+/// past the table.
+fn attach_images(
+    materials: &mut [Material],
+    slots: &[SlotRefs],
+    table: &[Arc<Texture>],
+) -> Option<()> {
+    for (m, refs) in materials.iter_mut().zip(slots) {
         for (slot, r) in m.slots_mut().into_iter().zip(refs) {
             match (slot, r) {
                 (Some(s), Some(i)) => s.image = table.get(*i)?.clone(),
@@ -392,11 +454,12 @@ fn decode(
             }
         }
     }
-    let warnings = header.warnings;
-    if meshes.iter().any(|m| m.material >= materials.len()) {
-        return None;
-    }
-    let clusters = header.clusters;
+    Some(())
+}
+
+/// Whether there is one cluster list per mesh and every cluster lies within its mesh's
+/// triangles.
+fn clusters_fit(meshes: &[Mesh], clusters: &[Option<Clusters>]) -> bool {
     let fits = |m: &Mesh, c: &Option<Clusters>| {
         let triangles = m.indices.len() as u64 / 3;
         c.as_ref().is_none_or(|c| {
@@ -405,23 +468,7 @@ fn decode(
                 .all(|k| u64::from(k.first) + u64::from(k.count) <= triangles)
         })
     };
-    if clusters.len() != meshes.len() || !meshes.iter().zip(&clusters).all(|(m, c)| fits(m, c)) {
-        return None;
-    }
-    let [lo, hi] = header.file_bounds;
-    let scene = Scene {
-        name: header.name,
-        meshes,
-        materials,
-        bounds: header.bounds,
-        origin: DVec3::from(header.origin),
-        file_bounds: (DVec3::from(lo), DVec3::from(hi)),
-        dependencies: header.dependencies.into_iter().map(|d| d.path).collect(),
-        warnings,
-        wire,
-        maps: header.maps,
-    };
-    Some((scene, clusters))
+    clusters.len() == meshes.len() && meshes.iter().zip(clusters).all(|(m, c)| fits(m, c))
 }
 
 /// The entry's payload being read: what is left of its stated length, and its running hash.
