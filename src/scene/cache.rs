@@ -22,13 +22,15 @@
 //! JPEGs and PNGs cost more than its meshes).
 use super::clusters::Clusters;
 use super::material::{Material, Texture, TextureOptions};
-use super::{Bounds, Mesh, Scene, Vertex, Warning, Wire};
-use glam::DVec3;
+use super::{Bounds, Scene, Warning};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{SystemTime, UNIX_EPOCH};
+
+#[path = "cache_read.rs"]
+mod read;
 
 /// Files smaller than this parse in well under 100 ms: not worth a cache entry, unless their
 /// images are large (see [`worth_an_entry`]).
@@ -261,7 +263,7 @@ pub fn get_in(
 ) -> Option<Prepared> {
     let entry = entry_path(dir, path)?;
     let file = std::fs::File::open(&entry).ok()?;
-    let scene = decode(file, path, bytes, textures);
+    let scene = read::decode(file, path, bytes, textures);
     if scene.is_some() {
         touch(&entry);
     }
@@ -275,177 +277,6 @@ pub type Prepared = (Scene, Vec<Option<Clusters>>);
 fn touch(entry: &Path) {
     if let Ok(f) = std::fs::File::options().append(true).open(entry) {
         let _ = f.set_modified(SystemTime::now());
-    }
-}
-
-/// Reads an entry: the header first, validated against the model's metadata before any of
-/// the payload is read (a miss costs a few small reads), then each mesh's arrays read once,
-/// straight into their final, aligned buffers, hashed as they arrive (no whole-file buffer,
-/// no copy out of it).
-fn decode(
-    mut file: std::fs::File,
-    path: &Path,
-    bytes: Option<&[u8]>,
-    textures: TextureOptions,
-) -> Option<Prepared> {
-    use std::io::Read;
-    let file_len = file.metadata().ok()?.len();
-    let mut head = [0u8; 12];
-    file.read_exact(&mut head).ok()?;
-    if &head[..4] != MAGIC {
-        return None;
-    }
-    let json_len = u64::from_le_bytes(head[4..].try_into().ok()?);
-    if json_len > file_len.saturating_sub(12) {
-        return None;
-    }
-    let mut json = vec![0u8; usize::try_from(json_len).ok()?];
-    file.read_exact(&mut json).ok()?;
-    let header: Header = serde_json::from_slice(&json).ok()?;
-    let canonical = path.canonicalize().ok()?;
-    let valid = header.format == FORMAT
-        && header.glview == env!("CARGO_PKG_VERSION")
-        && stamp(&canonical).as_ref() == Some(&header.file)
-        && bytes.is_none_or(|b| header.hash == Some(content_hash(b)))
-        && header.allow_outside_paths == textures.allow_outside_paths
-        && header.max_dimension == textures.max_dimension
-        && header
-            .dependencies
-            .iter()
-            .all(|d| stamp(&d.path).as_ref() == Some(d))
-        && file_len == 12 + json_len + header.payload_len;
-    if !valid {
-        return None;
-    }
-    let mut payload = Payload {
-        file,
-        hasher: xxhash_rust::xxh3::Xxh3::new(),
-        left: header.payload_len,
-    };
-    let mut meshes = Vec::with_capacity(header.meshes.len());
-    for m in &header.meshes {
-        if m.indices % 3 != 0 {
-            return None;
-        }
-        let vertices: Vec<Vertex> = payload.read(m.vertices)?;
-        let indices: Vec<u32> = payload.read(m.indices)?;
-        let colors: Vec<[f32; 3]> = payload.read(m.colors)?;
-        let uv1: Vec<[f32; 2]> = payload.read(m.uv1)?;
-        let tangents: Vec<[f32; 4]> = payload.read(m.tangents)?;
-        let per_vertex = |n: usize| n == 0 || n == vertices.len();
-        if indices.iter().any(|&i| i as usize >= vertices.len())
-            || !(per_vertex(colors.len()) && per_vertex(uv1.len()) && per_vertex(tangents.len()))
-        {
-            return None;
-        }
-        meshes.push(Mesh {
-            name: m.name.clone(),
-            vertices,
-            indices,
-            material: m.material,
-            has_uv: m.has_uv,
-            generated_normals: m.generated_normals,
-            colors,
-            uv1,
-            tangents,
-        });
-    }
-    let w = &header.wire;
-    let wire = Wire {
-        positions: payload.read(w.positions)?,
-        segments: payload.read(w.segments)?,
-        points: payload.read(w.points)?,
-    };
-    let in_wire = |i: u32| (i as usize) < wire.positions.len();
-    if !(wire.segments.iter().flatten().all(|&i| in_wire(i))
-        && wire.points.iter().all(|&i| in_wire(i)))
-    {
-        return None;
-    }
-    let mut table = Vec::with_capacity(header.textures.len());
-    for t in &header.textures {
-        let n = (t.width as usize)
-            .checked_mul(t.height as usize)?
-            .checked_mul(4)?;
-        table.push(Arc::new(Texture {
-            path: t.path.clone(),
-            image: t.image,
-            width: t.width,
-            height: t.height,
-            rgba: payload.read(n)?,
-        }));
-    }
-    if payload.left != 0 || payload.hasher.digest128() != header.payload_hash {
-        return None;
-    }
-    let mut materials = header.materials;
-    if header.slots.len() != materials.len() {
-        return None;
-    }
-    for (m, refs) in materials.iter_mut().zip(&header.slots) {
-        // A slot and its image reference come together: one without the other is corrupt.
-        for (slot, r) in m.slots_mut().into_iter().zip(refs) {
-            match (slot, r) {
-                (Some(s), Some(i)) => s.image = table.get(*i)?.clone(),
-                (None, None) => {}
-                _ => return None,
-            }
-        }
-    }
-    let warnings = header.warnings;
-    if meshes.iter().any(|m| m.material >= materials.len()) {
-        return None;
-    }
-    let clusters = header.clusters;
-    let fits = |m: &Mesh, c: &Option<Clusters>| {
-        let triangles = m.indices.len() as u64 / 3;
-        c.as_ref().is_none_or(|c| {
-            c.list
-                .iter()
-                .all(|k| u64::from(k.first) + u64::from(k.count) <= triangles)
-        })
-    };
-    if clusters.len() != meshes.len() || !meshes.iter().zip(&clusters).all(|(m, c)| fits(m, c)) {
-        return None;
-    }
-    let [lo, hi] = header.file_bounds;
-    let scene = Scene {
-        name: header.name,
-        meshes,
-        materials,
-        bounds: header.bounds,
-        origin: DVec3::from(header.origin),
-        file_bounds: (DVec3::from(lo), DVec3::from(hi)),
-        dependencies: header.dependencies.into_iter().map(|d| d.path).collect(),
-        warnings,
-        wire,
-        maps: header.maps,
-    };
-    Some((scene, clusters))
-}
-
-/// The entry's payload being read: what is left of its stated length, and its running hash.
-struct Payload {
-    file: std::fs::File,
-    hasher: xxhash_rust::xxh3::Xxh3,
-    left: u64,
-}
-
-impl Payload {
-    /// The next `n` elements, read straight into their final, aligned buffer and hashed; None
-    /// past the stated length or the file's end.
-    fn read<T: bytemuck::Pod + Default>(&mut self, n: usize) -> Option<Vec<T>> {
-        use std::io::Read;
-        let bytes = u64::try_from(n.checked_mul(std::mem::size_of::<T>())?).ok()?;
-        if bytes > self.left {
-            return None;
-        }
-        self.left -= bytes;
-        let mut v = vec![T::default(); n];
-        let part = bytemuck::cast_slice_mut::<T, u8>(&mut v);
-        self.file.read_exact(part).ok()?;
-        self.hasher.update(part);
-        Some(v)
     }
 }
 
@@ -600,119 +431,5 @@ pub fn evict(dir: &Path, max_bytes: u64, keep: &Path) -> std::io::Result<()> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::{obj::load_bytes, LoadOptions};
-    use std::time::Duration;
-
-    /// A fresh folder with `n` small models; returns it and (path, bytes, scene) per model.
-    fn setup(name: &str, n: usize) -> (PathBuf, Vec<(PathBuf, Vec<u8>, Scene)>) {
-        let dir = std::env::temp_dir().join(format!("glview-cache-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(dir.join("entries")).unwrap();
-        let models = (0..n)
-            .map(|i| {
-                let p = dir.join(format!("m{i}.obj"));
-                let bytes = format!("v 0 0 0\nv {} 0 0\nv 0 1 0\nf 1 2 3\n", i + 1).into_bytes();
-                std::fs::write(&p, &bytes).unwrap();
-                let s = load_bytes(&p, &bytes, &LoadOptions::default()).unwrap();
-                (p, bytes, s)
-            })
-            .collect();
-        (dir, models)
-    }
-
-    fn entry(dir: &Path, model: &Path) -> PathBuf {
-        entry_path(&dir.join("entries"), model).unwrap()
-    }
-
-    #[test]
-    fn truncated_and_flipped_entries_are_misses_then_rebuilt() {
-        let (dir, models) = setup("corrupt", 1);
-        let (p, bytes, scene) = &models[0];
-        let entries = dir.join("entries");
-        let tex = TextureOptions::default();
-        put_in(&entries, 1 << 20, p, Some(bytes), tex, (scene, &[None])).unwrap();
-        let good = std::fs::read(entry(&dir, p)).unwrap();
-        assert!(get_in(&entries, p, Some(bytes), tex).is_some());
-        // Every truncation and a flipped bit at every 7th byte: a miss, never a panic.
-        let mut cases: Vec<Vec<u8>> = (0..good.len())
-            .step_by(5)
-            .map(|n| good[..n].to_vec())
-            .collect();
-        for i in (0..good.len()).step_by(7) {
-            let mut b = good.clone();
-            b[i] ^= 0x10;
-            cases.push(b);
-        }
-        for (k, bad) in cases.iter().enumerate() {
-            std::fs::write(entry(&dir, p), bad).unwrap();
-            let got = get_in(&entries, p, Some(bytes), tex);
-            // A flip inside JSON whitespace-insensitive text can leave an equal header; then
-            // the entry must still decode to the same triangles.
-            if let Some((s, _)) = got {
-                assert_eq!(s.meshes[0].indices, scene.meshes[0].indices, "case {k}");
-                assert_eq!(s.meshes[0].vertices, scene.meshes[0].vertices, "case {k}");
-            }
-        }
-        // Rebuilt by the next write.
-        put_in(&entries, 1 << 20, p, Some(bytes), tex, (scene, &[None])).unwrap();
-        assert!(get_in(&entries, p, Some(bytes), tex).is_some());
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    #[test]
-    fn flipped_payload_byte_is_a_miss() {
-        let (dir, models) = setup("payload", 1);
-        let (p, bytes, scene) = &models[0];
-        let entries = dir.join("entries");
-        let tex = TextureOptions::default();
-        put_in(&entries, 1 << 20, p, Some(bytes), tex, (scene, &[None])).unwrap();
-        let mut b = std::fs::read(entry(&dir, p)).unwrap();
-        let last = b.len() - 1;
-        b[last] ^= 1;
-        std::fs::write(entry(&dir, p), &b).unwrap();
-        assert!(get_in(&entries, p, Some(bytes), tex).is_none());
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    #[test]
-    fn least_recently_used_entries_are_evicted_first() {
-        let (dir, models) = setup("lru", 3);
-        let entries = dir.join("entries");
-        let tex = TextureOptions::default();
-        let put = |i: usize, limit: u64| {
-            let (p, b, s) = &models[i];
-            put_in(&entries, limit, p, Some(b), tex, (s, &[None])).unwrap();
-        };
-        let age = |i: usize, secs: u64| {
-            let f = std::fs::File::options()
-                .append(true)
-                .open(entry(&dir, &models[i].0))
-                .unwrap();
-            f.set_modified(SystemTime::now() - Duration::from_secs(secs))
-                .unwrap();
-        };
-        put(0, 1 << 20);
-        put(1, 1 << 20);
-        let one = std::fs::metadata(entry(&dir, &models[0].0)).unwrap().len();
-        // Room for two entries (they are within a few bytes of each other in size).
-        let limit = one * 2 + one / 2;
-        age(0, 30);
-        age(1, 20);
-        // Using model 0 makes model 1 the least recently used.
-        let (p0, b0, _) = &models[0];
-        assert!(get_in(&entries, p0, Some(b0), tex).is_some());
-        put(2, limit);
-        let exists = |i: usize| entry(&dir, &models[i].0).exists();
-        assert_eq!((exists(0), exists(1), exists(2)), (true, false, true));
-        // A bound below one entry keeps only the newest... and an entry larger than the bound
-        // is not written at all.
-        evict(&entries, one, &entry(&dir, &models[2].0)).unwrap();
-        assert_eq!((exists(0), exists(1), exists(2)), (false, false, true));
-        let (p1, b1, s1) = &models[1];
-        assert!(put_in(&entries, 8, p1, Some(b1), tex, (s1, &[None])).is_err());
-        assert!(!exists(1));
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-}
+#[path = "cache_tests.rs"]
+mod tests;

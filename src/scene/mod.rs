@@ -16,6 +16,7 @@ pub mod gltf_graph;
 pub mod gltf_material;
 pub mod gltf_meshopt;
 pub mod gltf_modes;
+pub mod gltf_primitive;
 pub mod load;
 pub mod material;
 pub mod material_report;

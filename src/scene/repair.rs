@@ -7,6 +7,10 @@ use crate::error::Error;
 use std::borrow::Cow;
 use std::path::Path;
 
+#[path = "repair_pass.rs"]
+mod pass;
+use pass::Pass;
+
 /// The OBJ text ready for tobj, and what was repaired.
 #[derive(Default)]
 pub struct Repaired {
@@ -125,287 +129,32 @@ pub fn repair_obj_with_progress(
     bytes: &[u8],
     progress: &dyn Fn(u64),
 ) -> Result<Repaired, Error> {
-    let err = |line: usize, msg: String| Error::model(path, Some(line), msg);
-    let warn = |line: Option<usize>, msg: String| Warning {
-        file: path.to_path_buf(),
-        line,
-        message: msg,
-    };
     if bytes.iter().take(4096).filter(|&&b| b == 0).count() > 0 {
-        return Err(err(1, "not an OBJ file (binary data)".into()));
-    }
-    let (lines, joined) = logical_lines(bytes);
-    let total = count_elements(&lines);
-    let mut warnings = Vec::new();
-    if joined > 0 {
-        warnings.push(warn(
-            None,
-            format!("joined {joined} backslash line continuation(s)"),
+        return Err(Error::model(
+            path,
+            Some(1),
+            "not an OBJ file (binary data)".to_string(),
         ));
     }
-    let mut seen = Counts::default();
-    let mut text = String::with_capacity(bytes.len());
-    let mut lossy_lines = 0usize;
-    let mut dropped_faces = 0usize;
-    let mut missing_refs = 0usize;
-    let mut unknown = 0usize;
-    let mut usemtl = Vec::new();
-    let mut face_groups = Vec::new();
-    let mut group = 0u32;
-    let mut has_groups = false;
-    let mut positions = Vec::with_capacity(total.v);
-    let mut segments = Vec::new();
-    let mut points = Vec::new();
-    let mut uncoloured = 0usize;
-    let mixed_colours = total.coloured > 0 && total.coloured < total.v;
+    let (lines, joined) = logical_lines(bytes);
+    let mut pass = Pass::new(path, bytes.len(), count_elements(&lines));
+    if joined > 0 {
+        pass.warn(
+            None,
+            format!("joined {joined} backslash line continuation(s)"),
+        );
+    }
     let mut scanned = 0u64;
     let mut next_report = 0u64;
-    // Scratch space for faces, reused across lines.
-    let mut corners: Vec<usize> = Vec::new();
-    let mut distinct: Vec<usize> = Vec::new();
     for (lineno, raw) in &lines {
-        let lineno = *lineno;
         scanned += raw.len() as u64 + 1;
         if scanned >= next_report {
             progress(scanned);
             next_report = scanned + (1 << 20);
         }
-        let kw = keyword(raw);
-        let line: std::borrow::Cow<str> = match std::str::from_utf8(raw) {
-            Ok(s) => s.into(),
-            Err(_) if is_name_statement(kw) => {
-                lossy_lines += 1;
-                String::from_utf8_lossy(raw).into_owned().into()
-            }
-            Err(_) => {
-                return Err(err(
-                    lineno,
-                    "non-UTF-8 bytes where a number should be".into(),
-                ))
-            }
-        };
-        let mut words = line.split_whitespace();
-        let first = words.next().unwrap_or("");
-        match first {
-            "v" => {
-                seen.v += 1;
-                let nums: Vec<&str> = words.collect();
-                if nums.len() < 3 {
-                    return Err(err(
-                        lineno,
-                        format!("vertex needs 3 coordinates: {}", line.trim()),
-                    ));
-                }
-                let mut p = [0.0f64; 3];
-                for (k, w) in nums.iter().take(3).enumerate() {
-                    let x: f64 = w
-                        .parse()
-                        .map_err(|_| err(lineno, format!("not a number: {w:?}")))?;
-                    p[k] = x;
-                    if !x.is_finite() {
-                        return Err(err(lineno, format!("vertex position is not finite: {w}")));
-                    }
-                    // Positions become f32 on the GPU: beyond its range they would be ±inf.
-                    if x.abs() > f64::from(f32::MAX) {
-                        return Err(err(
-                            lineno,
-                            format!("vertex position out of range (beyond 32-bit float): {w}"),
-                        ));
-                    }
-                }
-                // tobj reads `v x y z w` as homogeneous; keep the same meaning here.
-                if nums.len() == 4 {
-                    if let Ok(w) = nums[3].parse::<f64>() {
-                        if w != 0.0 && w.is_finite() {
-                            p = p.map(|x| x / w);
-                        }
-                    }
-                }
-                positions.push(p);
-                // tobj fails without a line number when only some vertices have a colour:
-                // the others get white, as written out for tobj.
-                if mixed_colours && nums.len() != 6 {
-                    uncoloured += 1;
-                    text.push_str(&format!("v {} {} {} 1 1 1\n", p[0], p[1], p[2]));
-                    continue;
-                }
-            }
-            "s" => {
-                has_groups = true;
-                let arg = words.next().unwrap_or("0");
-                group = if arg.eq_ignore_ascii_case("off") {
-                    0
-                } else {
-                    arg.parse::<u32>().unwrap_or(0)
-                };
-                continue;
-            }
-            "l" | "p" => {
-                let mut idx = Vec::new();
-                for c in words {
-                    let v = c.split('/').next().unwrap_or("");
-                    let v: i64 = v
-                        .parse()
-                        .map_err(|_| err(lineno, format!("bad {first} index {c:?}")))?;
-                    match resolve(v, seen.v) {
-                        Some(i) if i < total.v => idx.push(i as u32),
-                        _ => {
-                            return Err(err(
-                                lineno,
-                                format!(
-                                    "{first} vertex index {v} out of range (file has {} vertices)",
-                                    total.v
-                                ),
-                            ))
-                        }
-                    }
-                }
-                if first == "p" {
-                    points.extend(idx);
-                } else if idx.len() == 1 {
-                    points.push(idx[0]);
-                } else {
-                    segments.extend(idx.windows(2).map(|w| [w[0], w[1]]));
-                }
-                continue;
-            }
-            "vt" => seen.vt += 1,
-            "vn" => seen.vn += 1,
-            "f" => {
-                // Written straight into `text` (no String per corner) and cut off again if the
-                // face turns out to have fewer than three distinct corners.
-                let face_start = text.len();
-                text.push('f');
-                corners.clear();
-                for c in words {
-                    let mut parts = c.split('/');
-                    let parse = |s: Option<&str>| -> Result<Option<i64>, Error> {
-                        match s {
-                            None | Some("") => Ok(None),
-                            Some(s) => s
-                                .parse::<i64>()
-                                .map(Some)
-                                .map_err(|_| err(lineno, format!("bad face index {s:?}"))),
-                        }
-                    };
-                    let v = parse(parts.next())?.ok_or_else(|| {
-                        err(lineno, format!("face corner without a vertex: {c:?}"))
-                    })?;
-                    let vt = parse(parts.next())?;
-                    let vn = parse(parts.next())?;
-                    let vi = match resolve(v, seen.v) {
-                        None if v == 0 => {
-                            return Err(err(lineno, "face index 0 (OBJ indices start at 1)".into()))
-                        }
-                        Some(i) if i < total.v => i,
-                        _ => {
-                            return Err(err(
-                                lineno,
-                                format!(
-                                    "face vertex index {v} out of range (file has {} vertices)",
-                                    total.v
-                                ),
-                            ))
-                        }
-                    };
-                    let ok = |i: Option<i64>, so_far: usize, n: usize| {
-                        i.and_then(|i| resolve(i, so_far)).filter(|&k| k < n)
-                    };
-                    let vt_ok = ok(vt, seen.vt, total.vt);
-                    let vn_ok = ok(vn, seen.vn, total.vn);
-                    missing_refs += usize::from(vt.is_some() && vt_ok.is_none())
-                        + usize::from(vn.is_some() && vn_ok.is_none());
-                    corners.push(vi);
-                    // Absolute 1-based indices: tobj then never sees a dangling reference.
-                    use std::fmt::Write;
-                    let _ = match (vt_ok, vn_ok) {
-                        (None, None) => write!(text, " {}", vi + 1),
-                        (Some(t), None) => write!(text, " {}/{}", vi + 1, t + 1),
-                        (None, Some(n)) => write!(text, " {}//{}", vi + 1, n + 1),
-                        (Some(t), Some(n)) => write!(text, " {}/{}/{}", vi + 1, t + 1, n + 1),
-                    };
-                }
-                let distinct = match corners[..] {
-                    [a, b, c] => 1 + usize::from(b != a) + usize::from(c != a && c != b),
-                    _ => {
-                        distinct.clear();
-                        distinct.extend_from_slice(&corners);
-                        distinct.sort_unstable();
-                        distinct.dedup();
-                        distinct.len()
-                    }
-                };
-                if distinct < 3 {
-                    text.truncate(face_start);
-                    dropped_faces += 1;
-                    continue;
-                }
-                face_groups.push(group);
-                text.push('\n');
-                continue;
-            }
-            "usemtl" if line.trim() == "usemtl" => {
-                warnings.push(warn(Some(lineno), "empty usemtl ignored".into()));
-                continue;
-            }
-            "usemtl" => usemtl.push((lineno, line.trim()[6..].trim().to_string())),
-            "" | "vp" | "o" | "g" | "mtllib" => {}
-            w if w.starts_with('#') => {}
-            _ => {
-                unknown += 1;
-                continue;
-            }
-        }
-        text.push_str(&line);
-        text.push('\n');
+        pass.statement(*lineno, raw)?;
     }
-    if lossy_lines > 0 {
-        warnings.push(warn(
-            None,
-            format!("{lossy_lines} line(s) with non-UTF-8 names or comments: bytes replaced"),
-        ));
-    }
-    if dropped_faces > 0 {
-        warnings.push(warn(
-            None,
-            format!("dropped {dropped_faces} face(s) with fewer than 3 distinct corners"),
-        ));
-    }
-    if missing_refs > 0 {
-        warnings.push(warn(
-            None,
-            format!("{missing_refs} face corner(s) reference a missing normal or UV: ignored"),
-        ));
-    }
-    if uncoloured > 0 {
-        warnings.push(warn(
-            None,
-            format!(
-                "{uncoloured} of {} vertices have no colour where others do: white",
-                total.v
-            ),
-        ));
-    }
-    if !has_groups {
-        face_groups.clear();
-    }
-    if unknown > 0 {
-        warnings.push(warn(
-            None,
-            format!("{unknown} unknown statement(s) ignored"),
-        ));
-    }
-    Ok(Repaired {
-        text,
-        warnings,
-        dropped_faces,
-        usemtl,
-        face_groups,
-        positions,
-        segments,
-        points,
-        uncoloured,
-    })
+    Ok(pass.finish())
 }
 
 /// Repairs MTL text before tobj sees it: tobj 4.0.5 panics on a colour statement with fewer

@@ -6,6 +6,35 @@ use std::fmt::Write;
 /// which is OBJ).
 pub fn report(s: &Scene, format: Option<super::formats::Format>) -> String {
     let mut r = String::new();
+    let coloured = summary(&mut r, s);
+    let has_colours = coloured > 0;
+    for m in &s.materials {
+        material(&mut r, m, format, has_colours);
+    }
+    normals_and_culling(&mut r, s);
+    // The loader's per-stage times for the load just done on this thread (see `profile`).
+    if let Some(p) = super::profile::last() {
+        let _ = writeln!(r, "load: {p}");
+    }
+    for w in &s.warnings {
+        let _ = writeln!(r, "warning: {w}");
+    }
+    let _ = writeln!(
+        r,
+        "result: renders{}",
+        if s.warnings.is_empty() {
+            ""
+        } else {
+            " with warnings"
+        }
+    );
+    r
+}
+
+/// The model's name, counts, bounds, vertex colours, lines and points, and what became of
+/// each MTL texture statement; returns how many vertices have a colour (the material model
+/// lines depend on it).
+fn summary(r: &mut String, s: &Scene) -> usize {
     let (lo, hi) = s.file_bounds;
     let _ = writeln!(r, "model: {}", s.name);
     let _ = writeln!(
@@ -41,63 +70,76 @@ pub fn report(s: &Scene, format: Option<super::formats::Format>) -> String {
     for m in &s.maps {
         let _ = writeln!(r, "{m}");
     }
-    let has_colours = coloured > 0;
-    for m in &s.materials {
+    coloured
+}
+
+/// One material: its PBR terms, how they were made (glTF's own, or mapped from another
+/// format's), its PBR maps and its base-colour texture.
+fn material(
+    r: &mut String,
+    m: &super::Material,
+    format: Option<super::formats::Format>,
+    has_colours: bool,
+) {
+    let _ = writeln!(
+        r,
+        "pbr: material {}: base colour ({:.3}, {:.3}, {:.3}), metallic {:.2}, roughness {:.3} ({})",
+        m.name,
+        m.base_color[0],
+        m.base_color[1],
+        m.base_color[2],
+        m.metallic,
+        m.roughness,
+        if m.phong.is_some_and(|p| p.mapped) {
+            "mapped from Kd/Ks/Ns"
+        } else {
+            "from Pr/Pm"
+        }
+    );
+    let format = format.unwrap_or(super::formats::Format::Obj);
+    if format == super::formats::Format::Gltf {
+        for line in super::material_report::describe(m) {
+            let _ = writeln!(r, "material {}: {line}", m.name);
+        }
+    } else {
+        // How a format without glTF's material model maps into it (README, Loading).
         let _ = writeln!(
             r,
-            "pbr: material {}: base colour ({:.3}, {:.3}, {:.3}), metallic {:.2}, roughness {:.3} ({})",
+            "material model: material {}: {}",
             m.name,
-            m.base_color[0],
-            m.base_color[1],
-            m.base_color[2],
-            m.metallic,
-            m.roughness,
-            if m.phong.is_some_and(|p| p.mapped) {
-                "mapped from Kd/Ks/Ns"
-            } else {
-                "from Pr/Pm"
-            }
+            super::material_report::mapping(m, format, has_colours)
         );
-        let format = format.unwrap_or(super::formats::Format::Obj);
-        if format == super::formats::Format::Gltf {
-            for line in super::material_report::describe(m) {
-                let _ = writeln!(r, "material {}: {line}", m.name);
+    }
+    for (key, spec, what) in &m.check.maps {
+        let _ = writeln!(r, "pbr map: material {}: {key} {spec:?} -> {what}", m.name);
+    }
+    if let Some(spec) = &m.check.base_color {
+        match &m.base_color_texture {
+            Some(slot) => {
+                let t = &slot.image;
+                let _ = writeln!(
+                    r,
+                    "texture: material {}: map_Kd {spec:?} -> {} ({}x{})",
+                    m.name,
+                    t.path.display(),
+                    t.width,
+                    t.height
+                );
             }
-        } else {
-            // How a format without glTF's material model maps into it (README, Loading).
-            let _ = writeln!(
-                r,
-                "material model: material {}: {}",
-                m.name,
-                super::material_report::mapping(m, format, has_colours)
-            );
-        }
-        for (key, spec, what) in &m.check.maps {
-            let _ = writeln!(r, "pbr map: material {}: {key} {spec:?} -> {what}", m.name);
-        }
-        if let Some(spec) = &m.check.base_color {
-            match &m.base_color_texture {
-                Some(slot) => {
-                    let t = &slot.image;
-                    let _ = writeln!(
-                        r,
-                        "texture: material {}: map_Kd {spec:?} -> {} ({}x{})",
-                        m.name,
-                        t.path.display(),
-                        t.width,
-                        t.height
-                    );
-                }
-                None => {
-                    let _ = writeln!(
-                        r,
-                        "texture: material {}: map_Kd {spec:?} -> not loaded (see warnings)",
-                        m.name
-                    );
-                }
+            None => {
+                let _ = writeln!(
+                    r,
+                    "texture: material {}: map_Kd {spec:?} -> not loaded (see warnings)",
+                    m.name
+                );
             }
         }
     }
+}
+
+/// Per object: how many normals were generated, and for large meshes (drawn by clusters)
+/// whether their back faces can be skipped, and why not.
+fn normals_and_culling(r: &mut String, s: &Scene) {
     for m in &s.meshes {
         if m.generated_normals > 0 {
             let _ = writeln!(
@@ -129,21 +171,4 @@ pub fn report(s: &Scene, format: Option<super::formats::Format>) -> String {
             c.reason()
         );
     }
-    // The loader's per-stage times for the load just done on this thread (see `profile`).
-    if let Some(p) = super::profile::last() {
-        let _ = writeln!(r, "load: {p}");
-    }
-    for w in &s.warnings {
-        let _ = writeln!(r, "warning: {w}");
-    }
-    let _ = writeln!(
-        r,
-        "result: renders{}",
-        if s.warnings.is_empty() {
-            ""
-        } else {
-            " with warnings"
-        }
-    );
-    r
 }

@@ -1,0 +1,332 @@
+//! One glTF mesh's primitives read under the transform of a node that instances it: positions,
+//! normals and tangents transformed in f64 (and turned to the up axis asked for), attributes
+//! that are not finite dropped with a warning (normals and tangents are then generated),
+//! lines and points set aside for [`Wire`]; then each triangle primitive made a [`Mesh`]
+//! once the scene's origin is known.
+use super::gltf_accessor as accessor;
+use super::LoadOptions;
+use super::{Mesh, UpAxis, Vertex, Warning, Wire};
+use glam::{DMat3, DMat4, DVec3};
+use gltf::accessor::Dimensions as D;
+use gltf::mesh::{Mode, Semantic};
+use std::path::Path;
+
+/// A triangle primitive as read: world coordinates (f64, not yet re-centred) and its
+/// attributes, each None if absent or unusable.
+pub struct Prim {
+    pub positions: Vec<DVec3>,
+    normals: Option<Vec<DVec3>>,
+    uvs: Option<Vec<[f32; 2]>>,
+    uv1: Option<Vec<[f32; 2]>>,
+    tangents: Option<Vec<[f32; 4]>>,
+    colors: Option<Vec<[f32; 3]>>,
+    pub indices: Vec<u32>,
+    material: Option<usize>,
+    name: String,
+}
+
+/// What the scene's primitives gave: the triangle primitives, and the lines and points with
+/// the positions they index (world coordinates, re-centred later with the triangles).
+#[derive(Default)]
+pub struct Primitives {
+    pub prims: Vec<Prim>,
+    pub wire_pts: Vec<DVec3>,
+    pub wire: Wire,
+}
+
+/// A node instancing a mesh: its transform and what follows from it for directions, and where
+/// the accessors' bytes are.
+pub struct Instance<'a> {
+    node: usize,
+    world: DMat4,
+    /// The inverse transpose, for normals.
+    normal_m: DMat3,
+    /// A singular transform (a zero scale) has no normal matrix: normals are generated.
+    normal_ok: bool,
+    /// A negative determinant: the winding and the bitangent sign flip.
+    mirrored: bool,
+    up: UpAxis,
+    buffers: &'a accessor::Buffers,
+    /// The glTF file, named by warnings.
+    path: &'a Path,
+}
+
+impl<'a> Instance<'a> {
+    pub fn new(
+        node: usize,
+        world: DMat4,
+        up: UpAxis,
+        buffers: &'a accessor::Buffers,
+        path: &'a Path,
+    ) -> Self {
+        let normal_m = DMat3::from_mat4(world).inverse().transpose();
+        Instance {
+            node,
+            world,
+            normal_m,
+            normal_ok: normal_m.is_finite(),
+            mirrored: world.determinant() < 0.0,
+            up,
+            buffers,
+            path,
+        }
+    }
+
+    fn warn(&self, warnings: &mut Vec<Warning>, message: String) {
+        warnings.push(Warning {
+            file: self.path.to_path_buf(),
+            line: None,
+            message,
+        })
+    }
+
+    /// Reads every primitive of `mesh` into `out`; a primitive without positions is skipped
+    /// with a warning. An error is a message for the file as a whole.
+    pub fn read_mesh(
+        &self,
+        mesh: &gltf::Mesh,
+        out: &mut Primitives,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<(), String> {
+        for (pi, p) in mesh.primitives().enumerate() {
+            let where_ = || format!("mesh {} primitive {pi}", mesh.index());
+            let Some(pos_acc) = p.get(&Semantic::Positions) else {
+                self.warn(warnings, format!("{}: no POSITION: skipped", where_()));
+                continue;
+            };
+            let positions = self.positions(&pos_acc, &where_)?;
+            let n = positions.len() as u32;
+            let corners: Vec<u32> = match p.indices() {
+                Some(a) => accessor::read_indices(&a, self.buffers)?,
+                None => (0..n).collect(),
+            };
+            if let Some(k) = corners.iter().position(|&k| k >= n) {
+                return Err(format!(
+                    "{}: index {} (element {k}) out of range ({n} vertices)",
+                    where_(),
+                    corners[k]
+                ));
+            }
+            let (indices, segments) = super::gltf_modes::split(p.mode(), &corners, self.mirrored);
+            if matches!(p.mode(), Mode::Points) || !segments.is_empty() {
+                let base = out.wire_pts.len() as u32;
+                out.wire_pts.extend(&positions);
+                if p.mode() == Mode::Points {
+                    out.wire.points.extend(corners.iter().map(|i| base + i));
+                }
+                out.wire
+                    .segments
+                    .extend(segments.iter().map(|s| [base + s[0], base + s[1]]));
+                continue;
+            }
+            let normals = self.normals(&p, &where_, warnings)?;
+            let uvs = self.uv_set(&p, 0, warnings)?;
+            let uv1 = self.uv_set(&p, 1, warnings)?;
+            let tangents = self.tangents(&p, &where_, warnings)?;
+            let colors = match p.get(&Semantic::Colors(0)) {
+                Some(a) => {
+                    let (d, v) = accessor::read_f32(&a, self.buffers, &[D::Vec3, D::Vec4])?;
+                    Some(v.chunks_exact(d).map(|q| [q[0], q[1], q[2]]).collect())
+                }
+                None => None,
+            };
+            out.prims.push(Prim {
+                positions,
+                normals,
+                uvs,
+                uv1,
+                tangents,
+                colors,
+                indices,
+                material: p.material().index(),
+                name: mesh.name().unwrap_or("mesh").to_string(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The POSITION accessor's points in world coordinates; an error if one is not finite, or
+    /// is beyond f32 after the transform (it would become infinite when rounded after
+    /// re-centring).
+    fn positions(
+        &self,
+        pos_acc: &gltf::Accessor,
+        where_: &dyn Fn() -> String,
+    ) -> Result<Vec<DVec3>, String> {
+        let (_, raw) = accessor::read_f32(pos_acc, self.buffers, &[D::Vec3])?;
+        if let Some(k) = raw.iter().position(|x| !x.is_finite()) {
+            return Err(format!(
+                "accessor {} (POSITION of {}): element {} is not finite",
+                pos_acc.index(),
+                where_(),
+                k / 3
+            ));
+        }
+        let positions: Vec<DVec3> = raw
+            .chunks_exact(3)
+            .map(|q| {
+                self.up.rotate(
+                    self.world
+                        .transform_point3(glam::Vec3::from_slice(q).as_dvec3()),
+                )
+            })
+            .collect();
+        if positions
+            .iter()
+            .any(|q| !q.is_finite() || q.abs().max_element() > f64::from(f32::MAX))
+        {
+            return Err(format!(
+                "{}: node {} transforms positions beyond 32-bit float range",
+                where_(),
+                self.node
+            ));
+        }
+        Ok(positions)
+    }
+
+    /// The NORMAL accessor's directions under the normal matrix; None (normals generated) if
+    /// absent, if the transform has no normal matrix, or (with a warning) if one is not finite.
+    fn normals(
+        &self,
+        p: &gltf::Primitive,
+        where_: &dyn Fn() -> String,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Option<Vec<DVec3>>, String> {
+        let Some(a) = p.get(&Semantic::Normals).filter(|_| self.normal_ok) else {
+            return Ok(None);
+        };
+        let (_, v) = accessor::read_f32(&a, self.buffers, &[D::Vec3])?;
+        if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+            self.warn(
+                warnings,
+                format!(
+                    "accessor {} (NORMAL of {}): element {} is not finite; \
+                     normals generated",
+                    a.index(),
+                    where_(),
+                    k / 3
+                ),
+            );
+            return Ok(None);
+        }
+        Ok(Some(
+            v.chunks_exact(3)
+                .map(|q| {
+                    self.up
+                        .rotate(self.normal_m * glam::Vec3::from_slice(q).as_dvec3())
+                })
+                .collect(),
+        ))
+    }
+
+    /// The TEXCOORD_`set` accessor; None if absent or (with a warning) if one is not finite.
+    fn uv_set(
+        &self,
+        p: &gltf::Primitive,
+        set: u32,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Option<Vec<[f32; 2]>>, String> {
+        let Some(a) = p.get(&Semantic::TexCoords(set)) else {
+            return Ok(None);
+        };
+        let (_, v) = accessor::read_f32(&a, self.buffers, &[D::Vec2])?;
+        if v.iter().all(|x| x.is_finite()) {
+            Ok(Some(v.chunks_exact(2).map(|q| [q[0], q[1]]).collect()))
+        } else {
+            self.warn(
+                warnings,
+                format!(
+                    "accessor {}: a TEXCOORD_{set} is not finite: unused",
+                    a.index()
+                ),
+            );
+            Ok(None)
+        }
+    }
+
+    /// The TANGENT accessor under the node's transform; None (tangents generated) if absent,
+    /// if the transform has no normal matrix, or (with a warning) if one is not finite.
+    fn tangents(
+        &self,
+        p: &gltf::Primitive,
+        where_: &dyn Fn() -> String,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Option<Vec<[f32; 4]>>, String> {
+        let Some(a) = p.get(&Semantic::Tangents).filter(|_| self.normal_ok) else {
+            return Ok(None);
+        };
+        let (_, v) = accessor::read_f32(&a, self.buffers, &[D::Vec4])?;
+        if !v.iter().all(|x| x.is_finite()) {
+            self.warn(
+                warnings,
+                format!(
+                    "accessor {} (TANGENT of {}): not finite; tangents generated",
+                    a.index(),
+                    where_()
+                ),
+            );
+            return Ok(None);
+        }
+        // Supplied tangents follow the node's linear part like any direction in the
+        // surface; a mirroring transform reverses cross(N, T), so the bitangent sign flips
+        // with it.
+        let m3 = DMat3::from_mat4(self.world);
+        let flip = if self.mirrored { -1.0 } else { 1.0 };
+        Ok(Some(
+            v.chunks_exact(4)
+                .map(|q| {
+                    let t = self.up.rotate(m3 * glam::Vec3::from_slice(q).as_dvec3());
+                    let t = t.normalize_or_zero().as_vec3();
+                    let w = if q[3] < 0.0 { -flip } else { flip };
+                    [t.x, t.y, t.z, w as f32]
+                })
+                .collect(),
+        ))
+    }
+}
+
+impl Prim {
+    /// The mesh, re-centred on `origin`: attributes of another length than the positions are
+    /// dropped, a material index past the file's materials becomes `default_material`, and
+    /// normals are generated where the file gave none.
+    pub fn into_mesh(self, origin: DVec3, default_material: usize, opts: &LoadOptions) -> Mesh {
+        let p = self;
+        let count = p.positions.len();
+        let has_n = p.normals.as_ref().is_some_and(|v| v.len() == count);
+        let has_uv = p.uvs.as_ref().is_some_and(|v| v.len() == count);
+        let vertices: Vec<Vertex> = (0..count)
+            .map(|i| Vertex {
+                position: (p.positions[i] - origin).as_vec3().into(),
+                normal: match &p.normals {
+                    Some(v) if has_n => v[i].as_vec3().into(),
+                    _ => [0.0; 3],
+                },
+                // glTF's UV origin is the image's top-left, as textures are uploaded.
+                uv: match &p.uvs {
+                    Some(v) if has_uv => v[i],
+                    _ => [0.0; 2],
+                },
+            })
+            .collect();
+        let mut mesh = Mesh {
+            name: p.name,
+            vertices,
+            indices: p.indices,
+            material: p
+                .material
+                .filter(|&m| m < default_material)
+                .unwrap_or(default_material),
+            has_uv,
+            generated_normals: 0,
+            colors: p.colors.filter(|c| c.len() == count).unwrap_or_default(),
+            uv1: p.uv1.filter(|c| c.len() == count).unwrap_or_default(),
+            // Tangents go with the file's normals: generated normals get generated tangents.
+            tangents: p
+                .tangents
+                .filter(|c| c.len() == count && has_n)
+                .unwrap_or_default(),
+        };
+        mesh.finish_normals(has_n, None, opts.creases);
+        mesh
+    }
+}
