@@ -1,5 +1,6 @@
 """No leaks from Python (issue #28): one-shot ``glview.render()`` calls share one kept context,
 and renderers opened and closed give theirs back. Resident memory is this process's VmRSS."""
+import ctypes
 import threading
 
 import numpy as np
@@ -11,7 +12,13 @@ import glview
 BUDGET_KIB = 50 * 1024
 
 
+_LIBC = ctypes.CDLL("libc.so.6")
+
+
 def rss_kib() -> int:
+    """Resident memory once glibc has returned its free pages (a temporary renderer's thread
+    arena keeps them resident until trimmed, which is not a leak; a leak stays)."""
+    _LIBC.malloc_trim(0)
     with open("/proc/self/status") as f:
         for line in f:
             if line.startswith("VmRSS:"):
@@ -48,7 +55,7 @@ def test_one_shot_renders_keep_memory_flat_and_forget_the_last_model(bunny):
             img = glview.render(size=(32, 24), backend="egl")
             assert np.array_equal(img.color, builtin.color)
 
-    stays_flat("glview.render", 20, 200, one)
+    stays_flat("glview.render", 20, 1000, one)
 
 
 def test_renderers_opened_and_closed_keep_memory_flat():
@@ -57,7 +64,7 @@ def test_renderers_opened_and_closed_keep_memory_flat():
             if i % 10 == 0:
                 r.render()
 
-    stays_flat("glview.Renderer open/close", 20, 100, one)
+    stays_flat("glview.Renderer open/close", 20, 200, one)
 
 
 def test_one_shot_renders_from_two_threads_and_release():
