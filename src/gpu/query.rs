@@ -26,15 +26,22 @@ impl TimerQuery {
         // boot; an empty query spent here makes the first frame's `gpu_ms` a real figure.
         q.begin();
         // SAFETY: plain state calls and a one-pixel depth clear on the current context; the
-        // scissor state is restored, and every frame clears its target before drawing.
+        // scissor state is restored, and every frame clears its target before drawing. The
+        // clear goes to whatever framebuffer is bound: none at all on a surfaceless context
+        // (the default framebuffer, bound back by `ibl_gpu::compute` for one), where it
+        // would leave GL_INVALID_FRAMEBUFFER_OPERATION for the next pass's check.
         unsafe {
             let gl = &gpu.gl;
-            let scissor = gl.is_enabled(glow::SCISSOR_TEST);
-            gl.enable(glow::SCISSOR_TEST);
-            gl.scissor(0, 0, 1, 1);
-            gl.clear(glow::DEPTH_BUFFER_BIT);
-            if !scissor {
-                gl.disable(glow::SCISSOR_TEST);
+            if !gpu.caps.fbo
+                || gl.check_framebuffer_status(glow::FRAMEBUFFER) == glow::FRAMEBUFFER_COMPLETE
+            {
+                let scissor = gl.is_enabled(glow::SCISSOR_TEST);
+                gl.enable(glow::SCISSOR_TEST);
+                gl.scissor(0, 0, 1, 1);
+                gl.clear(glow::DEPTH_BUFFER_BIT);
+                if !scissor {
+                    gl.disable(glow::SCISSOR_TEST);
+                }
             }
             gl.finish();
         }

@@ -196,6 +196,12 @@ impl Gpu {
         unsafe { self.gl.get_parameter_i32(glow::SAMPLES).max(0) as u32 }
     }
 
+    /// The framebuffer bound now (None: the default one), to bind back after a pass.
+    pub fn bound_framebuffer(&self) -> Option<glow::Framebuffer> {
+        // SAFETY: a plain query on the current context.
+        unsafe { self.gl.get_parameter_framebuffer(glow::FRAMEBUFFER_BINDING) }
+    }
+
     pub fn bind_framebuffer(&self, fbo: Option<glow::Framebuffer>) {
         // SAFETY: fbo is None or a live framebuffer of this context.
         unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, fbo) }

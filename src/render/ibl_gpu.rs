@@ -57,6 +57,9 @@ pub fn compute(
         )));
     }
     let start = std::time::Instant::now();
+    // The caller's framebuffer, bound back at the end: a surfaceless context has no default
+    // framebuffer, and a clear or draw into it fails with GL_INVALID_FRAMEBUFFER_OPERATION.
+    let previous = gpu.bound_framebuffer();
     // The CPU's own box-filtered chain, uploaded level by level: the same filtering as the
     // CPU path, and no glGenerateMipmap (which ES 3.0 refuses for RGBA16F).
     let mips = env.mips();
@@ -117,7 +120,7 @@ pub fn compute(
             let px = gpu.read_rgba_f32(size, size);
             faces.push(px.chunks_exact(4).map(|p| [p[0], p[1], p[2]]).collect());
         }
-        gpu.bind_framebuffer(None);
+        gpu.bind_framebuffer(previous);
         Ok(Cube { size, faces })
     };
     let irradiance = cube(0, s.irradiance_size, 0.0)?;

@@ -488,6 +488,63 @@ fn programs_are_cached_per_context() {
     );
 }
 
+/// The GPU precomputation on its own (as `glview bench --pbr` times it), then renderers on
+/// the same surfaceless context: the precomputation left the default framebuffer bound (a
+/// surfaceless context has none) and the renderer's timer warm-up cleared it, which failed
+/// as "GL error 0x0506 after GPU precomputation". Both draw, within the GPU-vs-CPU tolerance
+/// of `gpu_precompute_matches_the_cpu`.
+#[test]
+fn gpu_precompute_then_renderers_on_the_same_context() {
+    use glview::headless::Headless;
+    use glview::pbr::precompute::IblSettings;
+    use glview::pbr::{Encoding, EnvRequest, EnvSource, PrecomputeOn};
+    use glview::platform::{Backend, GlRequest};
+    use glview::render::Renderer;
+    use glview::shader::cache::ProgramCache;
+    let dir = out_dir("pbr-gpu-precompute-then-render");
+    let hdr = shared().join("hdr/studio_small_03_1k.hdr");
+    let sphere = models().join("sphere.obj");
+    let (settings, scene) = settings_for(&[
+        sphere.to_str().unwrap(),
+        "--size",
+        "64x64",
+        "--shading",
+        "pbr",
+        "--env",
+        hdr.to_str().unwrap(),
+        "--light",
+        "none",
+        "--metallic",
+        "1",
+        "--roughness",
+        "0.4",
+    ]);
+    let hl = Headless::new(Backend::Egl, GlRequest::Core, 64, 64).expect("EGL context");
+    let env = Environment::load(&hdr).unwrap();
+    let programs = ProgramCache::for_context(&hl.gpu);
+    glview::render::ibl_gpu::compute(
+        &hl.gpu,
+        &mut programs.borrow_mut(),
+        &env,
+        &IblSettings::default(),
+    )
+    .unwrap();
+    let shot = |precompute: PrecomputeOn| {
+        let mut r = Renderer::new(&hl.gpu, scene.clone()).unwrap();
+        r.set_environment(EnvRequest {
+            source: EnvSource::File(hdr.clone()),
+            settings: IblSettings::default(),
+            encoding: Encoding::Float,
+            cache: false,
+            precompute,
+        });
+        r.render(&settings, &hl.target()).unwrap();
+        hl.read()
+    };
+    let (gpu, cpu) = (shot(PrecomputeOn::Gpu), shot(PrecomputeOn::Cpu));
+    assert_close(&dir, "gpu-vs-cpu", &gpu, &cpu, 3, 20, 8);
+}
+
 /// The GPU precomputation (`--ibl-precompute gpu`) computes the same maps as the CPU on
 /// GLSL 3.30 and ES 3.00 (measured: mean 0.0004–0.001 linear, max 0.009 on the studio HDR
 /// spheres — half-float environment texels and GL's own mip filtering); GL 2.1 refuses it
