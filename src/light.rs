@@ -32,19 +32,14 @@ pub enum LightSpec {
 }
 
 impl LightSpec {
+    /// A placed light's words (`point:X,Y,Z`, `dir:X,Y,Z`), or `none`; through
+    /// [`LightOpt`]'s parser, so the messages are one.
     pub fn parse(s: &str) -> Result<Option<LightSpec>, String> {
-        if s == "none" {
-            return Ok(None);
-        }
-        let (kind, rest) = s
-            .split_once(':')
-            .ok_or_else(|| format!("light {s:?}: expected point:X,Y,Z, dir:X,Y,Z or none"))?;
-        let v = parse_vec3(rest).map_err(|e| format!("light {s:?}: {e}"))?;
-        match kind {
-            "point" => Ok(Some(LightSpec::Point(v))),
-            "dir" if v.length_squared() > 0.0 => Ok(Some(LightSpec::Directional(v.normalize()))),
-            "dir" => Err(format!("light {s:?}: direction is zero")),
-            _ => Err(format!("light {s:?}: kind must be point or dir")),
+        match s.parse::<LightOpt>()? {
+            LightOpt::Head => Err(format!(
+                "light {s:?}: expected point:X,Y,Z, dir:X,Y,Z or none"
+            )),
+            light => Ok(light.spec()),
         }
     }
 
@@ -87,15 +82,16 @@ impl std::str::FromStr for LightOpt {
             "none" => return Ok(LightOpt::None),
             _ => {}
         }
-        // The one parser of a light's words (and its messages).
-        LightSpec::parse(s)?;
-        let (kind, rest) = s.split_once(':').unwrap_or_default();
-        let v = parse_vec3(rest)?;
-        Ok(match kind {
-            "point" => LightOpt::Point(v),
-            "dir" => LightOpt::Dir(v),
-            _ => LightOpt::None,
-        })
+        let (kind, rest) = s
+            .split_once(':')
+            .ok_or_else(|| format!("light {s:?}: expected point:X,Y,Z, dir:X,Y,Z or none"))?;
+        let v = parse_vec3(rest).map_err(|e| format!("light {s:?}: {e}"))?;
+        match kind {
+            "point" => Ok(LightOpt::Point(v)),
+            "dir" if v.length_squared() > 0.0 => Ok(LightOpt::Dir(v)),
+            "dir" => Err(format!("light {s:?}: direction is zero")),
+            _ => Err(format!("light {s:?}: kind must be point or dir")),
+        }
     }
 }
 
