@@ -52,10 +52,12 @@ struct KeptContext {
     request: (Backend, GlRequest),
 }
 
-/// Makes sure `kept` is a context for `args` (made, or re-targeted to the picture's size).
+/// Makes sure `kept` is a context for `args` (made, or re-targeted to `size`), multisampled
+/// when `msaa`.
 fn context(
     args: &Options,
     size: (u32, u32),
+    msaa: bool,
     kept: &mut Option<KeptContext>,
     profile: &mut Profile,
 ) -> Result<()> {
@@ -78,10 +80,15 @@ fn context(
         });
     }
     let kept = kept.as_mut().expect("context made above");
-    if args.post.aa == AaMode::Msaa {
+    if msaa {
         kept.hl.enable_msaa(args.post.aa_samples)?;
     }
     Ok(())
+}
+
+/// Whether a picture of `args` is drawn into a multisampled target.
+fn msaa(args: &Options) -> bool {
+    args.post.aa == AaMode::Msaa
 }
 
 /// A headless context made on first use and kept between pictures (re-targeted to each
@@ -106,6 +113,7 @@ impl Session {
         context(
             args,
             args.picture.size,
+            msaa(args),
             &mut s.kept,
             &mut Profile::default(),
         )?;
@@ -140,9 +148,7 @@ impl Session {
         size: (u32, u32),
         draw: impl FnOnce(&Headless, &mut Renderer) -> Result<T>,
     ) -> Result<T> {
-        let mut plain = args.clone();
-        plain.post.aa = AaMode::None;
-        context(&plain, size, &mut self.kept, &mut Profile::default())?;
+        context(args, size, false, &mut self.kept, &mut Profile::default())?;
         let kept = self.kept.as_mut().expect("context made above");
         kept.renderer = None;
         let mut renderer = Renderer::new(&kept.hl.gpu, scene)?;
@@ -332,7 +338,7 @@ fn prepare<'k>(
             && c.renderer.as_ref().is_some_and(|(k, _)| *k == key)
     });
     let scene = if reuse {
-        context(args, size, kept, profile)?;
+        context(args, size, msaa(args), kept, profile)?;
         None
     } else {
         // The old renderer goes before a new context or scene is made.
@@ -346,7 +352,7 @@ fn prepare<'k>(
                 Some(g) => given_scene(args, g.scene),
                 None => load(args),
             });
-            let made = context(args, size, kept, profile);
+            let made = context(args, size, msaa(args), kept, profile);
             (made, loader.join())
         });
         made?;
