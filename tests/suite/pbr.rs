@@ -504,21 +504,8 @@ fn gpu_precompute_then_renderers_on_the_same_context() {
     let dir = out_dir("pbr-gpu-precompute-then-render");
     let hdr = shared().join("hdr/studio_small_03_1k.hdr");
     let sphere = models().join("sphere.obj");
-    let (settings, scene) = settings_for(&[
-        sphere.to_str().unwrap(),
-        "--size",
-        "64x64",
-        "--shading",
-        "pbr",
-        "--env",
-        hdr.to_str().unwrap(),
-        "--light",
-        "none",
-        "--metallic",
-        "1",
-        "--roughness",
-        "0.4",
-    ]);
+    let words = studio_sphere(&sphere, &hdr);
+    let (settings, scene) = settings_for(&words.iter().map(String::as_str).collect::<Vec<_>>());
     let hl = Headless::new(Backend::Egl, GlRequest::Core, 64, 64).expect("EGL context");
     let env = Environment::load(&hdr).unwrap();
     let programs = ProgramCache::for_context(&hl.gpu);
@@ -545,6 +532,29 @@ fn gpu_precompute_then_renderers_on_the_same_context() {
     assert_close(&dir, "gpu-vs-cpu", &gpu, &cpu, 3, 20, 8);
 }
 
+/// The scene both GPU-precompute tests draw: a rough metal sphere at 64×64 in the studio HDR,
+/// no direct light (so the picture is the precomputed maps' alone).
+fn studio_sphere(sphere: &std::path::Path, hdr: &std::path::Path) -> Vec<String> {
+    let (sphere, hdr) = (sphere.to_str().unwrap(), hdr.to_str().unwrap());
+    [
+        sphere,
+        "--size",
+        "64x64",
+        "--shading",
+        "pbr",
+        "--env",
+        hdr,
+        "--light",
+        "none",
+        "--metallic",
+        "1",
+        "--roughness",
+        "0.4",
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
 /// The GPU precomputation (`--ibl-precompute gpu`) computes the same maps as the CPU on
 /// GLSL 3.30 and ES 3.00 (measured: mean 0.0004–0.001 linear, max 0.009 on the studio HDR
 /// spheres — half-float environment texels and GL's own mip filtering); GL 2.1 refuses it
@@ -556,23 +566,9 @@ fn gpu_precompute_matches_the_cpu() {
     for (path, gl) in [("core", "core"), ("es3", "es3")] {
         let shot = |on: &str| {
             let name = format!("{path}-{on}");
-            render(
-                &dir,
-                &name,
-                &[
-                    models().join("sphere.obj").to_str().unwrap(),
-                    "--size",
-                    "64x64",
-                    "--shading",
-                    "pbr",
-                    "--env",
-                    hdr.to_str().unwrap(),
-                    "--light",
-                    "none",
-                    "--metallic",
-                    "1",
-                    "--roughness",
-                    "0.4",
+            let mut words = studio_sphere(&models().join("sphere.obj"), &hdr);
+            words.extend(
+                [
                     "--no-cache",
                     "--ibl-precompute",
                     on,
@@ -580,7 +576,13 @@ fn gpu_precompute_matches_the_cpu() {
                     gl,
                     "--backend",
                     "egl",
-                ],
+                ]
+                .map(String::from),
+            );
+            render(
+                &dir,
+                &name,
+                &words.iter().map(String::as_str).collect::<Vec<_>>(),
                 &[],
             )
         };
