@@ -23,6 +23,14 @@ pub enum Form {
     Optional,
 }
 
+/// What the reference and the CLI's help say of an option's value: what it looks like, its
+/// choices with their docs, its default as a word.
+pub type Meta = (
+    &'static str,
+    Vec<(&'static str, &'static str)>,
+    Option<String>,
+);
+
 fn flag_words(flag: &str, value: Option<String>) -> Vec<String> {
     std::iter::once(format!("--{flag}")).chain(value).collect()
 }
@@ -45,13 +53,7 @@ pub mod value {
             flag_words(flag, Some(v.to_word()))
         }
     }
-    pub fn meta<T: OptionValue>(
-        d: &T,
-    ) -> (
-        &'static str,
-        Vec<(&'static str, &'static str)>,
-        Option<String>,
-    ) {
+    pub fn meta<T: OptionValue>(d: &T) -> Meta {
         (T::EXPECTED, T::choices(), Some(d.to_word()))
     }
 }
@@ -76,13 +78,7 @@ pub mod maybe {
             _ => Vec::new(),
         }
     }
-    pub fn meta<T: OptionValue>(
-        d: &Option<T>,
-    ) -> (
-        &'static str,
-        Vec<(&'static str, &'static str)>,
-        Option<String>,
-    ) {
+    pub fn meta<T: OptionValue>(d: &Option<T>) -> Meta {
         (T::EXPECTED, T::choices(), d.as_ref().map(T::to_word))
     }
 }
@@ -114,13 +110,7 @@ pub mod repeat {
             .flat_map(|x| flag_words(flag, Some(x.to_word())))
             .collect()
     }
-    pub fn meta<T: OptionValue>(
-        _: &[T],
-    ) -> (
-        &'static str,
-        Vec<(&'static str, &'static str)>,
-        Option<String>,
-    ) {
+    pub fn meta<T: OptionValue>(_: &[T]) -> Meta {
         (T::EXPECTED, T::choices(), None)
     }
 }
@@ -155,13 +145,7 @@ pub mod list {
         let items: Vec<String> = v.iter().map(T::to_word).collect();
         flag_words(flag, Some(items.join(",")))
     }
-    pub fn meta<T: OptionValue>(
-        _: &[T],
-    ) -> (
-        &'static str,
-        Vec<(&'static str, &'static str)>,
-        Option<String>,
-    ) {
+    pub fn meta<T: OptionValue>(_: &[T]) -> Meta {
         (T::EXPECTED, T::choices(), None)
     }
 }
@@ -193,13 +177,7 @@ pub mod flag {
             Vec::new()
         }
     }
-    pub fn meta(
-        _: &bool,
-    ) -> (
-        &'static str,
-        Vec<(&'static str, &'static str)>,
-        Option<String>,
-    ) {
+    pub fn meta(_: &bool) -> Meta {
         ("", Vec::new(), None)
     }
 }
@@ -213,26 +191,16 @@ pub mod noflag {
         *slot = false;
         Ok(())
     }
+    /// [`flag`]'s, of the switch's opposite.
     pub fn set_json(slot: &mut bool, v: &Value) -> Result<(), String> {
-        *slot = !json_bool(v)?;
+        flag::set_json(slot, v)?;
+        *slot = !*slot;
         Ok(())
     }
-    pub fn words(v: &bool, _: &bool, flag: &str) -> Vec<String> {
-        if *v {
-            Vec::new()
-        } else {
-            flag_words(flag, None)
-        }
+    pub fn words(v: &bool, d: &bool, name: &str) -> Vec<String> {
+        flag::words(&!*v, &!*d, name)
     }
-    pub fn meta(
-        _: &bool,
-    ) -> (
-        &'static str,
-        Vec<(&'static str, &'static str)>,
-        Option<String>,
-    ) {
-        ("", Vec::new(), None)
-    }
+    pub use super::flag::meta;
 }
 
 /// `--ortho` (fit the model) or `--ortho H`.
@@ -271,13 +239,7 @@ pub mod optional {
             Some(Ortho::Height(h)) => flag_words(flag, Some(h.to_string())),
         }
     }
-    pub fn meta(
-        _: &Option<Ortho>,
-    ) -> (
-        &'static str,
-        Vec<(&'static str, &'static str)>,
-        Option<String>,
-    ) {
+    pub fn meta(_: &Option<Ortho>) -> Meta {
         ("a height", Vec::new(), None)
     }
 }
