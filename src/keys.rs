@@ -129,6 +129,17 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     (&["Escape", "Esc", "Q"], Action::Quit, "quit"),
 ];
 
+/// Degrees of orbit per pixel of a left-drag (the window's and the server's).
+pub const DRAG_DEG_PER_PIXEL: f32 = 0.4;
+
+/// The first name of the key that does `action` (as `--keys` takes it).
+pub fn name_of(action: Action) -> Option<&'static str> {
+    KEY_TABLE
+        .iter()
+        .find(|(_, a, _)| *a == action)
+        .map(|(names, _, _)| names[0])
+}
+
 /// The bloom strength `B` switches on.
 pub const DEFAULT_KEY_BLOOM: f32 = 0.05;
 

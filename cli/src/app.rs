@@ -19,8 +19,6 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-/// Degrees of orbit per pixel of left-drag.
-const DRAG_DEG_PER_PIXEL: f32 = 0.4;
 /// Pixels of a touchpad scroll that count as one wheel notch.
 const PIXELS_PER_NOTCH: f64 = 40.0;
 
@@ -319,11 +317,11 @@ impl ApplicationHandler for App<'_> {
                     // Dragging right turns the model right: the camera goes the other way.
                     self.act(
                         event_loop,
-                        Action::Camera(CameraMove::Yaw(-dx * DRAG_DEG_PER_PIXEL)),
+                        Action::Camera(CameraMove::Yaw(-dx * glview::keys::DRAG_DEG_PER_PIXEL)),
                     );
                     self.act(
                         event_loop,
-                        Action::Camera(CameraMove::Pitch(dy * DRAG_DEG_PER_PIXEL)),
+                        Action::Camera(CameraMove::Pitch(dy * glview::keys::DRAG_DEG_PER_PIXEL)),
                     );
                 }
             }

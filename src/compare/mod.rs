@@ -114,42 +114,19 @@ pub fn render_panes_with(
     if gpu_tiers {
         let mut session = crate::session::Session::new();
         session.with_scene(args, scene.clone(), (w * n, h), |hl, renderer| {
-            for (i, t) in tiers.iter().enumerate() {
-                if let PaneTier::Gpu(shading) = t {
-                    let s = FrameSettings {
-                        shading: *shading,
-                        ..base.clone()
-                    };
-                    let stats =
-                        renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
-                    if args.picture.stats {
-                        println!("{}", serde_json::to_string(&stats).unwrap_or_default());
-                    }
-                }
-            }
-            let all = hl.read();
-            for (i, t) in tiers.iter().enumerate() {
-                if matches!(t, PaneTier::Gpu(_)) {
-                    images[i] = Some(crop(&all, i as u32 * w, w));
-                }
-            }
-            if coverage {
-                for (i, t) in tiers.iter().enumerate() {
-                    if let PaneTier::Gpu(shading) = t {
-                        let mut s = FrameSettings {
-                            shading: *shading,
-                            ..base.clone()
-                        };
-                        s.lighting.post.transparent = true;
-                        renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
-                    }
-                }
-                let all = hl.read();
-                for (i, t) in tiers.iter().enumerate() {
-                    if matches!(t, PaneTier::Gpu(_)) {
-                        let pane = crop(&all, i as u32 * w, w);
-                        covered[i] = pane.data.chunks_exact(4).map(|p| p[3] > 0).collect();
-                    }
+            let (imgs, cov) = gpu_panes(
+                hl,
+                renderer,
+                &base,
+                tiers,
+                (w, h),
+                coverage,
+                args.picture.stats,
+            )?;
+            for (i, (img, c)) in imgs.into_iter().zip(cov).enumerate() {
+                if let Some(img) = img {
+                    images[i] = Some(img);
+                    covered[i] = c;
                 }
             }
             Ok(())
@@ -180,6 +157,84 @@ pub fn render_panes_with(
         labels: tiers.iter().map(|t| label(*t, &base)).collect(),
         coverage: covered,
     })
+}
+
+/// The GPU tiers' panes (None for the others), `size` each, as viewports of `hl`'s target
+/// side by side, and with `coverage` where each covers a pixel (drawn once more with a
+/// transparent background: alpha = coverage).
+fn gpu_panes(
+    hl: &crate::headless::Headless,
+    renderer: &mut crate::render::Renderer,
+    base: &FrameSettings,
+    tiers: &[PaneTier],
+    (w, h): (u32, u32),
+    coverage: bool,
+    print_stats: bool,
+) -> Result<(Vec<Option<Rgba>>, Vec<Vec<bool>>)> {
+    let mut images = vec![None; tiers.len()];
+    let mut covered = vec![Vec::new(); tiers.len()];
+    let gpu = |t: &PaneTier| match t {
+        PaneTier::Gpu(s) => Some(*s),
+        PaneTier::Reference(_) => None,
+    };
+    for pass in [false, true] {
+        if pass && !coverage {
+            break;
+        }
+        for (i, shading) in tiers
+            .iter()
+            .enumerate()
+            .filter_map(|(i, t)| Some((i, gpu(t)?)))
+        {
+            let mut s = FrameSettings {
+                shading,
+                ..base.clone()
+            };
+            s.lighting.post.transparent = pass;
+            let stats = renderer.render_viewport(&s, &hl.target(), [i as u32 * w, 0, w, h])?;
+            if print_stats && !pass {
+                println!("{}", serde_json::to_string(&stats).unwrap_or_default());
+            }
+        }
+        let all = hl.read();
+        for i in (0..tiers.len()).filter(|&i| gpu(&tiers[i]).is_some()) {
+            let pane = crop(&all, i as u32 * w, w);
+            if pass {
+                covered[i] = pane.data.chunks_exact(4).map(|p| p[3] > 0).collect();
+            } else {
+                images[i] = Some(pane);
+            }
+        }
+    }
+    Ok((images, covered))
+}
+
+/// Phong | PBR of `args` (each pane `args.picture.size`, framed for it, as `--compare
+/// phong,pbr` draws them) with the session's kept renderer, side by side in one picture,
+/// and with `numbers` their difference over the model's pixels (`--diff phong,pbr`'s model
+/// part): the server's compare view.
+pub fn phong_pbr(
+    session: &mut crate::session::Session,
+    args: &crate::options::Options,
+    numbers: bool,
+) -> Result<(Rgba, Option<diff::DiffNumbers>)> {
+    let (w, h) = args.picture.size;
+    let tiers = [PaneTier::Gpu(Shading::Phong), PaneTier::Gpu(Shading::Pbr)];
+    let (mut images, covered) = session.with_renderer(args, (2 * w, h), |hl, renderer| {
+        let (base, _) = crate::session::frame_settings(args, renderer.scene())?;
+        gpu_panes(hl, renderer, &base, &tiers, (w, h), numbers, false)
+    })?;
+    let (b, a) = (images.pop().flatten(), images.pop().flatten());
+    let (a, b) = (a.expect("two panes"), b.expect("two panes"));
+    let mut out = canvas::blank(2 * w, h, [0, 0, 0]);
+    canvas::paste(&mut out, &a, 0, 0);
+    canvas::paste(&mut out, &b, w, 0);
+    let numbers = if numbers {
+        diff::over_pixels(&a, &b, &diff::union(&covered[0], &covered[1]))?
+    } else {
+        None
+    };
+    Ok((out, numbers))
 }
 
 /// Columns x0..x0+w of `img`.

@@ -18,6 +18,7 @@ pub mod modes;
 mod profile;
 pub mod settings;
 pub mod text;
+pub mod view;
 
 pub use modes::{compile_shaders, map_view, print_info, render_headless, render_reference};
 pub use profile::Profile;
@@ -26,6 +27,7 @@ pub use settings::{
     BUILTIN_MTL, BUILTIN_OBJ,
 };
 pub use text::{png_text, Drawer, Repro};
+pub use view::View;
 
 use crate::error::Result;
 use crate::headless::Headless;
@@ -46,7 +48,8 @@ use std::time::Instant;
 /// last picture's renderer (its uploaded scene, environment maps and shadow maps) with the
 /// options it was made for. Field order is drop order: GL objects before their context.
 struct KeptContext {
-    renderer: Option<(String, Renderer)>,
+    /// Least recently drawn first; at most [`Session::keep_scenes`] of them.
+    renderers: Vec<(String, Renderer)>,
     programs: SharedPrograms,
     hl: Headless,
     request: (Backend, GlRequest),
@@ -73,7 +76,7 @@ fn context(
         let hl = Headless::new(args.context.backend, args.context.gl, size.0, size.1)?;
         profile.context_ms = ms(t);
         *kept = Some(KeptContext {
-            renderer: None,
+            renderers: Vec::new(),
             programs: ProgramCache::for_context(&hl.gpu),
             hl,
             request,
@@ -95,15 +98,41 @@ fn msaa(args: &Options) -> bool {
 /// picture's size; made anew when a picture asks for another backend or GL request), its
 /// program cache, and the last picture's renderer, kept while the scene's options stay the
 /// same: a turntable or a camera sweep loads and uploads once.
-#[derive(Default)]
 pub struct Session {
     kept: Option<KeptContext>,
+    /// How many scenes stay uploaded (least recently drawn goes first).
+    keep: usize,
+}
+
+impl Default for Session {
+    fn default() -> Session {
+        Session {
+            kept: None,
+            keep: 1,
+        }
+    }
 }
 
 impl Session {
     /// A session without a context yet (the first picture makes it).
     pub fn new() -> Session {
         Session::default()
+    }
+
+    /// Keeps up to `n` scenes uploaded instead of one (a server whose viewers look at
+    /// different models draws each without loading it again); the least recently drawn
+    /// goes first.
+    pub fn keep_scenes(&mut self, n: usize) {
+        self.keep = n.max(1);
+        if let Some(k) = &mut self.kept {
+            let excess = k.renderers.len().saturating_sub(self.keep);
+            k.renderers.drain(..excess);
+        }
+    }
+
+    /// How many scenes are uploaded now.
+    pub fn scenes_kept(&self) -> usize {
+        self.kept.as_ref().map_or(0, |k| k.renderers.len())
     }
 
     /// A session whose context is made now, for pictures of `args` (so a machine without
@@ -129,13 +158,51 @@ impl Session {
         outputs: Outputs,
         profile: &mut Profile,
     ) -> Result<Drawn> {
-        draw(args, &mut self.kept, given, outputs, profile)
+        draw(args, self.keep, &mut self.kept, given, outputs, profile)
+    }
+
+    /// The scene of `args` (kept, or loaded and uploaded now): what inputs that depend on
+    /// the model's size (zoom, fit) are applied with.
+    pub fn scene(&mut self, args: &Options) -> Result<&crate::scene::Scene> {
+        let size = args.picture.size;
+        let kept = prepare(
+            args,
+            self.keep,
+            &mut self.kept,
+            None,
+            size,
+            &mut Profile::default(),
+        )?;
+        Ok(kept.renderers.last().expect("made by prepare").1.scene())
+    }
+
+    /// Runs `f` with the renderer of `args`' scene (kept, or loaded and uploaded now) and
+    /// the context re-targeted to `size`, single-sampled: for pictures made of several
+    /// viewports of one target (the server's Phong | PBR panes).
+    pub fn with_renderer<T>(
+        &mut self,
+        args: &Options,
+        size: (u32, u32),
+        f: impl FnOnce(&Headless, &mut Renderer) -> Result<T>,
+    ) -> Result<T> {
+        let mut single = args.clone();
+        single.post.aa = AaMode::None;
+        let kept = prepare(
+            &single,
+            self.keep,
+            &mut self.kept,
+            None,
+            size,
+            &mut Profile::default(),
+        )?;
+        let renderer = &mut kept.renderers.last_mut().expect("made by prepare").1;
+        f(&kept.hl, renderer)
     }
 
     /// Renders the model of `args` into `path` (PNG or JPEG; `--frames` times, the last
     /// one written; `--stats` printed).
     pub fn write(&mut self, args: &Options, path: &Path) -> Result<()> {
-        write(args, path, &mut self.kept)
+        write(args, path, self.keep, &mut self.kept)
     }
 
     /// Runs `draw` with this session's context, re-targeted to `size` and single-sampled (a
@@ -150,7 +217,7 @@ impl Session {
     ) -> Result<T> {
         context(args, size, false, &mut self.kept, &mut Profile::default())?;
         let kept = self.kept.as_mut().expect("context made above");
-        kept.renderer = None;
+        kept.renderers.clear();
         let mut renderer = Renderer::new(&kept.hl.gpu, scene)?;
         renderer.set_environment(env_request(args)?);
         draw(&kept.hl, &mut renderer)
@@ -208,7 +275,7 @@ pub struct Drawn {
 
 /// [`Session::write`]: `kept` is reused when it was made for the same backend and GL request
 /// (its target is resized), else replaced.
-fn write(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Result<()> {
+fn write(args: &Options, path: &Path, keep: usize, kept: &mut Option<KeptContext>) -> Result<()> {
     let start = Instant::now();
     if let Some(img) = modes::map_view(args)? {
         let text = vec![
@@ -221,7 +288,7 @@ fn write(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Result<
         return img.save_png(path, &text);
     }
     let mut profile = Profile::default();
-    let drawn = draw(args, kept, None, Default::default(), &mut profile)?;
+    let drawn = draw(args, keep, kept, None, Default::default(), &mut profile)?;
     let t = Instant::now();
     drawn.image.save(path, &drawn.text)?;
     profile.encode_ms = ms(t);
@@ -237,6 +304,7 @@ fn write(args: &Options, path: &Path, kept: &mut Option<KeptContext>) -> Result<
 /// [`Session::draw`].
 fn draw(
     args: &Options,
+    keep: usize,
     kept: &mut Option<KeptContext>,
     given: Option<Given>,
     outputs: Outputs,
@@ -249,8 +317,11 @@ fn draw(
     } else {
         1
     };
-    let kept = prepare(args, kept, given, (w * k, h * k), profile)?;
-    let (hl, renderer) = (&kept.hl, &mut kept.renderer.as_mut().expect("made above").1);
+    let kept = prepare(args, keep, kept, given, (w * k, h * k), profile)?;
+    let (hl, renderer) = (
+        &kept.hl,
+        &mut kept.renderers.last_mut().expect("made above").1,
+    );
     renderer.time_post = args.picture.stats;
     renderer.cull_clusters = args.render.culling;
     let (settings, _) = frame_settings(args, renderer.scene())?;
@@ -319,11 +390,13 @@ fn draw(
 }
 
 /// The kept context re-targeted to `size`, with a renderer for the scene of `args` (or
-/// `given`): the kept one while the scene's options are the same (a turntable, a camera
-/// sweep: the same scene, environment and lights), else the scene loaded (on another thread
-/// while the context is made) and uploaded.
+/// `given`) last in its list: a kept one while the scene's options are the same (a
+/// turntable, a camera sweep: the same scene, environment and lights), else the scene
+/// loaded (on another thread while the context is made) and uploaded, the least recently
+/// drawn of `keep` kept renderers dropped first.
 fn prepare<'k>(
     args: &Options,
+    keep: usize,
     kept: &'k mut Option<KeptContext>,
     given: Option<Given>,
     size: (u32, u32),
@@ -333,17 +406,22 @@ fn prepare<'k>(
     if let Some(g) = &given {
         key = format!("{}\0{key}", g.key);
     }
-    let reuse = kept.as_ref().is_some_and(|c| {
-        c.request == (args.context.backend, args.context.gl)
-            && c.renderer.as_ref().is_some_and(|(k, _)| *k == key)
+    let found = kept.as_ref().and_then(|c| {
+        (c.request == (args.context.backend, args.context.gl))
+            .then(|| c.renderers.iter().position(|(k, _)| *k == key))
+            .flatten()
     });
-    let scene = if reuse {
+    let scene = if let Some(i) = found {
+        let c = kept.as_mut().expect("found in it");
+        let r = c.renderers.remove(i);
+        c.renderers.push(r);
         context(args, size, msaa(args), kept, profile)?;
         None
     } else {
-        // The old renderer goes before a new context or scene is made.
+        // Renderers beyond `keep` go before a new context or scene is made.
         if let Some(c) = kept.as_mut() {
-            c.renderer = None;
+            let excess = (c.renderers.len() + 1).saturating_sub(keep);
+            c.renderers.drain(..excess.min(c.renderers.len()));
         }
         // Loading needs no GL: it runs on another thread while this one makes the context
         // (which must stay current here), so start-up costs the longer of the two.
@@ -369,7 +447,7 @@ fn prepare<'k>(
         let mut r = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;
         profile.upload_ms = ms(t);
         r.set_environment(env_request(args)?);
-        kept.renderer = Some((key, r));
+        kept.renderers.push((key, r));
     }
     Ok(kept)
 }
