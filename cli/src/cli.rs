@@ -205,6 +205,43 @@ pub enum Command {
     /// and options as on this command line (shell quoting; `#` comments), each with
     /// `--output`. Failed jobs are reported by line and the rest still render.
     Batch(BatchCommand),
+    /// Serve the viewer to browsers: PATH (a model, or a folder of models; default the
+    /// built-in scene) rendered here, streamed to every page that opens the printed address
+    /// (docs/serve.md). The picture options are every viewer's defaults.
+    Serve(Box<ServeCommand>),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ServeCommand {
+    /// Address and port to listen on (port 0: any free one; the printed address has it).
+    #[arg(long, default_value = "127.0.0.1:8080")]
+    pub bind: String,
+    /// Viewers at once; the next one is told the server is full.
+    #[arg(long, default_value_t = 32)]
+    pub max_viewers: usize,
+    /// The token the page, its files and the socket require (default: a random one).
+    #[arg(long, conflicts_with = "no_token")]
+    pub token: Option<String>,
+    /// No token (only on a loopback address).
+    #[arg(long)]
+    pub no_token: bool,
+    /// Seconds a socket may stay silent before it is closed (the page pings every 20 s).
+    #[arg(long, default_value_t = 120)]
+    pub idle_timeout: u64,
+    /// Milliseconds after the last input until the full-size lossless still.
+    #[arg(long, default_value_t = 150)]
+    pub still_delay: u64,
+    /// While input arrives: the previews' size, as a factor of the view's.
+    #[arg(long, default_value_t = 0.5)]
+    pub drag_scale: f32,
+    /// While input arrives: the previews' JPEG quality.
+    #[arg(long, default_value_t = 75)]
+    pub drag_quality: u8,
+    /// Scenes kept uploaded at once (folder mode: viewers on different models).
+    #[arg(long, default_value_t = 4)]
+    pub keep_scenes: usize,
+    #[command(flatten)]
+    pub opts: PictureArgs,
 }
 
 #[derive(Debug, clap::Args)]

@@ -4,6 +4,7 @@
 mod app;
 mod batch;
 mod cli;
+mod serve;
 mod tools;
 mod window;
 
@@ -76,6 +77,7 @@ fn dispatch(args: &Args) -> Result<()> {
         Some(crate::cli::Command::Bench(b)) => return tools::run_bench(args, &b.words),
         Some(crate::cli::Command::Sheet(s)) => return s.run(),
         Some(crate::cli::Command::Batch(b)) => return crate::batch::run(b),
+        Some(crate::cli::Command::Serve(s)) => return crate::serve::run(s),
         None => {}
     }
     if args.options_reference {

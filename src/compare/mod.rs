@@ -159,6 +159,9 @@ pub fn render_panes_with(
     })
 }
 
+/// Per pane: its picture (None for a reference tier), and where the model covers a pixel.
+type GpuPanes = (Vec<Option<Rgba>>, Vec<Vec<bool>>);
+
 /// The GPU tiers' panes (None for the others), `size` each, as viewports of `hl`'s target
 /// side by side, and with `coverage` where each covers a pixel (drawn once more with a
 /// transparent background: alpha = coverage).
@@ -170,7 +173,7 @@ fn gpu_panes(
     (w, h): (u32, u32),
     coverage: bool,
     print_stats: bool,
-) -> Result<(Vec<Option<Rgba>>, Vec<Vec<bool>>)> {
+) -> Result<GpuPanes> {
     let mut images = vec![None; tiers.len()];
     let mut covered = vec![Vec::new(); tiers.len()];
     let gpu = |t: &PaneTier| match t {
@@ -211,13 +214,13 @@ fn gpu_panes(
 
 /// Phong | PBR of `args` (each pane `args.picture.size`, framed for it, as `--compare
 /// phong,pbr` draws them) with the session's kept renderer, side by side in one picture,
-/// and with `numbers` their difference over the model's pixels (`--diff phong,pbr`'s model
-/// part): the server's compare view.
+/// and with `numbers` their difference over the model's pixels with the count of those
+/// pixels (`--diff phong,pbr`'s model part): the server's compare view.
 pub fn phong_pbr(
     session: &mut crate::session::Session,
     args: &crate::options::Options,
     numbers: bool,
-) -> Result<(Rgba, Option<diff::DiffNumbers>)> {
+) -> Result<(Rgba, Option<(diff::DiffNumbers, usize)>)> {
     let (w, h) = args.picture.size;
     let tiers = [PaneTier::Gpu(Shading::Phong), PaneTier::Gpu(Shading::Pbr)];
     let (mut images, covered) = session.with_renderer(args, (2 * w, h), |hl, renderer| {
@@ -230,7 +233,9 @@ pub fn phong_pbr(
     canvas::paste(&mut out, &a, 0, 0);
     canvas::paste(&mut out, &b, w, 0);
     let numbers = if numbers {
-        diff::over_pixels(&a, &b, &diff::union(&covered[0], &covered[1]))?
+        let covered = diff::union(&covered[0], &covered[1]);
+        let n = covered.iter().filter(|&&c| c).count();
+        diff::over_pixels(&a, &b, &covered)?.map(|d| (d, n))
     } else {
         None
     };

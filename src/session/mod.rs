@@ -130,6 +130,11 @@ impl Session {
         }
     }
 
+    /// The context's backend ("EGL ...", "OSMesa"), once made.
+    pub fn backend_name(&self) -> Option<&'static str> {
+        self.kept.as_ref().map(|k| k.hl.backend_name())
+    }
+
     /// How many scenes are uploaded now.
     pub fn scenes_kept(&self) -> usize {
         self.kept.as_ref().map_or(0, |k| k.renderers.len())

@@ -33,6 +33,8 @@ mod quirky_formats;
 mod reference;
 mod reference_materials;
 mod repro;
+mod serve;
+mod serve_client;
 mod shaders;
 mod shadows;
 mod stats;

@@ -1,0 +1,332 @@
+// glview serve's page: one WebSocket to the server (protocol: docs/serve.md). The server
+// renders; this page only draws the frames it gets, acknowledges each one (so at most one
+// is in flight) and sends input. Vanilla JS, no build step.
+'use strict';
+
+const $ = (id) => document.getElementById(id);
+const canvas = $('view');
+const ctx = canvas.getContext('2d');
+const params = new URLSearchParams(location.search);
+
+// The token may be absent from the URL when the page came with the server's cookie; the
+// socket's handshake then carries the cookie instead.
+const query = new URLSearchParams();
+if (params.get('token')) query.set('token', params.get('token'));
+if (params.get('present')) query.set('present', params.get('present'));
+const wsUrl = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws' +
+  (query.toString() ? '?' + query : '');
+
+let ws = null;
+let hello = null;
+let viewW = 0, viewH = 0; // the view's size in image pixels = CSS pixels
+let seq = 0;              // the last input's sequence number
+let shownSeq = 0;         // the highest seq a frame has shown (frames come in order)
+const sentAt = new Map(); // seq -> send time, for the round trip
+let roundTrip = null;
+let saveWanted = false;   // Save PNG was pressed; download the next still that is current
+let overlayOn = true;
+let closedWhy = '';        // the server's reason when it closes this socket
+
+// For the browser tests (python/tests_browser) and the curious.
+window.glview = {
+  frames: 0, last: null, lastStill: null, sent: 0, shown: 0, errors: [],
+  send: (obj) => ws.send(JSON.stringify(obj)),
+};
+
+function send(obj) {
+  if (ws && ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify(obj));
+}
+
+// Input that changes the view carries a seq: the frame that shows it echoes it back.
+function sendInput(obj) {
+  seq += 1;
+  window.glview.sent = seq;
+  sentAt.set(seq, performance.now());
+  send(Object.assign(obj, { seq }));
+}
+
+function status(text, isError) {
+  const s = $('status');
+  s.textContent = text;
+  s.classList.toggle('error', !!isError);
+}
+
+function setViewSize(w, h) {
+  if (w === viewW && h === viewH) return;
+  viewW = w; viewH = h;
+  // Pixel size and CSS size equal: one image pixel per CSS pixel. Not scaled by
+  // devicePixelRatio, so a still on screen is the PNG's pixels as they are.
+  canvas.width = w; canvas.height = h;
+  canvas.style.width = w + 'px';
+  canvas.style.height = h + 'px';
+}
+
+// ---- the socket ----
+
+function connect() {
+  ws = new WebSocket(wsUrl);
+  ws.binaryType = 'arraybuffer';
+  ws.onopen = () => status('connected');
+  // A closing error (server full, idle) says why; keep it in the line.
+  ws.onclose = () => status('disconnected' + (closedWhy ? ': ' + closedWhy : ''), true);
+  ws.onerror = () => status('connection error', true);
+  ws.onmessage = (e) => {
+    if (typeof e.data === 'string') onText(JSON.parse(e.data));
+    else onFrame(e.data);
+  };
+  // The server closes sockets silent for --idle-timeout (120 s by default).
+  setInterval(() => send({ type: 'ping' }), 20000);
+}
+
+function onText(m) {
+  if (m.type === 'hello') {
+    hello = m;
+    setViewSize(m.size[0], m.size[1]);
+    fillModels(m.models, m.model);
+    $('presenting').hidden = !m.presenter;
+    $('follow-label').hidden = !!m.presenter;
+    setPresenterOnline(m.presenter_online);
+    if (params.get('follow') === '1' && !m.presenter) $('follow').checked = true;
+    if ($('follow').checked && m.presenter_online) send({ type: 'follow', on: true });
+  } else if (m.type === 'presenter') {
+    setPresenterOnline(m.online);
+    // Following asked for before the presenter came: ask again now that there is one.
+    if (m.online && $('follow').checked) send({ type: 'follow', on: true });
+  } else if (m.type === 'error') {
+    window.glview.errors.push(m.message);
+    if (m.closing) closedWhy = m.message;
+    status((m.closing ? 'closed: ' : 'error: ') + m.message, true);
+  }
+}
+
+function setPresenterOnline(online) {
+  $('follow').disabled = !online;
+  $('follow-label').title = online ? 'show what the presenter shows' : 'no presenter online';
+}
+
+// A frame: u32 little-endian header length, the JSON header, then the JPEG or PNG bytes.
+async function onFrame(buf) {
+  const n = new DataView(buf).getUint32(0, true);
+  const h = JSON.parse(new TextDecoder().decode(new Uint8Array(buf, 4, n)));
+  const bytes = new Uint8Array(buf, 4 + n);
+  const type = h.format === 'png' ? 'image/png' : 'image/jpeg';
+  try {
+    const bitmap = await createImageBitmap(new Blob([bytes], { type }));
+    if (h.view) setViewSize(h.view[0], h.view[1]);
+    // Interactive frames are smaller than the view: scaled up. A still is drawn 1:1.
+    ctx.drawImage(bitmap, 0, 0, viewW, viewH);
+    bitmap.close();
+    window.glview.frames += 1;
+  } catch (err) {
+    status('cannot draw frame ' + h.frame + ': ' + err, true);
+  }
+  // A presenter's frame on a follower's page carries the presenter's seq, not ours.
+  if (!fromPresenter(h) && typeof h.seq === 'number' && h.seq > shownSeq) {
+    shownSeq = h.seq;
+    if (sentAt.has(h.seq)) roundTrip = performance.now() - sentAt.get(h.seq);
+    for (const s of sentAt.keys()) if (s <= h.seq) sentAt.delete(s);
+  }
+  const g = window.glview;
+  g.last = h;
+  g.shown = shownSeq;
+  if (h.still) g.lastStill = bytes.slice(); // a copy: exactly the bytes the server sent
+  // Acknowledge after drawing: the server sends the next frame only then.
+  send({ type: 'ack', frame: h.frame });
+  if (h.still && saveWanted && stillIsCurrent()) {
+    saveWanted = false;
+    download();
+  }
+  // A follower's model is the presenter's: the picker shows the one on screen.
+  if (h.model && $('model').value !== h.model) $('model').value = h.model;
+  showOverlay(h, bytes.length);
+  showDiff(h);
+}
+
+// ---- the model picker, buttons and follow box ----
+
+function fillModels(models, current) {
+  const sel = $('model');
+  sel.replaceChildren(...models.map((name) => new Option(name, name, false, name === current)));
+  sel.hidden = models.length < 2;
+}
+$('model').addEventListener('change', (e) => {
+  sendInput({ type: 'model', name: e.target.value });
+  e.target.blur(); // so the keys go to the view again
+});
+
+// Whether a frame is the presenter's, shown on this follower's page (the server sends the
+// presenter's frames, header and all, to every follower).
+function fromPresenter(h) {
+  return !!(h.presenter && hello && !hello.presenter);
+}
+
+// The still on screen is current when it shows every input sent here, or is the presenter's
+// while this page still follows (input here leaves follow mode at once).
+function stillIsCurrent() {
+  const h = window.glview.last;
+  if (!h || !h.still) return false;
+  return fromPresenter(h) ? $('follow').checked : shownSeq >= seq;
+}
+
+$('save').addEventListener('click', () => {
+  if (stillIsCurrent() && window.glview.lastStill) download();
+  else { saveWanted = true; send({ type: 'still' }); }
+});
+
+// The PNG exactly as the server sent it: its text chunks hold the reproducing command.
+function download() {
+  const h = window.glview.last;
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(new Blob([window.glview.lastStill], { type: 'image/png' }));
+  a.download = 'glview-' + String(h.model || 'scene').replace(/[^\w.-]+/g, '_') + '.png';
+  document.body.appendChild(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(a.href), 10000);
+}
+
+$('compare').addEventListener('click', () => key('C'));
+$('follow').addEventListener('change', (e) => send({ type: 'follow', on: e.target.checked }));
+
+// The server leaves follow mode on camera or state input; the box says so at once.
+function leaveFollow() {
+  $('follow').checked = false;
+}
+
+// ---- keys ----
+
+const KEY_NAMES = {
+  ArrowLeft: 'Left', ArrowRight: 'Right', ArrowUp: 'Up', ArrowDown: 'Down',
+  '+': 'Plus', '=': 'Plus', '-': 'Minus',
+};
+
+function key(name) {
+  leaveFollow();
+  sendInput({ type: 'key', key: name });
+}
+
+document.addEventListener('keydown', (e) => {
+  // Leave the browser's own shortcuts (Ctrl+R, Ctrl+-) and the picker's keys alone.
+  if (e.ctrlKey || e.metaKey || e.altKey) return;
+  if (e.target instanceof HTMLSelectElement) return;
+  let name = KEY_NAMES[e.key];
+  if (!name && /^[rfsgpwbc1-7[\]]$/i.test(e.key)) name = e.key.toUpperCase();
+  if (e.key === 'h' || e.key === 'H') {
+    overlayOn = !overlayOn; // local only: the server's picture has no overlay
+    $('overlay').hidden = !overlayOn;
+    e.preventDefault();
+  } else if (name) {
+    key(name);
+    e.preventDefault();
+  }
+});
+
+// ---- pointer: one pointer drags, two touching pointers pinch ----
+// Movement is summed and sent at most once per animation frame: the server draws only the
+// latest view anyway, and fewer messages keep the socket quiet.
+
+const pointers = new Map(); // pointerId -> {x, y}
+let dragX = 0, dragY = 0, notches = 0, pinchDist = 0, flushQueued = false;
+
+function queueFlush() {
+  if (flushQueued) return;
+  flushQueued = true;
+  requestAnimationFrame(() => {
+    flushQueued = false;
+    // Whole pixels go out; the remainder waits for the next frame.
+    const dx = Math.round(dragX), dy = Math.round(dragY);
+    if (dx || dy) {
+      dragX -= dx; dragY -= dy;
+      leaveFollow();
+      sendInput({ type: 'drag', dx, dy });
+    }
+    if (notches) {
+      const n = Math.round(notches * 100) / 100;
+      notches = 0;
+      if (n) { leaveFollow(); sendInput({ type: 'wheel', notches: n }); }
+    }
+  });
+}
+
+function distance() {
+  const [a, b] = [...pointers.values()];
+  return Math.hypot(a.x - b.x, a.y - b.y);
+}
+
+canvas.addEventListener('pointerdown', (e) => {
+  if (e.pointerType === 'mouse' && e.button !== 0) return;
+  canvas.setPointerCapture(e.pointerId);
+  pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+  if (pointers.size === 2) pinchDist = distance();
+  canvas.focus();
+  e.preventDefault();
+});
+
+canvas.addEventListener('pointermove', (e) => {
+  const p = pointers.get(e.pointerId);
+  if (!p) return;
+  const dx = e.clientX - p.x, dy = e.clientY - p.y;
+  p.x = e.clientX; p.y = e.clientY;
+  if (pointers.size === 1) {
+    dragX += dx; dragY += dy;
+  } else if (pointers.size === 2) {
+    // Fingers apart = zoom in: one notch per factor 1.1 of their distance.
+    const d = distance();
+    if (pinchDist > 0 && d > 0) notches += Math.log(d / pinchDist) / Math.log(1.1);
+    pinchDist = d;
+  }
+  queueFlush();
+});
+
+function pointerUp(e) {
+  pointers.delete(e.pointerId);
+  pinchDist = pointers.size === 2 ? distance() : 0;
+}
+canvas.addEventListener('pointerup', pointerUp);
+canvas.addEventListener('pointercancel', pointerUp);
+
+canvas.addEventListener('wheel', (e) => {
+  e.preventDefault(); // the page must not scroll
+  // Away from the user (deltaY < 0) zooms in. A mouse notch is 100 pixels in Chromium and
+  // 3 lines in Firefox; a touchpad gives fractions.
+  const per = e.deltaMode === 1 ? 3 : e.deltaMode === 2 ? 1 : 100;
+  notches += -e.deltaY / per;
+  queueFlush();
+}, { passive: false });
+
+// ---- what is on screen ----
+
+const onOff = (b) => (b ? 'on' : 'off');
+const ms = (v) => (typeof v === 'number' ? v.toFixed(1) : '?');
+
+function showOverlay(h, nbytes) {
+  const t = h.ms || {};
+  const kind = h.still ? 'png still' : (h.format === 'png' ? 'png' : 'jpeg') + ' preview';
+  const size = h.width + '×' + h.height + (h.view && h.width !== h.view[0] ? ' of ' + h.view.join('×') : '');
+  const follow = hello && hello.presenter ? 'presenting' : fromPresenter(h) ? 'yes' : 'no';
+  $('overlay').textContent = [
+    'model     ' + (h.model || 'built-in scene'),
+    'tier      ' + h.tier + '   shadows ' + onOff(h.shadows) + '   bloom ' + onOff(h.bloom),
+    'compare   ' + onOff(h.compare) + '   following ' + follow,
+    'keys      ' + (h.keys || '–'),
+    'frame     ' + ms(t.draw) + ' draw (' + ms(t.render) + ' render, ' + ms(t.read) + ' read) + ' + ms(t.encode) + ' encode ms',
+    'round     ' + (roundTrip === null ? '–' : roundTrip.toFixed(0) + ' ms (input to drawn)'),
+    'image     ' + kind + ' ' + size + ', ' + (nbytes / 1024).toFixed(1) + ' KiB',
+  ].join('\n');
+}
+
+// The compare still's difference of Phong and PBR over the model's pixels.
+// Only compare stills carry it: while compare frames move, the last numbers stay, dimmed.
+function showDiff(h) {
+  const p = $('diff'), d = h.diff;
+  if (!h.compare) p.textContent = ''; // old numbers must not come back with the next compare
+  p.hidden = p.textContent === '' && !d;
+  p.classList.toggle('stale', !d);
+  if (!d) return;
+  const over = typeof d.model_pixels === 'number' ? ' over ' + d.model_pixels + ' model pixels' : '';
+  p.textContent = 'Phong vs PBR' + over + ': mean ' +
+    d.mean.toFixed(2) + '/255 · p99 ' + d.p99.toFixed(0) + '/255 · ' +
+    (d.over_8 * 100).toFixed(2) + ' % over 8/255 · 1 − SSIM ' + d.one_minus_ssim.toFixed(4);
+}
+
+connect();

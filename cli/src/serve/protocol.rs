@@ -1,0 +1,131 @@
+//! What crosses the socket (docs/serve.md, "Protocol") and what the connection threads tell
+//! the GL thread.
+use serde::Deserialize;
+use std::sync::mpsc::Sender;
+use std::sync::Arc;
+
+/// Client messages are small JSON objects: anything larger is refused.
+pub const MAX_MESSAGE: usize = 4096;
+/// The largest view a client may ask for, per axis.
+pub const MAX_SIZE: u32 = 4096;
+
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ClientMsg {
+    Key { key: String, seq: Option<u64> },
+    Drag { dx: f32, dy: f32, seq: Option<u64> },
+    Wheel { notches: f32, seq: Option<u64> },
+    Ack { frame: u64 },
+    Model { name: String, seq: Option<u64> },
+    Size { width: u32, height: u32 },
+    Still,
+    Follow { on: bool },
+    Ping,
+}
+
+impl ClientMsg {
+    /// Parses and checks a message; the error is the line the client is sent.
+    pub fn parse(text: &str) -> Result<ClientMsg, String> {
+        let m: ClientMsg = serde_json::from_str(text).map_err(|e| format!("bad message: {e}"))?;
+        let finite = |v: f32, what: &str| {
+            if v.is_finite() && v.abs() <= 1e5 {
+                Ok(())
+            } else {
+                Err(format!(
+                    "bad message: {what} must be a number within ±100000"
+                ))
+            }
+        };
+        match &m {
+            ClientMsg::Drag { dx, dy, .. } => {
+                finite(*dx, "dx")?;
+                finite(*dy, "dy")?;
+            }
+            ClientMsg::Wheel { notches, .. } => finite(*notches, "notches")?,
+            ClientMsg::Size { width, height }
+                if !(16..=MAX_SIZE).contains(width) || !(16..=MAX_SIZE).contains(height) =>
+            {
+                return Err(format!(
+                    "bad message: the size must be 16 to {MAX_SIZE} pixels a side"
+                ))
+            }
+            _ => {}
+        }
+        Ok(m)
+    }
+
+    /// The input's sequence number, echoed in the frame that shows it.
+    pub fn seq(&self) -> Option<u64> {
+        match self {
+            ClientMsg::Key { seq, .. }
+            | ClientMsg::Drag { seq, .. }
+            | ClientMsg::Wheel { seq, .. }
+            | ClientMsg::Model { seq, .. } => *seq,
+            _ => None,
+        }
+    }
+}
+
+/// To a connection's writer.
+pub enum Outgoing {
+    /// A frame (shared by every follower of a presenter: one encode, no copies).
+    Frame(Arc<Vec<u8>>),
+    Text(String),
+    /// Close with this code and reason, then stop.
+    Close(u16, String),
+}
+
+/// From the connection threads to the GL thread.
+pub enum Event {
+    Join {
+        id: u64,
+        out: Sender<Outgoing>,
+        presenter: bool,
+    },
+    Input {
+        id: u64,
+        msg: ClientMsg,
+    },
+    Leave {
+        id: u64,
+    },
+}
+
+/// An `error` message's text.
+pub fn error_json(message: &str, closing: bool) -> String {
+    serde_json::json!({"type": "error", "message": message, "closing": closing}).to_string()
+}
+
+/// A binary frame: a little-endian u32 header length, the JSON header, the image.
+pub fn frame_bytes(header: &serde_json::Value, image: &[u8]) -> Vec<u8> {
+    let h = header.to_string();
+    let mut out = Vec::with_capacity(4 + h.len() + image.len());
+    out.extend_from_slice(&(h.len() as u32).to_le_bytes());
+    out.extend_from_slice(h.as_bytes());
+    out.extend_from_slice(image);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn messages_are_checked() {
+        assert!(matches!(
+            ClientMsg::parse(r#"{"type":"key","key":"Right","seq":3}"#),
+            Ok(ClientMsg::Key { seq: Some(3), .. })
+        ));
+        for bad in [
+            "not json",
+            r#"{"type":"drag","dx":1e30,"dy":0}"#,
+            r#"{"type":"size","width":100000,"height":10}"#,
+            r#"{"type":"model","name":"x","path":"/etc/passwd"}"#,
+            r#"{"type":"launch"}"#,
+            r#"[1,2]"#,
+        ] {
+            let e = ClientMsg::parse(bad).unwrap_err();
+            assert!(e.starts_with("bad message"), "{bad}: {e}");
+        }
+    }
+}

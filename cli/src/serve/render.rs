@@ -1,0 +1,103 @@
+//! One frame of a view: drawn through the session (so a still is the command line's picture
+//! of the same options), read back and encoded: JPEG for a preview, PNG with the picture's
+//! text (its options, its command line) for a still.
+use glview::image_out::Rgba;
+use glview::render::attributes::Outputs;
+use glview::session::{Profile, Session, View};
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kind {
+    /// While input arrives: `scale` of the view's size, JPEG of this quality.
+    Preview { scale: f32, quality: u8 },
+    /// Full size, lossless.
+    Still,
+}
+
+pub struct Picture<'a> {
+    pub view: &'a View,
+    pub model: String,
+    pub kind: Kind,
+}
+
+fn ms(t: Instant) -> f64 {
+    (t.elapsed().as_secs_f64() * 1e4).round() / 10.0
+}
+
+/// The frame's header (without the scheduler's fields) and image bytes.
+pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json::Value, Vec<u8>)> {
+    let mut o = p.view.picture();
+    let view = p.view.options().picture.size;
+    if let Kind::Preview { scale, .. } = p.kind {
+        let (w, h) = o.picture.size;
+        let s = |v: u32| ((v as f32 * scale).round() as u32).clamp(16, v.max(16));
+        o.picture.size = (s(w), s(h));
+    }
+    let t = Instant::now();
+    let mut profile = Profile::default();
+    let (image, text, diff, command) = if p.view.compare() {
+        let still = p.kind == Kind::Still;
+        let (img, numbers) = glview::compare::phong_pbr(session, &o, still)?;
+        let command = format!("{} --compare phong,pbr", glview::repro::command_line(&o));
+        let text = vec![
+            ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
+            ("glview.compare", "phong,pbr".to_string()),
+            ("glview.command", command.clone()),
+        ];
+        let diff = numbers.map(|(n, pixels)| {
+            let mut v = serde_json::to_value(n).unwrap_or_default();
+            v["model_pixels"] = pixels.into();
+            v
+        });
+        (img, text, diff, command)
+    } else {
+        let drawn = session.draw(&o, None, Outputs::default(), &mut profile)?;
+        let command = glview::repro::command_line(&o);
+        (drawn.image, drawn.text, None, command)
+    };
+    let draw_ms = ms(t);
+    let t = Instant::now();
+    let (bytes, format) = match p.kind {
+        Kind::Still => (image.png_bytes(&text), "png"),
+        Kind::Preview { quality, .. } => (jpeg(&image, quality)?, "jpeg"),
+    };
+    let header = serde_json::json!({
+        "still": p.kind == Kind::Still,
+        "format": format,
+        "width": image.width,
+        "height": image.height,
+        "view": [view.0, view.1],
+        "model": p.model,
+        "compare": p.view.compare(),
+        "keys": o.camera.keys,
+        "ms": {
+            // Drawing to glFinish, then the read-back; the compare view's two panes are
+            // timed as one.
+            "render": if profile.frames_ms.is_empty() { draw_ms } else { round(profile.frames_ms.iter().sum()) },
+            "read": round(profile.readback_ms),
+            "draw": draw_ms,
+            "encode": ms(t),
+        },
+        "diff": diff,
+        "command": command,
+    });
+    Ok((header, bytes))
+}
+
+fn round(v: f64) -> f64 {
+    (v * 10.0).round() / 10.0
+}
+
+/// RGB JPEG of the picture (alpha dropped: the view is opaque).
+fn jpeg(img: &Rgba, quality: u8) -> glview::Result<Vec<u8>> {
+    let rgb: Vec<u8> = img
+        .data
+        .chunks_exact(4)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let mut out = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality.clamp(1, 100))
+        .encode(&rgb, img.width, img.height, image::ExtendedColorType::Rgb8)
+        .map_err(|e| glview::Error::Unsupported(format!("JPEG encoding: {e}")))?;
+    Ok(out)
+}

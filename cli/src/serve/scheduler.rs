@@ -1,0 +1,444 @@
+//! The GL thread: every viewer's view, drawn in turn through one [`Session`]. Inputs only
+//! change a view (the latest wins); a view is drawn when it changed and its last frame was
+//! acknowledged: small and JPEG while input arrives, full-size PNG once it stops. A
+//! presenter's frames go to every follower.
+use super::models::Models;
+use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
+use super::render::{render, Kind, Picture};
+use glview::keys::{self, Effect};
+use glview::options::Options;
+use glview::session::{frame_settings, Session, View};
+use std::collections::BTreeMap;
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Inputs waiting for their scene (the first frame of a model) are bounded.
+const MAX_PENDING: usize = 256;
+
+pub struct Config {
+    pub still_delay: Duration,
+    pub drag_scale: f32,
+    pub drag_quality: u8,
+    /// The context cannot change size (OSMesa): size messages are refused.
+    pub fixed_size: bool,
+}
+
+struct Viewer {
+    out: Sender<Outgoing>,
+    view: View,
+    presenter: bool,
+    following: bool,
+    /// Inputs not yet applied (they need the scene: applied just before a frame).
+    pending: Vec<ClientMsg>,
+    /// The latest input's sequence number, echoed in the frame that shows it.
+    seq: Option<u64>,
+    /// The picture changed since the last frame.
+    dirty: bool,
+    /// A lossless still is owed (input stopped, or asked for).
+    still_owed: bool,
+    /// No frame sent yet: the first one is a still.
+    fresh: bool,
+    last_input: Instant,
+    /// The frame sent and not yet acknowledged.
+    in_flight: Option<u64>,
+    /// A follower's newest frame, sent when the one in flight is acknowledged.
+    owed: Option<(u64, Arc<Vec<u8>>)>,
+    /// The newest frame sent (a new follower starts with it), and whether it is a still.
+    last_frame: Option<(u64, Arc<Vec<u8>>)>,
+    last_was_still: bool,
+}
+
+impl Viewer {
+    fn send_frame(&mut self, id: u64, frame: &Arc<Vec<u8>>) {
+        if self.in_flight.is_none() {
+            self.in_flight = Some(id);
+            let _ = self.out.send(Outgoing::Frame(frame.clone()));
+        } else {
+            self.owed = Some((id, frame.clone()));
+        }
+    }
+
+    fn error(&self, message: &str) {
+        let _ = self.out.send(Outgoing::Text(error_json(message, false)));
+    }
+
+    /// A follower's own input leaves the class (a presenter coming later is not followed),
+    /// from the class's view when there is one.
+    fn leave_class(&mut self, presenter_view: Option<&View>) {
+        if self.following {
+            self.following = false;
+            if let Some(pv) = presenter_view {
+                self.view = pv.clone();
+            }
+        }
+    }
+
+    fn changed(&mut self) {
+        self.dirty = true;
+        self.still_owed = true;
+        self.last_input = Instant::now();
+    }
+}
+
+pub struct Scheduler {
+    session: Session,
+    base: Options,
+    models: Models,
+    config: Config,
+    viewers: BTreeMap<u64, Viewer>,
+    /// The viewer served last: the next turn starts after it.
+    last_served: u64,
+    next_frame: u64,
+    presenter: Option<u64>,
+    presenter_online: Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl Scheduler {
+    pub fn new(
+        session: Session,
+        base: Options,
+        models: Models,
+        config: Config,
+        presenter_online: Arc<std::sync::atomic::AtomicBool>,
+    ) -> Scheduler {
+        Scheduler {
+            session,
+            base,
+            models,
+            config,
+            viewers: BTreeMap::new(),
+            last_served: 0,
+            next_frame: 1,
+            presenter: None,
+            presenter_online,
+        }
+    }
+
+    /// Serves until every sender of events is gone.
+    pub fn run(&mut self, events: &Receiver<Event>) {
+        loop {
+            let now = Instant::now();
+            let wait = if self.ready(now).is_some() {
+                Duration::ZERO
+            } else {
+                self.next_deadline(now)
+            };
+            match events.recv_timeout(wait) {
+                Ok(e) => self.event(e),
+                Err(RecvTimeoutError::Timeout) => {}
+                Err(RecvTimeoutError::Disconnected) => return,
+            }
+            // Everything that arrived is applied before drawing: only the latest view is drawn.
+            while let Ok(e) = events.try_recv() {
+                self.event(e);
+            }
+            if let Some(id) = self.ready(Instant::now()) {
+                self.last_served = id;
+                self.serve(id);
+            }
+        }
+    }
+
+    /// Whether `id` draws its own view (not a follower of an online presenter).
+    fn draws_own(&self, id: u64) -> bool {
+        let v = &self.viewers[&id];
+        !(v.following && self.presenter.is_some_and(|p| p != id))
+    }
+
+    /// The next viewer to draw, in turn after the last one served.
+    fn ready(&self, now: Instant) -> Option<u64> {
+        let due = |id: &u64, v: &Viewer| {
+            v.in_flight.is_none()
+                && (v.dirty || (v.still_owed && now >= v.last_input + self.config.still_delay))
+                && self.draws_own(*id)
+        };
+        let after = self.viewers.range(self.last_served + 1..);
+        let before = self.viewers.range(..=self.last_served);
+        after
+            .chain(before)
+            .find(|(id, v)| due(id, v))
+            .map(|(id, _)| *id)
+    }
+
+    /// How long nothing is due: until the nearest owed still (or a while).
+    fn next_deadline(&self, now: Instant) -> Duration {
+        self.viewers
+            .values()
+            .filter(|v| v.still_owed && v.in_flight.is_none())
+            .map(|v| (v.last_input + self.config.still_delay).saturating_duration_since(now))
+            .min()
+            .unwrap_or(Duration::from_secs(3600))
+    }
+
+    fn event(&mut self, e: Event) {
+        match e {
+            Event::Join { id, out, presenter } => self.join(id, out, presenter),
+            Event::Leave { id } => self.leave(id),
+            Event::Input { id, msg } => {
+                if self.viewers.contains_key(&id) {
+                    self.input(id, msg);
+                }
+            }
+        }
+    }
+
+    fn join(&mut self, id: u64, out: Sender<Outgoing>, want_presenter: bool) {
+        let mut options = self.base.clone();
+        options.load.model = self.models.first().1.map(Into::into);
+        let presenter = want_presenter && self.presenter.is_none();
+        if want_presenter && !presenter {
+            let _ = out.send(Outgoing::Text(error_json(
+                "a presenter is already connected: this is an ordinary viewer",
+                false,
+            )));
+        }
+        let hello = serde_json::json!({
+            "type": "hello",
+            "models": self.models.names(),
+            "model": self.models.first().0,
+            "size": [options.picture.size.0, options.picture.size.1],
+            "presenter": presenter,
+            "presenter_online": self.presenter.is_some() || presenter,
+            "max_size": super::protocol::MAX_SIZE,
+        });
+        let _ = out.send(Outgoing::Text(hello.to_string()));
+        let mut v = Viewer {
+            out,
+            view: View::new(options),
+            presenter,
+            following: false,
+            pending: Vec::new(),
+            seq: None,
+            dirty: true,
+            still_owed: true,
+            fresh: true,
+            last_input: Instant::now(),
+            in_flight: None,
+            owed: None,
+            last_frame: None,
+            last_was_still: false,
+        };
+        v.changed();
+        self.viewers.insert(id, v);
+        if presenter {
+            self.presenter = Some(id);
+            self.set_presenter_online(true);
+        }
+        log::info!("viewer {id} joined ({} now)", self.viewers.len());
+    }
+
+    fn leave(&mut self, id: u64) {
+        let Some(v) = self.viewers.remove(&id) else {
+            return;
+        };
+        if self.presenter == Some(id) {
+            self.presenter = None;
+            // Followers go on from where the class was.
+            for f in self.viewers.values_mut().filter(|f| f.following) {
+                f.view = v.view.clone();
+                f.changed();
+            }
+            self.set_presenter_online(false);
+        }
+        log::info!("viewer {id} left ({} now)", self.viewers.len());
+    }
+
+    fn set_presenter_online(&self, online: bool) {
+        self.presenter_online
+            .store(online, std::sync::atomic::Ordering::Relaxed);
+        let note = serde_json::json!({"type": "presenter", "online": online}).to_string();
+        for v in self.viewers.values() {
+            let _ = v.out.send(Outgoing::Text(note.clone()));
+        }
+    }
+
+    fn input(&mut self, id: u64, msg: ClientMsg) {
+        let presenter_view = self
+            .presenter
+            .filter(|&p| p != id)
+            .map(|p| self.viewers[&p].view.clone());
+        let v = self.viewers.get_mut(&id).expect("checked by the caller");
+        if let Some(seq) = msg.seq() {
+            v.seq = Some(seq);
+        }
+        match msg {
+            ClientMsg::Ack { frame } => {
+                if v.in_flight == Some(frame) {
+                    v.in_flight = None;
+                    if let Some((fid, f)) = v.owed.take() {
+                        v.send_frame(fid, &f);
+                    }
+                }
+            }
+            ClientMsg::Follow { on } => {
+                v.following = on && !v.presenter;
+                match (&presenter_view, v.following) {
+                    (Some(pv), false) => {
+                        // Leaving: orbit on from the class's view.
+                        v.view = pv.clone();
+                        v.changed();
+                    }
+                    (Some(_), true) => {
+                        let last = self
+                            .presenter
+                            .and_then(|p| self.viewers[&p].last_frame.clone());
+                        let v = self.viewers.get_mut(&id).expect("present");
+                        if let Some((fid, f)) = last {
+                            v.send_frame(fid, &f);
+                        }
+                    }
+                    (None, _) => {}
+                }
+            }
+            ClientMsg::Still => {
+                let p = self.presenter.filter(|&p| p != id && v.following);
+                // A follower's still is the presenter's: the last one, or one drawn now.
+                let target = p.unwrap_or(id);
+                let last = self.viewers[&target].last_frame.clone();
+                let v = self.viewers.get_mut(&target).expect("present");
+                match (p, last) {
+                    (Some(_), Some((fid, f))) if v.last_was_still => {
+                        self.viewers
+                            .get_mut(&id)
+                            .expect("present")
+                            .send_frame(fid, &f);
+                    }
+                    _ => {
+                        v.still_owed = true;
+                        v.last_input = Instant::now() - self.config.still_delay;
+                    }
+                }
+            }
+            ClientMsg::Size { .. } if self.config.fixed_size => {
+                v.error("this server's context (OSMesa) keeps one size: the view stays as it is")
+            }
+            ClientMsg::Size { width, height } => {
+                v.view.resize((width, height));
+                v.changed();
+            }
+            ClientMsg::Model { name, .. } => match self.models.get(&name) {
+                Some(path) => {
+                    v.leave_class(presenter_view.as_ref());
+                    v.pending.clear();
+                    v.view.set_model(path.map(Into::into));
+                    v.changed();
+                }
+                None => v.error(&format!(
+                    "no model named {name:?} (the server lists {})",
+                    self.models.names().len()
+                )),
+            },
+            m @ (ClientMsg::Key { .. } | ClientMsg::Drag { .. } | ClientMsg::Wheel { .. }) => {
+                v.leave_class(presenter_view.as_ref());
+                if v.pending.len() >= MAX_PENDING {
+                    v.error("too many inputs waiting for the model to load: dropped");
+                    return;
+                }
+                v.pending.push(m);
+                v.changed();
+            }
+            ClientMsg::Ping => {}
+        }
+    }
+
+    /// Applies the viewer's waiting inputs with its scene; the error is the client's.
+    fn apply_pending(&mut self, id: u64) -> Result<(), String> {
+        let v = self.viewers.get_mut(&id).expect("served");
+        if v.pending.is_empty() {
+            return Ok(());
+        }
+        let pending = std::mem::take(&mut v.pending);
+        let scene = self
+            .session
+            .scene(&v.view.picture())
+            .map_err(|e| e.to_string())?;
+        for m in pending {
+            let r = match m {
+                ClientMsg::Key { key, .. } => match keys::action_for(&key) {
+                    Some(a) => match v.view.act(a, scene) {
+                        Ok(Effect::Screenshot) => {
+                            v.last_input = Instant::now() - self.config.still_delay;
+                            Ok(())
+                        }
+                        other => other.map(|_| ()),
+                    },
+                    None => Err(glview::Error::Usage(format!(
+                        "unknown key {key:?} (the window's keys: glview --help)"
+                    ))),
+                },
+                ClientMsg::Drag { dx, dy, .. } => v.view.drag(dx, dy, scene),
+                ClientMsg::Wheel { notches, .. } => v.view.wheel(notches, scene),
+                _ => Ok(()),
+            };
+            if let Err(e) = r {
+                v.error(&e.to_string());
+            }
+        }
+        Ok(())
+    }
+
+    /// Draws `id`'s view (a preview or the still) and sends it, to its followers too when
+    /// it is the presenter.
+    fn serve(&mut self, id: u64) {
+        if let Err(e) = self.apply_pending(id) {
+            let v = self.viewers.get_mut(&id).expect("served");
+            v.error(&e);
+            (v.dirty, v.still_owed) = (false, false);
+            return;
+        }
+        let v = &self.viewers[&id];
+        let kind = if v.dirty && !v.fresh {
+            Kind::Preview {
+                scale: self.config.drag_scale,
+                quality: self.config.drag_quality,
+            }
+        } else {
+            Kind::Still
+        };
+        let picture = Picture {
+            view: &v.view,
+            model: self.models.name_of(v.view.options().load.model.as_deref()),
+            kind,
+        };
+        let frame = self.next_frame;
+        let drawn = render(&mut self.session, &picture).and_then(|(mut header, image)| {
+            let scene = self.session.scene(&v.view.picture())?;
+            let (s, _) = frame_settings(&v.view.picture(), scene)?;
+            header["frame"] = frame.into();
+            header["seq"] = v.seq.into();
+            header["presenter"] = v.presenter.into();
+            header["tier"] = if v.view.compare() {
+                "phong | pbr".into()
+            } else {
+                s.shading.to_string().into()
+            };
+            header["shadows"] = s.shadows.enabled.into();
+            header["bloom"] = (s.lighting.post.bloom.strength > 0.0).into();
+            Ok(frame_bytes(&header, &image))
+        });
+        let v = self.viewers.get_mut(&id).expect("served");
+        v.dirty = false;
+        v.fresh = false;
+        if kind == Kind::Still {
+            v.still_owed = false;
+        }
+        let bytes = match drawn {
+            Ok(b) => Arc::new(b),
+            Err(e) => {
+                v.error(&e.to_string());
+                v.still_owed = false;
+                return;
+            }
+        };
+        self.next_frame += 1;
+        v.send_frame(frame, &bytes);
+        v.last_frame = Some((frame, bytes.clone()));
+        v.last_was_still = kind == Kind::Still;
+        if self.presenter == Some(id) {
+            for f in self.viewers.values_mut().filter(|f| f.following) {
+                f.send_frame(frame, &bytes);
+            }
+        }
+    }
+}
