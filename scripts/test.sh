@@ -52,3 +52,5 @@ RUSTDOCFLAGS="-D warnings" step doc cargo doc --no-deps -p glview --quiet
 # equal, different and failed renders apart.
 step "pictures checker self-test" bash scripts/pictures_unchanged.sh --self-test --after-bin target/debug/glview
 step python bash scripts/test_python.sh
+# The page of `glview serve` in Debian's Chromium, driven by a pinned Playwright.
+step browser bash scripts/test_browser.sh

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# The browser tests of `glview serve` (python/tests_browser): Debian's Chromium driven by a
+# pinned Playwright through executable_path. `playwright install` is never run (it downloads
+# a browser, which these machines cannot reach and which we would not want to pin anyway).
+# Needs target/debug/glview (built by `cargo build` or `cargo test --workspace` before).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+# Chromium from Debian when missing (the pattern of scripts/deps.sh).
+if [ ! -x /usr/bin/chromium ]; then
+  if ! command -v apt-get >/dev/null; then
+    echo "scripts/test_browser.sh: please install chromium (/usr/bin/chromium)" >&2
+    exit 1
+  fi
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  echo "scripts/test_browser.sh: installing chromium" >&2
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq chromium >/dev/null
+fi
+
+venv=target/pyvenv
+if [ ! -x "$venv/bin/python" ]; then
+  python3 -m venv "$venv"
+fi
+# Pinned: a Debian Chromium upgrade can break a Playwright release, so a known pair is logged.
+"$venv/bin/pip" install --quiet playwright==1.65.2 pillow pytest
+echo "scripts/test_browser.sh: $(/usr/bin/chromium --version 2>/dev/null), playwright $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("playwright"))')"
+
+rc=0
+GLVIEW_BIN="${GLVIEW_BIN:-$PWD/target/debug/glview}" \
+  "$venv/bin/python" -m pytest -q -p no:cacheprovider python/tests_browser "$@" || rc=$?
+if [ "$rc" -eq 5 ]; then
+  echo "error: pytest collected no tests in python/tests_browser" >&2
+fi
+exit "$rc"
