@@ -14,6 +14,7 @@ pub mod plot;
 pub mod post;
 pub mod quality;
 pub mod scenes;
+pub mod serve;
 pub mod sphere;
 pub mod summary;
 pub mod table;
@@ -43,6 +44,16 @@ pub struct BenchArgs {
     /// forced, map reused and no shadows, without and with reordering and cluster culling.
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency"])]
     pub frame: bool,
+    /// Measure `glview serve` under 1, 5 and 30 simulated viewers and in teacher mode
+    /// (frames/s, input→frame latency, bytes a frame; docs/serve.md).
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
+    pub serve: bool,
+    /// With --serve: seconds each scenario runs.
+    #[arg(long, default_value_t = 5.0)]
+    pub serve_seconds: f64,
+    /// With --serve: the view size.
+    #[arg(long, default_value = "800x600")]
+    pub serve_size: String,
     /// With --pbr: Monte Carlo samples per lobe of the reference.
     #[arg(long, default_value_t = 16384)]
     pub pbr_samples: u32,
@@ -56,6 +67,13 @@ pub struct BenchArgs {
 pub fn run(args: &BenchArgs) -> glview::Result<()> {
     if args.post {
         return post::run_post();
+    }
+    if args.serve {
+        return serve::run_serve(
+            &args.quality.models_dir,
+            args.serve_seconds,
+            &args.serve_size,
+        );
     }
     if args.translucency {
         return translucency::run_translucency(&args.quality.models_dir);
