@@ -169,6 +169,23 @@ fn followers_see_the_presenter() {
     let (h, _, _) = f[0].still(Some(3));
     assert!(h["command"].as_str().unwrap().contains("--yaw 40"), "{h}");
     assert_eq!(h["presenter"], false);
+    // The presenter goes; a follower that moves on its own is no follower of the next one.
+    drop(p);
+    f[1].text("presenter");
+    f[1].send(json!({"type": "key", "key": "Down", "seq": 4}));
+    let (h, _, _) = f[1].still(Some(4));
+    assert!(h["command"].as_str().unwrap().contains("--pitch 20"), "{h}");
+    let mut p2 = server.viewer(&format!("&present={}", server.presenter_key));
+    p2.still(None);
+    p2.send(json!({"type": "key", "key": "Left", "seq": 1}));
+    p2.still(Some(1));
+    assert!(
+        !matches!(
+            f[1].next_within(Duration::from_millis(600)),
+            Some(Got::Frame(..))
+        ),
+        "a follower that left got the new presenter's frame"
+    );
 }
 
 /// Folder mode: the list names the models; a viewer picks one by name; paths are no names.

@@ -232,13 +232,16 @@ impl Client {
         }
     }
 
-    /// The next text message of this type.
+    /// The next text message of this type (frames on the way are acknowledged).
     pub fn text(&mut self, kind: &str) -> Value {
         loop {
             match self.next() {
                 Got::Text(v) if v["type"] == kind => return v,
                 Got::Closed => panic!("closed while waiting for {kind}"),
-                _ => {}
+                Got::Frame(h, _) => {
+                    self.send(serde_json::json!({"type": "ack", "frame": h["frame"]}))
+                }
+                Got::Text(_) => {}
             }
         }
     }

@@ -30,7 +30,7 @@ impl Drop for Server {
     }
 }
 
-fn start(model: &Path, size: &str, tier: &str) -> Result<Server> {
+fn start(model: &Path, size: &str, tier: &str, extra: &[&str]) -> Result<Server> {
     let exe = std::env::current_exe().map_err(|e| Error::Usage(e.to_string()))?;
     let mut child = Command::new(exe)
         .args([
@@ -43,6 +43,7 @@ fn start(model: &Path, size: &str, tier: &str) -> Result<Server> {
         ])
         .arg(model)
         .args(["--size", size, "--shading", tier])
+        .args(extra)
         .stdout(Stdio::piped())
         .spawn()
         .map_err(|e| Error::Usage(format!("glview serve: {e}")))?;
@@ -239,7 +240,7 @@ pub fn run_serve(models_dir: &Path, seconds: f64, size: &str) -> Result<()> {
     let run = Duration::from_secs_f64(seconds.max(1.0));
     let mut rows = Vec::new();
     for tier in ["phong", "pbr"] {
-        let server = start(&bunny, size, tier)?;
+        let server = start(&bunny, size, tier, &[])?;
         for n in [1, 5, 30] {
             rows.push(scenario(&server, tier, n, false, run));
             eprintln!("bench serve: {tier}, {n} viewer(s) done");
