@@ -254,6 +254,17 @@ pub fn run_serve(models_dir: &Path, seconds: f64, size: &str) -> Result<()> {
                 run,
             ));
         }
+        drop(server);
+        // Previews at the view's full size: the figure to set beside jupyter_rfb's (28
+        // frames/s of 800x600 JPEG).
+        let full = start(&bunny, size, tier, &["--drag-scale", "1"])?;
+        rows.push(scenario(
+            &full,
+            &format!("{tier}, full-size previews"),
+            1,
+            false,
+            run,
+        ));
     }
     println!(
         "glview serve, stanford bunny, {size}, viewers dragging at 60 inputs/s for {seconds} s each (loopback):\n"
