@@ -3,6 +3,7 @@
 //! renderer draws in all of them.
 pub mod egl;
 pub mod osmesa;
+pub mod turbojpeg;
 
 crate::choice! {
     /// The context a user asks for with `--gl`.

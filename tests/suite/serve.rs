@@ -113,6 +113,12 @@ fn previews_are_small_jpegs() {
         (Some(80), Some(160))
     );
     assert_eq!(&img[..2], &[0xFF, 0xD8]);
+    // libjpeg-turbo where installed (scripts/deps.sh installs it: required under CI).
+    if common::in_ci() || glview::platform::turbojpeg::available() {
+        assert_eq!(h["encoder"], "libjpeg-turbo", "{h}");
+    }
+    let preview = image::load_from_memory(&img).unwrap().to_rgba8();
+    assert_eq!((preview.width(), preview.height()), (80, 60));
     let (h, _, _) = c.still(Some(1));
     assert_eq!(h["width"], 160);
 }

@@ -1,7 +1,6 @@
 //! One frame of a view: drawn through the session (so a still is the command line's picture
 //! of the same options), read back and encoded: JPEG for a preview, PNG with the picture's
 //! text (its options, its command line) for a still.
-use glview::image_out::Rgba;
 use glview::render::attributes::Outputs;
 use glview::session::{Profile, Session, View};
 use std::time::Instant;
@@ -57,9 +56,12 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
     };
     let draw_ms = ms(t);
     let t = Instant::now();
-    let (bytes, format) = match p.kind {
-        Kind::Still => (image.png_bytes(&text), "png"),
-        Kind::Preview { quality, .. } => (jpeg(&image, quality)?, "jpeg"),
+    let (bytes, format, encoder) = match p.kind {
+        Kind::Still => (image.png_bytes(&text), "png", "png"),
+        Kind::Preview { quality, .. } => {
+            let (b, encoder) = image.jpeg_bytes(quality)?;
+            (b, "jpeg", encoder)
+        }
     };
     let header = serde_json::json!({
         "still": p.kind == Kind::Still,
@@ -78,6 +80,7 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
             "draw": draw_ms,
             "encode": ms(t),
         },
+        "encoder": encoder,
         "diff": diff,
         "command": command,
     });
@@ -86,18 +89,4 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
 
 fn round(v: f64) -> f64 {
     (v * 10.0).round() / 10.0
-}
-
-/// RGB JPEG of the picture (alpha dropped: the view is opaque).
-fn jpeg(img: &Rgba, quality: u8) -> glview::Result<Vec<u8>> {
-    let rgb: Vec<u8> = img
-        .data
-        .chunks_exact(4)
-        .flat_map(|p| [p[0], p[1], p[2]])
-        .collect();
-    let mut out = Vec::new();
-    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality.clamp(1, 100))
-        .encode(&rgb, img.width, img.height, image::ExtendedColorType::Rgb8)
-        .map_err(|e| glview::Error::Unsupported(format!("JPEG encoding: {e}")))?;
-    Ok(out)
 }

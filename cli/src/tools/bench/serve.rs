@@ -30,7 +30,7 @@ impl Drop for Server {
     }
 }
 
-fn start(model: &Path, size: &str, tier: &str, extra: &[&str]) -> Result<Server> {
+fn start(model: &Path, size: &str, tier: &str, extra: &[&str], jpeg: &str) -> Result<Server> {
     let exe = std::env::current_exe().map_err(|e| Error::Usage(e.to_string()))?;
     let mut child = Command::new(exe)
         .args([
@@ -44,6 +44,7 @@ fn start(model: &Path, size: &str, tier: &str, extra: &[&str]) -> Result<Server>
         .arg(model)
         .args(["--size", size, "--shading", tier])
         .args(extra)
+        .env("GLVIEW_JPEG", jpeg)
         .stdout(Stdio::piped())
         .spawn()
         .map_err(|e| Error::Usage(format!("glview serve: {e}")))?;
@@ -67,6 +68,14 @@ fn start(model: &Path, size: &str, tier: &str, extra: &[&str]) -> Result<Server>
         addr: addr.unwrap_or_default(),
         presenter_key: key.unwrap_or_default(),
     })
+}
+
+fn encoder_name(jpeg: &str) -> &'static str {
+    match jpeg {
+        "image" => "the image crate",
+        _ if glview::platform::turbojpeg::available() => "libjpeg-turbo",
+        _ => "the image crate (no libturbojpeg)",
+    }
 }
 
 /// What one simulated viewer saw.
@@ -240,7 +249,7 @@ pub fn run_serve(models_dir: &Path, seconds: f64, size: &str) -> Result<()> {
     let run = Duration::from_secs_f64(seconds.max(1.0));
     let mut rows = Vec::new();
     for tier in ["phong", "pbr"] {
-        let server = start(&bunny, size, tier, &[])?;
+        let server = start(&bunny, size, tier, &[], "auto")?;
         for n in [1, 5, 30] {
             rows.push(scenario(&server, tier, n, false, run));
             eprintln!("bench serve: {tier}, {n} viewer(s) done");
@@ -257,14 +266,11 @@ pub fn run_serve(models_dir: &Path, seconds: f64, size: &str) -> Result<()> {
         drop(server);
         // Previews at the view's full size: the figure to set beside jupyter_rfb's (28
         // frames/s of 800x600 JPEG).
-        let full = start(&bunny, size, tier, &["--drag-scale", "1"])?;
-        rows.push(scenario(
-            &full,
-            &format!("{tier}, full-size previews"),
-            1,
-            false,
-            run,
-        ));
+        for jpeg in ["auto", "image"] {
+            let full = start(&bunny, size, tier, &["--drag-scale", "1"], jpeg)?;
+            let what = format!("{tier}, full-size previews, JPEG by {}", encoder_name(jpeg));
+            rows.push(scenario(&full, &what, 1, false, run));
+        }
     }
     println!(
         "glview serve, stanford bunny, {size}, viewers dragging at 60 inputs/s for {seconds} s each (loopback):\n"
