@@ -406,3 +406,55 @@ fn closed_sockets_free_their_viewers() {
     let mut c = server.viewer("");
     c.still(None);
 }
+
+/// Two viewers dragging at once are served in turn: neither starves.
+#[test]
+fn viewers_are_served_in_turn() {
+    let server = Server::start(&["--size", SIZE]);
+    let run = |mut c: super::serve_client::Client| {
+        c.still(None);
+        let start = Instant::now();
+        let (mut frames, mut seq) = (0, 0);
+        while start.elapsed() < Duration::from_millis(1500) {
+            seq += 1;
+            c.send(json!({"type": "drag", "dx": 1, "dy": 0, "seq": seq}));
+            if let Some(Got::Frame(h, _)) = c.next_within(Duration::from_millis(20)) {
+                c.send(json!({"type": "ack", "frame": h["frame"]}));
+                frames += 1;
+            }
+        }
+        frames
+    };
+    let (a, b) = (server.viewer(""), server.viewer(""));
+    let ta = std::thread::spawn(move || run(a));
+    let fb = run(b);
+    let fa = ta.join().unwrap();
+    assert!(fa >= 5 && fb >= 5, "frames {fa} and {fb}");
+    assert!(
+        fa <= 2 * fb + 2 && fb <= 2 * fa + 2,
+        "frames {fa} and {fb}: not in turn"
+    );
+}
+
+/// A request head that never ends is dropped at the deadline (10 s); the server serves
+/// others meanwhile.
+#[test]
+fn slow_request_heads_time_out() {
+    use std::io::{Read, Write};
+    let server = Server::start(&["--size", SIZE]);
+    let mut slow = std::net::TcpStream::connect(&server.addr).unwrap();
+    slow.write_all(b"GET / HTTP/1.1\r\nHost: x\r\n").unwrap();
+    slow.set_read_timeout(Some(Duration::from_secs(20)))
+        .unwrap();
+    let t = Instant::now();
+    let mut c = server.viewer("");
+    c.still(None);
+    let mut buf = [0u8; 64];
+    let n = slow.read(&mut buf).unwrap_or(0);
+    let waited = t.elapsed();
+    assert_eq!(n, 0, "the slow request got an answer");
+    assert!(
+        waited >= Duration::from_secs(9) && waited < Duration::from_secs(15),
+        "dropped after {waited:?}"
+    );
+}

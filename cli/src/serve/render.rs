@@ -55,6 +55,14 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
         (drawn.image, drawn.text, None, command)
     };
     let draw_ms = ms(t);
+    // What the overlay shows, from the options just drawn (the scene is kept: no load, and
+    // the target keeps this picture's size).
+    let (s, _) = glview::session::frame_settings(&o, session.scene(&o)?)?;
+    let tier = if p.view.compare() {
+        "phong | pbr".to_string()
+    } else {
+        s.shading.to_string()
+    };
     let t = Instant::now();
     let (bytes, format, encoder) = match p.kind {
         Kind::Still => (image.png_bytes(&text), "png", "png"),
@@ -71,6 +79,9 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
         "view": [view.0, view.1],
         "model": p.model,
         "compare": p.view.compare(),
+        "tier": tier,
+        "shadows": s.shadows.enabled,
+        "bloom": s.lighting.post.bloom.strength > 0.0,
         "keys": o.camera.keys,
         "ms": {
             // Drawing to glFinish, then the read-back; the compare view's two panes are

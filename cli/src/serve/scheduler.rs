@@ -7,7 +7,7 @@ use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
 use super::render::{render, Kind, Picture};
 use glview::keys::{self, Effect};
 use glview::options::Options;
-use glview::session::{frame_settings, Session, View};
+use glview::session::{Session, View};
 use std::collections::BTreeMap;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::Arc;
@@ -402,20 +402,11 @@ impl Scheduler {
             kind,
         };
         let frame = self.next_frame;
-        let drawn = render(&mut self.session, &picture).and_then(|(mut header, image)| {
-            let scene = self.session.scene(&v.view.picture())?;
-            let (s, _) = frame_settings(&v.view.picture(), scene)?;
+        let drawn = render(&mut self.session, &picture).map(|(mut header, image)| {
             header["frame"] = frame.into();
             header["seq"] = v.seq.into();
             header["presenter"] = v.presenter.into();
-            header["tier"] = if v.view.compare() {
-                "phong | pbr".into()
-            } else {
-                s.shading.to_string().into()
-            };
-            header["shadows"] = s.shadows.enabled.into();
-            header["bloom"] = (s.lighting.post.bloom.strength > 0.0).into();
-            Ok(frame_bytes(&header, &image))
+            frame_bytes(&header, &image)
         });
         let v = self.viewers.get_mut(&id).expect("served");
         v.dirty = false;
