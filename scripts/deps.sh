@@ -8,9 +8,10 @@ pkgs=(
   libturbojpeg0                                  # glview serve's JPEG previews, loaded at run time
   libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 # winit on X11
 )
-if [ "${1:-}" = "--tests" ]; then
-  pkgs+=(xvfb xdotool) # window tests under a virtual X server
-fi
+case "${1:-}" in
+  --tests) pkgs+=(xvfb xdotool) ;; # window tests under a virtual X server
+  --browser) pkgs=(chromium) ;;    # the page of glview serve (scripts/test_browser.sh)
+esac
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

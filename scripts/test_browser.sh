@@ -6,18 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Chromium from Debian when missing (the pattern of scripts/deps.sh).
-if [ ! -x /usr/bin/chromium ]; then
-  if ! command -v apt-get >/dev/null; then
-    echo "scripts/test_browser.sh: please install chromium (/usr/bin/chromium)" >&2
-    exit 1
-  fi
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  echo "scripts/test_browser.sh: installing chromium" >&2
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq chromium >/dev/null
-fi
+bash scripts/deps.sh --browser
 
 venv=target/pyvenv
 if [ ! -x "$venv/bin/python" ]; then

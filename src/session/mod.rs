@@ -170,15 +170,7 @@ impl Session {
     /// the model's size (zoom, fit) are applied with.
     pub fn scene(&mut self, args: &Options) -> Result<&crate::scene::Scene> {
         let size = args.picture.size;
-        let kept = prepare(
-            args,
-            self.keep,
-            &mut self.kept,
-            None,
-            size,
-            &mut Profile::default(),
-        )?;
-        Ok(kept.renderers.last().expect("made by prepare").1.scene())
+        Ok(self.kept_renderer(args, size)?.1.scene())
     }
 
     /// Runs `f` with the renderer of `args`' scene (kept, or loaded and uploaded now) and
@@ -192,22 +184,26 @@ impl Session {
     ) -> Result<T> {
         let mut single = args.clone();
         single.post.aa = AaMode::None;
-        let kept = prepare(
-            &single,
-            self.keep,
-            &mut self.kept,
-            None,
-            size,
-            &mut Profile::default(),
-        )?;
-        let renderer = &mut kept.renderers.last_mut().expect("made by prepare").1;
-        f(&kept.hl, renderer)
+        let (hl, renderer) = self.kept_renderer(&single, size)?;
+        f(hl, renderer)
     }
 
     /// Renders the model of `args` into `path` (PNG or JPEG; `--frames` times, the last
     /// one written; `--stats` printed).
     pub fn write(&mut self, args: &Options, path: &Path) -> Result<()> {
         write(args, path, self.keep, &mut self.kept)
+    }
+
+    /// The context re-targeted to `size` and the renderer of `args`' scene ([`prepare`]).
+    fn kept_renderer(
+        &mut self,
+        args: &Options,
+        size: (u32, u32),
+    ) -> Result<(&Headless, &mut Renderer)> {
+        let profile = &mut Profile::default();
+        let kept = prepare(args, self.keep, &mut self.kept, None, size, profile)?;
+        let renderer = &mut kept.renderers.last_mut().expect("made by prepare").1;
+        Ok((&kept.hl, renderer))
     }
 
     /// Runs `draw` with this session's context, re-targeted to `size` and single-sampled (a
