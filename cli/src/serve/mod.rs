@@ -73,8 +73,8 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         )));
     }
     let models = models::Models::scan(base.load.model.take().as_deref())?;
-    let listener =
-        TcpListener::bind(addr).map_err(|e| Error::Usage(format!("--bind {addr}: {e}")))?;
+    let listener = TcpListener::bind(addr)
+        .map_err(|e| Error::Unsupported(format!("cannot listen on {addr} (--bind): {e}")))?;
     let local = listener
         .local_addr()
         .map_err(|e| Error::Usage(e.to_string()))?;

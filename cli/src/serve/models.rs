@@ -51,10 +51,11 @@ impl Models {
         walk(&root, &root, 0, &mut entries);
         entries.sort();
         if entries.is_empty() {
-            return Err(Error::Usage(format!(
-                "{}: no model files (.obj, .stl, .ply, .gltf, .glb) in this folder",
-                path.display()
-            )));
+            return Err(Error::model(
+                path,
+                None,
+                "no model files (.obj, .stl, .ply, .gltf, .glb) in this folder",
+            ));
         }
         Ok(Models {
             entries: entries.into_iter().map(|(n, p)| (n, Some(p))).collect(),
