@@ -63,7 +63,7 @@ fn spheres(
     let mut view = |bytes: &[u8], bin: &mut Vec<u8>| {
         let off = bin.len();
         bin.extend_from_slice(bytes);
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         views.push(format!(
@@ -225,8 +225,8 @@ fn at(img: &Rgba, (cx, cy): (f32, f32), x: f32, y: f32) -> [f64; 3] {
     for j in py - 2..=py + 2 {
         for i in px - 2..=px + 2 {
             let o = ((j * img.width + i) * 4) as usize;
-            for c in 0..3 {
-                sum[c] += f64::from(img.data[o + c]) / 25.0;
+            for (s, v) in sum.iter_mut().zip(&img.data[o..o + 3]) {
+                *s += f64::from(*v) / 25.0;
             }
         }
     }
