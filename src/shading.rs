@@ -234,7 +234,7 @@ pub fn shade(
     let ka = DVec3::from(ph.ambient.map(f64::from)) * tex.diffuse;
     let kd = DVec3::from(ph.diffuse.map(f64::from)) * tex.diffuse;
     let ks = DVec3::from(ph.specular.map(f64::from));
-    let mut c = DVec3::from(m.emissive.map(f64::from)) * tex.emissive;
+    let mut c = DVec3::from(m.legacy_emissive().map(f64::from)) * tex.emissive;
     if params.terms.ambient {
         c += ka * params.ambient;
     }

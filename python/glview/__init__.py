@@ -375,7 +375,8 @@ def diff(a: "Image | np.ndarray", b: "Image | np.ndarray") -> Tuple[Image, Dict[
     ``max``, ``p99``, ``share_over_8`` (share of pixels more than 8/255 apart), ``ssim`` and
     ``one_minus_ssim``. Where the pictures say which pixels are the model's (``ids=True``,
     or ``transparent=True``), ``model`` holds the same numbers over the union of those
-    pixels and ``model_pixels`` their count; else ``model`` is None."""
+    pixels and ``model_pixels`` their count, and the difference image shows only those
+    pixels (0 elsewhere); else ``model`` is None."""
     ca, cb = _rgba(a), _rgba(b)
     if ca.shape != cb.shape:
         raise ValueError(f"pictures differ in size: {ca.shape[:2]} and {cb.shape[:2]}")

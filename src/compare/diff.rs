@@ -106,14 +106,20 @@ fn heat(t: f64) -> [u8; 3] {
     [0, 1, 2].map(|c| ((STOPS[i][c] * (1.0 - f) + STOPS[i + 1][c] * f) * 255.0).round() as u8)
 }
 
-/// |a − b| (largest channel) on the colour scale, `scale_max` (in 1/255) at the top, with a
-/// scale bar and its range written under the image.
-pub fn difference_image(a: &Rgba, b: &Rgba) -> Rgba {
+/// |a − b| (largest channel) on the colour scale, the largest difference at the top, with a
+/// scale bar and its range written under the image. Given `covered` (the model's pixels),
+/// every other pixel is 0: two tiers' backgrounds differ by design (the PBR tier's sky, the
+/// legacy tier's flat colour), and would otherwise fill the picture and its scale.
+pub fn difference_image(a: &Rgba, b: &Rgba, covered: Option<&[bool]>) -> Rgba {
     let d: Vec<u8> = a
         .data
         .chunks_exact(4)
         .zip(b.data.chunks_exact(4))
-        .map(|(p, q)| (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0))
+        .enumerate()
+        .map(|(i, (p, q))| match covered {
+            Some(c) if !c.get(i).copied().unwrap_or(false) => 0,
+            _ => (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0),
+        })
         .collect();
     let max = d.iter().copied().max().unwrap_or(0).max(1);
     let bar = 2 * canvas::STRIP;
@@ -154,9 +160,9 @@ pub struct TierDiff {
     pub names: [String; 2],
     pub a: Rgba,
     pub b: Rgba,
-    /// [`difference_image`] of the two.
+    /// [`difference_image`] of the two over the model's pixels (the background is 0).
     pub image: Rgba,
-    /// Over the whole picture.
+    /// Over the whole picture, backgrounds included.
     pub numbers: DiffNumbers,
     /// Over the model's pixels (the union of both panes' coverage); None when neither
     /// covers any.
@@ -203,7 +209,7 @@ pub fn diff_tiers(args: &crate::options::Options, tiers_arg: &str) -> Result<Tie
 }
 
 /// Two pictures of one size compared: the difference image, the numbers over every pixel
-/// and, given which pixels are the model's, over those.
+/// and, given which pixels are the model's, over those (and the image shows only those).
 pub fn diff_images(
     a: &Rgba,
     b: &Rgba,
@@ -214,7 +220,7 @@ pub fn diff_images(
         Some(c) => over_pixels(a, b, c)?,
         None => None,
     };
-    Ok((difference_image(a, b), numbers, model))
+    Ok((difference_image(a, b, covered), numbers, model))
 }
 
 /// `--diff A,B`: both renders, the difference image and the numbers (table on stdout, JSON
@@ -233,7 +239,7 @@ pub fn run_diff(args: &Options, tiers_arg: &str, out: &Path) -> Result<()> {
         serde_json::to_string_pretty(&json).unwrap_or_default(),
     )
     .map_err(|e| Error::io(&json_path, e))?;
-    print!("{}", d.numbers.table(na, nb));
+    // The model's numbers first: they are what the picture shows.
     match &d.model {
         Some(m) => print!(
             "{}",
@@ -244,6 +250,13 @@ pub fn run_diff(args: &Options, tiers_arg: &str, out: &Path) -> Result<()> {
         ),
         None => println!("(no model pixels in either pane)"),
     }
+    print!(
+        "{}",
+        d.numbers.table(
+            &format!("{na} over the whole picture (backgrounds too)"),
+            nb
+        )
+    );
     println!("{json}");
     Ok(())
 }
@@ -284,7 +297,7 @@ pub fn diff_against(
     print!("{}", numbers.table("render", &stored.display().to_string()));
     if numbers.mean > threshold {
         let d = sibling(&out, "diff");
-        difference_image(&render, &reference).save_png(&d, &[])?;
+        difference_image(&render, &reference, None).save_png(&d, &[])?;
         return Err(Error::Usage(format!(
             "{}: the render differs by a mean of {:.3}/255 (threshold {threshold}); wrote {} and {}",
             stored.display(),
@@ -327,6 +340,17 @@ mod tests {
             (0.0, 0.0, 0.0, 0.0, 0.0)
         );
         assert!(over_pixels(&a, &c, &[false; 4]).unwrap().is_none());
+    }
+
+    #[test]
+    fn the_difference_picture_is_zero_off_the_model() {
+        let a = img(&[[0, 0, 0], [10, 10, 10], [50, 50, 50]]);
+        let b = img(&[[255; 3], [13, 10, 10], [50, 80, 50]]);
+        let d = difference_image(&a, &b, Some(&[false, true, true]));
+        assert_eq!(&d.data[..3], &[0, 0, 0]);
+        assert_ne!(&d.data[4..7], &[0, 0, 0]);
+        let whole = difference_image(&a, &b, None);
+        assert_ne!(&whole.data[..3], &[0, 0, 0]);
     }
 
     #[test]

@@ -226,7 +226,7 @@ fn gouraud(
     let (terms, eye) = (s.lighting.terms, ctx.view.eye);
     let rgb = |c: [f32; 3]| DVec3::from(c.map(f64::from));
     let ph = m.phong_terms();
-    let mut c = rgb(m.emissive) * tex.emissive;
+    let mut c = rgb(m.legacy_emissive()) * tex.emissive;
     let tex = tex.diffuse;
     if terms.ambient {
         c += rgb(ph.ambient) * tex * s.lighting.ambient;

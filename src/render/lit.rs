@@ -304,7 +304,7 @@ impl super::tier::Tier for LegacyTier {
         let phong = mat.phong_terms();
         set_material_terms(p, cx.settings, &phong);
         p.set_vec3("uKd", Vec3::from(phong.diffuse));
-        p.set_vec3("uKe", Vec3::from(mat.emissive));
+        p.set_vec3("uKe", Vec3::from(mat.legacy_emissive()));
         p.set_f32("uNs", phong.shininess);
         if let Some(t) = maps.texture {
             if self.bound_texture != Some(t) {

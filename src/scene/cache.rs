@@ -76,7 +76,8 @@ fn image_table(scene: &Scene) -> (Vec<&Arc<Texture>>, Vec<SlotRefs>) {
 }
 const MAGIC: &[u8; 4] = b"GLVC";
 /// 6: one flat material (issue 28): glTF-shaped values and slots, the MTL's Phong terms apart.
-const FORMAT: u32 = 6;
+/// 7: the colour rule (issue 31): a material's `colour_rule`, glTF COLOR_0 stored encoded.
+const FORMAT: u32 = 7;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);

@@ -2,7 +2,7 @@
 //! `KHR_texture_transform` and colour space; alpha mode, sidedness, unlit and
 //! `KHR_materials_emissive_strength`. Images are kept as the file has them (the
 //! metallic-roughness image's blue and green channels are read by the shader, no copies).
-use super::material::{translucency, AlphaMode};
+use super::material::{translucency, AlphaMode, ColourRule};
 use super::material_report::{slot_line, SlotFacts};
 use super::texture_slot::{self as mm, ColorSpace, Slot, TextureSlot};
 use super::{Material, Texture};
@@ -97,6 +97,7 @@ pub fn material(
         emissive_strength: strength,
         double_sided: m.double_sided(),
         unlit: m.unlit(),
+        colour_rule: ColourRule::Linear,
         ..Material::gltf_default()
     };
     out.check.base_color = pbr

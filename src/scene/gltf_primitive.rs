@@ -126,7 +126,14 @@ impl<'a> Instance<'a> {
             let colors = match p.get(&Semantic::Colors(0)) {
                 Some(a) => {
                     let (d, v) = accessor::read_f32(&a, self.buffers, &[D::Vec3, D::Vec4])?;
-                    Some(v.chunks_exact(d).map(|q| [q[0], q[1], q[2]]).collect())
+                    // COLOR_0 is linear; `Mesh::colors` holds display values (as PLY's
+                    // and OBJ's): encoded once here, decoded again by the PBR tier.
+                    let enc = super::material::srgb_encode_hdr;
+                    Some(
+                        v.chunks_exact(d)
+                            .map(|q| [enc(q[0]), enc(q[1]), enc(q[2])])
+                            .collect(),
+                    )
                 }
                 None => None,
             };

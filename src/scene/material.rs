@@ -82,6 +82,57 @@ impl Default for PhongTerms {
     }
 }
 
+/// The one colour rule: what a material's colour factors (base colour, emissive) and its
+/// meshes' colours mean, decided by the loader. The legacy tier draws display values, so it
+/// draws a linear colour as its sRGB encoding (the display value of the same colour), once,
+/// where its uniforms are made ([`Material::phong_terms`], [`Material::legacy_emissive`]):
+/// a factor, an sRGB texture and a vertex colour of one colour then look the same. The PBR
+/// tier reads every factor as linear.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ColourRule {
+    /// Display values, drawn as written: MTL `Ka`/`Kd`/`Ks`/`Ke`, PLY and STL colours,
+    /// glview's defaults.
+    #[default]
+    Display,
+    /// Linear values (glTF's factors, emissive, KHR_materials_unlit), sRGB-encoded for the
+    /// legacy tier.
+    Linear,
+}
+
+impl ColourRule {
+    /// `c` as the legacy tier draws it.
+    pub fn legacy(self, c: [f32; 3]) -> [f32; 3] {
+        match self {
+            ColourRule::Display => c,
+            ColourRule::Linear => c.map(srgb_encode_hdr),
+        }
+    }
+
+    /// `--check`'s words for the rule.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ColourRule::Display => "display colours, drawn as written by the legacy tier",
+            ColourRule::Linear => {
+                "linear colours (factors, emissive, COLOR_0), drawn sRGB-encoded by the \
+                 legacy tier, as its textures are read"
+            }
+        }
+    }
+}
+
+/// sRGB encoding continued above 1 (an emissive strength makes linear values above 1: their
+/// encoding stays above 1 and the legacy tier's output clamps it).
+/// 0 and 1 are kept exactly (pure colours stay pure).
+pub fn srgb_encode_hdr(x: f32) -> f32 {
+    if x <= 0.003_130_8 {
+        12.92 * x.max(0.0)
+    } else if x <= 1.0 {
+        crate::pbr::srgb_encode(f64::from(x)).min(1.0) as f32
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
 /// What `--check` says about a material's textures beyond its slots: what the file named,
 /// loaded or not (a slot exists only for a decoded image).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -117,6 +168,9 @@ pub struct Material {
     pub double_sided: bool,
     /// `KHR_materials_unlit`: the base colour is the colour.
     pub unlit: bool,
+    /// What the colour factors mean (display or linear values), decided by the loader.
+    #[serde(default)]
+    pub colour_rule: ColourRule,
     pub base_color_texture: Option<TextureSlot>,
     /// glTF's packed image: roughness in green, metallic in blue.
     pub metallic_roughness_texture: Option<TextureSlot>,
@@ -160,6 +214,7 @@ impl Material {
             occlusion_strength: 1.0,
             double_sided: true,
             unlit: false,
+            colour_rule: ColourRule::Display,
             base_color_texture: None,
             metallic_roughness_texture: None,
             normal_texture: None,
@@ -202,17 +257,23 @@ impl Material {
         }
     }
 
-    /// The legacy tier's terms: the MTL's, or, for glTF, the base colour as ambient and
-    /// diffuse colour and no specular highlight.
+    /// The legacy tier's terms: the MTL's, or, for glTF, the base colour (as the colour
+    /// rule draws it) as ambient and diffuse colour and no specular highlight.
     pub fn phong_terms(&self) -> PhongTerms {
+        let base = self.colour_rule.legacy(self.base_color);
         self.phong.unwrap_or(PhongTerms {
-            ambient: self.base_color,
-            diffuse: self.base_color,
+            ambient: base,
+            diffuse: base,
             specular: [0.0; 3],
             shininess: 0.0,
             illum: None,
             mapped: false,
         })
+    }
+
+    /// The emissive colour the legacy tier draws (`Ke`), by the colour rule.
+    pub fn legacy_emissive(&self) -> [f32; 3] {
+        self.colour_rule.legacy(self.emissive)
     }
 
     /// The slot `s` (the glTF slots; an MTL's separate metallic and roughness maps are
@@ -275,6 +336,22 @@ pub fn translucency(opacity: f32, mode: AlphaMode) -> Option<f32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The colour rule: a linear glTF factor is drawn by the legacy tier as its sRGB
+    /// encoding (TextureEncodingTest's 0.2462 is 136/255), display colours as written.
+    #[test]
+    fn linear_factors_are_encoded_for_the_legacy_tier() {
+        let mut m = Material::gltf_default();
+        m.base_color = [0.0, 0.246_201_33, 1.0];
+        m.emissive = [2.0, 0.0, 0.0];
+        assert_eq!(m.phong_terms().diffuse, m.base_color);
+        m.colour_rule = ColourRule::Linear;
+        let d = m.phong_terms().diffuse;
+        assert_eq!((d[0], d[2]), (0.0, 1.0));
+        assert!((d[1] * 255.0 - 136.0).abs() < 0.01, "{d:?}");
+        assert!(m.legacy_emissive()[0] > 1.0);
+        assert_eq!(Material::default().phong_terms().diffuse, [0.8; 3]);
+    }
 
     #[test]
     fn defaults_are_fixed_function() {

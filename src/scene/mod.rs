@@ -63,7 +63,8 @@ pub struct Mesh {
     /// Whether some or all normals were generated rather than read from the file.
     pub generated_normals: usize,
     /// Per-vertex colours (`v x y z r g b`), multiplying the diffuse colour; empty when the
-    /// file has none. Kept beside [`Vertex`] so the vertex layout stays the same.
+    /// file has none. Display (sRGB-encoded) values whatever the format: glTF's linear
+    /// COLOR_0 is encoded at load (the colour rule, [`material::ColourRule`]). Kept beside [`Vertex`] so the vertex layout stays the same.
     pub colors: Vec<[f32; 3]>,
     /// Second UV set (glTF TEXCOORD_1), one per vertex; empty when the file has none.
     pub uv1: Vec<[f32; 2]>,

@@ -96,6 +96,12 @@ fn material(
             "from Pr/Pm"
         }
     );
+    let _ = writeln!(
+        r,
+        "colour rule: material {}: {}",
+        m.name,
+        m.colour_rule.describe()
+    );
     let format = format.unwrap_or(super::formats::Format::Obj);
     if format == super::formats::Format::Gltf {
         for line in super::material_report::describe(m) {

@@ -329,8 +329,8 @@ fn teaching_views_on_every_path() {
 
 /// `--diff phong,pbr` on a model: the two tiers draw different backgrounds, so the whole
 /// picture differs almost everywhere; the model numbers cover exactly the pixels either tier's
-/// model covers (the union of their transparent renders' alpha), and a tier against itself
-/// is zero there too.
+/// model covers (the union of their transparent renders' alpha), the difference picture is 0
+/// everywhere else, and a tier against itself is zero there too.
 #[test]
 fn diff_reports_the_models_pixels() {
     let dir = out_dir("compare-diff-model");
@@ -380,6 +380,15 @@ fn diff_reports_the_models_pixels() {
     let covered = union.iter().filter(|&&c| c).count() as u64;
     assert!(covered > 500 && covered < 96 * 72 / 2, "{covered}");
     assert_eq!(json["model_pixels"].as_u64(), Some(covered), "{json}");
+    // The difference picture shows the model only: every background pixel is 0.
+    let d = Rgba::load_png(&out).unwrap();
+    let background = crop(&d, 0, 0, 96, 72)
+        .data
+        .chunks_exact(4)
+        .zip(&union)
+        .filter(|(p, &u)| !u && p[..3] != [0, 0, 0])
+        .count();
+    assert_eq!(background, 0, "background pixels drawn into the difference");
     let n = |part: &str, k: &str| json[part][k].as_f64().unwrap();
     assert!(
         n("numbers", "over_8") > 0.9,

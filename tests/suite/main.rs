@@ -9,6 +9,7 @@ mod bad_input;
 mod batch;
 mod bloom;
 mod cache;
+mod colour_rule;
 mod common;
 mod compare;
 mod conformance;
