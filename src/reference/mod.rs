@@ -262,12 +262,14 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
     sc.layers
         .dedup_by(|a, b| a.tri.mesh == b.tri.mesh && (a.t - b.t).abs() <= 1e-12 * b.t.abs());
     let tr = &ctx.settings.lighting.translucency;
-    let nearest = tr.mode == crate::frame::TranslucencyMode::Nearest
+    let nearest = tr.mode != crate::frame::TranslucencyMode::Sorted
         && ctx.scene.materials.iter().any(|m| m.is_translucent());
     if nearest {
-        // The nearest layer only, over the opaque surface or, where there is none, over
-        // black: the background is drawn afterwards where nothing was (render/translucent.rs).
-        if opaque.is_none() && !sc.layers.is_empty() {
+        // The nearest layer only, over the opaque surface or the background; masked, over
+        // black where no opaque surface is: the background is drawn afterwards where nothing
+        // was (render/translucent.rs).
+        let masked = tr.mode == crate::frame::TranslucencyMode::NearestMasked;
+        if masked && opaque.is_none() && !sc.layers.is_empty() {
             color = DVec3::ZERO;
         }
         let keep = sc.layers.len().saturating_sub(1);

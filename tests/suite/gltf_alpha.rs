@@ -1,0 +1,218 @@
+//! glTF's alpha rules (issue 32) on a generated unlit quad, so every expectation is exact: a
+//! BLEND surface of alpha α over a flat background is α·surface + (1 − α)·background in the
+//! default nearest-layer mode and in `sorted`, in both tiers and over the PBR tier's sky; the
+//! stencil-masked mode (`nearest-masked`, the seed's globe) still hides the background.
+use crate::common::*;
+use crate::gltf_draw::{quad, Quad};
+use glview::image_out::Rgba;
+use std::path::Path;
+
+const N: u32 = 48;
+/// The surface (linear base colour) and its alpha; the background colour.
+const SURFACE: [f64; 3] = [0.2, 0.9, 0.4];
+const ALPHA: f64 = 0.7;
+const BACKGROUND: [f64; 3] = [0.8, 0.1, 0.3];
+
+/// 8-bit quantisation of the source, the destination, α and the result: each at most half a
+/// step (α's step times |S − D| ≤ 1), so the composite is within 2/255.
+const TOLERANCE: f64 = 2.0;
+
+/// An unlit BLEND material of `color` (RGBA factor).
+fn blend_material(color: [f64; 4], mode: &str) -> String {
+    format!(
+        r#""materials": [{{"pbrMetallicRoughness": {{"baseColorFactor": [{}, {}, {}, {}]}},
+        "alphaMode": "{mode}", "alphaCutoff": 0.5, "doubleSided": true,
+        "extensions": {{"KHR_materials_unlit": {{}}}}}}]"#,
+        color[0], color[1], color[2], color[3]
+    )
+}
+
+/// A context: (name, arguments, environment).
+type Context = (
+    &'static str,
+    Vec<&'static str>,
+    &'static [(&'static str, &'static str)],
+);
+
+/// The contexts: GL 3.3 core, the GL 2.1 emulation through EGL, and GL 2.1 without FBOs.
+fn contexts() -> [Context; 3] {
+    [
+        ("core", vec!["--gl", "core", "--backend", "egl"], &[]),
+        ("gl21", vec!["--gl", "2.1", "--backend", "egl"], GL21),
+        (
+            "gl21-nofbo",
+            vec!["--gl", "2.1", "--backend", "osmesa"],
+            GL21_NO_FBO,
+        ),
+    ]
+}
+
+fn view(model: &Path) -> Vec<String> {
+    [
+        model.to_str().unwrap(),
+        "--size",
+        "48x48",
+        "--ortho",
+        "2",
+        "--yaw",
+        "0",
+        "--pitch",
+        "0",
+        "--no-bloom",
+        "--no-shadows",
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
+/// The PBR tier's output without tone mapping or exposure: sRGB of the linear colour.
+const PBR: &[&str] = &["--shading", "pbr", "--tonemap", "none", "--exposure", "0"];
+
+fn srgb(x: f64) -> f64 {
+    if x <= 0.0031308 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+fn shot(dir: &Path, name: &str, args: &[String], extra: &[&str], env: &[(&str, &str)]) -> Rgba {
+    let mut all: Vec<&str> = args.iter().map(String::as_str).collect();
+    all.extend_from_slice(extra);
+    render(dir, name, &all, env)
+}
+
+/// Worst channel distance (in 1/255) between `img` and `expect` over the pixels `expect`
+/// names.
+fn worst(img: &Rgba, expect: &dyn Fn(u32, u32) -> Option<[f64; 3]>) -> (f64, usize) {
+    let (mut w, mut n) = (0.0f64, 0);
+    for y in 0..N {
+        for x in 0..N {
+            if let Some(e) = expect(x, y) {
+                let p = img.pixel(x, y);
+                for c in 0..3 {
+                    w = w.max((f64::from(p[c]) - e[c] * 255.0).abs());
+                }
+                n += 1;
+            }
+        }
+    }
+    (w, n)
+}
+
+/// The half-width quad (x in −0.5..0.5 of −1..1): columns 12..36, two pixels kept from its
+/// edges.
+fn inside(x: u32) -> bool {
+    (14..34).contains(&x)
+}
+fn outside(x: u32) -> bool {
+    !(10..38).contains(&x)
+}
+
+#[test]
+fn blend_shows_the_background_behind_it_in_every_mode_but_the_masked_one() {
+    let dir = out_dir("gltf-alpha-blend");
+    let q = Quad {
+        scale_x: 0.5,
+        ..Quad::default()
+    };
+    let [r, g, b] = SURFACE;
+    let model = quad(
+        &dir,
+        "blend",
+        &q,
+        &blend_material([r, g, b, ALPHA], "BLEND"),
+    );
+    let bg = BACKGROUND.map(|c| c.to_string()).join(",");
+    for (ctx, gl, env) in contexts() {
+        for (tier, tier_args) in [("phong", &["--shading", "phong"][..]), ("pbr", PBR)] {
+            // The legacy tier writes the colour as it is; the PBR tier encodes it to sRGB (the
+            // background colour is written as given in both).
+            let s = if tier == "pbr" {
+                SURFACE.map(srgb)
+            } else {
+                SURFACE
+            };
+            for mode in ["nearest", "sorted", "nearest-masked"] {
+                let name = format!("{tier}-{mode}-{ctx}");
+                let mut args = view(&model);
+                args.extend(gl.iter().map(|a| a.to_string()));
+                let extra = [tier_args, &["--translucency", mode, "--background", &bg]].concat();
+                let img = shot(&dir, &name, &args, &extra, env);
+                // Masked: the background is drawn only where nothing was, so the surface
+                // blends over the cleared black.
+                let behind = if mode == "nearest-masked" {
+                    [0.0; 3]
+                } else {
+                    BACKGROUND
+                };
+                let expect = |x: u32, _| {
+                    if inside(x) {
+                        Some([0, 1, 2].map(|c| ALPHA * s[c] + (1.0 - ALPHA) * behind[c]))
+                    } else {
+                        outside(x).then_some(BACKGROUND)
+                    }
+                };
+                let (w, n) = worst(&img, &expect);
+                let p = img.pixel(N / 2, N / 2);
+                eprintln!("{name}: centre {p:?}, worst {w:.2}/255 over {n} pixels");
+                assert!(
+                    n > 1500 && w <= TOLERANCE,
+                    "{name}: worst {w:.2}/255 from α·surface + (1 − α)·{}",
+                    if mode == "nearest-masked" {
+                        "black"
+                    } else {
+                        "background"
+                    }
+                );
+            }
+        }
+    }
+}
+
+/// The PBR tier's sky lies behind a BLEND surface too: a uniform environment of radiance E
+/// shows as sRGB(E) around the quad and behind it.
+#[test]
+fn blend_shows_the_sky_behind_it() {
+    let dir = out_dir("gltf-alpha-sky");
+    let q = Quad {
+        scale_x: 0.5,
+        ..Quad::default()
+    };
+    let [r, g, b] = SURFACE;
+    let model = quad(
+        &dir,
+        "blend",
+        &q,
+        &blend_material([r, g, b, ALPHA], "BLEND"),
+    );
+    let env = [0.6, 0.05, 0.2];
+    let sky = env.map(srgb);
+    let s = SURFACE.map(srgb);
+    for (ctx, gl, vars) in contexts() {
+        for mode in ["nearest", "sorted"] {
+            let name = format!("{mode}-{ctx}");
+            let mut args = view(&model);
+            args.extend(gl.iter().map(|a| a.to_string()));
+            let extra = [
+                PBR,
+                &["--translucency", mode, "--env-color", "0.6,0.05,0.2"],
+            ]
+            .concat();
+            let img = shot(&dir, &name, &args, &extra, vars);
+            let expect = |x: u32, _| {
+                if inside(x) {
+                    Some([0, 1, 2].map(|c| ALPHA * s[c] + (1.0 - ALPHA) * sky[c]))
+                } else {
+                    outside(x).then_some(sky)
+                }
+            };
+            let (w, n) = worst(&img, &expect);
+            eprintln!(
+                "sky {name}: centre {:?}, worst {w:.2}/255 over {n} pixels",
+                img.pixel(N / 2, N / 2)
+            );
+            assert!(n > 1500 && w <= TOLERANCE, "sky {name}: worst {w:.2}/255");
+        }
+    }
+}
