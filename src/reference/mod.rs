@@ -280,7 +280,8 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
         let m = &ctx.scene.materials[mesh.material];
         let mut alpha = f64::from(tr.opacity.unwrap_or(m.draw_opacity()));
         if m.alpha_mode == crate::scene::material::AlphaMode::Blend {
-            // BLEND: the base colour texture's alpha multiplies the opacity.
+            // BLEND: the base colour texture's and the vertex colour's alphas multiply the
+            // opacity.
             alpha *= material::base_alpha(m, &material::Corners::new(ctx, hit)).1;
         }
         let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);

@@ -76,7 +76,8 @@ fn image_table(scene: &Scene) -> (Vec<&Arc<Texture>>, Vec<SlotRefs>) {
 }
 const MAGIC: &[u8; 4] = b"GLVC";
 /// 6: one flat material (issue 28): glTF-shaped values and slots, the MTL's Phong terms apart.
-const FORMAT: u32 = 6;
+/// 7: COLOR_0's alpha per vertex (issue 32).
+const FORMAT: u32 = 7;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -139,6 +140,7 @@ struct MeshMeta {
     vertices: usize,
     indices: usize,
     colors: usize,
+    color_alpha: usize,
     uv1: usize,
     tangents: usize,
 }
@@ -316,6 +318,7 @@ pub fn put_in(
             bytemuck::cast_slice(&m.vertices),
             bytemuck::cast_slice(&m.indices),
             bytemuck::cast_slice(&m.colors),
+            bytemuck::cast_slice(&m.color_alpha),
             bytemuck::cast_slice(&m.uv1),
             bytemuck::cast_slice(&m.tangents),
         ]);
@@ -365,6 +368,7 @@ pub fn put_in(
                 vertices: m.vertices.len(),
                 indices: m.indices.len(),
                 colors: m.colors.len(),
+                color_alpha: m.color_alpha.len(),
                 uv1: m.uv1.len(),
                 tangents: m.tangents.len(),
             })

@@ -1,11 +1,13 @@
 //! glTF's alpha rules (issue 32) on a generated unlit quad, so every expectation is exact: a
 //! BLEND surface of alpha α over a flat background is α·surface + (1 − α)·background in the
 //! default nearest-layer mode and in `sorted`, in both tiers and over the PBR tier's sky; the
-//! stencil-masked mode (`nearest-masked`, the seed's globe) still hides the background.
+//! stencil-masked mode (`nearest-masked`, the seed's globe) still hides the background;
+//! COLOR_0's alpha multiplies the base alpha (a gradient of blend weights, on the GPU and in
+//! the CPU reference; MASK cuts where the product crosses the cutoff).
 use crate::common::*;
 use crate::gltf_draw::{quad, Quad};
 use glview::image_out::Rgba;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 const N: u32 = 48;
 /// The surface (linear base colour) and its alpha; the background colour.
@@ -214,5 +216,126 @@ fn blend_shows_the_sky_behind_it() {
             );
             assert!(n > 1500 && w <= TOLERANCE, "sky {name}: worst {w:.2}/255");
         }
+    }
+}
+
+/// A white-cornered quad whose COLOR_0 alpha runs from 0.2 (left) to 0.8 (right).
+fn gradient_quad(dir: &Path, name: &str, mode: &str) -> PathBuf {
+    let q = Quad {
+        color: Some([
+            [1., 1., 1., 0.2],
+            [1., 1., 1., 0.8],
+            [1., 1., 1., 0.8],
+            [1., 1., 1., 0.2],
+        ]),
+        ..Quad::default()
+    };
+    let [r, g, b] = SURFACE;
+    quad(dir, name, &q, &blend_material([r, g, b, 1.0], mode))
+}
+
+/// The vertex alpha at the centre of column x: linear across the picture (orthographic).
+fn vertex_alpha(x: u32) -> f64 {
+    0.2 + 0.6 * (f64::from(x) + 0.5) / f64::from(N)
+}
+
+#[test]
+fn vertex_alpha_is_a_gradient_of_blend_weights() {
+    let dir = out_dir("gltf-alpha-vertex");
+    let model = gradient_quad(&dir, "gradient", "BLEND");
+    let bg = BACKGROUND.map(|c| c.to_string()).join(",");
+    // The weight of the surface in a pixel, from the green channel (|S − B| = 0.8).
+    let weight = |p: [u8; 4], s: &[f64; 3]| {
+        (f64::from(p[1]) / 255.0 - BACKGROUND[1]) / (s[1] - BACKGROUND[1])
+    };
+    let mut runs = Vec::new();
+    for (ctx, gl, env) in contexts() {
+        for (tier, tier_args) in [("phong", &["--shading", "phong"][..]), ("pbr", PBR)] {
+            for mode in ["nearest", "sorted"] {
+                let name = format!("{tier}-{mode}-{ctx}");
+                let mut args = view(&model);
+                args.extend(gl.iter().map(|a| a.to_string()));
+                let extra = [tier_args, &["--translucency", mode, "--background", &bg]].concat();
+                let img = shot(&dir, &name, &args, &extra, env);
+                let s = if tier == "pbr" {
+                    SURFACE.map(srgb)
+                } else {
+                    SURFACE
+                };
+                runs.push((name, img, s));
+            }
+        }
+    }
+    // The CPU reference composites the same rule.
+    let mut args = view(&model);
+    args.extend(["--background".to_string(), bg.clone()]);
+    let words: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (settings, scene) = settings_for(&words);
+    let reference = glview::reference::render(&scene, &settings, N, N);
+    runs.push(("reference".into(), reference, SURFACE));
+    for (name, img, s) in &runs {
+        let mut worst_w = 0.0f64;
+        for y in 2..N - 2 {
+            for x in 1..N - 1 {
+                let w = weight(img.pixel(x, y), s);
+                worst_w = worst_w.max((w - vertex_alpha(x)).abs());
+            }
+        }
+        let row: Vec<String> = [2, 12, 24, 36, 45]
+            .iter()
+            .map(|&x| format!("{:.3}", weight(img.pixel(x, N / 2), s)))
+            .collect();
+        eprintln!(
+            "{name}: weights at x 2, 12, 24, 36, 45: {} (vertex alpha {:.3} … {:.3}); worst {worst_w:.4}",
+            row.join(" "),
+            vertex_alpha(2),
+            vertex_alpha(45)
+        );
+        // 2/255 over |S − B| ≥ 0.8·(its sRGB step) in weight.
+        assert!(
+            worst_w <= 0.015,
+            "{name}: blend weight off the vertex alpha by {worst_w:.4}"
+        );
+    }
+}
+
+/// MASK tests the base alpha times the vertex alpha against the cutoff (0.5): the quad is cut
+/// where the gradient is below it, left of the middle (u = 0.5), on the GPU and in the
+/// reference: the background there, the surface right of it.
+#[test]
+fn vertex_alpha_cuts_a_mask() {
+    let dir = out_dir("gltf-alpha-mask");
+    let model = gradient_quad(&dir, "mask", "MASK");
+    let bg = BACKGROUND.map(|c| c.to_string()).join(",");
+    let mut runs = Vec::new();
+    for (ctx, gl, env) in contexts() {
+        for (tier, tier_args) in [("phong", &["--shading", "phong"][..]), ("pbr", PBR)] {
+            let name = format!("{tier}-{ctx}");
+            let mut args = view(&model);
+            args.extend(gl.iter().map(|a| a.to_string()));
+            let extra = [tier_args, &["--background", &bg]].concat();
+            let img = shot(&dir, &name, &args, &extra, env);
+            let s = if tier == "pbr" {
+                SURFACE.map(srgb)
+            } else {
+                SURFACE
+            };
+            runs.push((name, img, s));
+        }
+    }
+    let mut args = view(&model);
+    args.extend(["--background".to_string(), bg.clone()]);
+    let words: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (settings, scene) = settings_for(&words);
+    let reference = glview::reference::render(&scene, &settings, N, N);
+    runs.push(("reference".into(), reference, SURFACE));
+    for (name, img, s) in &runs {
+        let expect = |x: u32, _| {
+            let a = vertex_alpha(x);
+            ((a - 0.5).abs() > 0.02).then_some(if a >= 0.5 { *s } else { BACKGROUND })
+        };
+        let (w, n) = worst(img, &expect);
+        eprintln!("mask {name}: worst {w:.2}/255 over {n} pixels");
+        assert!(n > 2000 && w <= 1.0, "mask {name}: worst {w:.2}/255");
     }
 }
