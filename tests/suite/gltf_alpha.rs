@@ -3,7 +3,8 @@
 //! default nearest-layer mode and in `sorted`, in both tiers and over the PBR tier's sky; the
 //! stencil-masked mode (`nearest-masked`, the seed's globe) still hides the background;
 //! COLOR_0's alpha multiplies the base alpha (a gradient of blend weights, on the GPU and in
-//! the CPU reference; MASK cuts where the product crosses the cutoff).
+//! the CPU reference; MASK cuts where the product crosses the cutoff); `asset.minVersion`
+//! above 2.0 is refused.
 use crate::common::*;
 use crate::gltf_draw::{quad, Quad};
 use glview::image_out::Rgba;
@@ -337,5 +338,38 @@ fn vertex_alpha_cuts_a_mask() {
         let (w, n) = worst(img, &expect);
         eprintln!("mask {name}: worst {w:.2}/255 over {n} pixels");
         assert!(n > 2000 && w <= 1.0, "mask {name}: worst {w:.2}/255");
+    }
+}
+
+#[test]
+fn min_version_above_2_0_is_refused() {
+    let dir = out_dir("gltf-alpha-version");
+    let base = quad(
+        &dir,
+        "plain",
+        &Quad::default(),
+        &blend_material([1.0; 4], "OPAQUE"),
+    );
+    let json = std::fs::read_to_string(&base).unwrap();
+    for (v, ok) in [
+        ("2.0", true),
+        ("2.1", false),
+        ("3.0", false),
+        ("2.0.1", false),
+    ] {
+        let p = dir.join(format!("min-{v}.gltf"));
+        let asset = format!(r#""asset": {{"version": "2.0", "minVersion": "{v}"}}"#);
+        std::fs::write(&p, json.replace(r#""asset": {"version": "2.0"}"#, &asset)).unwrap();
+        let o = run(&[p.to_str().unwrap(), "--check"], &[]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        eprintln!("minVersion {v}: {}", err.trim());
+        assert_eq!(o.status.success(), ok, "minVersion {v}: {err}");
+        if v == "2.1" {
+            let line = "min-2.1.gltf: needs glTF 2.1 (asset.minVersion), this reader supports 2.0";
+            assert!(
+                err.contains(line) && err.trim().lines().count() == 1,
+                "{err}"
+            );
+        }
     }
 }
