@@ -8,6 +8,9 @@ IN vec2 vUv;
 #ifdef HAS_TEXTURE
 uniform sampler2D uDiffuseMap;
 #endif
+#ifdef HAS_COLOR
+IN float vAlpha;
+#endif
 #endif
 
 void main() {
@@ -15,6 +18,9 @@ void main() {
     float a = uBaseAlpha;
 #ifdef HAS_TEXTURE
     a *= TEX2D(uDiffuseMap, SLOT_UV(0)).a;
+#endif
+#ifdef HAS_COLOR
+    a *= vAlpha;
 #endif
     glviewAlphaTest(a);
 #endif

@@ -8,6 +8,10 @@ OUT vec2 vUv;
 IN vec2 aUv1;
 OUT vec2 vUv1;
 #endif
+#ifdef HAS_COLOR
+IN vec4 aColor;     // its alpha multiplies the base colour's (glTF COLOR_0)
+OUT float vAlpha;
+#endif
 #endif
 
 void main() {
@@ -15,6 +19,9 @@ void main() {
     vUv = aUv;
 #ifdef HAS_UV1
     vUv1 = aUv1;
+#endif
+#ifdef HAS_COLOR
+    vAlpha = aColor.a;
 #endif
 #endif
     gl_Position = uLightMvp * vec4(aPosition, 1.0);

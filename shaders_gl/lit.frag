@@ -12,7 +12,7 @@ IN vec3 vEyePos;
 IN vec2 vUv;
 #endif
 #ifdef HAS_COLOR
-IN vec3 vColor;
+IN vec4 vColor;
 #endif
 IN vec3 vNormal;
 #if NUM_LIGHTS > 0
@@ -57,6 +57,9 @@ void main() {
     tex = base.rgb;
     texAlpha = base.a;
 #endif
+#ifdef HAS_COLOR
+    texAlpha *= vColor.a;   // glTF: COLOR_0's alpha multiplies the base colour's
+#endif
     glviewAlphaTest(uBaseAlpha * texAlpha);
 #if ALPHA_MODE == 2
     float opacity = uOpacity * texAlpha;
@@ -64,7 +67,7 @@ void main() {
     float opacity = uOpacity;
 #endif
 #ifdef HAS_COLOR
-    tex *= vColor;
+    tex *= vColor.rgb;
 #endif
 #ifdef UNLIT
     FRAG_COLOR = glviewOutputRgba(uKd * tex, opacity);

@@ -4,8 +4,8 @@ IN vec3 aPosition;
 IN vec3 aNormal;
 IN vec2 aUv;
 #ifdef HAS_COLOR
-IN vec3 aColor;     // per-vertex colour: multiplies Ka and Kd like a texture
-OUT vec3 vColor;
+IN vec4 aColor;     // per-vertex colour: multiplies Ka and Kd like a texture; alpha
+OUT vec4 vColor;    // (1 if not given) multiplies the base colour's alpha
 #endif
 #ifdef HAS_UV1
 IN vec2 aUv1;       // glTF TEXCOORD_1, for slots that name it

@@ -45,7 +45,7 @@ uniform sampler2D uEmissiveMap;  // sRGB
 #endif
 
 #ifdef HAS_COLOR
-IN vec3 vColor;
+IN vec4 vColor;
 #endif
 
 vec3 glviewSafeNormalize(vec3 n) {
@@ -69,6 +69,9 @@ void main() {
     albedo *= glviewToLinear(base.rgb);
     texAlpha = base.a;
 #endif
+#ifdef HAS_COLOR
+    texAlpha *= vColor.a;   // glTF: COLOR_0's alpha multiplies the base colour's
+#endif
     glviewAlphaTest(uBaseAlpha * texAlpha);
 #if ALPHA_MODE == 2
     float opacity = uOpacity * texAlpha;
@@ -77,8 +80,8 @@ void main() {
 #endif
 #ifdef HAS_COLOR
     // Vertex colours are sRGB values that no sampler decodes: always decoded here.
-    albedo *= mix(vColor / 12.92, pow((vColor + 0.055) / 1.055, vec3(2.4)),
-                  step(0.04045, vColor));
+    albedo *= mix(vColor.rgb / 12.92, pow((vColor.rgb + 0.055) / 1.055, vec3(2.4)),
+                  step(0.04045, vColor.rgb));
 #endif
     float metallic = uMetallic;
     float rough = uRoughness;

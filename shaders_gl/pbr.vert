@@ -3,8 +3,8 @@ IN vec3 aPosition;
 IN vec3 aNormal;
 IN vec2 aUv;
 #ifdef HAS_COLOR
-IN vec3 aColor;     // per-vertex colour, sRGB like a base-colour map
-OUT vec3 vColor;
+IN vec4 aColor;     // per-vertex colour, sRGB like a base-colour map; alpha (1 if not given)
+OUT vec4 vColor;
 #endif
 #ifdef HAS_NORMAL_MAP
 IN vec4 aTangent;

@@ -82,9 +82,13 @@ crate::choice! {
     pub enum TranslucencyMode {
         /// The second seed document's technique: translucent surfaces into depth only, then again
         /// with depth test EQUAL and blending, so only the nearest translucent layer of each
-        /// pixel blends over what lies behind; independent of draw order; the background is
-        /// drawn afterwards only where the stencil says nothing was.
+        /// pixel blends over what lies behind, background included (glTF's BLEND);
+        /// independent of draw order.
         Nearest = "nearest",
+        /// The nearest layer as the seed draws it for the globe: the background drawn
+        /// afterwards only where the stencil says nothing was, so it never shows through a
+        /// translucent surface.
+        NearestMasked = "nearest-masked",
         /// Whole meshes sorted back to front by their centres and blended, back faces first
         /// (the legacy behaviour, kept for comparison).
         Sorted = "sorted",

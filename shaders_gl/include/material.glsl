@@ -2,7 +2,8 @@
 // (src/render/slots.rs sets the uniforms): each texture slot reads its own UV set through its
 // KHR_texture_transform. Slots: 0 base colour, 1 metallic-roughness, 2 normal, 3 occlusion,
 // 4 emissive. ALPHA_MODE: 0 opaque, 1 mask (discard below uAlphaCutoff), 2 blend (the base
-// colour texture's alpha multiplies the opacity), from the ALPHA_MASK / ALPHA_BLEND flags.
+// colour texture's alpha and the vertex colour's multiply the opacity), from the ALPHA_MASK /
+// ALPHA_BLEND flags.
 uniform mat3 uSlotXf[5];
 uniform float uSlotSet[5];
 uniform float uBaseAlpha;

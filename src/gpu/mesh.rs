@@ -12,8 +12,10 @@ pub struct GpuMesh {
     ibo: Buffer,
     /// Per-vertex tangents (xyz, w = handedness) for normal mapping, attribute 3.
     tangents: Option<Buffer>,
-    /// Per-vertex colours (rgb), attribute 4.
+    /// Per-vertex colours (rgb, or rgba: a vec4 attribute fed three components reads alpha
+    /// 1), attribute 4, and their component count.
     colors: Option<Buffer>,
+    color_size: i32,
     /// Second UV set, attribute 5.
     uv1: Option<Buffer>,
     vao: Option<glow::VertexArray>,
@@ -43,6 +45,8 @@ pub enum Primitive {
 pub struct Streams<'a> {
     pub tangents: Option<&'a [[f32; 4]]>,
     pub colors: Option<&'a [[f32; 3]]>,
+    /// Colours with alpha, used instead of `colors` when given.
+    pub colors_rgba: Option<&'a [[f32; 4]]>,
     pub uv1: Option<&'a [[f32; 2]]>,
 }
 
@@ -95,7 +99,10 @@ impl GpuMesh {
                 .transpose()
         };
         let tangents = stream(streams.tangents.map(bytemuck::cast_slice))?;
-        let colors = stream(streams.colors.map(bytemuck::cast_slice))?;
+        let (colors, color_size) = match (streams.colors_rgba, streams.colors) {
+            (Some(c), _) => (stream(Some(bytemuck::cast_slice(c)))?, 4),
+            (None, c) => (stream(c.map(bytemuck::cast_slice))?, 3),
+        };
         let uv1 = stream(streams.uv1.map(bytemuck::cast_slice))?;
         let vbo = Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(vertices))?;
         // 16-bit indices where they suffice: half the memory, and the only kind ES 2 had.
@@ -130,7 +137,7 @@ impl GpuMesh {
                 let vao = gpu.gl.create_vertex_array().map_err(Error::Unsupported)?;
                 gpu.created();
                 gpu.gl.bind_vertex_array(Some(vao));
-                set_attributes(&gpu.gl, &vbo, extra(&tangents, &colors, &uv1));
+                set_attributes(&gpu.gl, &vbo, extra(&tangents, (&colors, color_size), &uv1));
                 ibo.bind();
                 gpu.gl.bind_vertex_array(None);
                 Some(vao)
@@ -144,6 +151,7 @@ impl GpuMesh {
             ibo,
             tangents,
             colors,
+            color_size,
             uv1,
             vao,
             index_type,
@@ -178,7 +186,7 @@ impl GpuMesh {
                     set_attributes(
                         gl,
                         &self.vbo,
-                        extra(&self.tangents, &self.colors, &self.uv1),
+                        extra(&self.tangents, (&self.colors, self.color_size), &self.uv1),
                     );
                     self.ibo.bind();
                 }
@@ -201,12 +209,12 @@ impl GpuMesh {
 
 fn extra<'a>(
     tangents: &'a Option<Buffer>,
-    colors: &'a Option<Buffer>,
+    (colors, color_size): (&'a Option<Buffer>, i32),
     uv1: &'a Option<Buffer>,
 ) -> [(u32, i32, Option<&'a Buffer>); 3] {
     [
         (TANGENT_ATTRIBUTE, 4, tangents.as_ref()),
-        (COLOR_ATTRIBUTE, 3, colors.as_ref()),
+        (COLOR_ATTRIBUTE, color_size, colors.as_ref()),
         (UV1_ATTRIBUTE, 2, uv1.as_ref()),
     ]
 }

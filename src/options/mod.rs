@@ -161,9 +161,10 @@ declare_options! {
         /// Background colour R,G,B (default 0.1,0.1,0.12). In the PBR tier the environment
         /// is the background unless this is given.
         background: Option<[f32; 3]> = None, "background" maybe;
-        /// Translucent surfaces: the nearest layer only (two passes, depth EQUAL,
-        /// stencil-masked background), or whole meshes sorted back to front (the legacy
-        /// behaviour).
+        /// Translucent surfaces: the nearest layer only (two passes, depth EQUAL) over
+        /// whatever lies behind, background included; the same with the background masked
+        /// by the stencil (never behind a translucent surface: the seed's globe); or whole
+        /// meshes sorted back to front (the legacy behaviour).
         translucency: TranslucencyMode = TranslucencyMode::Nearest, "translucency" value;
         /// Blend formula of translucent layers: alpha (α·src + (1 − α)·dst) or add
         /// (α·src + dst).

@@ -166,10 +166,15 @@ pub fn read(
     Some(sample(t, &slot_sampler(m, slot), slot_uv(m, slot, c), srgb))
 }
 
-/// The base colour texture's alpha times the factor's: what MASK tests and BLEND uses.
+/// The base colour texture's alpha times the vertex colour's (glTF COLOR_0) times the
+/// factor's: what MASK tests; and the first two alone, which multiply BLEND's opacity.
 pub fn base_alpha(m: &Material, c: &Corners) -> (f64, f64) {
     let image = m.image(Slot::BaseColor).map(|t| &**t);
-    let tex = read(m, image, Slot::BaseColor, c, false).map_or(1.0, |t| t.w);
+    let mut tex = read(m, image, Slot::BaseColor, c, false).map_or(1.0, |t| t.w);
+    let a = &c.mesh.color_alpha;
+    if a.len() == c.mesh.vertices.len() && c.mesh.colors.len() == a.len() {
+        tex *= (0..3).map(|k| c.w[k] * f64::from(a[c.idx[k]])).sum::<f64>();
+    }
     (f64::from(m.base_alpha) * tex, tex)
 }
 

@@ -262,12 +262,14 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
     sc.layers
         .dedup_by(|a, b| a.tri.mesh == b.tri.mesh && (a.t - b.t).abs() <= 1e-12 * b.t.abs());
     let tr = &ctx.settings.lighting.translucency;
-    let nearest = tr.mode == crate::frame::TranslucencyMode::Nearest
+    let nearest = tr.mode != crate::frame::TranslucencyMode::Sorted
         && ctx.scene.materials.iter().any(|m| m.is_translucent());
     if nearest {
-        // The nearest layer only, over the opaque surface or, where there is none, over
-        // black: the background is drawn afterwards where nothing was (render/translucent.rs).
-        if opaque.is_none() && !sc.layers.is_empty() {
+        // The nearest layer only, over the opaque surface or the background; masked, over
+        // black where no opaque surface is: the background is drawn afterwards where nothing
+        // was (render/translucent.rs).
+        let masked = tr.mode == crate::frame::TranslucencyMode::NearestMasked;
+        if masked && opaque.is_none() && !sc.layers.is_empty() {
             color = DVec3::ZERO;
         }
         let keep = sc.layers.len().saturating_sub(1);
@@ -278,7 +280,8 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
         let m = &ctx.scene.materials[mesh.material];
         let mut alpha = f64::from(tr.opacity.unwrap_or(m.draw_opacity()));
         if m.alpha_mode == crate::scene::material::AlphaMode::Blend {
-            // BLEND: the base colour texture's alpha multiplies the opacity.
+            // BLEND: the base colour texture's and the vertex colour's alphas multiply the
+            // opacity.
             alpha *= material::base_alpha(m, &material::Corners::new(ctx, hit)).1;
         }
         let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);

@@ -1,8 +1,8 @@
 //! Pass "background": in the PBR tier, the environment behind the model (a full-screen quad at
 //! the far plane reading one specular level: sharp, or blurred with `--env-blur`). Otherwise
 //! the lit pass clears to the background colour and this pass does not run. With
-//! nearest-layer translucency the background is drawn after the model instead, only where
-//! the stencil is not 1 (`fill_unmarked`).
+//! `--translucency nearest-masked` the background is drawn after the model instead, only
+//! where the stencil is not 1 (`fill_unmarked`).
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::state::{DepthFunc, RenderState, Stencil, StencilFunc};
 use crate::shader::cache::ProgramKey;

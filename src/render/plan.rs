@@ -79,7 +79,7 @@ fn copy_path_bloom(
     };
     if why.is_none()
         && glass
-        && s.lighting.translucency.mode != crate::frame::TranslucencyMode::Nearest
+        && s.lighting.translucency.mode == crate::frame::TranslucencyMode::Sorted
     {
         stats.pass_log.push(
             "translucent: RGBM frame: each blended draw blends in the shader over a copy of the frame; where one draw overlaps itself (a cup's walls) only its last layer shows".into(),

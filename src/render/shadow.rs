@@ -111,8 +111,11 @@ fn mask_key(cx: &FrameCx, i: usize, textured: bool) -> ProgramKey {
     }
     let m = &cx.scene.meshes[i];
     let model = &cx.scene.scene.materials[m.material];
-    let key = depth_key().switch("HAS_TEXTURE", "tex", textured);
-    super::slots::flags(key, model, m.has_uv1, textured)
+    let key =
+        depth_key()
+            .switch("HAS_TEXTURE", "tex", textured)
+            .switch("HAS_COLOR", "vc", m.has_colors);
+    super::slots::flags(key, model, m.has_uv1, textured, m.has_colors)
 }
 
 /// The map size actually used: the request, limited by the driver and, on the copy path,

@@ -73,10 +73,12 @@ pub(crate) fn flags(
     model: &Material,
     has_uv1: bool,
     textured: bool,
+    colored: bool,
 ) -> ProgramKey {
     let mask = matches!(model.alpha_mode, AlphaMode::Mask(_));
-    // Without a texture the factor's alpha is the material's opacity already.
-    let blend = model.alpha_mode == AlphaMode::Blend && textured;
+    // Without a texture or vertex colours (COLOR_0's alpha) the factor's alpha is the
+    // material's opacity already.
+    let blend = model.alpha_mode == AlphaMode::Blend && (textured || colored);
     key.switch("ALPHA_MASK", "mask", mask)
         .switch("ALPHA_BLEND", "blend", blend)
         .switch("HAS_UV1", "uv1", has_uv1)
@@ -119,14 +121,16 @@ pub(crate) fn variant_keys() -> Vec<ProgramKey> {
             let lit = super::lit::program_key(1, 1, 1, 0, true, gouraud, true)
                 .switch("HAS_NORMAL_MAP", "nrm", !gouraud)
                 .switch("HAS_EMISSIVE_MAP", "emi", true);
-            keys.push(flags(lit, m, true, true));
+            keys.push(flags(lit, m, true, true, true));
         }
         for pbr in super::pbr::all_keys(1, 1, 1, 0) {
-            keys.push(flags(pbr, m, true, true));
+            keys.push(flags(pbr, m, true, true, true));
         }
-        for textured in [false, true] {
-            let depth = super::shadow::depth_key().switch("HAS_TEXTURE", "tex", textured);
-            keys.push(flags(depth, m, textured, textured));
+        for (textured, colored) in [(false, false), (true, false), (true, true)] {
+            let depth = super::shadow::depth_key()
+                .switch("HAS_TEXTURE", "tex", textured)
+                .switch("HAS_COLOR", "vc", colored);
+            keys.push(flags(depth, m, textured, textured, colored));
         }
     }
     keys

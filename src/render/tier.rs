@@ -81,7 +81,13 @@ pub(crate) fn draw_meshes<T: Tier>(
         };
         let mat = &scene.scene.materials[m.material];
         let prepared = tier.prepare(cx, v, &m)?;
-        let key = super::slots::flags(prepared.key, mat, m.has_uv1, prepared.textured);
+        let key = super::slots::flags(
+            prepared.key,
+            mat,
+            m.has_uv1,
+            prepared.textured,
+            m.has_colors,
+        );
         let key = cx.lit_flags(key);
         let program = cx.program(&key)?;
         program.bind();

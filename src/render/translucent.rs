@@ -1,13 +1,15 @@
 //! Translucent surfaces, as the second seed document draws them (`--translucency nearest`,
-//! the command line's default): opaque meshes first (writing 1 into the stencil buffer);
-//! then the translucent ones into depth only (colour writes off); then the translucent ones
-//! again with depth test EQUAL, no depth writes, blending and stencil 1: only the nearest
-//! translucent fragment of each pixel passes, whatever the triangle order, and blends over
-//! what lies behind it. The frame is cleared to black first and the background (colour or
-//! environment) is drawn last, only where the stencil is not 1, so it never shows through a
-//! translucent surface. Both translucent passes draw with the very same program, buffers and
-//! state apart from the colour mask, so their depths are bit-identical by construction (no
-//! `invariant` needed; the EQUAL pass drawing every pixel the depth pass covered is tested).
+//! the command line's default): opaque meshes first; then the translucent ones into depth
+//! only (colour writes off); then the translucent ones again with depth test EQUAL, no depth
+//! writes and blending: only the nearest translucent fragment of each pixel passes, whatever
+//! the triangle order, and blends over what lies behind it — the background (colour or
+//! environment, drawn first, as in the sorted mode) included, as glTF's BLEND says.
+//! `--translucency nearest-masked` is the seed's globe frame: the opaque and translucent
+//! draws write 1 into the stencil buffer, the frame is cleared to black and the background
+//! drawn last, only where the stencil is not 1, so it never shows through a translucent
+//! surface. Both translucent passes draw with the very same program, buffers and state apart
+//! from the colour mask, so their depths are bit-identical by construction (no `invariant`
+//! needed; the EQUAL pass drawing every pixel the depth pass covered is tested).
 //! `--translucency sorted` keeps the legacy order (meshes back to front by centre, back faces
 //! then front faces).
 use super::background;
@@ -18,9 +20,16 @@ use crate::gpu::state::{Blend, Cull, DepthFunc, RenderState, Stencil, StencilFun
 use crate::scene::Material;
 use crate::Result;
 
-/// Whether this frame draws translucency the nearest-layer way (and so masks the background).
+/// Whether this frame draws translucency the nearest-layer way.
+fn nearest(cx: &FrameCx) -> bool {
+    cx.settings.lighting.translucency.mode != TranslucencyMode::Sorted
+        && cx.scene.meshes.iter().any(|m| m.translucent)
+}
+
+/// Whether this frame masks the background by the stencil (`nearest-masked`, with
+/// translucent meshes): the background comes last, never behind a translucent surface.
 pub(crate) fn masked(cx: &FrameCx) -> bool {
-    cx.settings.lighting.translucency.mode == TranslucencyMode::Nearest
+    cx.settings.lighting.translucency.mode == TranslucencyMode::NearestMasked
         && cx.scene.meshes.iter().any(|m| m.translucent)
 }
 
@@ -109,7 +118,7 @@ pub(crate) fn draw_frame(
     first: usize,
     draw: &mut DrawFn,
 ) -> Result<()> {
-    if !masked(cx) {
+    if !nearest(cx) {
         // Legacy: opaque, then translucent meshes back to front, each back faces first.
         let b = blend(cx);
         return draw(cx, order, &|translucent| {
@@ -127,9 +136,11 @@ pub(crate) fn draw_frame(
             }
         });
     }
+    let masked = masked(cx);
+    let mark = masked.then_some(MARK);
     let (opaque, glass) = order.split_at(first);
     let opaque_state = RenderState {
-        stencil: Some(MARK),
+        stencil: mark,
         ..Default::default()
     };
     draw(cx, opaque, &|_| vec![opaque_state])?;
@@ -148,15 +159,22 @@ pub(crate) fn draw_frame(
                 depth: Some(DepthFunc::Equal),
                 depth_write: false,
                 blend: b,
-                stencil: Some(MARK),
+                stencil: mark,
                 ..Default::default()
             }]
         })?;
     }
-    background::fill_unmarked(cx)?;
+    if masked {
+        background::fill_unmarked(cx)?;
+    }
     cx.stats.pass_log.push(format!(
-        "translucent: nearest layer of {} mesh(es), depth then colour (EQUAL), background masked by the stencil",
-        glass.len()
+        "translucent: nearest layer of {} mesh(es), depth then colour (EQUAL), {}",
+        glass.len(),
+        if masked {
+            "background masked by the stencil"
+        } else {
+            "over the background"
+        }
     ));
     Ok(())
 }

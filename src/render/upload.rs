@@ -132,10 +132,20 @@ impl SceneGpu {
                 }
             });
             let colors = (m.colors.len() == m.vertices.len()).then_some(m.colors.as_slice());
+            // COLOR_0's alpha goes up with the colour as a fourth component.
+            let rgba: Option<Vec<[f32; 4]>> = colors
+                .filter(|_| m.color_alpha.len() == m.vertices.len())
+                .map(|c| {
+                    c.iter()
+                        .zip(&m.color_alpha)
+                        .map(|(c, &a)| [c[0], c[1], c[2], a])
+                        .collect()
+                });
             let uv1 = (m.uv1.len() == m.vertices.len()).then_some(m.uv1.as_slice());
             let streams = Streams {
                 tangents: tangents.as_deref(),
                 colors,
+                colors_rgba: rgba.as_deref(),
                 uv1,
             };
             meshes.push(DrawMesh {

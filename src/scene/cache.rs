@@ -77,7 +77,8 @@ fn image_table(scene: &Scene) -> (Vec<&Arc<Texture>>, Vec<SlotRefs>) {
 const MAGIC: &[u8; 4] = b"GLVC";
 /// 6: one flat material (issue 28): glTF-shaped values and slots, the MTL's Phong terms apart.
 /// 7: the colour rule (issue 31): a material's `colour_rule`, glTF COLOR_0 stored encoded.
-const FORMAT: u32 = 7;
+/// 8: COLOR_0's alpha per vertex (issue 32).
+const FORMAT: u32 = 8;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -140,6 +141,7 @@ struct MeshMeta {
     vertices: usize,
     indices: usize,
     colors: usize,
+    color_alpha: usize,
     uv1: usize,
     tangents: usize,
 }
@@ -317,6 +319,7 @@ pub fn put_in(
             bytemuck::cast_slice(&m.vertices),
             bytemuck::cast_slice(&m.indices),
             bytemuck::cast_slice(&m.colors),
+            bytemuck::cast_slice(&m.color_alpha),
             bytemuck::cast_slice(&m.uv1),
             bytemuck::cast_slice(&m.tangents),
         ]);
@@ -366,6 +369,7 @@ pub fn put_in(
                 vertices: m.vertices.len(),
                 indices: m.indices.len(),
                 colors: m.colors.len(),
+                color_alpha: m.color_alpha.len(),
                 uv1: m.uv1.len(),
                 tangents: m.tangents.len(),
             })

@@ -111,11 +111,15 @@ fn read_meshes(payload: &mut Payload, metas: &[MeshMeta]) -> Option<Vec<Mesh>> {
         let vertices: Vec<Vertex> = payload.read(m.vertices)?;
         let indices: Vec<u32> = payload.read(m.indices)?;
         let colors: Vec<[f32; 3]> = payload.read(m.colors)?;
+        let color_alpha: Vec<f32> = payload.read(m.color_alpha)?;
         let uv1: Vec<[f32; 2]> = payload.read(m.uv1)?;
         let tangents: Vec<[f32; 4]> = payload.read(m.tangents)?;
         let per_vertex = |n: usize| n == 0 || n == vertices.len();
         if indices.iter().any(|&i| i as usize >= vertices.len())
-            || !(per_vertex(colors.len()) && per_vertex(uv1.len()) && per_vertex(tangents.len()))
+            || !(per_vertex(colors.len())
+                && per_vertex(color_alpha.len())
+                && per_vertex(uv1.len())
+                && per_vertex(tangents.len()))
         {
             return None;
         }
@@ -127,6 +131,7 @@ fn read_meshes(payload: &mut Payload, metas: &[MeshMeta]) -> Option<Vec<Mesh>> {
             has_uv: m.has_uv,
             generated_normals: m.generated_normals,
             colors,
+            color_alpha,
             uv1,
             tangents,
         });

@@ -143,6 +143,9 @@ fn parse_document(
     let parsed = gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
     let mut json = parsed.document.into_json();
+    if let Some(v) = &json.asset.min_version {
+        check_min_version(v).map_err(bad)?;
+    }
     for x in &json.extensions_required {
         if !SUPPORTED_EXTENSIONS.contains(&x.as_str()) {
             return Err(bad(format!(
@@ -180,6 +183,23 @@ fn parse_document(
     let doc =
         gltf::Document::from_json(json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
     Ok((doc, parsed.blob))
+}
+
+/// `asset.minVersion` ("major.minor"): a file that needs a later glTF than 2.0 is refused, as
+/// the specification asks of a 2.0 reader (it may rely on what 2.0 does not define).
+fn check_min_version(v: &str) -> std::result::Result<(), String> {
+    let parsed = v
+        .split_once('.')
+        .and_then(|(a, b)| Some((a.parse::<u32>().ok()?, b.parse::<u32>().ok()?)));
+    match parsed {
+        Some(needed) if needed <= (2, 0) => Ok(()),
+        Some(_) => Err(format!(
+            "needs glTF {v} (asset.minVersion), this reader supports 2.0"
+        )),
+        None => Err(format!(
+            "asset.minVersion \"{v}\" is not a version (major.minor)"
+        )),
+    }
 }
 
 /// Meshes can be instanced by many nodes: the total is bounded before anything is read.

@@ -20,6 +20,8 @@ pub struct Prim {
     uv1: Option<Vec<[f32; 2]>>,
     tangents: Option<Vec<[f32; 4]>>,
     colors: Option<Vec<[f32; 3]>>,
+    /// COLOR_0's alpha where it is a VEC4.
+    alphas: Option<Vec<f32>>,
     pub indices: Vec<u32>,
     material: Option<usize>,
     name: String,
@@ -123,19 +125,21 @@ impl<'a> Instance<'a> {
             let uvs = self.uv_set(&p, 0, warnings)?;
             let uv1 = self.uv_set(&p, 1, warnings)?;
             let tangents = self.tangents(&p, &where_, warnings)?;
-            let colors = match p.get(&Semantic::Colors(0)) {
+            let (colors, alphas) = match p.get(&Semantic::Colors(0)) {
                 Some(a) => {
                     let (d, v) = accessor::read_f32(&a, self.buffers, &[D::Vec3, D::Vec4])?;
                     // COLOR_0 is linear; `Mesh::colors` holds display values (as PLY's
-                    // and OBJ's): encoded once here, decoded again by the PBR tier.
+                    // and OBJ's): encoded once here, decoded again by the PBR tier. Its
+                    // alpha (a weight, not a colour) stays linear.
                     let enc = super::material::srgb_encode_hdr;
-                    Some(
-                        v.chunks_exact(d)
-                            .map(|q| [enc(q[0]), enc(q[1]), enc(q[2])])
-                            .collect(),
-                    )
+                    let alphas = (d == 4).then(|| v.chunks_exact(4).map(|q| q[3]).collect());
+                    let rgb = v
+                        .chunks_exact(d)
+                        .map(|q| [enc(q[0]), enc(q[1]), enc(q[2])])
+                        .collect();
+                    (Some(rgb), alphas)
                 }
-                None => None,
+                None => (None, None),
             };
             out.prims.push(Prim {
                 positions,
@@ -144,6 +148,7 @@ impl<'a> Instance<'a> {
                 uv1,
                 tangents,
                 colors,
+                alphas,
                 indices,
                 material: p.material().index(),
                 name: mesh.name().unwrap_or("mesh").to_string(),
@@ -315,6 +320,12 @@ impl Prim {
                 },
             })
             .collect();
+        let colors: Vec<[f32; 3]> = p.colors.filter(|c| c.len() == count).unwrap_or_default();
+        // An alpha of 1 everywhere changes nothing: no stream for it.
+        let color_alpha = p
+            .alphas
+            .filter(|a| !colors.is_empty() && a.len() == count && a.iter().any(|&x| x != 1.0))
+            .unwrap_or_default();
         let mut mesh = Mesh {
             name: p.name,
             vertices,
@@ -325,7 +336,8 @@ impl Prim {
                 .unwrap_or(default_material),
             has_uv,
             generated_normals: 0,
-            colors: p.colors.filter(|c| c.len() == count).unwrap_or_default(),
+            colors,
+            color_alpha,
             uv1: p.uv1.filter(|c| c.len() == count).unwrap_or_default(),
             // Tangents go with the file's normals: generated normals get generated tangents.
             tangents: p

@@ -66,6 +66,9 @@ pub struct Mesh {
     /// file has none. Display (sRGB-encoded) values whatever the format: glTF's linear
     /// COLOR_0 is encoded at load (the colour rule, [`material::ColourRule`]). Kept beside [`Vertex`] so the vertex layout stays the same.
     pub colors: Vec<[f32; 3]>,
+    /// The alpha of those colours (glTF COLOR_0 as VEC4), one per vertex, multiplying the base
+    /// colour's alpha (MASK and BLEND); empty when the file has none or every one is 1.
+    pub color_alpha: Vec<f32>,
     /// Second UV set (glTF TEXCOORD_1), one per vertex; empty when the file has none.
     pub uv1: Vec<[f32; 2]>,
     /// Tangents as the file supplies them (glTF TANGENT: xyz, w = bitangent sign), one per

@@ -256,6 +256,9 @@ impl super::Mesh {
             if !self.colors.is_empty() {
                 self.colors = old.iter().map(|&o| self.colors[o as usize]).collect();
             }
+            if !self.color_alpha.is_empty() {
+                self.color_alpha = old.iter().map(|&o| self.color_alpha[o as usize]).collect();
+            }
             if !self.uv1.is_empty() {
                 self.uv1 = old.iter().map(|&o| self.uv1[o as usize]).collect();
             }

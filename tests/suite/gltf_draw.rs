@@ -30,6 +30,8 @@ pub(crate) struct Quad {
     pub uv1: Option<[[f32; 2]; 4]>,
     pub normal: [f32; 3],
     pub tangent: Option<[f32; 4]>,
+    /// COLOR_0 (RGBA) at the corners, in the order of `uv0`.
+    pub color: Option<[[f32; 4]; 4]>,
     pub scale_x: f32,
 }
 
@@ -40,6 +42,7 @@ impl Default for Quad {
             uv1: None,
             normal: [0., 0., 1.],
             tangent: None,
+            color: None,
             scale_x: 1.0,
         }
     }
@@ -82,6 +85,9 @@ pub(crate) fn quad(dir: &Path, name: &str, q: &Quad, materials: &str) -> PathBuf
     }
     if let Some(t) = q.tangent {
         push("TANGENT", "VEC4", t.repeat(4), &mut bin);
+    }
+    if let Some(c) = q.color {
+        push("COLOR_0", "VEC4", c.concat(), &mut bin);
     }
     // Counter-clockwise seen from +Z: bottom-left, bottom-right, top-right, top-left.
     let index_off = bin.len();

@@ -17,6 +17,7 @@ mod culling;
 mod fast_parse;
 mod fuzz_format_regressions;
 mod fuzz_regressions;
+mod gltf_alpha;
 mod gltf_draw;
 mod gltf_extensions;
 mod gltf_materials;
