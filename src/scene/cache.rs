@@ -77,7 +77,8 @@ fn image_table(scene: &Scene) -> (Vec<&Arc<Texture>>, Vec<SlotRefs>) {
 const MAGIC: &[u8; 4] = b"GLVC";
 /// 6: one flat material (issue 28): glTF-shaped values and slots, the MTL's Phong terms apart.
 /// 7: the colour rule (issue 31): a material's `colour_rule`, glTF COLOR_0 stored encoded.
-const FORMAT: u32 = 7;
+/// 8: point clouds (issue 31): the wire's per-point colours and normals.
+const FORMAT: u32 = 8;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -159,6 +160,8 @@ struct WireMeta {
     positions: usize,
     segments: usize,
     points: usize,
+    colors: usize,
+    normals: usize,
 }
 
 /// A material's texture slots as indices into the header's texture table, in the order of
@@ -325,6 +328,8 @@ pub fn put_in(
         bytemuck::cast_slice(&w.positions),
         bytemuck::cast_slice(&w.segments),
         bytemuck::cast_slice(&w.points),
+        bytemuck::cast_slice(&w.colors),
+        bytemuck::cast_slice(&w.normals),
     ]);
     parts.extend(table.iter().map(|t| &t.rgba[..]));
     let payload_len: u64 = parts.iter().map(|p| p.len() as u64).sum();
@@ -374,6 +379,8 @@ pub fn put_in(
             positions: w.positions.len(),
             segments: w.segments.len(),
             points: w.points.len(),
+            colors: w.colors.len(),
+            normals: w.normals.len(),
         },
         maps: scene.maps.clone(),
         bounds: scene.bounds,

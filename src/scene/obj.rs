@@ -134,6 +134,9 @@ fn parse(
         Parser::Chunked(n) => super::fast::parse(bytes, Some(n), &report, &mut mtl),
         Parser::Tobj => None,
     };
+    // A file without faces (a point cloud, or only `l`/`p`) takes the old path, which keeps
+    // every position.
+    let fast = fast.filter(|p| p.models.iter().any(|m| !m.mesh.indices.is_empty()));
     super::profile::set_fast_path(fast.is_some());
     let (models, mats, repaired) = match fast {
         Some(p) => {
@@ -399,7 +402,7 @@ fn load_with(
     let Parsed {
         models,
         mats,
-        repaired,
+        mut repaired,
         mut warnings,
         mtl_lines,
         mut dependencies,
@@ -418,6 +421,13 @@ fn load_with(
 
     let up = opts.up;
     let rotated = |s: &[f64]| up.rotate(DVec3::new(s[0], s[1], s[2]));
+    // A file of `v` lines only is a point cloud: every vertex a point.
+    if repaired.segments.is_empty()
+        && repaired.points.is_empty()
+        && models.iter().all(|m| m.mesh.indices.is_empty())
+    {
+        repaired.points = (0..repaired.positions.len() as u32).collect();
+    }
     let wire_used: Vec<u32> = {
         let mut u: Vec<u32> = repaired
             .segments
