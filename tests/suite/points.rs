@@ -446,3 +446,36 @@ fn million_point_cloud_loads_and_renders() {
     let img = Rgba::load_png(&out).unwrap();
     check_frame(&img, "million");
 }
+
+/// The default size is 1.5 spacings as the fitted view shows them, within 2..8 px: a 100×100
+/// lattice of pitch 0.03 (every nearest distance 0.03) seen face on.
+#[test]
+fn default_size_follows_the_spacing() {
+    let dir = out_dir("points-default");
+    let mut text = String::from(
+        "ply\nformat ascii 1.0\nelement vertex 10000\nproperty float x\nproperty float y\n\
+         property float z\nend_header\n",
+    );
+    for i in 0..100 {
+        for j in 0..100 {
+            text += &format!("{} {} 0\n", i as f32 * 0.03, j as f32 * 0.03);
+        }
+    }
+    let file = write(&dir, "lattice.ply", text.as_bytes());
+    for size in ["320x240", "640x480"] {
+        let (s, _) = settings_for(&[&file, "--size", size, "--yaw", "0", "--pitch", "0"]);
+        let h: f32 = size.split('x').nth(1).unwrap().parse().unwrap();
+        let c = &s.camera;
+        let view_height = 2.0 * c.distance * (c.fov_y_deg.to_radians() * 0.5).tan();
+        let want = (1.5 * 0.03 * h / view_height).clamp(2.0, 8.0);
+        let got = s.lighting.point_size.0;
+        assert!(
+            (got - want).abs() < 1e-3 * want,
+            "{size}: {got} px, want {want}"
+        );
+        assert!(
+            got > 2.0 && got < 8.0,
+            "{size}: {got} px is clamped; pick another lattice"
+        );
+    }
+}
