@@ -214,16 +214,22 @@ fn enable_point_sprites(gl: &glow::Context, caps: &Caps) {
     if caps.embedded {
         return;
     }
-    // SAFETY: glEnable with enums this context accepts (checked by profile above);
-    // glGetError drains what a driver that disagrees would leave behind.
+    // SAFETY: glEnable of two enums; glGetError drains what a context that rejects one
+    // leaves behind, so no pass reports it.
     unsafe {
         gl.enable(PROGRAM_POINT_SIZE);
-        if !caps.core_profile {
-            gl.enable(POINT_SPRITE);
-        }
         let e = gl.get_error();
         if e != glow::NO_ERROR {
-            log::warn!("{}: enabling point sprites: GL error 0x{e:x}", caps.version);
+            log::warn!("{}: GL_PROGRAM_POINT_SIZE: GL error 0x{e:x}", caps.version);
+        }
+        if !caps.core_profile {
+            gl.enable(POINT_SPRITE);
+            // A core context that reports an overridden version (MESA_GL_VERSION_OVERRIDE=2.1
+            // on a 3.x core window) rejects it: its points are always sprites.
+            let e = gl.get_error();
+            if e != glow::NO_ERROR {
+                log::debug!("{}: GL_POINT_SPRITE: GL error 0x{e:x}", caps.version);
+            }
         }
     }
 }
