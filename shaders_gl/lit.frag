@@ -50,6 +50,11 @@ uniform sampler2D uDiffuseMap;
 #endif
 
 void main() {
+#ifdef POINTS
+    // Round points: the sprite's square less what lies outside its inscribed disk.
+    vec2 pc = gl_PointCoord - vec2(0.5);
+    if (dot(pc, pc) > 0.25) discard;
+#endif
     vec3 tex = vec3(1.0);
     float texAlpha = 1.0;
 #ifdef HAS_TEXTURE

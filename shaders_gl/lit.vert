@@ -19,6 +19,9 @@ OUT vec4 vTangent;
 uniform mat4 uModelView;
 uniform mat4 uProjection;
 uniform mat3 uNormalMatrix;
+#ifdef POINTS
+uniform float uPointSize;   // diameter in pixels (GL 2.1 and core need PROGRAM_POINT_SIZE on)
+#endif
 
 OUT vec3 vEyePos;
 #ifdef LOG_DEPTH
@@ -63,6 +66,9 @@ void main() {
 #endif
     vNormal = n;
     gl_Position = uProjection * eye;
+#ifdef POINTS
+    gl_PointSize = uPointSize;
+#endif
 #ifdef LOG_DEPTH
     vClipW = gl_Position.w;
 #endif

@@ -62,6 +62,11 @@ vec3 glviewToLinear(vec3 c) {
 }
 
 void main() {
+#ifdef POINTS
+    // Round points: the sprite's square less what lies outside its inscribed disk.
+    vec2 pc = gl_PointCoord - vec2(0.5);
+    if (dot(pc, pc) > 0.25) discard;
+#endif
     vec3 albedo = uBaseColor;
     float texAlpha = 1.0;
 #ifdef HAS_ALBEDO_MAP

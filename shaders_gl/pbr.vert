@@ -17,6 +17,9 @@ OUT vec2 vUv1;
 uniform mat4 uModelView;
 uniform mat4 uProjection;
 uniform mat3 uNormalMatrix;
+#ifdef POINTS
+uniform float uPointSize;   // diameter in pixels (GL 2.1 and core need PROGRAM_POINT_SIZE on)
+#endif
 
 OUT vec3 vEyePos;
 #ifdef LOG_DEPTH
@@ -43,6 +46,9 @@ void main() {
     vTangent = vec4(uNormalMatrix * aTangent.xyz, aTangent.w);
 #endif
     gl_Position = uProjection * eye;
+#ifdef POINTS
+    gl_PointSize = uPointSize;
+#endif
 #ifdef LOG_DEPTH
     vClipW = gl_Position.w;
 #endif

@@ -154,7 +154,15 @@ pub struct LightingParams {
     pub headlight: Option<glam::Vec3>,
     /// How many of the lights (the first ones) cast shadows.
     pub shadow_casters: u8,
+    /// Diameter of points in pixels of a picture `point_size.1` pixels high (the frame
+    /// scales it with its viewport: SSAA, a window resized).
+    pub point_size: (f32, u32),
 }
+
+/// The default point size's bounds in pixels: small enough that a dense scan stays a
+/// surface of dots, large enough that a sparse one (or glTF POINTS) shows round dots.
+pub const MIN_POINT_PX: f32 = 2.0;
+pub const MAX_POINT_PX: f32 = 8.0;
 
 impl Default for LightingParams {
     fn default() -> Self {
@@ -170,6 +178,7 @@ impl Default for LightingParams {
             post: Default::default(),
             headlight: None,
             shadow_casters: crate::light::MAX_LIGHTS as u8,
+            point_size: (MIN_POINT_PX, 0),
         }
     }
 }

@@ -44,6 +44,7 @@ pub type GpuRef = Rc<Gpu>;
 impl Gpu {
     pub fn new(gl: glow::Context) -> Rc<Gpu> {
         let caps = Caps::probe(&gl);
+        enable_point_sprites(&gl, &caps);
         Rc::new(Gpu {
             gl,
             caps,
@@ -197,6 +198,39 @@ pub fn flip_rows(buf: &mut [u8], row_bytes: usize) {
     for y in 0..rows / 2 {
         let (top, bottom) = buf.split_at_mut((rows - 1 - y) * row_bytes);
         top[y * row_bytes..(y + 1) * row_bytes].swap_with_slice(&mut bottom[..row_bytes]);
+    }
+}
+
+/// Points take their size from the vertex shader's `gl_PointSize` and their disks from
+/// `gl_PointCoord`, on every context, once at set-up (no pass changes these): desktop GL
+/// needs `GL_PROGRAM_POINT_SIZE` (2.1's `GL_VERTEX_PROGRAM_POINT_SIZE`, the same enum)
+/// enabled, else the size is `glPointSize`'s 1; GL 2.1 and compatibility profiles
+/// also need `GL_POINT_SPRITE`, else `gl_PointCoord` is undefined (Mesa gives 0). Core
+/// profiles always make sprites and reject the enum; ES has neither enable (its vertex
+/// shader's `gl_PointSize` is always used).
+fn enable_point_sprites(gl: &glow::Context, caps: &Caps) {
+    const PROGRAM_POINT_SIZE: u32 = 0x8642;
+    const POINT_SPRITE: u32 = 0x8861;
+    if caps.embedded {
+        return;
+    }
+    // SAFETY: glEnable of two enums; glGetError drains what a context that rejects one
+    // leaves behind, so no pass reports it.
+    unsafe {
+        gl.enable(PROGRAM_POINT_SIZE);
+        let e = gl.get_error();
+        if e != glow::NO_ERROR {
+            log::warn!("{}: GL_PROGRAM_POINT_SIZE: GL error 0x{e:x}", caps.version);
+        }
+        if !caps.core_profile {
+            gl.enable(POINT_SPRITE);
+            // A core context that reports an overridden version (MESA_GL_VERSION_OVERRIDE=2.1
+            // on a 3.x core window) rejects it: its points are always sprites.
+            let e = gl.get_error();
+            if e != glow::NO_ERROR {
+                log::debug!("{}: GL_POINT_SPRITE: GL error 0x{e:x}", caps.version);
+            }
+        }
     }
 }
 

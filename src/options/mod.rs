@@ -178,6 +178,11 @@ declare_options! {
         /// (the same picture but for a rare silhouette pixel where a back face won a depth
         /// tie; slower: for comparisons).
         culling: bool = true, "no-culling" noflag;
+        /// Diameter of points (point clouds, glTF POINTS, OBJ `p`) in pixels of the
+        /// picture, drawn as round disks. Default: 1.5 times a cloud's mean
+        /// nearest-neighbour distance as seen from the fitted view, between 2 and 8 (a
+        /// lone point or sparse POINTS: 8).
+        point_size: Option<f32> = None, "point-size" maybe, check = in_range(1.0, 64.0);
     }
     /// The PBR tier: environment, material overrides, precomputation.
     pbr: Pbr {

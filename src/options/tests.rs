@@ -135,6 +135,8 @@ fn every_option_changed() -> Options {
         "--frames",
         "2",
         "--stats",
+        "--point-size",
+        "5",
         "--gl",
         "2.1",
         "--backend",

@@ -24,6 +24,7 @@
 pub mod bvh;
 pub mod material;
 pub mod pbr;
+pub mod points;
 pub mod surface;
 pub mod view;
 
@@ -200,21 +201,33 @@ fn render_rows(
         }
         let mut info_rows: Vec<&mut [PixelInfo]> = info.chunks_mut(w).collect();
         info_rows.resize_with(h, Default::default);
+        // Window depths of the opaque surfaces, kept only when there are points to test.
+        let points = !scene.wire.points.is_empty();
+        let mut depth = vec![1.0f64; if points { w * h } else { 0 }];
+        let mut depth_rows: Vec<&mut [f64]> = depth.chunks_mut(w).collect();
+        depth_rows.resize_with(h, Default::default);
         data.par_chunks_mut(w * 4)
             .zip(info_rows)
+            .zip(depth_rows)
             .enumerate()
-            .for_each(|(y, (row, row_info))| {
+            .for_each(|(y, ((row, row_info), row_depth))| {
                 let mut scratch = Scratch::default();
                 for x in 0..w {
-                    let (c, i) = trace(&ctx, x as u32, y as u32, &mut scratch);
+                    let (c, i, z) = trace(&ctx, x as u32, y as u32, &mut scratch);
                     let px = &mut row[4 * x..4 * x + 4];
                     px[..3].copy_from_slice(&to_unorm8(c));
                     px[3] = 255;
                     if let Some(slot) = row_info.get_mut(x) {
                         *slot = i;
                     }
+                    if let Some(slot) = row_depth.get_mut(x) {
+                        *slot = z;
+                    }
                 }
             });
+        if points {
+            points::draw(&ctx, &mut data, &mut depth);
+        }
     }
     let image = Rgba {
         width,
@@ -231,7 +244,8 @@ struct Scratch {
     visibility: Vec<f64>,
 }
 
-fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) {
+/// The pixel's colour, what it saw, and the window depth of its opaque surface (1: none).
+fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo, f64) {
     let (o, d) = ctx.view.ray(x, y, ctx.size.0, ctx.size.1);
     let mut info = PixelInfo::default();
     let record = |hit: &Hit, shadowed: u32, info: &mut PixelInfo| {
@@ -293,7 +307,11 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo) 
         info.layers += 1;
     }
     debug_assert!(color.is_finite(), "non-finite colour at {x},{y}");
-    (color, info)
+    let depth = opaque.map_or(1.0, |h| {
+        let c = ctx.view.forward * (o + h.t * d).extend(1.0);
+        c.z / c.w * 0.5 + 0.5
+    });
+    (color, info, depth)
 }
 
 /// What shows where no surface is hit: the environment through the output step (PBR tier

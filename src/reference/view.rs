@@ -7,6 +7,8 @@ use glam::{DMat4, DVec3, DVec4};
 
 pub struct View {
     inverse: DMat4,
+    /// Projection · view: world to clip coordinates (points are projected with it).
+    pub forward: DMat4,
     pub eye: DVec3,
     /// Eye-space +Z in world coordinates: where a zero normal points (see `surface`).
     pub back: DVec3,
@@ -51,6 +53,7 @@ impl View {
         };
         View {
             inverse: (proj * view).inverse(),
+            forward: proj * view,
             eye,
             back: dir,
         }

@@ -57,6 +57,18 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         }))
         .chain(post::keys())
         .chain(slots::variant_keys())
+        // Points: disks of gl_PointSize, lit (with normals) or unlit, coloured, both tiers.
+        .chain([false, true].into_iter().flat_map(|unlit| {
+            [
+                lit::program_key(1, 1, 1, 0, false, false, true),
+                lit::program_key(1, 1, 1, 0, false, true, true),
+                pbr::all_keys(1, 1, 1, 0).swap_remove(0),
+            ]
+            .map(|k| {
+                k.switch("POINTS", "pts", true)
+                    .switch("UNLIT", "unlit", unlit)
+            })
+        }))
         // The copy path's RGBM-encoded linear frame (bloom without float render targets).
         .chain(
             [

@@ -18,6 +18,10 @@ pub(crate) struct MeshDraw {
     pub has_uv1: bool,
     pub has_tangents: bool,
     pub has_colors: bool,
+    /// GL_POINTS: round disks of the frame's point size (`POINTS`).
+    pub points: bool,
+    /// Points without normals are drawn in their unlit colour.
+    pub unlit_points: bool,
 }
 
 /// A mesh's program, before the material's flags ([`super::slots::flags`]) and the frame's
@@ -78,6 +82,8 @@ pub(crate) fn draw_meshes<T: Tier>(
             has_uv1: dm.has_uv1,
             has_tangents: dm.has_tangents,
             has_colors: dm.has_colors,
+            points: dm.primitive == crate::gpu::mesh::Primitive::Points,
+            unlit_points: !dm.has_normals,
         };
         let mat = &scene.scene.materials[m.material];
         let prepared = tier.prepare(cx, v, &m)?;
@@ -87,7 +93,14 @@ pub(crate) fn draw_meshes<T: Tier>(
             m.has_uv1,
             prepared.textured,
             m.has_colors,
-        );
+        )
+        .switch("POINTS", "pts", m.points);
+        // (A material that is unlit already has the define.)
+        let key = if m.unlit_points && !mat.unlit {
+            key.switch("UNLIT", "unlit", true)
+        } else {
+            key
+        };
         let key = cx.lit_flags(key);
         let program = cx.program(&key)?;
         program.bind();
@@ -99,6 +112,9 @@ pub(crate) fn draw_meshes<T: Tier>(
         super::slots::set_uniforms(&program, mat, m.has_uv1);
         program.set_f32("uNormalScale", mat.normal_scale);
         program.set_f32("uTerminatorLift", dm.terminator_lift);
+        if m.points {
+            program.set_f32("uPointSize", point_size(cx));
+        }
         program.set_f32(
             "uOpacity",
             super::translucent::opacity(cx, mat, m.translucent),
@@ -109,4 +125,16 @@ pub(crate) fn draw_meshes<T: Tier>(
     }
     cx.gpu.apply(&RenderState::default());
     Ok(())
+}
+
+/// The frame's point diameter in its own pixels: the settings' size is for a picture of their
+/// height, and the viewport may be larger (SSAA) or another height (a resized window).
+pub(crate) fn point_size(cx: &FrameCx) -> f32 {
+    let (px, at) = cx.settings.lighting.point_size;
+    let scale = if at == 0 {
+        1.0
+    } else {
+        cx.viewport[3] as f32 / at as f32
+    };
+    (px * scale).max(1.0)
 }

@@ -24,8 +24,10 @@ pub(crate) struct DrawMesh {
     pub has_uv1: bool,
     /// Per-vertex colours multiply the diffuse colour (attribute 4, `HAS_COLOR`).
     pub has_colors: bool,
-    /// Triangles, or the scene's lines and points (drawn lit flat, casting no shadow).
+    /// Triangles, or the scene's lines and points (casting no shadow).
     pub primitive: Primitive,
+    /// Points with normals are lit; without, drawn in their unlit colour (`UNLIT`).
+    pub has_normals: bool,
     /// How far a shadow lookup rises in the terminator band (`uTerminatorLift`).
     pub terminator_lift: f32,
     /// Runs of triangles with bounds and normal cones, for meshes large enough that
@@ -166,6 +168,7 @@ impl SceneGpu {
                 has_uv1: uv1.is_some(),
                 has_colors: colors.is_some(),
                 primitive: Primitive::Triangles,
+                has_normals: true,
                 terminator_lift: crate::scene::terminator_lift(m) as f32,
                 clusters: clusters.next().flatten(),
             });
@@ -192,20 +195,25 @@ impl SceneGpu {
     }
 }
 
-/// The scene's lines and points (`l`, `p`) as two meshes of GL_LINES and GL_POINTS, with the
-/// default material (index 0) and zero normals: the lit programs' `safeNormalize` turns a
-/// zero normal towards the eye, so a line is lit flat, as a face looking at the camera.
+/// The scene's lines and points (`l`, `p`, glTF LINES and POINTS, a point cloud) as two
+/// meshes of GL_LINES and GL_POINTS with material 0. Lines have zero normals: the lit
+/// programs' `safeNormalize` turns them towards the eye, so a line is lit flat, as a face
+/// looking at the camera. Points are lit with their normals where the file gives them, else
+/// drawn unlit; per-point colours where given.
 fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
     let w = &scene.wire;
+    let has_normals = w.normals.len() == w.positions.len() && !w.positions.is_empty();
     let vertices: Vec<crate::scene::Vertex> = w
         .positions
         .iter()
-        .map(|&position| crate::scene::Vertex {
+        .enumerate()
+        .map(|(i, &position)| crate::scene::Vertex {
             position,
-            normal: [0.0; 3],
+            normal: if has_normals { w.normals[i] } else { [0.0; 3] },
             uv: [0.0; 2],
         })
         .collect();
+    let colors = (w.colors.len() == w.positions.len()).then_some(w.colors.as_slice());
     let mut b = crate::scene::Bounds::empty();
     for v in &w.positions {
         b.include((*v).into());
@@ -225,7 +233,11 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
         if indices.is_empty() {
             continue;
         }
-        let mesh = GpuMesh::with_streams(gpu, &vertices, &indices, Streams::default(), primitive)?;
+        let streams = Streams {
+            colors,
+            ..Streams::default()
+        };
+        let mesh = GpuMesh::with_streams(gpu, &vertices, &indices, streams, primitive)?;
         out.push(DrawMesh {
             mesh,
             material: 0,
@@ -236,8 +248,9 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
             has_uv: false,
             has_tangents: false,
             has_uv1: false,
-            has_colors: false,
+            has_colors: colors.is_some(),
             primitive,
+            has_normals: primitive == Primitive::Lines || has_normals,
             terminator_lift: 0.0,
             clusters: None,
         });

@@ -78,7 +78,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 6: one flat material (issue 28): glTF-shaped values and slots, the MTL's Phong terms apart.
 /// 7: the colour rule (issue 31): a material's `colour_rule`, glTF COLOR_0 stored encoded.
 /// 8: COLOR_0's alpha per vertex (issue 32).
-const FORMAT: u32 = 8;
+/// 9: point clouds (issue 31): the wire's per-point colours and normals.
+const FORMAT: u32 = 9;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -161,6 +162,8 @@ struct WireMeta {
     positions: usize,
     segments: usize,
     points: usize,
+    colors: usize,
+    normals: usize,
 }
 
 /// A material's texture slots as indices into the header's texture table, in the order of
@@ -328,6 +331,8 @@ pub fn put_in(
         bytemuck::cast_slice(&w.positions),
         bytemuck::cast_slice(&w.segments),
         bytemuck::cast_slice(&w.points),
+        bytemuck::cast_slice(&w.colors),
+        bytemuck::cast_slice(&w.normals),
     ]);
     parts.extend(table.iter().map(|t| &t.rgba[..]));
     let payload_len: u64 = parts.iter().map(|p| p.len() as u64).sum();
@@ -378,6 +383,8 @@ pub fn put_in(
             positions: w.positions.len(),
             segments: w.segments.len(),
             points: w.points.len(),
+            colors: w.colors.len(),
+            normals: w.normals.len(),
         },
         maps: scene.maps.clone(),
         bounds: scene.bounds,

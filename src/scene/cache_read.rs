@@ -145,10 +145,15 @@ fn read_wire(payload: &mut Payload, w: &WireMeta) -> Option<Wire> {
         positions: payload.read(w.positions)?,
         segments: payload.read(w.segments)?,
         points: payload.read(w.points)?,
+        colors: payload.read(w.colors)?,
+        normals: payload.read(w.normals)?,
     };
     let in_wire = |i: u32| (i as usize) < wire.positions.len();
+    let per_position = |n: usize| n == 0 || n == wire.positions.len();
     if !(wire.segments.iter().flatten().all(|&i| in_wire(i))
-        && wire.points.iter().all(|&i| in_wire(i)))
+        && wire.points.iter().all(|&i| in_wire(i))
+        && per_position(wire.colors.len())
+        && per_position(wire.normals.len()))
     {
         return None;
     }

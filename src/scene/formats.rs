@@ -149,6 +149,9 @@ pub fn load_ply(
 
 /// One mesh with the default material, re-centred and rotated like an OBJ.
 fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
+    if raw.sizes.is_empty() && !raw.positions.is_empty() {
+        return Ok(cloud(path, raw.positions, raw.normals, raw.colors, opts));
+    }
     let positions: Vec<DVec3> = raw.positions.iter().map(|&p| opts.up.rotate(p)).collect();
     let (lo, hi, origin) =
         super::extent_and_origin(raw.corners.iter().map(|&i| positions[i as usize]));
@@ -245,4 +248,69 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         wire: Wire::default(),
         maps: Vec::new(),
     })
+}
+
+/// A file of vertices and no faces (a scan, photogrammetry): every vertex a point, with its
+/// normal and colour where the file gives them all. The material is white, so a colour is
+/// drawn as given.
+fn cloud(
+    path: &Path,
+    positions: Vec<DVec3>,
+    normals: Option<Vec<[f32; 3]>>,
+    colors: Option<Vec<[f32; 3]>>,
+    opts: &LoadOptions,
+) -> Scene {
+    let mut positions = positions;
+    for p in &mut positions {
+        *p = opts.up.rotate(*p);
+    }
+    let (lo, hi, origin) = super::extent_and_origin(positions.iter().copied());
+    let mut bounds = Bounds::empty();
+    let local: Vec<[f32; 3]> = positions
+        .iter()
+        .map(|p| {
+            let l = (*p - origin).as_vec3();
+            bounds.include(l);
+            l.into()
+        })
+        .collect();
+    drop(positions);
+    let n = local.len();
+    let normals = normals
+        .filter(|v| v.len() == n)
+        .map(|v| {
+            v.iter()
+                .map(|q| {
+                    let r = opts.up.rotate(glam::Vec3::from(*q).as_dvec3());
+                    r.normalize_or_zero().as_vec3().into()
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let wire = Wire {
+        positions: local,
+        segments: Vec::new(),
+        points: (0..n as u32).collect(),
+        colors: colors.filter(|c| c.len() == n).unwrap_or_default(),
+        normals,
+    };
+    let material = Material {
+        name: "point cloud".into(),
+        ..Material::cloud()
+    };
+    Scene {
+        name: path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        meshes: Vec::new(),
+        materials: vec![material],
+        bounds,
+        origin,
+        file_bounds: (lo, hi),
+        dependencies: Vec::new(),
+        warnings: Vec::new(),
+        wire,
+        maps: Vec::new(),
+    }
 }

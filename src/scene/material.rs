@@ -227,6 +227,15 @@ impl Material {
         }
     }
 
+    /// A point cloud's: white diffuse (so per-point colours are drawn as given), the
+    /// fixed-function ambient, no specular.
+    pub fn cloud() -> Self {
+        Material::with_phong(PhongTerms {
+            diffuse: [1.0; 3],
+            ..PhongTerms::default()
+        })
+    }
+
     /// A material with these Phong terms (no `Pr`/`Pm`), its PBR values mapped from them.
     pub fn with_phong(phong: PhongTerms) -> Self {
         let mut m = Material {

@@ -29,6 +29,7 @@ pub mod profile;
 pub mod quirks;
 pub mod repair;
 pub mod report;
+pub mod spacing;
 pub mod stl;
 pub mod tangents;
 pub mod texture;
@@ -209,18 +210,43 @@ pub struct Scene {
     pub maps: Vec<String>,
 }
 
-/// Line segments and points from `l` and `p` statements, drawn as lines and points.
+/// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
+/// point clouds (a PLY or OBJ with vertices and no faces), drawn as lines and points.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Wire {
     /// Positions relative to [`Scene::origin`].
     pub positions: Vec<[f32; 3]>,
     pub segments: Vec<[u32; 2]>,
     pub points: Vec<u32>,
+    /// Per-position colours (display-encoded, as PLY's), or empty.
+    pub colors: Vec<[f32; 3]>,
+    /// Per-position unit normals (a cloud's), or empty: points are then drawn unlit.
+    pub normals: Vec<[f32; 3]>,
 }
 
 impl Wire {
     pub fn is_empty(&self) -> bool {
         self.segments.is_empty() && self.points.is_empty()
+    }
+
+    /// Every position is a point and there are no lines: a point cloud.
+    pub fn is_cloud(&self) -> bool {
+        self.segments.is_empty() && !self.points.is_empty()
+    }
+
+    /// The mean distance from a point to its nearest distinct neighbour, over a sample of at
+    /// most 2,048 points ([`spacing::mean_nearest`]); None below two distinct points.
+    pub fn spacing(&self) -> Option<f64> {
+        if self.points.len() == self.positions.len() {
+            // A cloud: every position is a point, read in place.
+            return spacing::mean_nearest(&self.positions);
+        }
+        let pts: Vec<[f32; 3]> = self
+            .points
+            .iter()
+            .filter_map(|&i| self.positions.get(i as usize).copied())
+            .collect();
+        spacing::mean_nearest(&pts)
     }
 }
 

@@ -134,6 +134,17 @@ fn parse(
         Parser::Chunked(n) => super::fast::parse(bytes, Some(n), &report, &mut mtl),
         Parser::Tobj => None,
     };
+    // A file without faces (a point cloud) takes the old path, which keeps every position;
+    // what the fast parse recorded on the way (its MTL reads) is read again there.
+    let fast = match fast {
+        Some(p) if p.models.iter().all(|m| m.mesh.indices.is_empty()) => {
+            warnings.borrow_mut().clear();
+            mtl_files.borrow_mut().clear();
+            mtl_lines.borrow_mut().clear();
+            None
+        }
+        other => other,
+    };
     super::profile::set_fast_path(fast.is_some());
     let (models, mats, repaired) = match fast {
         Some(p) => {
@@ -399,7 +410,7 @@ fn load_with(
     let Parsed {
         models,
         mats,
-        repaired,
+        mut repaired,
         mut warnings,
         mtl_lines,
         mut dependencies,
@@ -418,6 +429,15 @@ fn load_with(
 
     let up = opts.up;
     let rotated = |s: &[f64]| up.rotate(DVec3::new(s[0], s[1], s[2]));
+    // A file of `v` lines and no faces (not even dropped ones) is a point cloud: every
+    // vertex a point.
+    if repaired.segments.is_empty()
+        && repaired.points.is_empty()
+        && repaired.dropped_faces == 0
+        && models.iter().all(|m| m.mesh.indices.is_empty())
+    {
+        repaired.points = (0..repaired.positions.len() as u32).collect();
+    }
     let wire_used: Vec<u32> = {
         let mut u: Vec<u32> = repaired
             .segments
@@ -570,7 +590,23 @@ mod tests {
 
     #[test]
     fn no_triangles_is_an_error() {
-        let e = load_bytes(Path::new("t.obj"), b"v 0 0 0\n", &LoadOptions::default()).unwrap_err();
+        // Faces that were all dropped (two corners): not a cloud.
+        let bytes = b"v 0 0 0\nv 1 0 0\nf 1 2\n";
+        let e = load_bytes(Path::new("t.obj"), bytes, &LoadOptions::default()).unwrap_err();
         assert_eq!(e.to_string(), "t.obj: no triangles in the file");
+        let e = load_bytes(Path::new("t.obj"), b"", &LoadOptions::default()).unwrap_err();
+        assert_eq!(e.to_string(), "t.obj: no triangles in the file");
+    }
+
+    #[test]
+    fn vertices_only_are_a_cloud() {
+        let s = load_bytes(
+            Path::new("t.obj"),
+            b"v 0 0 0\nv 1 0 0\n",
+            &LoadOptions::default(),
+        )
+        .unwrap();
+        assert!(s.meshes.is_empty() && s.wire.is_cloud());
+        assert_eq!(s.wire.points, [0, 1]);
     }
 }

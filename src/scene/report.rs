@@ -59,7 +59,18 @@ fn summary(r: &mut String, s: &Scene) -> usize {
     if coloured > 0 {
         let _ = writeln!(r, "vertex colours: {coloured} vertices");
     }
-    if !s.wire.is_empty() {
+    if s.meshes.is_empty() && s.wire.is_cloud() {
+        let w = &s.wire;
+        let yes = |v: bool| if v { "yes" } else { "no" };
+        let _ = writeln!(
+            r,
+            "point cloud: {} points  colours: {}  normals: {}  spacing: {}",
+            w.points.len(),
+            yes(!w.colors.is_empty()),
+            yes(!w.normals.is_empty()),
+            w.spacing().map_or("-".into(), |d| format!("{d:.4e}"))
+        );
+    } else if !s.wire.is_empty() {
         let _ = writeln!(
             r,
             "lines: {}  points: {}",

@@ -29,6 +29,7 @@ mod loading;
 mod models_committed;
 mod parity;
 mod pbr;
+mod points;
 mod post_copy;
 mod precision;
 mod quirky_formats;

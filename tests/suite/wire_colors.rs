@@ -77,8 +77,10 @@ fn lines_and_points_are_drawn_where_they_project() {
             }
         }
         assert!(near(&img, project(&args, q), 1, bg), "{name}: the point");
-        // Nothing else: every drawn pixel is within 2 px of a segment or the point.
+        // Nothing else: every drawn pixel is within 2 px of a segment or of the point's
+        // disk (a lone point is drawn at the largest default size).
         let qp = project(&args, q);
+        let radius = glview::shading::MAX_POINT_PX / 2.0;
         for y in 0..img.height {
             for x in 0..img.width {
                 if !differs(&img, x.into(), y.into(), bg) {
@@ -88,7 +90,10 @@ fn lines_and_points_are_drawn_where_they_project() {
                 let dist = segs
                     .iter()
                     .map(|&(p, q)| segment_distance((px, py), p, q))
-                    .fold(((px - qp.0).powi(2) + (py - qp.1).powi(2)).sqrt(), f32::min);
+                    .fold(
+                        (((px - qp.0).powi(2) + (py - qp.1).powi(2)).sqrt() - radius).max(0.0),
+                        f32::min,
+                    );
                 assert!(
                     dist <= 2.0,
                     "{name}: pixel ({x}, {y}) drawn {dist} px from any line"
