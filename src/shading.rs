@@ -154,6 +154,8 @@ pub struct LightingParams {
     pub headlight: Option<glam::Vec3>,
     /// How many of the lights (the first ones) cast shadows.
     pub shadow_casters: u8,
+    /// Lines over the model (`--edges`, `--wireframe`).
+    pub edges: crate::frame::Edges,
 }
 
 impl Default for LightingParams {
@@ -170,6 +172,7 @@ impl Default for LightingParams {
             post: Default::default(),
             headlight: None,
             shadow_casters: crate::light::MAX_LIGHTS as u8,
+            edges: Default::default(),
         }
     }
 }

@@ -177,6 +177,17 @@ declare_options! {
         /// (the same picture but for a rare silhouette pixel where a back face won a depth
         /// tie; slower: for comparisons).
         culling: bool = true, "no-culling" noflag;
+        /// Draw the feature edges over the shaded model: boundary edges and those whose faces
+        /// meet at more than the crease angle (--crease, default 60°); 1-pixel lines.
+        edges: bool = false, "edges" flag;
+        /// Draw every triangle edge over the shaded model (wins over --edges).
+        wireframe: bool = false, "wireframe" flag;
+        /// Draw the wireframe alone: the surface is not drawn but still hides the lines
+        /// behind it (a hidden-line view); implies --wireframe.
+        wireframe_only: bool = false, "wireframe-only" flag;
+        /// Colour R,G,B of the edge and wireframe lines (default black, light grey with
+        /// --wireframe-only).
+        edge_color: Option<[f32; 3]> = None, "edge-color" maybe;
     }
     /// The PBR tier: environment, material overrides, precomputation.
     pbr: Pbr {

@@ -231,6 +231,7 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
                 Show::Metallic => AttributeView::Metallic,
                 _ => AttributeView::None,
             },
+            edges: edges(args),
             ..Default::default()
         },
         shading: args.render.shading,
@@ -253,6 +254,29 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
         }
     }
     Ok((settings, home))
+}
+
+/// `--edges`, `--wireframe`, `--wireframe-only`, `--edge-color` and the loader's crease angle.
+fn edges(args: &Options) -> crate::frame::Edges {
+    use crate::frame::EdgeMode;
+    let r = &args.render;
+    let d = crate::frame::Edges::default();
+    crate::frame::Edges {
+        mode: if r.wireframe || r.wireframe_only {
+            EdgeMode::Wireframe
+        } else if r.edges {
+            EdgeMode::Feature
+        } else {
+            EdgeMode::Off
+        },
+        crease_deg: args
+            .load
+            .crease
+            .unwrap_or(crate::scene::normals::DEFAULT_CREASE_DEG),
+        color: r.edge_color.unwrap_or(d.color),
+        surface: !r.wireframe_only,
+        only_color: r.edge_color.unwrap_or(d.only_color),
+    }
 }
 
 /// The frame's lights in the scene's coordinates, the headlight's colour, and whether they

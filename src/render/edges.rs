@@ -1,0 +1,141 @@
+//! Pass "edges": lines over the model (`--edges`: boundary and creased edges; `--wireframe`:
+//! every triangle edge), GL_LINES of an index buffer over each mesh's welded corners, made
+//! from the scene (`scene::edges`) on the first frame that asks and kept until the set
+//! changes. The lit tiers draw the surface with a polygon offset (1, 1) while lines are on
+//! (`tier.rs`), so a line lying on the surface passes the LEQUAL depth test and a line behind
+//! it does not; no geometry shader, so every context draws it, GL 2.1 included. Lines are one
+//! pixel wide: core profiles guarantee no other width.
+use super::{FrameCx, Outcome, Pass};
+use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
+use crate::gpu::state::{DepthFunc, RenderState};
+use crate::scene::edges::{self, EdgeSet};
+use crate::shader::cache::ProgramKey;
+use crate::Result;
+
+pub(crate) struct Edges;
+
+/// The line meshes of one edge set, one per scene mesh that has lines.
+#[derive(Default)]
+pub(crate) struct EdgeState {
+    set: Option<EdgeSet>,
+    meshes: Vec<GpuMesh>,
+    segments: u64,
+}
+
+pub(crate) fn key() -> ProgramKey {
+    ProgramKey::new("edges", "edges.vert", "edges.frag")
+}
+
+/// The polygon offset the lit tiers draw the surface with while lines are on.
+pub(crate) const SURFACE_OFFSET: (f32, f32) = (1.0, 1.0);
+
+/// With `--depth log` (gl_FragDepth, which the offset does not reach) lines come forward by
+/// this much window depth instead: 2⁻¹⁶, 256 steps of a 24-bit buffer.
+const LOG_DEPTH_BIAS: f32 = 1.0 / 65536.0;
+
+impl EdgeState {
+    fn ensure(&mut self, cx: &FrameCx, set: EdgeSet) -> Result<()> {
+        if self.set == Some(set) {
+            return Ok(());
+        }
+        self.meshes.clear();
+        self.segments = 0;
+        for m in &cx.scene.scene.meshes {
+            let lines = edges::extract(m, set);
+            if lines.segments.is_empty() {
+                continue;
+            }
+            let vertices: Vec<crate::scene::Vertex> = lines
+                .positions
+                .iter()
+                .map(|&position| crate::scene::Vertex {
+                    position,
+                    ..Default::default()
+                })
+                .collect();
+            let indices: Vec<u32> = lines.segments.iter().flatten().copied().collect();
+            self.segments += lines.segments.len() as u64;
+            self.meshes.push(GpuMesh::with_streams(
+                cx.gpu,
+                &vertices,
+                &indices,
+                Streams::default(),
+                Primitive::Lines,
+            )?);
+        }
+        self.set = Some(set);
+        Ok(())
+    }
+}
+
+impl Pass for Edges {
+    fn name(&self) -> &'static str {
+        "edges"
+    }
+
+    fn run(&self, cx: &mut FrameCx) -> Result<Outcome> {
+        let e = cx.settings.lighting.edges;
+        let Some(set) = e.set() else {
+            return Ok(Outcome::Skipped("no --edges or --wireframe".into()));
+        };
+        if cx.settings.show_shadow_map || cx.settings.lighting.attribute_view.code() != 0 {
+            return Ok(Outcome::Skipped(
+                "a teaching view replaces the scene".into(),
+            ));
+        }
+        let mut state = std::mem::take(&mut cx.res.edges);
+        let drawn = draw(cx, &mut state, set, e);
+        cx.res.edges = state;
+        drawn
+    }
+}
+
+fn draw(
+    cx: &mut FrameCx,
+    state: &mut EdgeState,
+    set: EdgeSet,
+    e: crate::frame::Edges,
+) -> Result<Outcome> {
+    state.ensure(cx, set)?;
+    let log_depth = cx.settings.lighting.translucency.log_depth;
+    let program = cx.program(&key().switch("LOG_DEPTH", "logz", log_depth))?;
+    program.bind();
+    let s = cx.settings;
+    program.set_mat4("uModelView", &s.camera.view());
+    program.set_mat4(
+        "uProjection",
+        &s.camera.projection(&cx.scene.scene.bounds, cx.aspect()),
+    );
+    if log_depth {
+        let (_, far) = s.camera.near_far(&cx.scene.scene.bounds);
+        program.set_f32("uLogDepthC", crate::frame::LOG_DEPTH_C);
+        program.set_f32("uLogDepthFar", far);
+        program.set_f32("uLineDepthBias", LOG_DEPTH_BIAS);
+    }
+    let [r, g, b] = e.line_color();
+    let color = if cx.rgbm {
+        super::post::rgbm_encode([r, g, b])
+    } else {
+        [r, g, b, 1.0]
+    };
+    program.set_vec4("uColor", glam::Vec4::from(color));
+    cx.bind_target();
+    cx.gpu.apply(&RenderState {
+        depth: Some(DepthFunc::LessEqual),
+        depth_write: false,
+        ..Default::default()
+    });
+    for m in &state.meshes {
+        m.draw();
+        cx.stats.draw_calls += 1;
+    }
+    cx.gpu.apply(&RenderState::default());
+    let what = match set {
+        EdgeSet::Feature { crease_deg } => format!("feature, crease {crease_deg}°"),
+        EdgeSet::All => "wireframe".into(),
+    };
+    Ok(Outcome::Ran(format!(
+        "edges({what}, {} lines)",
+        state.segments
+    )))
+}
