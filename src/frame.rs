@@ -157,6 +157,8 @@ pub struct Edges {
     /// (a hidden-line view); the lines then take `only_color`.
     pub surface: bool,
     pub only_color: [f32; 3],
+    /// Line width in pixels of the frame drawn (`--line-width` times the SSAA factor).
+    pub width: f32,
 }
 
 impl Default for Edges {
@@ -167,6 +169,7 @@ impl Default for Edges {
             color: [0.0; 3],
             surface: true,
             only_color: [0.9; 3],
+            width: 1.0,
         }
     }
 }

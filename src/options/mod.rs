@@ -188,6 +188,9 @@ declare_options! {
         /// Colour R,G,B of the edge and wireframe lines (default black, light grey with
         /// --wireframe-only).
         edge_color: Option<[f32; 3]> = None, "edge-color" maybe;
+        /// Width of the edge and wireframe lines in pixels of the picture, at any zoom (1:
+        /// GL lines; wider: a screen-space quad per segment, which every context draws).
+        line_width: f32 = 1.0, "line-width" value, check = in_range(1.0, 64.0);
     }
     /// The PBR tier: environment, material overrides, precomputation.
     pbr: Pbr {

@@ -87,6 +87,8 @@ fn every_option_changed() -> Options {
         "--wireframe-only",
         "--edge-color",
         "1,0,0.5",
+        "--line-width",
+        "2.5",
         "--env",
         "e.hdr",
         "--env-blur",

@@ -1,10 +1,11 @@
 //! Pass "edges": lines over the model (`--edges`: boundary and creased edges; `--wireframe`:
 //! every triangle edge), GL_LINES of an index buffer over each mesh's welded corners, made
 //! from the scene (`scene::edges`) on the first frame that asks and kept until the set
-//! changes. The lit tiers draw the surface with a polygon offset (1, 1) while lines are on
+//! changes. The lit tiers draw the surface with a polygon offset while lines are on
 //! (`tier.rs`), so a line lying on the surface passes the LEQUAL depth test and a line behind
-//! it does not; no geometry shader, so every context draws it, GL 2.1 included. Lines are one
-//! pixel wide: core profiles guarantee no other width.
+//! it does not; no geometry shader, so every context draws it, GL 2.1 included. 1-pixel lines
+//! are GL lines; core profiles guarantee no other glLineWidth, so wider ones
+//! (`--line-width`) are a screen-space quad per segment, widened in `edges.vert`.
 use super::{FrameCx, Outcome, Pass};
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::state::{DepthFunc, RenderState};
@@ -17,7 +18,8 @@ pub(crate) struct Edges;
 /// The line meshes of one edge set, one per scene mesh that has lines.
 #[derive(Default)]
 pub(crate) struct EdgeState {
-    set: Option<EdgeSet>,
+    /// The set and whether as quads (wide lines) the meshes hold.
+    made: Option<(EdgeSet, bool)>,
     meshes: Vec<GpuMesh>,
     segments: u64,
 }
@@ -26,16 +28,21 @@ pub(crate) fn key() -> ProgramKey {
     ProgramKey::new("edges", "edges.vert", "edges.frag")
 }
 
-/// The polygon offset the lit tiers draw the surface with while lines are on.
-pub(crate) const SURFACE_OFFSET: (f32, f32) = (1.0, 1.0);
+/// The polygon offset the lit tiers draw the surface with while lines `width` pixels wide
+/// are on: (1, 1) covers a 1-pixel line's half-pixel distance from the pixel centres it
+/// lights; a wide line's edge lies width/2 pixels from the segment, so its depth slope
+/// factor grows with it.
+pub(crate) fn surface_offset(width: f32) -> (f32, f32) {
+    ((0.5 * width + 0.5).max(1.0), 1.0)
+}
 
 /// With `--depth log` (gl_FragDepth, which the offset does not reach) lines come forward by
 /// this much window depth instead: 2⁻¹⁶, 256 steps of a 24-bit buffer.
 const LOG_DEPTH_BIAS: f32 = 1.0 / 65536.0;
 
 impl EdgeState {
-    fn ensure(&mut self, cx: &FrameCx, set: EdgeSet) -> Result<()> {
-        if self.set == Some(set) {
+    fn ensure(&mut self, cx: &FrameCx, set: EdgeSet, wide: bool) -> Result<()> {
+        if self.made == Some((set, wide)) {
             return Ok(());
         }
         self.meshes.clear();
@@ -45,27 +52,54 @@ impl EdgeState {
             if lines.segments.is_empty() {
                 continue;
             }
-            let vertices: Vec<crate::scene::Vertex> = lines
-                .positions
-                .iter()
-                .map(|&position| crate::scene::Vertex {
-                    position,
-                    ..Default::default()
-                })
-                .collect();
-            let indices: Vec<u32> = lines.segments.iter().flatten().copied().collect();
+            let (vertices, indices, primitive) = if wide {
+                let (v, i) = quads(&lines);
+                (v, i, Primitive::Triangles)
+            } else {
+                let v = lines
+                    .positions
+                    .iter()
+                    .map(|&position| crate::scene::Vertex {
+                        position,
+                        ..Default::default()
+                    })
+                    .collect();
+                let i = lines.segments.iter().flatten().copied().collect();
+                (v, i, Primitive::Lines)
+            };
             self.segments += lines.segments.len() as u64;
             self.meshes.push(GpuMesh::with_streams(
                 cx.gpu,
                 &vertices,
                 &indices,
                 Streams::default(),
-                Primitive::Lines,
+                primitive,
             )?);
         }
-        self.set = Some(set);
+        self.made = Some((set, wide));
         Ok(())
     }
+}
+
+/// Four corners and two triangles per segment: each corner holds its end (position), the
+/// other end (normal) and its side (uv.x, ±1, flipped at the far end so both ends' +1
+/// corners lie on the same side).
+fn quads(lines: &edges::EdgeLines) -> (Vec<crate::scene::Vertex>, Vec<u32>) {
+    let mut v = Vec::with_capacity(lines.segments.len() * 4);
+    let mut i = Vec::with_capacity(lines.segments.len() * 6);
+    for s in &lines.segments {
+        let [a, b] = s.map(|c| lines.positions[c as usize]);
+        let base = v.len() as u32;
+        for (p, q, side) in [(a, b, 1.0), (a, b, -1.0), (b, a, -1.0), (b, a, 1.0)] {
+            v.push(crate::scene::Vertex {
+                position: p,
+                normal: q,
+                uv: [side, 0.0],
+            });
+        }
+        i.extend([base, base + 1, base + 3, base, base + 3, base + 2]);
+    }
+    (v, i)
 }
 
 impl Pass for Edges {
@@ -96,10 +130,20 @@ fn draw(
     set: EdgeSet,
     e: crate::frame::Edges,
 ) -> Result<Outcome> {
-    state.ensure(cx, set)?;
+    let wide = e.width > 1.0;
+    state.ensure(cx, set, wide)?;
     let log_depth = cx.settings.lighting.translucency.log_depth;
-    let program = cx.program(&key().switch("LOG_DEPTH", "logz", log_depth))?;
+    let program = cx.program(
+        &key()
+            .switch("LOG_DEPTH", "logz", log_depth)
+            .switch("WIDE", "wide", wide),
+    )?;
     program.bind();
+    if wide {
+        let [_, _, w, h] = cx.viewport;
+        program.set_vec2("uViewport", glam::Vec2::new(w as f32, h as f32));
+        program.set_f32("uWidth", e.width);
+    }
     let s = cx.settings;
     program.set_mat4("uModelView", &s.camera.view());
     program.set_mat4(
@@ -134,8 +178,13 @@ fn draw(
         EdgeSet::Feature { crease_deg } => format!("feature, crease {crease_deg}°"),
         EdgeSet::All => "wireframe".into(),
     };
+    let width = if wide {
+        format!(", {} px quads", e.width)
+    } else {
+        String::new()
+    };
     Ok(Outcome::Ran(format!(
-        "edges({what}, {} lines)",
+        "edges({what}, {} lines{width})",
         state.segments
     )))
 }

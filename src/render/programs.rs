@@ -53,6 +53,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         attributes::key(),
         edges::key(),
         edges::key().switch("LOG_DEPTH", "logz", true),
+        edges::key().switch("WIDE", "wide", true),
     ]
     .into_iter()
     .chain((0..4).flat_map(|tm| {

@@ -105,7 +105,9 @@ pub(crate) fn draw_meshes<T: Tier>(
             for st in &mut mesh_states {
                 // Lines on the surface must win the depth test (`edges.rs`); without the
                 // surface (`--wireframe-only`) it still hides the lines behind it.
-                st.polygon_offset = st.polygon_offset.or(Some(super::edges::SURFACE_OFFSET));
+                st.polygon_offset = st
+                    .polygon_offset
+                    .or(Some(super::edges::surface_offset(edges.width)));
                 if !edges.surface {
                     st.color_write = false;
                     // The background fills every pixel the surface did not colour.

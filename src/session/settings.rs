@@ -276,6 +276,13 @@ fn edges(args: &Options) -> crate::frame::Edges {
         color: r.edge_color.unwrap_or(d.color),
         surface: !r.wireframe_only,
         only_color: r.edge_color.unwrap_or(d.only_color),
+        // SSAA draws the frame k times larger: lines k times wider keep their width.
+        width: r.line_width
+            * if args.post.aa == crate::options::AaMode::Ssaa {
+                args.post.aa_samples.clamp(1, 4) as f32
+            } else {
+                1.0
+            },
     }
 }
 

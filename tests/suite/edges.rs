@@ -144,6 +144,13 @@ fn line_pixels(img: &Rgba) -> Vec<DVec2> {
 /// Every line pixel within a pixel of a visible segment; every visible segment covered
 /// (each point along it, its end pixels aside, has a line pixel within 1.5 px).
 fn check_lines(name: &str, img: &Rgba, p: &Projected) {
+    check_wide_lines(name, img, p, 1.0);
+}
+
+/// [`check_lines`] for lines `width` pixels wide: every line pixel within width/2 + ½ px
+/// of a visible segment (its square cap reaching width/2 past the end).
+fn check_wide_lines(name: &str, img: &Rgba, p: &Projected, width: f64) {
+    let reach = if width > 1.0 { width / 2.0 + 0.75 } else { 1.0 };
     let pixels = line_pixels(img);
     assert!(!pixels.is_empty(), "{name}: no line pixels");
     for &q in &pixels {
@@ -153,7 +160,7 @@ fn check_lines(name: &str, img: &Rgba, p: &Projected) {
             .map(|&s| distance(q, s))
             .fold(f64::INFINITY, f64::min);
         assert!(
-            d <= 1.0,
+            d <= reach,
             "{name}: line pixel at {q} is {d:.2} px from every visible segment"
         );
     }
@@ -230,6 +237,35 @@ fn cube_wireframe_covers_the_triangle_edges() {
         .filter(|p| p[..3] != MAGENTA && p[..3] != background)
         .count();
     assert_eq!(other, 0, "--wireframe-only: only lines and background");
+}
+
+/// `--line-width 3`: quads widened in the vertex shader, on the default context and GL 2.1:
+/// the line pixels within 2.25 px of the visible segments, every segment covered, about
+/// three times the 1-pixel lines' count.
+#[test]
+fn wide_lines_keep_their_width() {
+    let dir = out_dir("edges");
+    let model = cube(&dir, "wide");
+    for (tag, env) in [("default", &[][..]), ("gl21", GL21)] {
+        for &view in &VIEWS[..2] {
+            let a = args(&model, view, &["--edges", "--line-width", "3"]);
+            let name = format!("cube_wide_{tag}_{}_{}", view.0, view.1);
+            let img = render_view(&dir, &name, &a, env);
+            let p = project(&a, &cube_edges(&a, false));
+            check_wide_lines(&name, &img, &p, 3.0);
+            let thin = render_view(
+                &dir,
+                &format!("{name}_thin"),
+                &args(&model, view, &["--edges"]),
+                env,
+            );
+            let ratio = line_pixels(&img).len() as f64 / line_pixels(&thin).len() as f64;
+            assert!(
+                (2.5..=3.6).contains(&ratio),
+                "{name}: {ratio:.2} times the 1-pixel lines' pixels"
+            );
+        }
+    }
 }
 
 /// The CPU reference draws the same lines: its line pixels and the GPU's each within a
