@@ -5,7 +5,9 @@
 //! 1-pixel line), and the segment's point there is not hidden: the first opaque surface on
 //! the ray towards it is not nearer than it (by 10⁻⁶ of the near–far range, for the faces
 //! the edge itself bounds). Segments are binned into 16-pixel tiles, so a wireframe of a scan
-//! costs what its lines cover.
+//! costs what its lines cover. Wider lines (`--line-width`) cover the pixels whose centre
+//! lies within half the width of the segment, or of its ends (the GPU's square caps are
+//! taken as round here: they differ in a corner pixel or two).
 use super::{material, Context};
 use crate::scene::edges::{self, EdgeSet};
 use glam::{DVec2, DVec3, DVec4};
@@ -29,10 +31,12 @@ pub struct ScreenEdges {
     tiles: Vec<Vec<u32>>,
     tiles_x: u32,
     pub color: DVec3,
+    /// Line width in pixels.
+    width: f64,
 }
 
 impl ScreenEdges {
-    pub fn new(ctx: &Context, set: EdgeSet, color: DVec3) -> ScreenEdges {
+    pub fn new(ctx: &Context, set: EdgeSet, color: DVec3, width: f64) -> ScreenEdges {
         let (w, h) = ctx.size;
         let tiles_x = w.div_ceil(TILE);
         let tiles_y = h.div_ceil(TILE);
@@ -41,6 +45,7 @@ impl ScreenEdges {
             tiles: vec![Vec::new(); (tiles_x * tiles_y) as usize],
             tiles_x,
             color,
+            width,
         };
         let m = ctx.view.view_proj;
         let to_px = |c: DVec4| {
@@ -77,8 +82,8 @@ impl ScreenEdges {
                     wa: ca.w,
                     wb: cb.w,
                 };
-                let lo = seg.pa.min(seg.pb) - 1.0;
-                let hi = seg.pa.max(seg.pb) + 1.0;
+                let lo = seg.pa.min(seg.pb) - (1.0 + width / 2.0);
+                let hi = seg.pa.max(seg.pb) + (1.0 + width / 2.0);
                 if hi.x < 0.0 || hi.y < 0.0 || lo.x > f64::from(w) || lo.y > f64::from(h) {
                     continue;
                 }
@@ -104,6 +109,19 @@ impl ScreenEdges {
         tile.iter().any(|&i| {
             let s = &self.segments[i as usize];
             let d = s.pb - s.pa;
+            if self.width > 1.0 {
+                let len2 = d.length_squared();
+                let u = if len2 > 0.0 {
+                    ((c - s.pa).dot(d) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                if (s.pa + d * u - c).length() > self.width / 2.0 {
+                    return false;
+                }
+                let t = u * s.wa / ((1.0 - u) * s.wb + u * s.wa);
+                return visible(ctx, s.a + (s.b - s.a) * t);
+            }
             // Along the major axis: the parameter at the centre's column (row), then the
             // distance along the minor axis.
             let (major, minor) = if d.x.abs() >= d.y.abs() {

@@ -138,7 +138,12 @@ impl<'a> Context<'a> {
         let e = settings.lighting.edges;
         if let Some(set) = e.set() {
             let color = DVec3::from(e.line_color().map(f64::from));
-            ctx.edges = Some(edges::ScreenEdges::new(&ctx, set, color));
+            ctx.edges = Some(edges::ScreenEdges::new(
+                &ctx,
+                set,
+                color,
+                f64::from(e.width),
+            ));
         }
         ctx
     }

@@ -275,9 +275,13 @@ fn reference_draws_the_same_edges() {
     let dir = out_dir("edges");
     let model = cube(&dir, "reference");
     for (i, &view) in VIEWS.iter().enumerate() {
-        for mode in ["--edges", "--wireframe"] {
-            let a = args(&model, view, &[mode]);
-            let gpu = render_view(&dir, &format!("ref_gpu_{i}{mode}"), &a, &[]);
+        for mode in [
+            &["--edges"][..],
+            &["--wireframe"],
+            &["--edges", "--line-width", "3"],
+        ] {
+            let a = args(&model, view, mode);
+            let gpu = render_view(&dir, &format!("ref_gpu_{i}{}", mode.join("")), &a, &[]);
             let (s, scene) = settings_for(&words(&a));
             let cpu = glview::reference::render(&scene, &s, W, H);
             let (g, c) = (line_pixels(&gpu), line_pixels(&cpu));
@@ -286,14 +290,14 @@ fn reference_draws_the_same_edges() {
             let c_off = c.iter().filter(|&&q| !near(q, &g)).count();
             assert!(
                 g_off == 0 && c_off == 0,
-                "view {view:?} {mode}: {g_off} GPU line pixels away from the reference's, {c_off} the other way ({} / {})",
+                "view {view:?} {mode:?}: {g_off} GPU line pixels away from the reference's, {c_off} the other way ({} / {})",
                 g.len(),
                 c.len()
             );
             let ratio = g.len() as f64 / c.len() as f64;
             assert!(
                 (0.9..=1.1).contains(&ratio),
-                "view {view:?} {mode}: {} GPU line pixels, {} reference",
+                "view {view:?} {mode:?}: {} GPU line pixels, {} reference",
                 g.len(),
                 c.len()
             );
