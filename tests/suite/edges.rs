@@ -206,11 +206,14 @@ fn cube_edges_gl21() {
 }
 
 #[test]
-fn cube_edges_es3_and_core() {
+fn cube_edges_es3_core_and_osmesa() {
     // An environment entry sends the render to the binary, which makes the asked context.
     let env = &[("GLVIEW_TEST_CONTEXT", "1")];
     cube_edges_on("es3", env, &["--gl", "es3"]);
     cube_edges_on("core", env, &["--gl", "core"]);
+    cube_edges_on("osmesa", env, &["--backend", "osmesa"]);
+    // OSMesa's own buffer on GL 2.1 without framebuffer or vertex array objects.
+    cube_edges_on("osmesa_nofbo", GL21_NO_FBO, &["--backend", "osmesa"]);
 }
 
 /// Wireframe: the 18 triangle edges, the face diagonals included, on the default context
