@@ -145,6 +145,18 @@ impl EdgeMode {
     }
 }
 
+crate::choice! {
+    /// How edge lines are drawn.
+    pub enum EdgeMethod {
+        /// GL lines (1 pixel) or screen-space quads (wider) over a polygon-offset surface.
+        Lines = "lines",
+        /// On the triangles themselves: a barycentric attribute and its screen-space
+        /// derivative (fwidth) give each fragment's distance to the edges (a triangle soup
+        /// of three unshared corners each; silhouettes get only the inner half of a line).
+        Barycentric = "barycentric",
+    }
+}
+
 /// Lines over the model: which, in what colour, and whether the surface is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Edges {
@@ -159,6 +171,7 @@ pub struct Edges {
     pub only_color: [f32; 3],
     /// Line width in pixels of the frame drawn (`--line-width` times the SSAA factor).
     pub width: f32,
+    pub method: EdgeMethod,
 }
 
 impl Default for Edges {
@@ -170,6 +183,7 @@ impl Default for Edges {
             surface: true,
             only_color: [0.9; 3],
             width: 1.0,
+            method: EdgeMethod::Lines,
         }
     }
 }

@@ -10,7 +10,7 @@ mod spec;
 mod value;
 mod words;
 
-use crate::frame::{BlendFormula, Shading, TranslucencyMode};
+use crate::frame::{BlendFormula, EdgeMethod, Shading, TranslucencyMode};
 use crate::light::LightOpt;
 use crate::pbr::{Encoding, PrecomputeOn, Tonemap};
 use crate::platform::{Backend, GlRequest};
@@ -191,6 +191,9 @@ declare_options! {
         /// Width of the edge and wireframe lines in pixels of the picture, at any zoom (1:
         /// GL lines; wider: a screen-space quad per segment, which every context draws).
         line_width: f32 = 1.0, "line-width" value, check = in_range(1.0, 64.0);
+        /// How edges are drawn: lines (GL lines or quads over a polygon-offset surface), or
+        /// barycentric (on the triangles, by a barycentric attribute; measured option).
+        edge_method: EdgeMethod = EdgeMethod::Lines, "edge-method" value;
     }
     /// The PBR tier: environment, material overrides, precomputation.
     pbr: Pbr {

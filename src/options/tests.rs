@@ -89,6 +89,8 @@ fn every_option_changed() -> Options {
         "1,0,0.5",
         "--line-width",
         "2.5",
+        "--edge-method",
+        "barycentric",
         "--env",
         "e.hdr",
         "--env-blur",

@@ -6,6 +6,9 @@
 //! it does not; no geometry shader, so every context draws it, GL 2.1 included. 1-pixel lines
 //! are GL lines; core profiles guarantee no other glLineWidth, so wider ones
 //! (`--line-width`) are a screen-space quad per segment, widened in `edges.vert`.
+//! `--edge-method barycentric` (measured against lines: docs/design.md) draws the triangles
+//! again instead, each corner unshared with its barycentric coordinate and the triangle's
+//! mask of edges in the set, at the surface's depth and offset.
 use super::{FrameCx, Outcome, Pass};
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::state::{DepthFunc, RenderState};
@@ -18,10 +21,18 @@ pub(crate) struct Edges;
 /// The line meshes of one edge set, one per scene mesh that has lines.
 #[derive(Default)]
 pub(crate) struct EdgeState {
-    /// The set and whether as quads (wide lines) the meshes hold.
-    made: Option<(EdgeSet, bool)>,
+    /// The set and the geometry the meshes hold.
+    made: Option<(EdgeSet, Geometry)>,
     meshes: Vec<GpuMesh>,
     segments: u64,
+}
+
+/// What the edge meshes are made of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Geometry {
+    Lines,
+    Quads,
+    Barycentric,
 }
 
 pub(crate) fn key() -> ProgramKey {
@@ -41,8 +52,8 @@ pub(crate) fn surface_offset(width: f32) -> (f32, f32) {
 const LOG_DEPTH_BIAS: f32 = 1.0 / 65536.0;
 
 impl EdgeState {
-    fn ensure(&mut self, cx: &FrameCx, set: EdgeSet, wide: bool) -> Result<()> {
-        if self.made == Some((set, wide)) {
+    fn ensure(&mut self, cx: &FrameCx, set: EdgeSet, geometry: Geometry) -> Result<()> {
+        if self.made == Some((set, geometry)) {
             return Ok(());
         }
         self.meshes.clear();
@@ -52,7 +63,10 @@ impl EdgeState {
             if lines.segments.is_empty() {
                 continue;
             }
-            let (vertices, indices, primitive) = if wide {
+            let (vertices, indices, primitive) = if geometry == Geometry::Barycentric {
+                let (v, i) = soup(m, set);
+                (v, i, Primitive::Triangles)
+            } else if geometry == Geometry::Quads {
                 let (v, i) = quads(&lines);
                 (v, i, Primitive::Triangles)
             } else {
@@ -76,7 +90,7 @@ impl EdgeState {
                 primitive,
             )?);
         }
-        self.made = Some((set, wide));
+        self.made = Some((set, geometry));
         Ok(())
     }
 }
@@ -99,6 +113,26 @@ fn quads(lines: &edges::EdgeLines) -> (Vec<crate::scene::Vertex>, Vec<u32>) {
         }
         i.extend([base, base + 1, base + 3, base, base + 3, base + 2]);
     }
+    (v, i)
+}
+
+/// The triangles with unshared corners: corner k's normal is the k-th unit vector (its
+/// barycentric coordinate), every corner's uv.x the triangle's edge mask.
+fn soup(m: &crate::scene::Mesh, set: EdgeSet) -> (Vec<crate::scene::Vertex>, Vec<u32>) {
+    let masks = edges::triangle_masks(m, set);
+    let mut v = Vec::with_capacity(m.indices.len());
+    for (t, mask) in m.indices.chunks_exact(3).zip(masks) {
+        for (k, &i) in t.iter().enumerate() {
+            let mut bary = [0.0; 3];
+            bary[k] = 1.0;
+            v.push(crate::scene::Vertex {
+                position: m.vertices[i as usize].position,
+                normal: bary,
+                uv: [f32::from(mask), 0.0],
+            });
+        }
+    }
+    let i = (0..v.len() as u32).collect();
     (v, i)
 }
 
@@ -130,15 +164,23 @@ fn draw(
     set: EdgeSet,
     e: crate::frame::Edges,
 ) -> Result<Outcome> {
-    let wide = e.width > 1.0;
-    state.ensure(cx, set, wide)?;
+    let bary = e.method == crate::frame::EdgeMethod::Barycentric;
+    let wide = e.width > 1.0 && !bary;
+    let geometry = match (bary, wide) {
+        (true, _) => Geometry::Barycentric,
+        (false, true) => Geometry::Quads,
+        (false, false) => Geometry::Lines,
+    };
+    state.ensure(cx, set, geometry)?;
     let log_depth = cx.settings.lighting.translucency.log_depth;
     let program = cx.program(
         &key()
             .switch("LOG_DEPTH", "logz", log_depth)
-            .switch("WIDE", "wide", wide),
+            .switch("WIDE", "wide", wide)
+            .switch("BARYCENTRIC", "bary", bary),
     )?;
     program.bind();
+    program.set_f32("uWidth", e.width);
     if wide {
         let [_, _, w, h] = cx.viewport;
         program.set_vec2("uViewport", glam::Vec2::new(w as f32, h as f32));
@@ -167,6 +209,8 @@ fn draw(
     cx.gpu.apply(&RenderState {
         depth: Some(DepthFunc::LessEqual),
         depth_write: false,
+        // The triangles again at the surface's depth: the same offset.
+        polygon_offset: bary.then(|| surface_offset(e.width)),
         ..Default::default()
     });
     for m in &state.meshes {
@@ -178,10 +222,10 @@ fn draw(
         EdgeSet::Feature { crease_deg } => format!("feature, crease {crease_deg}°"),
         EdgeSet::All => "wireframe".into(),
     };
-    let width = if wide {
-        format!(", {} px quads", e.width)
-    } else {
-        String::new()
+    let width = match geometry {
+        Geometry::Quads => format!(", {} px quads", e.width),
+        Geometry::Barycentric => format!(", {} px barycentric", e.width),
+        Geometry::Lines => String::new(),
     };
     Ok(Outcome::Ran(format!(
         "edges({what}, {} lines{width})",

@@ -54,6 +54,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         edges::key(),
         edges::key().switch("LOG_DEPTH", "logz", true),
         edges::key().switch("WIDE", "wide", true),
+        edges::key().switch("BARYCENTRIC", "bary", true),
     ]
     .into_iter()
     .chain((0..4).flat_map(|tm| {

@@ -31,6 +31,34 @@ pub struct EdgeLines {
 
 /// The edges of `mesh` in `set`.
 pub fn extract(mesh: &Mesh, set: EdgeSet) -> EdgeLines {
+    let (_, positions, segments) = classify(mesh, set);
+    compact(positions, segments)
+}
+
+/// Per triangle, which of its edges are in `set` (bit k: the edge opposite corner k), for
+/// the barycentric method (`--edge-method barycentric`), which draws on the triangles.
+pub fn triangle_masks(mesh: &Mesh, set: EdgeSet) -> Vec<u8> {
+    let (weld, _, segments) = classify(mesh, set);
+    let kept: std::collections::HashSet<[u32; 2]> = segments.into_iter().collect();
+    mesh.indices
+        .chunks_exact(3)
+        .map(|t| {
+            let c = [t[0], t[1], t[2]].map(|i| weld.get(i as usize).copied().unwrap_or(0));
+            (0..3).fold(0u8, |m, k| {
+                let (a, b) = (c[(k + 1) % 3], c[(k + 2) % 3]);
+                if kept.contains(&[a.min(b), a.max(b)]) {
+                    m | 1 << k
+                } else {
+                    m
+                }
+            })
+        })
+        .collect()
+}
+
+/// Welded corner per vertex, the corners' positions, and the kept edges (low, high corner).
+#[allow(clippy::type_complexity)]
+fn classify(mesh: &Mesh, set: EdgeSet) -> (Vec<u32>, Vec<[f32; 3]>, Vec<[u32; 2]>) {
     let mut corner_of: HashMap<[u32; 3], u32> = HashMap::new();
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let weld: Vec<u32> = mesh
@@ -81,7 +109,7 @@ pub fn extract(mesh: &Mesh, set: EdgeSet) -> EdgeLines {
             segments.push([run[0].0, run[0].1]);
         }
     }
-    compact(positions, segments)
+    (weld, positions, segments)
 }
 
 /// Keeps only the corners the segments use, renumbered in order of first use.
@@ -195,6 +223,17 @@ mod tests {
         let boundary = extract(&m, EdgeSet::Feature { crease_deg: 95.0 });
         assert_eq!(boundary.segments.len(), 4);
         assert!(boundary.positions.iter().all(|p| p[2] == 1.0));
+    }
+
+    #[test]
+    fn triangle_masks_mark_the_kept_edges() {
+        let m = cube();
+        // Each face's two triangles share the diagonal: the feature set leaves it out, so
+        // each triangle has its two cube edges; the wireframe keeps all three.
+        let f = triangle_masks(&m, EdgeSet::Feature { crease_deg: 60.0 });
+        assert_eq!(f.len(), 12);
+        assert!(f.iter().all(|&x| x.count_ones() == 2), "{f:?}");
+        assert!(triangle_masks(&m, EdgeSet::All).iter().all(|&x| x == 7));
     }
 
     #[test]

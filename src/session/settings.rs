@@ -283,6 +283,7 @@ fn edges(args: &Options) -> crate::frame::Edges {
             } else {
                 1.0
             },
+        method: r.edge_method,
     }
 }
 

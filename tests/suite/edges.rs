@@ -271,6 +271,29 @@ fn wide_lines_keep_their_width() {
     }
 }
 
+/// `--edge-method barycentric`: the same 12 edges drawn on the triangles (2 pixels wide,
+/// so a 1-pixel core is fully inside both faces), on the default context and GL 2.1.
+#[test]
+fn barycentric_edges_are_the_cube_edges() {
+    let dir = out_dir("edges");
+    let model = cube(&dir, "bary");
+    for (tag, env) in [("default", &[][..]), ("gl21", GL21)] {
+        for &view in &VIEWS[..3] {
+            let extra = [
+                "--edges",
+                "--edge-method",
+                "barycentric",
+                "--line-width",
+                "2",
+            ];
+            let a = args(&model, view, &extra);
+            let name = format!("cube_bary_{tag}_{}_{}", view.0, view.1);
+            let img = render_view(&dir, &name, &a, env);
+            check_wide_lines(&name, &img, &project(&a, &cube_edges(&a, false)), 2.0);
+        }
+    }
+}
+
 /// The CPU reference draws the same lines: its line pixels and the GPU's each within a
 /// pixel of the other's, in nearly the same number.
 #[test]
