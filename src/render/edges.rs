@@ -126,7 +126,8 @@ fn soup(m: &crate::scene::Mesh, set: EdgeSet) -> (Vec<crate::scene::Vertex>, Vec
             let mut bary = [0.0; 3];
             bary[k] = 1.0;
             v.push(crate::scene::Vertex {
-                position: m.vertices[i as usize].position,
+                // (Loaders check indices; a bad one draws at the origin, never panics.)
+                position: m.vertices.get(i as usize).map_or([0.0; 3], |v| v.position),
                 normal: bary,
                 uv: [f32::from(mask), 0.0],
             });
