@@ -3,7 +3,6 @@
 uniform vec4 uColor;
 #ifdef LOG_DEPTH
 #include "logdepth.glsl"
-uniform float uLineDepthBias;
 #endif
 #ifdef BARYCENTRIC
 IN vec3 vBary;
@@ -13,10 +12,8 @@ uniform float uWidth;     // pixels
 
 void main() {
 #ifdef LOG_DEPTH
-    // A written gl_FragDepth drops the surface's polygon offset: the line comes forward
-    // by a constant instead.
+    // The surface's offset is in its own written depth (uLogDepthOffset).
     glviewLogDepth();
-    gl_FragDepth = max(gl_FragDepth - uLineDepthBias, 0.0);
 #endif
 #ifdef BARYCENTRIC
     // Distance to each edge in pixels: the coordinate over its change per pixel. Edges the

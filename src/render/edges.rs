@@ -47,10 +47,6 @@ pub(crate) fn surface_offset(width: f32) -> (f32, f32) {
     ((0.5 * width + 0.5).max(1.0), 1.0)
 }
 
-/// With `--depth log` (gl_FragDepth, which the offset does not reach) lines come forward by
-/// this much window depth instead: 2⁻¹⁶, 256 steps of a 24-bit buffer.
-const LOG_DEPTH_BIAS: f32 = 1.0 / 65536.0;
-
 impl EdgeState {
     fn ensure(&mut self, cx: &FrameCx, set: EdgeSet, geometry: Geometry) -> Result<()> {
         if self.made == Some((set, geometry)) {
@@ -197,7 +193,6 @@ fn draw(
         let (_, far) = s.camera.near_far(&cx.scene.scene.bounds);
         program.set_f32("uLogDepthC", crate::frame::LOG_DEPTH_C);
         program.set_f32("uLogDepthFar", far);
-        program.set_f32("uLineDepthBias", LOG_DEPTH_BIAS);
     }
     let [r, g, b] = e.line_color();
     let color = if cx.rgbm {

@@ -92,6 +92,15 @@ pub(crate) fn draw_meshes<T: Tier>(
             tier.program_uniforms(&program, cx, v);
         }
         super::slots::set_uniforms(&program, mat, m.has_uv1);
+        // The polygon offset below, for programs that write a logarithmic depth.
+        program.set_f32(
+            "uLogDepthOffset",
+            if edges.mode == crate::frame::EdgeMode::Off {
+                0.0
+            } else {
+                super::edges::surface_offset(edges.width).0
+            },
+        );
         program.set_f32("uNormalScale", mat.normal_scale);
         program.set_f32("uTerminatorLift", dm.terminator_lift);
         program.set_f32(
