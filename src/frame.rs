@@ -127,6 +127,98 @@ impl Default for Translucency {
     }
 }
 
+/// Which edges are drawn over the model (`--edges`, `--wireframe`, the `E` key).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub enum EdgeMode {
+    #[default]
+    Off,
+    /// Boundary and creased edges ([`crate::scene::edges::EdgeSet::Feature`]).
+    Feature,
+    /// Every triangle edge.
+    Wireframe,
+}
+
+impl EdgeMode {
+    /// Off → feature edges → wireframe → off (the `E` key).
+    pub fn next(self) -> EdgeMode {
+        match self {
+            EdgeMode::Off => EdgeMode::Feature,
+            EdgeMode::Feature => EdgeMode::Wireframe,
+            EdgeMode::Wireframe => EdgeMode::Off,
+        }
+    }
+}
+
+crate::choice! {
+    /// How edge lines are drawn.
+    pub enum EdgeMethod {
+        /// GL lines (1 pixel) or screen-space quads (wider) over a polygon-offset surface.
+        Lines = "lines",
+        /// On the triangles themselves: a barycentric attribute and its screen-space
+        /// derivative (fwidth) give each fragment's distance to the edges (a triangle soup
+        /// of three unshared corners each; silhouettes get only the inner half of a line).
+        Barycentric = "barycentric",
+    }
+}
+
+/// Lines over the model: which, in what colour, and whether the surface is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Edges {
+    pub mode: EdgeMode,
+    /// The crease angle of feature edges in degrees (the loader's, `--crease`).
+    pub crease_deg: f32,
+    /// The lines' colour (display values).
+    pub color: [f32; 3],
+    /// `--wireframe-only`: the surface is not drawn, but still hides the lines behind it
+    /// (a hidden-line view); the lines then take `only_color`.
+    pub surface: bool,
+    pub only_color: [f32; 3],
+    /// Line width in pixels of the frame drawn (`--line-width` times the SSAA factor).
+    pub width: f32,
+    pub method: EdgeMethod,
+}
+
+impl Default for Edges {
+    fn default() -> Self {
+        Edges {
+            mode: EdgeMode::Off,
+            crease_deg: crate::scene::normals::DEFAULT_CREASE_DEG,
+            color: [0.0; 3],
+            surface: true,
+            only_color: [0.9; 3],
+            width: 1.0,
+            method: EdgeMethod::Lines,
+        }
+    }
+}
+
+impl Edges {
+    /// The edge set of a mesh, or None when no lines are drawn.
+    pub fn set(&self) -> Option<crate::scene::edges::EdgeSet> {
+        match self.mode {
+            EdgeMode::Off => None,
+            EdgeMode::Feature => Some(crate::scene::edges::EdgeSet::Feature {
+                crease_deg: self.crease_deg,
+            }),
+            EdgeMode::Wireframe => Some(crate::scene::edges::EdgeSet::All),
+        }
+    }
+
+    /// Whether the shaded surface is drawn in colour.
+    pub fn surface_shown(&self) -> bool {
+        self.surface || self.mode == EdgeMode::Off
+    }
+
+    /// The lines' colour this frame.
+    pub fn line_color(&self) -> [f32; 3] {
+        if self.surface_shown() {
+            self.color
+        } else {
+            self.only_color
+        }
+    }
+}
+
 /// The calibration constant C of the logarithmic depth
 /// z_ndc = 2·ln(C·w + 1)/ln(C·far + 1) − 1: C = 1 keeps the relative depth step near
 /// ln(C·far)/2²⁴ everywhere beyond w = 1/C (the seed's choice for a planet-sized range).

@@ -19,6 +19,8 @@ pub enum Action {
     ToggleCompare,
     /// Bloom on (strength 0.05 unless `--bloom` set one) / off.
     ToggleBloom,
+    /// Lines over the model: off → feature edges → wireframe → off.
+    CycleEdges,
     /// Translucent opacity down / up by 0.1 (`[`, `]`).
     Opacity(i8),
     Screenshot,
@@ -39,6 +41,7 @@ impl Action {
                 | Action::ToggleTerm(_)
                 | Action::ToggleBloom
                 | Action::Opacity(_)
+                | Action::CycleEdges
         )
     }
 }
@@ -116,6 +119,11 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
         "compare: Phong and PBR side by side",
     ),
     (&["B"], Action::ToggleBloom, "bloom on/off"),
+    (
+        &["E"],
+        Action::CycleEdges,
+        "lines: off → feature edges → wireframe → off",
+    ),
     (
         &["F12"],
         Action::Screenshot,
@@ -236,6 +244,10 @@ pub fn apply(
                 _ => return Effect::Redraw,
             };
             *b = !*b;
+        }
+        Action::CycleEdges => {
+            let e = &mut s.lighting.edges;
+            e.mode = e.mode.next();
         }
         Action::ToggleCompare => return Effect::Compare,
         Action::ToggleBloom => {

@@ -157,6 +157,8 @@ pub struct LightingParams {
     /// Diameter of points in pixels of a picture `point_size.1` pixels high (the frame
     /// scales it with its viewport: SSAA, a window resized).
     pub point_size: (f32, u32),
+    /// Lines over the model (`--edges`, `--wireframe`).
+    pub edges: crate::frame::Edges,
 }
 
 /// The default point size's bounds in pixels: small enough that a dense scan stays a
@@ -179,6 +181,7 @@ impl Default for LightingParams {
             headlight: None,
             shadow_casters: crate::light::MAX_LIGHTS as u8,
             point_size: (MIN_POINT_PX, 0),
+            edges: Default::default(),
         }
     }
 }

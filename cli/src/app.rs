@@ -394,6 +394,7 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::Digit7 => "7",
         KeyCode::KeyC => "C",
         KeyCode::KeyB => "B",
+        KeyCode::KeyE => "E",
         _ => return None,
     })
 }
@@ -431,10 +432,15 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
             format!("tier {} ({:?})", s.shading.tier(), s.shading).to_lowercase()
         },
         format!(
-            "shadows {}  lights {}  wrap {}",
+            "shadows {}  lights {}  wrap {}  lines {}",
             on(s.shadows.enabled),
             glview::compare::light_count(s),
-            on(s.lighting.wrap)
+            on(s.lighting.wrap),
+            match s.lighting.edges.mode {
+                glview::frame::EdgeMode::Off => "off",
+                glview::frame::EdgeMode::Feature => "edges",
+                glview::frame::EdgeMode::Wireframe => "wireframe",
+            }
         ),
     ];
     let t = &s.lighting.terms;
@@ -570,6 +576,7 @@ mod tests {
                     KeyCode::Digit7,
                     KeyCode::KeyC,
                     KeyCode::KeyB,
+                    KeyCode::KeyE,
                 ]
                 .iter()
                 .any(|c| physical_name(*c) == Some(n));

@@ -4,7 +4,12 @@
 IN float vClipW;
 uniform float uLogDepthC;
 uniform float uLogDepthFar;
+// glPolygonOffset's factor for a written depth (which the fixed-function offset does not
+// reach): the lit surface under edge lines (render/edges.rs) is pushed back by this many
+// times its depth slope, fwidth(z) ≥ GL's max slope. 0 otherwise.
+uniform float uLogDepthOffset;
 
 void glviewLogDepth() {
-    gl_FragDepth = log(uLogDepthC * max(vClipW, 0.0) + 1.0) / log(uLogDepthC * uLogDepthFar + 1.0);
+    float z = log(uLogDepthC * max(vClipW, 0.0) + 1.0) / log(uLogDepthC * uLogDepthFar + 1.0);
+    gl_FragDepth = z + uLogDepthOffset * (fwidth(z) + 1.0 / 16777216.0);
 }

@@ -10,7 +10,7 @@ mod spec;
 mod value;
 mod words;
 
-use crate::frame::{BlendFormula, Shading, TranslucencyMode};
+use crate::frame::{BlendFormula, EdgeMethod, Shading, TranslucencyMode};
 use crate::light::LightOpt;
 use crate::pbr::{Encoding, PrecomputeOn, Tonemap};
 use crate::platform::{Backend, GlRequest};
@@ -183,6 +183,23 @@ declare_options! {
         /// nearest-neighbour distance as seen from the fitted view, between 2 and 8 (a
         /// lone point or sparse POINTS: 8).
         point_size: Option<f32> = None, "point-size" maybe, check = in_range(1.0, 64.0);
+        /// Draw the feature edges over the shaded model: boundary edges and those whose faces
+        /// meet at more than the crease angle (--crease, default 60°); 1-pixel lines.
+        edges: bool = false, "edges" flag;
+        /// Draw every triangle edge over the shaded model (wins over --edges).
+        wireframe: bool = false, "wireframe" flag;
+        /// Draw the wireframe alone: the surface is not drawn but still hides the lines
+        /// behind it (a hidden-line view); implies --wireframe.
+        wireframe_only: bool = false, "wireframe-only" flag;
+        /// Colour R,G,B of the edge and wireframe lines (default black, light grey with
+        /// --wireframe-only).
+        edge_color: Option<[f32; 3]> = None, "edge-color" maybe;
+        /// Width of the edge and wireframe lines in pixels of the picture, at any zoom (1:
+        /// GL lines; wider: a screen-space quad per segment, which every context draws).
+        line_width: f32 = 1.0, "line-width" value, check = in_range(1.0, 64.0);
+        /// How edges are drawn: lines (GL lines or quads over a polygon-offset surface), or
+        /// barycentric (on the triangles, by a barycentric attribute; measured option).
+        edge_method: EdgeMethod = EdgeMethod::Lines, "edge-method" value;
     }
     /// The PBR tier: environment, material overrides, precomputation.
     pbr: Pbr {

@@ -22,6 +22,7 @@
 //! on edges); the glass differs by its blend order, and shadows by the shadow map's
 //! approximations. See `gpu_against_reference_builtin` in tests/suite/reference.rs.
 pub mod bvh;
+pub mod edges;
 pub mod material;
 pub mod pbr;
 pub mod points;
@@ -79,6 +80,8 @@ pub struct Context<'a> {
     /// Per mesh: MikkTSpace tangents where a normal map needs them and the file gave none,
     /// as the upload makes them (empty otherwise).
     pub generated_tangents: Vec<Vec<[f32; 4]>>,
+    /// `--edges` / `--wireframe`: the projected segments.
+    pub edges: Option<edges::ScreenEdges>,
 }
 
 impl<'a> Context<'a> {
@@ -100,7 +103,7 @@ impl<'a> Context<'a> {
                 out.push(([p(0), p(1), p(2)], tri));
             }
         }
-        Context {
+        let mut ctx = Context {
             scene,
             settings,
             view: View::new(&settings.camera, &scene.bounds, width, height),
@@ -131,7 +134,19 @@ impl<'a> Context<'a> {
                     }
                 })
                 .collect(),
+            edges: None,
+        };
+        let e = settings.lighting.edges;
+        if let Some(set) = e.set() {
+            let color = DVec3::from(e.line_color().map(f64::from));
+            ctx.edges = Some(edges::ScreenEdges::new(
+                &ctx,
+                set,
+                color,
+                f64::from(e.width),
+            ));
         }
+        ctx
     }
 }
 
@@ -261,7 +276,9 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo, 
     let mut color = background(ctx, d);
     if let Some(hit) = &opaque {
         let s = surface::shade_hit(ctx, hit, d, &mut sc.visibility);
-        color = s.color;
+        if ctx.settings.lighting.edges.surface_shown() {
+            color = s.color;
+        }
         record(hit, s.shadowed, &mut info);
     }
     // GL's depth test is LESS against the opaque depth: layers strictly in front count.
@@ -305,6 +322,12 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo, 
         };
         record(hit, s.shadowed, &mut info);
         info.layers += 1;
+    }
+    // Lines are drawn after every surface (render/edges.rs).
+    if let Some(e) = &ctx.edges {
+        if e.covers(ctx, x, y) {
+            color = e.color;
+        }
     }
     debug_assert!(color.is_finite(), "non-finite colour at {x},{y}");
     let depth = opaque.map_or(1.0, |h| {

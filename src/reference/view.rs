@@ -7,7 +7,7 @@ use glam::{DMat4, DVec3, DVec4};
 
 pub struct View {
     inverse: DMat4,
-    /// Projection · view: world to clip coordinates (points are projected with it).
+    /// Projection · view: world to clip coordinates (points and edges are projected with it).
     pub forward: DMat4,
     pub eye: DVec3,
     /// Eye-space +Z in world coordinates: where a zero normal points (see `surface`).
@@ -64,6 +64,11 @@ impl View {
     pub fn ray(&self, x: u32, y: u32, width: u32, height: u32) -> (DVec3, DVec3) {
         let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(width) - 1.0;
         let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(height);
+        self.ray_ndc(nx, ny)
+    }
+
+    /// The ray through normalised device coordinates (nx, ny), as [`View::ray`].
+    pub fn ray_ndc(&self, nx: f64, ny: f64) -> (DVec3, DVec3) {
         let unproject = |z: f64| {
             let p = self.inverse * DVec4::new(nx, ny, z, 1.0);
             p.truncate() / p.w

@@ -3,11 +3,13 @@
 //! kept between frames) and either draws or says why it did not. `--stats` lists the passes
 //! that ran (`passes`) and every decision (`pass_log`).
 //!
-//! Frame: shadow depth → background → legacy lit | PBR lit → teaching view → post (post.rs).
+//! Frame: shadow depth → background → legacy lit | PBR lit → edges → teaching view → post
+//! (post.rs).
 pub mod aa;
 pub mod attributes;
 pub mod background;
 mod cull;
+pub(crate) mod edges;
 pub mod frusta;
 pub mod ibl;
 pub mod ibl_gpu;
@@ -102,6 +104,8 @@ pub(crate) struct Resources {
     /// The background pass drew this frame (the lit passes then clear nothing).
     pub background_drawn: bool,
     pub post: post::PostState,
+    /// The line meshes of `--edges` / `--wireframe`, made on first use.
+    pub edges: edges::EdgeState,
 }
 
 impl Resources {
@@ -251,6 +255,7 @@ const PASSES: &[&dyn Pass] = &[
     &background::Background,
     &lit::Lit,
     &pbr::Pbr,
+    &edges::Edges,
     &shadow::ShowShadowMap,
 ];
 

@@ -1,7 +1,7 @@
 //! Every program key the renderer can ask for, listed in one place for `--compile-shaders`
 //! (which compiles them all ahead of any frame) and its test. The renderer owns the keys (each
 //! pass builds its own), so the list lives here and the shader cache only stores programs.
-use super::{attributes, background, lit, pbr, post, shadow, slots};
+use super::{attributes, background, edges, lit, pbr, post, shadow, slots};
 use crate::shader::cache::ProgramKey;
 
 /// Every program key the renderer can ask for with up to `max_lights` lights: the legacy
@@ -47,38 +47,46 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
 
 /// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
 pub fn fixed_programs() -> Vec<ProgramKey> {
-    vec![shadow::depth_key(), shadow::show_key(), attributes::key()]
-        .into_iter()
-        .chain((0..4).flat_map(|tm| {
-            [
-                background::skybox_key(false, tm),
-                background::skybox_key(true, tm),
-            ]
-        }))
-        .chain(post::keys())
-        .chain(slots::variant_keys())
-        // Points: disks of gl_PointSize, lit (with normals) or unlit, coloured, both tiers.
-        .chain([false, true].into_iter().flat_map(|unlit| {
-            [
-                lit::program_key(1, 1, 1, 0, false, false, true),
-                lit::program_key(1, 1, 1, 0, false, true, true),
-                pbr::all_keys(1, 1, 1, 0).swap_remove(0),
-            ]
-            .map(|k| {
-                k.switch("POINTS", "pts", true)
-                    .switch("UNLIT", "unlit", unlit)
-            })
-        }))
-        // The copy path's RGBM-encoded linear frame (bloom without float render targets).
-        .chain(
-            [
-                background::skybox_key(true, 3),
-                lit::program_key(1, 1, 1, 0, true, false, true),
-            ]
-            .map(|k| {
-                k.switch("LINEAR_OUTPUT", "lin", true)
-                    .switch("FRAME_RGBM", "hdr8", true)
-            }),
-        )
-        .collect()
+    vec![
+        shadow::depth_key(),
+        shadow::show_key(),
+        attributes::key(),
+        edges::key(),
+        edges::key().switch("LOG_DEPTH", "logz", true),
+        edges::key().switch("WIDE", "wide", true),
+        edges::key().switch("BARYCENTRIC", "bary", true),
+    ]
+    .into_iter()
+    .chain((0..4).flat_map(|tm| {
+        [
+            background::skybox_key(false, tm),
+            background::skybox_key(true, tm),
+        ]
+    }))
+    .chain(post::keys())
+    .chain(slots::variant_keys())
+    // Points: disks of gl_PointSize, lit (with normals) or unlit, coloured, both tiers.
+    .chain([false, true].into_iter().flat_map(|unlit| {
+        [
+            lit::program_key(1, 1, 1, 0, false, false, true),
+            lit::program_key(1, 1, 1, 0, false, true, true),
+            pbr::all_keys(1, 1, 1, 0).swap_remove(0),
+        ]
+        .map(|k| {
+            k.switch("POINTS", "pts", true)
+                .switch("UNLIT", "unlit", unlit)
+        })
+    }))
+    // The copy path's RGBM-encoded linear frame (bloom without float render targets).
+    .chain(
+        [
+            background::skybox_key(true, 3),
+            lit::program_key(1, 1, 1, 0, true, false, true),
+        ]
+        .map(|k| {
+            k.switch("LINEAR_OUTPUT", "lin", true)
+                .switch("FRAME_RGBM", "hdr8", true)
+        }),
+    )
+    .collect()
 }

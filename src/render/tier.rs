@@ -70,6 +70,7 @@ pub(crate) fn draw_meshes<T: Tier>(
     states: &dyn Fn(bool) -> Vec<RenderState>,
 ) -> Result<()> {
     let scene = cx.scene;
+    let edges = cx.settings.lighting.edges;
     // A program keeps its uniforms: the per-frame ones are set once per program per frame,
     // only the material changes from mesh to mesh.
     let mut uniforms_set: Vec<ProgramKey> = Vec::new();
@@ -110,6 +111,15 @@ pub(crate) fn draw_meshes<T: Tier>(
             tier.program_uniforms(&program, cx, v);
         }
         super::slots::set_uniforms(&program, mat, m.has_uv1);
+        // The polygon offset below, for programs that write a logarithmic depth.
+        program.set_f32(
+            "uLogDepthOffset",
+            if edges.mode == crate::frame::EdgeMode::Off {
+                0.0
+            } else {
+                super::edges::surface_offset(edges.width).0
+            },
+        );
         program.set_f32("uNormalScale", mat.normal_scale);
         program.set_f32("uTerminatorLift", dm.terminator_lift);
         if m.points {
@@ -121,7 +131,22 @@ pub(crate) fn draw_meshes<T: Tier>(
         );
         cx.set_rgbm_blend(&program);
         tier.material(&program, cx, &m, prepared.maps);
-        super::translucent::draw_states(cx, i, &program, &states(m.translucent))?;
+        let mut mesh_states = states(m.translucent);
+        if edges.mode != crate::frame::EdgeMode::Off {
+            for st in &mut mesh_states {
+                // Lines on the surface must win the depth test (`edges.rs`); without the
+                // surface (`--wireframe-only`) it still hides the lines behind it.
+                st.polygon_offset = st
+                    .polygon_offset
+                    .or(Some(super::edges::surface_offset(edges.width)));
+                if !edges.surface {
+                    st.color_write = false;
+                    // The background fills every pixel the surface did not colour.
+                    st.stencil = None;
+                }
+            }
+        }
+        super::translucent::draw_states(cx, i, &program, &mesh_states)?;
     }
     cx.gpu.apply(&RenderState::default());
     Ok(())

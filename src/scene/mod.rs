@@ -5,6 +5,7 @@ pub mod cache;
 pub mod closure;
 pub mod clusters;
 pub mod dedup;
+pub mod edges;
 pub mod fast;
 pub mod finish;
 pub mod formats;

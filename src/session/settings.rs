@@ -233,6 +233,7 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
                 _ => AttributeView::None,
             },
             point_size: (point_px, h),
+            edges: edges(args),
             ..Default::default()
         },
         shading: args.render.shading,
@@ -281,6 +282,37 @@ fn point_size(args: &Options, scene: &Scene, camera: &OrbitCamera, h: u32) -> f3
         POINT_SPACINGS * d as f32 * h as f32 / view_height.max(1e-30)
     });
     px.clamp(MIN_POINT_PX, MAX_POINT_PX)
+}
+
+/// `--edges`, `--wireframe`, `--wireframe-only`, `--edge-color` and the loader's crease angle.
+fn edges(args: &Options) -> crate::frame::Edges {
+    use crate::frame::EdgeMode;
+    let r = &args.render;
+    let d = crate::frame::Edges::default();
+    crate::frame::Edges {
+        mode: if r.wireframe || r.wireframe_only {
+            EdgeMode::Wireframe
+        } else if r.edges {
+            EdgeMode::Feature
+        } else {
+            EdgeMode::Off
+        },
+        crease_deg: args
+            .load
+            .crease
+            .unwrap_or(crate::scene::normals::DEFAULT_CREASE_DEG),
+        color: r.edge_color.unwrap_or(d.color),
+        surface: !r.wireframe_only,
+        only_color: r.edge_color.unwrap_or(d.only_color),
+        // SSAA draws the frame k times larger: lines k times wider keep their width.
+        width: r.line_width
+            * if args.post.aa == crate::options::AaMode::Ssaa {
+                args.post.aa_samples.clamp(1, 4) as f32
+            } else {
+                1.0
+            },
+        method: r.edge_method,
+    }
 }
 
 /// The frame's lights in the scene's coordinates, the headlight's colour, and whether they

@@ -55,6 +55,8 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("pbr.frag", include_str!("../../shaders_gl/pbr.frag")),
     ("skybox.vert", include_str!("../../shaders_gl/skybox.vert")),
     ("fill.frag", include_str!("../../shaders_gl/fill.frag")),
+    ("edges.vert", include_str!("../../shaders_gl/edges.vert")),
+    ("edges.frag", include_str!("../../shaders_gl/edges.frag")),
     (
         "prefilter.frag",
         include_str!("../../shaders_gl/prefilter.frag"),
