@@ -260,12 +260,7 @@ fn vertex_alpha_is_a_gradient_of_blend_weights() {
         }
     }
     // The CPU reference composites the same rule.
-    let mut args = view(&model);
-    args.extend(["--background".to_string(), bg.clone()]);
-    let words: Vec<&str> = args.iter().map(String::as_str).collect();
-    let (settings, scene) = settings_for(&words);
-    let reference = glview::reference::render(&scene, &settings, N, N);
-    runs.push(("reference".into(), reference, SURFACE.map(srgb)));
+    runs.push(reference_run(&model, &bg));
     for (name, img, s) in &runs {
         let mut worst_w = 0.0f64;
         for y in 2..N - 2 {
@@ -292,6 +287,16 @@ fn vertex_alpha_is_a_gradient_of_blend_weights() {
     }
 }
 
+/// The CPU reference's picture of `model` over `bg`, named, with its surface colour.
+fn reference_run(model: &Path, bg: &str) -> (String, Rgba, [f64; 3]) {
+    let mut args = view(model);
+    args.extend(["--background".to_string(), bg.to_string()]);
+    let words: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (settings, scene) = settings_for(&words);
+    let reference = glview::reference::render(&scene, &settings, N, N);
+    ("reference".into(), reference, SURFACE.map(srgb))
+}
+
 /// MASK tests the base alpha times the vertex alpha against the cutoff (0.5): the quad is cut
 /// where the gradient is below it, left of the middle (u = 0.5), on the GPU and in the
 /// reference: the background there, the surface right of it.
@@ -312,12 +317,7 @@ fn vertex_alpha_cuts_a_mask() {
             runs.push((name, img, s));
         }
     }
-    let mut args = view(&model);
-    args.extend(["--background".to_string(), bg.clone()]);
-    let words: Vec<&str> = args.iter().map(String::as_str).collect();
-    let (settings, scene) = settings_for(&words);
-    let reference = glview::reference::render(&scene, &settings, N, N);
-    runs.push(("reference".into(), reference, SURFACE.map(srgb)));
+    runs.push(reference_run(&model, &bg));
     for (name, img, s) in &runs {
         let expect = |x: u32, _| {
             let a = vertex_alpha(x);
