@@ -109,6 +109,12 @@ impl Headless {
         Err(Error::Context(format!("OSMesa: {}", errors.join("; "))))
     }
 
+    /// Whether [`Headless::reset_target`] can give this context another size (not an
+    /// OSMesa buffer).
+    pub fn resizable(&self) -> bool {
+        self.fbo.is_some()
+    }
+
     /// Gives the context a render target of `width`×`height` and no multisampling, so one
     /// context serves pictures of any size (the test fixture renders many in one process).
     /// OSMesa draws into a buffer fixed at creation: there only the same size is accepted.

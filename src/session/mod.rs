@@ -130,14 +130,10 @@ impl Session {
         }
     }
 
-    /// The context's backend ("EGL ...", "OSMesa"), once made.
-    pub fn backend_name(&self) -> Option<&'static str> {
-        self.kept.as_ref().map(|k| k.hl.backend_name())
-    }
-
-    /// How many scenes are uploaded now.
-    pub fn scenes_kept(&self) -> usize {
-        self.kept.as_ref().map_or(0, |k| k.renderers.len())
+    /// Whether the context (once made) keeps one size: an OSMesa buffer, where a picture of
+    /// another size makes a new context (and uploads every scene again).
+    pub fn fixed_size(&self) -> bool {
+        self.kept.as_ref().is_some_and(|k| !k.hl.resizable())
     }
 
     /// A session whose context is made now, for pictures of `args` (so a machine without

@@ -458,3 +458,32 @@ fn slow_request_heads_time_out() {
         "dropped after {waited:?}"
     );
 }
+
+/// An OSMesa context keeps its size: previews are the view's size (not a new context per
+/// frame) and a size message is refused; the still is still the command line's picture.
+#[test]
+fn osmesa_views_keep_one_size() {
+    let server = Server::start(&["--size", SIZE, "--backend", "osmesa"]);
+    let mut c = server.viewer("");
+    c.still(None);
+    c.send(json!({"type": "drag", "dx": 5, "dy": 0, "seq": 1}));
+    let (h, _) = c.frame(true);
+    assert_eq!(
+        (h["width"].as_u64(), h["view"][0].as_u64()),
+        (Some(160), Some(160)),
+        "{h}"
+    );
+    let (_, png, _) = c.still(Some(1));
+    let cli_yaw = 30.0 - 5.0 * glview::keys::DRAG_DEG_PER_PIXEL;
+    let want = cli_png(
+        "osmesa-drag",
+        &["--backend", "osmesa", "--yaw", &cli_yaw.to_string()],
+    );
+    assert_same("osmesa-drag", &decode_png(&png), &want);
+    c.send(json!({"type": "size", "width": 200, "height": 100}));
+    let e = c.text("error");
+    assert!(
+        e["message"].as_str().unwrap().contains("keeps one size"),
+        "{e}"
+    );
+}

@@ -126,7 +126,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         .map_err(|e| Error::Usage(format!("cannot start a thread: {e}")))?;
     // An OSMesa context keeps the size it was made with (a new size is a new context and
     // every scene loaded again): its views keep one size, previews included.
-    let fixed_size = session.backend_name().is_some_and(|b| b.contains("OSMesa"));
+    let fixed_size = session.fixed_size();
     if fixed_size {
         log::warn!("OSMesa: previews are full size and views keep the size --size gives");
     }
