@@ -212,6 +212,16 @@ fn gpu_panes(
     Ok((images, covered))
 }
 
+/// [`phong_pbr`]'s picture, numbers and frame settings.
+pub struct PhongPbr {
+    /// Phong left, PBR right.
+    pub image: Rgba,
+    /// The difference over the model's pixels, and how many those are.
+    pub numbers: Option<(diff::DiffNumbers, usize)>,
+    /// The panes' settings but for the tier (`--keys` applied).
+    pub settings: FrameSettings,
+}
+
 /// Phong | PBR of `args` (each pane `args.picture.size`, framed for it, as `--compare
 /// phong,pbr` draws them) with the session's kept renderer, side by side in one picture,
 /// and with `numbers` their difference over the model's pixels with the count of those
@@ -220,13 +230,15 @@ pub fn phong_pbr(
     session: &mut crate::session::Session,
     args: &crate::options::Options,
     numbers: bool,
-) -> Result<(Rgba, Option<(diff::DiffNumbers, usize)>)> {
+) -> Result<PhongPbr> {
     let (w, h) = args.picture.size;
     let tiers = [PaneTier::Gpu(Shading::Phong), PaneTier::Gpu(Shading::Pbr)];
-    let (mut images, covered) = session.with_renderer(args, (2 * w, h), |hl, renderer| {
-        let (base, _) = crate::session::frame_settings(args, renderer.scene())?;
-        gpu_panes(hl, renderer, &base, &tiers, (w, h), numbers, false)
-    })?;
+    let ((mut images, covered), settings) =
+        session.with_renderer(args, (2 * w, h), |hl, renderer| {
+            let (base, _) = crate::session::frame_settings(args, renderer.scene())?;
+            let panes = gpu_panes(hl, renderer, &base, &tiers, (w, h), numbers, false)?;
+            Ok((panes, base))
+        })?;
     let (b, a) = (images.pop().flatten(), images.pop().flatten());
     let (a, b) = (a.expect("two panes"), b.expect("two panes"));
     let mut out = canvas::blank(2 * w, h, [0, 0, 0]);
@@ -239,7 +251,11 @@ pub fn phong_pbr(
     } else {
         None
     };
-    Ok((out, numbers))
+    Ok(PhongPbr {
+        image: out,
+        numbers,
+        settings,
+    })
 }
 
 /// Columns x0..x0+w of `img`.

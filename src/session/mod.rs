@@ -268,6 +268,8 @@ pub struct Drawn {
     pub attributes: Option<crate::render::attributes::Attributes>,
     /// With `Outputs::linear`: the linear, unclamped colour, RGB per pixel, top row first.
     pub linear: Option<Vec<[f32; 3]>>,
+    /// What the picture was drawn with (`--keys` applied): its tier and toggles.
+    pub settings: crate::frame::FrameSettings,
 }
 
 /// [`Session::write`]: `kept` is reused when it was made for the same backend and GL request
@@ -383,6 +385,7 @@ fn draw(
         stats,
         attributes,
         linear,
+        settings,
     })
 }
 

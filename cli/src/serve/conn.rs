@@ -34,6 +34,13 @@ pub struct Shared {
     pub presenter_online: std::sync::Arc<AtomicBool>,
 }
 
+/// Both halves of a viewer's socket: client messages over [`MAX_MESSAGE`] are refused.
+fn ws_config() -> WebSocketConfig {
+    WebSocketConfig::default()
+        .max_message_size(Some(MAX_MESSAGE))
+        .max_frame_size(Some(MAX_MESSAGE))
+}
+
 /// Answers one connection.
 pub fn handle(mut stream: TcpStream, shared: &Shared) {
     let _ = stream.set_nodelay(true);
@@ -141,14 +148,11 @@ fn upgrade(mut stream: TcpStream, req: &Request, shared: &Shared) {
     if stream.write_all(head.as_bytes()).is_err() {
         return;
     }
-    let config = WebSocketConfig::default()
-        .max_message_size(Some(MAX_MESSAGE))
-        .max_frame_size(Some(MAX_MESSAGE));
     let Ok(write_half) = stream.try_clone() else {
         return;
     };
     let _ = write_half.set_write_timeout(Some(WRITE_TIMEOUT));
-    let mut writer = WebSocket::from_raw_socket(write_half, Role::Server, Some(config));
+    let mut writer = WebSocket::from_raw_socket(write_half, Role::Server, Some(ws_config()));
     // The viewer count is taken before the viewer exists, so two at once cannot both pass.
     let count = shared.viewers.fetch_add(1, Ordering::SeqCst) + 1;
     if count > shared.max_viewers {
@@ -219,10 +223,7 @@ impl Write for ReadHalf<'_> {
 /// each malformed one is answered with an error.
 fn read_loop(stream: &TcpStream, id: u64, out: &Sender<Outgoing>, shared: &Shared) {
     let _ = stream.set_read_timeout(Some(shared.idle_timeout));
-    let config = WebSocketConfig::default()
-        .max_message_size(Some(MAX_MESSAGE))
-        .max_frame_size(Some(MAX_MESSAGE));
-    let mut ws = WebSocket::from_raw_socket(ReadHalf(stream), Role::Server, Some(config));
+    let mut ws = WebSocket::from_raw_socket(ReadHalf(stream), Role::Server, Some(ws_config()));
     loop {
         let text = match ws.read() {
             Ok(Message::Text(t)) => t,
@@ -275,7 +276,7 @@ fn read_loop(stream: &TcpStream, id: u64, out: &Sender<Outgoing>, shared: &Share
 fn write_loop(mut ws: WebSocket<TcpStream>, rx: mpsc::Receiver<Outgoing>) {
     while let Ok(m) = rx.recv() {
         let sent = match m {
-            Outgoing::Frame(bytes) => ws.send(Message::Binary(bytes.as_ref().clone().into())),
+            Outgoing::Frame(bytes) => ws.send(Message::Binary(bytes)),
             Outgoing::Text(t) => ws.send(Message::text(t)),
             Outgoing::Close(code, reason) => {
                 let _ = ws.close(Some(CloseFrame {

@@ -2,7 +2,6 @@
 //! the GL thread.
 use serde::Deserialize;
 use std::sync::mpsc::Sender;
-use std::sync::Arc;
 
 /// Client messages are small JSON objects: anything larger is refused.
 pub const MAX_MESSAGE: usize = 4096;
@@ -68,8 +67,9 @@ impl ClientMsg {
 
 /// To a connection's writer.
 pub enum Outgoing {
-    /// A frame (shared by every follower of a presenter: one encode, no copies).
-    Frame(Arc<Vec<u8>>),
+    /// A frame (shared by every follower of a presenter: one encode; `Bytes` clones share
+    /// the buffer, and tungstenite sends it as it is).
+    Frame(tungstenite::Bytes),
     Text(String),
     /// Close with this code and reason, then stop.
     Close(u16, String),

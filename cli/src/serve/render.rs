@@ -34,34 +34,32 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
     }
     let t = Instant::now();
     let mut profile = Profile::default();
-    let (image, text, diff, command) = if p.view.compare() {
+    let (image, text, diff, command, settings) = if p.view.compare() {
         let still = p.kind == Kind::Still;
-        let (img, numbers) = glview::compare::phong_pbr(session, &o, still)?;
+        let pair = glview::compare::phong_pbr(session, &o, still)?;
         let command = format!("{} --compare phong,pbr", glview::repro::command_line(&o));
         let text = vec![
             ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
             ("glview.compare", "phong,pbr".to_string()),
             ("glview.command", command.clone()),
         ];
-        let diff = numbers.map(|(n, pixels)| {
+        let diff = pair.numbers.map(|(n, pixels)| {
             let mut v = serde_json::to_value(n).unwrap_or_default();
             v["model_pixels"] = pixels.into();
             v
         });
-        (img, text, diff, command)
+        (pair.image, text, diff, command, pair.settings)
     } else {
         let drawn = session.draw(&o, None, Outputs::default(), &mut profile)?;
         let command = glview::repro::command_line(&o);
-        (drawn.image, drawn.text, None, command)
+        (drawn.image, drawn.text, None, command, drawn.settings)
     };
     let draw_ms = ms(t);
-    // What the overlay shows, from the options just drawn (the scene is kept: no load, and
-    // the target keeps this picture's size).
-    let (s, _) = glview::session::frame_settings(&o, session.scene(&o)?)?;
+    // What the overlay shows: the settings the picture was drawn with.
     let tier = if p.view.compare() {
         "phong | pbr".to_string()
     } else {
-        s.shading.to_string()
+        settings.shading.to_string()
     };
     let t = Instant::now();
     let (bytes, format, encoder) = match p.kind {
@@ -80,8 +78,8 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
         "model": p.model,
         "compare": p.view.compare(),
         "tier": tier,
-        "shadows": s.shadows.enabled,
-        "bloom": s.lighting.post.bloom.strength > 0.0,
+        "shadows": settings.shadows.enabled,
+        "bloom": settings.lighting.post.bloom.strength > 0.0,
         "keys": o.camera.keys,
         "ms": {
             // Drawing to glFinish, then the read-back; the compare view's two panes are

@@ -43,14 +43,14 @@ struct Viewer {
     /// The frame sent and not yet acknowledged.
     in_flight: Option<u64>,
     /// A follower's newest frame, sent when the one in flight is acknowledged.
-    owed: Option<(u64, Arc<Vec<u8>>)>,
+    owed: Option<(u64, tungstenite::Bytes)>,
     /// The newest frame sent (a new follower starts with it), and whether it is a still.
-    last_frame: Option<(u64, Arc<Vec<u8>>)>,
+    last_frame: Option<(u64, tungstenite::Bytes)>,
     last_was_still: bool,
 }
 
 impl Viewer {
-    fn send_frame(&mut self, id: u64, frame: &Arc<Vec<u8>>) {
+    fn send_frame(&mut self, id: u64, frame: &tungstenite::Bytes) {
         if self.in_flight.is_none() {
             self.in_flight = Some(id);
             let _ = self.out.send(Outgoing::Frame(frame.clone()));
@@ -203,7 +203,7 @@ impl Scheduler {
             "max_size": super::protocol::MAX_SIZE,
         });
         let _ = out.send(Outgoing::Text(hello.to_string()));
-        let mut v = Viewer {
+        let v = Viewer {
             out,
             view: View::new(options),
             presenter,
@@ -219,7 +219,6 @@ impl Scheduler {
             last_frame: None,
             last_was_still: false,
         };
-        v.changed();
         self.viewers.insert(id, v);
         if presenter {
             self.presenter = Some(id);
@@ -415,7 +414,7 @@ impl Scheduler {
             v.still_owed = false;
         }
         let bytes = match drawn {
-            Ok(b) => Arc::new(b),
+            Ok(b) => tungstenite::Bytes::from(b),
             Err(e) => {
                 v.error(&e.to_string());
                 v.still_owed = false;
