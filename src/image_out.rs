@@ -54,25 +54,11 @@ impl Rgba {
         match OutputFormat::of(path) {
             Some(OutputFormat::Png) => self.save_png(path, text),
             Some(OutputFormat::Jpeg) => {
-                let err = |message: String| Error::Image {
+                let bytes = self.jpeg_by_image(95).map_err(|message| Error::Image {
                     path: path.into(),
                     message,
-                };
-                let rgb: Vec<u8> = self
-                    .data
-                    .chunks_exact(4)
-                    .flat_map(|p| [p[0], p[1], p[2]])
-                    .collect();
-                let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
-                let mut w = std::io::BufWriter::new(file);
-                image::codecs::jpeg::JpegEncoder::new_with_quality(&mut w, 95)
-                    .encode(
-                        &rgb,
-                        self.width,
-                        self.height,
-                        image::ExtendedColorType::Rgb8,
-                    )
-                    .map_err(|e| err(e.to_string()))
+                })?;
+                std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
             }
             None => Err(Error::Image {
                 path: path.into(),

@@ -8,6 +8,7 @@
 use crate::common::*;
 use crate::gltf_draw::{quad, Quad};
 use glview::image_out::Rgba;
+use glview::pbr::srgb_encode;
 use std::path::{Path, PathBuf};
 
 const N: u32 = 48;
@@ -71,14 +72,6 @@ fn view(model: &Path) -> Vec<String> {
 /// The PBR tier's output without tone mapping or exposure: sRGB of the linear colour.
 const PBR: &[&str] = &["--shading", "pbr", "--tonemap", "none", "--exposure", "0"];
 
-fn srgb(x: f64) -> f64 {
-    if x <= 0.0031308 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
-}
-
 fn shot(dir: &Path, name: &str, args: &[String], extra: &[&str], env: &[(&str, &str)]) -> Rgba {
     let mut all: Vec<&str> = args.iter().map(String::as_str).collect();
     all.extend_from_slice(extra);
@@ -112,26 +105,26 @@ fn outside(x: u32) -> bool {
     !(10..38).contains(&x)
 }
 
-#[test]
-fn blend_shows_the_background_behind_it_in_every_mode_but_the_masked_one() {
-    let dir = out_dir("gltf-alpha-blend");
+/// The half-width quad of SURFACE at ALPHA, BLEND.
+fn blend_quad(dir: &Path) -> PathBuf {
     let q = Quad {
         scale_x: 0.5,
         ..Quad::default()
     };
     let [r, g, b] = SURFACE;
-    let model = quad(
-        &dir,
-        "blend",
-        &q,
-        &blend_material([r, g, b, ALPHA], "BLEND"),
-    );
+    quad(dir, "blend", &q, &blend_material([r, g, b, ALPHA], "BLEND"))
+}
+
+#[test]
+fn blend_shows_the_background_behind_it_in_every_mode_but_the_masked_one() {
+    let dir = out_dir("gltf-alpha-blend");
+    let model = blend_quad(&dir);
     let bg = BACKGROUND.map(|c| c.to_string()).join(",");
     for (ctx, gl, env) in contexts() {
         for (tier, tier_args) in [("phong", &["--shading", "phong"][..]), ("pbr", PBR)] {
             // Both tiers draw glTF's linear colour as its sRGB encoding (the colour rule of
             // issue 31; the background colour is written as given in both).
-            let s = SURFACE.map(srgb);
+            let s = SURFACE.map(srgb_encode);
             for mode in ["nearest", "sorted", "nearest-masked"] {
                 let name = format!("{tier}-{mode}-{ctx}");
                 let mut args = view(&model);
@@ -174,20 +167,10 @@ fn blend_shows_the_background_behind_it_in_every_mode_but_the_masked_one() {
 #[test]
 fn blend_shows_the_sky_behind_it() {
     let dir = out_dir("gltf-alpha-sky");
-    let q = Quad {
-        scale_x: 0.5,
-        ..Quad::default()
-    };
-    let [r, g, b] = SURFACE;
-    let model = quad(
-        &dir,
-        "blend",
-        &q,
-        &blend_material([r, g, b, ALPHA], "BLEND"),
-    );
+    let model = blend_quad(&dir);
     let env = [0.6, 0.05, 0.2];
-    let sky = env.map(srgb);
-    let s = SURFACE.map(srgb);
+    let sky = env.map(srgb_encode);
+    let s = SURFACE.map(srgb_encode);
     for (ctx, gl, vars) in contexts() {
         for mode in ["nearest", "sorted"] {
             let name = format!("{mode}-{ctx}");
@@ -254,7 +237,7 @@ fn vertex_alpha_is_a_gradient_of_blend_weights() {
                 args.extend(gl.iter().map(|a| a.to_string()));
                 let extra = [tier_args, &["--translucency", mode, "--background", &bg]].concat();
                 let img = shot(&dir, &name, &args, &extra, env);
-                let s = SURFACE.map(srgb);
+                let s = SURFACE.map(srgb_encode);
                 runs.push((name, img, s));
             }
         }
@@ -294,7 +277,7 @@ fn reference_run(model: &Path, bg: &str) -> (String, Rgba, [f64; 3]) {
     let words: Vec<&str> = args.iter().map(String::as_str).collect();
     let (settings, scene) = settings_for(&words);
     let reference = glview::reference::render(&scene, &settings, N, N);
-    ("reference".into(), reference, SURFACE.map(srgb))
+    ("reference".into(), reference, SURFACE.map(srgb_encode))
 }
 
 /// MASK tests the base alpha times the vertex alpha against the cutoff (0.5): the quad is cut
@@ -313,7 +296,7 @@ fn vertex_alpha_cuts_a_mask() {
             args.extend(gl.iter().map(|a| a.to_string()));
             let extra = [tier_args, &["--background", &bg]].concat();
             let img = shot(&dir, &name, &args, &extra, env);
-            let s = SURFACE.map(srgb);
+            let s = SURFACE.map(srgb_encode);
             runs.push((name, img, s));
         }
     }
