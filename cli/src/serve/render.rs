@@ -23,15 +23,21 @@ fn ms(t: Instant) -> f64 {
     (t.elapsed().as_secs_f64() * 1e4).round() / 10.0
 }
 
-/// The frame's header (without the scheduler's fields) and image bytes.
-pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json::Value, Vec<u8>)> {
-    let mut o = p.view.picture();
-    let view = p.view.options().picture.size;
-    if let Kind::Preview { scale, .. } = p.kind {
+/// The options a frame of `view` is drawn with: a preview's are scaled down.
+pub fn options_for(view: &View, kind: Kind) -> glview::Options {
+    let mut o = view.picture();
+    if let Kind::Preview { scale, .. } = kind {
         let (w, h) = o.picture.size;
         let s = |v: u32| ((v as f32 * scale).round() as u32).clamp(16, v.max(16));
         o.picture.size = (s(w), s(h));
     }
+    o
+}
+
+/// The frame's header (without the scheduler's fields) and image bytes.
+pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json::Value, Vec<u8>)> {
+    let o = options_for(p.view, p.kind);
+    let view = p.view.options().picture.size;
     let t = Instant::now();
     let mut profile = Profile::default();
     let (image, text, diff, command, settings) = if p.view.compare() {

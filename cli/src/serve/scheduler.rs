@@ -4,7 +4,7 @@
 //! presenter's frames go to every follower.
 use super::models::Models;
 use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
-use super::render::{render, Kind, Picture};
+use super::render::{options_for, render, Kind, Picture};
 use glview::keys::{self, Effect};
 use glview::options::Options;
 use glview::session::{Session, View};
@@ -342,7 +342,9 @@ impl Scheduler {
     }
 
     /// Applies the viewer's waiting inputs with its scene; the error is the client's.
-    fn apply_pending(&mut self, id: u64) -> Result<(), String> {
+    /// The scene is looked up with the options of the frame about to be drawn (`kind`), so
+    /// the target is not re-sized for the lookup and again for the frame.
+    fn apply_pending(&mut self, id: u64, kind: Kind) -> Result<(), String> {
         let v = self.viewers.get_mut(&id).expect("served");
         if v.pending.is_empty() {
             return Ok(());
@@ -350,7 +352,7 @@ impl Scheduler {
         let pending = std::mem::take(&mut v.pending);
         let scene = self
             .session
-            .scene(&v.view.picture())
+            .scene(&options_for(&v.view, kind))
             .map_err(|e| e.to_string())?;
         for m in pending {
             let r = match m {
@@ -380,12 +382,6 @@ impl Scheduler {
     /// Draws `id`'s view (a preview or the still) and sends it, to its followers too when
     /// it is the presenter.
     fn serve(&mut self, id: u64) {
-        if let Err(e) = self.apply_pending(id) {
-            let v = self.viewers.get_mut(&id).expect("served");
-            v.error(&e);
-            (v.dirty, v.still_owed) = (false, false);
-            return;
-        }
         let v = &self.viewers[&id];
         let kind = if v.dirty && !v.fresh {
             Kind::Preview {
@@ -395,6 +391,13 @@ impl Scheduler {
         } else {
             Kind::Still
         };
+        if let Err(e) = self.apply_pending(id, kind) {
+            let v = self.viewers.get_mut(&id).expect("served");
+            v.error(&e);
+            (v.dirty, v.still_owed) = (false, false);
+            return;
+        }
+        let v = &self.viewers[&id];
         let picture = Picture {
             view: &v.view,
             model: self.models.name_of(v.view.options().load.model.as_deref()),
