@@ -103,10 +103,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
         return Err(bad("no triangles in the file".into()));
     }
     Ok(Scene {
-        name: path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "model".into()),
+        name: Scene::name_of(path),
         meshes,
         materials,
         bounds,

@@ -313,6 +313,13 @@ impl UpAxis {
 }
 
 impl Scene {
+    /// A model file's scene name: its file name without the extension.
+    pub(crate) fn name_of(path: &std::path::Path) -> String {
+        path.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "model".into())
+    }
+
     /// A scene built in code (tests, generators): local coordinates are file coordinates.
     pub fn from_meshes(name: &str, meshes: Vec<Mesh>, materials: Vec<Material>) -> Scene {
         let mut bounds = Bounds::empty();

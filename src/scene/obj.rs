@@ -497,12 +497,8 @@ fn load_with(
     if meshes.is_empty() && wire.is_empty() {
         return Err(Error::model(path, None, "no triangles in the file"));
     }
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "model".into());
     Ok(Scene {
-        name,
+        name: Scene::name_of(path),
         meshes,
         materials,
         bounds,
