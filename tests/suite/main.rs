@@ -5,6 +5,7 @@
 mod analytic;
 mod antialiasing;
 mod api;
+mod asset_generator;
 mod bad_input;
 mod batch;
 mod bloom;
