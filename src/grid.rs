@@ -56,9 +56,14 @@ impl GridPlane {
         let cover = (0.5 * width + 0.5 - d.x.min(d.y)).clamp(0.0, 1.0);
         // Lines closer than a few pixels apart would only make moiré: they fade out.
         let crowd = 1.0 - smoothstep(0.2, 0.45, fw.x.max(fw.y));
+        LINE_ALPHA * cover * crowd * self.fade_at(p)
+    }
+
+    /// How much of the grid (lines and shadow) is left at `p`: 1 near the model, 0 from
+    /// `fade` on.
+    pub fn fade_at(&self, p: DVec3) -> f64 {
         let far = (DVec2::new(p.x, p.z) - self.centre).length();
-        let fade = 1.0 - smoothstep(0.5 * self.fade, self.fade, far);
-        LINE_ALPHA * cover * crowd * fade
+        1.0 - smoothstep(0.5 * self.fade, self.fade, far)
     }
 
     /// A multiple of the unit on the plane near the centre: the GPU draws relative to it,

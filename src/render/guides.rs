@@ -112,9 +112,15 @@ pub fn compose(
             let (dx, dy, _) = triad_direction(view, axis);
             let end = (half + dx * len, half + dy * len);
             segment(&mut img, (half, half), end, 2.0 * k, rgb);
-            // The letter just past the tip, outwards from the centre.
-            let reach = len + 8.0 * k;
-            let (lx, ly) = (half + dx * reach, half + dy * reach);
+            // The letter just past the tip, outwards from the centre (beside the centre
+            // when the axis points at the viewer).
+            let shown = dx.hypot(dy);
+            let (ux, uy) = if shown > 1e-3 {
+                (dx / shown, dy / shown)
+            } else {
+                (0.7, -0.7)
+            };
+            let (lx, ly) = (end.0 + ux * 8.0 * k, end.1 + uy * 8.0 * k);
             let g = (8 * glyph) as f32;
             letter(
                 &mut img,
@@ -154,7 +160,7 @@ fn segment(img: &mut Rgba, a: (f32, f32), b: (f32, f32), width: f32, rgb: [u8; 3
 /// Text at (x, y) (top-left of its first glyph) with a dark shadow one glyph pixel down and
 /// right, so it reads over any background.
 fn letter(img: &mut Rgba, x: i32, y: i32, text: &str, rgb: [u8; 3], glyph: u32) {
-    for (off, colour) in [(glyph as i32, [0u8; 3]), (0, rgb)] {
+    for (off, colour) in [(glyph as i32, [16u8; 3]), (0, rgb)] {
         let (w, h) = ((text.chars().count() as u32 * 8 + 1) * glyph, 9 * glyph);
         // The font writes colour only; a scratch picture marks which pixels it wrote.
         let mut scratch = Rgba {
