@@ -234,3 +234,21 @@ fn axes_triad_turns_with_the_camera() {
         }
     }
 }
+
+/// The `Z` and `X` keys toggle the grid and the triad, and replay as the options do
+/// (`--keys`, the window and the web page share the key table).
+#[test]
+fn keys_z_and_x_replay_as_the_options() {
+    let dir = out_dir("grid-keys");
+    let file = model(&dir);
+    let pic = |name: &str, extra: &[&str]| {
+        let mut a = vec![file.as_str(), "--size", "160x120", "--pitch", "20"];
+        a.extend_from_slice(extra);
+        render(&dir, name, &a, &[])
+    };
+    let both = pic("options", &["--grid", "--axes"]);
+    assert_eq!(pic("keys", &["--keys", "Z X"]).data, both.data);
+    assert_eq!(pic("grid", &["--grid"]).data, pic("key_z", &["--keys", "Z"]).data);
+    assert_eq!(pic("none", &[]).data, pic("key_zz", &["--keys", "X Z X Z"]).data);
+    assert_ne!(pic("none", &[]).data, both.data);
+}
