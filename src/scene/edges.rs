@@ -112,6 +112,63 @@ fn classify(mesh: &Mesh, set: EdgeSet) -> (Vec<u32>, Vec<[f32; 3]>, Vec<[u32; 2]
     (weld, positions, segments)
 }
 
+/// How many edges of a mesh are of each kind (`--check`), over welded corners.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EdgeCounts {
+    /// Every distinct triangle edge (the wireframe).
+    pub total: usize,
+    /// Edges of one face.
+    pub boundary: usize,
+    /// Edges of more than two faces.
+    pub non_manifold: usize,
+    /// Edges of two faces whose normals differ by more than the crease angle.
+    pub creased: usize,
+}
+
+impl EdgeCounts {
+    /// The feature edges `--edges` draws: boundary, non-manifold and creased.
+    pub fn feature(&self) -> usize {
+        self.boundary + self.non_manifold + self.creased
+    }
+}
+
+impl std::ops::AddAssign for EdgeCounts {
+    fn add_assign(&mut self, o: EdgeCounts) {
+        self.total += o.total;
+        self.boundary += o.boundary;
+        self.non_manifold += o.non_manifold;
+        self.creased += o.creased;
+    }
+}
+
+/// The edges of `mesh` by kind, creases at `crease_deg` (the feature set's rule).
+pub fn count(mesh: &Mesh, crease_deg: f32) -> EdgeCounts {
+    let all = classify(mesh, EdgeSet::All).2.len();
+    let (weld, _, feature) = classify(mesh, EdgeSet::Feature { crease_deg });
+    // Faces per feature edge tell its kind.
+    let mut faces: HashMap<[u32; 2], u32> = feature.iter().map(|s| (*s, 0)).collect();
+    for t in mesh.indices.chunks_exact(3) {
+        let c = [t[0], t[1], t[2]].map(|i| weld.get(i as usize).copied().unwrap_or(0));
+        for (a, b) in [(c[0], c[1]), (c[1], c[2]), (c[2], c[0])] {
+            if let Some(n) = faces.get_mut(&[a.min(b), a.max(b)]) {
+                *n += u32::from(a != b);
+            }
+        }
+    }
+    let mut c = EdgeCounts {
+        total: all,
+        ..Default::default()
+    };
+    for n in faces.values() {
+        match n {
+            1 => c.boundary += 1,
+            2 => c.creased += 1,
+            _ => c.non_manifold += 1,
+        }
+    }
+    c
+}
+
 /// Keeps only the corners the segments use, renumbered in order of first use.
 fn compact(positions: Vec<[f32; 3]>, segments: Vec<[u32; 2]>) -> EdgeLines {
     let mut new_index = vec![u32::MAX; positions.len()];
@@ -183,6 +240,20 @@ mod tests {
             .collect();
         l.sort_by(f32::total_cmp);
         l
+    }
+
+    #[test]
+    fn counts_by_kind() {
+        let mut m = cube();
+        let c = count(&m, 60.0);
+        assert_eq!((c.total, c.boundary, c.creased, c.non_manifold), (18, 0, 12, 0));
+        assert_eq!(c.feature(), 12);
+        // No lid: its four edges become boundaries, its diagonal goes.
+        m.indices.truncate(30);
+        let c = count(&m, 60.0);
+        assert_eq!((c.total, c.boundary, c.creased, c.non_manifold), (17, 4, 8, 0));
+        // Above 90° no cube edge is a crease.
+        assert_eq!(count(&m, 95.0).creased, 0);
     }
 
     #[test]
