@@ -1,7 +1,8 @@
 // The ground grid (--grid): lines every uUnit along X and Z, antialiased by their distance
 // in pixels (the offset to the nearest line over fwidth, which GLSL 1.20 and ES 3.00 fragment
-// shaders both have), fading out away from the model; the rule of GridPlane::alpha
-// (src/grid.rs), which the CPU reference ray-casts. Where the model shadows the plane, what
+// shaders both have), fading out away from the model, and the file's two floor axes through
+// its origin in the triad's colours; the rule of GridPlane::lines (src/grid.rs), which the
+// CPU reference ray-casts. Where the model shadows the plane, what
 // lies behind it darkens by the share of light the shadow takes from a white diffuse floor
 // (the lights' luminance times N.L, ambient included), so the grid receives the shadow
 // without hiding the background. One blended draw: C = L·a + C_dst·(1 − s)(1 − a).
@@ -13,6 +14,10 @@ uniform float uFade;         // the lines are gone this far from the centre
 uniform float uWidth;        // line width in pixels
 uniform float uLineAlpha;
 uniform vec3 uLineColor;     // in the frame's values
+uniform vec2 uAxisAt;        // the file's origin (x, z) relative to the grid's origin
+uniform vec3 uAxisColorX;    // the file axis along X, and along Z (the frame's values)
+uniform vec3 uAxisColorZ;
+uniform float uAxisAlpha;
 uniform vec3 uDepthRange;    // near, far of the frame's projection; z = 1: orthographic
 #ifdef LOG_DEPTH
 uniform float uLogDepthC;
@@ -41,6 +46,12 @@ float visibility(int i) {
 }
 #endif
 
+// src over dst, each (colour, opacity) with straight alpha.
+vec4 over(vec4 src, vec4 dst) {
+    float a = src.a + dst.a * (1.0 - src.a);
+    return a > 0.0 ? vec4((src.rgb * src.a + dst.rgb * dst.a * (1.0 - src.a)) / a, a) : vec4(0.0);
+}
+
 // The depth the frame's projection gives this point (its own clip space reaches further).
 float frameDepth() {
     float w = -vEyePos.z;
@@ -61,7 +72,12 @@ void main() {
     float cover = clamp(0.5 * uWidth + 0.5 - min(d.x, d.y), 0.0, 1.0);
     float crowd = 1.0 - smoothstep(0.2, 0.45, max(fw.x, fw.y));
     float fade = 1.0 - smoothstep(0.5 * uFade, uFade, length(vLocal.xz - uCentre));
-    float a = uLineAlpha * cover * crowd * fade;
+    vec4 line = vec4(uLineColor, uLineAlpha * cover * crowd * fade);
+    vec2 qa = (vLocal.xz - uAxisAt) / uUnit;
+    float ax = uAxisAlpha * clamp(0.75 * uWidth + 0.5 - abs(qa.y) / fw.y, 0.0, 1.0) * fade;
+    float az = uAxisAlpha * clamp(0.75 * uWidth + 0.5 - abs(qa.x) / fw.x, 0.0, 1.0) * fade;
+    line = over(vec4(uAxisColorZ, az), over(vec4(uAxisColorX, ax), line));
+    float a = line.a;
     float s = 0.0;
 #if NUM_SHADOWS > 0
     if (uLitSide > 0.5) {
@@ -79,6 +95,6 @@ void main() {
 #endif
     float alpha = 1.0 - (1.0 - s) * (1.0 - a);
     if (alpha <= 0.0) discard;
-    FRAG_COLOR = vec4(uLineColor * (a / alpha), alpha);
+    FRAG_COLOR = vec4(line.rgb * (a / alpha), alpha);
     gl_FragDepth = clamp(frameDepth(), 0.0, 1.0);
 }

@@ -137,6 +137,10 @@ pub struct Guides {
     /// Pixels of the frame drawn per pixel of the picture (the SSAA factor): lines and
     /// labels keep their size.
     pub scale: f32,
+    /// Which file axis is up (`--up`): the triad and the grid's axis lines name the file's
+    /// axes, not the scene's turned ones.
+    #[serde(skip)]
+    pub up: crate::scene::UpAxis,
 }
 
 impl Default for Guides {
@@ -145,6 +149,7 @@ impl Default for Guides {
             grid: false,
             axes: false,
             scale: 1.0,
+            up: Default::default(),
         }
     }
 }

@@ -22,7 +22,7 @@ impl RefGrid {
         if !s.lighting.guides.grid {
             return None;
         }
-        let plane = GridPlane::for_bounds(&ctx.scene.bounds);
+        let plane = GridPlane::for_scene(ctx.scene, s.lighting.guides.up);
         Some(RefGrid {
             plane,
             color: DVec3::from(line_color(s.background).map(f64::from)),
@@ -46,9 +46,15 @@ impl RefGrid {
         self.hit(o, d).map(|(p, _)| p)
     }
 
-    /// The opacity of the lines and the darkening of what lies behind at pixel (x, y) when
-    /// the plane is seen there in front of `t_opaque`, or None.
-    pub fn cover(&self, ctx: &Context, x: u32, y: u32, t_opaque: Option<f64>) -> Option<(f64, f64)> {
+    /// The colour and opacity of the lines and the darkening of what lies behind at pixel
+    /// (x, y) when the plane is seen there in front of `t_opaque`, or None.
+    pub fn cover(
+        &self,
+        ctx: &Context,
+        x: u32,
+        y: u32,
+        t_opaque: Option<f64>,
+    ) -> Option<(DVec3, f64, f64)> {
         let (o, d) = ctx.view.ray(x, y, ctx.size.0, ctx.size.1);
         let (p, t) = self.hit(o, d)?;
         // Clipped at the near plane (t = 0); the GPU's grid reaches past the far plane.
@@ -64,13 +70,13 @@ impl RefGrid {
         let q = |p: DVec3| DVec2::new(p.x, p.z) / self.plane.unit;
         let (px, py) = (self.at(ctx, x + dx, y)?, self.at(ctx, x, y + dy)?);
         let fw = (q(px) - q(p)).abs() + (q(py) - q(p)).abs();
-        let a = self.plane.alpha(p, fw, self.width);
+        let (line, a) = self.plane.lines(p, fw, self.width, self.color);
         let s = if self.above && ctx.shadows {
             (1.0 - self.floor(ctx, p)) * self.plane.fade_at(p)
         } else {
             0.0
         };
-        Some((a, s))
+        Some((line, a, s))
     }
 
     /// [`floor_light`] at plane point `p`, by shadow rays.
@@ -97,7 +103,7 @@ impl RefGrid {
     }
 
     /// `color` with the grid blended over it: C = L·a + C·(1 − s)(1 − a).
-    pub fn blend(&self, color: DVec3, (a, s): (f64, f64)) -> DVec3 {
-        self.color * a + color * (1.0 - s) * (1.0 - a)
+    pub fn blend(&self, color: DVec3, (line, a, s): (DVec3, f64, f64)) -> DVec3 {
+        line * a + color * (1.0 - s) * (1.0 - a)
     }
 }

@@ -14,7 +14,7 @@ use crate::grid::GridPlane;
 use crate::scene::Vertex;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
-use glam::{Mat4, Vec2, Vec3};
+use glam::{Mat4, Vec3};
 
 pub(crate) struct Grid;
 
@@ -62,7 +62,7 @@ impl Pass for Grid {
                 "the RGBM frame (bloom without float targets) cannot blend it".into(),
             ));
         }
-        let plane = GridPlane::for_bounds(&cx.scene.scene.bounds);
+        let plane = GridPlane::for_scene(&cx.scene.scene, s.lighting.guides.up);
         let mut state = std::mem::take(&mut cx.res.grid);
         let drawn = draw(cx, &mut state, &plane);
         cx.res.grid = state;
@@ -117,17 +117,27 @@ fn draw(cx: &mut FrameCx, state: &mut GridState, plane: &GridPlane) -> Result<()
     };
     program.set_vec3("uDepthRange", Vec3::new(near, far, ortho));
     program.set_f32("uUnit", plane.unit as f32);
-    let centre = plane.centre.as_vec2() - Vec2::new(origin.x, origin.z);
-    program.set_vec2("uCentre", centre);
+    let o = plane.origin();
+    program.set_vec2("uCentre", (plane.centre - glam::DVec2::new(o.x, o.z)).as_vec2());
     program.set_f32("uFade", plane.fade as f32);
     program.set_f32("uWidth", s.lighting.guides.scale);
     program.set_f32("uLineAlpha", crate::grid::LINE_ALPHA as f32);
-    let mut line = Vec3::from(crate::grid::line_color(s.background));
-    if cx.linear && s.shading == Shading::Pbr {
-        // The offscreen PBR frame is linear; the composite encodes it again.
-        line = line.to_array().map(|c| crate::pbr::srgb_decode(c.into()) as f32).into();
-    }
-    program.set_vec3("uLineColor", line);
+    // The offscreen PBR frame is linear; the composite encodes it again.
+    let decode = cx.linear && s.shading == Shading::Pbr;
+    let frame_value = |c: glam::DVec3| -> Vec3 {
+        if decode {
+            c.to_array().map(crate::pbr::srgb_decode).map(|x| x as f32).into()
+        } else {
+            c.as_vec3()
+        }
+    };
+    let line = glam::Vec3::from(crate::grid::line_color(s.background)).as_dvec3();
+    program.set_vec3("uLineColor", frame_value(line));
+    program.set_vec3("uAxisColorX", frame_value(plane.axis_colors[0]));
+    program.set_vec3("uAxisColorZ", frame_value(plane.axis_colors[1]));
+    program.set_f32("uAxisAlpha", crate::grid::AXIS_ALPHA as f32);
+    let axis_at = plane.file_origin - glam::DVec2::new(o.x, o.z);
+    program.set_vec2("uAxisAt", axis_at.as_vec2());
     program.set_f32("uTerminatorLift", 0.0);
     let ambient = s.lighting.ambient.dot(glam::DVec3::from(crate::grid::LUMINANCE));
     program.set_f32("uAmbient", ambient as f32);

@@ -36,8 +36,8 @@ pub(crate) fn draw(cx: &mut FrameCx) -> Result<Option<String>> {
     }
     let label = g
         .grid
-        .then(|| GridPlane::for_bounds(&cx.scene.scene.bounds).label());
-    let img = compose(&s.camera.view(), g.axes, label.as_deref(), g.scale, s.background);
+        .then(|| GridPlane::for_scene(&cx.scene.scene, g.up).label());
+    let img = compose(&s.camera.view(), g, label.as_deref(), s.background);
     let tex = Texture2d::new(
         cx.gpu,
         TextureFormat::Rgba8,
@@ -81,12 +81,11 @@ pub(crate) fn key() -> crate::shader::cache::ProgramKey {
 /// a square at the left, the grid's label along the bottom (right of the triad if any).
 pub fn compose(
     view: &glam::Mat4,
-    axes: bool,
+    g: crate::frame::Guides,
     label: Option<&str>,
-    scale: f32,
     background: glam::Vec3,
 ) -> Rgba {
-    let k = scale.max(1.0);
+    let (axes, k) = (g.axes, g.scale.max(1.0));
     let side = if axes { (TRIAD_PX * k).round() as u32 } else { 0 };
     let glyph = k.round().max(1.0) as u32;
     let label_w = label.map_or(0, |l| (l.chars().count() as u32 + 1) * 8 * glyph + 2);
@@ -103,13 +102,13 @@ pub fn compose(
         let mut order: Vec<(f32, usize)> = AXES
             .iter()
             .enumerate()
-            .map(|(i, (a, _, _))| (triad_direction(view, *a).2, i))
+            .map(|(i, (a, _, _))| (triad_direction(view, g.up, *a).2, i))
             .collect();
         // Far axes first: the one towards the viewer is drawn over the others.
         order.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (_, i) in order {
             let (axis, rgb, name) = AXES[i];
-            let (dx, dy, _) = triad_direction(view, axis);
+            let (dx, dy, _) = triad_direction(view, g.up, axis);
             let end = (half + dx * len, half + dy * len);
             segment(&mut img, (half, half), end, 2.0 * k, rgb);
             // The letter just past the tip, outwards from the centre (beside the centre

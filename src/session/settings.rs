@@ -238,6 +238,7 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
                 grid: args.render.grid,
                 axes: args.render.axes,
                 scale: ssaa_factor(args),
+                up: args.load.up,
             },
             ..Default::default()
         },

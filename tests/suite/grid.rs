@@ -193,7 +193,7 @@ fn axes_triad_turns_with_the_camera() {
             let name = format!("axes-{yaw}-{pitch}{}", c.0);
             let img = render_on(&dir, &name, &args, c);
             for (axis, rgb, label) in glview::grid::AXES {
-                let (dx, dy, _) = glview::grid::triad_direction(&view, axis);
+                let (dx, dy, _) = glview::grid::triad_direction(&view, Default::default(), axis);
                 // The segment's pixels, not its letter just past the tip.
                 let reach = len * dx.hypot(dy) + 1.5;
                 let (mut n, mut sx, mut sy) = (0.0, 0.0, 0.0);
@@ -228,7 +228,7 @@ fn axes_triad_turns_with_the_camera() {
                 );
             }
             if i == 0 {
-                let (zx, _, _) = glview::grid::triad_direction(&view, Vec3::Z);
+                let (zx, _, _) = glview::grid::triad_direction(&view, Default::default(), Vec3::Z);
                 assert!(zx < -0.99, "yaw 90: Z points left ({zx})");
             }
         }
