@@ -241,7 +241,11 @@ mod tests {
             (0.034, 0.02),
             (730.0, 500.0),
         ] {
-            assert!((nice_unit(x) - u).abs() < 1e-12 * u, "{x}: {}", nice_unit(x));
+            assert!(
+                (nice_unit(x) - u).abs() < 1e-12 * u,
+                "{x}: {}",
+                nice_unit(x)
+            );
         }
         assert_eq!(nice_unit(0.0), 1.0);
         assert_eq!(nice_unit(f64::NAN), 1.0);
@@ -276,10 +280,16 @@ mod tests {
         // Faded out far away; crowded lines vanish.
         assert_eq!(at(0.4, 10.0).1, 0.0);
         // (Away from the axes, which are single lines: they never crowd.)
-        assert_eq!(g.lines(DVec3::new(0.4, -0.5, 0.7), DVec2::splat(0.5), 1.0, grey).1, 0.0);
+        assert_eq!(
+            g.lines(DVec3::new(0.4, -0.5, 0.7), DVec2::splat(0.5), 1.0, grey)
+                .1,
+            0.0
+        );
         // The lattice point the GPU draws from is one of the lines' crossings.
         let o = g.origin();
-        assert!(((o.x + 0.1) / 0.5).fract().abs() < 1e-12 && ((o.z - 0.2) / 0.5).fract().abs() < 1e-12);
+        assert!(
+            ((o.x + 0.1) / 0.5).fract().abs() < 1e-12 && ((o.z - 0.2) / 0.5).fract().abs() < 1e-12
+        );
         // Z up: the file's X and Y lie on the floor (Y along the scene's Z, green).
         let green = DVec3::from(AXES[1].1.map(|c| f64::from(c) / 255.0));
         assert_eq!(floor_axis_color(UpAxis::PosZ, Vec3::Z), green);

@@ -292,6 +292,9 @@ mod tests {
         assert_eq!(k[4], Action::Screenshot);
         assert_eq!(k[5], Action::Quit);
         assert!(parse_keys("Left Banana").is_err());
-        assert_eq!(parse_keys("z X").unwrap(), [Action::ToggleGrid, Action::ToggleAxes]);
+        assert_eq!(
+            parse_keys("z X").unwrap(),
+            [Action::ToggleGrid, Action::ToggleAxes]
+        );
     }
 }

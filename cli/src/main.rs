@@ -144,10 +144,7 @@ fn dispatch(args: &Args) -> Result<()> {
             .load
             .crease
             .unwrap_or(glview::scene::normals::DEFAULT_CREASE_DEG);
-        print!(
-            "{}",
-            glview::scene::report::report(&scene, format, crease)
-        );
+        print!("{}", glview::scene::report::report(&scene, format, crease));
         return Ok(());
     }
     if let Some(out) = &args.output {

@@ -118,7 +118,10 @@ fn draw(cx: &mut FrameCx, state: &mut GridState, plane: &GridPlane) -> Result<()
     program.set_vec3("uDepthRange", Vec3::new(near, far, ortho));
     program.set_f32("uUnit", plane.unit as f32);
     let o = plane.origin();
-    program.set_vec2("uCentre", (plane.centre - glam::DVec2::new(o.x, o.z)).as_vec2());
+    program.set_vec2(
+        "uCentre",
+        (plane.centre - glam::DVec2::new(o.x, o.z)).as_vec2(),
+    );
     program.set_f32("uFade", plane.fade as f32);
     program.set_f32("uWidth", s.lighting.guides.scale);
     program.set_f32("uLineAlpha", crate::grid::LINE_ALPHA as f32);
@@ -126,7 +129,10 @@ fn draw(cx: &mut FrameCx, state: &mut GridState, plane: &GridPlane) -> Result<()
     let decode = cx.linear && s.shading == Shading::Pbr;
     let frame_value = |c: glam::DVec3| -> Vec3 {
         if decode {
-            c.to_array().map(crate::pbr::srgb_decode).map(|x| x as f32).into()
+            c.to_array()
+                .map(crate::pbr::srgb_decode)
+                .map(|x| x as f32)
+                .into()
         } else {
             c.as_vec3()
         }
@@ -139,7 +145,10 @@ fn draw(cx: &mut FrameCx, state: &mut GridState, plane: &GridPlane) -> Result<()
     let axis_at = plane.file_origin - glam::DVec2::new(o.x, o.z);
     program.set_vec2("uAxisAt", axis_at.as_vec2());
     program.set_f32("uTerminatorLift", 0.0);
-    let ambient = s.lighting.ambient.dot(glam::DVec3::from(crate::grid::LUMINANCE));
+    let ambient = s
+        .lighting
+        .ambient
+        .dot(glam::DVec3::from(crate::grid::LUMINANCE));
     program.set_f32("uAmbient", ambient as f32);
     let up_eye = v.view.transform_vector3(Vec3::Y);
     // The side the camera is on: from below, the floor's shadowed side is out of sight.

@@ -53,7 +53,10 @@ pub(crate) fn draw(cx: &mut FrameCx) -> Result<Option<String>> {
     cx.gpu.bind_framebuffer(cx.target.fbo);
     let [x, y, w, h] = cx.viewport;
     let m = (MARGIN_PX * g.scale).round() as u32;
-    let (iw, ih) = (img.width.min(w.saturating_sub(m)), img.height.min(h.saturating_sub(m)));
+    let (iw, ih) = (
+        img.width.min(w.saturating_sub(m)),
+        img.height.min(h.saturating_sub(m)),
+    );
     cx.gpu.viewport(x + m, y + m, iw, ih);
     cx.gpu.apply(&RenderState {
         blend: Blend::Alpha,
@@ -86,7 +89,11 @@ pub fn compose(
     background: glam::Vec3,
 ) -> Rgba {
     let (axes, k) = (g.axes, g.scale.max(1.0));
-    let side = if axes { (TRIAD_PX * k).round() as u32 } else { 0 };
+    let side = if axes {
+        (TRIAD_PX * k).round() as u32
+    } else {
+        0
+    };
     let glyph = k.round().max(1.0) as u32;
     let label_w = label.map_or(0, |l| (l.chars().count() as u32 + 1) * 8 * glyph + 2);
     let width = (side + label_w).max(1);
@@ -171,7 +178,8 @@ fn letter(img: &mut Rgba, x: i32, y: i32, text: &str, rgb: [u8; 3], glyph: u32) 
         for sy in 0..h {
             for sx in 0..w {
                 let (tx, ty) = (x + off + sx as i32, y + off + sy as i32);
-                let inside = tx >= 0 && ty >= 0 && (tx as u32) < img.width && (ty as u32) < img.height;
+                let inside =
+                    tx >= 0 && ty >= 0 && (tx as u32) < img.width && (ty as u32) < img.height;
                 if inside && scratch.pixel(sx, sy)[..3] == [255; 3] {
                     over(img, tx as u32, ty as u32, colour, 1.0);
                 }

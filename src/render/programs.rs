@@ -40,7 +40,13 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
                 }
             }
             keys.extend(pbr::all_keys(lights, shadows, pcf, cube_mask));
-            keys.push(lit::shadow_flags(grid::key(), lights, shadows, pcf, cube_mask));
+            keys.push(lit::shadow_flags(
+                grid::key(),
+                lights,
+                shadows,
+                pcf,
+                cube_mask,
+            ));
         }
     }
     keys

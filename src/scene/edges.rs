@@ -246,12 +246,18 @@ mod tests {
     fn counts_by_kind() {
         let mut m = cube();
         let c = count(&m, 60.0);
-        assert_eq!((c.total, c.boundary, c.creased, c.non_manifold), (18, 0, 12, 0));
+        assert_eq!(
+            (c.total, c.boundary, c.creased, c.non_manifold),
+            (18, 0, 12, 0)
+        );
         assert_eq!(c.feature(), 12);
         // No lid: its four edges become boundaries, its diagonal goes.
         m.indices.truncate(30);
         let c = count(&m, 60.0);
-        assert_eq!((c.total, c.boundary, c.creased, c.non_manifold), (17, 4, 8, 0));
+        assert_eq!(
+            (c.total, c.boundary, c.creased, c.non_manifold),
+            (17, 4, 8, 0)
+        );
         // Above 90° no cube edge is a crease.
         assert_eq!(count(&m, 95.0).creased, 0);
     }

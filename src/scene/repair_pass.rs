@@ -165,9 +165,15 @@ impl<'p> Pass<'p> {
             let c: Vec<f32> = nums
                 .get(3..6)
                 .filter(|_| nums.len() == 6)
-                .map_or(Vec::new(), |c| c.iter().filter_map(|w| w.parse().ok()).collect());
+                .map_or(Vec::new(), |c| {
+                    c.iter().filter_map(|w| w.parse().ok()).collect()
+                });
             let c = if c.len() == 3 && c.iter().all(|x: &f32| x.is_finite()) {
-                let scale = if c.iter().any(|&x| x > 1.0) { 255.0 } else { 1.0 };
+                let scale = if c.iter().any(|&x| x > 1.0) {
+                    255.0
+                } else {
+                    1.0
+                };
                 [c[0], c[1], c[2]].map(|x| (x / scale).clamp(0.0, 1.0))
             } else {
                 [1.0; 3]

@@ -381,10 +381,16 @@ fn check_counts_the_edges() {
     let text: String = box_obj([-1.0; 3], [1.0; 3], 0)
         .lines()
         .filter(|l| !l.starts_with('f'))
-        .chain(box_obj([-1.0; 3], [1.0; 3], 0).lines().filter(|l| l.starts_with('f')).take(10))
+        .chain(
+            box_obj([-1.0; 3], [1.0; 3], 0)
+                .lines()
+                .filter(|l| l.starts_with('f'))
+                .take(10),
+        )
         .map(|l| format!("{l}\n"))
         .collect();
     std::fs::write(&open, text).unwrap();
-    let r = String::from_utf8_lossy(&run(&["--check", open.to_str().unwrap()], &[]).stdout).to_string();
+    let r =
+        String::from_utf8_lossy(&run(&["--check", open.to_str().unwrap()], &[]).stdout).to_string();
     assert!(r.contains("4 boundary"), "{r}");
 }

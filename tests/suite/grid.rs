@@ -42,7 +42,11 @@ fn render_on(dir: &Path, name: &str, args: &[&str], c: &Context) -> Rgba {
     let out = dir.join(format!("{name}.png"));
     all.extend_from_slice(&["-o", out.to_str().unwrap()]);
     let o = run(&all, c.2);
-    assert!(o.status.success(), "{name}: {}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        o.status.success(),
+        "{name}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let img = Rgba::load_png(&out).unwrap();
     check_frame(&img, name);
     img
@@ -154,7 +158,10 @@ fn grid_receives_the_models_shadow() {
         let dark = |p: [u8; 4]| (0..3).all(|k| u16::from(p[k]) + 25 < u16::from(bg[k]));
         let want = mask(&reference, &off, dark);
         let shadow = want.iter().filter(|b| **b).count();
-        assert!(shadow > 150, "{name}: the reference has {shadow} shadow pixels");
+        assert!(
+            shadow > 150,
+            "{name}: the reference has {shadow} shadow pixels"
+        );
         let img = render_on(&dir, name, args, &c);
         let got = mask(&img, &off, dark);
         let (iou, n) = agreement(&got, &want);
@@ -173,7 +180,10 @@ fn axes_triad_turns_with_the_camera() {
     let file = model(&dir);
     let len = glview::render::guides::AXIS_SHARE * 0.5 * glview::render::guides::TRIAD_PX - 9.0;
     let (cx, cy) = glview::render::guides::triad_centre(180, 1.0);
-    for (i, (yaw, pitch)) in [("90", "0"), ("35", "25"), ("-120", "-40")].iter().enumerate() {
+    for (i, (yaw, pitch)) in [("90", "0"), ("35", "25"), ("-120", "-40")]
+        .iter()
+        .enumerate()
+    {
         let args = [
             file.as_str(),
             "--axes",
@@ -248,7 +258,13 @@ fn keys_z_and_x_replay_as_the_options() {
     };
     let both = pic("options", &["--grid", "--axes"]);
     assert_eq!(pic("keys", &["--keys", "Z X"]).data, both.data);
-    assert_eq!(pic("grid", &["--grid"]).data, pic("key_z", &["--keys", "Z"]).data);
-    assert_eq!(pic("none", &[]).data, pic("key_zz", &["--keys", "X Z X Z"]).data);
+    assert_eq!(
+        pic("grid", &["--grid"]).data,
+        pic("key_z", &["--keys", "Z"]).data
+    );
+    assert_eq!(
+        pic("none", &[]).data,
+        pic("key_zz", &["--keys", "X Z X Z"]).data
+    );
     assert_ne!(pic("none", &[]).data, both.data);
 }

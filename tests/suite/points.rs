@@ -529,12 +529,18 @@ fn obj_and_gltf_point_colours_and_normals() {
         let mut unlit = 0;
         for (i, (p, c)) in POINTS.iter().enumerate() {
             let (x, y) = project(&args, *p);
-            let (g, r) = (img.pixel(x as u32, y as u32), reference.pixel(x as u32, y as u32));
+            let (g, r) = (
+                img.pixel(x as u32, y as u32),
+                reference.pixel(x as u32, y as u32),
+            );
             let d = (0..3).map(|k| g[k].abs_diff(r[k])).max().unwrap();
             assert!(d <= 2, "{name}: point {i}: GPU {g:?}, reference {r:?}");
             unlit += usize::from(g[..3] == c[..]);
         }
-        assert!(unlit < POINTS.len(), "{name}: every point in its plain colour: unlit");
+        assert!(
+            unlit < POINTS.len(),
+            "{name}: every point in its plain colour: unlit"
+        );
     }
 }
 
@@ -549,11 +555,18 @@ fn write_gltf(dir: &Path) -> String {
         normal(i).iter().for_each(|x| bin.extend(x.to_le_bytes()));
     }
     for (_, c) in POINTS {
-        c.iter().for_each(|&x| bin.extend((f32::from(x) / 255.0).to_le_bytes()));
+        c.iter()
+            .for_each(|&x| bin.extend((f32::from(x) / 255.0).to_le_bytes()));
     }
     std::fs::write(dir.join("points.bin"), &bin).unwrap();
     let n = POINTS.len();
-    let view = |k: usize| format!(r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#, k * n * 12, n * 12);
+    let view = |k: usize| {
+        format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            k * n * 12,
+            n * 12
+        )
+    };
     let acc = |k: usize, minmax: &str| {
         format!(r#"{{"bufferView":{k},"componentType":5126,"count":{n},"type":"VEC3"{minmax}}}"#)
     };
