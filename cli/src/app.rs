@@ -395,6 +395,8 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyC => "C",
         KeyCode::KeyB => "B",
         KeyCode::KeyE => "E",
+        KeyCode::KeyZ => "Z",
+        KeyCode::KeyX => "X",
         _ => return None,
     })
 }
@@ -579,6 +581,8 @@ mod tests {
                     KeyCode::KeyC,
                     KeyCode::KeyB,
                     KeyCode::KeyE,
+                    KeyCode::KeyZ,
+                    KeyCode::KeyX,
                 ]
                 .iter()
                 .any(|c| physical_name(*c) == Some(n));
