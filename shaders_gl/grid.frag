@@ -19,6 +19,7 @@ uniform vec3 uAxisColorX;    // the file axis along X, and along Z (the frame's 
 uniform vec3 uAxisColorZ;
 uniform float uAxisAlpha;
 uniform vec3 uDepthRange;    // near, far of the frame's projection; z = 1: orthographic
+#include "output.glsl"
 #ifdef LOG_DEPTH
 uniform float uLogDepthC;
 uniform float uLogDepthFar;
@@ -95,6 +96,7 @@ void main() {
 #endif
     float alpha = 1.0 - (1.0 - s) * (1.0 - a);
     if (alpha <= 0.0) discard;
-    FRAG_COLOR = vec4(line.rgb * (a / alpha), alpha);
+    // Blended by the fixed function, or on the RGBM frame in output.glsl over a copy of it.
+    FRAG_COLOR = glviewOutputRgba(line.rgb * (a / alpha), alpha);
     gl_FragDepth = clamp(frameDepth(), 0.0, 1.0);
 }

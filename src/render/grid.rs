@@ -57,9 +57,9 @@ impl Pass for Grid {
                 "a teaching view replaces the scene".into(),
             ));
         }
-        if cx.rgbm {
+        if cx.rgbm && cx.gpu.caps.max_texture_units <= super::translucent::BEHIND_UNIT {
             return Ok(Outcome::Skipped(
-                "the RGBM frame (bloom without float targets) cannot blend it".into(),
+                "no texture unit is left for the copy the RGBM frame blends over".into(),
             ));
         }
         let plane = GridPlane::for_scene(&cx.scene.scene, s.lighting.guides.up);
@@ -80,14 +80,15 @@ fn draw(cx: &mut FrameCx, state: &mut GridState, plane: &GridPlane) -> Result<()
     } else {
         v.shadows
     };
-    let log_depth = s.lighting.translucency.log_depth;
-    let program = cx.program(
-        &shadow_flags(key(), v.lights, shadows, s.shadows.pcf, v.cube_mask).switch(
-            "LOG_DEPTH",
-            "logz",
-            log_depth,
-        ),
-    )?;
+    // Log depth, the offscreen frame's linear output and the RGBM frame, as the lit passes.
+    let key = cx.lit_flags(shadow_flags(
+        key(),
+        v.lights,
+        shadows,
+        s.shadows.pcf,
+        v.cube_mask,
+    ));
+    let program = cx.program(&key)?;
     program.bind();
     v.set_uniforms(&program, cx);
     let origin = plane.origin().as_vec3();
@@ -156,13 +157,25 @@ fn draw(cx: &mut FrameCx, state: &mut GridState, plane: &GridPlane) -> Result<()
     program.set_vec3("uNormal", if above { up_eye } else { -up_eye });
     program.set_f32("uLitSide", if above { 1.0 } else { 0.0 });
     cx.bind_target();
+    if cx.rgbm {
+        // The fixed function cannot blend RGBM: the shader blends over a copy of the frame.
+        let [x, y, w, h] = cx.viewport;
+        let unit = super::translucent::BEHIND_UNIT;
+        cx.res
+            .post
+            .behind(cx.gpu, w, h)?
+            .copy_region_from_framebuffer(unit, x, y);
+        cx.rgbm_blend = 1.0;
+        cx.set_rgbm_blend(&program);
+    }
     cx.gpu.apply(&RenderState {
         depth: Some(DepthFunc::LessEqual),
         depth_write: false,
-        blend: Blend::Alpha,
+        blend: if cx.rgbm { Blend::Off } else { Blend::Alpha },
         ..Default::default()
     });
     state.mesh(cx, corners)?.draw();
+    cx.rgbm_blend = 0.0;
     cx.stats.draw_calls += 1;
     cx.gpu.apply(&RenderState::default());
     Ok(())

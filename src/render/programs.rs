@@ -61,6 +61,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         edges::key(),
         edges::key().switch("LOG_DEPTH", "logz", true),
         lit::shadow_flags(grid::key(), 1, 1, 1, 0).switch("LOG_DEPTH", "logz", true),
+        lit::shadow_flags(grid::key(), 1, 1, 1, 0).switch("LINEAR_OUTPUT", "lin", true),
         guides::key(),
         edges::key().switch("WIDE", "wide", true),
         edges::key().switch("BARYCENTRIC", "bary", true),
@@ -91,6 +92,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         [
             background::skybox_key(true, 3),
             lit::program_key(1, 1, 1, 0, true, false, true),
+            lit::shadow_flags(grid::key(), 1, 1, 1, 0),
         ]
         .map(|k| {
             k.switch("LINEAR_OUTPUT", "lin", true)

@@ -268,3 +268,40 @@ fn keys_z_and_x_replay_as_the_options() {
     );
     assert_ne!(pic("none", &[]).data, both.data);
 }
+
+/// Bloom without float render targets (GL 2.1 on OSMesa without framebuffer objects) keeps
+/// the frame RGBM-encoded in the 8-bit target, which fixed-function blending cannot blend:
+/// the grid blends in its shader over a copy of the frame. With a negligible bloom the
+/// picture is the one without bloom (99 % of pixels within 3/255: RGBM's rounding).
+#[test]
+fn grid_on_the_rgbm_copy_path() {
+    let dir = out_dir("grid-rgbm");
+    let file = model(&dir);
+    let args = [
+        file.as_str(),
+        "--grid",
+        "--size",
+        "160x120",
+        "--pitch",
+        "30",
+        "--backend",
+        "osmesa",
+    ];
+    let c: Context = ("-nofbo", &[], GL21_NO_FBO);
+    let plain = render_on(&dir, "plain", &args, &c);
+    let out = dir.join("rgbm.png");
+    let mut bloom = args.to_vec();
+    bloom.extend_from_slice(&["--bloom", "0.0001", "--stats", "-o", out.to_str().unwrap()]);
+    let o = run(&bloom, GL21_NO_FBO);
+    let stats = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stats.contains("copy-to-texture path") && stats.contains("grid: ran"),
+        "{stats}"
+    );
+    let rgbm = Rgba::load_png(&out).unwrap();
+    let close = (0..W * H)
+        .filter(|i| !far(plain.pixel(i % W, i / W), rgbm.pixel(i % W, i / W), 3))
+        .count() as f64
+        / f64::from(W * H);
+    assert!(close >= 0.99, "{close:.4} of pixels within 3/255");
+}
