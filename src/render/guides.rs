@@ -4,7 +4,7 @@
 //! headless PNG) and blended into the bottom-left corner of the frame's rectangle with the
 //! window overlay's program. The triad is the view's rotation of the world axes, seen
 //! orthographically: it turns with the camera and never moves with zoom or pan.
-use super::FrameCx;
+use super::{FrameCx, Outcome};
 use crate::compare::canvas;
 use crate::gpu::state::{Blend, RenderState};
 use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
@@ -27,12 +27,17 @@ pub fn triad_centre(height: u32, scale: f32) -> (f32, f32) {
     (m + half, height as f32 - m - half)
 }
 
-/// Draws the guides the settings ask for; the entry for the stats, or None.
-pub(crate) fn draw(cx: &mut FrameCx) -> Result<Option<String>> {
+/// Draws the guides the settings ask for, or says why not.
+pub(crate) fn draw(cx: &mut FrameCx) -> Result<Outcome> {
     let g = cx.settings.lighting.guides;
     let s = cx.settings;
-    if !(g.axes || g.grid) || s.show_shadow_map || s.lighting.attribute_view.code() != 0 {
-        return Ok(None);
+    if !(g.axes || g.grid) {
+        return Ok(Outcome::Skipped("no --axes or --grid".into()));
+    }
+    if s.show_shadow_map || s.lighting.attribute_view.code() != 0 {
+        return Ok(Outcome::Skipped(
+            "a teaching view replaces the scene".into(),
+        ));
     }
     let label = g
         .grid
@@ -73,7 +78,7 @@ pub(crate) fn draw(cx: &mut FrameCx) -> Result<Option<String>> {
         (false, Some(l)) => format!("guides({l})"),
         (false, None) => unreachable!("returned above"),
     };
-    Ok(Some(what))
+    Ok(Outcome::Ran(what))
 }
 
 pub(crate) fn key() -> crate::shader::cache::ProgramKey {

@@ -381,14 +381,11 @@ impl Renderer {
                 run_post(&mut cx, &plan, target, viewport, self.time_post)?;
             }
             match guides::draw(&mut cx)? {
-                Some(entry) => {
+                Outcome::Ran(entry) => {
                     cx.stats.pass_log.push("guides: ran".into());
                     cx.stats.passes.push(entry);
                 }
-                None => cx
-                    .stats
-                    .pass_log
-                    .push("guides: skipped (no --axes or --grid)".into()),
+                Outcome::Skipped(why) => cx.stats.pass_log.push(format!("guides: skipped ({why})")),
             }
         }
         self.finish_frame(start, &mut stats)?;
