@@ -127,6 +127,33 @@ impl Default for Translucency {
     }
 }
 
+/// The ground grid and the orientation triad (`--grid`, `--axes`; keys `Z`, `X`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Guides {
+    /// A grid at the model's lowest point, receiving its shadow ([`crate::grid::GridPlane`]).
+    pub grid: bool,
+    /// The X/Y/Z triad in the bottom-left corner, turning with the camera.
+    pub axes: bool,
+    /// Pixels of the frame drawn per pixel of the picture (the SSAA factor): lines and
+    /// labels keep their size.
+    pub scale: f32,
+    /// Which file axis is up (`--up`): the triad and the grid's axis lines name the file's
+    /// axes, not the scene's turned ones.
+    #[serde(skip)]
+    pub up: crate::scene::UpAxis,
+}
+
+impl Default for Guides {
+    fn default() -> Self {
+        Guides {
+            grid: false,
+            axes: false,
+            scale: 1.0,
+            up: Default::default(),
+        }
+    }
+}
+
 /// Which edges are drawn over the model (`--edges`, `--wireframe`, the `E` key).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub enum EdgeMode {

@@ -21,6 +21,10 @@ pub enum Action {
     ToggleBloom,
     /// Lines over the model: off → feature edges → wireframe → off.
     CycleEdges,
+    /// The ground grid (`--grid`) on/off.
+    ToggleGrid,
+    /// The axes triad (`--axes`) on/off.
+    ToggleAxes,
     /// Translucent opacity down / up by 0.1 (`[`, `]`).
     Opacity(i8),
     Screenshot,
@@ -42,6 +46,8 @@ impl Action {
                 | Action::ToggleBloom
                 | Action::Opacity(_)
                 | Action::CycleEdges
+                | Action::ToggleGrid
+                | Action::ToggleAxes
         )
     }
 }
@@ -124,6 +130,12 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
         Action::CycleEdges,
         "lines: off → feature edges → wireframe → off",
     ),
+    (
+        &["Z"],
+        Action::ToggleGrid,
+        "ground grid on/off (receives the shadow)",
+    ),
+    (&["X"], Action::ToggleAxes, "axes triad on/off"),
     (
         &["F12"],
         Action::Screenshot,
@@ -249,6 +261,8 @@ pub fn apply(
             let e = &mut s.lighting.edges;
             e.mode = e.mode.next();
         }
+        Action::ToggleGrid => s.lighting.guides.grid = !s.lighting.guides.grid,
+        Action::ToggleAxes => s.lighting.guides.axes = !s.lighting.guides.axes,
         Action::ToggleCompare => return Effect::Compare,
         Action::ToggleBloom => {
             let b = &mut s.lighting.post.bloom;
@@ -278,5 +292,9 @@ mod tests {
         assert_eq!(k[4], Action::Screenshot);
         assert_eq!(k[5], Action::Quit);
         assert!(parse_keys("Left Banana").is_err());
+        assert_eq!(
+            parse_keys("z X").unwrap(),
+            [Action::ToggleGrid, Action::ToggleAxes]
+        );
     }
 }

@@ -10,6 +10,7 @@ pub mod camera;
 pub mod compare;
 pub mod error;
 pub mod frame;
+pub mod grid;
 pub mod image_out;
 pub mod keys;
 pub mod light;

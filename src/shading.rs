@@ -159,6 +159,8 @@ pub struct LightingParams {
     pub point_size: (f32, u32),
     /// Lines over the model (`--edges`, `--wireframe`).
     pub edges: crate::frame::Edges,
+    /// The ground grid and the axes triad (`--grid`, `--axes`).
+    pub guides: crate::frame::Guides,
 }
 
 /// The default point size's bounds in pixels: small enough that a dense scan stays a
@@ -182,6 +184,7 @@ impl Default for LightingParams {
             shadow_casters: crate::light::MAX_LIGHTS as u8,
             point_size: (MIN_POINT_PX, 0),
             edges: Default::default(),
+            guides: Default::default(),
         }
     }
 }

@@ -395,6 +395,8 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyC => "C",
         KeyCode::KeyB => "B",
         KeyCode::KeyE => "E",
+        KeyCode::KeyZ => "Z",
+        KeyCode::KeyX => "X",
         _ => return None,
     })
 }
@@ -432,7 +434,7 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
             format!("tier {} ({:?})", s.shading.tier(), s.shading).to_lowercase()
         },
         format!(
-            "shadows {}  lights {}  wrap {}  lines {}",
+            "shadows {}  lights {}  wrap {}  lines {}  grid {}  axes {}",
             on(s.shadows.enabled),
             glview::compare::light_count(s),
             on(s.lighting.wrap),
@@ -440,7 +442,9 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
                 glview::frame::EdgeMode::Off => "off",
                 glview::frame::EdgeMode::Feature => "edges",
                 glview::frame::EdgeMode::Wireframe => "wireframe",
-            }
+            },
+            on(s.lighting.guides.grid),
+            on(s.lighting.guides.axes)
         ),
     ];
     let t = &s.lighting.terms;
@@ -577,6 +581,8 @@ mod tests {
                     KeyCode::KeyC,
                     KeyCode::KeyB,
                     KeyCode::KeyE,
+                    KeyCode::KeyZ,
+                    KeyCode::KeyX,
                 ]
                 .iter()
                 .any(|c| physical_name(*c) == Some(n));

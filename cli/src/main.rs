@@ -140,7 +140,11 @@ fn dispatch(args: &Args) -> Result<()> {
             .model
             .as_deref()
             .map(|p| glview::scene::formats::format_of(p).0);
-        print!("{}", glview::scene::report::report(&scene, format));
+        let crease = args
+            .load
+            .crease
+            .unwrap_or(glview::scene::normals::DEFAULT_CREASE_DEG);
+        print!("{}", glview::scene::report::report(&scene, format, crease));
         return Ok(());
     }
     if let Some(out) = &args.output {

@@ -200,6 +200,13 @@ declare_options! {
         /// How edges are drawn: lines (GL lines or quads over a polygon-offset surface), or
         /// barycentric (on the triangles, by a barycentric attribute; measured option).
         edge_method: EdgeMethod = EdgeMethod::Lines, "edge-method" value;
+        /// A ground grid at the model's lowest point (in the up axis), fading with distance,
+        /// receiving the model's shadow; its unit (1, 2 or 5 × 10^k, from the model's size)
+        /// is written in the bottom-left corner (key Z).
+        grid: bool = false, "grid" flag;
+        /// An X/Y/Z orientation triad (red, green, blue) in the bottom-left corner, turning
+        /// with the camera (key X).
+        axes: bool = false, "axes" flag;
     }
     /// The PBR tier: environment, material overrides, precomputation.
     pbr: Pbr {

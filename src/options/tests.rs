@@ -146,6 +146,8 @@ fn every_option_changed() -> Options {
         "--stats",
         "--point-size",
         "5",
+        "--grid",
+        "--axes",
         "--gl",
         "2.1",
         "--backend",

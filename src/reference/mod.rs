@@ -15,7 +15,9 @@
 //! - textures are sampled at level 0 with the magnification filter (the GPU may use mipmaps
 //!   where the texture is minified); the material model otherwise as the shaders read it
 //!   (`material`: samplers, UV sets, texture transforms, alpha modes, sidedness, normal maps);
-//! - `show_shadow_map` (a teaching view) is ignored.
+//! - `show_shadow_map` (a teaching view) is ignored;
+//! - `--grid`: the plane and its lines as the GPU draws them (`grid`); `--axes` and the
+//!   grid's label (drawn over the finished picture, `render/guides.rs`) are not drawn.
 //!
 //! Measured on the built-in scene at 640×480 (llvmpipe): with `--no-shadows`, pixels without
 //! a translucent layer agree to a mean of 0.000/255 (2 of 294k pixels off by more than 8/255,
@@ -23,6 +25,7 @@
 //! approximations. See `gpu_against_reference_builtin` in tests/suite/reference.rs.
 pub mod bvh;
 pub mod edges;
+pub mod grid;
 pub mod material;
 pub mod pbr;
 pub mod points;
@@ -82,6 +85,8 @@ pub struct Context<'a> {
     pub generated_tangents: Vec<Vec<[f32; 4]>>,
     /// `--edges` / `--wireframe`: the projected segments.
     pub edges: Option<edges::ScreenEdges>,
+    /// `--grid`: the ray-cast ground plane.
+    pub grid: Option<grid::RefGrid>,
 }
 
 impl<'a> Context<'a> {
@@ -135,7 +140,9 @@ impl<'a> Context<'a> {
                 })
                 .collect(),
             edges: None,
+            grid: None,
         };
+        ctx.grid = grid::RefGrid::new(&ctx);
         let e = settings.lighting.edges;
         if let Some(set) = e.set() {
             let color = DVec3::from(e.line_color().map(f64::from));
@@ -322,6 +329,12 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo, 
         };
         record(hit, s.shadowed, &mut info);
         info.layers += 1;
+    }
+    // The grid after the surfaces, where the opaque one does not hide it (render/grid.rs).
+    if let Some(g) = &ctx.grid {
+        if let Some(c) = g.cover(ctx, x, y, opaque.map(|h| h.t)) {
+            color = g.blend(color, c);
+        }
     }
     // Lines are drawn after every surface (render/edges.rs).
     if let Some(e) = &ctx.edges {

@@ -158,7 +158,14 @@ fn safe_normalize(n: DVec3, fallback: DVec3) -> DVec3 {
 /// but the facet (`ng`, turned to `ns`'s side) faces away, the facet would be shadowed by its
 /// own lit neighbours (dark triangles inside the lit side of coarse smooth meshes); there the
 /// ray starts `lift` along `ns` instead, at about the smooth surface the normals describe.
-fn light_visible(ctx: &Context, p: DVec3, ng: DVec3, ns: DVec3, lift: f64, light: &Light) -> bool {
+pub(super) fn light_visible(
+    ctx: &Context,
+    p: DVec3,
+    ng: DVec3,
+    ns: DVec3,
+    lift: f64,
+    light: &Light,
+) -> bool {
     let towards = match light.kind {
         LightKind::Point(q) => q.as_dvec3() - p,
         LightKind::Directional(d) => -d.as_dvec3(),

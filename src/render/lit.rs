@@ -117,7 +117,6 @@ impl View {
             })
             .collect();
         let mut shadow = ShadowUniforms::default();
-        let radius = cx.scene.scene.bounds.radius();
         for (i, m) in maps.iter().enumerate() {
             m.texture.bind(SHADOW_UNIT + i as u32);
             cx.stats.textures_bound += 1;
@@ -132,7 +131,7 @@ impl View {
             // sphere), so the normal offset is given in texels and converted here.
             shadow
                 .normal_offsets
-                .push(s.shadows.normal_offset * 2.0 * radius / m.face as f32);
+                .push(s.shadows.normal_offset * 2.0 * m.radius / m.face as f32);
         }
         shadow.eye_to_world = Mat3::from_mat4(view).transpose();
         View {

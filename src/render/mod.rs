@@ -3,14 +3,16 @@
 //! kept between frames) and either draws or says why it did not. `--stats` lists the passes
 //! that ran (`passes`) and every decision (`pass_log`).
 //!
-//! Frame: shadow depth → background → legacy lit | PBR lit → edges → teaching view → post
-//! (post.rs).
+//! Frame: shadow depth → background → legacy lit | PBR lit → grid → edges → teaching view →
+//! post (post.rs) → guides (the axes triad and the grid's label, in display colour).
 pub mod aa;
 pub mod attributes;
 pub mod background;
 mod cull;
 pub(crate) mod edges;
 pub mod frusta;
+pub(crate) mod grid;
+pub mod guides;
 pub mod ibl;
 pub mod ibl_gpu;
 pub mod lit;
@@ -106,6 +108,8 @@ pub(crate) struct Resources {
     pub post: post::PostState,
     /// The line meshes of `--edges` / `--wireframe`, made on first use.
     pub edges: edges::EdgeState,
+    /// The square of `--grid`, made on first use.
+    pub grid: grid::GridState,
 }
 
 impl Resources {
@@ -255,6 +259,7 @@ const PASSES: &[&dyn Pass] = &[
     &background::Background,
     &lit::Lit,
     &pbr::Pbr,
+    &grid::Grid,
     &edges::Edges,
     &shadow::ShowShadowMap,
 ];
@@ -374,6 +379,13 @@ impl Renderer {
             run_passes(&mut cx)?;
             if plan.any_post {
                 run_post(&mut cx, &plan, target, viewport, self.time_post)?;
+            }
+            match guides::draw(&mut cx)? {
+                Outcome::Ran(entry) => {
+                    cx.stats.pass_log.push("guides: ran".into());
+                    cx.stats.passes.push(entry);
+                }
+                Outcome::Skipped(why) => cx.stats.pass_log.push(format!("guides: skipped ({why})")),
             }
         }
         self.finish_frame(start, &mut stats)?;

@@ -1,7 +1,7 @@
 //! Every program key the renderer can ask for, listed in one place for `--compile-shaders`
 //! (which compiles them all ahead of any frame) and its test. The renderer owns the keys (each
 //! pass builds its own), so the list lives here and the shader cache only stores programs.
-use super::{attributes, background, edges, lit, pbr, post, shadow, slots};
+use super::{attributes, background, edges, grid, guides, lit, pbr, post, shadow, slots};
 use crate::shader::cache::ProgramKey;
 
 /// Every program key the renderer can ask for with up to `max_lights` lights: the legacy
@@ -40,6 +40,13 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
                 }
             }
             keys.extend(pbr::all_keys(lights, shadows, pcf, cube_mask));
+            keys.push(lit::shadow_flags(
+                grid::key(),
+                lights,
+                shadows,
+                pcf,
+                cube_mask,
+            ));
         }
     }
     keys
@@ -53,6 +60,9 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         attributes::key(),
         edges::key(),
         edges::key().switch("LOG_DEPTH", "logz", true),
+        lit::shadow_flags(grid::key(), 1, 1, 1, 0).switch("LOG_DEPTH", "logz", true),
+        lit::shadow_flags(grid::key(), 1, 1, 1, 0).switch("LINEAR_OUTPUT", "lin", true),
+        guides::key(),
         edges::key().switch("WIDE", "wide", true),
         edges::key().switch("BARYCENTRIC", "bary", true),
     ]
@@ -82,6 +92,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         [
             background::skybox_key(true, 3),
             lit::program_key(1, 1, 1, 0, true, false, true),
+            lit::shadow_flags(grid::key(), 1, 1, 1, 0),
         ]
         .map(|k| {
             k.switch("LINEAR_OUTPUT", "lin", true)

@@ -39,6 +39,9 @@ pub(crate) struct ShadowMap {
     pub projection: ShadowProjection,
     /// Side of one view's square in texels.
     pub face: u32,
+    /// Radius of the bounds the views are fitted to (the model's, or with `--grid` also its
+    /// shadow on the floor): a texel spans about 2·radius/face.
+    pub radius: f32,
 }
 
 impl ShadowMap {
@@ -63,6 +66,8 @@ impl ShadowMap {
 #[derive(Clone, Debug, PartialEq)]
 struct ShadowKey {
     lights: Vec<Light>,
+    /// `--grid`: the maps also hold the model's shadow on the floor.
+    grid: bool,
     size: u32,
     slope_bias: f32,
 }
@@ -149,6 +154,7 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
     let casters = &s.lights[..s.lights.len().min(usize::from(s.lighting.shadow_casters))];
     let key = ShadowKey {
         lights: casters.to_vec(),
+        grid: s.lighting.guides.grid,
         size,
         slope_bias: s.shadows.slope_bias,
     };
@@ -219,7 +225,11 @@ fn layout(light: &Light, bounds: &Bounds, size: u32) -> Layout {
 fn allocate_maps(cx: &mut FrameCx, casters: &[Light], size: u32) -> Result<Vec<ShadowMap>> {
     let gpu = cx.gpu.clone();
     let use_fbo = gpu.caps.fbo;
-    let bounds = cx.scene.scene.bounds;
+    let bounds = if cx.settings.lighting.guides.grid {
+        crate::grid::shadow_bounds(&cx.scene.scene.bounds, casters)
+    } else {
+        cx.scene.scene.bounds
+    };
     let mut maps = Vec::new();
     let mut old: Vec<Option<ShadowMap>> = std::mem::take(&mut cx.res.shadow.maps)
         .into_iter()
@@ -258,6 +268,7 @@ fn allocate_maps(cx: &mut FrameCx, casters: &[Light], size: u32) -> Result<Vec<S
             views,
             projection,
             face,
+            radius: bounds.radius(),
         });
     }
     Ok(maps)

@@ -79,7 +79,9 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 7: the colour rule (issue 31): a material's `colour_rule`, glTF COLOR_0 stored encoded.
 /// 8: COLOR_0's alpha per vertex (issue 32).
 /// 9: point clouds (issue 31): the wire's per-point colours and normals.
-const FORMAT: u32 = 9;
+/// 10: OBJ clouds' `v x y z r g b` colours and `vn` normals, glTF POINTS' COLOR_0 and NORMAL
+/// (issue 31): entries of 9 hold such clouds without them.
+const FORMAT: u32 = 10;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);

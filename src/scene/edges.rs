@@ -56,9 +56,17 @@ pub fn triangle_masks(mesh: &Mesh, set: EdgeSet) -> Vec<u8> {
         .collect()
 }
 
-/// Welded corner per vertex, the corners' positions, and the kept edges (low, high corner).
-#[allow(clippy::type_complexity)]
-fn classify(mesh: &Mesh, set: EdgeSet) -> (Vec<u32>, Vec<[f32; 3]>, Vec<[u32; 2]>) {
+/// A mesh's edges over welded corners: the corner of each vertex, the corners' positions,
+/// every triangle's normal (unnormalised) and its edges as (low corner, high corner, face),
+/// sorted so an edge's faces are adjacent: deterministic, and no hash map of edges.
+struct Welded {
+    weld: Vec<u32>,
+    positions: Vec<[f32; 3]>,
+    normals: Vec<DVec3>,
+    half: Vec<(u32, u32, u32)>,
+}
+
+fn weld(mesh: &Mesh) -> Welded {
     let mut corner_of: HashMap<[u32; 3], u32> = HashMap::new();
     let mut positions: Vec<[f32; 3]> = Vec::new();
     let weld: Vec<u32> = mesh
@@ -74,8 +82,6 @@ fn classify(mesh: &Mesh, set: EdgeSet) -> (Vec<u32>, Vec<[f32; 3]>, Vec<[u32; 2]
         })
         .collect();
     let p = |c: u32| DVec3::from(positions[c as usize].map(f64::from));
-    // (low corner, high corner, face) for every triangle edge, sorted so an edge's faces
-    // are adjacent: deterministic, and no hash map of edges.
     let mut half: Vec<(u32, u32, u32)> = Vec::with_capacity(mesh.indices.len());
     let mut normals: Vec<DVec3> = Vec::with_capacity(mesh.indices.len() / 3);
     for (f, t) in mesh.indices.chunks_exact(3).enumerate() {
@@ -88,28 +94,103 @@ fn classify(mesh: &Mesh, set: EdgeSet) -> (Vec<u32>, Vec<[f32; 3]>, Vec<[u32; 2]
         }
     }
     half.sort_unstable();
+    Welded {
+        weld,
+        positions,
+        normals,
+        half,
+    }
+}
+
+/// What an edge is, from its faces (one run of [`Welded::half`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Boundary,
+    NonManifold,
+    Creased,
+    Smooth,
+}
+
+fn kind(w: &Welded, run: &[(u32, u32, u32)], cos_crease: f64) -> Kind {
+    match run {
+        [_] => Kind::Boundary,
+        [x, y] => {
+            let (n1, n2) = (w.normals[x.2 as usize], w.normals[y.2 as usize]);
+            let len = n1.length() * n2.length();
+            // A degenerate face has no normal: its edges show no crease.
+            if len > 0.0 && n1.dot(n2) < cos_crease * len {
+                Kind::Creased
+            } else {
+                Kind::Smooth
+            }
+        }
+        _ => Kind::NonManifold,
+    }
+}
+
+/// Welded corner per vertex, the corners' positions, and the kept edges (low, high corner).
+#[allow(clippy::type_complexity)]
+fn classify(mesh: &Mesh, set: EdgeSet) -> (Vec<u32>, Vec<[f32; 3]>, Vec<[u32; 2]>) {
+    let w = weld(mesh);
     let cos_crease = match set {
         EdgeSet::Feature { crease_deg } => f64::from(crease_deg).to_radians().cos(),
         EdgeSet::All => 0.0,
     };
     let mut segments = Vec::new();
-    for run in half.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
-        let keep = match (set, run) {
-            (EdgeSet::All, _) => true,
-            (EdgeSet::Feature { .. }, [_]) => true,
-            (EdgeSet::Feature { .. }, [x, y]) => {
-                let (n1, n2) = (normals[x.2 as usize], normals[y.2 as usize]);
-                let len = n1.length() * n2.length();
-                // A degenerate face has no normal: its edges show no crease.
-                len > 0.0 && n1.dot(n2) < cos_crease * len
-            }
-            (EdgeSet::Feature { .. }, _) => true,
-        };
+    for run in w.half.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+        let keep = set == EdgeSet::All || kind(&w, run, cos_crease) != Kind::Smooth;
         if keep {
             segments.push([run[0].0, run[0].1]);
         }
     }
-    (weld, positions, segments)
+    (w.weld, w.positions, segments)
+}
+
+/// How many edges of a mesh are of each kind (`--check`), over welded corners.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EdgeCounts {
+    /// Every distinct triangle edge (the wireframe).
+    pub total: usize,
+    /// Edges of one face.
+    pub boundary: usize,
+    /// Edges of more than two faces.
+    pub non_manifold: usize,
+    /// Edges of two faces whose normals differ by more than the crease angle.
+    pub creased: usize,
+}
+
+impl EdgeCounts {
+    /// The feature edges `--edges` draws: boundary, non-manifold and creased.
+    pub fn feature(&self) -> usize {
+        self.boundary + self.non_manifold + self.creased
+    }
+}
+
+impl std::ops::AddAssign for EdgeCounts {
+    fn add_assign(&mut self, o: EdgeCounts) {
+        self.total += o.total;
+        self.boundary += o.boundary;
+        self.non_manifold += o.non_manifold;
+        self.creased += o.creased;
+    }
+}
+
+/// The edges of `mesh` by kind, creases at `crease_deg` (the feature set's rule), in one
+/// pass over its sorted edges.
+pub fn count(mesh: &Mesh, crease_deg: f32) -> EdgeCounts {
+    let w = weld(mesh);
+    let cos_crease = f64::from(crease_deg).to_radians().cos();
+    let mut c = EdgeCounts::default();
+    for run in w.half.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+        c.total += 1;
+        match kind(&w, run, cos_crease) {
+            Kind::Boundary => c.boundary += 1,
+            Kind::NonManifold => c.non_manifold += 1,
+            Kind::Creased => c.creased += 1,
+            Kind::Smooth => {}
+        }
+    }
+    c
 }
 
 /// Keeps only the corners the segments use, renumbered in order of first use.
@@ -183,6 +264,26 @@ mod tests {
             .collect();
         l.sort_by(f32::total_cmp);
         l
+    }
+
+    #[test]
+    fn counts_by_kind() {
+        let mut m = cube();
+        let c = count(&m, 60.0);
+        assert_eq!(
+            (c.total, c.boundary, c.creased, c.non_manifold),
+            (18, 0, 12, 0)
+        );
+        assert_eq!(c.feature(), 12);
+        // No lid: its four edges become boundaries, its diagonal goes.
+        m.indices.truncate(30);
+        let c = count(&m, 60.0);
+        assert_eq!(
+            (c.total, c.boundary, c.creased, c.non_manifold),
+            (17, 4, 8, 0)
+        );
+        // Above 90° no cube edge is a crease.
+        assert_eq!(count(&m, 95.0).creased, 0);
     }
 
     #[test]

@@ -34,6 +34,41 @@ pub struct Primitives {
     pub prims: Vec<Prim>,
     pub wire_pts: Vec<DVec3>,
     pub wire: Wire,
+    /// Some wire primitive had no normals: the points are drawn unlit.
+    wire_unlit: bool,
+}
+
+impl Primitives {
+    /// Adds the colours and normals of `n` wire positions about to be added: colours white
+    /// where a primitive has none (while some other has them); normals only while every
+    /// primitive so far had them (else the points are drawn unlit).
+    fn wire_attributes(
+        &mut self,
+        n: usize,
+        colors: Option<Vec<[f32; 3]>>,
+        normals: Option<Vec<DVec3>>,
+    ) {
+        let before = self.wire_pts.len();
+        let w = &mut self.wire;
+        match colors.filter(|c| c.len() == n) {
+            Some(c) => {
+                w.colors.resize(before, [1.0; 3]);
+                w.colors.extend(c);
+            }
+            None if !w.colors.is_empty() => w.colors.resize(before + n, [1.0; 3]),
+            None => {}
+        }
+        match normals.filter(|v| v.len() == n) {
+            Some(v) if !self.wire_unlit && w.normals.len() == before => w
+                .normals
+                .extend(v.iter().map(|d| d.normalize_or_zero().as_vec3().to_array())),
+            _ => {
+                w.normals.clear();
+                // None of the later ones count either.
+                self.wire_unlit = true;
+            }
+        }
+    }
 }
 
 /// A node instancing a mesh: its transform and what follows from it for directions, and where
@@ -112,6 +147,10 @@ impl<'a> Instance<'a> {
             let (indices, segments) = super::gltf_modes::split(p.mode(), &corners, self.mirrored);
             if matches!(p.mode(), Mode::Points) || !segments.is_empty() {
                 let base = out.wire_pts.len() as u32;
+                // Points take their COLOR_0 and NORMAL (lit where every point has one).
+                let colors = self.colors(&p)?.0;
+                let normals = self.normals(&p, &where_, warnings)?;
+                out.wire_attributes(positions.len(), colors, normals);
                 out.wire_pts.extend(&positions);
                 if p.mode() == Mode::Points {
                     out.wire.points.extend(corners.iter().map(|i| base + i));
@@ -125,22 +164,7 @@ impl<'a> Instance<'a> {
             let uvs = self.uv_set(&p, 0, warnings)?;
             let uv1 = self.uv_set(&p, 1, warnings)?;
             let tangents = self.tangents(&p, &where_, warnings)?;
-            let (colors, alphas) = match p.get(&Semantic::Colors(0)) {
-                Some(a) => {
-                    let (d, v) = accessor::read_f32(&a, self.buffers, &[D::Vec3, D::Vec4])?;
-                    // COLOR_0 is linear; `Mesh::colors` holds display values (as PLY's
-                    // and OBJ's): encoded once here, decoded again by the PBR tier. Its
-                    // alpha (a weight, not a colour) stays linear.
-                    let enc = super::material::srgb_encode_hdr;
-                    let alphas = (d == 4).then(|| v.chunks_exact(4).map(|q| q[3]).collect());
-                    let rgb = v
-                        .chunks_exact(d)
-                        .map(|q| [enc(q[0]), enc(q[1]), enc(q[2])])
-                        .collect();
-                    (Some(rgb), alphas)
-                }
-                None => (None, None),
-            };
+            let (colors, alphas) = self.colors(&p)?;
             out.prims.push(Prim {
                 positions,
                 normals,
@@ -194,6 +218,28 @@ impl<'a> Instance<'a> {
             ));
         }
         Ok(positions)
+    }
+
+    /// COLOR_0 in display values, and its alpha where it is a VEC4; None if absent.
+    #[allow(clippy::type_complexity)]
+    fn colors(
+        &self,
+        p: &gltf::Primitive,
+    ) -> Result<(Option<Vec<[f32; 3]>>, Option<Vec<f32>>), String> {
+        let Some(a) = p.get(&Semantic::Colors(0)) else {
+            return Ok((None, None));
+        };
+        let (d, v) = accessor::read_f32(&a, self.buffers, &[D::Vec3, D::Vec4])?;
+        // COLOR_0 is linear; `Mesh::colors` holds display values (as PLY's and OBJ's):
+        // encoded once here, decoded again by the PBR tier. Its alpha (a weight, not a
+        // colour) stays linear.
+        let enc = super::material::srgb_encode_hdr;
+        let alphas = (d == 4).then(|| v.chunks_exact(4).map(|q| q[3]).collect());
+        let rgb = v
+            .chunks_exact(d)
+            .map(|q| [enc(q[0]), enc(q[1]), enc(q[2])])
+            .collect();
+        Ok((Some(rgb), alphas))
     }
 
     /// The NORMAL accessor's directions under the normal matrix; None (normals generated) if

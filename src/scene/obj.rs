@@ -295,6 +295,21 @@ fn wire_of(
         .map(|s| s.map(|i| local[&i]))
         .collect();
     wire.points = repaired.points.iter().map(|i| local[i]).collect();
+    // A file without faces may give its vertices colours and (one `vn` each) normals.
+    let all = repaired.positions.len();
+    if repaired.colours.len() == all {
+        wire.colors = used.iter().map(|&i| repaired.colours[i as usize]).collect();
+    }
+    if repaired.normals.len() == all {
+        wire.normals = used
+            .iter()
+            .map(|&i| {
+                let n = repaired.normals[i as usize].map(f64::from);
+                // The up rotation is linear: it turns directions as it turns positions.
+                rotated(&n).normalize_or_zero().as_vec3().to_array()
+            })
+            .collect();
+    }
     wire
 }
 

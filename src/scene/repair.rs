@@ -31,6 +31,12 @@ pub struct Repaired {
     pub points: Vec<u32>,
     /// Vertices written without a colour in a file where others have one (made white).
     pub uncoloured: usize,
+    /// A file without faces (a point cloud, or lines and points): every `v` line's colour
+    /// (`v x y z r g b`, white where a line has none), or empty where no line has one.
+    pub colours: Vec<[f32; 3]>,
+    /// A file without faces with as many `vn` as `v` lines: the i-th normal is the i-th
+    /// vertex's (as cloud exporters write them); empty otherwise or if one is malformed.
+    pub normals: Vec<[f32; 3]>,
 }
 
 #[derive(Default)]
@@ -40,6 +46,7 @@ struct Counts {
     vn: usize,
     /// `v` lines with a colour (6 numbers).
     coloured: usize,
+    f: usize,
 }
 
 /// Statements whose arguments are names, where a non-UTF-8 byte can be replaced safely.
@@ -104,6 +111,7 @@ fn count_elements(lines: &[Line<'_>]) -> Counts {
             }
             b"vt" => c.vt += 1,
             b"vn" => c.vn += 1,
+            b"f" => c.f += 1,
             _ => {}
         }
     }

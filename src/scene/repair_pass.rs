@@ -19,6 +19,9 @@ pub(super) struct Pass<'p> {
     seen: Counts,
     /// Only some `v` lines have a colour (the others are written out white).
     mixed_colours: bool,
+    /// A file without faces: `v` colours and `vn` normals are kept for its points.
+    keep_colours: bool,
+    keep_normals: bool,
     lossy_lines: usize,
     missing_refs: usize,
     unknown: usize,
@@ -40,6 +43,8 @@ impl<'p> Pass<'p> {
                 ..Repaired::default()
             },
             mixed_colours: total.coloured > 0 && total.coloured < total.v,
+            keep_colours: total.f == 0 && total.coloured > 0,
+            keep_normals: total.f == 0 && total.v > 0 && total.vn == total.v,
             total,
             seen: Counts::default(),
             lossy_lines: 0,
@@ -90,7 +95,12 @@ impl<'p> Pass<'p> {
             }
             "l" | "p" => return self.line_or_points(lineno, first, words),
             "vt" => self.seen.vt += 1,
-            "vn" => self.seen.vn += 1,
+            "vn" => {
+                self.seen.vn += 1;
+                if self.keep_normals {
+                    self.cloud_normal(words);
+                }
+            }
             "f" => return self.face(lineno, words),
             "usemtl" if line.trim() == "usemtl" => {
                 self.warn(Some(lineno), "empty usemtl ignored".into());
@@ -150,6 +160,26 @@ impl<'p> Pass<'p> {
             }
         }
         self.out.positions.push(p);
+        if self.keep_colours {
+            // Colours written 0–255 (some exporters) are read as such where one exceeds 1.
+            let c: Vec<f32> = nums
+                .get(3..6)
+                .filter(|_| nums.len() == 6)
+                .map_or(Vec::new(), |c| {
+                    c.iter().filter_map(|w| w.parse().ok()).collect()
+                });
+            let c = if c.len() == 3 && c.iter().all(|x: &f32| x.is_finite()) {
+                let scale = if c.iter().any(|&x| x > 1.0) {
+                    255.0
+                } else {
+                    1.0
+                };
+                [c[0], c[1], c[2]].map(|x| (x / scale).clamp(0.0, 1.0))
+            } else {
+                [1.0; 3]
+            };
+            self.out.colours.push(c);
+        }
         // tobj fails without a line number when only some vertices have a colour:
         // the others get white, as written out for tobj.
         if self.mixed_colours && nums.len() != 6 {
@@ -161,6 +191,21 @@ impl<'p> Pass<'p> {
         self.out.text.push_str(line);
         self.out.text.push('\n');
         Ok(())
+    }
+
+    /// A `vn` line of a file without faces: kept as the next vertex's normal; a malformed one
+    /// drops them all (the points are then drawn unlit).
+    fn cloud_normal<'a>(&mut self, words: impl Iterator<Item = &'a str>) {
+        let n: Vec<f32> = words.take(3).filter_map(|w| w.parse().ok()).collect();
+        match n[..] {
+            [x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => {
+                self.out.normals.push([x, y, z])
+            }
+            _ => {
+                self.keep_normals = false;
+                self.out.normals = Vec::new();
+            }
+        }
     }
 
     /// An `l` or `p` line (`first`; `words` after it): its vertex indices checked and kept as

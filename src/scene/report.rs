@@ -3,10 +3,12 @@ use super::Scene;
 use std::fmt::Write;
 
 /// What the loader made of `s`, read from a file of `format` (None: the built-in scene,
-/// which is OBJ).
-pub fn report(s: &Scene, format: Option<super::formats::Format>) -> String {
+/// which is OBJ); feature edges are counted at `crease_deg` (the loader's crease angle,
+/// which `--edges` draws at).
+pub fn report(s: &Scene, format: Option<super::formats::Format>, crease_deg: f32) -> String {
     let mut r = String::new();
     let coloured = summary(&mut r, s);
+    edges(&mut r, s, crease_deg);
     let has_colours = coloured > 0;
     for m in &s.materials {
         material(&mut r, m, format, has_colours);
@@ -82,6 +84,27 @@ fn summary(r: &mut String, s: &Scene) -> usize {
         let _ = writeln!(r, "{m}");
     }
     coloured
+}
+
+/// The model's edges (what `--edges` and `--wireframe` draw), summed over its objects.
+fn edges(r: &mut String, s: &Scene, crease_deg: f32) {
+    if s.meshes.is_empty() {
+        return;
+    }
+    let mut c = super::edges::EdgeCounts::default();
+    for m in &s.meshes {
+        c += super::edges::count(m, crease_deg);
+    }
+    let _ = writeln!(
+        r,
+        "edges: {} feature at {crease_deg}° ({} creased, {} boundary, {} non-manifold) of {} \
+         triangle edges",
+        c.feature(),
+        c.creased,
+        c.boundary,
+        c.non_manifold,
+        c.total
+    );
 }
 
 /// One material: its PBR terms, how they were made (glTF's own, or mapped from another

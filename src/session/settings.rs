@@ -234,6 +234,12 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
             },
             point_size: (point_px, h),
             edges: edges(args),
+            guides: crate::frame::Guides {
+                grid: args.render.grid,
+                axes: args.render.axes,
+                scale: ssaa_factor(args),
+                up: args.load.up,
+            },
             ..Default::default()
         },
         shading: args.render.shading,
@@ -284,6 +290,16 @@ fn point_size(args: &Options, scene: &Scene, camera: &OrbitCamera, h: u32) -> f3
     px.clamp(MIN_POINT_PX, MAX_POINT_PX)
 }
 
+/// Pixels of the frame drawn per pixel of the picture: SSAA draws the frame k times larger,
+/// so lines and labels k times larger keep their size.
+fn ssaa_factor(args: &Options) -> f32 {
+    if args.post.aa == crate::options::AaMode::Ssaa {
+        args.post.aa_samples.clamp(1, 4) as f32
+    } else {
+        1.0
+    }
+}
+
 /// `--edges`, `--wireframe`, `--wireframe-only`, `--edge-color` and the loader's crease angle.
 fn edges(args: &Options) -> crate::frame::Edges {
     use crate::frame::EdgeMode;
@@ -304,13 +320,7 @@ fn edges(args: &Options) -> crate::frame::Edges {
         color: r.edge_color.unwrap_or(d.color),
         surface: !r.wireframe_only,
         only_color: r.edge_color.unwrap_or(d.only_color),
-        // SSAA draws the frame k times larger: lines k times wider keep their width.
-        width: r.line_width
-            * if args.post.aa == crate::options::AaMode::Ssaa {
-                args.post.aa_samples.clamp(1, 4) as f32
-            } else {
-                1.0
-            },
+        width: r.line_width * ssaa_factor(args),
         method: r.edge_method,
     }
 }

@@ -235,6 +235,20 @@ mod tests {
         assert!(v.options().camera.keys.as_ref().unwrap().split(' ').count() <= 11);
     }
 
+    /// The web page's Z and X (any key of the table reaches the server by name).
+    #[test]
+    fn grid_and_axes_keys_are_state_keys() {
+        let (mut v, scene) = view();
+        key(&mut v, &scene, "Z");
+        key(&mut v, &scene, "X");
+        assert_eq!(v.options().camera.keys.as_deref(), Some("Z X"));
+        let (s, _) = frame_settings(v.options(), &scene).unwrap();
+        assert!(s.lighting.guides.grid && s.lighting.guides.axes);
+        key(&mut v, &scene, "X");
+        key(&mut v, &scene, "Z");
+        assert_eq!(v.options().camera.keys, None);
+    }
+
     #[test]
     fn compare_halves_the_picture() {
         let (mut v, scene) = view();

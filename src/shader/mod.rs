@@ -57,6 +57,8 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("fill.frag", include_str!("../../shaders_gl/fill.frag")),
     ("edges.vert", include_str!("../../shaders_gl/edges.vert")),
     ("edges.frag", include_str!("../../shaders_gl/edges.frag")),
+    ("grid.vert", include_str!("../../shaders_gl/grid.vert")),
+    ("grid.frag", include_str!("../../shaders_gl/grid.frag")),
     (
         "prefilter.frag",
         include_str!("../../shaders_gl/prefilter.frag"),

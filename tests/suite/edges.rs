@@ -357,3 +357,40 @@ fn key_e_replays_as_the_options() {
         pic("opt_none", &[]).data
     );
 }
+
+/// `--check` counts the edges `--edges` and `--wireframe` draw: a cube's 12 creased edges
+/// of 18 triangle edges at the default crease angle, none creased above 90°; an open mesh's
+/// boundary.
+#[test]
+fn check_counts_the_edges() {
+    let dir = out_dir("edges");
+    let model = cube(&dir, "check");
+    let check = |extra: &[&str]| {
+        let mut a = vec!["--check", model.as_str()];
+        a.extend_from_slice(extra);
+        String::from_utf8_lossy(&run(&a, &[]).stdout).to_string()
+    };
+    let r = check(&[]);
+    assert!(
+        r.contains("edges: 12 feature at 60° (12 creased, 0 boundary, 0 non-manifold) of 18 triangle edges"),
+        "{r}"
+    );
+    let r = check(&["--crease", "95"]);
+    assert!(r.contains("edges: 0 feature at 95° (0 creased"), "{r}");
+    let open = dir.join("open_box.obj");
+    let text: String = box_obj([-1.0; 3], [1.0; 3], 0)
+        .lines()
+        .filter(|l| !l.starts_with('f'))
+        .chain(
+            box_obj([-1.0; 3], [1.0; 3], 0)
+                .lines()
+                .filter(|l| l.starts_with('f'))
+                .take(10),
+        )
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&open, text).unwrap();
+    let r =
+        String::from_utf8_lossy(&run(&["--check", open.to_str().unwrap()], &[]).stdout).to_string();
+    assert!(r.contains("4 boundary"), "{r}");
+}

@@ -25,6 +25,7 @@ mod gltf_extensions;
 mod gltf_materials;
 mod gltf_sidedness;
 mod gpu_vs_reference;
+mod grid;
 mod hostile_formats;
 mod lighting;
 mod loading;

@@ -479,3 +479,108 @@ fn default_size_follows_the_spacing() {
         );
     }
 }
+
+/// OBJ clouds carry colours (`v x y z r g b`, 0–1 or 0–255) and one `vn` per `v` as
+/// normals: `--check` says so, the disks take the colours (times the default Kd), and with normals they are lit as
+/// the reference lights them (within 2/255 at each centre); glTF POINTS use COLOR_0 (linear,
+/// shown encoded) and NORMAL the same way.
+#[test]
+fn obj_and_gltf_point_colours_and_normals() {
+    let dir = out_dir("points-attrs");
+    let v = |scale: f32| -> String {
+        POINTS
+            .iter()
+            .map(|(p, c)| {
+                let c = c.map(|x| f32::from(x) / 255.0 * scale);
+                format!("v {} {} {} {} {} {}\n", p[0], p[1], p[2], c[0], c[1], c[2])
+            })
+            .collect()
+    };
+    let vn: String = (0..POINTS.len())
+        .map(|i| {
+            let n = normal(i);
+            format!("vn {} {} {}\n", n[0], n[1], n[2])
+        })
+        .collect();
+    let unit = write(&dir, "rgb.obj", v(1.0).as_bytes());
+    let bytes = write(&dir, "rgb255.obj", v(255.0).as_bytes());
+    let lit = write(&dir, "lit.obj", (v(1.0) + &vn).as_bytes());
+    let gltf = write_gltf(&dir);
+    for (file, normals) in [(&unit, "no"), (&bytes, "no"), (&lit, "yes"), (&gltf, "yes")] {
+        let o = run(&["--check", file], &[]);
+        let report = String::from_utf8_lossy(&o.stdout);
+        let want = format!("point cloud: 5 points  colours: yes  normals: {normals}");
+        assert!(report.contains(&want), "{file}: {report}");
+    }
+    for (name, file) in [("rgb", &unit), ("rgb255", &bytes)] {
+        let mut args = vec![file.as_str(), "--point-size", "9"];
+        args.extend_from_slice(VIEW);
+        let img = render(&dir, name, &args, &[]);
+        // OBJ's default material (Kd 0.8) multiplies vertex colours, as on its meshes.
+        let kd = |i: usize| Some(POINTS[i].1.map(|c| (f32::from(c) * 0.8).round() as u8));
+        assert_disks(name, &img, &args, 9.0, &kd);
+    }
+    for (name, file) in [("lit-obj", &lit), ("lit-gltf", &gltf)] {
+        let mut args = vec![file.as_str(), "--point-size", "11"];
+        args.extend_from_slice(VIEW);
+        let img = render(&dir, name, &args, &[]);
+        let reference = reference(&dir, name, &args);
+        assert_disks(name, &img, &args, 11.0, &|_| None);
+        let mut unlit = 0;
+        for (i, (p, c)) in POINTS.iter().enumerate() {
+            let (x, y) = project(&args, *p);
+            let (g, r) = (
+                img.pixel(x as u32, y as u32),
+                reference.pixel(x as u32, y as u32),
+            );
+            let d = (0..3).map(|k| g[k].abs_diff(r[k])).max().unwrap();
+            assert!(d <= 2, "{name}: point {i}: GPU {g:?}, reference {r:?}");
+            unlit += usize::from(g[..3] == c[..]);
+        }
+        assert!(
+            unlit < POINTS.len(),
+            "{name}: every point in its plain colour: unlit"
+        );
+    }
+}
+
+/// A glTF of one POINTS primitive over [`POINTS`], with NORMAL and COLOR_0 (the colours are
+/// 0 or 1 per channel, the same linear or encoded), its buffer beside it.
+fn write_gltf(dir: &Path) -> String {
+    let mut bin = Vec::new();
+    for (p, _) in POINTS {
+        p.iter().for_each(|x| bin.extend(x.to_le_bytes()));
+    }
+    for i in 0..POINTS.len() {
+        normal(i).iter().for_each(|x| bin.extend(x.to_le_bytes()));
+    }
+    for (_, c) in POINTS {
+        c.iter()
+            .for_each(|&x| bin.extend((f32::from(x) / 255.0).to_le_bytes()));
+    }
+    std::fs::write(dir.join("points.bin"), &bin).unwrap();
+    let n = POINTS.len();
+    let view = |k: usize| {
+        format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            k * n * 12,
+            n * 12
+        )
+    };
+    let acc = |k: usize, minmax: &str| {
+        format!(r#"{{"bufferView":{k},"componentType":5126,"count":{n},"type":"VEC3"{minmax}}}"#)
+    };
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"mode":0,"attributes":{{"POSITION":0,"NORMAL":1,"COLOR_0":2}}}}]}}],
+"buffers":[{{"uri":"points.bin","byteLength":{}}}],"bufferViews":[{},{},{}],"accessors":[{},{},{}]}}"#,
+        bin.len(),
+        view(0),
+        view(1),
+        view(2),
+        acc(0, r#","min":[-1,-1,-0.5],"max":[1,1,0.5]"#),
+        acc(1, ""),
+        acc(2, ""),
+    );
+    write(dir, "points.gltf", json.as_bytes())
+}
