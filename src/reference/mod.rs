@@ -126,7 +126,7 @@ impl<'a> Context<'a> {
                     let mapped = scene
                         .materials
                         .get(m.material)
-                        .is_some_and(|x| x.normal_texture.is_some());
+                        .is_some_and(|x| x.needs_tangents());
                     if m.has_uv && mapped && m.tangents.len() != m.vertices.len() {
                         crate::scene::tangents::generate(m)
                     } else {

@@ -16,6 +16,7 @@ pub mod ibl_gpu;
 pub mod lit;
 pub mod overlay;
 pub mod pbr;
+pub mod pbr_khr;
 mod plan;
 pub mod post;
 pub mod programs;

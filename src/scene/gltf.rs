@@ -23,6 +23,10 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "EXT_meshopt_compression",
     "KHR_materials_unlit",
     "KHR_texture_transform",
+    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
+    "KHR_materials_specular",
+    "KHR_materials_ior",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
@@ -56,7 +60,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
     let mut materials = Vec::new();
     for m in doc.materials() {
         let mut image = |i: usize| images.get(i).cloned().flatten();
-        materials.push(super::gltf_material::material(&m, &mut image));
+        materials.push(super::gltf_material::material(&doc, &m, &mut image));
     }
     let default_index = materials.len();
     materials.push(super::Material::default());

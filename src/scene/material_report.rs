@@ -19,7 +19,38 @@ pub fn describe(m: &Material) -> Vec<String> {
         m.base_alpha,
         m.emissive_strength
     )];
+    out.extend(khr_lines(&m.khr));
     out.extend(m.check.gltf_slots.iter().cloned());
+    out
+}
+
+/// One line per glTF PBR extension the material uses, with its factors.
+fn khr_lines(k: &super::material_khr::Khr) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(c) = k.clearcoat {
+        out.push(format!(
+            "KHR_materials_clearcoat: clearcoatFactor {}, clearcoatRoughnessFactor {}",
+            c.factor, c.roughness
+        ));
+    }
+    if let Some(s) = k.sheen {
+        out.push(format!(
+            "KHR_materials_sheen: sheenColorFactor {:?}, sheenRoughnessFactor {}",
+            s.color, s.roughness
+        ));
+    }
+    if let Some(s) = k.specular {
+        out.push(format!(
+            "KHR_materials_specular: specularFactor {}, specularColorFactor {:?}",
+            s.factor, s.color
+        ));
+    }
+    if let Some(i) = k.ior {
+        out.push(format!(
+            "KHR_materials_ior: ior {i} (dielectric F0 {:.4})",
+            k.ior_f0()
+        ));
+    }
     out
 }
 
@@ -53,7 +84,7 @@ pub fn slot_line(t: &SlotFacts) -> String {
             .map_or("default".to_string(), |f| format!("{f:?}")),
     );
     match t.slot {
-        Slot::Normal => s += &format!(", scale {}", t.scale),
+        Slot::Normal | Slot::ClearcoatNormal => s += &format!(", scale {}", t.scale),
         Slot::Occlusion => s += &format!(", strength {}", t.scale),
         _ => {}
     }
