@@ -23,6 +23,7 @@
 //! approximations. See `gpu_against_reference_builtin` in tests/suite/reference.rs.
 pub mod bvh;
 pub mod edges;
+pub mod layers;
 pub mod material;
 pub mod pbr;
 pub mod points;
