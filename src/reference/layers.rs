@@ -97,7 +97,11 @@ impl Layers {
         let settings = ctx.settings;
         let terms = &settings.lighting.pbr_terms;
         let scale = f64::from(settings.lighting.pbr.ibl_intensity);
-        let radiance = |d: DVec3| ctx.env.as_ref().map_or(DVec3::ZERO, |e| e.sample(d) * scale);
+        let radiance = |d: DVec3| {
+            ctx.env
+                .as_ref()
+                .map_or(DVec3::ZERO, |e| e.sample(d) * scale)
+        };
         let samples = ctx.pbr_samples;
         // Each light's colour, direction and visibility (the direct-specular term).
         let lights: Vec<(DVec3, DVec3)> = settings

@@ -21,6 +21,7 @@ mod fuzz_regressions;
 mod gltf_alpha;
 mod gltf_draw;
 mod gltf_extensions;
+mod gltf_khr;
 mod gltf_materials;
 mod gltf_sidedness;
 mod gpu_vs_reference;
