@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 const MAGIC: &[u8] = b"glview-ibl 1\n";
 /// Bumped whenever the precomputation's algorithm changes what it writes: part of the key.
-const ALGORITHM: &str = "precompute-4";
+const ALGORITHM: &str = "precompute-5";
 
 #[derive(serde::Serialize, serde::Deserialize)]
 struct Header {

@@ -227,7 +227,7 @@ pub fn lut(size: u32, samples: u32) -> Lut {
             let n_dot_v = ((i % n) as f64 + 0.5) / n as f64;
             let r = ((i / n) as f64 + 0.5) / n as f64;
             let (a, b) = brdf::integrate_brdf(n_dot_v, r, samples);
-            let e = super::sheen::albedo(n_dot_v, r, samples);
+            let e = super::sheen::table_albedo(n_dot_v, r, samples);
             [a as f32, b as f32, e as f32]
         })
         .collect();

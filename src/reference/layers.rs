@@ -127,8 +127,10 @@ impl Layers {
             let e = sheen::albedo(n_dot_v, rough, samples.max(256));
             let mut f = DVec3::ZERO;
             if ibl {
-                f += sheen::mc_radiance(n, v, rough, samples, &radiance) * ao;
+                // The environment's lobe scaled to an albedo of at most 1, as the table's.
+                f += sheen::mc_radiance(n, v, rough, samples, &radiance) * ao / e.max(1.0);
             }
+            let e = e.min(1.0);
             for (l, lc) in &lights {
                 f += *lc * PI * sheen::brdf(n, v, *l, rough) * n.dot(*l).max(0.0);
             }
