@@ -245,8 +245,14 @@ fn decode_images(
             m.occlusion_texture().map(|t| t.texture()),
             m.emissive_texture().map(|t| t.texture()),
         ];
-        for t in slots.into_iter().flatten() {
-            if let Some(u) = used.get_mut(t.source().index()) {
+        let extensions = super::gltf_khr::used_images(doc, &m);
+        for i in slots
+            .into_iter()
+            .flatten()
+            .map(|t| t.source().index())
+            .chain(extensions)
+        {
+            if let Some(u) = used.get_mut(i) {
                 *u = true;
             }
         }

@@ -66,6 +66,34 @@ fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Option<SlotFa
     Some(f)
 }
 
+/// The images the extensions' texture infos of material `m` name (decoded with the core
+/// slots' images).
+pub fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
+    let mut out = Vec::new();
+    for ext in [
+        "KHR_materials_clearcoat",
+        "KHR_materials_sheen",
+        "KHR_materials_specular",
+    ] {
+        let Some(Value::Object(e)) = m.extension_value(ext) else {
+            continue;
+        };
+        for (key, info) in e {
+            if !key.ends_with("Texture") {
+                continue;
+            }
+            let tex = info
+                .get("index")
+                .and_then(Value::as_u64)
+                .and_then(|i| doc.textures().nth(i as usize));
+            if let Some(t) = tex {
+                out.push(t.source().index());
+            }
+        }
+    }
+    out
+}
+
 /// The extensions of material `m`; `load` turns a slot's facts into its slot (decoding the
 /// image and writing the `--check` line).
 pub fn read(
