@@ -413,3 +413,76 @@ fn check_lists_the_extensions_of_each_material() {
     }
     assert!(!out.contains("which glview ignores"), "{out}");
 }
+
+/// The extensions' texture slots: a one-texel texture of value t with factor 1 draws as the
+/// factor t without a texture (sampler, UV set, colour space: the clearcoat's and specular's
+/// data linear, the sheen's and specular's colours sRGB), on GL 3.3 and GL 2.1.
+#[test]
+fn an_extension_texture_of_one_value_equals_its_factor() {
+    let dir = out_dir("gltf-khr-textures");
+    let png = crate::gltf_draw::png(1, 1, &[[153, 188, 60, 102]]);
+    // Linear values of the texel: 153/255 = 0.6 (r), 102/255 = 0.4 (a); sRGB 188 and 60.
+    let srgb = |v: u8| glview::pbr::srgb_decode(f64::from(v) / 255.0);
+    let (g, b) = (srgb(188), srgb(60));
+    let tex = |ext: &str| {
+        format!(
+            r#"{{"pbrMetallicRoughness": {{"baseColorFactor": [0.8, 0.25, 0.1, 1],
+            "metallicFactor": 0, "roughnessFactor": 0.45}},
+            "extensions": {{{ext}}}}}],
+            "textures": [{{"source": 0}}], "images": [{{"uri": "{png}"}}"#
+        )
+    };
+    let cases = [
+        (
+            "clearcoat",
+            r#""KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatTexture": {"index": 0},
+               "clearcoatRoughnessFactor": 1, "clearcoatRoughnessTexture": {"index": 0}}"#
+                .to_string(),
+            format!(
+                r#""KHR_materials_clearcoat": {{"clearcoatFactor": 0.6,
+                   "clearcoatRoughnessFactor": {}}}"#,
+                188.0 / 255.0
+            ),
+        ),
+        (
+            "sheen",
+            r#""KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1], "sheenColorTexture": {"index": 0},
+               "sheenRoughnessFactor": 1, "sheenRoughnessTexture": {"index": 0}}"#
+                .to_string(),
+            format!(
+                r#""KHR_materials_sheen": {{"sheenColorFactor": [{}, {g}, {b}],
+                   "sheenRoughnessFactor": 0.4}}"#,
+                srgb(153)
+            ),
+        ),
+        (
+            "specular",
+            r#""KHR_materials_specular": {"specularFactor": 1, "specularTexture": {"index": 0},
+               "specularColorFactor": [1, 1, 1], "specularColorTexture": {"index": 0}}"#
+                .to_string(),
+            format!(
+                r#""KHR_materials_specular": {{"specularFactor": 0.4,
+                   "specularColorFactor": [{}, {g}, {b}]}}"#,
+                srgb(153)
+            ),
+        ),
+    ];
+    for (name, textured, factors) in cases {
+        let t = sphere(&dir, &format!("{name}-tex"), &tex(&textured));
+        let f = sphere(
+            &dir,
+            &format!("{name}-factor"),
+            &material(BASE, 0.0, 0.45, &factors),
+        );
+        for ctx in [&CONTEXTS[0], &CONTEXTS[2]] {
+            let a = shot(&dir, &format!("{name}-tex-{}", ctx.0), &t, &[], ctx);
+            let want = shot(&dir, &format!("{name}-factor-{}", ctx.0), &f, &[], ctx);
+            let d = max_diff(&a, &want);
+            eprintln!("{name} texture on {}: {d}/255 from the factor", ctx.0);
+            if d > 1 {
+                write_diff(&dir, &format!("{name}-{}", ctx.0), &a, &want);
+            }
+            assert!(d <= 1, "{name} on {}: {d}/255", ctx.0);
+        }
+    }
+}
