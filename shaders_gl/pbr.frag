@@ -56,9 +56,10 @@ IN vec4 vColor;
 #ifdef HAS_KHR_MAPS
 // The extensions' texture slots (src/scene/material_khr.rs SLOTS order): 0 clearcoat,
 // 1 clearcoat roughness, 2 clearcoat normal, 3 sheen colour, 4 sheen roughness, 5 specular,
-// 6 specular colour; each with its UV set and transform like the core slots.
-uniform mat3 uKhrXf[7];
-uniform float uKhrSet[7];
+// 6 specular colour, 7 transmission, 8 thickness; each with its UV set and transform like
+// the core slots.
+uniform mat3 uKhrXf[9];
+uniform float uKhrSet[9];
 #define KHR_UV(i) ((uKhrXf[i] * vec3(uKhrSet[i] > 0.5 ? GLVIEW_UV1 : vUv, 1.0)).xy)
 #endif
 #ifdef KHR_SPECULAR
@@ -71,8 +72,35 @@ uniform sampler2D uSpecularMap;       // a
 uniform sampler2D uSpecularColorMap;  // sRGB
 #endif
 #endif
-#if defined(KHR_CLEARCOAT) || defined(KHR_SHEEN)
-uniform vec2 uTermsC;   // clearcoat, sheen layers (0 or 1)
+#if defined(KHR_CLEARCOAT) || defined(KHR_SHEEN) || defined(KHR_TRANSMISSION)
+uniform vec3 uTermsC;   // clearcoat, sheen, transmission layers (0 or 1)
+#endif
+#ifdef KHR_TRANSMISSION
+// The opaque frame's copy (output values, undone by glviewInverseOutput) with its mip chain
+// (uFrameLevels = log2 of its larger side; 0 without glGenerateMipmap: read sharp).
+uniform sampler2D uTransmissionFrame;
+uniform float uFrameLevels;
+uniform float uTransmission;
+uniform float uIor;
+uniform mat4 uProjection;
+#ifdef HAS_TRANSMISSION_MAP
+uniform sampler2D uTransmissionMap;    // r
+#endif
+#ifdef KHR_VOLUME
+uniform float uThickness;
+uniform vec3 uAttenuationColor;
+uniform float uAttenuationDistance;    // 0: infinite
+#ifdef HAS_THICKNESS_MAP
+uniform sampler2D uThicknessMap;       // g
+#endif
+#endif
+// GLSL 1.20 has no explicit level in fragment shaders: a bias from level 0 is the same here,
+// as the copy is read one texel per pixel.
+#if __VERSION__ >= 130
+#define GLVIEW_TEX2D_LOD(s, uv, l) textureLod(s, uv, l)
+#else
+#define GLVIEW_TEX2D_LOD(s, uv, l) texture2D(s, uv, l)
+#endif
 #endif
 #ifdef KHR_CLEARCOAT
 uniform float uClearcoat;
@@ -202,6 +230,34 @@ void main() {
     vec3 ks = mix(vec3(0.04), albedo, metallic);
 #endif
     vec3 color = uTermsB.z * emissive;
+#ifdef KHR_TRANSMISSION
+    // KHR_materials_transmission (the Sample Viewer's getIBLVolumeRefraction): the diffuse
+    // share becomes the light from behind, read from the opaque frame where the ray leaves
+    // (here when thin-walled; refracted through the thickness with KHR_materials_volume),
+    // blurred by the roughness scaled by the ior.
+    float trans = uTransmission * uTermsC.z;
+#ifdef HAS_TRANSMISSION_MAP
+    trans *= TEX2D(uTransmissionMap, KHR_UV(7)).r;
+#endif
+    vec3 exitPos = vEyePos;
+#ifdef KHR_VOLUME
+    float thick = uThickness;
+#ifdef HAS_THICKNESS_MAP
+    thick *= TEX2D(uThicknessMap, KHR_UV(8)).g;
+#endif
+    exitPos += glviewSafeNormalize(refract(-v, n, 1.0 / uIor)) * thick;
+#endif
+    vec4 exitClip = uProjection * vec4(exitPos, 1.0);
+    vec2 frameUv = exitClip.xy / exitClip.w * 0.5 + 0.5;
+    float frameLod = uFrameLevels * rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
+    vec3 behind = glviewInverseOutput(GLVIEW_TEX2D_LOD(uTransmissionFrame, frameUv, frameLod).rgb);
+#ifdef KHR_VOLUME
+    // Beer-Lambert: after a distance d the light keeps attenuationColor^(d / distance).
+    if (uAttenuationDistance > 0.0)
+        behind *= pow(max(uAttenuationColor, vec3(1e-6)), vec3(thick / uAttenuationDistance));
+#endif
+    kd *= 1.0 - trans;
+#endif
 
     // Image-based light (the seed's split sum).
     vec2 bf = glviewBrdf(nv, rough);
@@ -221,6 +277,16 @@ void main() {
     spec *= 1.0 + ks * (1.0 / max(bf.x + bf.y, 1e-4) - 1.0);
 #endif
     color += ao * (uTermsA.z * glviewIrradiance(n) * kd + uTermsA.w * glviewSpecular(r, rough) * spec);
+#ifdef KHR_TRANSMISSION
+    // What the specular lobe does not reflect passes: (1 - (k_s A + F90 B)) of the light
+    // behind, tinted by the base colour, for the dielectric share.
+#ifdef KHR_SPECULAR
+    vec3 passes = 1.0 - (ks * bf.x + f90 * bf.y);
+#else
+    vec3 passes = 1.0 - (ks * bf.x + bf.y);
+#endif
+    color += trans * (1.0 - metallic) * passes * albedo * behind;
+#endif
 #ifdef KHR_SHEEN
     vec3 sheenColor = uSheenColor * uTermsC.y;
 #ifdef HAS_SHEEN_COLOR_MAP

@@ -107,6 +107,9 @@ pub(crate) struct Resources {
     pub post: post::PostState,
     /// The line meshes of `--edges` / `--wireframe`, made on first use.
     pub edges: edges::EdgeState,
+    /// KHR_materials_transmission: the copy of the opaque frame with its mip chain, made on
+    /// first use at the frame's size ([`pbr_khr::copy_frame`]).
+    pub transmission: Option<crate::gpu::texture::Texture2d>,
 }
 
 impl Resources {

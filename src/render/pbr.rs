@@ -271,7 +271,13 @@ impl Pass for Pbr {
             dominant: s.lighting.pbr.dominant_direction,
             multiscatter: s.lighting.pbr.multiscatter,
         };
-        super::tier::run(cx, PbrTier { opts })?;
+        super::tier::run(
+            cx,
+            PbrTier {
+                opts,
+                frame_levels: None,
+            },
+        )?;
         Ok(Outcome::Ran(format!(
             "pbr({levels} levels, {}, env {})",
             if rgbm { "rgbm" } else { "float" },
@@ -284,13 +290,8 @@ impl Pass for Pbr {
 #[derive(Clone)]
 struct PbrTier {
     opts: Options,
-}
-
-impl PbrTier {
-    /// The first texture unit of the extensions' maps: after the specular levels.
-    fn khr_unit(&self) -> u32 {
-        SPECULAR_UNIT + self.opts.levels
-    }
+    /// The opaque frame's copy exists with these mip levels (transmissive meshes read it).
+    frame_levels: Option<f32>,
 }
 
 impl super::tier::Tier for PbrTier {
@@ -318,7 +319,7 @@ impl super::tier::Tier for PbrTier {
             &mm.khr,
             has_uv,
             m.has_tangents,
-            self.khr_unit(),
+            self.frame_levels.is_some(),
             cx.gpu.caps.max_texture_units,
         );
         let key = khr
@@ -372,7 +373,11 @@ impl super::tier::Tier for PbrTier {
             "uTermsB",
             Vec3::new(on(t.ao), on(t.shadows), on(t.emissive)),
         );
-        super::pbr_khr::program_uniforms(program, self.khr_unit(), (t.clearcoat, t.sheen));
+        super::pbr_khr::program_uniforms(
+            program,
+            (t.clearcoat, t.sheen, t.transmission),
+            self.frame_levels.unwrap_or(0.0),
+        );
     }
 
     fn material(
@@ -405,14 +410,25 @@ impl super::tier::Tier for PbrTier {
                 cx.stats.textures_bound += 1;
             }
         }
-        cx.stats.textures_bound += super::pbr_khr::material(
-            program,
-            &cx.res.textures,
-            mat,
-            khr,
-            &mm.khr,
-            self.khr_unit(),
-            m.has_uv1,
-        );
+        cx.stats.textures_bound +=
+            super::pbr_khr::material(program, &cx.res.textures, mat, khr, &mm.khr, m.has_uv1);
+        if khr.transmission {
+            if let Some(t) = &cx.res.transmission {
+                t.bind(super::pbr_khr::FRAME_UNIT);
+            }
+        }
+    }
+
+    fn transmissive(&self, cx: &FrameCx, material: usize) -> bool {
+        cx.settings.lighting.pbr_terms.transmission
+            && cx.settings.lighting.attribute_view == crate::frame::AttributeView::None
+            && cx.scene.scene.materials[material]
+                .khr
+                .transmission
+                .is_some_and(|t| t > 0.0)
+    }
+
+    fn frame_copied(&mut self, levels: f32) {
+        self.frame_levels = Some(levels);
     }
 }

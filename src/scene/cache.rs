@@ -79,7 +79,7 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 7: the colour rule (issue 31): a material's `colour_rule`, glTF COLOR_0 stored encoded.
 /// 8: COLOR_0's alpha per vertex (issue 32).
 /// 9: point clouds (issue 31): the wire's per-point colours and normals.
-/// 10: the glTF PBR extensions (issue 32): `Material::khr` and its seven texture slots.
+/// 10: the glTF PBR extensions (issue 32): `Material::khr` and its nine texture slots.
 const FORMAT: u32 = 10;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
@@ -170,7 +170,7 @@ struct WireMeta {
 /// A material's texture slots as indices into the header's texture table, in the order of
 /// [`Material::slots_mut`].
 type SlotRefs = [Option<usize>; SLOTS];
-const SLOTS: usize = 14;
+const SLOTS: usize = 16;
 
 #[derive(Serialize, Deserialize)]
 struct Header {

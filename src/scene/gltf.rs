@@ -27,6 +27,8 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_sheen",
     "KHR_materials_specular",
     "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.

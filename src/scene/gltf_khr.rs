@@ -3,7 +3,7 @@
 //! [`super::material_khr::Khr`]. Texture infos are resolved like the core slots (sampler,
 //! UV set, KHR_texture_transform); a malformed value is the extension's default, as a
 //! missing one is.
-use super::material_khr::{Clearcoat, Khr, Sheen, Specular, SLOTS};
+use super::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume, SLOTS};
 use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TexTransform};
 use serde_json::Value;
@@ -74,6 +74,8 @@ pub fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
         "KHR_materials_clearcoat",
         "KHR_materials_sheen",
         "KHR_materials_specular",
+        "KHR_materials_transmission",
+        "KHR_materials_volume",
     ] {
         let Some(Value::Object(e)) = m.extension_value(ext) else {
             continue;
@@ -159,6 +161,19 @@ pub fn read(
         });
         tex(e, "specularTexture", Slot::Specular, lin, &mut k);
         tex(e, "specularColorTexture", Slot::SpecularColor, srgb, &mut k);
+    }
+    if let Some(e) = m.extension_value("KHR_materials_transmission") {
+        k.transmission = Some(num(e, "transmissionFactor", 0.0).clamp(0.0, 1.0));
+        tex(e, "transmissionTexture", Slot::Transmission, lin, &mut k);
+    }
+    if let Some(e) = m.extension_value("KHR_materials_volume") {
+        let d = num(e, "attenuationDistance", f32::INFINITY);
+        k.volume = Some(Volume {
+            thickness: num(e, "thicknessFactor", 0.0).max(0.0),
+            attenuation_color: rgb(e, "attenuationColor", [1.0; 3]).map(|c| c.clamp(0.0, 1.0)),
+            attenuation_distance: (d > 0.0 && d.is_finite()).then_some(d),
+        });
+        tex(e, "thicknessTexture", Slot::Thickness, lin, &mut k);
     }
     if let Some(e) = m.extension_value("KHR_materials_ior") {
         // At least 1, or exactly 0 (the specification's F0 = 1, for converted

@@ -308,8 +308,8 @@ impl Material {
     }
 
     /// Every texture slot in one fixed order (the mesh cache's slot table follows it).
-    pub fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 14] {
-        let [a, b, c, d, e, f, g] = &mut self.khr.maps;
+    pub fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 16] {
+        let [a, b, c, d, e, f, g, h, i] = &mut self.khr.maps;
         [
             &mut self.base_color_texture,
             &mut self.normal_texture,
@@ -325,12 +325,14 @@ impl Material {
             e,
             f,
             g,
+            h,
+            i,
         ]
     }
 
     /// As [`Material::slots_mut`], read only.
-    pub fn slots(&self) -> [&Option<TextureSlot>; 14] {
-        let [a, b, c, d, e, f, g] = &self.khr.maps;
+    pub fn slots(&self) -> [&Option<TextureSlot>; 16] {
+        let [a, b, c, d, e, f, g, h, i] = &self.khr.maps;
         [
             &self.base_color_texture,
             &self.normal_texture,
@@ -346,6 +348,8 @@ impl Material {
             e,
             f,
             g,
+            h,
+            i,
         ]
     }
 

@@ -45,8 +45,22 @@ impl Default for Specular {
     }
 }
 
+/// KHR_materials_volume (texture [`Slot::Thickness`], green channel).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Volume {
+    /// In the mesh's units (glview bakes node transforms into the vertices: scene units).
+    pub thickness: f32,
+    /// Linear RGB: the colour white light has after `attenuation_distance` in the medium.
+    pub attenuation_color: [f32; 3],
+    /// None: infinite (no attenuation).
+    pub attenuation_distance: Option<f32>,
+}
+
+/// The number of extension slots.
+pub const COUNT: usize = 9;
+
 /// The extension slots in the order of [`Khr::maps`] (and of the mesh cache's table).
-pub const SLOTS: [Slot; 7] = [
+pub const SLOTS: [Slot; COUNT] = [
     Slot::Clearcoat,
     Slot::ClearcoatRoughness,
     Slot::ClearcoatNormal,
@@ -54,6 +68,8 @@ pub const SLOTS: [Slot; 7] = [
     Slot::SheenRoughness,
     Slot::Specular,
     Slot::SpecularColor,
+    Slot::Transmission,
+    Slot::Thickness,
 ];
 
 /// The extensions of one material. Serialised in the mesh cache with the material.
@@ -64,8 +80,13 @@ pub struct Khr {
     pub specular: Option<Specular>,
     /// KHR_materials_ior (None: the core's 1.5).
     pub ior: Option<f32>,
+    /// KHR_materials_transmission's factor (texture [`Slot::Transmission`], red channel).
+    #[serde(default)]
+    pub transmission: Option<f32>,
+    #[serde(default)]
+    pub volume: Option<Volume>,
     /// The extensions' texture slots, in the order of [`SLOTS`].
-    pub maps: [Option<TextureSlot>; 7],
+    pub maps: [Option<TextureSlot>; COUNT],
 }
 
 /// The core model's index of refraction (F0 0.04).
@@ -114,6 +135,12 @@ impl Khr {
         }
         if self.ior.is_some() {
             v.push("KHR_materials_ior");
+        }
+        if self.transmission.is_some() {
+            v.push("KHR_materials_transmission");
+        }
+        if self.volume.is_some() {
+            v.push("KHR_materials_volume");
         }
         v
     }

@@ -45,6 +45,20 @@ fn khr_lines(k: &super::material_khr::Khr) -> Vec<String> {
             s.factor, s.color
         ));
     }
+    if let Some(t) = k.transmission {
+        out.push(format!(
+            "KHR_materials_transmission: transmissionFactor {t}"
+        ));
+    }
+    if let Some(v) = k.volume {
+        out.push(format!(
+            "KHR_materials_volume: thicknessFactor {}, attenuationColor {:?}, attenuationDistance {}",
+            v.thickness,
+            v.attenuation_color,
+            v.attenuation_distance
+                .map_or("infinite".to_string(), |d| d.to_string())
+        ));
+    }
     if let Some(i) = k.ior {
         out.push(format!(
             "KHR_materials_ior: ior {i} (dielectric F0 {:.4})",

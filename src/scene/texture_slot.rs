@@ -69,6 +69,8 @@ pub enum Slot {
     SheenRoughness,
     Specular,
     SpecularColor,
+    Transmission,
+    Thickness,
 }
 
 impl Slot {
@@ -86,6 +88,8 @@ impl Slot {
             Slot::SheenRoughness => "sheenRoughnessTexture",
             Slot::Specular => "specularTexture",
             Slot::SpecularColor => "specularColorTexture",
+            Slot::Transmission => "transmissionTexture",
+            Slot::Thickness => "thicknessTexture",
         }
     }
 }
