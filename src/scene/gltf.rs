@@ -29,6 +29,7 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_ior",
     "KHR_materials_transmission",
     "KHR_materials_volume",
+    "KHR_materials_pbrSpecularGlossiness",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.

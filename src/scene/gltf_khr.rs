@@ -8,14 +8,14 @@ use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TexTransform};
 use serde_json::Value;
 
-fn num(v: &Value, key: &str, default: f32) -> f32 {
+pub(crate) fn num(v: &Value, key: &str, default: f32) -> f32 {
     v.get(key)
         .and_then(Value::as_f64)
         .filter(|x| x.is_finite())
         .map_or(default, |x| x as f32)
 }
 
-fn rgb(v: &Value, key: &str, default: [f32; 3]) -> [f32; 3] {
+pub(crate) fn rgb(v: &Value, key: &str, default: [f32; 3]) -> [f32; 3] {
     let Some(a) = v.get(key).and_then(Value::as_array) else {
         return default;
     };
@@ -45,7 +45,7 @@ fn pair(v: &Value, key: &str, default: [f32; 2]) -> [f32; 2] {
 
 /// A texture info's facts: the texture's sampler and image, the UV set (the transform's
 /// texCoord overrides), the transform and the normal scale.
-fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Option<SlotFacts> {
+pub(crate) fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Option<SlotFacts> {
     let index = info.get("index")?.as_u64()? as usize;
     let tex = doc.textures().nth(index)?;
     let tex_coord = info.get("texCoord").and_then(Value::as_u64).unwrap_or(0) as u32;
@@ -76,6 +76,7 @@ pub fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
         "KHR_materials_specular",
         "KHR_materials_transmission",
         "KHR_materials_volume",
+        "KHR_materials_pbrSpecularGlossiness",
     ] {
         let Some(Value::Object(e)) = m.extension_value(ext) else {
             continue;

@@ -167,7 +167,7 @@ pub fn material(
         out.emissive_texture = load(f, srgb, &mut out);
     }
     let mut notes = Vec::new();
-    out.khr = super::gltf_khr::read(doc, m, &mut |f, cs| {
+    let mut load_slot = |f: SlotFacts, cs: ColorSpace| {
         let img = image(f.image);
         notes.push(slot_line(&SlotFacts {
             loaded: img.is_some(),
@@ -180,7 +180,9 @@ pub fn material(
             transform: f.transform,
             color_space: cs,
         })
-    });
+    };
+    out.khr = super::gltf_khr::read(doc, m, &mut load_slot);
+    super::gltf_specgloss::convert(doc, m, &mut out, &mut load_slot);
     out.check.gltf_slots.extend(notes);
     out
 }

@@ -87,6 +87,9 @@ pub struct Khr {
     pub volume: Option<Volume>,
     /// The extensions' texture slots, in the order of [`SLOTS`].
     pub maps: [Option<TextureSlot>; COUNT],
+    /// Converted from KHR_materials_pbrSpecularGlossiness (`super::gltf_specgloss`).
+    #[serde(default)]
+    pub converted_spec_gloss: bool,
 }
 
 /// The core model's index of refraction (F0 0.04).

@@ -27,6 +27,13 @@ pub fn describe(m: &Material) -> Vec<String> {
 /// One line per glTF PBR extension the material uses, with its factors.
 fn khr_lines(k: &super::material_khr::Khr) -> Vec<String> {
     let mut out = Vec::new();
+    if k.converted_spec_gloss {
+        out.push(
+            "KHR_materials_pbrSpecularGlossiness: converted (diffuse → base colour, metallic 0, \
+             specular → dielectric F0 through KHR_materials_specular, 1 − glossiness → roughness)"
+                .to_string(),
+        );
+    }
     if let Some(c) = k.clearcoat {
         out.push(format!(
             "KHR_materials_clearcoat: clearcoatFactor {}, clearcoatRoughnessFactor {}",

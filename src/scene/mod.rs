@@ -19,6 +19,7 @@ pub mod gltf_material;
 pub mod gltf_meshopt;
 pub mod gltf_modes;
 pub mod gltf_primitive;
+pub mod gltf_specgloss;
 pub mod load;
 pub mod material;
 pub mod material_khr;

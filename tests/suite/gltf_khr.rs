@@ -620,3 +620,46 @@ fn a_transmissive_thin_sphere_shows_the_background() {
         assert!(worst <= 3.0, "{}: volume centre {worst}/255", ctx.0);
     }
 }
+
+/// KHR_materials_pbrSpecularGlossiness converted to the one model: diffuse D, specular 0.04
+/// (grey) and glossiness g draw as the core material of base colour D, metallic 0 and
+/// roughness 1 − g; a coloured specular draws as KHR_materials_specular of that F0.
+#[test]
+fn specular_glossiness_equals_its_metallic_roughness_twin() {
+    let dir = out_dir("gltf-khr-specgloss");
+    let sg = |spec: &str| {
+        format!(
+            r#"{{"extensions": {{"KHR_materials_pbrSpecularGlossiness": {{
+                "diffuseFactor": [0.8, 0.25, 0.1, 1], "specularFactor": {spec},
+                "glossinessFactor": 0.6}}}}}}"#
+        )
+    };
+    let pairs = [
+        (
+            "grey",
+            sg("[0.04, 0.04, 0.04]"),
+            material(BASE, 0.0, 0.4, ""),
+        ),
+        (
+            "coloured",
+            sg("[0.3, 0.2, 0.05]"),
+            material(
+                BASE,
+                0.0,
+                0.4,
+                r#""KHR_materials_specular": {"specularColorFactor": [7.5, 5, 1.25]}"#,
+            ),
+        ),
+    ];
+    for (name, a, b) in pairs {
+        let a = sphere(&dir, &format!("{name}-sg"), &a);
+        let b = sphere(&dir, &format!("{name}-mr"), &b);
+        for ctx in [&CONTEXTS[0], &CONTEXTS[2]] {
+            let x = shot(&dir, &format!("{name}-sg-{}", ctx.0), &a, &[], ctx);
+            let y = shot(&dir, &format!("{name}-mr-{}", ctx.0), &b, &[], ctx);
+            let d = max_diff(&x, &y);
+            eprintln!("spec-gloss {name} on {}: {d}/255 from its twin", ctx.0);
+            assert!(d <= 1, "{name} on {}: {d}/255", ctx.0);
+        }
+    }
+}
