@@ -110,15 +110,20 @@ pub struct Surface {
     pub f0: DVec3,
     /// The dielectric's reflectance at grazing incidence (the specular weight; 1 in the core).
     pub f90: f64,
+    /// KHR_materials_transmission's share of the diffuse term that becomes transmission.
+    pub transmission: f64,
 }
 
 impl Surface {
     /// The core model's dielectric: F0 0.04, F90 1.
     pub const CORE_F0: (DVec3, f64) = (DVec3::splat(super::F0), 1.0);
 
-    /// k_d = albedo·(1 − max(f0))·(1 − metallic)
+    /// k_d = albedo·(1 − max(f0))·(1 − metallic)·(1 − transmission)
     pub fn kd(&self) -> DVec3 {
-        self.albedo * (1.0 - self.f0.max_element()) * (1.0 - self.metallic)
+        self.albedo
+            * (1.0 - self.f0.max_element())
+            * (1.0 - self.metallic)
+            * (1.0 - self.transmission)
     }
     /// k_s = mix(f0, albedo, metallic)
     pub fn ks(&self) -> DVec3 {

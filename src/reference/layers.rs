@@ -40,14 +40,25 @@ pub struct Layers {
     clearcoat: Option<(f64, f64, DVec3)>,
     /// Sheen colour and roughness.
     sheen: Option<(DVec3, f64)>,
+    /// Transmission factor and the linear light from behind ([`super::transmission`]).
+    pub transmission: Option<(f64, DVec3)>,
 }
 
 impl Layers {
-    /// The material's layers at a hit; `n` is the interpolated normal turned to the viewer
-    /// (the coat's normal where it has no map of its own).
-    pub fn new(ctx: &Context, m: &Material, c: &Corners, n: DVec3, front: bool) -> Layers {
+    /// The material's layers at a hit at `p`; `n` is the interpolated normal turned to the
+    /// viewer (the coat's normal where it has no map of its own), `mapped` the shading normal.
+    pub fn new(
+        ctx: &Context,
+        m: &Material,
+        c: &Corners,
+        (p, n, mapped): (DVec3, DVec3, DVec3),
+        front: bool,
+    ) -> Layers {
         let terms = &ctx.settings.lighting.pbr_terms;
         let mut out = Layers::default();
+        if super::transmission::transmissive(ctx, m) {
+            out.transmission = Some(super::transmission::at_hit(ctx, m, c, p, mapped));
+        }
         if let (Some(cc), true) = (m.khr.clearcoat, terms.clearcoat) {
             let mut factor = f64::from(cc.factor);
             if let Some(t) = texel(m, Slot::Clearcoat, c, false) {
@@ -145,6 +156,7 @@ impl Layers {
                 emissive: DVec3::ZERO,
                 f0: DVec3::splat(crate::pbr::F0),
                 f90: 1.0,
+                transmission: 0.0,
             };
             let mut f = DVec3::ZERO;
             if ibl {

@@ -28,6 +28,7 @@ pub mod material;
 pub mod pbr;
 pub mod points;
 pub mod surface;
+pub mod transmission;
 pub mod view;
 
 use crate::frame::FrameSettings;

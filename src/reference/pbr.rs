@@ -72,6 +72,7 @@ pub fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams) -> Su
         emissive: DVec3::from(m.emissive.map(f64::from)) * emissive,
         f0,
         f90,
+        transmission: 0.0,
     }
 }
 
@@ -90,7 +91,13 @@ pub fn shade(
     n: DVec3,
     vis: &[f64],
 ) -> DVec3 {
-    let c = shade_linear(ctx, s, p, n, vis);
+    let mut s = *s;
+    let transmitted = layers.transmission.map(|(factor, light)| {
+        s.transmission = factor;
+        let n_dot_v = n.dot((ctx.view.eye - p).normalize_or_zero()).max(1e-4);
+        super::transmission::passed(&s, n_dot_v, factor, light, ctx.pbr_samples)
+    });
+    let c = shade_linear(ctx, &s, p, n, vis) + transmitted.unwrap_or(DVec3::ZERO);
     let c = layers.over(ctx, s.ao, c, p, n, vis);
     DVec3::from(ctx.settings.lighting.output.apply(c.to_array()))
 }
