@@ -1,6 +1,7 @@
 //! `glview bench --khr`: the frame time of each glTF PBR extension's program permutation on
-//! a sphere filling a 1280×720 frame (fragment-bound, PBR tier, one light and its shadow map
-//! reused, median of 10 frames after one warm-up). The core row is the material without any
+//! a sphere filling a 1280×720 frame (fragment-bound, PBR tier, the default lights and shadow
+//! map, median of 10 frames after one warm-up; transmission includes the frame's copy and
+//! its mip chain). The core row is the material without any
 //! extension: its program carries none of the extensions' flags (listed), so it is the
 //! program glview drew before issue 32 — what the extensions cost a material that does not
 //! use them is nothing but the check that picks the program.
@@ -10,7 +11,7 @@ use glview::headless::Headless;
 use glview::options::Options;
 use glview::platform::{Backend, GlRequest};
 use glview::render::Renderer;
-use glview::scene::material_khr::{Clearcoat, Khr, Sheen, Specular};
+use glview::scene::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume};
 use glview::Result;
 use std::path::Path;
 
@@ -63,7 +64,26 @@ pub fn run_khr() -> Result<()> {
             },
         ),
         (
-            "all three",
+            "transmission (thin)",
+            Khr {
+                transmission: Some(1.0),
+                ..Default::default()
+            },
+        ),
+        (
+            "transmission + volume",
+            Khr {
+                transmission: Some(1.0),
+                volume: Some(Volume {
+                    thickness: 0.5,
+                    attenuation_color: [0.4, 0.7, 0.9],
+                    attenuation_distance: Some(1.0),
+                }),
+                ..Default::default()
+            },
+        ),
+        (
+            "clearcoat + sheen + specular",
             Khr {
                 clearcoat: Some(cc),
                 sheen: Some(sheen),
