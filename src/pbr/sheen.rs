@@ -115,7 +115,7 @@ mod tests {
         for r in [0.1, 0.5, 1.0] {
             for nv in [0.3, 0.5, 1.0] {
                 let e = albedo(nv, r, 4096);
-                assert!(e >= 0.0 && e < 1.0, "r {r} N·V {nv}: {e}");
+                assert!((0.0..1.0).contains(&e), "r {r} N·V {nv}: {e}");
             }
         }
         // Neubelt's visibility: more than arrives at a grazing view of a smooth sheen,
