@@ -464,6 +464,12 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
         on(p.shadows),
         on(p.emissive)
     ));
+    lines.push(format!(
+        "glTF layers: clearcoat {} sheen {} transmission {}",
+        on(p.clearcoat),
+        on(p.sheen),
+        on(p.transmission)
+    ));
     lines.push(String::new());
     lines.extend(keys::help_text().lines().map(str::to_string));
     lines
