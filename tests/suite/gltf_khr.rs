@@ -18,7 +18,11 @@ const N: u32 = 64;
 
 /// A UV sphere of radius 1 (positions, normals, UVs) with one material (JSON object).
 fn sphere(dir: &Path, name: &str, material: &str) -> PathBuf {
-    let (rings, segs) = (24u32, 48u32);
+    sphere_of(dir, name, material, (24, 48))
+}
+
+/// [`sphere`] with (rings, segments).
+fn sphere_of(dir: &Path, name: &str, material: &str, (rings, segs): (u32, u32)) -> PathBuf {
     let (mut pos, mut uv, mut idx) = (Vec::new(), Vec::new(), Vec::new());
     for i in 0..=rings {
         let th = std::f32::consts::PI * i as f32 / rings as f32;
@@ -673,4 +677,53 @@ fn specular_glossiness_equals_its_metallic_roughness_twin() {
             assert!(d <= 1, "{name} on {}: {d}/255", ctx.0);
         }
     }
+}
+
+/// The mesh cache keeps the extensions: a sphere large enough for an entry (above
+/// `cache::MIN_SIZE`), with every extension and a texture in each kind of slot, renders from
+/// the entry (the miss that writes it and the hit that reads it) exactly as uncached.
+#[test]
+fn the_mesh_cache_keeps_the_extensions_and_their_textures() {
+    let dir = out_dir("gltf-khr-cache");
+    let entries = dir.join("entries");
+    let _ = std::fs::remove_dir_all(&entries);
+    let env = [("GLVIEW_CACHE_DIR", entries.to_str().unwrap())];
+    let png = crate::gltf_draw::png(2, 1, &[[200, 120, 60, 90], [80, 220, 160, 200]]);
+    let ext = r#""KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatTexture": {"index": 0},
+           "clearcoatRoughnessTexture": {"index": 0}},
+         "KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1], "sheenColorTexture": {"index": 0},
+           "sheenRoughnessFactor": 1, "sheenRoughnessTexture": {"index": 0}},
+         "KHR_materials_specular": {"specularTexture": {"index": 0},
+           "specularColorTexture": {"index": 0}},
+         "KHR_materials_ior": {"ior": 1.6}"#;
+    let m = format!(
+        r#"{{"pbrMetallicRoughness": {{"baseColorFactor": [0.8, 0.25, 0.1, 1],
+        "metallicFactor": 0, "roughnessFactor": 0.45}},
+        "extensions": {{{ext}}}}}],
+        "textures": [{{"source": 0}}], "images": [{{"uri": "{png}"}}"#
+    );
+    let model = sphere_of(&dir, "big", &m, (300, 600));
+    assert!(std::fs::metadata(&model).unwrap().len() >= glview::scene::cache::MIN_SIZE);
+    let size = format!("{N}x{N}");
+    let args = [model.to_str().unwrap(), "--size", &size, "--shading", "pbr"];
+    let fresh = render(&dir, "fresh", &[&args[..], &["--no-cache"]].concat(), &env);
+    for what in ["first", "hit"] {
+        let img = render(&dir, what, &args, &env);
+        let d = max_diff(&fresh, &img);
+        if d != 0 {
+            write_diff(&dir, what, &fresh, &img);
+        }
+        assert_eq!(d, 0, "{what}: {d}/255 from the uncached picture");
+    }
+    // The entry holds the material's extensions (its header is JSON).
+    let entry = std::fs::read_dir(&entries)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|x| x == "glvc"))
+        .expect("a cache entry");
+    let bytes = std::fs::read(entry).unwrap();
+    assert!(
+        bytes.windows(9).any(|w| w == b"clearcoat"),
+        "the entry has no clearcoat"
+    );
 }
