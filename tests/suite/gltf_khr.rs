@@ -727,3 +727,87 @@ fn the_mesh_cache_keeps_the_extensions_and_their_textures() {
         "the entry has no clearcoat"
     );
 }
+
+/// The extension slots' UV sets and KHR_texture_transform on the GPU against the reference:
+/// a 2×2 texture, nearest-sampled, read by the clearcoat (through a transform), the sheen
+/// colour and the specular colour (TEXCOORD_1, the sphere's UVs doubled) slots, in the
+/// furnace with a light. The texels land on the same pixels (mean ≤ 0.5/255; a few pixels
+/// on texel edges may round to either texel: at most 1 % of them more than 8/255 apart).
+#[test]
+fn extension_slots_read_their_uv_sets_and_transforms_as_the_reference() {
+    let dir = out_dir("gltf-khr-slots");
+    let png = crate::gltf_draw::png(
+        2,
+        2,
+        &[
+            [255, 40, 40, 255],
+            [40, 255, 40, 60],
+            [40, 40, 255, 160],
+            [250, 250, 40, 20],
+        ],
+    );
+    let m = format!(
+        r#"{{"pbrMetallicRoughness": {{"baseColorFactor": [0.5, 0.5, 0.5, 1],
+        "metallicFactor": 0, "roughnessFactor": 0.5}},
+        "extensions": {{
+          "KHR_materials_clearcoat": {{"clearcoatFactor": 1, "clearcoatRoughnessFactor": 0.3,
+            "clearcoatTexture": {{"index": 0, "extensions": {{"KHR_texture_transform":
+              {{"scale": [3, 2], "offset": [0.25, 0], "rotation": 0.3}}}}}}}},
+          "KHR_materials_sheen": {{"sheenColorFactor": [1, 1, 1], "sheenRoughnessFactor": 0.5,
+            "sheenColorTexture": {{"index": 0, "extensions": {{"KHR_texture_transform":
+              {{"scale": [4, 4]}}}}}}}},
+          "KHR_materials_specular": {{"specularColorTexture": {{"index": 0, "texCoord": 1}}}}}}}}],
+        "samplers": [{{"magFilter": 9728, "minFilter": 9728}}],
+        "textures": [{{"source": 0, "sampler": 0}}], "images": [{{"uri": "{png}"}}"#
+    );
+    let model = sphere(&dir, "slots", &m);
+    // TEXCOORD_1: the sphere's UVs doubled (added to the file after it is written).
+    let text = std::fs::read_to_string(&model).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut json = json;
+    let uv_acc = json["accessors"][2].clone();
+    json["accessors"].as_array_mut().unwrap().push(uv_acc);
+    json["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = 4.into();
+    let texture_transform = serde_json::json!(["KHR_texture_transform"]);
+    json["extensionsUsed"] = texture_transform;
+    std::fs::write(&model, json.to_string()).unwrap();
+    let furnace = ["--env-color", "0.5,0.5,0.5", "--tonemap", "none"];
+    let args = view(&model, &furnace);
+    let all: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (settings, scene) = settings_for(&all);
+    let pe = PbrEnv {
+        env: Arc::new(Environment::uniform([0.5; 3])),
+        samples: 1024,
+    };
+    let (truth, info) = render_env_with_info(&scene, &settings, Some(&pe), N, N);
+    for ctx in [&CONTEXTS[0], &CONTEXTS[2]] {
+        let img = shot(&dir, &format!("slots-{}", ctx.0), &model, &furnace, ctx);
+        let (mut sum, mut n, mut over) = (0.0f64, 0usize, 0usize);
+        for (i, inf) in info.iter().enumerate() {
+            if !inf.hit() {
+                continue;
+            }
+            let d = (0..3)
+                .map(|c| img.data[4 * i + c].abs_diff(truth.data[4 * i + c]))
+                .max()
+                .unwrap_or(0);
+            sum += f64::from(d);
+            n += 1;
+            over += usize::from(d > 8);
+        }
+        let (mean, share) = (sum / n as f64, over as f64 / n as f64);
+        eprintln!(
+            "slots on {}: mean {mean:.3}/255, {:.2} % > 8/255",
+            ctx.0,
+            share * 100.0
+        );
+        if share > 0.01 {
+            write_diff(&dir, &format!("slots-{}", ctx.0), &img, &truth);
+        }
+        assert!(
+            mean <= 0.5 && share <= 0.01,
+            "{}: mean {mean}, {share} over 8",
+            ctx.0
+        );
+    }
+}
