@@ -353,6 +353,32 @@ void main() {
         }
         float nl = dot(n, l);
         float shadow = mix(1.0, vis[i], uTermsB.y);
+#ifdef KHR_TRANSMISSION
+        {
+            // The light through the surface (the Sample Viewer's punctual BTDF): the light's
+            // direction from where the ray leaves, mirrored to the viewer's side, in a GGX
+            // lobe of the roughness scaled by the ior; no cosine and no shadow map (the
+            // surface would shadow itself), as there.
+            vec3 lt = l;
+            if (uLightPos[i].w != 0.0) lt = glviewSafeNormalize(uLightPos[i].xyz - exitPos);
+            vec3 lm = glviewSafeNormalize(lt - 2.0 * n * dot(lt, n));
+            vec3 ht = glviewSafeNormalize(lm + v);
+            float rt = rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
+            float nlm = max(dot(n, lm), 1e-4);
+#ifdef KHR_SPECULAR
+            vec3 ft = glviewF_Schlick90(ks, f90, dot(v, ht));
+#else
+            vec3 ft = glviewF_Schlick(ks, dot(v, ht));
+#endif
+            vec3 bt = (1.0 - ft) * albedo * glviewD_GGX(max(dot(n, ht), 0.0), rt)
+                * glviewG_Smith(nv, nlm, rt) / (4.0 * nv * nlm);
+#ifdef KHR_VOLUME
+            if (uAttenuationDistance > 0.0)
+                bt *= pow(max(uAttenuationColor, vec3(1e-6)), vec3(thick / uAttenuationDistance));
+#endif
+            color += trans * (1.0 - metallic) * uTermsA.x * uLightColor[i] * GLVIEW_PI * bt;
+        }
+#endif
         if (nl > 0.0) {
             vec3 h = glviewSafeNormalize(l + v);
 #ifdef KHR_SPECULAR

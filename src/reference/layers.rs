@@ -40,8 +40,8 @@ pub struct Layers {
     clearcoat: Option<(f64, f64, DVec3)>,
     /// Sheen colour and roughness.
     sheen: Option<(DVec3, f64)>,
-    /// Transmission factor and the linear light from behind ([`super::transmission`]).
-    pub transmission: Option<(f64, DVec3)>,
+    /// The transmission at the hit ([`super::transmission`]).
+    pub transmission: Option<super::transmission::Transmit>,
 }
 
 impl Layers {

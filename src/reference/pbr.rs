@@ -92,10 +92,12 @@ pub fn shade(
     vis: &[f64],
 ) -> DVec3 {
     let mut s = *s;
-    let transmitted = layers.transmission.map(|(factor, light)| {
-        s.transmission = factor;
-        let n_dot_v = n.dot((ctx.view.eye - p).normalize_or_zero()).max(1e-4);
-        super::transmission::passed(&s, n_dot_v, factor, light, ctx.pbr_samples)
+    let transmitted = layers.transmission.map(|t| {
+        s.transmission = t.factor;
+        let v = (ctx.view.eye - p).normalize_or_zero();
+        let n_dot_v = n.dot(v).max(1e-4);
+        super::transmission::passed(&s, n_dot_v, t.factor, t.light, ctx.pbr_samples)
+            + super::transmission::punctual(ctx, &s, &t, n, v)
     });
     let c = shade_linear(ctx, &s, p, n, vis) + transmitted.unwrap_or(DVec3::ZERO);
     let c = layers.over(ctx, s.ao, c, p, n, vis);

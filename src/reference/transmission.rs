@@ -23,8 +23,21 @@ pub fn transmissive(ctx: &Context, m: &Material) -> bool {
         && m.khr.transmission.is_some_and(|t| t > 0.0)
 }
 
-/// The transmission at a hit: its factor and the linear light from behind.
-pub fn at_hit(ctx: &Context, m: &Material, c: &Corners, p: DVec3, n: DVec3) -> (f64, DVec3) {
+/// The transmission at a hit.
+#[derive(Clone, Copy, Debug)]
+pub struct Transmit {
+    pub factor: f64,
+    /// The linear light from behind (attenuated).
+    pub light: DVec3,
+    /// Where the ray leaves (the hit itself when thin-walled).
+    pub exit: DVec3,
+    /// Beer–Lambert's factor over the thickness (1 without a volume).
+    pub attenuation: DVec3,
+    pub ior: f64,
+}
+
+/// The transmission at a hit.
+pub fn at_hit(ctx: &Context, m: &Material, c: &Corners, p: DVec3, n: DVec3) -> Transmit {
     let mut factor = f64::from(m.khr.transmission.unwrap_or(0.0));
     if let Some(t) = material::read(
         m,
@@ -66,14 +79,47 @@ pub fn at_hit(ctx: &Context, m: &Material, c: &Corners, p: DVec3, n: DVec3) -> (
         }
         None => super::background(ctx, d),
     };
-    let mut light = inverse_output(ctx, shown);
+    let mut attenuation = DVec3::ONE;
     if let Some(vol) = m.khr.volume {
         if let Some(dist) = vol.attenuation_distance {
             let c = DVec3::from(vol.attenuation_color.map(f64::from)).max(DVec3::splat(1e-6));
-            light *= c.powf(travel / f64::from(dist));
+            attenuation = c.powf(travel / f64::from(dist));
         }
     }
-    (factor, light)
+    Transmit {
+        factor,
+        light: inverse_output(ctx, shown) * attenuation,
+        exit,
+        attenuation,
+        ior: f64::from(m.khr.ior.unwrap_or(1.5).max(1.0)),
+    }
+}
+
+/// The lights through the surface (`pbr.frag`'s punctual BTDF, the Sample Viewer's): each
+/// light's direction from the exit point mirrored to the viewer's side, a GGX lobe of the
+/// roughness scaled by the ior, (1 − F)·albedo, no cosine, no shadow.
+pub fn punctual(ctx: &Context, s: &Surface, t: &Transmit, n: DVec3, v: DVec3) -> DVec3 {
+    use crate::pbr::brdf::{d_ggx, f_schlick90, g_smith};
+    if !ctx.settings.lighting.pbr_terms.direct_diffuse {
+        return DVec3::ZERO;
+    }
+    let n_dot_v = n.dot(v).max(1e-4);
+    let rough = s.roughness * (2.0 * t.ior - 2.0).clamp(0.0, 1.0);
+    let mut sum = DVec3::ZERO;
+    for light in &ctx.settings.lights {
+        let l = crate::shading::to_light(light, t.exit);
+        let lm = (l - 2.0 * n * l.dot(n)).normalize_or_zero();
+        let h = (lm + v).normalize_or_zero();
+        let n_dot_l = n.dot(lm).max(1e-4);
+        let f = f_schlick90(s.ks(), s.f90(), v.dot(h).max(0.0));
+        let bt = (DVec3::ONE - f)
+            * s.albedo
+            * d_ggx(n.dot(h).max(0.0), rough)
+            * g_smith(n_dot_v, n_dot_l, rough)
+            / (4.0 * n_dot_v * n_dot_l);
+        sum += light.color.as_dvec3() * std::f64::consts::PI * bt * t.attenuation;
+    }
+    t.factor * (1.0 - s.metallic) * sum
 }
 
 fn material_of<'a>(ctx: &'a Context, h: &Hit) -> &'a Material {

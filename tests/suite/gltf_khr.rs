@@ -269,10 +269,33 @@ fn gpu_equals_the_reference_for_each_extension() {
                "KHR_materials_ior": {"ior": 1.4}"#,
         ),
     ];
+    // Transmission lit from behind (through the surface: the punctual BTDF), rough; the
+    // lights dim, as a light seen through glass is bright (0.1 already clips to white).
+    let backlit = (
+        "transmission-backlit",
+        [0.9, 0.9, 0.6],
+        0.0,
+        0.3,
+        r#""KHR_materials_transmission": {"transmissionFactor": 1}"#,
+    );
+    let cases: Vec<_> = cases
+        .into_iter()
+        .map(|c| (c, &[][..]))
+        .chain([(
+            backlit,
+            &[
+                "--light",
+                "dir:0.47,0.34,0.81",
+                "--light",
+                "point:-0.3,0.2,-3",
+            ][..],
+        )])
+        .collect();
     let env = Environment::uniform([0.5; 3]);
     let furnace = ["--env-color", "0.5,0.5,0.5", "--tonemap", "none"];
-    for (name, base, metal, rough, ext) in cases {
+    for ((name, base, metal, rough, ext), lights) in cases {
         let model = sphere(&dir, name, &material(base, metal, rough, ext));
+        let furnace = [&furnace[..], lights].concat();
         let args = view(&model, &furnace);
         let all: Vec<&str> = args.iter().map(String::as_str).collect();
         let (settings, scene) = settings_for(&all);
