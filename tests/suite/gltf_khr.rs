@@ -288,6 +288,8 @@ fn gpu_equals_the_reference_for_each_extension() {
                 "dir:0.47,0.34,0.81",
                 "--light",
                 "point:-0.3,0.2,-3",
+                "--light-color",
+                "0.01,0.01,0.01",
             ][..],
         )])
         .collect();
