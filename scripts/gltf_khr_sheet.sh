@@ -12,17 +12,17 @@ bin=${GLVIEW_BIN:-target/debug/glview}
 out=docs/gltf; tmp=$(mktemp -d); mkdir -p "$out"
 size=${SIZE:-256}
 tiles=()
-echo "| model | pixels > 8/255 | mean (1/255) | 1 − SSIM | ms GPU frame |"
-echo "|---|---|---|---|---|"
+echo "| model | pixels > 8/255 | mean (1/255) | 1 − SSIM |"
+echo "|---|---|---|---|"
 for d in "$@"; do
   n=$(basename "$d"); m=$(ls "$d"/glTF/*.gltf | head -1)
   r=$(ls "$d"/screenshot/screenshot.* | head -1)
   if "$bin" "$m" --shading pbr --size ${size}x${size} --yaw 0 --pitch 0 \
       --diff pbr,reference-pbr --reference-samples 256 -o "$tmp/$n.png" >"$tmp/$n.log" 2>&1; then
     json=$(tail -1 "$tmp/$n.log")
-    echo "| $n | $(echo "$json" | python3 -c 'import json,sys; d=json.load(sys.stdin)["model"]; print("%.1f %% | %.2f | %.3f" % (100*d["over_8"], d["mean"], d["one_minus_ssim"]))') | |"
+    echo "| $n | $(echo "$json" | python3 -c 'import json,sys; d=json.load(sys.stdin)["model"]; print("%.1f %% | %.2f | %.3f" % (100*d["over_8"], d["mean"], d["one_minus_ssim"]))') |"
   else
-    echo "| $n | error: $(grep -m1 error "$tmp/$n.log") | | | |"
+    echo "| $n | error: $(grep -m1 error "$tmp/$n.log") | | |"
     convert -size ${size}x${size} xc:gray20 "$tmp/$n-pbr.png"
     cp "$tmp/$n-pbr.png" "$tmp/$n-reference-pbr.png"
   fi
