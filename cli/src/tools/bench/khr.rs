@@ -1,6 +1,6 @@
 //! `glview bench --khr`: the frame time of each glTF PBR extension's program permutation on
 //! a sphere filling a 1280×720 frame (fragment-bound, PBR tier, the default lights and shadow
-//! map; the fastest of 15 frames per material, measured in interleaved rounds after one
+//! map; the fastest of 30 frames per material, measured in interleaved rounds after one
 //! warm-up; transmission includes the frame's copy and its mip chain). The core row is the material without any
 //! extension: its program carries none of the extensions' flags (listed), so it is the
 //! program glview drew before issue 32 — what the extensions cost a material that does not
@@ -112,7 +112,7 @@ pub fn run_khr() -> Result<()> {
             .unwrap_or_default();
         runs.push((*name, program, r, f64::INFINITY));
     }
-    for _round in 0..5 {
+    for _round in 0..10 {
         for (_, _, r, best) in runs.iter_mut() {
             for _ in 0..3 {
                 *best = best.min(r.render(&s, &hl.target())?.ms);
