@@ -22,6 +22,8 @@ mod gltf_alpha;
 mod gltf_draw;
 mod gltf_extensions;
 mod gltf_khr;
+mod gltf_khr_maps;
+mod gltf_khr_transmission;
 mod gltf_materials;
 mod gltf_sidedness;
 mod gpu_vs_reference;
