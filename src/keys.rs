@@ -120,6 +120,21 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     (&["6"], Action::ToggleTerm(5), "PBR: shadows on/off"),
     (&["7"], Action::ToggleTerm(6), "PBR: emissive on/off"),
     (
+        &["8"],
+        Action::ToggleTerm(7),
+        "PBR: glTF clearcoat layer on/off",
+    ),
+    (
+        &["9"],
+        Action::ToggleTerm(8),
+        "PBR: glTF sheen layer on/off",
+    ),
+    (
+        &["0"],
+        Action::ToggleTerm(9),
+        "PBR: glTF transmission on/off",
+    ),
+    (
         &["C"],
         Action::ToggleCompare,
         "compare: Phong and PBR side by side",
@@ -243,7 +258,10 @@ pub fn apply(
                 3 => &mut p.ibl_specular,
                 4 => &mut p.ao,
                 5 => &mut p.shadows,
-                _ => &mut p.emissive,
+                6 => &mut p.emissive,
+                7 => &mut p.clearcoat,
+                8 => &mut p.sheen,
+                _ => &mut p.transmission,
             };
             *b = !*b;
         }

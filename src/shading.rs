@@ -39,6 +39,11 @@ pub struct PbrTerms {
     pub emissive: bool,
     /// The material's normal map (both tiers); off: the interpolated normal.
     pub normal_map: bool,
+    /// The glTF extensions' layers (KHR_materials_clearcoat, _sheen, _transmission): off,
+    /// the material is drawn without the layer.
+    pub clearcoat: bool,
+    pub sheen: bool,
+    pub transmission: bool,
 }
 
 impl Default for PbrTerms {
@@ -52,6 +57,9 @@ impl Default for PbrTerms {
             shadows: true,
             emissive: true,
             normal_map: true,
+            clearcoat: true,
+            sheen: true,
+            transmission: true,
         }
     }
 }
@@ -67,10 +75,13 @@ impl PbrTerms {
         shadows: false,
         emissive: false,
         normal_map: false,
+        clearcoat: false,
+        sheen: false,
+        transmission: false,
     };
 
     /// Each term's `--terms` word and switch, in the order the words are written.
-    fn named(&mut self) -> [(&'static str, &mut bool); 8] {
+    fn named(&mut self) -> [(&'static str, &mut bool); 11] {
         [
             ("direct-diffuse", &mut self.direct_diffuse),
             ("direct-specular", &mut self.direct_specular),
@@ -80,6 +91,9 @@ impl PbrTerms {
             ("shadows", &mut self.shadows),
             ("emissive", &mut self.emissive),
             ("normal-map", &mut self.normal_map),
+            ("clearcoat", &mut self.clearcoat),
+            ("sheen", &mut self.sheen),
+            ("transmission", &mut self.transmission),
         ]
     }
 }
@@ -99,7 +113,8 @@ impl std::str::FromStr for PbrTerms {
             let Some((_, on)) = named.iter_mut().find(|(n, _)| *n == name) else {
                 return Err(format!(
                     "unknown term {name:?} (direct-diffuse, direct-specular, ibl-diffuse, \
-                     ibl-specular, ao, shadows, emissive, normal-map, all, none)"
+                     ibl-specular, ao, shadows, emissive, normal-map, clearcoat, sheen, transmission, \
+                     all, none)"
                 ));
             };
             **on = true;

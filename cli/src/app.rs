@@ -392,6 +392,9 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::Digit5 => "5",
         KeyCode::Digit6 => "6",
         KeyCode::Digit7 => "7",
+        KeyCode::Digit8 => "8",
+        KeyCode::Digit9 => "9",
+        KeyCode::Digit0 => "0",
         KeyCode::KeyC => "C",
         KeyCode::KeyB => "B",
         KeyCode::KeyE => "E",
@@ -464,6 +467,12 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
         on(p.ao),
         on(p.shadows),
         on(p.emissive)
+    ));
+    lines.push(format!(
+        "glTF layers: clearcoat {} sheen {} transmission {}",
+        on(p.clearcoat),
+        on(p.sheen),
+        on(p.transmission)
     ));
     lines.push(String::new());
     lines.extend(keys::help_text().lines().map(str::to_string));

@@ -74,8 +74,12 @@ vec3 glviewSpecular(vec3 rEye, float r) {
 }
 
 #ifdef IBL_RGBM
+// The RGBM table is 2·size wide: (A, B) on the left, the sheen albedo on the right.
+vec4 glviewLutRaw(vec2 ij) {
+    return TEX2D(uBrdfLut, (ij + 0.5) / vec2(2.0 * uLutSize, uLutSize));
+}
 vec2 glviewLutTexel(vec2 ij) {
-    vec4 t = TEX2D(uBrdfLut, (ij + 0.5) / uLutSize);
+    vec4 t = glviewLutRaw(ij);
     return vec2(t.r * 255.0 * 256.0 + t.g * 255.0, t.b * 255.0 * 256.0 + t.a * 255.0) / 65535.0;
 }
 #endif
@@ -95,3 +99,27 @@ vec2 glviewBrdf(float nv, float r) {
     return TEX2D(uBrdfLut, uv).rg;
 #endif
 }
+
+#ifdef KHR_SHEEN
+// The sheen lobe's directional albedo E(N.V, sheen roughness): the table's third value.
+float glviewSheenE(float nv, float r) {
+    vec2 uv = vec2(clamp(nv, 0.0, 1.0), clamp(r, 0.0, 1.0));
+#ifdef IBL_RGBM
+    vec2 p = clamp(uv * uLutSize - 0.5, vec2(0.0), vec2(uLutSize - 1.0));
+    vec2 i0 = floor(p);
+    vec2 f = p - i0;
+    vec2 i1 = min(i0 + 1.0, vec2(uLutSize - 1.0));
+    vec2 o = vec2(uLutSize, 0.0);
+    vec4 t00 = glviewLutRaw(i0 + o);
+    vec4 t10 = glviewLutRaw(vec2(i1.x, i0.y) + o);
+    vec4 t01 = glviewLutRaw(vec2(i0.x, i1.y) + o);
+    vec4 t11 = glviewLutRaw(i1 + o);
+    vec4 e = vec4(t00.r, t10.r, t01.r, t11.r) * (255.0 * 256.0)
+           + vec4(t00.g, t10.g, t01.g, t11.g) * 255.0;
+    e /= 65535.0;
+    return mix(mix(e.x, e.y, f.x), mix(e.z, e.w, f.x), f.y);
+#else
+    return TEX2D(uBrdfLut, uv).b;
+#endif
+}
+#endif

@@ -47,6 +47,42 @@ vec3 glviewTonemap(vec3 c) {
 vec3 glviewOutput(vec3 linear) {
     return glviewSrgb(glviewTonemap(linear * uExposure));
 }
+
+#ifdef KHR_TRANSMISSION
+// The output step undone, for the opaque frame's copy transmission reads: sRGB decoded, the
+// tone curve inverted (exact for none, Reinhard and the ACES fit below their clamp; for
+// Khronos PBR Neutral exact below its shoulder, where it is the identity less a small
+// offset, and without the shoulder's desaturation above), the exposure divided out. A copy
+// holds at most 1: what was clipped there is read as at most 4 (unbounded, a clipped
+// highlight behind the glass became a glowing blob).
+vec3 glviewInverseOutput(vec3 s) {
+    vec3 y = mix(s / 12.92, pow((s + 0.055) / 1.055, vec3(2.4)), step(0.04045, s));
+#if TONEMAP == 1
+    y = min(y, vec3(0.999));
+    vec3 a = 2.43 * y - 2.51;
+    vec3 b = 0.59 * y - 0.03;
+    vec3 c = 0.14 * y;
+    vec3 x = (-b - sqrt(max(b * b - 4.0 * a * c, 0.0))) / (2.0 * a);
+    y = max(x, 0.0) / 0.6;
+#elif TONEMAP == 2
+    y = min(y, vec3(0.999));
+    y = y / (1.0 - y);
+#elif TONEMAP == 3
+    const float start = 0.8 - 0.04;
+    const float d = 1.0 - start;
+    float peak = max(y.r, max(y.g, y.b));
+    if (peak >= start) {
+        float p = min(peak, 0.999);
+        y *= (d * d / (1.0 - p) - d + start) / max(peak, 1e-6);
+    }
+    float m = min(y.r, min(y.g, y.b));
+    // offset(x) = x - 6.25 x^2 below 0.08 (the curve's min channel is 6.25 x^2), else 0.04
+    float x = m < 0.04 ? sqrt(max(m, 0.0) / 6.25) : m + 0.04;
+    y += x < 0.08 ? x - 6.25 * x * x : 0.04;
+#endif
+    return min(y, vec3(4.0)) / uExposure;
+}
+#endif
 #else
 vec3 glviewOutput(vec3 c) {
     return clamp(c, 0.0, 1.0);

@@ -95,6 +95,13 @@ impl Gpu {
         unsafe { self.gl.finish() }
     }
 
+    /// Whether the bound draw framebuffer is multisampled (its colour cannot be copied into a
+    /// texture with glCopyTexSubImage2D).
+    pub fn framebuffer_multisampled(&self) -> bool {
+        // SAFETY: GL_SAMPLE_BUFFERS is a plain integer query of every GL version here.
+        unsafe { self.gl.get_parameter_i32(glow::SAMPLE_BUFFERS) > 0 }
+    }
+
     /// Reads the bound read framebuffer as RGBA8, top row first (GL's rows are bottom-up).
     pub fn read_rgba(&self, width: u32, height: u32) -> Vec<u8> {
         let (w, h) = (width as usize, height as usize);

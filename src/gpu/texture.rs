@@ -575,6 +575,20 @@ impl Texture2d {
         }
     }
 
+    /// Rebuilds the mip chain from level 0 (`glGenerateMipmap`, where the driver has it),
+    /// binding the texture on `unit`.
+    pub fn generate_mipmaps(&self, unit: u32) {
+        if !self.gpu.caps.generate_mipmap {
+            return;
+        }
+        // SAFETY: our own texture, level 0 allocated; the driver has glGenerateMipmap.
+        unsafe {
+            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
+            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.gl.generate_mipmap(glow::TEXTURE_2D);
+        }
+    }
+
     /// Copies a `size`² square from the lower-left corner of the bound read framebuffer's
     /// depth into level 0 at (x, y): the shadow-map path for drivers without framebuffer
     /// objects.

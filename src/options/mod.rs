@@ -151,7 +151,8 @@ declare_options! {
         shading: Shading = Shading::Phong, "shading" value;
         /// Terms to draw, comma-separated from direct-diffuse, direct-specular,
         /// ibl-diffuse, ibl-specular, ao, shadows, emissive, normal-map (also the legacy
-        /// tier's); `all` (default) or `none`.
+        /// tier's), and the glTF layers clearcoat, sheen, transmission; `all` (default) or
+        /// `none`.
         terms: PbrTerms = PbrTerms::default(), "terms" value;
         /// What to draw: the scene, or a teaching view (shadow map, PBR maps, surface
         /// attributes).

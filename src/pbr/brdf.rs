@@ -32,6 +32,11 @@ pub fn f_schlick(f0: DVec3, v_dot_h: f64) -> DVec3 {
     f0 + (DVec3::ONE - f0) * (1.0 - v_dot_h).clamp(0.0, 1.0).powi(5)
 }
 
+/// Schlick's Fresnel with reflectance `f90` at grazing incidence.
+pub fn f_schlick90(f0: DVec3, f90: f64, v_dot_h: f64) -> DVec3 {
+    f0 + (DVec3::splat(f90) - f0) * (1.0 - v_dot_h).clamp(0.0, 1.0).powi(5)
+}
+
 /// The i-th of n points of the Hammersley set in [0, 1)².
 pub fn hammersley(i: u32, n: u32) -> (f64, f64) {
     (
@@ -100,16 +105,33 @@ pub struct Surface {
     pub roughness: f64,
     pub ao: f64,
     pub emissive: DVec3,
+    /// The dielectric's F0 (the core's 0.04; KHR_materials_ior and _specular: the ior's F0
+    /// times the specular colour, clamped to 1, times the specular weight).
+    pub f0: DVec3,
+    /// The dielectric's reflectance at grazing incidence (the specular weight; 1 in the core).
+    pub f90: f64,
+    /// KHR_materials_transmission's share of the diffuse term that becomes transmission.
+    pub transmission: f64,
 }
 
 impl Surface {
-    /// k_d = albedo·(1 − f0)·(1 − metallic)
+    /// The core model's dielectric: F0 0.04, F90 1.
+    pub const CORE_F0: (DVec3, f64) = (DVec3::splat(super::F0), 1.0);
+
+    /// k_d = albedo·(1 − max(f0))·(1 − metallic)·(1 − transmission)
     pub fn kd(&self) -> DVec3 {
-        self.albedo * (1.0 - super::F0) * (1.0 - self.metallic)
+        self.albedo
+            * (1.0 - self.f0.max_element())
+            * (1.0 - self.metallic)
+            * (1.0 - self.transmission)
     }
     /// k_s = mix(f0, albedo, metallic)
     pub fn ks(&self) -> DVec3 {
-        DVec3::splat(super::F0).lerp(self.albedo, self.metallic)
+        self.f0.lerp(self.albedo, self.metallic)
+    }
+    /// F90 = mix(f90, 1, metallic)
+    pub fn f90(&self) -> f64 {
+        self.f90 + (1.0 - self.f90) * self.metallic
     }
 
     /// Direct light of unit colour from direction `l`: (k_d + π·f_spec)·N·L. A light's colour
@@ -123,7 +145,7 @@ impl Surface {
         let h = (l + v).normalize_or_zero();
         let spec = d_ggx(n.dot(h).max(0.0), self.roughness)
             * g_smith(n_dot_v, n_dot_l, self.roughness)
-            * f_schlick(self.ks(), v.dot(h).max(0.0))
+            * f_schlick90(self.ks(), self.f90(), v.dot(h).max(0.0))
             / (4.0 * n_dot_v * n_dot_l);
         (self.kd() + PI * spec) * n_dot_l
     }
@@ -148,7 +170,7 @@ impl Surface {
         radiance: &dyn Fn(DVec3) -> DVec3,
     ) -> DVec3 {
         let n_dot_v = n.dot(v).max(1e-4);
-        let ks = self.ks();
+        let (ks, f90) = (self.ks(), self.f90());
         let mut spec = DVec3::ZERO;
         for i in 0..samples {
             let (u1, u2) = hammersley(i, samples);
@@ -159,7 +181,7 @@ impl Surface {
                 let (n_dot_h, v_dot_h) = (n.dot(h).max(1e-8), v.dot(h).max(0.0));
                 // f·cos/pdf with pdf = D·(N·H)/(4·V·H)
                 let w = g_smith(n_dot_v, n_dot_l, self.roughness) * v_dot_h / (n_dot_h * n_dot_v);
-                spec += radiance(l) * f_schlick(ks, v_dot_h) * w;
+                spec += radiance(l) * f_schlick90(ks, f90, v_dot_h) * w;
             }
         }
         spec / f64::from(samples.max(1))

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 
 const MAGIC: &[u8] = b"glview-ibl 1\n";
 /// Bumped whenever the precomputation's algorithm changes what it writes: part of the key.
-const ALGORITHM: &str = "precompute-3";
+const ALGORITHM: &str = "precompute-5";
 
 #[derive(serde::Serialize, serde::Deserialize)]
 struct Header {
@@ -70,7 +70,10 @@ pub fn get(key: u64) -> Option<IblData> {
         specular.push(cube(s)?);
     }
     let n = (h.lut * h.lut) as usize;
-    let lut = take(n * 2)?.chunks_exact(2).map(|c| [c[0], c[1]]).collect();
+    let lut = take(n * 3)?
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
     if at != floats.len() {
         return None;
     }

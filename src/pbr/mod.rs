@@ -9,6 +9,7 @@ pub mod brdf;
 pub mod cache;
 pub mod env;
 pub mod precompute;
+pub mod sheen;
 pub mod views;
 
 use glam::Vec3;

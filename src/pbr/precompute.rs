@@ -100,11 +100,12 @@ impl Cube {
     }
 }
 
-/// The BRDF table: (A, B) at x = N·V (texel centres from 0 to 1), y = roughness.
+/// The BRDF table: (A, B) at x = N·V (texel centres from 0 to 1), y = roughness, and the
+/// sheen lobe's directional albedo E at y = sheen roughness ([`super::sheen::albedo`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Lut {
     pub size: u32,
-    pub texels: Vec<[f32; 2]>,
+    pub texels: Vec<[f32; 3]>,
 }
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -226,7 +227,8 @@ pub fn lut(size: u32, samples: u32) -> Lut {
             let n_dot_v = ((i % n) as f64 + 0.5) / n as f64;
             let r = ((i / n) as f64 + 0.5) / n as f64;
             let (a, b) = brdf::integrate_brdf(n_dot_v, r, samples);
-            [a as f32, b as f32]
+            let e = super::sheen::table_albedo(n_dot_v, r, samples);
+            [a as f32, b as f32, e as f32]
         })
         .collect();
     Lut { size, texels }

@@ -210,14 +210,20 @@ pub fn drawn(ctx: &Context, hit: &Hit, dir: DVec3) -> bool {
 /// Gram-Schmidt against `n`, bitangent cross(n, t)·w; tangent and bitangent flip with the
 /// normal on back faces. `n` is the unit normal already turned to the viewer's side.
 pub fn normal_map(m: &Material, c: &Corners, n: DVec3, front: bool) -> DVec3 {
+    normal_map_slot(m, Slot::Normal, m.normal_scale, c, n, front)
+}
+
+/// [`normal_map`] with the map of slot `slot` and its scale (the clearcoat's normal map).
+pub fn normal_map_slot(
+    m: &Material,
+    slot: Slot,
+    scale: f32,
+    c: &Corners,
+    n: DVec3,
+    front: bool,
+) -> DVec3 {
     let (Some(t), Some(tan)) = (
-        read(
-            m,
-            m.image(Slot::Normal).map(|t| &**t),
-            Slot::Normal,
-            c,
-            false,
-        ),
+        read(m, m.image(slot).map(|t| &**t), slot, c, false),
         c.tangent(),
     ) else {
         return n;
@@ -232,7 +238,7 @@ pub fn normal_map(m: &Material, c: &Corners, n: DVec3, front: bool) -> DVec3 {
     let tt = tt / tl;
     let b = n.cross(tt) * if tan.w < 0.0 { -side } else { side };
     let mut mn = t.truncate() * 2.0 - DVec3::ONE;
-    let scale = f64::from(m.normal_scale);
+    let scale = f64::from(scale);
     mn.x *= scale;
     mn.y *= scale;
     let r = tt * mn.x + b * mn.y + n * mn.z;

@@ -26,10 +26,12 @@
 pub mod bvh;
 pub mod edges;
 pub mod grid;
+pub mod layers;
 pub mod material;
 pub mod pbr;
 pub mod points;
 pub mod surface;
+pub mod transmission;
 pub mod view;
 
 use crate::frame::FrameSettings;
@@ -131,7 +133,7 @@ impl<'a> Context<'a> {
                     let mapped = scene
                         .materials
                         .get(m.material)
-                        .is_some_and(|x| x.normal_texture.is_some());
+                        .is_some_and(|x| x.needs_tangents());
                     if m.has_uv && mapped && m.tangents.len() != m.vertices.len() {
                         crate::scene::tangents::generate(m)
                     } else {

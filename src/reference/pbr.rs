@@ -59,12 +59,20 @@ pub fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams) -> Su
     }
     let emissive = material::read(m, image(&m.emissive_texture), Slot::Emissive, c, true)
         .map_or(DVec3::ONE, |t| t.truncate());
+    let (f0, f90) = if m.khr.has_f0() {
+        super::layers::dielectric(m, c)
+    } else {
+        Surface::CORE_F0
+    };
     Surface {
         albedo: factor * base,
         metallic,
         roughness,
         ao,
         emissive: DVec3::from(m.emissive.map(f64::from)) * emissive,
+        f0,
+        f90,
+        transmission: 0.0,
     }
 }
 
@@ -73,8 +81,31 @@ fn image(t: &Option<TextureSlot>) -> Option<&crate::scene::Texture> {
     t.as_ref().map(|t| &*t.image)
 }
 
-/// Linear radiance leaving point `p` towards the eye, then the output step (display value).
-pub fn shade(ctx: &Context, s: &Surface, p: DVec3, n: DVec3, vis: &[f64]) -> DVec3 {
+/// Linear radiance leaving point `p` towards the eye with the extensions' layers over it, then
+/// the output step (display value).
+pub fn shade(
+    ctx: &Context,
+    s: &Surface,
+    layers: &super::layers::Layers,
+    p: DVec3,
+    n: DVec3,
+    vis: &[f64],
+) -> DVec3 {
+    let mut s = *s;
+    let transmitted = layers.transmission.map(|t| {
+        s.transmission = t.factor;
+        let v = (ctx.view.eye - p).normalize_or_zero();
+        let n_dot_v = n.dot(v).max(1e-4);
+        super::transmission::passed(&s, n_dot_v, t.factor, t.light, ctx.pbr_samples)
+            + super::transmission::punctual(ctx, &s, &t, n, v)
+    });
+    let c = shade_linear(ctx, &s, p, n, vis) + transmitted.unwrap_or(DVec3::ZERO);
+    let c = layers.over(ctx, s.ao, c, p, n, vis);
+    DVec3::from(ctx.settings.lighting.output.apply(c.to_array()))
+}
+
+/// The core model's linear radiance leaving point `p` towards the eye.
+fn shade_linear(ctx: &Context, s: &Surface, p: DVec3, n: DVec3, vis: &[f64]) -> DVec3 {
     let settings = ctx.settings;
     let terms = &settings.lighting.pbr_terms;
     let params = &settings.lighting.pbr;
@@ -111,5 +142,5 @@ pub fn shade(ctx: &Context, s: &Surface, p: DVec3, n: DVec3, vis: &[f64]) -> DVe
         }
         c += visible * light.color.as_dvec3() * f;
     }
-    DVec3::from(settings.lighting.output.apply(c.to_array()))
+    c
 }

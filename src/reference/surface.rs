@@ -87,7 +87,9 @@ pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Sh
     let color = if pbr_tier {
         let mut s = super::pbr::surface(material, base, &corners, &ctx.settings.lighting);
         s.albedo *= vc.map(crate::pbr::srgb_decode);
-        super::pbr::shade(ctx, &s, p, mapped(ns), vis)
+        let n = mapped(ns);
+        let layers = super::layers::Layers::new(ctx, material, &corners, (p, ns, n), front);
+        super::pbr::shade(ctx, &s, &layers, p, n, vis)
     } else {
         let emissive = material::read(
             material,

@@ -183,37 +183,44 @@ fn upload(gpu: &GpuRef, d: &IblData, encoding: Encoding) -> Result<IblGpu> {
     let n = d.lut.size;
     let lut = if rgbm_on {
         // A and B as 16-bit values, high byte then low byte; sampled nearest, filtered in
-        // the shader (filtering split bytes in hardware would mix them).
+        // the shader (filtering split bytes in hardware would mix them). The sheen albedo E
+        // sits in the right half (r, g), so the table stays one texture unit.
         let q = |v: f32| (v.clamp(0.0, 1.0) * 65535.0).round() as u16;
+        let texel = |t: &[f32; 3]| {
+            let (a, b) = (q(t[0]), q(t[1]));
+            [(a >> 8) as u8, a as u8, (b >> 8) as u8, b as u8]
+        };
+        let sheen = |t: &[f32; 3]| {
+            let e = q(t[2]);
+            [(e >> 8) as u8, e as u8, 0, 255]
+        };
+        let n_us = n as usize;
         let data: Vec<u8> = d
             .lut
             .texels
-            .iter()
-            .flat_map(|t| {
-                let (a, b) = (q(t[0]), q(t[1]));
-                [(a >> 8) as u8, a as u8, (b >> 8) as u8, b as u8]
+            .chunks_exact(n_us)
+            .flat_map(|row| {
+                row.iter()
+                    .flat_map(texel)
+                    .chain(row.iter().flat_map(sheen))
+                    .collect::<Vec<u8>>()
             })
             .collect();
         let s = Sampling::NEAREST;
-        Texture2d::new(gpu, TextureFormat::Rgba8, n, n, Pixels::U8(&data), s)?
+        Texture2d::new(gpu, TextureFormat::Rgba8, 2 * n, n, Pixels::U8(&data), s)?
     } else {
         let s = Sampling {
             linear: true,
             mipmaps: false,
             repeat: false,
         };
-        if TextureFormat::Rg16F.supported(&gpu.caps) {
-            let data: Vec<f32> = d.lut.texels.iter().flatten().copied().collect();
-            Texture2d::new(gpu, TextureFormat::Rg16F, n, n, Pixels::F32(&data), s)?
-        } else {
-            let data: Vec<f32> = d
-                .lut
-                .texels
-                .iter()
-                .flat_map(|t| [t[0], t[1], 0.0, 1.0])
-                .collect();
-            Texture2d::new(gpu, TextureFormat::Rgba16F, n, n, Pixels::F32(&data), s)?
-        }
+        let data: Vec<f32> = d
+            .lut
+            .texels
+            .iter()
+            .flat_map(|t| [t[0], t[1], t[2], 1.0])
+            .collect();
+        Texture2d::new(gpu, TextureFormat::Rgba16F, n, n, Pixels::F32(&data), s)?
     };
     gpu.check_error("environment upload")?;
     Ok(IblGpu {

@@ -18,6 +18,7 @@ pub mod ibl_gpu;
 pub mod lit;
 pub mod overlay;
 pub mod pbr;
+pub mod pbr_khr;
 mod plan;
 pub mod post;
 pub mod programs;
@@ -110,6 +111,9 @@ pub(crate) struct Resources {
     pub edges: edges::EdgeState,
     /// The square of `--grid`, made on first use.
     pub grid: grid::GridState,
+    /// KHR_materials_transmission: the copy of the opaque frame with its mip chain, made on
+    /// first use at the frame's size ([`pbr_khr::copy_frame`]).
+    pub transmission: Option<crate::gpu::texture::Texture2d>,
 }
 
 impl Resources {

@@ -4,6 +4,7 @@
 //! mapping and sRGB encoding.
 use super::ibl::IblGpu;
 use super::lit::{shadow_flags, View, SHADOW_UNIT};
+use super::pbr_khr::{KhrFlags, KhrTextures};
 use super::textures::TextureTable;
 use super::tier::{MeshDraw, Prepared};
 use super::{FrameCx, Outcome, Pass, Shading};
@@ -49,7 +50,7 @@ pub struct Maps {
     pub color: bool,
 }
 
-/// Per-program options of the tier.
+/// Per-program options of the tier (the extensions' flags are added by [`KhrFlags::key`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Options {
     pub levels: u32,
@@ -118,7 +119,7 @@ pub fn all_keys(lights: u8, shadows: u8, pcf: u8, cube_mask: u8) -> Vec<ProgramK
     };
     vec![
         program_key(lights, shadows, pcf, cube_mask, Maps::default(), plain),
-        program_key(lights, shadows, pcf, cube_mask, all, every),
+        KhrFlags::ALL.key(program_key(lights, shadows, pcf, cube_mask, all, every)),
     ]
 }
 
@@ -132,6 +133,7 @@ struct MaterialMaps {
     orm_ao: bool,
     ao: Option<usize>,
     emissive: Option<usize>,
+    khr: KhrTextures,
 }
 
 /// Which table textures each material uses in the PBR tier, decided on the first PBR frame
@@ -208,6 +210,7 @@ impl MaterialTextures {
                 mm.orm = Some(table.get(gpu, &t, false, &Default::default())?);
                 mm.orm_ao = true;
             }
+            mm.khr = super::pbr_khr::textures(gpu, table, m)?;
             materials.push(mm);
         }
         Ok(MaterialTextures {
@@ -268,7 +271,13 @@ impl Pass for Pbr {
             dominant: s.lighting.pbr.dominant_direction,
             multiscatter: s.lighting.pbr.multiscatter,
         };
-        super::tier::run(cx, PbrTier { opts })?;
+        super::tier::run(
+            cx,
+            PbrTier {
+                opts,
+                frame_levels: None,
+            },
+        )?;
         Ok(Outcome::Ran(format!(
             "pbr({levels} levels, {}, env {})",
             if rgbm { "rgbm" } else { "float" },
@@ -281,17 +290,19 @@ impl Pass for Pbr {
 #[derive(Clone)]
 struct PbrTier {
     opts: Options,
+    /// The opaque frame's copy exists with these mip levels (transmissive meshes read it).
+    frame_levels: Option<f32>,
 }
 
 impl super::tier::Tier for PbrTier {
-    type Maps = (MaterialMaps, Maps);
+    type Maps = (MaterialMaps, Maps, KhrFlags);
 
     fn prepare(
         &mut self,
         cx: &mut FrameCx,
         v: &View,
         m: &MeshDraw,
-    ) -> Result<Prepared<(MaterialMaps, Maps)>> {
+    ) -> Result<Prepared<(MaterialMaps, Maps, KhrFlags)>> {
         let s = cx.settings;
         let mm = cx.res.pbr_textures.as_ref().expect("made by run").materials[m.material];
         let has_uv = m.has_uv;
@@ -303,19 +314,28 @@ impl super::tier::Tier for PbrTier {
             emissive: has_uv && mm.emissive.is_some(),
             color: m.has_colors,
         };
-        let key = program_key(
-            v.lights,
-            v.shadows,
-            s.shadows.pcf,
-            v.cube_mask,
-            maps,
-            self.opts,
-        )
-        .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code());
+        let khr = super::pbr_khr::flags(
+            &cx.scene.scene.materials[m.material],
+            &mm.khr,
+            has_uv,
+            m.has_tangents,
+            self.frame_levels.is_some(),
+            cx.gpu.caps.max_texture_units,
+        );
+        let key = khr
+            .key(program_key(
+                v.lights,
+                v.shadows,
+                s.shadows.pcf,
+                v.cube_mask,
+                maps,
+                self.opts,
+            ))
+            .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code());
         Ok(Prepared {
             key,
             textured: maps.albedo,
-            maps: (mm, maps),
+            maps: (mm, maps, khr),
         })
     }
 
@@ -353,6 +373,11 @@ impl super::tier::Tier for PbrTier {
             "uTermsB",
             Vec3::new(on(t.ao), on(t.shadows), on(t.emissive)),
         );
+        super::pbr_khr::program_uniforms(
+            program,
+            (t.clearcoat, t.sheen, t.transmission),
+            self.frame_levels.unwrap_or(0.0),
+        );
     }
 
     fn material(
@@ -360,7 +385,7 @@ impl super::tier::Tier for PbrTier {
         program: &Program,
         cx: &mut FrameCx,
         m: &MeshDraw,
-        (mm, maps): (MaterialMaps, Maps),
+        (mm, maps, khr): (MaterialMaps, Maps, KhrFlags),
     ) {
         let p = cx.settings.lighting.pbr;
         let mat = &cx.scene.scene.materials[m.material];
@@ -385,5 +410,25 @@ impl super::tier::Tier for PbrTier {
                 cx.stats.textures_bound += 1;
             }
         }
+        cx.stats.textures_bound +=
+            super::pbr_khr::material(program, &cx.res.textures, mat, khr, &mm.khr, m.has_uv1);
+        if khr.transmission {
+            if let Some(t) = &cx.res.transmission {
+                t.bind(super::pbr_khr::FRAME_UNIT);
+            }
+        }
+    }
+
+    fn transmissive(&self, cx: &FrameCx, material: usize) -> bool {
+        cx.settings.lighting.pbr_terms.transmission
+            && cx.settings.lighting.attribute_view == crate::frame::AttributeView::None
+            && cx.scene.scene.materials[material]
+                .khr
+                .transmission
+                .is_some_and(|t| t > 0.0)
+    }
+
+    fn frame_copied(&mut self, levels: f32) {
+        self.frame_levels = Some(levels);
     }
 }

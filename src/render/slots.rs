@@ -48,7 +48,7 @@ pub(crate) fn apply_sampler(t: &Texture2d, s: &Sampler) {
 }
 
 /// `KHR_texture_transform` as the 3×3 matrix uv' = T · R · S · uv (column-major).
-fn transform_matrix(model: &Material, slot: Slot) -> Mat3 {
+pub(crate) fn transform_matrix(model: &Material, slot: Slot) -> Mat3 {
     let Some(x) = model.slot(slot).and_then(|t| t.transform) else {
         return Mat3::IDENTITY;
     };

@@ -46,6 +46,13 @@ pub(crate) trait Tier: Clone {
     fn program_uniforms(&self, p: &Program, cx: &FrameCx, v: &View);
     /// The tier's material uniforms and texture bindings for mesh `m`.
     fn material(&mut self, p: &Program, cx: &mut FrameCx, m: &MeshDraw, maps: Self::Maps);
+    /// Whether material `material` is drawn after a copy of the opaque frame, which it reads
+    /// (KHR_materials_transmission in the PBR tier).
+    fn transmissive(&self, _cx: &FrameCx, _material: usize) -> bool {
+        false
+    }
+    /// The opaque frame's copy is made, with `levels` mip levels to blur across.
+    fn frame_copied(&mut self, _levels: f32) {}
 }
 
 /// A lit pass after its own checks and set-up: view, clear, draw order, then the meshes
@@ -55,7 +62,35 @@ pub(crate) fn run<T: Tier>(cx: &mut FrameCx, tier: T) -> Result<()> {
     cx.bind_target();
     super::translucent::clear(cx);
     let (order, first) = v.draw_order(cx);
-    super::translucent::draw_frame(cx, &order, first, &mut |cx, meshes, states| {
+    // Opaque meshes that see through themselves (transmission) are drawn after a copy of
+    // everything opaque behind them, then the translucent ones as always.
+    let (thin, rest): (Vec<usize>, Vec<usize>) = order[..first]
+        .iter()
+        .partition(|&&i| tier.transmissive(cx, cx.scene.meshes[i].material));
+    if thin.is_empty() || !super::pbr_khr::frame_allows(cx) {
+        return super::translucent::draw_frame(cx, &order, first, &mut |cx, meshes, states| {
+            draw_meshes(cx, &v, tier.clone(), meshes, states)
+        });
+    }
+    let opaque = rest.len();
+    super::translucent::draw_frame(cx, &rest, opaque, &mut |cx, meshes, states| {
+        draw_meshes(cx, &v, tier.clone(), meshes, states)
+    })?;
+    let levels = super::pbr_khr::copy_frame(cx)?;
+    let mut seeing = tier.clone();
+    seeing.frame_copied(levels);
+    draw_meshes(cx, &v, seeing, &thin, &|_| {
+        vec![crate::gpu::state::RenderState::default()]
+    })?;
+    cx.stats.pass_log.push(format!(
+        "transmission: {} mesh(es) over the opaque frame's copy ({levels} mip levels)",
+        thin.len()
+    ));
+    let glass = &order[first..];
+    if glass.is_empty() {
+        return Ok(());
+    }
+    super::translucent::draw_frame(cx, glass, 0, &mut |cx, meshes, states| {
         draw_meshes(cx, &v, tier.clone(), meshes, states)
     })
 }

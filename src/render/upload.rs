@@ -126,7 +126,7 @@ impl SceneGpu {
                 .map(|v| (Vec3::from(v.position) - center).length())
                 .fold(0.0f32, f32::max);
             // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
-            let tangents = (m.has_uv && mat.normal_texture.is_some()).then(|| {
+            let tangents = (m.has_uv && mat.needs_tangents()).then(|| {
                 if m.tangents.len() == m.vertices.len() {
                     std::borrow::Cow::Borrowed(m.tangents.as_slice())
                 } else {

@@ -81,7 +81,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 9: point clouds (issue 31): the wire's per-point colours and normals.
 /// 10: OBJ clouds' `v x y z r g b` colours and `vn` normals, glTF POINTS' COLOR_0 and NORMAL
 /// (issue 31): entries of 9 hold such clouds without them.
-const FORMAT: u32 = 10;
+/// 11: the glTF PBR extensions (issue 32): `Material::khr` and its nine texture slots.
+const FORMAT: u32 = 11;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -171,7 +172,7 @@ struct WireMeta {
 /// A material's texture slots as indices into the header's texture table, in the order of
 /// [`Material::slots_mut`].
 type SlotRefs = [Option<usize>; SLOTS];
-const SLOTS: usize = 7;
+const SLOTS: usize = 16;
 
 #[derive(Serialize, Deserialize)]
 struct Header {

@@ -23,6 +23,13 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
     "EXT_meshopt_compression",
     "KHR_materials_unlit",
     "KHR_texture_transform",
+    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
+    "KHR_materials_specular",
+    "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_materials_pbrSpecularGlossiness",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
@@ -56,7 +63,7 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
     let mut materials = Vec::new();
     for m in doc.materials() {
         let mut image = |i: usize| images.get(i).cloned().flatten();
-        materials.push(super::gltf_material::material(&m, &mut image));
+        materials.push(super::gltf_material::material(&doc, &m, &mut image));
     }
     let default_index = materials.len();
     materials.push(super::Material::default());
@@ -241,8 +248,14 @@ fn decode_images(
             m.occlusion_texture().map(|t| t.texture()),
             m.emissive_texture().map(|t| t.texture()),
         ];
-        for t in slots.into_iter().flatten() {
-            if let Some(u) = used.get_mut(t.source().index()) {
+        let extensions = super::gltf_khr::used_images(doc, &m);
+        for i in slots
+            .into_iter()
+            .flatten()
+            .map(|t| t.source().index())
+            .chain(extensions)
+        {
+            if let Some(u) = used.get_mut(i) {
                 *u = true;
             }
         }

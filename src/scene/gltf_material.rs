@@ -30,7 +30,7 @@ fn min_filter(f: MinFilter) -> mm::Filter {
 
 /// The slot's facts as the file gives them (its `--check` line is made from these whether or
 /// not the image decodes).
-fn facts(
+pub(crate) fn facts(
     s: Slot,
     tex: gltf::Texture,
     tex_coord: u32,
@@ -66,6 +66,7 @@ fn facts(
 
 /// `image(i)` decodes (once) or gives None after warning.
 pub fn material(
+    doc: &gltf::Document,
     m: &gltf::Material,
     image: &mut dyn FnMut(usize) -> Option<Arc<Texture>>,
 ) -> Material {
@@ -165,5 +166,23 @@ pub fn material(
         );
         out.emissive_texture = load(f, srgb, &mut out);
     }
+    let mut notes = Vec::new();
+    let mut load_slot = |f: SlotFacts, cs: ColorSpace| {
+        let img = image(f.image);
+        notes.push(slot_line(&SlotFacts {
+            loaded: img.is_some(),
+            ..f
+        }));
+        img.map(|image| TextureSlot {
+            image,
+            sampler: f.sampler,
+            uv_set: f.uv_set,
+            transform: f.transform,
+            color_space: cs,
+        })
+    };
+    out.khr = super::gltf_khr::read(doc, m, &mut load_slot);
+    super::gltf_specgloss::convert(doc, m, &mut out, &mut load_slot);
+    out.check.gltf_slots.extend(notes);
     out
 }

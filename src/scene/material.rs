@@ -183,6 +183,9 @@ pub struct Material {
     pub metallic_texture: Option<TextureSlot>,
     /// An MTL's separate `map_Pr` (red channel).
     pub roughness_texture: Option<TextureSlot>,
+    /// The glTF PBR extensions (clearcoat, sheen, specular, ior) with their slots.
+    #[serde(default)]
+    pub khr: super::material_khr::Khr,
     /// The MTL's terms (also the defaults of STL, PLY and OBJ without a material); None for
     /// glTF.
     pub phong: Option<PhongTerms>,
@@ -222,6 +225,7 @@ impl Material {
             emissive_texture: None,
             metallic_texture: None,
             roughness_texture: None,
+            khr: Default::default(),
             phong: None,
             check: CheckNotes::default(),
         }
@@ -294,6 +298,7 @@ impl Material {
             Slot::Normal => self.normal_texture.as_ref(),
             Slot::Occlusion => self.occlusion_texture.as_ref(),
             Slot::Emissive => self.emissive_texture.as_ref(),
+            s => self.khr.slot(s),
         }
     }
 
@@ -303,7 +308,8 @@ impl Material {
     }
 
     /// Every texture slot in one fixed order (the mesh cache's slot table follows it).
-    pub fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 7] {
+    pub fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 16] {
+        let [a, b, c, d, e, f, g, h, i] = &mut self.khr.maps;
         [
             &mut self.base_color_texture,
             &mut self.normal_texture,
@@ -312,11 +318,21 @@ impl Material {
             &mut self.metallic_roughness_texture,
             &mut self.occlusion_texture,
             &mut self.emissive_texture,
+            a,
+            b,
+            c,
+            d,
+            e,
+            f,
+            g,
+            h,
+            i,
         ]
     }
 
     /// As [`Material::slots_mut`], read only.
-    pub fn slots(&self) -> [&Option<TextureSlot>; 7] {
+    pub fn slots(&self) -> [&Option<TextureSlot>; 16] {
+        let [a, b, c, d, e, f, g, h, i] = &self.khr.maps;
         [
             &self.base_color_texture,
             &self.normal_texture,
@@ -325,7 +341,21 @@ impl Material {
             &self.metallic_roughness_texture,
             &self.occlusion_texture,
             &self.emissive_texture,
+            a,
+            b,
+            c,
+            d,
+            e,
+            f,
+            g,
+            h,
+            i,
         ]
+    }
+
+    /// Whether a tangent frame is read: the normal map, or the clearcoat's.
+    pub fn needs_tangents(&self) -> bool {
+        self.normal_texture.is_some() || self.khr.slot(Slot::ClearcoatNormal).is_some()
     }
 
     /// Whether the occlusion, roughness and metallic maps are an MTL's single-channel images,

@@ -19,7 +19,59 @@ pub fn describe(m: &Material) -> Vec<String> {
         m.base_alpha,
         m.emissive_strength
     )];
+    out.extend(khr_lines(&m.khr));
     out.extend(m.check.gltf_slots.iter().cloned());
+    out
+}
+
+/// One line per glTF PBR extension the material uses, with its factors.
+fn khr_lines(k: &super::material_khr::Khr) -> Vec<String> {
+    let mut out = Vec::new();
+    if k.converted_spec_gloss {
+        out.push(
+            "KHR_materials_pbrSpecularGlossiness: converted (diffuse → base colour, metallic 0, \
+             specular → dielectric F0 through KHR_materials_specular, 1 − glossiness → roughness)"
+                .to_string(),
+        );
+    }
+    if let Some(c) = k.clearcoat {
+        out.push(format!(
+            "KHR_materials_clearcoat: clearcoatFactor {}, clearcoatRoughnessFactor {}",
+            c.factor, c.roughness
+        ));
+    }
+    if let Some(s) = k.sheen {
+        out.push(format!(
+            "KHR_materials_sheen: sheenColorFactor {:?}, sheenRoughnessFactor {}",
+            s.color, s.roughness
+        ));
+    }
+    if let Some(s) = k.specular {
+        out.push(format!(
+            "KHR_materials_specular: specularFactor {}, specularColorFactor {:?}",
+            s.factor, s.color
+        ));
+    }
+    if let Some(t) = k.transmission {
+        out.push(format!(
+            "KHR_materials_transmission: transmissionFactor {t}"
+        ));
+    }
+    if let Some(v) = k.volume {
+        out.push(format!(
+            "KHR_materials_volume: thicknessFactor {}, attenuationColor {:?}, attenuationDistance {}",
+            v.thickness,
+            v.attenuation_color,
+            v.attenuation_distance
+                .map_or("infinite".to_string(), |d| d.to_string())
+        ));
+    }
+    if let Some(i) = k.ior {
+        out.push(format!(
+            "KHR_materials_ior: ior {i} (dielectric F0 {:.4})",
+            k.ior_f0()
+        ));
+    }
     out
 }
 
@@ -53,7 +105,7 @@ pub fn slot_line(t: &SlotFacts) -> String {
             .map_or("default".to_string(), |f| format!("{f:?}")),
     );
     match t.slot {
-        Slot::Normal => s += &format!(", scale {}", t.scale),
+        Slot::Normal | Slot::ClearcoatNormal => s += &format!(", scale {}", t.scale),
         Slot::Occlusion => s += &format!(", strength {}", t.scale),
         _ => {}
     }

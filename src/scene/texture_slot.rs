@@ -61,6 +61,16 @@ pub enum Slot {
     Normal,
     Occlusion,
     Emissive,
+    /// The extensions' slots (issue 32, [`super::material_khr`]).
+    Clearcoat,
+    ClearcoatRoughness,
+    ClearcoatNormal,
+    SheenColor,
+    SheenRoughness,
+    Specular,
+    SpecularColor,
+    Transmission,
+    Thickness,
 }
 
 impl Slot {
@@ -71,6 +81,15 @@ impl Slot {
             Slot::Normal => "normalTexture",
             Slot::Occlusion => "occlusionTexture",
             Slot::Emissive => "emissiveTexture",
+            Slot::Clearcoat => "clearcoatTexture",
+            Slot::ClearcoatRoughness => "clearcoatRoughnessTexture",
+            Slot::ClearcoatNormal => "clearcoatNormalTexture",
+            Slot::SheenColor => "sheenColorTexture",
+            Slot::SheenRoughness => "sheenRoughnessTexture",
+            Slot::Specular => "specularTexture",
+            Slot::SpecularColor => "specularColorTexture",
+            Slot::Transmission => "transmissionTexture",
+            Slot::Thickness => "thicknessTexture",
         }
     }
 }

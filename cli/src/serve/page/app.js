@@ -210,7 +210,7 @@ document.addEventListener('keydown', (e) => {
   if (e.ctrlKey || e.metaKey || e.altKey) return;
   if (e.target instanceof HTMLSelectElement) return;
   let name = KEY_NAMES[e.key];
-  if (!name && /^[rfsgpwbcexz1-7[\]]$/i.test(e.key)) name = e.key.toUpperCase();
+  if (!name && /^[rfsgpwbcexz0-9[\]]$/i.test(e.key)) name = e.key.toUpperCase();
   if (e.key === 'h' || e.key === 'H') {
     overlayOn = !overlayOn; // local only: the server's picture has no overlay
     $('overlay').hidden = !overlayOn;

@@ -5,6 +5,7 @@
 pub mod child;
 pub mod f3d;
 pub mod frame;
+pub mod khr;
 pub mod knobs;
 pub mod load;
 pub mod load_report;
@@ -44,6 +45,10 @@ pub struct BenchArgs {
     /// forced, map reused and no shadows, without and with reordering and cluster culling.
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency"])]
     pub frame: bool,
+    /// Measure the glTF PBR extensions' programs (clearcoat, sheen, specular/ior) against
+    /// the core material's on a full-frame sphere.
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
+    pub khr: bool,
     /// Measure `glview serve` under 1, 5 and 30 simulated viewers and in teacher mode
     /// (frames/s, input→frame latency, bytes a frame; docs/serve.md).
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
@@ -74,6 +79,9 @@ pub fn run(args: &BenchArgs) -> glview::Result<()> {
             args.serve_seconds,
             &args.serve_size,
         );
+    }
+    if args.khr {
+        return khr::run_khr();
     }
     if args.translucency {
         return translucency::run_translucency(&args.quality.models_dir);

@@ -1,0 +1,186 @@
+//! The glTF PBR extensions the `gltf` crate does not expose (KHR_materials_clearcoat,
+//! _sheen, _specular, _ior), read from the material's raw extension JSON into
+//! [`super::material_khr::Khr`]. Texture infos are resolved like the core slots (sampler,
+//! UV set, KHR_texture_transform); a malformed value is the extension's default, as a
+//! missing one is.
+use super::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume, SLOTS};
+use super::material_report::SlotFacts;
+use super::texture_slot::{ColorSpace, Slot, TexTransform};
+use serde_json::Value;
+
+pub(crate) fn num(v: &Value, key: &str, default: f32) -> f32 {
+    v.get(key)
+        .and_then(Value::as_f64)
+        .filter(|x| x.is_finite())
+        .map_or(default, |x| x as f32)
+}
+
+pub(crate) fn rgb(v: &Value, key: &str, default: [f32; 3]) -> [f32; 3] {
+    let Some(a) = v.get(key).and_then(Value::as_array) else {
+        return default;
+    };
+    let c: Vec<f32> = a
+        .iter()
+        .filter_map(Value::as_f64)
+        .map(|x| x as f32)
+        .collect();
+    match c[..] {
+        [r, g, b] if c.iter().all(|x| x.is_finite()) => [r, g, b],
+        _ => default,
+    }
+}
+
+fn pair(v: &Value, key: &str, default: [f32; 2]) -> [f32; 2] {
+    let c: Option<Vec<f32>> = v.get(key).and_then(Value::as_array).map(|a| {
+        a.iter()
+            .filter_map(Value::as_f64)
+            .map(|x| x as f32)
+            .collect()
+    });
+    match c.as_deref() {
+        Some([a, b]) if a.is_finite() && b.is_finite() => [*a, *b],
+        _ => default,
+    }
+}
+
+/// A texture info's facts: the texture's sampler and image, the UV set (the transform's
+/// texCoord overrides), the transform and the normal scale.
+pub(crate) fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Option<SlotFacts> {
+    let index = info.get("index")?.as_u64()? as usize;
+    let tex = doc.textures().nth(index)?;
+    let tex_coord = info.get("texCoord").and_then(Value::as_u64).unwrap_or(0) as u32;
+    let xf = info
+        .get("extensions")
+        .and_then(|e| e.get("KHR_texture_transform"));
+    let mut f = super::gltf_material::facts(slot, tex, tex_coord, None, num(info, "scale", 1.0));
+    if let Some(x) = xf {
+        f.transform = Some(TexTransform {
+            offset: pair(x, "offset", [0.0, 0.0]),
+            rotation: num(x, "rotation", 0.0),
+            scale: pair(x, "scale", [1.0, 1.0]),
+        });
+        if let Some(t) = x.get("texCoord").and_then(Value::as_u64) {
+            f.uv_set = t as u32;
+        }
+    }
+    Some(f)
+}
+
+/// The images the extensions' texture infos of material `m` name (decoded with the core
+/// slots' images).
+pub fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
+    let mut out = Vec::new();
+    for ext in [
+        "KHR_materials_clearcoat",
+        "KHR_materials_sheen",
+        "KHR_materials_specular",
+        "KHR_materials_transmission",
+        "KHR_materials_volume",
+        "KHR_materials_pbrSpecularGlossiness",
+    ] {
+        let Some(Value::Object(e)) = m.extension_value(ext) else {
+            continue;
+        };
+        for (key, info) in e {
+            if !key.ends_with("Texture") {
+                continue;
+            }
+            let tex = info
+                .get("index")
+                .and_then(Value::as_u64)
+                .and_then(|i| doc.textures().nth(i as usize));
+            if let Some(t) = tex {
+                out.push(t.source().index());
+            }
+        }
+    }
+    out
+}
+
+/// The extensions of material `m`; `load` turns a slot's facts into its slot (decoding the
+/// image and writing the `--check` line).
+pub fn read(
+    doc: &gltf::Document,
+    m: &gltf::Material,
+    load: &mut dyn FnMut(SlotFacts, ColorSpace) -> Option<super::texture_slot::TextureSlot>,
+) -> Khr {
+    let mut k = Khr::default();
+    let mut tex = |ext: &Value, key: &str, slot: Slot, cs: ColorSpace, k: &mut Khr| {
+        let f = ext.get(key).and_then(|i| texture_info(doc, slot, i));
+        if let Some(f) = f {
+            let i = SLOTS
+                .iter()
+                .position(|s| *s == slot)
+                .expect("an extension slot");
+            k.maps[i] = load(f, cs);
+        }
+    };
+    let (srgb, lin) = (ColorSpace::Srgb, ColorSpace::Linear);
+    if let Some(e) = m.extension_value("KHR_materials_clearcoat") {
+        let normal_scale = e
+            .get("clearcoatNormalTexture")
+            .map_or(1.0, |t| num(t, "scale", 1.0));
+        k.clearcoat = Some(Clearcoat {
+            factor: num(e, "clearcoatFactor", 0.0).clamp(0.0, 1.0),
+            roughness: num(e, "clearcoatRoughnessFactor", 0.0).clamp(0.0, 1.0),
+            normal_scale,
+        });
+        tex(e, "clearcoatTexture", Slot::Clearcoat, lin, &mut k);
+        tex(
+            e,
+            "clearcoatRoughnessTexture",
+            Slot::ClearcoatRoughness,
+            lin,
+            &mut k,
+        );
+        tex(
+            e,
+            "clearcoatNormalTexture",
+            Slot::ClearcoatNormal,
+            lin,
+            &mut k,
+        );
+    }
+    if let Some(e) = m.extension_value("KHR_materials_sheen") {
+        k.sheen = Some(Sheen {
+            color: rgb(e, "sheenColorFactor", [0.0; 3]).map(|c| c.max(0.0)),
+            roughness: num(e, "sheenRoughnessFactor", 0.0).clamp(0.0, 1.0),
+        });
+        tex(e, "sheenColorTexture", Slot::SheenColor, srgb, &mut k);
+        tex(
+            e,
+            "sheenRoughnessTexture",
+            Slot::SheenRoughness,
+            lin,
+            &mut k,
+        );
+    }
+    if let Some(e) = m.extension_value("KHR_materials_specular") {
+        k.specular = Some(Specular {
+            factor: num(e, "specularFactor", 1.0).max(0.0),
+            color: rgb(e, "specularColorFactor", [1.0; 3]).map(|c| c.max(0.0)),
+        });
+        tex(e, "specularTexture", Slot::Specular, lin, &mut k);
+        tex(e, "specularColorTexture", Slot::SpecularColor, srgb, &mut k);
+    }
+    if let Some(e) = m.extension_value("KHR_materials_transmission") {
+        k.transmission = Some(num(e, "transmissionFactor", 0.0).clamp(0.0, 1.0));
+        tex(e, "transmissionTexture", Slot::Transmission, lin, &mut k);
+    }
+    if let Some(e) = m.extension_value("KHR_materials_volume") {
+        let d = num(e, "attenuationDistance", f32::INFINITY);
+        k.volume = Some(Volume {
+            thickness: num(e, "thicknessFactor", 0.0).max(0.0),
+            attenuation_color: rgb(e, "attenuationColor", [1.0; 3]).map(|c| c.clamp(0.0, 1.0)),
+            attenuation_distance: (d > 0.0 && d.is_finite()).then_some(d),
+        });
+        tex(e, "thicknessTexture", Slot::Thickness, lin, &mut k);
+    }
+    if let Some(e) = m.extension_value("KHR_materials_ior") {
+        // At least 1, or exactly 0 (the specification's F0 = 1, for converted
+        // specular-glossiness materials); anything else is the default.
+        let ior = num(e, "ior", 1.5);
+        k.ior = Some(if ior >= 1.0 || ior == 0.0 { ior } else { 1.5 });
+    }
+    k
+}
