@@ -23,6 +23,8 @@ pub struct GpuMesh {
     /// GL_TRIANGLES, GL_LINES or GL_POINTS.
     mode: u32,
     pub index_count: i32,
+    /// The indices [`GpuMesh::draw`] draws: the first ones, when levels of detail follow.
+    pub whole_count: i32,
 }
 
 /// Attribute location of the optional tangent stream.
@@ -161,11 +163,12 @@ impl GpuMesh {
                 Primitive::Points => glow::POINTS,
             },
             index_count: indices.len() as i32,
+            whole_count: indices.len() as i32,
         })
     }
 
     pub fn draw(&self) {
-        self.draw_ranges(&[(0, self.index_count as u32)]);
+        self.draw_ranges(&[(0, self.whole_count as u32)]);
     }
 
     /// Draws the index ranges (first index, count), one draw call each, with the attribute

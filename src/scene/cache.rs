@@ -79,7 +79,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 7: the colour rule (issue 31): a material's `colour_rule`, glTF COLOR_0 stored encoded.
 /// 8: COLOR_0's alpha per vertex (issue 32).
 /// 9: point clouds (issue 31): the wire's per-point colours and normals.
-const FORMAT: u32 = 9;
+/// 10: level of detail (issue 30): clusters' groups and levels, levels' indices at the end.
+const FORMAT: u32 = 10;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -335,6 +336,13 @@ pub fn put_in(
         bytemuck::cast_slice(&w.normals),
     ]);
     parts.extend(table.iter().map(|t| &t.rgba[..]));
+    // Each large mesh's simplified levels (the header has their tables).
+    parts.extend(
+        clusters
+            .iter()
+            .flatten()
+            .map(|c| bytemuck::cast_slice(&c.lod.indices)),
+    );
     let payload_len: u64 = parts.iter().map(|p| p.len() as u64).sum();
     if payload_len > max_bytes {
         return Err(std::io::Error::other("entry larger than --cache-size"));

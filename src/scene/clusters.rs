@@ -7,6 +7,7 @@
 //! viewer: llvmpipe shades vertices and sets up triangles on one thread, so triangles never
 //! sent are the only ones that cost nothing. No GL here.
 use super::closure::{closure, Closure};
+use super::lod::{hidden, Lod, Pixels};
 use super::Vertex;
 use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
@@ -30,23 +31,85 @@ pub fn run_length(triangles: usize) -> usize {
         .next_power_of_two()
         .clamp(MIN_RUN, RUN)
 }
-/// Triangles per reordering job: big meshes are reordered in independent slices in parallel.
-const SLICE: usize = 1 << 16;
-
-/// Reorders `indices` (whole triangles) for the post-transform vertex cache with meshopt's
-/// FIFO optimiser, which also leaves consecutive triangles adjacent, so any run of them is a
-/// compact patch (measured on the 1M-triangle sphere: ~25 ms, against ~300 ms for meshopt's
-/// LRU optimiser plus meshlets, which culled worse: 566k drawn triangles against 436k).
-/// Same triangles, same winding; only their order changes (which changes no pixel of an
-/// opaque depth-tested mesh except where two triangles tie exactly in depth).
+/// Reorders `indices` (whole triangles) into compact patches: triangles sorted along a Morton
+/// curve of their centroids, cut into blocks of [`lod::GROUP`] clusters, each block then put
+/// in meshopt's FIFO vertex-cache order. A block is one compact patch (a run of 256 triangles
+/// in FIFO order over the whole mesh was a long strip: its locked border stopped the
+/// simplifier of the levels of detail at a fifth of the triangles, and its wide sphere
+/// culled less), and any run inside it is a patch too. Same triangles, same winding; only
+/// their order changes (which changes no pixel of an opaque depth-tested mesh except where
+/// two triangles tie exactly in depth). Deterministic: ties in the curve keep file order.
 pub fn reorder(vertices: &[Vertex], indices: &mut [u32]) {
-    if indices.len() / 3 < MIN_TRIANGLES {
+    let triangles = indices.len() / 3;
+    if triangles < MIN_TRIANGLES {
         return;
     }
-    let n = vertices.len();
-    indices
-        .par_chunks_mut(SLICE * 3)
-        .for_each(|slice| meshopt::optimize_vertex_cache_fifo_in_place(slice, n, 16));
+    let block = run_length(triangles) * super::lod::GROUP;
+    let (lo, hi) = vertices
+        .par_iter()
+        .fold(
+            || (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), v| {
+                let p = Vec3::from(v.position);
+                (lo.min(p), hi.max(p))
+            },
+        )
+        .reduce(
+            || (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |a, b| (a.0.min(b.0), a.1.max(b.1)),
+        );
+    let scale = Vec3::splat(((1u32 << 21) - 1) as f32) / (hi - lo).max(Vec3::splat(1e-30));
+    let mut keys: Vec<(u64, u32)> = indices
+        .par_chunks_exact(3)
+        .enumerate()
+        .map(|(t, tri)| {
+            let c = tri
+                .iter()
+                .map(|&i| Vec3::from(vertices[i as usize].position))
+                .sum::<Vec3>()
+                / 3.0;
+            let q = ((c - lo) * scale).clamp(Vec3::ZERO, Vec3::splat(((1u32 << 21) - 1) as f32));
+            (morton(q.x as u64, q.y as u64, q.z as u64), t as u32)
+        })
+        .collect();
+    keys.par_sort_unstable();
+    let sorted: Vec<u32> = keys
+        .par_iter()
+        .flat_map_iter(|&(_, t)| indices[t as usize * 3..t as usize * 3 + 3].iter().copied())
+        .collect();
+    drop(keys);
+    indices.copy_from_slice(&sorted);
+    drop(sorted);
+    indices.par_chunks_mut(block * 3).for_each(fifo_local);
+}
+
+/// meshopt's FIFO vertex-cache order for one block, on the block's own vertex numbers (the
+/// optimiser's tables are as long as the vertex count: the mesh's would cost a clear of
+/// megabytes per block).
+fn fifo_local(block: &mut [u32]) {
+    let mut local: Vec<u32> = block.to_vec();
+    local.sort_unstable();
+    local.dedup();
+    for i in block.iter_mut() {
+        *i = local.binary_search(i).expect("from the block") as u32;
+    }
+    meshopt::optimize_vertex_cache_fifo_in_place(block, local.len(), 16);
+    for i in block.iter_mut() {
+        *i = local[*i as usize];
+    }
+}
+
+/// The 63-bit Morton code of three 21-bit coordinates.
+fn morton(x: u64, y: u64, z: u64) -> u64 {
+    fn spread(mut v: u64) -> u64 {
+        v &= 0x1f_ffff;
+        v = (v | v << 32) & 0x1f_0000_0000_ffff;
+        v = (v | v << 16) & 0x1f_0000_ff00_00ff;
+        v = (v | v << 8) & 0x100f_00f0_0f00_f00f;
+        v = (v | v << 4) & 0x10c3_0c30_c30c_30c3;
+        (v | v << 2) & 0x1249_2492_4924_9249
+    }
+    spread(x) | spread(y) << 1 | spread(z) << 2
 }
 
 /// Reorders every large mesh of `scene` and builds its clusters (None for small meshes),
@@ -58,7 +121,9 @@ pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
         .map(|m| {
             (m.triangle_count() >= MIN_TRIANGLES).then(|| {
                 reorder(&m.vertices, &mut m.indices);
-                Clusters::build(&m.vertices, &m.indices)
+                let mut c = Clusters::build(&m.vertices, &m.indices);
+                c.lod = Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &c.list);
+                c
             })
         })
         .collect()
@@ -85,6 +150,9 @@ pub struct Clusters {
     pub list: Vec<Cluster>,
     /// Whether back faces can be seen from outside, and if so why ([`closure`]).
     pub closure: Closure,
+    /// Coarser levels of groups of clusters (empty: none built).
+    #[serde(default)]
+    pub lod: Lod,
 }
 
 impl Clusters {
@@ -99,6 +167,7 @@ impl Clusters {
         Clusters {
             list,
             closure: closure(vertices, indices),
+            lod: Lod::default(),
         }
     }
 
@@ -119,9 +188,9 @@ impl Clusters {
     ) -> u64 {
         out.clear();
         let mut triangles = 0u64;
-        for c in &self.list {
-            if view.outside(c.center, c.radius) || (hide_back_faces && view.faces_away(c)) {
-                continue;
+        let mut push = |c: &Cluster| {
+            if hidden(view, c, hide_back_faces) {
+                return;
             }
             triangles += u64::from(c.count);
             let (first, count) = (c.first * 3, c.count * 3);
@@ -129,12 +198,30 @@ impl Clusters {
                 Some((f, n)) if *f + *n == first => *n += count,
                 _ => out.push((first, count)),
             }
+        };
+        match &view.lod {
+            // Per group: its coarsest level within the bound, else its own clusters.
+            Some(px) if !self.lod.groups.is_empty() => {
+                for g in &self.lod.groups {
+                    if view.outside(g.bound.center, g.bound.radius) {
+                        continue;
+                    }
+                    match self.lod.choose(g, px) {
+                        Some(level) => push(&level.part),
+                        None => self.list[g.clusters[0] as usize..g.clusters[1] as usize]
+                            .iter()
+                            .for_each(&mut push),
+                    }
+                }
+            }
+            _ => self.list.iter().for_each(push),
         }
         triangles
     }
 }
 
-fn cluster(vertices: &[Vertex], run: &[u32], first: u32) -> Cluster {
+/// The bounds and normal cone of the triangles `run`, the first of which is triangle `first`.
+pub(crate) fn cluster(vertices: &[Vertex], run: &[u32], first: u32) -> Cluster {
     let p = |i: u32| Vec3::from(vertices[i as usize].position);
     let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     let mut sum = Vec3::ZERO;
@@ -185,6 +272,8 @@ fn cluster(vertices: &[Vertex], run: &[u32], first: u32) -> Cluster {
 pub struct ClusterView {
     pub viewer: Viewer,
     planes: [Vec4; 6],
+    /// Level of detail: the view's pixels and error bound (None: every triangle).
+    pub lod: Option<Pixels>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -225,7 +314,25 @@ impl ClusterView {
         } else {
             Viewer::Direction(h.xyz().normalize_or_zero())
         };
-        ClusterView { viewer, planes }
+        ClusterView {
+            viewer,
+            planes,
+            lod: None,
+        }
+    }
+
+    /// The view drawn into `width` × `height` pixels with level of detail at `bound` pixels
+    /// of error (0 or less: none).
+    pub fn with_lod(self, view_proj: Mat4, width: u32, height: u32, bound: f32) -> ClusterView {
+        ClusterView {
+            lod: (bound > 0.0).then(|| Pixels::new(view_proj, width, height, bound)),
+            ..self
+        }
+    }
+
+    /// The same view drawing every triangle.
+    pub fn without_lod(self) -> ClusterView {
+        ClusterView { lod: None, ..self }
     }
 
     /// The sphere lies entirely outside one plane of the frustum.
@@ -245,7 +352,7 @@ impl ClusterView {
     /// Every facet of `c` faces away from the viewer (with slack): cos(φ + θ) > 0 where φ is
     /// the angle between the view ray and the cone axis and θ the cone's half-angle, the
     /// sphere's radius bounding how far the ray to each facet can turn.
-    fn faces_away(&self, c: &Cluster) -> bool {
+    pub(crate) fn faces_away(&self, c: &Cluster) -> bool {
         if c.sin_spread > 1.0 {
             return false;
         }

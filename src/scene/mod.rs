@@ -19,6 +19,7 @@ pub mod gltf_meshopt;
 pub mod gltf_modes;
 pub mod gltf_primitive;
 pub mod load;
+pub mod lod;
 pub mod material;
 pub mod material_report;
 pub mod mtl;

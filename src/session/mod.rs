@@ -323,6 +323,10 @@ fn draw(
     );
     renderer.time_post = args.picture.stats;
     renderer.cull_clusters = args.render.culling;
+    renderer.lod = crate::render::Lod {
+        mode: args.render.lod,
+        error: args.render.lod_error,
+    };
     let (settings, _) = frame_settings(args, renderer.scene())?;
     let gpu = Drawer::Gpu {
         caps: &hl.gpu.caps,

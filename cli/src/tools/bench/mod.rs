@@ -8,6 +8,7 @@ pub mod frame;
 pub mod knobs;
 pub mod load;
 pub mod load_report;
+pub mod lod;
 pub use glview::metrics;
 pub mod pbr;
 pub mod plot;
@@ -44,6 +45,14 @@ pub struct BenchArgs {
     /// forced, map reused and no shadows, without and with reordering and cluster culling.
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency"])]
     pub frame: bool,
+    /// Measure level of detail: per error bound, triangles drawn, frame ms and the picture's
+    /// difference from --lod off, on the 2M-triangle sphere, the dragon and a Khronos model.
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
+    pub lod: bool,
+    /// With --lod: a Khronos sample model with a large mesh (docs/benchmarks.md uses
+    /// SheenCloth: 115k triangles, textured).
+    #[arg(long)]
+    pub lod_khronos: Option<PathBuf>,
     /// Measure `glview serve` under 1, 5 and 30 simulated viewers and in teacher mode
     /// (frames/s, input→frame latency, bytes a frame; docs/serve.md).
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
@@ -77,6 +86,21 @@ pub fn run(args: &BenchArgs) -> glview::Result<()> {
     }
     if args.translucency {
         return translucency::run_translucency(&args.quality.models_dir);
+    }
+    if args.lod {
+        let work = args
+            .load_options
+            .work_dir
+            .clone()
+            .unwrap_or_else(load::default_work_dir);
+        let rounds = if args.quality.quick { 3 } else { 5 };
+        return lod::run_lod(
+            &work,
+            &args.quality.models_dir,
+            rounds,
+            lod::SPHERE,
+            args.lod_khronos.as_deref(),
+        );
     }
     if args.frame {
         let work = args
