@@ -14,6 +14,7 @@ mod common;
 mod compare;
 mod conformance;
 mod culling;
+mod lod;
 mod edges;
 mod fast_parse;
 mod fuzz_format_regressions;
