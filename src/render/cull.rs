@@ -61,11 +61,13 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
         },
         ..*state
     };
-    // Coarser levels where asked, and with auto only where triangles outnumber the view's
-    // pixels (where most are smaller than a pixel and each costs the rasterizer's set-up).
-    let view = match (cx.lod.mode, &view.lod) {
-        (LodMode::On, _) => view,
-        (LodMode::Auto, Some(px)) if dm.triangles > px.pixels => view,
+    // Coarser levels where asked, and with auto only where the mesh has more triangles than
+    // the picture has pixels (most are then smaller than a pixel, and each costs llvmpipe's
+    // set-up): decided by the picture for the light views too, whose maps are larger.
+    let pixels = u64::from(cx.viewport[2]) * u64::from(cx.viewport[3]);
+    let view = match cx.lod.mode {
+        LodMode::On => view,
+        LodMode::Auto if dm.triangles > pixels => view,
         _ => view.without_lod(),
     };
     let mut ranges = std::mem::take(&mut cx.ranges);

@@ -25,6 +25,11 @@ const MIN_SAVING: f32 = 0.15;
 pub struct Lod {
     pub groups: Vec<Group>,
     pub levels: Vec<Level>,
+    /// Levels of the whole mesh, errors increasing: simplified from the groups' coarsest
+    /// levels with the groups' borders free, for views where the whole mesh's error fits
+    /// (a group's locked border keeps a fifth of its triangles at best).
+    #[serde(default)]
+    pub whole: Vec<Level>,
     /// Every level's triangles, drawn from the same index buffer after the mesh's own: a
     /// level's `part.first` counts triangles from the start of the mesh's indices. Stored in
     /// the mesh cache's payload, not its header.
@@ -63,8 +68,6 @@ pub struct Pixels {
     scale: f32,
     /// The bound, in pixels.
     pub bound: f32,
-    /// The view's pixel count.
-    pub pixels: u64,
 }
 
 impl Pixels {
@@ -80,7 +83,6 @@ impl Pixels {
             w_len: w_row.xyz().length(),
             scale,
             bound,
-            pixels: u64::from(width) * u64::from(height),
         }
     }
 
@@ -119,6 +121,7 @@ impl Lod {
             && self
                 .levels
                 .iter()
+                .chain(&self.whole)
                 .all(|l| u64::from(l.part.first) + u64::from(l.part.count) <= all)
     }
 
@@ -172,10 +175,104 @@ impl Lod {
             g.levels[1] = lod.levels.len() as u32;
             lod.groups.push(g);
         }
+        lod.whole_levels(&adapter, &attrs, vertices, indices);
         lod.index_count = lod.indices.len();
         lod
     }
+
+    /// The coarsest level of the whole mesh whose error is within the view's bound, if any.
+    pub fn choose_whole(&self, px: &Pixels) -> Option<&Level> {
+        let b = &self.whole.first()?.part;
+        let per_unit = px.per_unit(b.center, b.radius);
+        self.whole
+            .iter()
+            .rev()
+            .find(|l| l.error * per_unit <= px.bound)
+    }
+
+    /// Appends the whole mesh's levels: the groups' coarsest levels (or their triangles),
+    /// simplified together with only the mesh's own border locked; each level's error adds
+    /// the largest of theirs.
+    fn whole_levels(
+        &mut self,
+        adapter: &VertexDataAdapter,
+        attrs: &Attributes,
+        vertices: &[Vertex],
+        original: &[u32],
+    ) {
+        let base = original.len() as u32 / 3;
+        // Per group, its coarsest level within the groups' median coarsest error (its own
+        // triangles when none is): the worst group (a pole's fan) would otherwise set the
+        // error of every whole level.
+        let mut coarsest: Vec<f32> = self
+            .groups
+            .iter()
+            .map(|g| {
+                self.levels[g.levels[0] as usize..g.levels[1] as usize]
+                    .last()
+                    .map_or(0.0, |l| l.error)
+            })
+            .collect();
+        if coarsest.is_empty() {
+            return;
+        }
+        coarsest.sort_by(f32::total_cmp);
+        let tau = coarsest[coarsest.len() / 2];
+        let mut start = Vec::new();
+        let mut error = 0.0f32;
+        for g in &self.groups {
+            let levels = &self.levels[g.levels[0] as usize..g.levels[1] as usize];
+            let (first, count) = match levels.iter().rev().find(|l| l.error <= tau) {
+                Some(l) => {
+                    error = error.max(l.error);
+                    (
+                        (l.part.first - base) as usize * 3,
+                        l.part.count as usize * 3,
+                    )
+                }
+                None => {
+                    let first = g.bound.first as usize * 3;
+                    start.extend_from_slice(&original[first..first + g.bound.count as usize * 3]);
+                    continue;
+                }
+            };
+            start.extend_from_slice(&self.indices[first..first + count]);
+        }
+        let locks = vec![SimplifyVertex::None; vertices.len()];
+        let options =
+            SimplifyOptions::LockBorder | SimplifyOptions::Sparse | SimplifyOptions::ErrorAbsolute;
+        let mut current = start;
+        while current.len() / 3 > 2 * WHOLE_MIN {
+            let mut e = 0.0f32;
+            let next = meshopt::simplify_with_attributes_and_locks(
+                &current,
+                adapter,
+                &attrs.values,
+                &attrs.weights,
+                attrs.weights.len() * 4,
+                &locks,
+                current.len() / 6 * 3,
+                f32::MAX,
+                options,
+                Some(&mut e),
+            );
+            if next.len() as f32 > current.len() as f32 * (1.0 - MIN_SAVING) {
+                break;
+            }
+            error += e;
+            let first = base + self.indices.len() as u32 / 3;
+            self.whole.push(Level {
+                error,
+                part: cluster(vertices, &next, first),
+            });
+            self.indices.extend_from_slice(&next);
+            current = next;
+        }
+    }
 }
+
+/// The whole mesh's coarsest level has at least this many triangles.
+const WHOLE_MIN: usize = 512;
 
 /// Per-vertex attributes the simplifier weighs, interleaved, and their weights.
 struct Attributes {
@@ -212,7 +309,11 @@ impl Attributes {
 /// Every vertex whose position is used by two groups, locked: the groups' common border.
 /// meshopt's own border lock misses a border vertex that is also on a seam (it may then
 /// slide along the seam, away from the neighbour: a crack), so the lock is by position.
-fn shared_corners(vertices: &[Vertex], indices: &[u32], clusters: &[Cluster]) -> Vec<SimplifyVertex> {
+fn shared_corners(
+    vertices: &[Vertex],
+    indices: &[u32],
+    clusters: &[Cluster],
+) -> Vec<SimplifyVertex> {
     let (weld, ids) = super::normals::weld(vertices);
     let mut owner = vec![u32::MAX; ids];
     let mut shared = vec![false; ids];
@@ -334,7 +435,9 @@ mod tests {
 
     fn prepared(rings: u32, segments: u32) -> (Mesh, Clusters) {
         let mut scene = Scene::from_meshes("s", vec![sphere(rings, segments)], vec![]);
-        let c = prepare(&mut scene).remove(0).expect("large enough for clusters");
+        let c = prepare(&mut scene)
+            .remove(0)
+            .expect("large enough for clusters");
         (scene.meshes.remove(0), c)
     }
 
@@ -402,7 +505,10 @@ mod tests {
         let zero = plain.with_lod(vp, 64, 64, 0.0);
         assert!(zero.lod.is_none());
         let (mut a, mut b) = (Vec::new(), Vec::new());
-        assert_eq!(c.visible(&plain, true, &mut a), c.visible(&zero, true, &mut b));
+        assert_eq!(
+            c.visible(&plain, true, &mut a),
+            c.visible(&zero, true, &mut b)
+        );
         assert_eq!(a, b);
         // And a level is only chosen when its error, seen from the view, is within the bound.
         let px = Pixels::new(vp, 64, 64, 1.0);

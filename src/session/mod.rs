@@ -243,9 +243,11 @@ fn load(args: &Options) -> Loaded {
     let scene = load_scene_prepared(args);
     let profile = crate::scene::profile::take_last();
     let c = Instant::now();
-    // A cache hit (or the miss that wrote the entry) brings them; else they are built here.
+    // A cache hit (or the miss that wrote the entry) brings them, levels of detail included;
+    // else they are built here, without levels (they cost more than one picture saves).
     let scene = scene.map(|(mut s, prepared)| {
-        let clusters = prepared.unwrap_or_else(|| crate::scene::clusters::prepare(&mut s));
+        let clusters =
+            prepared.unwrap_or_else(|| crate::scene::clusters::prepare_without_lod(&mut s));
         (s, clusters)
     });
     (scene, ms(t), profile, ms(c))
@@ -484,6 +486,6 @@ fn given_scene(args: &Options, scene: &crate::scene::Scene) -> Loaded {
         return (Err(e), ms(t), None, 0.0);
     }
     let c = Instant::now();
-    let clusters = crate::scene::clusters::prepare(&mut s);
+    let clusters = crate::scene::clusters::prepare_without_lod(&mut s);
     (Ok((s, clusters)), ms(t), None, ms(c))
 }
