@@ -111,6 +111,10 @@ impl App<'_> {
         let mut renderer = Renderer::new(&gpu, scene)?;
         renderer.time_post = self.args.picture.stats;
         renderer.cull_clusters = self.args.render.culling;
+        renderer.lod = glview::render::Lod {
+            mode: self.args.render.lod,
+            error: self.args.render.lod_error,
+        };
         self.size = window.window.inner_size();
         window.resize(self.size.width, self.size.height);
         let aa = AaTarget::new(&gpu, window_aa(self.args))?;
