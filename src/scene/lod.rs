@@ -144,7 +144,7 @@ impl Lod {
         )
         .expect("Vertex starts with its position");
         let locks = shared_corners(vertices, indices, clusters);
-        let groups: Vec<(Group, Vec<(f32, Vec<u32>)>)> = clusters
+        let groups: Vec<(Group, Simplified)> = clusters
             .par_chunks(GROUP)
             .enumerate()
             .map(|(k, run)| {
@@ -274,6 +274,9 @@ impl Lod {
 /// The whole mesh's coarsest level has at least this many triangles.
 const WHOLE_MIN: usize = 512;
 
+/// A group's levels as simplified: (error, triangles), finest first.
+type Simplified = Vec<(f32, Vec<u32>)>;
+
 /// Per-vertex attributes the simplifier weighs, interleaved, and their weights.
 struct Attributes {
     values: Vec<f32>,
@@ -348,7 +351,7 @@ fn simplify(
     attrs: &Attributes,
     locks: &[SimplifyVertex],
     tris: &[u32],
-) -> Vec<(f32, Vec<u32>)> {
+) -> Simplified {
     let options =
         SimplifyOptions::LockBorder | SimplifyOptions::Sparse | SimplifyOptions::ErrorAbsolute;
     let mut out: Vec<(f32, Vec<u32>)> = Vec::new();
