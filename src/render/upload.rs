@@ -146,22 +146,21 @@ impl SceneGpu {
             let uv1 = (m.uv1.len() == m.vertices.len()).then_some(m.uv1.as_slice());
             let mut clusters = clusters.next().flatten();
             // Levels of detail go in the same index buffer, after the mesh's own triangles.
-            let indices = match clusters.as_ref().map(|c| &c.lod.indices) {
-                Some(lod) if !lod.is_empty() => {
-                    std::borrow::Cow::Owned([&m.indices[..], lod].concat())
-                }
-                _ => std::borrow::Cow::Borrowed(&m.indices[..]),
-            };
+            let levels = clusters.as_ref().map_or(&[][..], |c| &c.lod.indices[..]);
             let streams = Streams {
                 tangents: tangents.as_deref(),
                 colors,
                 colors_rgba: rgba.as_deref(),
                 uv1,
             };
-            let mut mesh =
-                GpuMesh::with_streams(gpu, &m.vertices, &indices, streams, Primitive::Triangles)?;
-            mesh.whole_count = m.indices.len() as i32;
-            drop(indices);
+            let mesh = GpuMesh::with_levels(
+                gpu,
+                &m.vertices,
+                &m.indices,
+                levels,
+                streams,
+                Primitive::Triangles,
+            )?;
             // The levels' indices now live on the GPU only.
             if let Some(c) = &mut clusters {
                 c.lod.indices = Vec::new();
