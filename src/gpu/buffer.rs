@@ -35,7 +35,8 @@ impl Buffer {
             let raw = gpu.gl.create_buffer().map_err(Error::Unsupported)?;
             gpu.created();
             gpu.gl.bind_buffer(target, Some(raw));
-            gpu.gl.buffer_data_size(target, total as i32, glow::STATIC_DRAW);
+            gpu.gl
+                .buffer_data_size(target, total as i32, glow::STATIC_DRAW);
             let mut at = 0;
             for p in parts {
                 gpu.gl.buffer_sub_data_u8_slice(target, at as i32, p);

@@ -217,7 +217,7 @@ impl Lod {
             return;
         }
         coarsest.sort_by(f32::total_cmp);
-        let tau = coarsest[coarsest.len() / 2];
+        let tau = coarsest[coarsest.len() / 10];
         let mut start = Vec::new();
         let mut error = 0.0f32;
         for g in &self.groups {

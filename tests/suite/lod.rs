@@ -7,10 +7,10 @@ use crate::culling::sphere_obj;
 
 /// 2·400·200 = 160,000 triangles: in a 160×160 picture most are smaller than a pixel.
 fn fine_sphere(dir: &std::path::Path) -> String {
+    // Written every run: a new modification time, so no mesh cache entry of an older build
+    // (whose levels may differ) is hit.
     let p = dir.join("sphere.obj");
-    if !p.is_file() {
-        std::fs::write(&p, sphere_obj(201, 400, false)).unwrap();
-    }
+    std::fs::write(&p, sphere_obj(201, 400, false)).unwrap();
     p.to_str().unwrap().to_string()
 }
 
