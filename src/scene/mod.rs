@@ -29,6 +29,7 @@ pub mod obj;
 pub mod ply;
 pub mod profile;
 pub mod quirks;
+pub mod reorder;
 pub mod repair;
 pub mod report;
 pub mod spacing;
