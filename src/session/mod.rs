@@ -23,8 +23,8 @@ pub mod view;
 pub use modes::{compile_shaders, map_view, print_info, render_headless, render_reference};
 pub use profile::Profile;
 pub use settings::{
-    env_request, frame_settings, load_options, load_scene, load_scene_with, reference_env,
-    BUILTIN_MTL, BUILTIN_OBJ,
+    env_request, frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with,
+    reference_env, BUILTIN_MTL, BUILTIN_OBJ,
 };
 pub use text::{png_text, Drawer, Repro};
 pub use view::View;
@@ -39,7 +39,6 @@ use crate::scene::clusters::Clusters;
 use crate::scene::profile::LoadProfile;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
 use profile::ms;
-use settings::load_scene_prepared;
 use std::path::Path;
 use std::time::Instant;
 
