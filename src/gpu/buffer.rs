@@ -26,6 +26,31 @@ impl Buffer {
         }
     }
 
+    /// A buffer of `parts` end to end, filled part by part (no joined copy of them).
+    pub fn new_static_parts(gpu: &GpuRef, target: u32, parts: &[&[u8]]) -> Result<Buffer> {
+        let total: usize = parts.iter().map(|p| p.len()).sum();
+        // SAFETY: a fresh buffer is bound, sized, and filled with slices that live for the
+        // call, each within the size.
+        unsafe {
+            let raw = gpu.gl.create_buffer().map_err(Error::Unsupported)?;
+            gpu.created();
+            gpu.gl.bind_buffer(target, Some(raw));
+            gpu.gl
+                .buffer_data_size(target, total as i32, glow::STATIC_DRAW);
+            let mut at = 0;
+            for p in parts {
+                gpu.gl.buffer_sub_data_u8_slice(target, at as i32, p);
+                at += p.len();
+            }
+            gpu.gl.bind_buffer(target, None);
+            Ok(Buffer {
+                gpu: gpu.clone(),
+                raw,
+                target,
+            })
+        }
+    }
+
     pub fn bind(&self) {
         // SAFETY: raw is a live buffer of this context.
         unsafe { self.gpu.gl.bind_buffer(self.target, Some(self.raw)) }

@@ -23,6 +23,8 @@ pub struct GpuMesh {
     /// GL_TRIANGLES, GL_LINES or GL_POINTS.
     mode: u32,
     pub index_count: i32,
+    /// The indices [`GpuMesh::draw`] draws: the first ones, when levels of detail follow.
+    pub whole_count: i32,
 }
 
 /// Attribute location of the optional tangent stream.
@@ -94,6 +96,19 @@ impl GpuMesh {
         streams: Streams,
         primitive: Primitive,
     ) -> Result<GpuMesh> {
+        Self::with_levels(gpu, vertices, indices, &[], streams, primitive)
+    }
+
+    /// As [`GpuMesh::with_streams`], with `levels` (coarser levels of detail) after `indices`
+    /// in the same index buffer; [`GpuMesh::draw`] draws `indices` only.
+    pub fn with_levels(
+        gpu: &GpuRef,
+        vertices: &[Vertex],
+        indices: &[u32],
+        levels: &[u32],
+        streams: Streams,
+        primitive: Primitive,
+    ) -> Result<GpuMesh> {
         let stream = |data: Option<&[u8]>| -> Result<Option<Buffer>> {
             data.map(|d| Buffer::new_static(gpu, glow::ARRAY_BUFFER, d))
                 .transpose()
@@ -107,7 +122,7 @@ impl GpuMesh {
         let vbo = Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(vertices))?;
         // 16-bit indices where they suffice: half the memory, and the only kind ES 2 had.
         let (ibo, index_type) = if vertices.len() <= u16::MAX as usize + 1 {
-            let small: Vec<u16> = indices.iter().map(|&i| i as u16).collect();
+            let small: Vec<u16> = indices.iter().chain(levels).map(|&i| i as u16).collect();
             (
                 Buffer::new_static(
                     gpu,
@@ -118,10 +133,10 @@ impl GpuMesh {
             )
         } else if gpu.caps.uint_indices {
             (
-                Buffer::new_static(
+                Buffer::new_static_parts(
                     gpu,
                     glow::ELEMENT_ARRAY_BUFFER,
-                    bytemuck::cast_slice(indices),
+                    &[bytemuck::cast_slice(indices), bytemuck::cast_slice(levels)],
                 )?,
                 glow::UNSIGNED_INT,
             )
@@ -160,12 +175,13 @@ impl GpuMesh {
                 Primitive::Lines => glow::LINES,
                 Primitive::Points => glow::POINTS,
             },
-            index_count: indices.len() as i32,
+            index_count: (indices.len() + levels.len()) as i32,
+            whole_count: indices.len() as i32,
         })
     }
 
     pub fn draw(&self) {
-        self.draw_ranges(&[(0, self.index_count as u32)]);
+        self.draw_ranges(&[(0, self.whole_count as u32)]);
     }
 
     /// Draws the index ranges (first index, count), one draw call each, with the attribute

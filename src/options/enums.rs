@@ -51,3 +51,14 @@ crate::choice! {
         Bloom = "bloom",
     }
 }
+
+crate::choice! {
+    pub enum LodMode {
+        /// Coarser levels for meshes with more triangles than the view has pixels.
+        Auto = "auto",
+        /// Coarser levels for every mesh that has them.
+        On = "on",
+        /// Every triangle.
+        Off = "off",
+    }
+}

@@ -16,7 +16,7 @@ use crate::pbr::{Encoding, PrecomputeOn, Tonemap};
 use crate::platform::{Backend, GlRequest};
 use crate::scene::UpAxis;
 use crate::shading::PbrTerms;
-pub use enums::{AaMode, DepthMode, Diffuse, Show};
+pub use enums::{AaMode, DepthMode, Diffuse, LodMode, Show};
 pub use forms::Form;
 use parse::{at_least, in_range, one_of, positive, positive_or_none, unit_or_none};
 use spec::declare_options;
@@ -49,6 +49,9 @@ mod fit {
         }
     }
 }
+
+/// `--lod-error` without the option: see docs/benchmarks.md, Level of detail.
+pub const DEFAULT_LOD_ERROR: f32 = 1.0;
 
 /// The background colour without `--background`.
 pub const DEFAULT_BACKGROUND: [f32; 3] = [0.1, 0.1, 0.12];
@@ -179,6 +182,15 @@ declare_options! {
         /// (the same picture but for a rare silhouette pixel where a back face won a depth
         /// tie; slower: for comparisons).
         culling: bool = true, "no-culling" noflag;
+        /// Level of detail of large meshes (those with clusters): per group of clusters,
+        /// the coarsest simplified level whose error seen from the view (camera or light)
+        /// is at most --lod-error pixels. auto: for meshes with more triangles than the
+        /// picture has pixels; on: every large mesh; off: every triangle (so does
+        /// --no-culling). Levels are built into the mesh cache's entry: an uncached picture
+        /// draws every triangle.
+        lod: LodMode = LodMode::Auto, "lod" value;
+        /// The level of detail's error bound in pixels of the view (0: every triangle).
+        lod_error: f32 = DEFAULT_LOD_ERROR, "lod-error" value, check = in_range(0.0, 16.0);
         /// Diameter of points (point clouds, glTF POINTS, OBJ `p`) in pixels of the
         /// picture, drawn as round disks. Default: 1.5 times a cloud's mean
         /// nearest-neighbour distance as seen from the fitted view, between 2 and 8 (a

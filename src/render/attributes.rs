@@ -117,6 +117,15 @@ impl Renderer {
         program.set_mat4("uModelView", &view);
         program.set_mat4("uProjection", &proj);
         program.set_mat3("uNormalMatrix", &Mat3::from_mat4(view));
+        // The same levels of detail as the picture's lit pass, so ids and depth cover exactly
+        // what it drew.
+        let lod_view = crate::scene::clusters::ClusterView::new(proj * view).with_lod(
+            proj * view,
+            width,
+            height,
+            self.lod.error,
+        );
+        let mut ranges = Vec::new();
         let mut planes = Vec::with_capacity(2);
         // The normals' draw and read-back only when asked: it is half of the pass's time.
         let modes: &[f32] = if normals { &[0.0, 1.0] } else { &[0.0] };
@@ -129,7 +138,20 @@ impl Renderer {
             for (i, dm) in self.scene.meshes.iter().enumerate() {
                 if dm.primitive == Primitive::Triangles {
                     program.set_vec2("uIds", glam::Vec2::new(i as f32, dm.material as f32));
-                    dm.mesh.draw();
+                    let lod = match self.lod.mode {
+                        crate::options::LodMode::On => true,
+                        crate::options::LodMode::Auto => {
+                            dm.triangles > u64::from(width) * u64::from(height)
+                        }
+                        crate::options::LodMode::Off => false,
+                    };
+                    match &dm.clusters {
+                        Some(c) if lod && lod_view.lod.is_some() && self.cull_clusters => {
+                            c.visible(&lod_view, false, &mut ranges);
+                            dm.mesh.draw_ranges(&ranges);
+                        }
+                        _ => dm.mesh.draw(),
+                    }
                 }
             }
             planes.push(top_first(gpu.read_rgba_f32(width, height), width));

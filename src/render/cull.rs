@@ -9,6 +9,7 @@
 //! the lit passes the camera's, the shadow pass each light view's.
 use super::FrameCx;
 use crate::gpu::state::{Blend, Cull, RenderState};
+use crate::options::LodMode;
 
 /// Draws mesh `i` with `state`, whole or by its visible clusters.
 pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
@@ -60,6 +61,15 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
         },
         ..*state
     };
+    // Coarser levels where asked, and with auto only where the mesh has more triangles than
+    // the picture has pixels (most are then smaller than a pixel, and each costs llvmpipe's
+    // set-up): decided by the picture for the light views too, whose maps are larger.
+    let pixels = u64::from(cx.viewport[2]) * u64::from(cx.viewport[3]);
+    let view = match cx.lod.mode {
+        LodMode::On => view,
+        LodMode::Auto if dm.triangles > pixels => view,
+        _ => view.without_lod(),
+    };
     let mut ranges = std::mem::take(&mut cx.ranges);
     let drawn = clusters.visible(&view, hide_back_faces, &mut ranges);
     if !ranges.is_empty() {
@@ -68,6 +78,6 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
     }
     cx.stats.draw_calls += ranges.len() as u32;
     cx.stats.triangles += drawn;
-    cx.stats.triangles_skipped += dm.triangles - drawn;
+    cx.stats.triangles_skipped += dm.triangles.saturating_sub(drawn);
     cx.ranges = ranges;
 }

@@ -100,7 +100,8 @@ impl View {
         let s = cx.settings;
         let view = s.camera.view();
         let proj = s.camera.projection(&cx.scene.scene.bounds, cx.aspect());
-        cx.cull = Some(ClusterView::new(proj * view));
+        let (w, h) = (cx.viewport[2], cx.viewport[3]);
+        cx.cull = Some(ClusterView::new(proj * view).with_lod(proj * view, w, h, cx.lod.error));
         let maps = &cx.res.shadow.maps;
         let cube_mask = maps
             .iter()

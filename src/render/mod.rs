@@ -149,6 +149,8 @@ pub(crate) struct FrameCx<'a> {
     pub cull: Option<crate::scene::clusters::ClusterView>,
     /// Cluster culling is on ([`Renderer::cull_clusters`]).
     pub cull_clusters: bool,
+    /// Level of detail ([`Renderer::lod`]).
+    pub lod: Lod,
     /// Scratch list of index ranges, kept so draws do not allocate.
     pub ranges: Vec<(u32, u32)>,
 }
@@ -281,6 +283,24 @@ pub struct Renderer {
     /// Skip clusters of large meshes the view cannot see (default on; `--no-culling` turns
     /// it off, for comparisons: the same picture but for rare silhouette depth ties).
     pub cull_clusters: bool,
+    /// Level of detail of large meshes (`--lod`, `--lod-error`).
+    pub lod: Lod,
+}
+
+/// Which meshes draw coarser levels, and the error bound in pixels (0: none).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lod {
+    pub mode: crate::options::LodMode,
+    pub error: f32,
+}
+
+impl Default for Lod {
+    fn default() -> Lod {
+        Lod {
+            mode: crate::options::LodMode::Auto,
+            error: crate::options::DEFAULT_LOD_ERROR,
+        }
+    }
 }
 
 impl Renderer {
@@ -306,6 +326,7 @@ impl Renderer {
             frame: 0,
             time_post: false,
             cull_clusters: true,
+            lod: Lod::default(),
         })
     }
 
@@ -378,6 +399,7 @@ impl Renderer {
                 rgbm_blend: 0.0,
                 cull: None,
                 cull_clusters: self.cull_clusters,
+                lod: self.lod,
                 ranges: Vec::new(),
             };
             run_passes(&mut cx)?;

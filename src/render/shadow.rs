@@ -305,7 +305,8 @@ fn draw_map(cx: &mut FrameCx, map: &ShadowMap, offset: Option<(f32, f32)>) -> Re
             gpu.viewport(0, 0, map.face, map.face);
             gpu.clear(None);
         }
-        cx.cull = Some(ClusterView::new(*vp));
+        // A light's view takes its levels by its own texel size.
+        cx.cull = Some(ClusterView::new(*vp).with_lod(*vp, map.face, map.face, cx.lod.error));
         draw_casters(cx, vp, &state)?;
         if map.fbo.is_none() {
             map.texture.copy_from_framebuffer(tx, ty, map.face);

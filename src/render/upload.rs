@@ -144,20 +144,29 @@ impl SceneGpu {
                         .collect()
                 });
             let uv1 = (m.uv1.len() == m.vertices.len()).then_some(m.uv1.as_slice());
+            let mut clusters = clusters.next().flatten();
+            // Levels of detail go in the same index buffer, after the mesh's own triangles.
+            let levels = clusters.as_ref().map_or(&[][..], |c| &c.lod.indices[..]);
             let streams = Streams {
                 tangents: tangents.as_deref(),
                 colors,
                 colors_rgba: rgba.as_deref(),
                 uv1,
             };
+            let mesh = GpuMesh::with_levels(
+                gpu,
+                &m.vertices,
+                &m.indices,
+                levels,
+                streams,
+                Primitive::Triangles,
+            )?;
+            // The levels' indices now live on the GPU only.
+            if let Some(c) = &mut clusters {
+                c.lod.indices = Vec::new();
+            }
             meshes.push(DrawMesh {
-                mesh: GpuMesh::with_streams(
-                    gpu,
-                    &m.vertices,
-                    &m.indices,
-                    streams,
-                    Primitive::Triangles,
-                )?,
+                mesh,
                 material: m.material,
                 center,
                 radius,
@@ -170,7 +179,7 @@ impl SceneGpu {
                 primitive: Primitive::Triangles,
                 has_normals: true,
                 terminator_lift: crate::scene::terminator_lift(m) as f32,
-                clusters: clusters.next().flatten(),
+                clusters,
             });
         }
         meshes.extend(wire_meshes(gpu, &scene)?);

@@ -82,7 +82,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 10: OBJ clouds' `v x y z r g b` colours and `vn` normals, glTF POINTS' COLOR_0 and NORMAL
 /// (issue 31): entries of 9 hold such clouds without them.
 /// 11: the glTF PBR extensions (issue 32): `Material::khr` and its nine texture slots.
-const FORMAT: u32 = 11;
+/// 12: level of detail (issue 30): clusters' groups and levels, levels' indices at the end.
+const FORMAT: u32 = 12;
 /// The default bound on the cache folder's total size.
 pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -338,6 +339,13 @@ pub fn put_in(
         bytemuck::cast_slice(&w.normals),
     ]);
     parts.extend(table.iter().map(|t| &t.rgba[..]));
+    // Each large mesh's simplified levels (the header has their tables).
+    parts.extend(
+        clusters
+            .iter()
+            .flatten()
+            .map(|c| bytemuck::cast_slice(&c.lod.indices)),
+    );
     let payload_len: u64 = parts.iter().map(|p| p.len() as u64).sum();
     if payload_len > max_bytes {
         return Err(std::io::Error::other("entry larger than --cache-size"));

@@ -29,6 +29,10 @@ pub(super) fn decode(
     let meshes = read_meshes(&mut payload, &header.meshes)?;
     let wire = read_wire(&mut payload, &header.wire)?;
     let table = read_textures(&mut payload, &header.textures)?;
+    let mut clusters = header.clusters;
+    for c in clusters.iter_mut().flatten() {
+        c.lod.indices = payload.read(c.lod.index_count)?;
+    }
     if payload.left != 0 || payload.hasher.digest128() != header.payload_hash {
         return None;
     }
@@ -41,7 +45,6 @@ pub(super) fn decode(
     if meshes.iter().any(|m| m.material >= materials.len()) {
         return None;
     }
-    let clusters = header.clusters;
     if !clusters_fit(&meshes, &clusters) {
         return None;
     }
@@ -208,6 +211,11 @@ fn clusters_fit(meshes: &[Mesh], clusters: &[Option<Clusters>]) -> bool {
             c.list
                 .iter()
                 .all(|k| u64::from(k.first) + u64::from(k.count) <= triangles)
+                && c.lod.fits(triangles, c.list.len())
+                && c.lod
+                    .indices
+                    .iter()
+                    .all(|&i| (i as usize) < m.vertices.len())
         })
     };
     clusters.len() == meshes.len() && meshes.iter().zip(clusters).all(|(m, c)| fits(m, c))

@@ -1,12 +1,13 @@
 //! Large meshes drawn in parts. Their triangles are put in an order that is both
-//! vertex-cache friendly and spatially coherent (meshopt: cache optimisation, then meshlets
-//! laid end to end), and the index buffer is cut into runs of [`MIN_RUN`]–[`RUN`] triangles
-//! ("clusters") with a bounding sphere and a normal cone each. A pass then skips, on the CPU,
+//! vertex-cache friendly and spatially coherent ([`super::reorder`]: blocks along a Morton
+//! curve, each in meshopt's FIFO cache order), and the index buffer is cut into runs of
+//! [`MIN_RUN`]–[`RUN`] triangles ("clusters") with a bounding sphere and a normal cone each. A pass then skips, on the CPU,
 //! the runs outside its frustum (any mesh) and, for closed outward-facing meshes seen from
 //! outside or for draws that cull back faces anyway, the runs that face away from the
 //! viewer: llvmpipe shades vertices and sets up triangles on one thread, so triangles never
 //! sent are the only ones that cost nothing. No GL here.
 use super::closure::{closure, Closure};
+use super::lod::{hidden, Lod, Pixels};
 use super::Vertex;
 use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
@@ -30,35 +31,33 @@ pub fn run_length(triangles: usize) -> usize {
         .next_power_of_two()
         .clamp(MIN_RUN, RUN)
 }
-/// Triangles per reordering job: big meshes are reordered in independent slices in parallel.
-const SLICE: usize = 1 << 16;
+pub use super::reorder::reorder;
 
-/// Reorders `indices` (whole triangles) for the post-transform vertex cache with meshopt's
-/// FIFO optimiser, which also leaves consecutive triangles adjacent, so any run of them is a
-/// compact patch (measured on the 1M-triangle sphere: ~25 ms, against ~300 ms for meshopt's
-/// LRU optimiser plus meshlets, which culled worse: 566k drawn triangles against 436k).
-/// Same triangles, same winding; only their order changes (which changes no pixel of an
-/// opaque depth-tested mesh except where two triangles tie exactly in depth).
-pub fn reorder(vertices: &[Vertex], indices: &mut [u32]) {
-    if indices.len() / 3 < MIN_TRIANGLES {
-        return;
-    }
-    let n = vertices.len();
-    indices
-        .par_chunks_mut(SLICE * 3)
-        .for_each(|slice| meshopt::optimize_vertex_cache_fifo_in_place(slice, n, 16));
+/// Reorders every large mesh of `scene` and builds its clusters and their levels of detail
+/// (None for small meshes), in mesh order: pure CPU work, done on the loading thread. The
+/// levels cost more than they save in one frame (1.2 s against ~0.1 s on the 2M-triangle
+/// sphere), so they are built where they are kept: the mesh cache's entry, a renderer.
+pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
+    prepare_with(scene, true)
 }
 
-/// Reorders every large mesh of `scene` and builds its clusters (None for small meshes),
-/// in mesh order: pure CPU work, done on the loading thread.
-pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
+/// As [`prepare`] without levels of detail: for one picture of a model not in the cache.
+pub fn prepare_without_lod(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
+    prepare_with(scene, false)
+}
+
+fn prepare_with(scene: &mut super::Scene, lod: bool) -> Vec<Option<Clusters>> {
     scene
         .meshes
         .iter_mut()
         .map(|m| {
             (m.triangle_count() >= MIN_TRIANGLES).then(|| {
                 reorder(&m.vertices, &mut m.indices);
-                Clusters::build(&m.vertices, &m.indices)
+                let mut c = Clusters::build(&m.vertices, &m.indices);
+                if lod {
+                    c.lod = Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &c.list);
+                }
+                c
             })
         })
         .collect()
@@ -85,6 +84,9 @@ pub struct Clusters {
     pub list: Vec<Cluster>,
     /// Whether back faces can be seen from outside, and if so why ([`closure`]).
     pub closure: Closure,
+    /// Coarser levels of groups of clusters (empty: none built).
+    #[serde(default)]
+    pub lod: Lod,
 }
 
 impl Clusters {
@@ -99,6 +101,7 @@ impl Clusters {
         Clusters {
             list,
             closure: closure(vertices, indices),
+            lod: Lod::default(),
         }
     }
 
@@ -119,9 +122,9 @@ impl Clusters {
     ) -> u64 {
         out.clear();
         let mut triangles = 0u64;
-        for c in &self.list {
-            if view.outside(c.center, c.radius) || (hide_back_faces && view.faces_away(c)) {
-                continue;
+        let mut push = |c: &Cluster| {
+            if hidden(view, c, hide_back_faces) {
+                return;
             }
             triangles += u64::from(c.count);
             let (first, count) = (c.first * 3, c.count * 3);
@@ -129,12 +132,34 @@ impl Clusters {
                 Some((f, n)) if *f + *n == first => *n += count,
                 _ => out.push((first, count)),
             }
+        };
+        match &view.lod {
+            // The whole mesh at one coarser level when its error fits.
+            Some(px) if self.lod.choose_whole(px).is_some() => {
+                push(&self.lod.choose_whole(px).expect("just found").part);
+            }
+            // Per group: its coarsest level within the bound, else its own clusters.
+            Some(px) if !self.lod.groups.is_empty() => {
+                for g in &self.lod.groups {
+                    if view.outside(g.bound.center, g.bound.radius) {
+                        continue;
+                    }
+                    match self.lod.choose(g, px) {
+                        Some(level) => push(&level.part),
+                        None => self.list[g.clusters[0] as usize..g.clusters[1] as usize]
+                            .iter()
+                            .for_each(&mut push),
+                    }
+                }
+            }
+            _ => self.list.iter().for_each(push),
         }
         triangles
     }
 }
 
-fn cluster(vertices: &[Vertex], run: &[u32], first: u32) -> Cluster {
+/// The bounds and normal cone of the triangles `run`, the first of which is triangle `first`.
+pub(crate) fn cluster(vertices: &[Vertex], run: &[u32], first: u32) -> Cluster {
     let p = |i: u32| Vec3::from(vertices[i as usize].position);
     let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     let mut sum = Vec3::ZERO;
@@ -185,6 +210,8 @@ fn cluster(vertices: &[Vertex], run: &[u32], first: u32) -> Cluster {
 pub struct ClusterView {
     pub viewer: Viewer,
     planes: [Vec4; 6],
+    /// Level of detail: the view's pixels and error bound (None: every triangle).
+    pub lod: Option<Pixels>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -225,7 +252,25 @@ impl ClusterView {
         } else {
             Viewer::Direction(h.xyz().normalize_or_zero())
         };
-        ClusterView { viewer, planes }
+        ClusterView {
+            viewer,
+            planes,
+            lod: None,
+        }
+    }
+
+    /// The view drawn into `width` × `height` pixels with level of detail at `bound` pixels
+    /// of error (0 or less: none).
+    pub fn with_lod(self, view_proj: Mat4, width: u32, height: u32, bound: f32) -> ClusterView {
+        ClusterView {
+            lod: (bound > 0.0).then(|| Pixels::new(view_proj, width, height, bound)),
+            ..self
+        }
+    }
+
+    /// The same view drawing every triangle.
+    pub fn without_lod(self) -> ClusterView {
+        ClusterView { lod: None, ..self }
     }
 
     /// The sphere lies entirely outside one plane of the frustum.
@@ -245,7 +290,7 @@ impl ClusterView {
     /// Every facet of `c` faces away from the viewer (with slack): cos(φ + θ) > 0 where φ is
     /// the angle between the view ray and the cone axis and θ the cone's half-angle, the
     /// sphere's radius bounding how far the ray to each facet can turn.
-    fn faces_away(&self, c: &Cluster) -> bool {
+    pub(crate) fn faces_away(&self, c: &Cluster) -> bool {
         if c.sin_spread > 1.0 {
             return false;
         }

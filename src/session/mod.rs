@@ -23,8 +23,8 @@ pub mod view;
 pub use modes::{compile_shaders, map_view, print_info, render_headless, render_reference};
 pub use profile::Profile;
 pub use settings::{
-    env_request, frame_settings, load_options, load_scene, load_scene_with, reference_env,
-    BUILTIN_MTL, BUILTIN_OBJ,
+    env_request, frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with,
+    reference_env, BUILTIN_MTL, BUILTIN_OBJ,
 };
 pub use text::{png_text, Drawer, Repro};
 pub use view::View;
@@ -39,7 +39,6 @@ use crate::scene::clusters::Clusters;
 use crate::scene::profile::LoadProfile;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
 use profile::ms;
-use settings::load_scene_prepared;
 use std::path::Path;
 use std::time::Instant;
 
@@ -243,9 +242,11 @@ fn load(args: &Options) -> Loaded {
     let scene = load_scene_prepared(args);
     let profile = crate::scene::profile::take_last();
     let c = Instant::now();
-    // A cache hit (or the miss that wrote the entry) brings them; else they are built here.
+    // A cache hit (or the miss that wrote the entry) brings them, levels of detail included;
+    // else they are built here, without levels (they cost more than one picture saves).
     let scene = scene.map(|(mut s, prepared)| {
-        let clusters = prepared.unwrap_or_else(|| crate::scene::clusters::prepare(&mut s));
+        let clusters =
+            prepared.unwrap_or_else(|| crate::scene::clusters::prepare_without_lod(&mut s));
         (s, clusters)
     });
     (scene, ms(t), profile, ms(c))
@@ -323,6 +324,10 @@ fn draw(
     );
     renderer.time_post = args.picture.stats;
     renderer.cull_clusters = args.render.culling;
+    renderer.lod = crate::render::Lod {
+        mode: args.render.lod,
+        error: args.render.lod_error,
+    };
     let (settings, _) = frame_settings(args, renderer.scene())?;
     let gpu = Drawer::Gpu {
         caps: &hl.gpu.caps,
@@ -480,6 +485,6 @@ fn given_scene(args: &Options, scene: &crate::scene::Scene) -> Loaded {
         return (Err(e), ms(t), None, 0.0);
     }
     let c = Instant::now();
-    let clusters = crate::scene::clusters::prepare(&mut s);
+    let clusters = crate::scene::clusters::prepare_without_lod(&mut s);
     (Ok((s, clusters)), ms(t), None, ms(c))
 }

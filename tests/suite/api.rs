@@ -43,6 +43,9 @@ fn depth_is_the_exact_spheres_and_ids_cover_exactly_the_picture() {
         "160x120",
         "--no-shadows",
         "--transparent",
+        // Depth to 1e-3 of the exact sphere: coarser levels would be up to a pixel off.
+        "--lod",
+        "off",
     ];
     let r = Renderer::new(opts(&words)).unwrap();
     let f = r

@@ -3,13 +3,14 @@
 //! where back faces are hidden (outside a closed sphere), where they are not (camera inside
 //! it, the near plane cutting it open, an open bowl, x-rayed glass), and for every kind of
 //! shadow map (directional, point light outside, point light inside: the six-face atlas).
+//! With `--lod off`: coarser levels change pixels by design (tests/suite/lod.rs bounds them).
 use crate::common::*;
 use std::fmt::Write;
 use std::path::Path;
 
 /// A UV sphere (unit radius, outward winding, `vn` = position) with 2·segments·(rings − 1)
 /// triangles; `bowl` keeps only the upper half (an open mesh).
-fn sphere_obj(rings: u32, segments: u32, bowl: bool) -> String {
+pub(crate) fn sphere_obj(rings: u32, segments: u32, bowl: bool) -> String {
     let mut s = String::from("o sphere\n");
     let mut vertex = |p: [f64; 3]| {
         writeln!(
@@ -89,7 +90,7 @@ fn culled_frames_equal_whole_meshes_from_every_view() {
         ("xray", &sphere, &["--xray", "sphere"]),
     ];
     for (name, model, extra) in cases {
-        let mut args = vec![*model, "--size", "160x120", "--yaw", "35"];
+        let mut args = vec![*model, "--size", "160x120", "--yaw", "35", "--lod", "off"];
         if !extra.contains(&"--pitch") {
             args.extend(["--pitch", "20"]);
         }
@@ -124,6 +125,8 @@ fn stats_count_the_triangles_kept_from_the_gpu() {
             "--size",
             "96x72",
             "--stats",
+            "--lod",
+            "off",
         ];
         a.extend_from_slice(extra);
         let o = run(&a, &[]);
@@ -212,7 +215,7 @@ fn an_exported_sphere_with_an_ulp_seam_is_culled_with_the_same_pixels() {
         ("seam", &["--yaw", "180", "--pitch", "10"]),
         ("pole", &["--yaw", "20", "--pitch", "85"]),
     ] {
-        let mut args = vec![sphere.as_str(), "--size", "160x120"];
+        let mut args = vec![sphere.as_str(), "--size", "160x120", "--lod", "off"];
         args.extend_from_slice(extra);
         let culled = render(&dir, &format!("{name}-culled"), &args, &[]);
         args.push("--no-culling");
@@ -223,7 +226,7 @@ fn an_exported_sphere_with_an_ulp_seam_is_culled_with_the_same_pixels() {
     let out = dir.join("s.png");
     let stats = |model: &str, extra: &[&str]| -> serde_json::Value {
         let mut a = vec![model, "-o", out.to_str().unwrap(), "--size", "96x72"];
-        a.extend_from_slice(&["--stats", "--no-shadows"]);
+        a.extend_from_slice(&["--stats", "--no-shadows", "--lod", "off"]);
         a.extend_from_slice(extra);
         let o = run(&a, &[]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -314,7 +317,7 @@ fn single_sided_skips_back_facing_clusters_of_open_meshes_exactly() {
             "--size",
             "96x72",
         ];
-        a.extend_from_slice(&["--stats", "--single-sided"]);
+        a.extend_from_slice(&["--stats", "--single-sided", "--lod", "off"]);
         a.extend_from_slice(extra);
         let o = run(&a, &[]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -334,7 +337,14 @@ fn single_sided_skips_back_facing_clusters_of_open_meshes_exactly() {
         ),
     ] {
         assert!(skipped(extra) > 0, "{name}: nothing skipped");
-        let mut args = vec![bowl.as_str(), "--size", "160x120", "--single-sided"];
+        let mut args = vec![
+            bowl.as_str(),
+            "--size",
+            "160x120",
+            "--single-sided",
+            "--lod",
+            "off",
+        ];
         args.extend_from_slice(extra);
         let culled = render(&dir, &format!("{name}-culled"), &args, &[]);
         args.push("--no-culling");

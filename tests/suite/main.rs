@@ -32,6 +32,7 @@ mod grid;
 mod hostile_formats;
 mod lighting;
 mod loading;
+mod lod;
 mod models_committed;
 mod parity;
 mod pbr;

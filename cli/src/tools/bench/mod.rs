@@ -9,6 +9,7 @@ pub mod khr;
 pub mod knobs;
 pub mod load;
 pub mod load_report;
+pub mod lod;
 pub use glview::metrics;
 pub mod pbr;
 pub mod plot;
@@ -49,6 +50,14 @@ pub struct BenchArgs {
     /// the core material's on a full-frame sphere.
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
     pub khr: bool,
+    /// Measure level of detail: per error bound, triangles drawn, frame ms and the picture's
+    /// difference from --lod off, on the 2M-triangle sphere, the dragon and a Khronos model.
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
+    pub lod: bool,
+    /// With --lod: a Khronos sample model with a large mesh (docs/benchmarks.md uses
+    /// SheenCloth: 115k triangles, textured).
+    #[arg(long)]
+    pub lod_khronos: Option<PathBuf>,
     /// Measure `glview serve` under 1, 5 and 30 simulated viewers and in teacher mode
     /// (frames/s, input→frame latency, bytes a frame; docs/serve.md).
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
@@ -85,6 +94,21 @@ pub fn run(args: &BenchArgs) -> glview::Result<()> {
     }
     if args.translucency {
         return translucency::run_translucency(&args.quality.models_dir);
+    }
+    if args.lod {
+        let work = args
+            .load_options
+            .work_dir
+            .clone()
+            .unwrap_or_else(load::default_work_dir);
+        let rounds = if args.quality.quick { 3 } else { 5 };
+        return lod::run_lod(
+            &work,
+            &args.quality.models_dir,
+            rounds,
+            lod::SPHERE,
+            args.lod_khronos.as_deref(),
+        );
     }
     if args.frame {
         let work = args
