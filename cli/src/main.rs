@@ -28,7 +28,11 @@ fn main() -> ExitCode {
         .init();
     glview::progress::install(Box::new(progress_bar));
     let args = Args::from_words(std::env::args_os().skip(1)).unwrap_or_else(|e| e.exit());
-    match dispatch(&args) {
+    let result = dispatch(&args);
+    // A first load of a large model writes its mesh cache entry (levels of detail built
+    // while the picture was drawn) before the process ends.
+    glview::scene::cache::wait_for_writes();
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -271,6 +271,7 @@ pub fn get_in(
     bytes: Option<&[u8]>,
     textures: TextureOptions,
 ) -> Option<Prepared> {
+    wait_for_writes();
     let entry = entry_path(dir, path)?;
     let file = std::fs::File::open(&entry).ok()?;
     let scene = read::decode(file, path, bytes, textures);
@@ -292,6 +293,33 @@ fn touch(entry: &Path) {
 
 /// Stores `scene` and its `clusters` for `path` (and the content hash of `bytes`, the file's,
 /// when given); failures only cost the next load its speed-up.
+/// Entries being written on other threads ([`put_later`]).
+static PENDING: std::sync::Mutex<Vec<std::thread::JoinHandle<()>>> =
+    std::sync::Mutex::new(Vec::new());
+
+/// Runs `write` (which builds and puts an entry) on another thread; [`wait_for_writes`]
+/// waits for it.
+pub fn put_later(write: impl FnOnce() + Send + 'static) {
+    let handle = std::thread::Builder::new()
+        .name("glview-cache-write".into())
+        .spawn(write);
+    match handle {
+        Ok(h) => PENDING.lock().unwrap_or_else(|e| e.into_inner()).push(h),
+        Err(e) => log::debug!("mesh cache entry not written: no thread: {e}"),
+    }
+}
+
+/// Waits until the entries [`put_later`] is writing are written: before a process exits
+/// (the CLI calls it), and before a lookup, so a second load in one process finds the
+/// first one's entry.
+pub fn wait_for_writes() {
+    let pending = std::mem::take(&mut *PENDING.lock().unwrap_or_else(|e| e.into_inner()));
+    for h in pending {
+        // A panic in a writer loses one cache entry, nothing else.
+        let _ = h.join();
+    }
+}
+
 pub fn put(
     path: &Path,
     bytes: Option<&[u8]>,

@@ -46,6 +46,15 @@ pub fn prepare_without_lod(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
     prepare_with(scene, false)
 }
 
+/// Adds the levels of detail to clusters [`prepare_without_lod`] made for `scene`.
+pub fn add_lod(scene: &super::Scene, clusters: &mut [Option<Clusters>]) {
+    for (m, c) in scene.meshes.iter().zip(clusters) {
+        if let Some(c) = c {
+            c.lod = Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &c.list);
+        }
+    }
+}
+
 fn prepare_with(scene: &mut super::Scene, lod: bool) -> Vec<Option<Clusters>> {
     scene
         .meshes

@@ -24,10 +24,22 @@ fn stats(args: &[&str], out: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(String::from_utf8_lossy(&o.stdout).lines().last().unwrap()).unwrap()
 }
 
+/// Loads `model` once, so its mesh cache entry (where the levels are built: the first,
+/// uncached picture draws every triangle) exists for the pictures after.
+fn warm(dir: &std::path::Path, model: &str) {
+    let out = dir.join("warm.png");
+    let o = run(
+        &[model, "--size", "16x16", "-o", out.to_str().unwrap()],
+        &[],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 #[test]
 fn error_zero_draws_what_lod_off_draws() {
     let dir = out_dir("lod_zero");
     let sphere = fine_sphere(&dir);
+    warm(&dir, &sphere);
     let base = [sphere.as_str(), "--size", "160x160", "--yaw", "30"];
     let off = render(&dir, "off", &[&base[..], &["--lod", "off"]].concat(), &[]);
     let zero = render(
@@ -76,6 +88,7 @@ fn silhouette_within(img: &glview::image_out::Rgba, radius_px: f64, bound: f64, 
 fn default_bound_moves_the_silhouette_by_at_most_the_bound() {
     let dir = out_dir("lod_silhouette");
     let sphere = fine_sphere(&dir);
+    warm(&dir, &sphere);
     let bound = f64::from(glview::options::DEFAULT_LOD_ERROR);
     // Orthographic, 2.2 units high: the silhouette is a circle of 160 / 2.2 pixels.
     let ortho = [
