@@ -279,7 +279,7 @@ pub(crate) fn reference(dir: &Path, name: &str, args: &[&str]) -> Rgba {
 /// With normals the points are lit (the tier's formula at the point, one colour per disk):
 /// the same disks, each within 2/255 of the reference's colour, on every context; in the PBR
 /// tier (unlit and lit) the same coverage, and lit each within [`PBR_TOLERANCE`] of the
-/// reference's colour.
+/// reference's colour (default context and GL 2.1).
 #[test]
 fn lit_cloud_points_match_the_reference() {
     let dir = out_dir("points-lit");
@@ -325,6 +325,9 @@ fn lit_cloud_points_match_the_reference() {
             let truth = self::reference(&dir, name, &a);
             assert_disks("pbr-lit-ref", &truth, &a, 11.0, &|_| None);
             assert_centres_match(name, &img, &truth, &a, PBR_TOLERANCE);
+            let (ctx, extra, env) = CONTEXTS[1];
+            let gl21 = render_bin(&dir, &format!("{name}{ctx}"), &[&a, extra].concat(), env);
+            assert_centres_match(&format!("{name}{ctx}"), &gl21, &truth, &a, PBR_TOLERANCE);
         }
     }
 }
