@@ -41,6 +41,17 @@ impl<'a> Corners<'a> {
         }
     }
 
+    /// A point sprite's: no triangle, `mesh` (one vertex, no UVs) reads no map, as the GPU
+    /// draws points without texture coordinates.
+    pub fn at_point(mesh: &'a Mesh) -> Self {
+        Corners {
+            mesh,
+            idx: [0; 3],
+            w: [1.0, 0.0, 0.0],
+            tangents: &[],
+        }
+    }
+
     /// UV set `set` (set 1 falls back to set 0 where the mesh has none, as `SLOT_UV` does).
     pub fn uv(&self, set: u32) -> DVec2 {
         let uv1 = set == 1 && self.mesh.uv1.len() == self.mesh.vertices.len();

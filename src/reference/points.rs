@@ -5,11 +5,16 @@
 //! it is drawn where that is nearer than the surface at the pixel and than the points drawn
 //! before (GL's LESS, in index order). The colour is the point's, shaded once per point as
 //! the shaders do (their inputs do not vary across a sprite): unlit where the points have no
-//! normals, else the legacy formula with the point's normal (lights unshadowed: points are
-//! drawn with the surfaces' shadow maps on the GPU, which the reference does not model for
-//! them). Lit points in the PBR tier are not drawn here.
+//! normals, else the tier's formula with the point's normal — the legacy `shade`, or the
+//! PBR tier's `pbr::shade` (with material 0's factors and layers; no maps, as points have
+//! no UVs). Points receive the meshes' shadows as on the GPU (which looks them up in the
+//! surfaces' shadow maps): an exact shadow ray from the point towards each casting light.
+//! They cast none, on the GPU (its depth pass draws triangles only) as here (the shadow rays
+//! meet triangles only).
+use super::material::Corners;
 use super::Context;
 use crate::frame::Shading;
+use crate::scene::{Material, Mesh};
 use crate::shading::{shade, Tex};
 use glam::{DVec3, DVec4};
 
@@ -33,9 +38,6 @@ pub fn draw(ctx: &Context, data: &mut [u8], depth: &mut [f64]) {
     };
     let lit = w.normals.len() == w.positions.len();
     let pbr = ctx.settings.shading == Shading::Pbr;
-    if lit && pbr {
-        return;
-    }
     let (width, height) = ctx.size;
     let r = diameter(&ctx.settings.lighting, height) * 0.5;
     let l = &ctx.settings.lighting;
@@ -73,17 +75,7 @@ pub fn draw(ctx: &Context, data: &mut [u8], depth: &mut [f64]) {
             }
         } else {
             let n = DVec3::from(w.normals[i].map(f64::from)).normalize_or(ctx.view.back);
-            let vis = vec![1.0; ctx.settings.lights.len()];
-            shade(
-                material,
-                Tex::diffuse(vc),
-                p,
-                n,
-                ctx.view.eye,
-                &ctx.settings.lights,
-                &vis,
-                l,
-            )
+            lit_colour(ctx, material, p, n, vc)
         };
         let rgb = super::to_unorm8(color);
         let x0 = (cx - r - 1.0).floor().max(0.0) as u32;
@@ -102,4 +94,46 @@ pub fn draw(ctx: &Context, data: &mut [u8], depth: &mut [f64]) {
             }
         }
     }
+}
+
+/// A lit point's colour: the tier's formula at `p` with normal `n` (facing whichever way the
+/// file says: a sprite is always front-facing) and vertex colour `vc`, each casting light
+/// seen or not along an exact shadow ray.
+fn lit_colour(ctx: &Context, material: &Material, p: DVec3, n: DVec3, vc: DVec3) -> DVec3 {
+    let casters = usize::from(ctx.settings.lighting.shadow_casters);
+    let vis: Vec<f64> = (ctx.settings.lights.iter().enumerate())
+        .map(|(i, light)| {
+            let seen = !ctx.shadows
+                || i >= casters
+                || super::surface::light_visible(ctx, p, n, n, 0.0, light);
+            if seen {
+                1.0
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let l = &ctx.settings.lighting;
+    if ctx.settings.shading != Shading::Pbr {
+        return shade(
+            material,
+            Tex::diffuse(vc),
+            p,
+            n,
+            ctx.view.eye,
+            &ctx.settings.lights,
+            &vis,
+            l,
+        );
+    }
+    // One vertex without UVs: the material's factors, as the GPU's point program reads them.
+    let mesh = Mesh {
+        vertices: vec![Default::default()],
+        ..Default::default()
+    };
+    let corners = Corners::at_point(&mesh);
+    let mut s = super::pbr::surface(material, DVec3::ONE, &corners, l);
+    s.albedo *= vc.map(crate::pbr::srgb_decode);
+    let layers = super::layers::Layers::new(ctx, material, &corners, (p, n, n), true);
+    super::pbr::shade(ctx, &s, &layers, p, n, &vis)
 }

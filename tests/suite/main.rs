@@ -37,6 +37,7 @@ mod models_committed;
 mod parity;
 mod pbr;
 mod points;
+mod points_shadow;
 mod post_copy;
 mod precision;
 mod quirky_formats;

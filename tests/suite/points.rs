@@ -7,8 +7,8 @@ use glam::{Vec3, Vec4Swizzles};
 use glview::image_out::Rgba;
 use std::path::Path;
 
-const W: u32 = 200;
-const H: u32 = 150;
+pub(crate) const W: u32 = 200;
+pub(crate) const H: u32 = 150;
 const VIEW: &[&str] = &["--size", "200x150", "--yaw", "20", "--pitch", "10"];
 
 /// Five points far apart (their disks never touch at the sizes used) and their colours.
@@ -80,7 +80,7 @@ fn binary_ply(normals: bool, colours: bool) -> Vec<u8> {
 }
 
 /// Pixel (x, y), y down, where the frame of `args` projects the file point `p`.
-fn project(args: &[&str], p: [f32; 3]) -> (f64, f64) {
+pub(crate) fn project(args: &[&str], p: [f32; 3]) -> (f64, f64) {
     let (s, scene) = settings_for(args);
     let vp = s.camera.projection(&scene.bounds, W as f32 / H as f32) * s.camera.view();
     let c = vp * scene.to_local(Vec3::from(p).as_dvec3()).extend(1.0);
@@ -117,7 +117,7 @@ fn lattice(c: (f64, f64), r: f64) -> usize {
     disk(&img, c, r, |_| true).0
 }
 
-fn write(dir: &Path, name: &str, bytes: &[u8]) -> String {
+pub(crate) fn write(dir: &Path, name: &str, bytes: &[u8]) -> String {
     let p = dir.join(name);
     std::fs::write(&p, bytes).unwrap();
     p.to_str().unwrap().to_string()
@@ -234,12 +234,12 @@ fn cloud_points_are_disks_of_the_asked_size() {
 
 /// Every context kind: the default (in this process), GL 2.1 (Mesa told to be a GL 2.1
 /// driver: GLSL 1.20), 3.3 core, ES 3.0, and OSMesa.
-type Context = (
+pub(crate) type Context = (
     &'static str,
     &'static [&'static str],
     &'static [(&'static str, &'static str)],
 );
-const CONTEXTS: [Context; 5] = [
+pub(crate) const CONTEXTS: [Context; 5] = [
     ("", &[], &[]),
     ("-gl21", &["--gl", "2.1"], GL21),
     ("-core", &["--gl", "core"], &[]),
@@ -248,7 +248,7 @@ const CONTEXTS: [Context; 5] = [
 ];
 
 /// [`render`], through the binary (a context of its own) for every context but the default.
-fn render_bin(dir: &Path, name: &str, args: &[&str], env: &[(&str, &str)]) -> Rgba {
+pub(crate) fn render_bin(dir: &Path, name: &str, args: &[&str], env: &[(&str, &str)]) -> Rgba {
     if args.iter().all(|a| !["--gl", "--backend"].contains(a)) {
         return render(dir, name, args, env);
     }
@@ -267,7 +267,7 @@ fn render_bin(dir: &Path, name: &str, args: &[&str], env: &[(&str, &str)]) -> Rg
 }
 
 /// The reference renderer's picture for `args`.
-fn reference(dir: &Path, name: &str, args: &[&str]) -> Rgba {
+pub(crate) fn reference(dir: &Path, name: &str, args: &[&str]) -> Rgba {
     let out = dir.join(format!("{name}-ref.png"));
     let mut r = args.to_vec();
     r.extend_from_slice(&["--reference", "-o", out.to_str().unwrap()]);
@@ -276,9 +276,10 @@ fn reference(dir: &Path, name: &str, args: &[&str]) -> Rgba {
     Rgba::load_png(&out).unwrap()
 }
 
-/// With normals the points are lit (the legacy formula at the point, one colour per disk):
-/// the same disks, each within 2/255 of the reference's colour, on both contexts; in the PBR
-/// tier (unlit and lit) the same coverage.
+/// With normals the points are lit (the tier's formula at the point, one colour per disk):
+/// the same disks, each within 2/255 of the reference's colour, on every context; in the PBR
+/// tier (unlit and lit) the same coverage, and lit each within [`PBR_TOLERANCE`] of the
+/// reference's colour (default context and GL 2.1).
 #[test]
 fn lit_cloud_points_match_the_reference() {
     let dir = out_dir("points-lit");
@@ -318,6 +319,35 @@ fn lit_cloud_points_match_the_reference() {
         a.extend_from_slice(&["--background", "0.1,0.1,0.12"]);
         let img = render(&dir, name, &a, &[]);
         assert_disks(name, &img, &a, 11.0, &|_| None);
+        if name == "pbr-lit" {
+            // Lit in the PBR tier: the reference's formula (Monte Carlo environment, exact
+            // BRDF) at each centre, against the split sum.
+            let truth = self::reference(&dir, name, &a);
+            assert_disks("pbr-lit-ref", &truth, &a, 11.0, &|_| None);
+            assert_centres_match(name, &img, &truth, &a, PBR_TOLERANCE);
+            let (ctx, extra, env) = CONTEXTS[1];
+            let gl21 = render_bin(&dir, &format!("{name}{ctx}"), &[&a, extra].concat(), env);
+            assert_centres_match(&format!("{name}{ctx}"), &gl21, &truth, &a, PBR_TOLERANCE);
+        }
+    }
+}
+
+/// The largest channel difference of a lit point's centre between the PBR tier and the
+/// reference: the split sum against the Monte Carlo environment (measured: up to 1/255).
+pub(crate) const PBR_TOLERANCE: u8 = 3;
+
+/// Each point's centre pixel within `tolerance` of the reference's.
+fn assert_centres_match(name: &str, img: &Rgba, reference: &Rgba, args: &[&str], tolerance: u8) {
+    for (i, (p, _)) in POINTS.iter().enumerate() {
+        let c = project(args, *p);
+        let (x, y) = (c.0 as u32, c.1 as u32);
+        let (g, r) = (img.pixel(x, y), reference.pixel(x, y));
+        let d = (0..3).map(|k| g[k].abs_diff(r[k])).max().unwrap();
+        eprintln!("{name}: point {i}: GPU {g:?}, reference {r:?}");
+        assert!(
+            d <= tolerance,
+            "{name}: point {i}: GPU {g:?}, reference {r:?}"
+        );
     }
 }
 
