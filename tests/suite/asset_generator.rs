@@ -159,15 +159,16 @@ const MODELS: [(&str, f64); 4] = [
     ("Material_AlphaBlend_04", 0.7),
 ];
 
-/// The contexts (name, arguments, environment): the gradient model runs on all three,
-/// the others on GL 3.3 core (the rule is one shader line; the contexts are for the blend).
-fn contexts(
-    all: bool,
-) -> Vec<(
+/// A context: (name, arguments, environment).
+type Context = (
     &'static str,
     Vec<&'static str>,
     &'static [(&'static str, &'static str)],
-)> {
+);
+
+/// The contexts: the gradient model runs on all three,
+/// the others on GL 3.3 core (the rule is one shader line; the contexts are for the blend).
+fn contexts(all: bool) -> Vec<Context> {
     let mut c = vec![("core", vec!["--gl", "core", "--backend", "egl"], &[][..])];
     if all {
         c.push(("gl21", vec!["--gl", "2.1", "--backend", "egl"], GL21));
