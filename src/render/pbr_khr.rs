@@ -2,7 +2,7 @@
 //! computes (`KHR_CLEARCOAT`, `KHR_SHEEN`, `KHR_SPECULAR`, `KHR_TRANSMISSION`, `KHR_VOLUME`:
 //! permutations, so a material without an extension runs the core program unchanged), their
 //! textures' units and their uniforms, and the copy of the opaque frame transmission reads
-//! ([`copy_frame`]). The formulas are in `pbr.frag` and docs/gltf/extensions.md.
+//! (`copy_frame`). The formulas are in `pbr.frag` and docs/gltf/extensions.md.
 use super::textures::TextureTable;
 use crate::gpu::program::Program;
 use crate::gpu::GpuRef;
