@@ -87,11 +87,20 @@ pub struct Mesh {
 /// units). The GPU (`shadow.glsl`) and the reference raise shadow lookups by it where the
 /// shading normal faces a light that the facet itself faces away from.
 pub fn terminator_lift(m: &Mesh) -> f64 {
+    use rayon::prelude::*;
     let p = |i: u32| glam::DVec3::from(m.vertices[i as usize].position.map(f64::from));
-    let (sum, n) = m.indices.chunks_exact(3).fold((0.0, 0usize), |(s, n), t| {
-        let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
-        (s + a.distance(b) + b.distance(c) + c.distance(a), n + 3)
-    });
+    // In parallel slices of 64k triangles: 20 ms of a cached 2M-triangle picture's ~190 on
+    // one thread. A mesh of one slice sums in the same order as before.
+    let (sum, n) = m
+        .indices
+        .par_chunks(3 << 16)
+        .map(|slice| {
+            slice.chunks_exact(3).fold((0.0, 0usize), |(s, n), t| {
+                let (a, b, c) = (p(t[0]), p(t[1]), p(t[2]));
+                (s + a.distance(b) + b.distance(c) + c.distance(a), n + 3)
+            })
+        })
+        .reduce(|| (0.0, 0), |(s, n), (t, k)| (s + t, n + k));
     if n == 0 {
         0.0
     } else {
