@@ -13,6 +13,7 @@ specs as the command line (the list: docs/options.md) and a bad one raises
 """
 from __future__ import annotations
 
+import atexit
 import json
 import os
 import threading
@@ -21,6 +22,10 @@ from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from . import _glview as _native
+
+# A large model's first load writes its mesh cache entry on another thread (its levels of
+# detail are built while the first picture is drawn): let it finish before the process ends.
+atexit.register(_native.wait_for_cache_writes)
 from ._glview import (
     BusyError,
     ContextError,

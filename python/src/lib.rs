@@ -394,6 +394,14 @@ fn sheet<'py>(
     array(py, img)
 }
 
+/// Waits until the mesh cache entries being written on other threads (a large model's
+/// levels of detail, built while its first picture was drawn) are written; the package
+/// calls it at exit, so a short script's first load still leaves its entry.
+#[pyfunction]
+fn wait_for_cache_writes(py: Python<'_>) {
+    py.detach(glview::scene::cache::wait_for_writes);
+}
+
 #[pymodule]
 fn _glview(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
@@ -405,6 +413,7 @@ fn _glview(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(diff_tiers, m)?)?;
     m.add_function(wrap_pyfunction!(diff_images, m)?)?;
     m.add_function(wrap_pyfunction!(sheet, m)?)?;
+    m.add_function(wrap_pyfunction!(wait_for_cache_writes, m)?)?;
     m.add("GlviewError", py.get_type::<GlviewError>())?;
     m.add("OptionError", py.get_type::<OptionError>())?;
     m.add("ModelError", py.get_type::<ModelError>())?;
