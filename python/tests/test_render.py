@@ -263,4 +263,3 @@ def test_linear_colour_is_the_picture_before_its_output_step(shared):
     encoded = np.round(srgb * 255).astype(np.int16)
     assert np.abs(encoded - img.rgb.astype(np.int16)).max() <= 1
     assert lin.max() > 1.0  # unclamped
-
