@@ -172,6 +172,27 @@ pub(crate) fn ensure_dir(dir: &std::path::Path) -> glview::Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| glview::Error::io(dir, e))
 }
 
+/// Opens the headless context a frame benchmark draws in, `size` pixels, and prints the
+/// table's title line: the mode, size, renderer and driver, `setup` (what each figure is),
+/// and the load average — the figures mean nothing without them.
+pub(crate) fn open_headless(
+    mode: &str,
+    size: (u32, u32),
+    setup: &str,
+) -> glview::Result<glview::headless::Headless> {
+    use glview::platform::{Backend, GlRequest};
+    let hl = glview::headless::Headless::new(Backend::Auto, GlRequest::Auto, size.0, size.1)?;
+    println!(
+        "glview bench --{mode}: {}x{} on {} ({}), {setup}, load average {}",
+        size.0,
+        size.1,
+        hl.gpu.caps.renderer,
+        hl.gpu.caps.version,
+        quality::loadavg()
+    );
+    Ok(hl)
+}
+
 /// Writes `text` to `path`, mapping the error to the library's.
 pub(crate) fn write_file(path: &std::path::Path, text: &str) -> glview::Result<()> {
     std::fs::write(path, text).map_err(|e| glview::Error::io(path, e))
