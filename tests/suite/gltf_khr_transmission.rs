@@ -45,30 +45,8 @@ fn a_transmissive_thin_sphere_shows_the_background() {
     let bg = [0.6, 0.45, 0.3];
     let env = bg.map(|c| format!("{}", srgb(c))).join(",");
     let bg_arg = bg.map(|c| c.to_string()).join(",");
-    let flat = [
-        "--tonemap",
-        "none",
-        "--exposure",
-        "0",
-        "--light",
-        "none",
-        "--env-color",
-        &env,
-        "--background",
-        &bg_arg,
-    ];
-    let red = [
-        "--tonemap",
-        "none",
-        "--exposure",
-        "0",
-        "--light",
-        "none",
-        "--env-color",
-        "0.2,0.2,0.2",
-        "--background",
-        "0.9,0.1,0.1",
-    ];
+    let flat = plain(&env, &bg_arg);
+    let red = plain("0.2,0.2,0.2", "0.9,0.1,0.1");
     for ctx in &CONTEXTS {
         // A uniform picture is the expectation here (`render` refuses those as blank).
         let out = dir.join(format!("flat-{}.png", ctx.0));
@@ -115,6 +93,23 @@ fn a_transmissive_thin_sphere_shows_the_background() {
         );
         assert!(worst <= 3.0, "{}: volume centre {worst}/255", ctx.0);
     }
+}
+
+/// The view's options with neither tone mapping, exposure nor lights: a pixel is the light of
+/// the uniform environment `env` and of the `background` as given, nothing else.
+fn plain<'a>(env: &'a str, background: &'a str) -> [&'a str; 10] {
+    [
+        "--tonemap",
+        "none",
+        "--exposure",
+        "0",
+        "--light",
+        "none",
+        "--env-color",
+        env,
+        "--background",
+        background,
+    ]
 }
 
 /// The largest colour-channel difference (in 8-bit steps) from `want` over the 2h × 2h
