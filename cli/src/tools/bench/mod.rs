@@ -96,11 +96,7 @@ pub fn run(args: &BenchArgs) -> glview::Result<()> {
         return translucency::run_translucency(&args.quality.models_dir);
     }
     if args.lod {
-        let work = args
-            .load_options
-            .work_dir
-            .clone()
-            .unwrap_or_else(load::default_work_dir);
+        let work = args.load_options.work_dir();
         let rounds = if args.quality.quick { 3 } else { 5 };
         return lod::run_lod(
             &work,
@@ -111,11 +107,7 @@ pub fn run(args: &BenchArgs) -> glview::Result<()> {
         );
     }
     if args.frame {
-        let work = args
-            .load_options
-            .work_dir
-            .clone()
-            .unwrap_or_else(load::default_work_dir);
+        let work = args.load_options.work_dir();
         let rounds = if args.quality.quick {
             3
         } else {
