@@ -82,16 +82,22 @@ vec2 glviewLutTexel(vec2 ij) {
     vec4 t = glviewLutRaw(ij);
     return vec2(t.r * 255.0 * 256.0 + t.g * 255.0, t.b * 255.0 * 256.0 + t.a * 255.0) / 65535.0;
 }
+// The table cell around uv, filtered here since a value's two bytes cannot be blended apart:
+// corner texels i0 and i1 (clamped to the table) and the weights f between them.
+void glviewLutCell(vec2 uv, out vec2 i0, out vec2 i1, out vec2 f) {
+    vec2 p = clamp(uv * uLutSize - 0.5, vec2(0.0), vec2(uLutSize - 1.0));
+    i0 = floor(p);
+    f = p - i0;
+    i1 = min(i0 + 1.0, vec2(uLutSize - 1.0));
+}
 #endif
 
 // (A, B) with the specular integral = f0 * A + B, at x = N.V, y = roughness.
 vec2 glviewBrdf(float nv, float r) {
     vec2 uv = vec2(clamp(nv, 0.0, 1.0), clamp(r, 0.0, 1.0));
 #ifdef IBL_RGBM
-    vec2 p = clamp(uv * uLutSize - 0.5, vec2(0.0), vec2(uLutSize - 1.0));
-    vec2 i0 = floor(p);
-    vec2 f = p - i0;
-    vec2 i1 = min(i0 + 1.0, vec2(uLutSize - 1.0));
+    vec2 i0, i1, f;
+    glviewLutCell(uv, i0, i1, f);
     return mix(mix(glviewLutTexel(i0), glviewLutTexel(vec2(i1.x, i0.y)), f.x),
                mix(glviewLutTexel(vec2(i0.x, i1.y)), glviewLutTexel(i1), f.x), f.y);
 #else
@@ -105,10 +111,8 @@ vec2 glviewBrdf(float nv, float r) {
 float glviewSheenE(float nv, float r) {
     vec2 uv = vec2(clamp(nv, 0.0, 1.0), clamp(r, 0.0, 1.0));
 #ifdef IBL_RGBM
-    vec2 p = clamp(uv * uLutSize - 0.5, vec2(0.0), vec2(uLutSize - 1.0));
-    vec2 i0 = floor(p);
-    vec2 f = p - i0;
-    vec2 i1 = min(i0 + 1.0, vec2(uLutSize - 1.0));
+    vec2 i0, i1, f;
+    glviewLutCell(uv, i0, i1, f);
     vec2 o = vec2(uLutSize, 0.0);
     vec4 t00 = glviewLutRaw(i0 + o);
     vec4 t10 = glviewLutRaw(vec2(i1.x, i0.y) + o);

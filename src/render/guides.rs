@@ -6,8 +6,6 @@
 //! orthographically: it turns with the camera and never moves with zoom or pan.
 use super::{FrameCx, Outcome};
 use crate::compare::canvas;
-use crate::gpu::state::{Blend, RenderState};
-use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
 use crate::grid::{triad_direction, GridPlane, AXES};
 use crate::image_out::Rgba;
 use crate::Result;
@@ -43,33 +41,17 @@ pub(crate) fn draw(cx: &mut FrameCx) -> Result<Outcome> {
         .grid
         .then(|| GridPlane::for_scene(&cx.scene.scene, g.up).label());
     let img = compose(&s.camera.view(), g, label.as_deref(), s.background);
-    let tex = Texture2d::new(
-        cx.gpu,
-        TextureFormat::Rgba8,
-        img.width,
-        img.height,
-        Pixels::U8(&img.data),
-        Sampling::NEAREST,
-    )?;
     let program = cx.program(&key())?;
-    program.bind();
-    tex.bind(0);
-    program.set_i32("uImage", 0);
-    cx.gpu.bind_framebuffer(cx.target.fbo);
     let [x, y, w, h] = cx.viewport;
     let m = (MARGIN_PX * g.scale).round() as u32;
     let (iw, ih) = (
         img.width.min(w.saturating_sub(m)),
         img.height.min(h.saturating_sub(m)),
     );
-    cx.gpu.viewport(x + m, y + m, iw, ih);
-    cx.gpu.apply(&RenderState {
-        blend: Blend::Alpha,
-        ..RenderState::overlay()
-    });
-    cx.quad()?.draw();
+    let gpu = cx.gpu;
+    let rect = [x + m, y + m, iw, ih];
+    super::overlay::blend_image(gpu, &program, cx.res.quad(gpu)?, &img, cx.target.fbo, rect)?;
     cx.stats.draw_calls += 1;
-    cx.gpu.apply(&RenderState::default());
     let [x, y, w, h] = cx.viewport;
     cx.gpu.viewport(x, y, w, h);
     let what = match (g.axes, label) {

@@ -64,6 +64,28 @@ pub(crate) fn facts(
     }
 }
 
+/// One slot in colour space `cs`, when `image` decodes its image; its `--check` line, saying
+/// whether the image loaded, goes to `lines` either way.
+fn load_slot(
+    image: &mut dyn FnMut(usize) -> Option<Arc<Texture>>,
+    f: SlotFacts,
+    cs: ColorSpace,
+    lines: &mut Vec<String>,
+) -> Option<TextureSlot> {
+    let img = image(f.image);
+    lines.push(slot_line(&SlotFacts {
+        loaded: img.is_some(),
+        ..f
+    }));
+    img.map(|image| TextureSlot {
+        image,
+        sampler: f.sampler,
+        uv_set: f.uv_set,
+        transform: f.transform,
+        color_space: cs,
+    })
+}
+
 /// `image(i)` decodes (once) or gives None after warning.
 pub fn material(
     doc: &gltf::Document,
@@ -106,18 +128,7 @@ pub fn material(
         .map(|t| format!("baseColorTexture image {}", t.texture().source().index()));
     // Slots in glTF's order, so `--check` lists them so.
     let mut load = |f: SlotFacts, cs: ColorSpace, out: &mut Material| {
-        let img = image(f.image);
-        out.check.gltf_slots.push(slot_line(&SlotFacts {
-            loaded: img.is_some(),
-            ..f
-        }));
-        img.map(|image| TextureSlot {
-            image,
-            sampler: f.sampler,
-            uv_set: f.uv_set,
-            transform: f.transform,
-            color_space: cs,
-        })
+        load_slot(&mut *image, f, cs, &mut out.check.gltf_slots)
     };
     let (srgb, lin) = (ColorSpace::Srgb, ColorSpace::Linear);
     if let Some(i) = pbr.base_color_texture() {
@@ -167,22 +178,10 @@ pub fn material(
         out.emissive_texture = load(f, srgb, &mut out);
     }
     let mut notes = Vec::new();
-    let mut load_slot = |f: SlotFacts, cs: ColorSpace| {
-        let img = image(f.image);
-        notes.push(slot_line(&SlotFacts {
-            loaded: img.is_some(),
-            ..f
-        }));
-        img.map(|image| TextureSlot {
-            image,
-            sampler: f.sampler,
-            uv_set: f.uv_set,
-            transform: f.transform,
-            color_space: cs,
-        })
-    };
-    out.khr = super::gltf_khr::read(doc, m, &mut load_slot);
-    super::gltf_specgloss::convert(doc, m, &mut out, &mut load_slot);
+    // The extensions' slots (read while `out` is lent) are noted apart, listed after the core ones.
+    let mut load_ext = |f: SlotFacts, cs: ColorSpace| load_slot(&mut *image, f, cs, &mut notes);
+    out.khr = super::gltf_khr::read(doc, m, &mut load_ext);
+    super::gltf_specgloss::convert(doc, m, &mut out, &mut load_ext);
     out.check.gltf_slots.extend(notes);
     out
 }

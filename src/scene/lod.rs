@@ -239,26 +239,11 @@ impl Lod {
             start.extend_from_slice(&self.indices[first..first + count]);
         }
         let locks = vec![SimplifyVertex::None; vertices.len()];
-        let options =
-            SimplifyOptions::LockBorder | SimplifyOptions::Sparse | SimplifyOptions::ErrorAbsolute;
         let mut current = start;
         while current.len() / 3 > 2 * WHOLE_MIN {
-            let mut e = 0.0f32;
-            let next = meshopt::simplify_with_attributes_and_locks(
-                &current,
-                adapter,
-                &attrs.values,
-                &attrs.weights,
-                attrs.weights.len() * 4,
-                &locks,
-                current.len() / 6 * 3,
-                f32::MAX,
-                options,
-                Some(&mut e),
-            );
-            if next.len() as f32 > current.len() as f32 * (1.0 - MIN_SAVING) {
+            let Some((next, e)) = halve(adapter, attrs, &locks, &current) else {
                 break;
-            }
+            };
             error += e;
             let first = base + self.indices.len() as u32 / 3;
             self.whole.push(Level {
@@ -343,6 +328,36 @@ fn shared_corners(
         .collect()
 }
 
+/// `tris` simplified to about half its triangles, its border and `locks`' vertices kept, with
+/// the simplifier's error (object units); None when that saves less than [`MIN_SAVING`].
+fn halve(
+    adapter: &VertexDataAdapter,
+    attrs: &Attributes,
+    locks: &[SimplifyVertex],
+    tris: &[u32],
+) -> Option<(Vec<u32>, f32)> {
+    let options =
+        SimplifyOptions::LockBorder | SimplifyOptions::Sparse | SimplifyOptions::ErrorAbsolute;
+    let mut e = 0.0f32;
+    let next = meshopt::simplify_with_attributes_and_locks(
+        tris,
+        adapter,
+        &attrs.values,
+        &attrs.weights,
+        attrs.weights.len() * 4,
+        locks,
+        tris.len() / 6 * 3,
+        f32::MAX,
+        options,
+        Some(&mut e),
+    );
+    if next.len() as f32 > tris.len() as f32 * (1.0 - MIN_SAVING) {
+        None
+    } else {
+        Some((next, e))
+    }
+}
+
 /// Coarser and coarser versions of the patch `tris`, each simplified from the one before to
 /// about half its triangles with its border locked, with the sum of the simplifier's errors
 /// so far (a bound on the distance to the original surface).
@@ -352,32 +367,16 @@ fn simplify(
     locks: &[SimplifyVertex],
     tris: &[u32],
 ) -> Simplified {
-    let options =
-        SimplifyOptions::LockBorder | SimplifyOptions::Sparse | SimplifyOptions::ErrorAbsolute;
     let mut out: Vec<(f32, Vec<u32>)> = Vec::new();
     let mut error = 0.0f32;
     let mut current = tris;
     for _ in 0..LEVELS {
-        let target = current.len() / 6 * 3;
-        if target < 3 * 16 {
+        if current.len() / 6 * 3 < 3 * 16 {
             break;
         }
-        let mut e = 0.0f32;
-        let next = meshopt::simplify_with_attributes_and_locks(
-            current,
-            adapter,
-            &attrs.values,
-            &attrs.weights,
-            attrs.weights.len() * 4,
-            locks,
-            target,
-            f32::MAX,
-            options,
-            Some(&mut e),
-        );
-        if next.len() as f32 > current.len() as f32 * (1.0 - MIN_SAVING) {
+        let Some((next, e)) = halve(adapter, attrs, locks, current) else {
             break;
-        }
+        };
         error += e;
         out.push((error, next));
         current = &out[out.len() - 1].1;

@@ -45,30 +45,8 @@ fn a_transmissive_thin_sphere_shows_the_background() {
     let bg = [0.6, 0.45, 0.3];
     let env = bg.map(|c| format!("{}", srgb(c))).join(",");
     let bg_arg = bg.map(|c| c.to_string()).join(",");
-    let flat = [
-        "--tonemap",
-        "none",
-        "--exposure",
-        "0",
-        "--light",
-        "none",
-        "--env-color",
-        &env,
-        "--background",
-        &bg_arg,
-    ];
-    let red = [
-        "--tonemap",
-        "none",
-        "--exposure",
-        "0",
-        "--light",
-        "none",
-        "--env-color",
-        "0.2,0.2,0.2",
-        "--background",
-        "0.9,0.1,0.1",
-    ];
+    let flat = plain(&env, &bg_arg);
+    let red = plain("0.2,0.2,0.2", "0.9,0.1,0.1");
     for ctx in &CONTEXTS {
         // A uniform picture is the expectation here (`render` refuses those as blank).
         let out = dir.join(format!("flat-{}.png", ctx.0));
@@ -93,15 +71,7 @@ fn a_transmissive_thin_sphere_shows_the_background() {
         let img = shot(&dir, &format!("red-{}", ctx.0), &model, &red, ctx);
         let want = [0.9, 0.1, 0.1]
             .map(|b: f64| glview::pbr::srgb_encode(0.96 * srgb(b) + 0.04 * 0.2) * 255.0);
-        let mut worst = 0.0f64;
-        for y in N / 2 - 3..N / 2 + 3 {
-            for x in N / 2 - 3..N / 2 + 3 {
-                let p = img.pixel(x, y);
-                for c in 0..3 {
-                    worst = worst.max((f64::from(p[c]) - want[c]).abs());
-                }
-            }
-        }
+        let worst = centre_error(&img, 3, &want);
         eprintln!(
             "thin sphere over red on {}: centre {worst:.1}/255 from 0.96 red + 0.04 grey",
             ctx.0
@@ -116,19 +86,43 @@ fn a_transmissive_thin_sphere_shows_the_background() {
                 glview::pbr::srgb_encode(0.04 * l + 0.96 * l * ATT[c]) * 255.0
             })
             .collect();
-        let mut worst = 0.0f64;
-        for y in N / 2 - 2..N / 2 + 2 {
-            for x in N / 2 - 2..N / 2 + 2 {
-                let p = img.pixel(x, y);
-                for c in 0..3 {
-                    worst = worst.max((f64::from(p[c]) - want[c]).abs());
-                }
-            }
-        }
+        let worst = centre_error(&img, 2, &want);
         eprintln!(
             "volume on {}: centre {worst:.1}/255 from Beer-Lambert",
             ctx.0
         );
         assert!(worst <= 3.0, "{}: volume centre {worst}/255", ctx.0);
     }
+}
+
+/// The view's options with neither tone mapping, exposure nor lights: a pixel is the light of
+/// the uniform environment `env` and of the `background` as given, nothing else.
+fn plain<'a>(env: &'a str, background: &'a str) -> [&'a str; 10] {
+    [
+        "--tonemap",
+        "none",
+        "--exposure",
+        "0",
+        "--light",
+        "none",
+        "--env-color",
+        env,
+        "--background",
+        background,
+    ]
+}
+
+/// The largest colour-channel difference (in 8-bit steps) from `want` over the 2h × 2h
+/// pixels at the picture's centre, where the sphere's ray goes straight through.
+fn centre_error(img: &Rgba, h: u32, want: &[f64]) -> f64 {
+    let mut worst = 0.0f64;
+    for y in N / 2 - h..N / 2 + h {
+        for x in N / 2 - h..N / 2 + h {
+            let p = img.pixel(x, y);
+            for c in 0..3 {
+                worst = worst.max((f64::from(p[c]) - want[c]).abs());
+            }
+        }
+    }
+    worst
 }

@@ -3,6 +3,7 @@
 //! shadow rays say, on every context; the axes triad in the corner points where the
 //! camera's view matrix turns the world axes.
 use crate::common::*;
+use crate::points::{render_bin, Context, CONTEXTS};
 use glam::Vec3;
 use glview::image_out::Rgba;
 use std::path::Path;
@@ -19,37 +20,11 @@ fn model(dir: &Path) -> String {
     p.to_str().unwrap().to_string()
 }
 
-type Context = (
-    &'static str,
-    &'static [&'static str],
-    &'static [(&'static str, &'static str)],
-);
-const CONTEXTS: [Context; 5] = [
-    ("", &[], &[]),
-    ("-gl21", &["--gl", "2.1"], GL21),
-    ("-core", &["--gl", "core"], &[]),
-    ("-es3", &["--gl", "es3"], &[]),
-    ("-osmesa", &["--backend", "osmesa"], &[]),
-];
-
-/// `args` rendered on context `c` (through the binary but for the default context).
+/// `args` rendered on context `c`: through the binary but for the default context.
 fn render_on(dir: &Path, name: &str, args: &[&str], c: &Context) -> Rgba {
     let mut all = args.to_vec();
     all.extend_from_slice(c.1);
-    if c.1.is_empty() {
-        return render(dir, name, &all, c.2);
-    }
-    let out = dir.join(format!("{name}.png"));
-    all.extend_from_slice(&["-o", out.to_str().unwrap()]);
-    let o = run(&all, c.2);
-    assert!(
-        o.status.success(),
-        "{name}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    let img = Rgba::load_png(&out).unwrap();
-    check_frame(&img, name);
-    img
+    render_bin(dir, name, &all, c.2)
 }
 
 fn far(a: [u8; 4], b: [u8; 4], t: u8) -> bool {

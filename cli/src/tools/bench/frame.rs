@@ -9,7 +9,6 @@ use super::table::{num, Table};
 use super::{median, sphere};
 use glview::headless::Headless;
 use glview::options::Options;
-use glview::platform::{Backend, GlRequest};
 use glview::render::{FrameSettings, Renderer};
 use glview::scene::clusters;
 use glview::Result;
@@ -36,15 +35,7 @@ pub fn run_frame(work: &Path, models_dir: &Path, rounds: usize, triangles: u64) 
     if dragon.is_file() {
         models.push(dragon);
     }
-    let hl = Headless::new(Backend::Auto, GlRequest::Auto, SIZE.0, SIZE.1)?;
-    println!(
-        "glview bench --frame: {}x{} on {} ({}), medians of {rounds} rounds, load average {}",
-        SIZE.0,
-        SIZE.1,
-        hl.gpu.caps.renderer,
-        hl.gpu.caps.version,
-        super::quality::loadavg()
-    );
+    let hl = super::open_headless("frame", SIZE, &format!("medians of {rounds} rounds"))?;
     let mut table = Table::new(&[
         "model",
         "upload",

@@ -55,12 +55,20 @@ const SHARED: &[(&str, bool)] = &[
     ("dragon-200k/dragon_vrip_res2.obj", false),
 ];
 
-pub(crate) fn default_work_dir() -> PathBuf {
+fn default_work_dir() -> PathBuf {
     let cache = std::env::var_os("XDG_CACHE_HOME")
         .map(PathBuf::from)
         .filter(|p| p.is_absolute())
         .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")));
     cache.map_or_else(std::env::temp_dir, |c| c.join("glview").join("bench"))
+}
+
+impl LoadOptions {
+    /// `--work-dir`, else the default: where the generated sphere and scratch files go for
+    /// every benchmark that makes them (--load, --lod, --frame).
+    pub(crate) fn work_dir(&self) -> PathBuf {
+        self.work_dir.clone().unwrap_or_else(default_work_dir)
+    }
 }
 
 fn glview_binary(opts: &LoadOptions) -> Result<PathBuf> {
@@ -109,7 +117,7 @@ pub fn run_load(opts: &LoadOptions) -> Result<()> {
         .models_dir
         .clone()
         .unwrap_or_else(super::default_models_dir);
-    let work = opts.work_dir.clone().unwrap_or_else(default_work_dir);
+    let work = opts.work_dir();
     ensure_dir(&out_dir)?;
     ensure_dir(&work)?;
     let runs = if opts.quick {

@@ -8,9 +8,7 @@ use super::metrics::compare;
 use super::sphere;
 use super::table::{num, Table};
 use glview::frame::Shading;
-use glview::headless::Headless;
 use glview::options::{LodMode, Options};
-use glview::platform::{Backend, GlRequest};
 use glview::render::{Lod, Renderer};
 use glview::scene::clusters;
 use glview::Result;
@@ -52,15 +50,11 @@ pub fn run_lod(
 ) -> Result<()> {
     super::ensure_dir(work)?;
     let models = models(work, models_dir, triangles, khronos)?;
-    let hl = Headless::new(Backend::Auto, GlRequest::Auto, SIZE.0, SIZE.1)?;
-    println!(
-        "glview bench --lod: {}x{} on {} ({}), shadow pass every frame, medians of {rounds}, load average {}",
-        SIZE.0,
-        SIZE.1,
-        hl.gpu.caps.renderer,
-        hl.gpu.caps.version,
-        super::quality::loadavg()
-    );
+    let hl = super::open_headless(
+        "lod",
+        SIZE,
+        &format!("shadow pass every frame, medians of {rounds}"),
+    )?;
     let mut table = Table::new(&[
         "model",
         "tier",

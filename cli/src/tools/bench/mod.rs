@@ -96,11 +96,7 @@ pub fn run(args: &BenchArgs) -> glview::Result<()> {
         return translucency::run_translucency(&args.quality.models_dir);
     }
     if args.lod {
-        let work = args
-            .load_options
-            .work_dir
-            .clone()
-            .unwrap_or_else(load::default_work_dir);
+        let work = args.load_options.work_dir();
         let rounds = if args.quality.quick { 3 } else { 5 };
         return lod::run_lod(
             &work,
@@ -111,11 +107,7 @@ pub fn run(args: &BenchArgs) -> glview::Result<()> {
         );
     }
     if args.frame {
-        let work = args
-            .load_options
-            .work_dir
-            .clone()
-            .unwrap_or_else(load::default_work_dir);
+        let work = args.load_options.work_dir();
         let rounds = if args.quality.quick {
             3
         } else {
@@ -170,6 +162,27 @@ pub fn default_models_dir() -> PathBuf {
 /// Creates `dir` (and parents) or says which folder could not be made.
 pub(crate) fn ensure_dir(dir: &std::path::Path) -> glview::Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| glview::Error::io(dir, e))
+}
+
+/// Opens the headless context a frame benchmark draws in, `size` pixels, and prints the
+/// table's title line: the mode, size, renderer and driver, `setup` (what each figure is),
+/// and the load average — the figures mean nothing without them.
+pub(crate) fn open_headless(
+    mode: &str,
+    size: (u32, u32),
+    setup: &str,
+) -> glview::Result<glview::headless::Headless> {
+    use glview::platform::{Backend, GlRequest};
+    let hl = glview::headless::Headless::new(Backend::Auto, GlRequest::Auto, size.0, size.1)?;
+    println!(
+        "glview bench --{mode}: {}x{} on {} ({}), {setup}, load average {}",
+        size.0,
+        size.1,
+        hl.gpu.caps.renderer,
+        hl.gpu.caps.version,
+        quality::loadavg()
+    );
+    Ok(hl)
 }
 
 /// Writes `text` to `path`, mapping the error to the library's.
