@@ -291,8 +291,6 @@ fn touch(entry: &Path) {
     }
 }
 
-/// Stores `scene` and its `clusters` for `path` (and the content hash of `bytes`, the file's,
-/// when given); failures only cost the next load its speed-up.
 /// Entries being written on other threads ([`put_later`]).
 static PENDING: std::sync::Mutex<Vec<std::thread::JoinHandle<()>>> =
     std::sync::Mutex::new(Vec::new());
@@ -320,6 +318,8 @@ pub fn wait_for_writes() {
     }
 }
 
+/// Stores `scene` and its `clusters` for `path` (and the content hash of `bytes`, the file's,
+/// when given); failures only cost the next load its speed-up.
 pub fn put(
     path: &Path,
     bytes: Option<&[u8]>,
