@@ -142,13 +142,12 @@ impl Clusters {
                 _ => out.push((first, count)),
             }
         };
-        match &view.lod {
+        let whole = view.lod.as_ref().and_then(|px| self.lod.choose_whole(px));
+        match (&view.lod, whole) {
             // The whole mesh at one coarser level when its error fits.
-            Some(px) if self.lod.choose_whole(px).is_some() => {
-                push(&self.lod.choose_whole(px).expect("just found").part);
-            }
+            (_, Some(level)) => push(&level.part),
             // Per group: its coarsest level within the bound, else its own clusters.
-            Some(px) if !self.lod.groups.is_empty() => {
+            (Some(px), None) if !self.lod.groups.is_empty() => {
                 for g in &self.lod.groups {
                     if view.outside(g.bound.center, g.bound.radius) {
                         continue;
