@@ -9,6 +9,7 @@ pub mod split;
 
 use crate::frame::{FrameSettings, Shading};
 use crate::image_out::Rgba;
+use crate::scene::clusters::Clusters;
 use crate::scene::Scene;
 use crate::{Error, Result};
 
@@ -91,9 +92,10 @@ pub struct Panes {
 pub fn render_panes(
     args: &crate::options::Options,
     scene: Scene,
+    clusters: Option<Vec<Option<Clusters>>>,
     tiers: &[PaneTier],
 ) -> Result<Panes> {
-    render_panes_with(args, scene, tiers, false)
+    render_panes_with(args, scene, clusters, tiers, false)
 }
 
 /// [`render_panes`], with each pane's coverage where `coverage` is set: the GPU tiers are
@@ -102,6 +104,7 @@ pub fn render_panes(
 pub fn render_panes_with(
     args: &crate::options::Options,
     scene: Scene,
+    clusters: Option<Vec<Option<Clusters>>>,
     tiers: &[PaneTier],
     coverage: bool,
 ) -> Result<Panes> {
@@ -113,7 +116,7 @@ pub fn render_panes_with(
     let mut covered = vec![Vec::new(); tiers.len()];
     if gpu_tiers {
         let mut session = crate::session::Session::new();
-        session.with_scene(args, scene.clone(), (w * n, h), |hl, renderer| {
+        session.with_scene(args, scene.clone(), clusters, (w * n, h), |hl, renderer| {
             let (imgs, cov) = gpu_panes(
                 hl,
                 renderer,
@@ -288,9 +291,9 @@ pub fn compare_image(
     tiers_arg: &str,
 ) -> Result<(Rgba, crate::image_out::PngText)> {
     let tiers = parse_tiers(tiers_arg, "--compare")?;
-    let scene = crate::session::load_scene(args)?;
+    let (scene, clusters) = crate::session::load_scene_prepared(args)?;
     let name = scene.name.clone();
-    let panes = render_panes(args, scene, &tiers)?;
+    let panes = render_panes(args, scene, clusters, &tiers)?;
     let (w, h) = args.picture.size;
     let labels: Vec<&str> = panes.labels.iter().map(String::as_str).collect();
     let strip = canvas::strip_height(w, &labels);

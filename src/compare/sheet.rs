@@ -59,7 +59,7 @@ pub fn sheet_image(
     args.picture.size = cmd.size;
     let tiers = super::parse_tiers(&cmd.tiers, "--tiers")?;
     let views = angles(cmd, args.camera.pitch)?;
-    let scene = crate::session::load_scene(&args)?;
+    let (scene, clusters) = crate::session::load_scene_prepared(&args)?;
     let (base, _) = crate::session::frame_settings(&args, &scene)?;
     let (w, h) = args.picture.size;
     let (cols, rows) = (views.len() as u32, tiers.len() as u32);
@@ -79,7 +79,7 @@ pub fn sheet_image(
     );
     let mut done = 0;
     let mut session = crate::session::Session::new();
-    session.with_scene(&args, scene.clone(), (w, h), |hl, renderer| {
+    session.with_scene(&args, scene.clone(), clusters, (w, h), |hl, renderer| {
         for (r, tier) in tiers.iter().enumerate() {
             for (c, (yaw, pitch)) in views.iter().enumerate() {
                 let mut s: FrameSettings = base.clone();

@@ -204,17 +204,23 @@ impl Session {
     /// Runs `draw` with this session's context, re-targeted to `size` and single-sampled (a
     /// comparison's panes and a sheet's cells are viewports of one target), and a renderer
     /// of `scene` with the environment of `args`, made for the call and dropped after it.
+    /// `clusters` are the loader's ([`load_scene_prepared`]: a cache hit's carry the levels
+    /// of detail); without them the clusters are made here without levels, as for one
+    /// uncached picture (building levels costs more than a few pictures save).
     pub fn with_scene<T>(
         &mut self,
         args: &Options,
-        scene: crate::scene::Scene,
+        mut scene: crate::scene::Scene,
+        clusters: Option<Vec<Option<Clusters>>>,
         size: (u32, u32),
         draw: impl FnOnce(&Headless, &mut Renderer) -> Result<T>,
     ) -> Result<T> {
         context(args, size, false, &mut self.kept, &mut Profile::default())?;
         let kept = self.kept.as_mut().expect("context made above");
         kept.renderers.clear();
-        let mut renderer = Renderer::new(&kept.hl.gpu, scene)?;
+        let clusters =
+            clusters.unwrap_or_else(|| crate::scene::clusters::prepare_without_lod(&mut scene));
+        let mut renderer = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;
         renderer.set_environment(env_request(args)?);
         draw(&kept.hl, &mut renderer)
     }
