@@ -3,7 +3,7 @@
 //! [`super::material_khr::Khr`]. Texture infos are resolved like the core slots (sampler,
 //! UV set, KHR_texture_transform); a malformed value is the extension's default, as a
 //! missing one is.
-use super::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume, SLOTS};
+use super::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume};
 use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TexTransform};
 use serde_json::Value;
@@ -96,11 +96,7 @@ pub fn read(
     let mut tex = |ext: &Value, key: &str, slot: Slot, cs: ColorSpace, k: &mut Khr| {
         let f = ext.get(key).and_then(|i| texture_info(doc, slot, i));
         if let Some(f) = f {
-            let i = SLOTS
-                .iter()
-                .position(|s| *s == slot)
-                .expect("an extension slot");
-            k.maps[i] = load(f, cs);
+            *k.slot_mut(slot) = load(f, cs);
         }
     };
     let (srgb, lin) = (ColorSpace::Srgb, ColorSpace::Linear);

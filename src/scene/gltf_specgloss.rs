@@ -6,7 +6,7 @@
 //! product clamped to 1), so the diffuse share is albedo·(1 − max(F0)); roughness is
 //! 1 − glossiness, the texture's alpha converted once at load into a roughness image (green).
 use super::material::{translucency, AlphaMode, Material};
-use super::material_khr::{Specular, CORE_IOR, SLOTS};
+use super::material_khr::{Specular, CORE_IOR};
 use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TextureSlot};
 use super::Texture;
@@ -69,8 +69,7 @@ pub fn convert(
                 color_space: ColorSpace::Linear,
             });
         }
-        let i = SLOTS.iter().position(|s| *s == Slot::SpecularColor);
-        out.khr.maps[i.expect("an extension slot")] = slot;
+        *out.khr.slot_mut(Slot::SpecularColor) = slot;
     }
 }
 
