@@ -246,15 +246,20 @@ void main() {
     thick *= TEX2D(uThicknessMap, KHR_UV(8)).g;
 #endif
     exitPos += glviewSafeNormalize(refract(-v, n, 1.0 / uIor)) * thick;
+    // Beer-Lambert: after a distance d the light keeps attenuationColor^(d / distance)
+    // (the light from behind and each light through the surface alike).
+    vec3 attenuation = vec3(1.0);
+    if (uAttenuationDistance > 0.0)
+        attenuation = pow(max(uAttenuationColor, vec3(1e-6)), vec3(thick / uAttenuationDistance));
 #endif
     vec4 exitClip = uProjection * vec4(exitPos, 1.0);
     vec2 frameUv = exitClip.xy / exitClip.w * 0.5 + 0.5;
     float frameLod = uFrameLevels * rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
+    // The lights' transmission lobe's roughness: the same ior scaling (the same for each light).
+    float transRough = rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
     vec3 behind = glviewInverseOutput(GLVIEW_TEX2D_LOD(uTransmissionFrame, frameUv, frameLod).rgb);
 #ifdef KHR_VOLUME
-    // Beer-Lambert: after a distance d the light keeps attenuationColor^(d / distance).
-    if (uAttenuationDistance > 0.0)
-        behind *= pow(max(uAttenuationColor, vec3(1e-6)), vec3(thick / uAttenuationDistance));
+    behind *= attenuation;
 #endif
     kd *= 1.0 - trans;
 #endif
@@ -363,18 +368,16 @@ void main() {
             if (uLightPos[i].w != 0.0) lt = glviewSafeNormalize(uLightPos[i].xyz - exitPos);
             vec3 lm = glviewSafeNormalize(lt - 2.0 * n * dot(lt, n));
             vec3 ht = glviewSafeNormalize(lm + v);
-            float rt = rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
             float nlm = max(dot(n, lm), 1e-4);
 #ifdef KHR_SPECULAR
             vec3 ft = glviewF_Schlick90(ks, f90, dot(v, ht));
 #else
             vec3 ft = glviewF_Schlick(ks, dot(v, ht));
 #endif
-            vec3 bt = (1.0 - ft) * albedo * glviewD_GGX(max(dot(n, ht), 0.0), rt)
-                * glviewG_Smith(nv, nlm, rt) / (4.0 * nv * nlm);
+            vec3 bt = (1.0 - ft) * albedo * glviewD_GGX(max(dot(n, ht), 0.0), transRough)
+                * glviewG_Smith(nv, nlm, transRough) / (4.0 * nv * nlm);
 #ifdef KHR_VOLUME
-            if (uAttenuationDistance > 0.0)
-                bt *= pow(max(uAttenuationColor, vec3(1e-6)), vec3(thick / uAttenuationDistance));
+            bt *= attenuation;
 #endif
             color += trans * (1.0 - metallic) * uTermsA.x * uLightColor[i] * GLVIEW_PI * bt;
         }

@@ -106,6 +106,9 @@ pub(crate) fn draw_meshes<T: Tier>(
 ) -> Result<()> {
     let scene = cx.scene;
     let edges = cx.settings.lighting.edges;
+    // The surfaces' polygon offset under edges (`edges.rs`), the same for every mesh.
+    let offset = (edges.mode != crate::frame::EdgeMode::Off)
+        .then(|| super::edges::surface_offset(edges.width));
     // A program keeps its uniforms: the per-frame ones are set once per program per frame,
     // only the material changes from mesh to mesh.
     let mut uniforms_set: Vec<ProgramKey> = Vec::new();
@@ -144,22 +147,15 @@ pub(crate) fn draw_meshes<T: Tier>(
             uniforms_set.push(key);
             v.set_uniforms(&program, cx);
             tier.program_uniforms(&program, cx, v);
+            // The polygon offset below, for programs that write a logarithmic depth.
+            program.set_f32("uLogDepthOffset", offset.map_or(0.0, |o| o.0));
+            if m.points {
+                program.set_f32("uPointSize", point_size(cx));
+            }
         }
         super::slots::set_uniforms(&program, mat, m.has_uv1);
-        // The polygon offset below, for programs that write a logarithmic depth.
-        program.set_f32(
-            "uLogDepthOffset",
-            if edges.mode == crate::frame::EdgeMode::Off {
-                0.0
-            } else {
-                super::edges::surface_offset(edges.width).0
-            },
-        );
         program.set_f32("uNormalScale", mat.normal_scale);
         program.set_f32("uTerminatorLift", dm.terminator_lift);
-        if m.points {
-            program.set_f32("uPointSize", point_size(cx));
-        }
         program.set_f32(
             "uOpacity",
             super::translucent::opacity(cx, mat, m.translucent),
@@ -167,13 +163,11 @@ pub(crate) fn draw_meshes<T: Tier>(
         cx.set_rgbm_blend(&program);
         tier.material(&program, cx, &m, prepared.maps);
         let mut mesh_states = states(m.translucent);
-        if edges.mode != crate::frame::EdgeMode::Off {
+        if offset.is_some() {
             for st in &mut mesh_states {
                 // Lines on the surface must win the depth test (`edges.rs`); without the
                 // surface (`--wireframe-only`) it still hides the lines behind it.
-                st.polygon_offset = st
-                    .polygon_offset
-                    .or(Some(super::edges::surface_offset(edges.width)));
+                st.polygon_offset = st.polygon_offset.or(offset);
                 if !edges.surface {
                     st.color_write = false;
                     // The background fills every pixel the surface did not colour.

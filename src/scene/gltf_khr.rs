@@ -3,7 +3,7 @@
 //! [`super::material_khr::Khr`]. Texture infos are resolved like the core slots (sampler,
 //! UV set, KHR_texture_transform); a malformed value is the extension's default, as a
 //! missing one is.
-use super::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume, SLOTS};
+use super::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume};
 use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TexTransform};
 use serde_json::Value;
@@ -15,7 +15,8 @@ pub(crate) fn num(v: &Value, key: &str, default: f32) -> f32 {
         .map_or(default, |x| x as f32)
 }
 
-pub(crate) fn rgb(v: &Value, key: &str, default: [f32; 3]) -> [f32; 3] {
+/// An array of exactly `N` finite numbers (its non-numbers skipped), else `default`.
+pub(crate) fn floats<const N: usize>(v: &Value, key: &str, default: [f32; N]) -> [f32; N] {
     let Some(a) = v.get(key).and_then(Value::as_array) else {
         return default;
     };
@@ -24,23 +25,10 @@ pub(crate) fn rgb(v: &Value, key: &str, default: [f32; 3]) -> [f32; 3] {
         .filter_map(Value::as_f64)
         .map(|x| x as f32)
         .collect();
-    match c[..] {
-        [r, g, b] if c.iter().all(|x| x.is_finite()) => [r, g, b],
-        _ => default,
-    }
-}
-
-fn pair(v: &Value, key: &str, default: [f32; 2]) -> [f32; 2] {
-    let c: Option<Vec<f32>> = v.get(key).and_then(Value::as_array).map(|a| {
-        a.iter()
-            .filter_map(Value::as_f64)
-            .map(|x| x as f32)
-            .collect()
-    });
-    match c.as_deref() {
-        Some([a, b]) if a.is_finite() && b.is_finite() => [*a, *b],
-        _ => default,
-    }
+    <[f32; N]>::try_from(c)
+        .ok()
+        .filter(|c| c.iter().all(|x| x.is_finite()))
+        .unwrap_or(default)
 }
 
 /// A texture info's facts: the texture's sampler and image, the UV set (the transform's
@@ -55,9 +43,9 @@ pub(crate) fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Op
     let mut f = super::gltf_material::facts(slot, tex, tex_coord, None, num(info, "scale", 1.0));
     if let Some(x) = xf {
         f.transform = Some(TexTransform {
-            offset: pair(x, "offset", [0.0, 0.0]),
+            offset: floats(x, "offset", [0.0, 0.0]),
             rotation: num(x, "rotation", 0.0),
-            scale: pair(x, "scale", [1.0, 1.0]),
+            scale: floats(x, "scale", [1.0, 1.0]),
         });
         if let Some(t) = x.get("texCoord").and_then(Value::as_u64) {
             f.uv_set = t as u32;
@@ -108,11 +96,7 @@ pub fn read(
     let mut tex = |ext: &Value, key: &str, slot: Slot, cs: ColorSpace, k: &mut Khr| {
         let f = ext.get(key).and_then(|i| texture_info(doc, slot, i));
         if let Some(f) = f {
-            let i = SLOTS
-                .iter()
-                .position(|s| *s == slot)
-                .expect("an extension slot");
-            k.maps[i] = load(f, cs);
+            *k.slot_mut(slot) = load(f, cs);
         }
     };
     let (srgb, lin) = (ColorSpace::Srgb, ColorSpace::Linear);
@@ -143,7 +127,7 @@ pub fn read(
     }
     if let Some(e) = m.extension_value("KHR_materials_sheen") {
         k.sheen = Some(Sheen {
-            color: rgb(e, "sheenColorFactor", [0.0; 3]).map(|c| c.max(0.0)),
+            color: floats(e, "sheenColorFactor", [0.0; 3]).map(|c| c.max(0.0)),
             roughness: num(e, "sheenRoughnessFactor", 0.0).clamp(0.0, 1.0),
         });
         tex(e, "sheenColorTexture", Slot::SheenColor, srgb, &mut k);
@@ -158,7 +142,7 @@ pub fn read(
     if let Some(e) = m.extension_value("KHR_materials_specular") {
         k.specular = Some(Specular {
             factor: num(e, "specularFactor", 1.0).max(0.0),
-            color: rgb(e, "specularColorFactor", [1.0; 3]).map(|c| c.max(0.0)),
+            color: floats(e, "specularColorFactor", [1.0; 3]).map(|c| c.max(0.0)),
         });
         tex(e, "specularTexture", Slot::Specular, lin, &mut k);
         tex(e, "specularColorTexture", Slot::SpecularColor, srgb, &mut k);
@@ -171,7 +155,7 @@ pub fn read(
         let d = num(e, "attenuationDistance", f32::INFINITY);
         k.volume = Some(Volume {
             thickness: num(e, "thicknessFactor", 0.0).max(0.0),
-            attenuation_color: rgb(e, "attenuationColor", [1.0; 3]).map(|c| c.clamp(0.0, 1.0)),
+            attenuation_color: floats(e, "attenuationColor", [1.0; 3]).map(|c| c.clamp(0.0, 1.0)),
             attenuation_distance: (d > 0.0 && d.is_finite()).then_some(d),
         });
         tex(e, "thicknessTexture", Slot::Thickness, lin, &mut k);

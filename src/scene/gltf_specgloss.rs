@@ -6,7 +6,7 @@
 //! product clamped to 1), so the diffuse share is albedo·(1 − max(F0)); roughness is
 //! 1 − glossiness, the texture's alpha converted once at load into a roughness image (green).
 use super::material::{translucency, AlphaMode, Material};
-use super::material_khr::{Specular, CORE_IOR, SLOTS};
+use super::material_khr::{Specular, CORE_IOR};
 use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TextureSlot};
 use super::Texture;
@@ -22,18 +22,11 @@ pub fn convert(
     out: &mut Material,
     load: &mut dyn FnMut(SlotFacts, ColorSpace) -> Option<TextureSlot>,
 ) {
-    use super::gltf_khr::{num, rgb, texture_info};
+    use super::gltf_khr::{floats, num, texture_info};
     let Some(e) = m.extension_value(EXTENSION) else {
         return;
     };
-    let diffuse: [f32; 4] = e
-        .get("diffuseFactor")
-        .and_then(|v| v.as_array())
-        .map(|a| a.iter().filter_map(|x| x.as_f64()).map(|x| x as f32))
-        .map(|v| v.collect::<Vec<f32>>())
-        .and_then(|v| <[f32; 4]>::try_from(v).ok())
-        .filter(|v| v.iter().all(|x| x.is_finite()))
-        .unwrap_or([1.0; 4]);
+    let diffuse = floats(e, "diffuseFactor", [1.0; 4]);
     out.base_color = [diffuse[0], diffuse[1], diffuse[2]];
     out.base_alpha = diffuse[3];
     let blend_alpha = if out.alpha_mode == AlphaMode::Blend {
@@ -48,7 +41,7 @@ pub fn convert(
     let f0 = CORE_IOR_F0;
     out.khr.specular = Some(Specular {
         factor: 1.0,
-        color: rgb(e, "specularFactor", [1.0; 3]).map(|c| c.max(0.0) / f0),
+        color: floats(e, "specularFactor", [1.0; 3]).map(|c| c.max(0.0) / f0),
     });
     out.khr.converted_spec_gloss = true;
     if let Some(f) = e
@@ -76,8 +69,7 @@ pub fn convert(
                 color_space: ColorSpace::Linear,
             });
         }
-        let i = SLOTS.iter().position(|s| *s == Slot::SpecularColor);
-        out.khr.maps[i.expect("an extension slot")] = slot;
+        *out.khr.slot_mut(Slot::SpecularColor) = slot;
     }
 }
 

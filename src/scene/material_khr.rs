@@ -124,6 +124,12 @@ impl Khr {
         self.maps[i].as_ref()
     }
 
+    /// Extension slot `s`'s place in `maps` (for the loaders; `s` is one of [`SLOTS`]).
+    pub fn slot_mut(&mut self, s: Slot) -> &mut Option<TextureSlot> {
+        let i = SLOTS.iter().position(|x| *x == s);
+        &mut self.maps[i.expect("an extension slot")]
+    }
+
     /// The extensions used, as `--check` names them.
     pub fn names(&self) -> Vec<&'static str> {
         let mut v = Vec::new();
