@@ -101,6 +101,12 @@ impl OrbitCamera {
 
     pub fn projection(&self, bounds: &Bounds, aspect: f32) -> Mat4 {
         let (near, far) = self.near_far(bounds);
+        self.projection_between(aspect, near, far)
+    }
+
+    /// The view's projection with clip planes `near` and `far`: the frame's come from
+    /// [`Self::near_far`]; the ground grid reaches further (`render/grid.rs`).
+    pub fn projection_between(&self, aspect: f32, near: f32, far: f32) -> Mat4 {
         let aspect = if aspect.is_finite() && aspect > 0.0 {
             aspect
         } else {

@@ -140,7 +140,7 @@ pub fn shadow_bounds(bounds: &Bounds, lights: &[crate::light::Light]) -> Bounds 
 /// The lines' colour over a background of `background` (display values): light grey over a
 /// dark one, dark grey over a light one.
 pub fn line_color(background: Vec3) -> [f32; 3] {
-    let y = background.dot(Vec3::new(0.2126, 0.7152, 0.0722));
+    let y = background.dot(Vec3::from(LUMINANCE.map(|k| k as f32)));
     [if y > 0.5 { 0.15 } else { 0.8 }; 3]
 }
 

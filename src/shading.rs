@@ -111,10 +111,11 @@ impl std::str::FromStr for PbrTerms {
         for name in s.split(',').map(str::trim) {
             let mut named = t.named();
             let Some((_, on)) = named.iter_mut().find(|(n, _)| *n == name) else {
+                // The words from the table itself, so a new term is listed with the rest.
+                let words: Vec<&str> = named.iter().map(|(n, _)| *n).collect();
                 return Err(format!(
-                    "unknown term {name:?} (direct-diffuse, direct-specular, ibl-diffuse, \
-                     ibl-specular, ao, shadows, emissive, normal-map, clearcoat, sheen, transmission, \
-                     all, none)"
+                    "unknown term {name:?} ({}, all, none)",
+                    words.join(", ")
                 ));
             };
             **on = true;

@@ -55,29 +55,33 @@ impl EdgeState {
         self.meshes.clear();
         self.segments = 0;
         for m in &cx.scene.scene.meshes {
-            let lines = edges::extract(m, set);
-            if lines.segments.is_empty() {
+            // The barycentric soup counts its edges itself: no second weld through extract.
+            let (vertices, indices, primitive, segments) = if geometry == Geometry::Barycentric {
+                let (v, i, n) = soup(m, set);
+                (v, i, Primitive::Triangles, n)
+            } else {
+                let lines = edges::extract(m, set);
+                let n = lines.segments.len();
+                if geometry == Geometry::Quads {
+                    let (v, i) = quads(&lines);
+                    (v, i, Primitive::Triangles, n)
+                } else {
+                    let v = lines
+                        .positions
+                        .iter()
+                        .map(|&position| crate::scene::Vertex {
+                            position,
+                            ..Default::default()
+                        })
+                        .collect();
+                    let i = lines.segments.iter().flatten().copied().collect();
+                    (v, i, Primitive::Lines, n)
+                }
+            };
+            if segments == 0 {
                 continue;
             }
-            let (vertices, indices, primitive) = if geometry == Geometry::Barycentric {
-                let (v, i) = soup(m, set);
-                (v, i, Primitive::Triangles)
-            } else if geometry == Geometry::Quads {
-                let (v, i) = quads(&lines);
-                (v, i, Primitive::Triangles)
-            } else {
-                let v = lines
-                    .positions
-                    .iter()
-                    .map(|&position| crate::scene::Vertex {
-                        position,
-                        ..Default::default()
-                    })
-                    .collect();
-                let i = lines.segments.iter().flatten().copied().collect();
-                (v, i, Primitive::Lines)
-            };
-            self.segments += lines.segments.len() as u64;
+            self.segments += segments as u64;
             self.meshes.push(GpuMesh::with_streams(
                 cx.gpu,
                 &vertices,
@@ -113,9 +117,10 @@ fn quads(lines: &edges::EdgeLines) -> (Vec<crate::scene::Vertex>, Vec<u32>) {
 }
 
 /// The triangles with unshared corners: corner k's normal is the k-th unit vector (its
-/// barycentric coordinate), every corner's uv.x the triangle's edge mask.
-fn soup(m: &crate::scene::Mesh, set: EdgeSet) -> (Vec<crate::scene::Vertex>, Vec<u32>) {
-    let masks = edges::triangle_masks(m, set);
+/// barycentric coordinate), every corner's uv.x the triangle's edge mask; and how many edges
+/// of `set` the masks hold.
+fn soup(m: &crate::scene::Mesh, set: EdgeSet) -> (Vec<crate::scene::Vertex>, Vec<u32>, usize) {
+    let (masks, n) = edges::triangle_masks(m, set);
     let mut v = Vec::with_capacity(m.indices.len());
     for (t, mask) in m.indices.chunks_exact(3).zip(masks) {
         for (k, &i) in t.iter().enumerate() {
@@ -130,7 +135,7 @@ fn soup(m: &crate::scene::Mesh, set: EdgeSet) -> (Vec<crate::scene::Vertex>, Vec
         }
     }
     let i = (0..v.len() as u32).collect();
-    (v, i)
+    (v, i, n)
 }
 
 impl Pass for Edges {
@@ -181,7 +186,6 @@ fn draw(
     if wide {
         let [_, _, w, h] = cx.viewport;
         program.set_vec2("uViewport", glam::Vec2::new(w as f32, h as f32));
-        program.set_f32("uWidth", e.width);
     }
     let s = cx.settings;
     program.set_mat4("uModelView", &s.camera.view());

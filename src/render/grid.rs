@@ -102,14 +102,7 @@ fn draw(cx: &mut FrameCx, state: &mut GridState, plane: &GridPlane) -> Result<()
         .map(|c| (*c + origin - eye).length())
         .fold(far, f32::max)
         * 1.01;
-    let aspect = cx.aspect();
-    let grid_proj = match s.camera.ortho_height {
-        Some(h) => {
-            let (hh, hw) = (h * 0.5, h * 0.5 * aspect);
-            Mat4::orthographic_rh_gl(-hw, hw, -hh, hh, near, reach)
-        }
-        None => Mat4::perspective_rh_gl(s.camera.fov_y_deg.to_radians(), aspect, near, reach),
-    };
+    let grid_proj = s.camera.projection_between(cx.aspect(), near, reach);
     program.set_mat4("uGridProjection", &grid_proj);
     let ortho = if s.camera.ortho_height.is_some() {
         1.0

@@ -25,8 +25,20 @@ pub fn triad_centre(height: u32, scale: f32) -> (f32, f32) {
     (m + half, height as f32 - m - half)
 }
 
+/// The guides, run after post (not in [`super::PASSES`], which precede it).
+pub(crate) struct Guides;
+
+impl super::Pass for Guides {
+    fn name(&self) -> &'static str {
+        "guides"
+    }
+    fn run(&self, cx: &mut FrameCx) -> Result<Outcome> {
+        draw(cx)
+    }
+}
+
 /// Draws the guides the settings ask for, or says why not.
-pub(crate) fn draw(cx: &mut FrameCx) -> Result<Outcome> {
+fn draw(cx: &mut FrameCx) -> Result<Outcome> {
     let g = cx.settings.lighting.guides;
     let s = cx.settings;
     if !(g.axes || g.grid) {

@@ -406,13 +406,7 @@ impl Renderer {
             if plan.any_post {
                 run_post(&mut cx, &plan, target, viewport, self.time_post)?;
             }
-            match guides::draw(&mut cx)? {
-                Outcome::Ran(entry) => {
-                    cx.stats.pass_log.push("guides: ran".into());
-                    cx.stats.passes.push(entry);
-                }
-                Outcome::Skipped(why) => cx.stats.pass_log.push(format!("guides: skipped ({why})")),
-            }
+            run_pass(&mut cx, &guides::Guides)?;
         }
         self.finish_frame(start, &mut stats)?;
         Ok(stats)
@@ -459,16 +453,22 @@ impl Renderer {
 /// Runs every pass of [`PASSES`] in order, logging what each did or why it did not.
 fn run_passes(cx: &mut FrameCx) -> Result<()> {
     for pass in PASSES {
-        match pass.run(cx)? {
-            Outcome::Ran(entry) => {
-                cx.stats.pass_log.push(format!("{}: ran", pass.name()));
-                cx.stats.passes.push(entry);
-            }
-            Outcome::Skipped(why) => cx
-                .stats
-                .pass_log
-                .push(format!("{}: skipped ({why})", pass.name())),
+        run_pass(cx, *pass)?;
+    }
+    Ok(())
+}
+
+/// Runs `pass`, logging what it did or why it did not.
+fn run_pass(cx: &mut FrameCx, pass: &dyn Pass) -> Result<()> {
+    match pass.run(cx)? {
+        Outcome::Ran(entry) => {
+            cx.stats.pass_log.push(format!("{}: ran", pass.name()));
+            cx.stats.passes.push(entry);
         }
+        Outcome::Skipped(why) => cx
+            .stats
+            .pass_log
+            .push(format!("{}: skipped ({why})", pass.name())),
     }
     Ok(())
 }

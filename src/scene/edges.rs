@@ -36,11 +36,15 @@ pub fn extract(mesh: &Mesh, set: EdgeSet) -> EdgeLines {
 }
 
 /// Per triangle, which of its edges are in `set` (bit k: the edge opposite corner k), for
-/// the barycentric method (`--edge-method barycentric`), which draws on the triangles.
-pub fn triangle_masks(mesh: &Mesh, set: EdgeSet) -> Vec<u8> {
+/// the barycentric method (`--edge-method barycentric`), which draws on the triangles; and
+/// how many edges are in `set` (what [`extract`] would give as segments, without a second
+/// weld).
+pub fn triangle_masks(mesh: &Mesh, set: EdgeSet) -> (Vec<u8>, usize) {
     let (weld, _, segments) = classify(mesh, set);
+    let n = segments.len();
     let kept: std::collections::HashSet<[u32; 2]> = segments.into_iter().collect();
-    mesh.indices
+    let masks = mesh
+        .indices
         .chunks_exact(3)
         .map(|t| {
             let c = [t[0], t[1], t[2]].map(|i| weld.get(i as usize).copied().unwrap_or(0));
@@ -53,7 +57,8 @@ pub fn triangle_masks(mesh: &Mesh, set: EdgeSet) -> Vec<u8> {
                 }
             })
         })
-        .collect()
+        .collect();
+    (masks, n)
 }
 
 /// A mesh's edges over welded corners: the corner of each vertex, the corners' positions,
@@ -331,10 +336,13 @@ mod tests {
         let m = cube();
         // Each face's two triangles share the diagonal: the feature set leaves it out, so
         // each triangle has its two cube edges; the wireframe keeps all three.
-        let f = triangle_masks(&m, EdgeSet::Feature { crease_deg: 60.0 });
+        let (f, n) = triangle_masks(&m, EdgeSet::Feature { crease_deg: 60.0 });
         assert_eq!(f.len(), 12);
         assert!(f.iter().all(|&x| x.count_ones() == 2), "{f:?}");
-        assert!(triangle_masks(&m, EdgeSet::All).iter().all(|&x| x == 7));
+        let (all, n_all) = triangle_masks(&m, EdgeSet::All);
+        assert!(all.iter().all(|&x| x == 7));
+        // The counts are extract's segments: the cube's 12 edges, 18 with the diagonals.
+        assert_eq!((n, n_all), (12, 18));
     }
 
     #[test]
