@@ -64,6 +64,13 @@ pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<
     for m in doc.materials() {
         let mut image = |i: usize| images.get(i).cloned().flatten();
         materials.push(super::gltf_material::material(&doc, &m, &mut image));
+        for message in super::gltf_khr::problems(&doc, &m) {
+            warnings.push(Warning {
+                file: path.to_path_buf(),
+                line: None,
+                message,
+            });
+        }
     }
     let default_index = materials.len();
     materials.push(super::Material::default());

@@ -2,7 +2,7 @@
 //! _sheen, _specular, _ior), read from the material's raw extension JSON into
 //! [`super::material_khr::Khr`]. Texture infos are resolved like the core slots (sampler,
 //! UV set, KHR_texture_transform); a malformed value is the extension's default, as a
-//! missing one is.
+//! missing one is, with a warning ([`problems`]).
 use super::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume};
 use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TexTransform};
@@ -54,18 +54,22 @@ pub(crate) fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Op
     Some(f)
 }
 
+/// The material extensions read from raw JSON (here and in `gltf_specgloss`).
+const EXTENSIONS: [&str; 7] = [
+    "KHR_materials_clearcoat",
+    "KHR_materials_sheen",
+    "KHR_materials_specular",
+    "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_materials_pbrSpecularGlossiness",
+];
+
 /// The images the extensions' texture infos of material `m` name (decoded with the core
 /// slots' images).
 pub fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
     let mut out = Vec::new();
-    for ext in [
-        "KHR_materials_clearcoat",
-        "KHR_materials_sheen",
-        "KHR_materials_specular",
-        "KHR_materials_transmission",
-        "KHR_materials_volume",
-        "KHR_materials_pbrSpecularGlossiness",
-    ] {
+    for ext in EXTENSIONS {
         let Some(Value::Object(e)) = m.extension_value(ext) else {
             continue;
         };
@@ -79,6 +83,46 @@ pub fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
                 .and_then(|i| doc.textures().nth(i as usize));
             if let Some(t) = tex {
                 out.push(t.source().index());
+            }
+        }
+    }
+    out
+}
+
+/// What the reader will not take in material `m`'s extensions, one line each: the reader
+/// uses the default for a malformed value as for a missing one, and these lines say so.
+/// By the extensions' naming: a `…Texture` is a texture info whose index names a texture,
+/// a `…Factor`, `ior`, `attenuationColor` and `attenuationDistance` are a finite number or
+/// an array of them (their lengths and ranges are the reader's to keep).
+pub fn problems(doc: &gltf::Document, m: &gltf::Material) -> Vec<String> {
+    let finite = |v: &Value| v.as_f64().is_some_and(f64::is_finite);
+    let textures = doc.textures().count();
+    let mut out = Vec::new();
+    for ext in EXTENSIONS {
+        let Some(Value::Object(e)) = m.extension_value(ext) else {
+            continue;
+        };
+        for (key, v) in e {
+            let problem = if key.ends_with("Texture") {
+                match v.get("index").and_then(Value::as_u64) {
+                    Some(i) if (i as usize) < textures => None,
+                    Some(i) => Some(format!("names texture {i}, which does not exist")),
+                    None => Some("has no texture index".to_string()),
+                }
+            } else if key.ends_with("Factor")
+                || ["ior", "attenuationColor", "attenuationDistance"].contains(&key.as_str())
+            {
+                let ok = finite(v) || v.as_array().is_some_and(|a| a.iter().all(finite));
+                (!ok).then(|| format!("is {v}, not a finite number or numbers"))
+            } else {
+                None
+            };
+            if let Some(p) = problem {
+                let name = m.name().unwrap_or("(unnamed)");
+                out.push(format!(
+                    "material {} '{name}': {ext}.{key} {p}; the extension's default is used",
+                    m.index().map_or(String::from("default"), |i| i.to_string())
+                ));
             }
         }
     }

@@ -595,3 +595,39 @@ fn jpeg_output_and_fallback_without_overwrite() {
     assert!(dir.join("glview-1.png").exists());
     assert!(stderr(&o).contains("glview-1.png"), "{}", stderr(&o));
 }
+
+/// A glTF PBR extension's malformed value (the reader takes the extension's default, as for
+/// a missing one) or a texture index that names nothing is a warning naming the material,
+/// the extension and the key, and the model still renders.
+#[test]
+fn malformed_extension_values_render_with_a_warning() {
+    use crate::gltf_draw::{quad, Quad};
+    let dir = out_dir("bad-input-khr");
+    let cases = [
+        (
+            "clearcoat-index",
+            r#""KHR_materials_clearcoat": {"clearcoatFactor": 1, "clearcoatTexture": {"index": 99}}"#,
+            "KHR_materials_clearcoat.clearcoatTexture names texture 99, which does not exist",
+        ),
+        (
+            "clearcoat-string",
+            r#""KHR_materials_clearcoat": {"clearcoatFactor": "abc"}"#,
+            "KHR_materials_clearcoat.clearcoatFactor is \"abc\", not a finite number",
+        ),
+        (
+            "sheen-colour",
+            r#""KHR_materials_sheen": {"sheenColorFactor": [1, "red", 0]}"#,
+            "KHR_materials_sheen.sheenColorFactor is [1,\"red\",0], not a finite number",
+        ),
+        (
+            "volume-no-index",
+            r#""KHR_materials_volume": {"thicknessTexture": {"texCoord": 0}}"#,
+            "KHR_materials_volume.thicknessTexture has no texture index",
+        ),
+    ];
+    for (name, ext, expect) in cases {
+        let material = format!(r#""materials": [{{"name": "m", "extensions": {{{ext}}}}}]"#);
+        let model = quad(&dir, name, &Quad::default(), &material);
+        renders_with_warning(&model, &format!("material 0 'm': {expect}"));
+    }
+}
