@@ -318,11 +318,7 @@ fn draw(
 ) -> Result<Drawn> {
     let (w, h) = args.picture.size;
     // SSAA renders k times larger on each axis and box-filters down.
-    let k = if args.post.aa == AaMode::Ssaa {
-        args.post.aa_samples.clamp(1, 4)
-    } else {
-        1
-    };
+    let k = settings::ssaa_factor(args);
     let kept = prepare(args, keep, kept, given, (w * k, h * k), profile)?;
     let (hl, renderer) = (
         &kept.hl,

@@ -237,7 +237,7 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
             guides: crate::frame::Guides {
                 grid: args.render.grid,
                 axes: args.render.axes,
-                scale: ssaa_factor(args),
+                scale: ssaa_factor(args) as f32,
                 up: args.load.up,
             },
             ..Default::default()
@@ -292,11 +292,12 @@ fn point_size(args: &Options, scene: &Scene, camera: &OrbitCamera, h: u32) -> f3
 
 /// Pixels of the frame drawn per pixel of the picture: SSAA draws the frame k times larger,
 /// so lines and labels k times larger keep their size.
-fn ssaa_factor(args: &Options) -> f32 {
+/// How many times larger on each axis an SSAA picture is rendered (1 without SSAA).
+pub(crate) fn ssaa_factor(args: &Options) -> u32 {
     if args.post.aa == crate::options::AaMode::Ssaa {
-        args.post.aa_samples.clamp(1, 4) as f32
+        args.post.aa_samples.clamp(1, 4)
     } else {
-        1.0
+        1
     }
 }
 
@@ -320,7 +321,7 @@ fn edges(args: &Options) -> crate::frame::Edges {
         color: r.edge_color.unwrap_or(d.color),
         surface: !r.wireframe_only,
         only_color: r.edge_color.unwrap_or(d.only_color),
-        width: r.line_width * ssaa_factor(args),
+        width: r.line_width * ssaa_factor(args) as f32,
         method: r.edge_method,
     }
 }
