@@ -1,6 +1,8 @@
-//! The key mapping, shared by the window and `--keys` (which replays it headless).
-use crate::camera::{CameraMove, OrbitCamera, KEY_STEP_DEG, ZOOM_STEP};
-use crate::frame::{FrameSettings, Shading};
+//! The key mapping, shared by the window, the server's page and `--keys` (which replays it
+//! headless): each key is an action on the options ([`apply`]).
+use crate::camera::{CameraMove, KEY_STEP_DEG, ZOOM_STEP};
+use crate::frame::{EdgeMode, Shading};
+use crate::options::{Diffuse, Options};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Action {
@@ -164,6 +166,16 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     (&["Escape", "Esc", "Q"], Action::Quit, "quit"),
 ];
 
+/// The keys a remote view takes (the server's page: no quit, no help overlay of the
+/// window's, no window screenshot), as JSON for the page's hello: `[{names, what}]`.
+pub fn remote_table() -> serde_json::Value {
+    KEY_TABLE
+        .iter()
+        .filter(|(_, a, _)| !matches!(a, Action::Quit | Action::Help | Action::Screenshot))
+        .map(|(names, _, what)| serde_json::json!({ "names": names, "what": what }))
+        .collect()
+}
+
 /// Degrees of orbit per pixel of a left-drag (the window's and the server's).
 pub const DRAG_DEG_PER_PIXEL: f32 = 0.4;
 
@@ -212,6 +224,8 @@ pub fn help_text() -> String {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Effect {
     Redraw,
+    /// A camera action: the caller moves the camera ([`crate::session::View::act`]).
+    Camera,
     /// Toggle the window's side-by-side panes (the frame settings do not change).
     Compare,
     Screenshot,
@@ -219,76 +233,65 @@ pub enum Effect {
     Quit,
 }
 
-/// Applies an action to the frame settings; `home` is the view `R` returns to.
-pub fn apply(
-    action: Action,
-    s: &mut FrameSettings,
-    home: &OrbitCamera,
-    bounds: &crate::scene::Bounds,
-    aspect: f32,
-) -> Effect {
+/// Applies a key's action to the options it stands for (the typed groups: shading, shadow,
+/// light, render, post), so every front end keeps one model of a view's state: the options
+/// a picture is drawn from. Camera actions ([`Action::Camera`], [`Action::Reset`],
+/// [`Action::Fit`]) need the scene and the view's home and are the caller's
+/// ([`crate::session::View`]); they return [`Effect::Camera`] untouched.
+pub fn apply(action: Action, o: &mut Options) -> Effect {
     match action {
-        Action::Camera(m) => s.camera.apply(m),
-        Action::Reset => s.camera = *home,
-        Action::Fit => {
-            s.camera.target = bounds.center();
-            s.camera.distance = s.camera.fit_distance(bounds, aspect);
-        }
-        Action::ToggleShadows => s.shadows.enabled = !s.shadows.enabled,
+        Action::Camera(_) | Action::Reset | Action::Fit => return Effect::Camera,
+        Action::ToggleShadows => o.shadow.enabled = !o.shadow.enabled,
         Action::ToggleGouraud => {
-            s.shading = match s.shading {
+            o.render.shading = match o.render.shading {
                 Shading::Phong => Shading::Gouraud,
                 Shading::Gouraud => Shading::Phong,
                 Shading::Pbr => Shading::Pbr,
             }
         }
-        Action::CycleShading => s.shading = s.shading.next(),
-        Action::ToggleWrap => s.lighting.wrap = !s.lighting.wrap,
-        Action::Opacity(step) => {
-            let t = &mut s.lighting.translucency;
-            let now = t.opacity.unwrap_or(DEFAULT_KEY_OPACITY);
-            t.opacity = Some((now + 0.1 * f32::from(step)).clamp(0.0, 1.0));
+        Action::CycleShading => o.render.shading = o.render.shading.next(),
+        Action::ToggleWrap => {
+            o.light.diffuse = match o.light.diffuse {
+                Diffuse::Lambert => Diffuse::Wrap,
+                Diffuse::Wrap => Diffuse::Lambert,
+            }
         }
-        Action::ToggleTerm(t) if s.shading == Shading::Pbr => {
-            let p = &mut s.lighting.pbr_terms;
-            let b = match t {
-                0 => &mut p.direct_diffuse,
-                1 => &mut p.direct_specular,
-                2 => &mut p.ibl_diffuse,
-                3 => &mut p.ibl_specular,
-                4 => &mut p.ao,
-                5 => &mut p.shadows,
-                6 => &mut p.emissive,
-                7 => &mut p.clearcoat,
-                8 => &mut p.sheen,
-                _ => &mut p.transmission,
-            };
-            *b = !*b;
+        Action::Opacity(step) => {
+            let now = o.render.opacity.unwrap_or(DEFAULT_KEY_OPACITY);
+            o.render.opacity = Some((now + 0.1 * f32::from(step)).clamp(0.0, 1.0));
         }
         Action::ToggleTerm(t) => {
-            let terms = &mut s.lighting.terms;
-            let b = match t {
-                0 => &mut terms.ambient,
-                1 => &mut terms.diffuse,
-                2 => &mut terms.specular,
-                _ => return Effect::Redraw,
+            let switch = if o.render.shading == Shading::Pbr {
+                o.render.terms.key_switch(t)
+            } else {
+                o.render.legacy_terms.key_switch(t)
             };
-            *b = !*b;
+            if let Some(b) = switch {
+                *b = !*b;
+            }
         }
         Action::CycleEdges => {
-            let e = &mut s.lighting.edges;
-            e.mode = e.mode.next();
+            let r = &mut o.render;
+            let now = if r.wireframe || r.wireframe_only {
+                EdgeMode::Wireframe
+            } else if r.edges {
+                EdgeMode::Feature
+            } else {
+                EdgeMode::Off
+            };
+            let next = now.next();
+            r.edges = next == EdgeMode::Feature;
+            r.wireframe = next == EdgeMode::Wireframe;
+            r.wireframe_only = false;
         }
-        Action::ToggleGrid => s.lighting.guides.grid = !s.lighting.guides.grid,
-        Action::ToggleAxes => s.lighting.guides.axes = !s.lighting.guides.axes,
+        Action::ToggleGrid => o.render.grid = !o.render.grid,
+        Action::ToggleAxes => o.render.axes = !o.render.axes,
         Action::ToggleCompare => return Effect::Compare,
         Action::ToggleBloom => {
-            let b = &mut s.lighting.post.bloom;
-            b.strength = if b.strength > 0.0 {
-                0.0
-            } else {
-                DEFAULT_KEY_BLOOM
-            };
+            let p = &mut o.post;
+            let on = !p.no_bloom && p.bloom > 0.0;
+            p.no_bloom = false;
+            p.bloom = if on { 0.0 } else { DEFAULT_KEY_BLOOM };
         }
         Action::Screenshot => return Effect::Screenshot,
         Action::Help => return Effect::Help,

@@ -31,15 +31,13 @@ pub fn scene_key(args: &Options) -> String {
     key
 }
 
-/// The options that draw this picture again: `args` with the camera as it is (`target` in
-/// the file's coordinates), this size and the state-changing keys pressed (camera keys
-/// excluded: the camera already holds their effect).
+/// The options that draw this picture again: `args` (their `--keys` already replayed into
+/// them) with the camera as it is (`target` in the file's coordinates) and this size.
 pub fn shown_options(
     args: &Options,
     camera: &OrbitCamera,
     target: [f64; 3],
     size: (u32, u32),
-    keys: &[String],
 ) -> Options {
     let mut o = scene_part(args);
     o.picture.size = size;
@@ -51,7 +49,7 @@ pub fn shown_options(
     c.fov = camera.fov_y_deg;
     c.ortho = camera.ortho_height.map(Ortho::Height);
     c.near = camera.near;
-    c.keys = (!keys.is_empty()).then(|| keys.join(" "));
+    c.keys = None;
     o
 }
 
@@ -97,15 +95,6 @@ pub fn options_of_png(path: &std::path::Path) -> crate::Result<Options> {
     })
 }
 
-/// The keys of `--keys` that change state rather than the camera, in order.
-pub fn state_keys(keys: Option<&str>) -> Vec<String> {
-    keys.unwrap_or_default()
-        .split_whitespace()
-        .filter(|k| crate::keys::action_for(k).is_some_and(|a| a.changes_state()))
-        .map(String::from)
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,12 +130,11 @@ mod tests {
             max: glam::Vec3::splat(1.0),
         };
         let cam = OrbitCamera::fit(&b, 45.0, 1.0);
-        let keys = state_keys(a.camera.keys.as_deref());
-        let shown = shown_options(&a, &cam, [1.0, 2.0, 3.0], (64, 48), &keys);
+        let shown = shown_options(&a, &cam, [1.0, 2.0, 3.0], (64, 48));
         let line = command_line(&shown);
         assert!(
             line.starts_with("glview 'my model.obj' --yaw ")
-                && line.contains("--keys S ")
+                && !line.contains("--keys")
                 && line.contains("--light dir:0,-1,0 ")
                 && line.contains("--shadow-bias 0.001 ")
                 && line.contains("--size 64x48")

@@ -1,15 +1,16 @@
-//! The interactive window loop: winit events → `keys::apply` → a redraw only when the frame
-//! settings, the window size or the OS (expose) asks for one. Between events the loop sleeps
+//! The interactive window loop: winit events → the [`View`] (the options the keys and drags
+//! change, as the server's viewers hold them) → a redraw only when the frame settings derived
+//! from it, the window size or the OS (expose) asks for one. Between events the loop sleeps
 //! (`ControlFlow::Wait`), so an idle viewer draws nothing and uses no CPU.
 use crate::cli::Args;
 use crate::window::WindowContext;
-use glview::camera::{CameraMove, OrbitCamera, ZOOM_STEP};
 use glview::frame::{FrameSettings, Shading};
 use glview::gpu::{Gpu, GpuRef};
 use glview::keys::{self, Action, Effect};
 use glview::render::aa::{AaTarget, WindowAa};
 use glview::render::{Renderer, Target};
-use glview::scene::{Bounds, Scene};
+use glview::scene::Scene;
+use glview::session::View;
 use glview::{session, Error, Result};
 use std::path::{Path, PathBuf};
 use winit::application::ApplicationHandler;
@@ -38,24 +39,21 @@ pub fn run_window(args: &Args) -> Result<()> {
     // brings clusters without levels (they are built on the cache's writer thread for the
     // next run), so this window draws without levels of detail.
     let (scene, prepared) = session::load_scene_prepared(args)?;
-    let (settings, home) = session::frame_settings(args, &scene)?;
+    let settings = session::frame_settings(args, &scene)?.0;
     let event_loop = EventLoop::new()
         .map_err(|e| Error::Context(format!("window: cannot connect to the display: {e}")))?;
     event_loop.set_control_flow(ControlFlow::Wait);
     let mut app = App {
         args,
-        state_keys: glview::repro::state_keys(args.camera.keys.as_deref()),
-        bounds: scene.bounds,
+        view: View::new((**args).clone()),
         scene: Some(scene),
         prepared,
         settings,
-        home,
         live: None,
         size: PhysicalSize::new(args.picture.size.0, args.picture.size.1),
         cursor: None,
         left_down: false,
         screenshot: false,
-        compare: false,
         overlay: false,
         last_ms: 0.0,
         error: None,
@@ -78,16 +76,15 @@ struct Live {
 
 struct App<'a> {
     args: &'a Args,
-    /// `--keys` and the keys pressed since that changed state (not the camera), in order:
-    /// a screenshot's PNG text replays them.
-    state_keys: Vec<String>,
-    bounds: Bounds,
+    /// What the keys and drags change: the options every frame is derived from (its size
+    /// is the window's), and whether `C` shows Phong | PBR side by side.
+    view: View,
     /// The scene until the renderer takes it.
     scene: Option<Scene>,
     /// Its clusters and levels from the mesh cache, if it had or wrote them.
     prepared: Option<Vec<Option<glview::scene::clusters::Clusters>>>,
+    /// Derived from `view` ([`session::frame_settings`]) whenever it changes.
     settings: FrameSettings,
-    home: OrbitCamera,
     live: Option<Live>,
     /// The framebuffer size; 0×0 while minimised.
     size: PhysicalSize<u32>,
@@ -96,8 +93,6 @@ struct App<'a> {
     left_down: bool,
     /// F12 was pressed: the next frame is also saved.
     screenshot: bool,
-    /// `C`: Phong and PBR side by side on one camera.
-    compare: bool,
     /// `H`: the overlay with model, tier, toggles, frame time and the key table.
     overlay: bool,
     /// The last frame's time, for the overlay.
@@ -136,6 +131,14 @@ impl App<'_> {
         };
         live.window.window.request_redraw();
         self.live = Some(live);
+        // The window manager may not give the size asked for: frames are of the window's.
+        let size = (self.size.width, self.size.height);
+        if size.0 > 0 && size.1 > 0 {
+            self.change(|view, _| {
+                view.resize(size);
+                Ok(Effect::Redraw)
+            });
+        }
         self.update_title();
         Ok(())
     }
@@ -147,7 +150,7 @@ impl App<'_> {
                 Shading::Gouraud => "legacy Gouraud",
                 Shading::Pbr => "PBR",
             };
-            let shading = if self.compare {
+            let shading = if self.view.compare() {
                 "compare Phong | PBR"
             } else {
                 shading
@@ -167,22 +170,39 @@ impl App<'_> {
         }
     }
 
-    fn aspect(&self) -> f32 {
-        self.size.width.max(1) as f32 / self.size.height.max(1) as f32
+    /// Applies `change` to the view and derives the frame settings again; a redraw only
+    /// when they changed (or `C` toggled the panes).
+    fn change(&mut self, change: impl FnOnce(&mut View, &Scene) -> Result<Effect>) -> Effect {
+        let scene = match (&self.live, &self.scene) {
+            (Some(live), _) => live.renderer.scene(),
+            (None, Some(scene)) => scene,
+            (None, None) => return Effect::Redraw,
+        };
+        let compare = self.view.compare();
+        let changed = change(&mut self.view, scene)
+            .and_then(|e| Ok((e, session::frame_settings(self.view.options(), scene)?.0)));
+        let (effect, settings) = match changed {
+            Ok(x) => x,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return Effect::Redraw;
+            }
+        };
+        if settings != self.settings || compare != self.view.compare() {
+            let retitle =
+                settings.shading != self.settings.shading || compare != self.view.compare();
+            self.settings = settings;
+            if retitle {
+                self.update_title();
+            }
+            self.request_redraw();
+        }
+        effect
     }
 
     fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
-        let before = self.settings.clone();
-        let aspect = self.aspect();
-        match keys::apply(action, &mut self.settings, &self.home, &self.bounds, aspect) {
-            Effect::Redraw => {
-                if self.settings != before {
-                    if self.settings.shading != before.shading {
-                        self.update_title();
-                    }
-                    self.request_redraw();
-                }
-            }
+        match self.change(|view, scene| view.act(action, scene)) {
+            Effect::Redraw | Effect::Camera | Effect::Compare => {}
             Effect::Screenshot => {
                 self.screenshot = true;
                 self.request_redraw();
@@ -190,11 +210,6 @@ impl App<'_> {
             Effect::Help => {
                 print!("{}", keys::help_text());
                 self.overlay = !self.overlay;
-                self.request_redraw();
-            }
-            Effect::Compare => {
-                self.compare = !self.compare;
-                self.update_title();
                 self.request_redraw();
             }
             Effect::Quit => event_loop.exit(),
@@ -205,17 +220,12 @@ impl App<'_> {
         if event.state != ElementState::Pressed {
             return;
         }
-        let Some((name, action)) =
-            key_name(event).and_then(|n| keys::action_for(&n).map(|a| (n, a)))
-        else {
+        let Some(action) = key_name(event).and_then(|n| keys::action_for(&n)) else {
             return;
         };
         // Held keys repeat camera moves (smooth turning) but not toggles or screenshots.
         if event.repeat && !matches!(action, Action::Camera(_)) {
             return;
-        }
-        if action.changes_state() {
-            self.state_keys.push(name);
         }
         self.act(event_loop, action);
     }
@@ -239,7 +249,7 @@ impl App<'_> {
         // MSAA/SSAA draw offscreen (SSAA k times larger), then into the window.
         let target = live.aa.target(&live.gpu, window)?;
         let k = live.aa.scale();
-        let stats = if self.compare {
+        let stats = if self.view.compare() {
             glview::compare::split::draw(&mut live.renderer, &self.settings, &target, w * k, h * k)?
         } else {
             live.renderer.render(&self.settings, &target)?
@@ -251,7 +261,7 @@ impl App<'_> {
             let text = overlay_text(
                 &self.settings,
                 live.renderer.scene(),
-                self.compare,
+                self.view.compare(),
                 stats.ms,
             );
             live.renderer.draw_overlay(&text, &target)?;
@@ -264,9 +274,8 @@ impl App<'_> {
                 backend: &backend,
             };
             let repro = session::Repro {
-                args: self.args,
+                args: self.view.options(),
                 size: (w, h),
-                state_keys: &self.state_keys,
             };
             let text = session::png_text(gpu, &self.settings, live.renderer.scene(), &repro);
             match next_screenshot_path(&self.args.screenshot_dir)
@@ -306,6 +315,12 @@ impl ApplicationHandler for App<'_> {
             }
             WindowEvent::Resized(size) => {
                 self.size = size;
+                if size.width > 0 && size.height > 0 {
+                    self.change(|view, _| {
+                        view.resize((size.width, size.height));
+                        Ok(Effect::Redraw)
+                    });
+                }
                 if let Some(live) = &self.live {
                     live.window.resize(size.width, size.height);
                 }
@@ -328,15 +343,10 @@ impl ApplicationHandler for App<'_> {
                 let last = self.cursor.replace(position);
                 if let (true, Some(last)) = (self.left_down, last) {
                     let (dx, dy) = ((position.x - last.x) as f32, (position.y - last.y) as f32);
-                    // Dragging right turns the model right: the camera goes the other way.
-                    self.act(
-                        event_loop,
-                        Action::Camera(CameraMove::Yaw(-dx * glview::keys::DRAG_DEG_PER_PIXEL)),
-                    );
-                    self.act(
-                        event_loop,
-                        Action::Camera(CameraMove::Pitch(dy * glview::keys::DRAG_DEG_PER_PIXEL)),
-                    );
+                    self.change(|view, scene| {
+                        view.drag(dx, dy, scene)?;
+                        Ok(Effect::Redraw)
+                    });
                 }
             }
             WindowEvent::MouseWheel { delta, .. } => {
@@ -345,8 +355,10 @@ impl ApplicationHandler for App<'_> {
                     MouseScrollDelta::PixelDelta(p) => p.y / PIXELS_PER_NOTCH,
                 };
                 if notches != 0.0 {
-                    let factor = ZOOM_STEP.powf(-notches as f32);
-                    self.act(event_loop, Action::Camera(CameraMove::Zoom(factor)));
+                    self.change(|view, scene| {
+                        view.wheel(notches as f32, scene)?;
+                        Ok(Effect::Redraw)
+                    });
                 }
             }
             WindowEvent::Focused(false) => self.left_down = false,

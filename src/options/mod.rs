@@ -11,11 +11,11 @@ mod value;
 mod words;
 
 use crate::frame::{BlendFormula, EdgeMethod, Shading, TranslucencyMode};
+use crate::frame::{PbrTerms, Terms};
 use crate::light::LightOpt;
 use crate::pbr::{Encoding, PrecomputeOn, Tonemap};
 use crate::platform::{Backend, GlRequest};
 use crate::scene::UpAxis;
-use crate::shading::PbrTerms;
 pub use enums::{AaMode, DepthMode, Diffuse, LodMode, Show};
 pub use forms::Form;
 use parse::{at_least, in_range, one_of, positive, positive_or_none, unit_or_none};
@@ -157,6 +157,9 @@ declare_options! {
         /// tier's), and the glTF layers clearcoat, sheen, transmission; `all` (default) or
         /// `none`.
         terms: PbrTerms = PbrTerms::default(), "terms" value;
+        /// Legacy tier: terms to draw, comma-separated from ambient, diffuse, specular;
+        /// `all` (default) or `none` (keys 1, 2, 3 in the legacy tier).
+        legacy_terms: Terms = Terms::default(), "legacy-terms" value;
         /// What to draw: the scene, or a teaching view (shadow map, PBR maps, surface
         /// attributes).
         show: Show = Show::Scene, "show" value;

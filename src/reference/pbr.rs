@@ -8,10 +8,10 @@
 //! largest: where their sizes differ the two can differ), the emissive map sRGB-decoded.
 use super::material::{self, Corners};
 use super::Context;
+use crate::frame::LightingParams;
 use crate::pbr::brdf::Surface;
 use crate::scene::texture_slot::{Slot, TextureSlot};
 use crate::scene::Material;
-use crate::shading::LightingParams;
 use glam::DVec3;
 
 /// Default Monte Carlo samples per lobe and pixel; the tests state the noise this leaves.

@@ -19,7 +19,7 @@ use crate::shading::{shade, Tex};
 use glam::{DVec3, DVec4};
 
 /// The diameter the frame draws points at, in pixels of a picture `height` high.
-pub fn diameter(lighting: &crate::shading::LightingParams, height: u32) -> f64 {
+pub fn diameter(lighting: &crate::frame::LightingParams, height: u32) -> f64 {
     let (px, at) = lighting.point_size;
     let scale = if at == 0 {
         1.0

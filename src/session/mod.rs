@@ -330,18 +330,13 @@ fn draw(
         mode: args.render.lod,
         error: args.render.lod_error,
     };
-    let (settings, _) = frame_settings(args, renderer.scene())?;
+    let shown = View::settled(args, renderer.scene())?;
+    let settings = crate::frame::FrameSettings::new(&shown, renderer.scene())?;
     let gpu = Drawer::Gpu {
         caps: &hl.gpu.caps,
         backend: hl.backend_name(),
     };
-    let keys = crate::repro::state_keys(args.camera.keys.as_deref());
-    let text = png_text(
-        gpu,
-        &settings,
-        renderer.scene(),
-        &Repro::headless(args, &keys),
-    );
+    let text = png_text(gpu, &settings, renderer.scene(), &Repro::headless(&shown));
     let compiled_before = kept.programs.borrow().compiled();
     let frames = args.picture.frames.max(1);
     let mut last = None;

@@ -1,6 +1,6 @@
 //! The headless modes besides a picture of the scene: the PBR maps as pictures, the CPU
 //! reference renderer, every shader compiled, the driver's report.
-use super::settings::{env_request, frame_settings, load_scene, reference_env};
+use super::settings::{env_request, load_scene, reference_env};
 use super::text::{png_text, Drawer, Repro};
 use crate::error::{Error, Result};
 use crate::options::{Options, Show};
@@ -54,17 +54,17 @@ pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
         )));
     }
     let scene = load_scene(args)?;
-    let (settings, _) = frame_settings(args, &scene)?;
+    let shown = super::View::settled(args, &scene)?;
+    let settings = crate::frame::FrameSettings::new(&shown, &scene)?;
     let (w, h) = args.picture.size;
     let start = std::time::Instant::now();
     let env = reference_env(args, settings.shading)?;
     let img = crate::reference::render_env(&scene, &settings, env.as_ref(), w, h);
-    let keys = crate::repro::state_keys(args.camera.keys.as_deref());
     let text = png_text(
         Drawer::Reference,
         &settings,
         &scene,
-        &Repro::headless(args, &keys),
+        &Repro::headless(&shown),
     );
     img.save(path, &text)?;
     if args.picture.stats {

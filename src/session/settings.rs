@@ -2,11 +2,12 @@
 //! file's), the frame settings (camera, lights, tiers, post) and the PBR environment. No GL:
 //! the session, the window, the reference renderer and the tools all start here, so
 //! `--keys` headless and the keys in a window give the same view.
+use super::View;
 use crate::camera::OrbitCamera;
 use crate::error::{Error, Result};
+use crate::frame::LightingParams;
 use crate::frame::{AttributeView, Translucency};
 use crate::frame::{FrameSettings, ShadowSettings};
-use crate::keys::{self, Effect};
 use crate::light::{LightOpt, LightSpec, MAX_LIGHTS};
 use crate::options::{Diffuse, Options, Ortho, Show};
 use crate::pbr::precompute::IblSettings;
@@ -15,7 +16,6 @@ use crate::scene::clusters::Clusters;
 use crate::scene::material::TextureOptions;
 use crate::scene::Scene;
 use crate::scene::{obj, LoadOptions, ProgressFn};
-use crate::shading::LightingParams;
 use glam::Vec3;
 use std::path::Path;
 
@@ -147,9 +147,28 @@ pub fn load_options(args: &Options, progress: Option<ProgressFn>) -> LoadOptions
     }
 }
 
-/// The frame settings the options describe, with `--keys` already applied. The options
-/// are typed and checked ([`Options::validate`]); this only places them in the scene.
+/// The frame settings the options describe, with `--keys` applied (replayed on the
+/// options by a [`View`], as the window and the server apply them: [`View::settled`]), and
+/// the camera before the keys (where `R` returns).
 pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, OrbitCamera)> {
+    let mut plain = args.clone();
+    plain.camera.keys = None;
+    let home = FrameSettings::new(&plain, scene)?.camera;
+    let settled = View::settled(args, scene)?;
+    Ok((FrameSettings::new(&settled, scene)?, home))
+}
+
+impl FrameSettings {
+    /// The frame settings `args` describe, derived from them alone (every default is the
+    /// option's: nothing here has one of its own); `--keys` is not replayed here
+    /// ([`frame_settings`] does). The options are typed and checked
+    /// ([`Options::validate`]); this only places them in the scene.
+    pub fn new(args: &Options, scene: &Scene) -> Result<FrameSettings> {
+        derive(args, scene)
+    }
+}
+
+fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
     let (w, h) = args.picture.size;
     let aspect = w as f32 / h as f32;
     let cam = &args.camera;
@@ -184,12 +203,13 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
     };
     let post = &args.post;
     let point_px = point_size(args, scene, &camera, h);
-    let mut settings = FrameSettings {
+    let settings = FrameSettings {
         camera,
         lights,
         lighting: LightingParams {
             ambient: Vec3::from_array(args.light.ambient).as_dvec3(),
             wrap: args.light.diffuse == Diffuse::Wrap,
+            terms: args.render.legacy_terms,
             pbr,
             pbr_terms: args.render.terms,
             output: OutputParams {
@@ -240,7 +260,6 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
                 scale: ssaa_factor(args) as f32,
                 up: args.load.up,
             },
-            ..Default::default()
         },
         shading: args.render.shading,
         background: Vec3::from_array(args.background()),
@@ -253,15 +272,7 @@ pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, O
         },
         show_shadow_map: args.render.show == Show::ShadowMap,
     };
-    let home = settings.camera;
-    if let Some(k) = &cam.keys {
-        for action in keys::parse_keys(k).map_err(Error::Usage)? {
-            if keys::apply(action, &mut settings, &home, &scene.bounds, aspect) == Effect::Quit {
-                break;
-            }
-        }
-    }
-    Ok((settings, home))
+    Ok(settings)
 }
 
 /// The default point diameter in mean nearest-neighbour spacings. Measured at 640×480 (the
@@ -274,7 +285,7 @@ const POINT_SPACINGS: f32 = 1.5;
 /// `camera` (at the target's distance, in a picture `h` pixels high), within
 /// [`MIN_POINT_PX`, `MAX_POINT_PX`].
 fn point_size(args: &Options, scene: &Scene, camera: &OrbitCamera, h: u32) -> f32 {
-    use crate::shading::{MAX_POINT_PX, MIN_POINT_PX};
+    use crate::frame::{MAX_POINT_PX, MIN_POINT_PX};
     if let Some(px) = args.render.point_size {
         return px;
     }

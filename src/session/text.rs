@@ -13,20 +13,19 @@ pub enum Drawer<'a> {
     Reference,
 }
 
-/// What the picture's reproducing command line is made of (see [`crate::repro`]).
+/// What the picture's reproducing command line is made of (see [`crate::repro`]): the
+/// options it was drawn from, `--keys` already replayed into them ([`super::View`]).
 pub struct Repro<'a> {
     pub args: &'a Options,
     pub size: (u32, u32),
-    pub state_keys: &'a [String],
 }
 
 impl<'a> Repro<'a> {
-    /// A headless picture: the arguments' own size and keys.
-    pub fn headless(args: &'a Options, keys: &'a [String]) -> Self {
+    /// A headless picture: the options' own size.
+    pub fn headless(args: &'a Options) -> Self {
         Repro {
             args,
             size: args.picture.size,
-            state_keys: keys,
         }
     }
 }
@@ -104,13 +103,7 @@ pub fn png_text(
             .unwrap_or_default(),
         c.near.map(|n| format!(" --near {n}")).unwrap_or_default()
     );
-    let shown = crate::repro::shown_options(
-        repro.args,
-        c,
-        target.to_array(),
-        repro.size,
-        repro.state_keys,
-    );
+    let shown = crate::repro::shown_options(repro.args, c, target.to_array(), repro.size);
     let command = crate::repro::command_line(&shown);
     text.push(("glview.camera", camera));
     text.push((

@@ -1,27 +1,23 @@
 //! A view that someone steers with the window's keys and drags, held as options (the
-//! server's viewers): every picture of it is `glview -o` with those options, so a still
-//! equals the command line's picture and its PNG text reproduces it. No GL.
+//! window's, the server's viewers', `--keys` replayed headless): every picture of it is
+//! `glview -o` with those options, so a still equals the command line's picture and its
+//! PNG text reproduces it. The one model of a view's state; it round-trips through JSON.
+//! No GL.
 use super::settings::frame_settings;
 use crate::camera::{CameraMove, ZOOM_STEP};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::keys::{self, Action, Effect};
 use crate::options::{Camera, Options, Ortho};
 use crate::scene::Scene;
 
-/// State keys kept at most (a cycle back to an earlier state is cut out, so only a walk
-/// through this many different states in a row reaches it).
-pub const MAX_STATE_KEYS: usize = 64;
-
-/// Options moved by key presses and drags. The camera keys change the camera options (yaw,
-/// pitch, distance, target: what `-o` takes); the state keys (shadows, tiers, terms, bloom,
-/// opacity) are kept as `--keys`, replayed by [`frame_settings`] exactly as the window's.
-#[derive(Clone, Debug)]
+/// Options moved by key presses and drags: the camera keys change the camera options (yaw,
+/// pitch, distance, target: what `-o` takes), the state keys the options they stand for
+/// ([`keys::apply`]: `S` is `--no-shadows`, `P` is `--shading`, ...).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct View {
     options: Options,
     /// The camera `R` returns to.
     home: Camera,
-    /// The state keys pressed, each with the state it led to (to cut out cycles).
-    keys: Vec<(String, String)>,
     /// Phong | PBR side by side, each pane half the view's width.
     compare: bool,
 }
@@ -29,15 +25,38 @@ pub struct View {
 impl View {
     /// A view of `options` (its camera is home).
     pub fn new(options: Options) -> View {
+        let mut home = options.camera.clone();
+        home.keys = None;
         View {
-            home: options.camera.clone(),
+            home,
             options,
-            keys: Vec::new(),
             compare: false,
         }
     }
 
-    /// The options of the whole view (its size, the state keys as `--keys`).
+    /// `options` with their `--keys` replayed into them (the state and camera the keys lead
+    /// to, `keys` none): what a picture of them shows, as options.
+    pub fn settled(options: &Options, scene: &Scene) -> Result<Options> {
+        let mut v = View::new(options.clone());
+        v.settle_keys(scene)?;
+        Ok(v.options)
+    }
+
+    /// Replays `--keys` into the options (once, before the first action: until then every
+    /// picture replays them, which draws the same), so later keys act on their result.
+    fn settle_keys(&mut self, scene: &Scene) -> Result<()> {
+        let Some(k) = self.options.camera.keys.take() else {
+            return Ok(());
+        };
+        for action in keys::parse_keys(&k).map_err(crate::Error::Usage)? {
+            if self.act(action, scene)? == Effect::Quit {
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    /// The options of the whole view (its size, its state).
     pub fn options(&self) -> &Options {
         &self.options
     }
@@ -62,31 +81,26 @@ impl View {
         self.options.picture.size = size;
     }
 
-    /// Another model in the same view: the camera goes home, the state keys stay.
+    /// Another model in the same view: the camera goes home, the state stays.
     pub fn set_model(&mut self, model: Option<std::path::PathBuf>) {
         self.options.load.model = model;
         self.options.camera = self.home.clone();
-        self.sync_keys();
     }
 
     /// Applies a key's action; `scene` is the model's (for zoom and fit). Returns what the
-    /// caller does next ([`Effect::Redraw`] when the picture changed).
+    /// caller does next ([`Effect::Redraw`] when the picture may have changed).
     pub fn act(&mut self, action: Action, scene: &Scene) -> Result<Effect> {
+        self.settle_keys(scene)?;
         match action {
             Action::Camera(m) => self.camera(m, scene)?,
-            Action::Reset => self.options.camera = self.home_with_keys(),
+            Action::Reset => self.options.camera = self.home.clone(),
             Action::Fit => {
                 let c = &mut self.options.camera;
                 c.target = None;
                 c.distance = None;
             }
             Action::ToggleCompare => self.compare = !self.compare,
-            a if a.changes_state() => self.state_key(a, scene)?,
-            // Screenshot, help and quit are the caller's (a still, an overlay, a close).
-            Action::Screenshot => return Ok(Effect::Screenshot),
-            Action::Help => return Ok(Effect::Help),
-            Action::Quit => return Ok(Effect::Quit),
-            _ => {}
+            a => return Ok(keys::apply(a, &mut self.options)),
         }
         Ok(Effect::Redraw)
     }
@@ -108,6 +122,7 @@ impl View {
     /// as options: angles always; distance and ortho height only when they changed (a fitted
     /// view stays fitted: `glview --yaw 40` is the picture after two presses of Right).
     fn camera(&mut self, m: CameraMove, scene: &Scene) -> Result<()> {
+        self.settle_keys(scene)?;
         let (s, _) = frame_settings(&self.picture(), scene)?;
         let mut cam = s.camera;
         cam.apply(m);
@@ -120,59 +135,6 @@ impl View {
         }
         Ok(())
     }
-
-    /// A state key, kept as `--keys`; a press that comes back to an earlier state cuts the
-    /// walk back to it (S, S is no key at all).
-    fn state_key(&mut self, action: Action, scene: &Scene) -> Result<()> {
-        let name = keys::name_of(action)
-            .ok_or_else(|| Error::Usage(format!("{action:?} has no key")))?
-            .to_string();
-        self.keys.push((name, String::new()));
-        self.sync_keys();
-        let after = state_digest(&self.options, scene)?;
-        // The new entry's state is still empty: it matches no digest.
-        if self.base_digest(scene)? == after {
-            self.keys.clear();
-        } else if let Some(i) = self.keys.iter().position(|(_, s)| *s == after) {
-            self.keys.truncate(i + 1);
-        } else {
-            self.keys.last_mut().expect("pushed").1 = after;
-        }
-        if self.keys.len() > MAX_STATE_KEYS {
-            self.keys.pop();
-            self.sync_keys();
-            return Err(Error::Usage(format!(
-                "more than {MAX_STATE_KEYS} toggles in a row without coming back to a state: \
-                 reload the page to start again"
-            )));
-        }
-        self.sync_keys();
-        Ok(())
-    }
-
-    fn base_digest(&self, scene: &Scene) -> Result<String> {
-        let mut o = self.options.clone();
-        o.camera.keys = None;
-        state_digest(&o, scene)
-    }
-
-    fn sync_keys(&mut self) {
-        let words: Vec<&str> = self.keys.iter().map(|(k, _)| k.as_str()).collect();
-        self.options.camera.keys = (!words.is_empty()).then(|| words.join(" "));
-    }
-
-    fn home_with_keys(&self) -> Camera {
-        let mut c = self.home.clone();
-        c.keys = self.options.camera.keys.clone();
-        c
-    }
-}
-
-/// What the state keys decide: the frame settings without the camera.
-fn state_digest(o: &Options, scene: &Scene) -> Result<String> {
-    let (mut s, _) = frame_settings(o, scene)?;
-    s.camera = crate::camera::OrbitCamera::fit(&scene.bounds, 45.0, 1.0);
-    Ok(format!("{s:?}"))
 }
 
 #[cfg(test)]
@@ -211,28 +173,52 @@ mod tests {
         assert_eq!(v.options(), &want);
     }
 
-    /// The replayed keys give the window's state; a press and its undo leave no key; a
-    /// cycle of P (three tiers) comes back to nothing.
+    /// State keys are options: S is `--no-shadows`, a press and its undo leave the
+    /// options as they were, a cycle of P (three tiers) comes back, `]` stops at 1.
     #[test]
-    fn state_keys_replay_and_cycles_cut() {
+    fn state_keys_are_options() {
         let (mut v, scene) = view();
+        let start = v.options().clone();
         key(&mut v, &scene, "S");
-        assert_eq!(v.options().camera.keys.as_deref(), Some("S"));
+        assert!(!v.options().shadow.enabled);
         let (s, _) = frame_settings(v.options(), &scene).unwrap();
         assert!(!s.shadows.enabled);
-        key(&mut v, &scene, "B");
-        key(&mut v, &scene, "S");
-        assert_eq!(v.options().camera.keys.as_deref(), Some("S B S"));
-        key(&mut v, &scene, "B");
-        assert_eq!(v.options().camera.keys, None);
+        for k in ["B", "S", "B"] {
+            key(&mut v, &scene, k);
+        }
+        assert_eq!(v.options(), &start);
         for _ in 0..3 {
             key(&mut v, &scene, "P");
         }
-        assert_eq!(v.options().camera.keys, None);
+        assert_eq!(v.options(), &start);
         for _ in 0..1000 {
             key(&mut v, &scene, "]");
         }
-        assert!(v.options().camera.keys.as_ref().unwrap().split(' ').count() <= 11);
+        assert_eq!(v.options().render.opacity, Some(1.0));
+        key(&mut v, &scene, "1");
+        assert!(!v.options().render.legacy_terms.ambient);
+        key(&mut v, &scene, "P");
+        key(&mut v, &scene, "P");
+        key(&mut v, &scene, "8");
+        assert!(!v.options().render.terms.clearcoat);
+    }
+
+    /// `--keys` replayed headless is the same options as the keys pressed one by one, and
+    /// the camera keys among them are the camera options.
+    #[test]
+    fn keys_option_replays_as_presses() {
+        let (mut v, scene) = view();
+        for k in ["Left", "S", "Z", "P", "P", "B", "Plus"] {
+            key(&mut v, &scene, k);
+        }
+        let mut o = Options::default();
+        o.picture.size = (320, 240);
+        o.camera.keys = Some("Left S Z P P B Plus".into());
+        assert_eq!(&View::settled(&o, &scene).unwrap(), v.options());
+        // A view made with --keys absorbs them before its first press.
+        let mut w = View::new(o);
+        key(&mut w, &scene, "S");
+        assert!(w.options().shadow.enabled && w.options().camera.keys.is_none());
     }
 
     /// The web page's Z and X (any key of the table reaches the server by name).
@@ -241,12 +227,21 @@ mod tests {
         let (mut v, scene) = view();
         key(&mut v, &scene, "Z");
         key(&mut v, &scene, "X");
-        assert_eq!(v.options().camera.keys.as_deref(), Some("Z X"));
+        assert!(v.options().render.grid && v.options().render.axes);
         let (s, _) = frame_settings(v.options(), &scene).unwrap();
         assert!(s.lighting.guides.grid && s.lighting.guides.axes);
-        key(&mut v, &scene, "X");
-        key(&mut v, &scene, "Z");
-        assert_eq!(v.options().camera.keys, None);
+    }
+
+    /// A view's state (options, home, panes) survives JSON, as a server or a link keeps it.
+    #[test]
+    fn view_round_trips_through_json() {
+        let (mut v, scene) = view();
+        for k in ["Right", "Up", "S", "P", "P", "C", "E", "]", "Minus"] {
+            key(&mut v, &scene, k);
+        }
+        let json = serde_json::to_string(&v).unwrap();
+        let back: View = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, v);
     }
 
     #[test]

@@ -4,8 +4,9 @@
 use crate::common;
 use common::*;
 use glam::DVec3;
+use glview::frame::LightingParams;
 use glview::light::LightSpec;
-use glview::shading::{shade, LightingParams};
+use glview::shading::shade;
 use std::fmt::Write;
 use std::path::Path;
 

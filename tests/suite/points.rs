@@ -384,7 +384,7 @@ fn gltf_points_are_visible_dots_of_the_default_size() {
     let mut args = vec![model];
     args.extend_from_slice(VIEW);
     let (s, scene) = settings_for(&args);
-    assert_eq!(s.lighting.point_size, (glview::shading::MAX_POINT_PX, H));
+    assert_eq!(s.lighting.point_size, (glview::frame::MAX_POINT_PX, H));
     assert_eq!(scene.wire.points.len(), 7);
     let img = render(&dir, "modes", &args, &[]);
     let bg = img.pixel(0, 0);

@@ -4,13 +4,14 @@
 //! and degenerate input against NaN. Scenes are built in code.
 use glam::{DMat4, DVec3, DVec4, Vec3};
 use glview::camera::OrbitCamera;
+use glview::frame::LightingParams;
 use glview::light::{Light, LightKind};
 use glview::reference::{render_with_info, PixelInfo};
 use glview::render::{FrameSettings, Shading, ShadowSettings};
 use glview::scene::material::PhongTerms;
 use glview::scene::texture_slot::{ColorSpace, TextureSlot};
 use glview::scene::{Material, Mesh, Scene, Vertex};
-use glview::shading::{shade, to_light, LightingParams};
+use glview::shading::{shade, to_light};
 
 const BACKGROUND: Vec3 = Vec3::new(0.25, 0.5, 0.75);
 

@@ -80,7 +80,7 @@ fn lines_and_points_are_drawn_where_they_project() {
         // Nothing else: every drawn pixel is within 2 px of a segment or of the point's
         // disk (a lone point is drawn at the largest default size).
         let qp = project(&args, q);
-        let radius = glview::shading::MAX_POINT_PX / 2.0;
+        let radius = glview::frame::MAX_POINT_PX / 2.0;
         for y in 0..img.height {
             for x in 0..img.width {
                 if !differs(&img, x.into(), y.into(), bg) {

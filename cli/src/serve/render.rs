@@ -86,7 +86,6 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
         "tier": tier,
         "shadows": settings.shadows.enabled,
         "bloom": settings.lighting.post.bloom.strength > 0.0,
-        "keys": o.camera.keys,
         "ms": {
             // Drawing to glFinish, then the read-back; the compare view's two panes are
             // timed as one.

@@ -201,6 +201,7 @@ impl Scheduler {
             "presenter": presenter,
             "presenter_online": self.presenter.is_some() || presenter,
             "max_size": super::protocol::MAX_SIZE,
+            "keys": keys::remote_table(),
         });
         let _ = out.send(Outgoing::Text(hello.to_string()));
         let v = Viewer {

@@ -81,6 +81,8 @@ function connect() {
 function onText(m) {
   if (m.type === 'hello') {
     hello = m;
+    serverKeys.clear();
+    for (const k of m.keys || []) for (const n of k.names) serverKeys.set(n.toUpperCase(), n);
     setViewSize(m.size[0], m.size[1]);
     fillModels(m.models, m.model);
     $('presenting').hidden = !m.presenter;
@@ -195,10 +197,12 @@ function leaveFollow() {
 
 // ---- keys ----
 
+// The browser's names of keys whose name in glview's key table differs. Which keys there
+// are comes from the server (its hello message carries the table: one list of keys).
 const KEY_NAMES = {
-  ArrowLeft: 'Left', ArrowRight: 'Right', ArrowUp: 'Up', ArrowDown: 'Down',
-  '+': 'Plus', '=': 'Plus', '-': 'Minus',
+  ArrowLeft: 'Left', ArrowRight: 'Right', ArrowUp: 'Up', ArrowDown: 'Down', '=': 'Plus',
 };
+const serverKeys = new Map(); // upper-cased key name -> the table's spelling
 
 function key(name) {
   leaveFollow();
@@ -209,8 +213,7 @@ document.addEventListener('keydown', (e) => {
   // Leave the browser's own shortcuts (Ctrl+R, Ctrl+-) and the picker's keys alone.
   if (e.ctrlKey || e.metaKey || e.altKey) return;
   if (e.target instanceof HTMLSelectElement) return;
-  let name = KEY_NAMES[e.key];
-  if (!name && /^[rfsgpwbcexz0-9[\]]$/i.test(e.key)) name = e.key.toUpperCase();
+  const name = serverKeys.get((KEY_NAMES[e.key] || e.key).toUpperCase());
   if (e.key === 'h' || e.key === 'H') {
     overlayOn = !overlayOn; // local only: the server's picture has no overlay
     $('overlay').hidden = !overlayOn;
@@ -308,7 +311,7 @@ function showOverlay(h, nbytes) {
     'model     ' + (h.model || 'built-in scene'),
     'tier      ' + h.tier + '   shadows ' + onOff(h.shadows) + '   bloom ' + onOff(h.bloom),
     'compare   ' + onOff(h.compare) + '   following ' + follow,
-    'keys      ' + (h.keys || '–'),
+    'options   ' + (h.command || '–'),
     'frame     ' + ms(t.draw) + ' draw (' + ms(t.render) + ' render, ' + ms(t.read) + ' read) + ' + ms(t.encode) + ' encode ms',
     'round     ' + (roundTrip === null ? '–' : roundTrip.toFixed(0) + ' ms (input to drawn)'),
     'image     ' + kind + ' ' + size + ', ' + (nbytes / 1024).toFixed(1) + ' KiB',

@@ -2,9 +2,13 @@
 //! here, so the CPU reference renderer, the key table and the GPU passes share these types.
 use crate::camera::OrbitCamera;
 use crate::light::Light;
-use crate::shading::LightingParams;
 use glam::Vec3;
 use serde::Serialize;
+
+mod lighting;
+mod terms;
+pub use lighting::{LightingParams, MAX_POINT_PX, MIN_POINT_PX};
+pub use terms::{PbrTerms, Terms};
 
 crate::choice! {
     /// The shading tier: the legacy formula per fragment or per vertex, or the PBR/IBL tier.
