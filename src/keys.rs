@@ -318,4 +318,28 @@ mod tests {
             [Action::ToggleGrid, Action::ToggleAxes]
         );
     }
+
+    /// The page's keys are the table's (its hello carries them): every name maps back to
+    /// its action, and quit, help and the window's screenshot are not among them.
+    #[test]
+    fn remote_table_is_the_key_table() {
+        let table = remote_table();
+        let mut names = 0;
+        for entry in table.as_array().unwrap() {
+            for n in entry["names"].as_array().unwrap() {
+                let a = action_for(n.as_str().unwrap()).unwrap();
+                assert!(!matches!(
+                    a,
+                    Action::Quit | Action::Help | Action::Screenshot
+                ));
+                names += 1;
+            }
+        }
+        let all: usize = KEY_TABLE.iter().map(|(n, _, _)| n.len()).sum();
+        assert_eq!(
+            names,
+            all - 6,
+            "Escape/Esc/Q, H/F1 and F12 are the window's"
+        );
+    }
 }

@@ -14,9 +14,10 @@ fn scene_part(args: &Options) -> Options {
     o
 }
 
-/// What decides the scene, the environment and the lights of a picture: the options but
-/// for camera, size, keys and output, and the model file's size and time (so a file changed
-/// between two pictures is read again). Equal keys may share a renderer.
+/// What decides the uploaded scene of a picture: the load options (with the x-ray opacity
+/// they bake in), and the model file's size and time (so a file changed between two
+/// pictures is read again). Equal keys share a GPU scene: the camera, tier, lights,
+/// environment, exposure, post-processing and size are the view's and upload nothing.
 pub fn scene_key(args: &Options) -> String {
     let stamp = args
         .load
@@ -25,7 +26,8 @@ pub fn scene_key(args: &Options) -> String {
         .and_then(|m| std::fs::metadata(m).ok())
         .map(|m| format!("{} {:?}", m.len(), m.modified().ok()))
         .unwrap_or_default();
-    let mut key = serde_json::to_string(&scene_part(args)).unwrap_or_default();
+    let xray_opacity = (!args.load.xray.is_empty()).then_some(args.render.opacity);
+    let mut key = serde_json::to_string(&(&args.load, xray_opacity)).unwrap_or_default();
     key.push('\0');
     key.push_str(&stamp);
     key

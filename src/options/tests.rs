@@ -67,6 +67,8 @@ fn every_option_changed() -> Options {
         "pbr",
         "--terms",
         "ao,emissive",
+        "--legacy-terms",
+        "ambient,specular",
         "--show",
         "normals",
         "--show-level",

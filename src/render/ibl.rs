@@ -8,6 +8,8 @@ use crate::pbr::precompute::{self, IblData};
 use crate::pbr::{cache, env::Environment, Encoding, EnvRequest, PrecomputeOn};
 use crate::shader::cache::ProgramCache;
 use crate::{Error, Result};
+use std::cell::RefCell;
+use std::rc::Rc;
 
 /// RGBM range: values up to 16 are stored, brighter ones clipped (documented).
 pub const RGBM_RANGE: f32 = 16.0;
@@ -19,66 +21,139 @@ pub(crate) struct IblGpu {
     pub rgbm: bool,
 }
 
+/// One environment's maps: the CPU copy, the uploaded textures and where they came from.
+pub(crate) struct EnvMaps {
+    data: IblData,
+    gpu: IblGpu,
+    /// What was done to get the maps, for `--stats` (e.g. `computed 412 ms`, `disk cache`).
+    origin: String,
+}
+
+/// How many environments a context keeps (least recently used goes first): a server's
+/// viewers switching between a few HDRs make each once.
+const KEPT_ENVIRONMENTS: usize = 4;
+
+/// The environment maps made on one context, keyed by their request and shared by every
+/// renderer (scene) drawn on it: N scenes of one environment hold one copy of its maps.
+#[derive(Default)]
+pub struct Environments {
+    /// Least recently used first.
+    kept: Vec<(EnvRequest, Rc<EnvMaps>)>,
+    made: u64,
+}
+
+impl Environments {
+    /// A context's shared set, empty.
+    pub fn shared() -> SharedEnvironments {
+        Rc::new(RefCell::new(Environments::default()))
+    }
+
+    /// How many environments have been made (read from the disk cache or computed, and
+    /// uploaded) since the set was made: `--stats` counts them per picture.
+    pub fn made(&self) -> u64 {
+        self.made
+    }
+
+    fn get(&mut self, r: &EnvRequest) -> Option<Rc<EnvMaps>> {
+        let i = self.kept.iter().position(|(k, _)| k == r)?;
+        let e = self.kept.remove(i);
+        let maps = e.1.clone();
+        self.kept.push(e);
+        Some(maps)
+    }
+
+    fn put(&mut self, r: EnvRequest, maps: Rc<EnvMaps>) {
+        if self.kept.len() >= KEPT_ENVIRONMENTS {
+            self.kept.remove(0);
+        }
+        self.kept.push((r, maps));
+    }
+}
+
+/// A context's [`Environments`], held by its session and every renderer on it.
+pub type SharedEnvironments = Rc<RefCell<Environments>>;
+
 #[derive(Default)]
 pub(crate) struct IblState {
     request: Option<EnvRequest>,
-    data: Option<IblData>,
-    pub gpu: Option<IblGpu>,
-    /// What was done to get the maps, for `--stats` (e.g. `computed 412 ms`, `disk cache`).
-    pub origin: String,
+    maps: Option<Rc<EnvMaps>>,
+    /// The context's shared maps (a renderer of its own has none: it makes its own).
+    shared: Option<SharedEnvironments>,
 }
 
 impl IblState {
     pub fn request(&mut self, r: EnvRequest) {
         if self.request.as_ref() != Some(&r) {
             self.request = Some(r);
-            self.data = None;
-            self.gpu = None;
+            self.maps = None;
         }
+    }
+
+    pub fn share(&mut self, envs: SharedEnvironments) {
+        self.shared = Some(envs);
     }
 
     pub fn data(&self) -> Option<&IblData> {
-        self.data.as_ref()
+        self.maps.as_ref().map(|m| &m.data)
     }
 
-    /// Makes the maps on first use: from the disk cache, else computed (and cached).
-    pub fn ensure(&mut self, gpu: &GpuRef, programs: &mut ProgramCache) -> Result<&IblGpu> {
-        if self.gpu.is_none() {
-            let mut req = self.request.get_or_insert_with(EnvRequest::default).clone();
-            let fit = super::pbr::max_levels(gpu.caps.max_texture_units);
-            if req.settings.levels > fit {
-                log::warn!(
-                    "{} roughness levels need more texture units than {} has: using {fit}",
-                    req.settings.levels,
-                    gpu.caps.version
-                );
-                req.settings.levels = fit.max(2);
-            }
-            if self.data.is_none() {
-                let on_gpu = match req.precompute {
-                    PrecomputeOn::Cpu => false,
-                    PrecomputeOn::Gpu => true,
-                    PrecomputeOn::Auto => {
-                        super::ibl_gpu::unsupported(gpu).is_none() && !super::ibl_gpu::software(gpu)
-                    }
-                };
-                let compute = |env: &Environment, s: &IblSettings| -> Result<IblData> {
-                    if on_gpu {
-                        super::ibl_gpu::compute(gpu, programs, env, s)
-                    } else {
-                        Ok(precompute::compute(env, s))
-                    }
-                };
-                let (data, origin) =
-                    load_or_compute_with(&req, compute, if on_gpu { "GPU" } else { "CPU" })?;
-                self.data = Some(data);
-                self.origin = origin;
-            }
-            let data = self.data.as_ref().expect("set above");
-            self.gpu = Some(upload(gpu, data, req.encoding)?);
-        }
-        Ok(self.gpu.as_ref().expect("set above"))
+    /// What was done to get the maps in use, for `--stats`.
+    pub fn origin(&self) -> &str {
+        self.maps.as_ref().map_or("", |m| &m.origin)
     }
+
+    /// Makes the maps on first use: the context's shared ones, else from the disk cache,
+    /// else computed (and cached).
+    pub fn ensure(&mut self, gpu: &GpuRef, programs: &mut ProgramCache) -> Result<&IblGpu> {
+        if self.maps.is_none() {
+            let req = self.request.get_or_insert_with(EnvRequest::default).clone();
+            let found = self.shared.as_ref().and_then(|s| s.borrow_mut().get(&req));
+            let maps = match found {
+                Some(m) => m,
+                None => {
+                    let m = Rc::new(make(gpu, programs, req.clone())?);
+                    if let Some(s) = &self.shared {
+                        let mut s = s.borrow_mut();
+                        s.made += 1;
+                        s.put(req, m.clone());
+                    }
+                    m
+                }
+            };
+            self.maps = Some(maps);
+        }
+        Ok(&self.maps.as_ref().expect("set above").gpu)
+    }
+}
+
+/// Reads or computes the maps of `req` (on the GPU where that is faster) and uploads them.
+fn make(gpu: &GpuRef, programs: &mut ProgramCache, mut req: EnvRequest) -> Result<EnvMaps> {
+    let fit = super::pbr::max_levels(gpu.caps.max_texture_units);
+    if req.settings.levels > fit {
+        log::warn!(
+            "{} roughness levels need more texture units than {} has: using {fit}",
+            req.settings.levels,
+            gpu.caps.version
+        );
+        req.settings.levels = fit.max(2);
+    }
+    let on_gpu = match req.precompute {
+        PrecomputeOn::Cpu => false,
+        PrecomputeOn::Gpu => true,
+        PrecomputeOn::Auto => {
+            super::ibl_gpu::unsupported(gpu).is_none() && !super::ibl_gpu::software(gpu)
+        }
+    };
+    let compute = |env: &Environment, s: &IblSettings| -> Result<IblData> {
+        if on_gpu {
+            super::ibl_gpu::compute(gpu, programs, env, s)
+        } else {
+            Ok(precompute::compute(env, s))
+        }
+    };
+    let (data, origin) = load_or_compute_with(&req, compute, if on_gpu { "GPU" } else { "CPU" })?;
+    let gpu = upload(gpu, &data, req.encoding)?;
+    Ok(EnvMaps { data, gpu, origin })
 }
 
 /// Reads the maps from the disk cache or computes them on the CPU; says which.

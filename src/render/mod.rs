@@ -340,6 +340,12 @@ impl Renderer {
         self.res.ibl.request(request);
     }
 
+    /// Takes its environment maps from (and adds them to) `envs`, the set every renderer
+    /// of this context shares, instead of making its own.
+    pub fn share_environments(&mut self, envs: ibl::SharedEnvironments) {
+        self.res.ibl.share(envs);
+    }
+
     /// The environment maps in use, if a PBR frame has made them.
     pub fn environment(&self) -> Option<&crate::pbr::precompute::IblData> {
         self.res.ibl.data()

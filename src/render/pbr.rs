@@ -281,7 +281,7 @@ impl Pass for Pbr {
         Ok(Outcome::Ran(format!(
             "pbr({levels} levels, {}, env {})",
             if rgbm { "rgbm" } else { "float" },
-            cx.res.ibl.origin
+            cx.res.ibl.origin()
         )))
     }
 }

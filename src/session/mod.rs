@@ -34,6 +34,7 @@ use crate::headless::Headless;
 use crate::options::{AaMode, Options};
 use crate::platform::{Backend, GlRequest};
 use crate::render::attributes::{FrameDepth, Outputs};
+use crate::render::ibl::{Environments, SharedEnvironments};
 use crate::render::Renderer;
 use crate::scene::clusters::Clusters;
 use crate::scene::profile::LoadProfile;
@@ -47,8 +48,11 @@ use std::time::Instant;
 /// last picture's renderer (its uploaded scene, environment maps and shadow maps) with the
 /// options it was made for. Field order is drop order: GL objects before their context.
 struct KeptContext {
-    /// Least recently drawn first; at most [`Session::keep_scenes`] of them.
+    /// Least recently drawn first; at most [`Session::keep_scenes`] of them. Keyed by the
+    /// model and its load options only ([`crate::repro::scene_key`]).
     renderers: Vec<(String, Renderer)>,
+    /// The environment maps every renderer of the context shares (one copy of each).
+    envs: SharedEnvironments,
     programs: SharedPrograms,
     hl: Headless,
     request: (Backend, GlRequest),
@@ -76,6 +80,7 @@ fn context(
         profile.context_ms = ms(t);
         *kept = Some(KeptContext {
             renderers: Vec::new(),
+            envs: Environments::shared(),
             programs: ProgramCache::for_context(&hl.gpu),
             hl,
             request,
@@ -221,6 +226,7 @@ impl Session {
         let clusters =
             clusters.unwrap_or_else(|| crate::scene::clusters::prepare_without_lod(&mut scene));
         let mut renderer = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;
+        renderer.share_environments(kept.envs.clone());
         renderer.set_environment(env_request(args)?);
         draw(&kept.hl, &mut renderer)
     }
@@ -338,6 +344,7 @@ fn draw(
     };
     let text = png_text(gpu, &settings, renderer.scene(), &Repro::headless(&shown));
     let compiled_before = kept.programs.borrow().compiled();
+    let envs_before = kept.envs.borrow().made();
     let frames = args.picture.frames.max(1);
     let mut last = None;
     for i in 0..frames {
@@ -352,6 +359,7 @@ fn draw(
     let compiled = kept.programs.borrow().compiled();
     profile.programs_compiled = compiled.0 - compiled_before.0;
     profile.compile_ms = compiled.1 - compiled_before.1;
+    profile.environments_made = kept.envs.borrow().made() - envs_before;
     let t = Instant::now();
     let mut image = crate::metrics::downsample(hl.read(), k);
     if args.post.transparent {
@@ -448,9 +456,14 @@ fn prepare<'k>(
         let t = Instant::now();
         let mut r = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;
         profile.upload_ms = ms(t);
-        r.set_environment(env_request(args)?);
+        profile.scene_uploads += 1;
+        r.share_environments(kept.envs.clone());
         kept.renderers.push((key, r));
     }
+    // The environment is the view's: a kept scene takes another one without an upload,
+    // and maps another scene of this context made are shared.
+    let r = &mut kept.renderers.last_mut().expect("found or made above").1;
+    r.set_environment(env_request(args)?);
     Ok(kept)
 }
 

@@ -18,6 +18,12 @@ pub struct Profile {
     pub context_ms: f64,
     /// Vertex/index buffers and textures to the GPU.
     pub upload_ms: f64,
+    /// Scenes uploaded for this picture (0 when a kept one drew it: a change of camera,
+    /// tier, exposure, bloom or terms uploads nothing).
+    pub scene_uploads: u32,
+    /// Environment maps made (read or computed, and uploaded) for this picture: 0 when the
+    /// context already had them, whichever of its scenes made them.
+    pub environments_made: u64,
     /// Programs compiled and linked during the frames, and the time it took.
     pub programs_compiled: usize,
     pub compile_ms: f64,

@@ -53,6 +53,7 @@ mod stress;
 mod terminator;
 mod texture_upload;
 mod translucency;
+mod view_state;
 mod window;
 mod wire_colors;
 mod xvfb;
