@@ -354,9 +354,9 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
 
 /// The pass entry of `--stats`: how many maps, their projections, size and path.
 fn log_entry(maps: &[ShadowMap], size: u32, use_fbo: bool) -> String {
-    let kinds: Vec<String> = maps
+    let kinds: Vec<&str> = maps
         .iter()
-        .map(|m| format!("{:?}", m.projection).to_lowercase())
+        .map(|m| m.projection.name())
         .collect();
     format!(
         "shadow({} map(s) [{}], {size}², {})",
