@@ -168,7 +168,7 @@ fn check_text(name: &str, text: &[(String, String)]) -> usize {
             s.set(&mut o, value)
                 .unwrap_or_else(|e| panic!("{name}: {key} = {value:?}: --{} {e}", s.name));
             // `auto` given: the chunk says what it chose (`glview.backend`: egl).
-            if value_at(&drawn, s) != Value::from("auto") {
+            if value_at(&drawn, s) != "auto" {
                 assert_eq!(value_at(&o, s), value_at(&drawn, s), "{name}: {key}");
             }
             checked += 1;
