@@ -66,7 +66,7 @@ pub fn command_line(o: &Options) -> String {
 
 /// A word as a POSIX shell reads it back: as it is when it has only safe characters, else
 /// in single quotes (a `'` inside closes, escapes and reopens them).
-fn quote(w: &str) -> String {
+pub(crate) fn quote(w: &str) -> String {
     let safe = |c: char| c.is_ascii_alphanumeric() || "-_.,:/=+@%^".contains(c);
     if !w.is_empty() && w.chars().all(safe) {
         w.to_string()

@@ -460,7 +460,7 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
         if compare {
             "compare: Phong | PBR".to_string()
         } else {
-            format!("tier {} ({:?})", s.shading.tier(), s.shading).to_lowercase()
+            format!("tier {} ({})", s.shading.tier(), s.shading)
         },
         format!(
             "shadows {}  lights {}  wrap {}  lines {}  grid {}  axes {}",

@@ -24,7 +24,7 @@ pub enum PaneTier {
 impl PaneTier {
     pub fn name(self) -> String {
         match self {
-            PaneTier::Gpu(s) => format!("{s:?}").to_lowercase(),
+            PaneTier::Gpu(s) => s.word().into(),
             PaneTier::Reference(Shading::Pbr) => "reference-pbr".into(),
             PaneTier::Reference(_) => "reference".into(),
         }

@@ -3,6 +3,8 @@
 use super::terms::{PbrTerms, Terms};
 use glam::DVec3;
 
+/// What the formula and the frame's passes take besides lights and materials. Its `Default`
+/// is the options' defaults converted (in `options::convert`, where the defaults live).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightingParams {
     pub ambient: DVec3,
@@ -39,23 +41,3 @@ pub struct LightingParams {
 pub const MIN_POINT_PX: f32 = 2.0;
 pub const MAX_POINT_PX: f32 = 8.0;
 
-impl Default for LightingParams {
-    fn default() -> Self {
-        LightingParams {
-            ambient: DVec3::splat(0.2),
-            wrap: false,
-            terms: Terms::default(),
-            pbr: Default::default(),
-            pbr_terms: Default::default(),
-            output: Default::default(),
-            translucency: Default::default(),
-            attribute_view: Default::default(),
-            post: Default::default(),
-            headlight: None,
-            shadow_casters: crate::light::MAX_LIGHTS as u8,
-            point_size: (MIN_POINT_PX, 0),
-            edges: Default::default(),
-            guides: Default::default(),
-        }
-    }
-}

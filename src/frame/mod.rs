@@ -54,18 +54,11 @@ pub struct ShadowSettings {
     pub normal_offset: f32,
 }
 
-impl Default for ShadowSettings {
-    fn default() -> Self {
-        ShadowSettings {
-            enabled: true,
-            size: 2048,
-            pcf: 1,
-            bias: 0.0002,
-            slope_bias: 2.0,
-            normal_offset: 1.5,
-        }
-    }
-}
+/// The slope-scaled part of the shadow bias (no option sets it; the defaults of the options'
+/// part are theirs: `ShadowSettings::default` is in `options::convert`).
+pub const SHADOW_SLOPE_BIAS: f32 = 2.0;
+/// The shadow lookup's offset along the normal in texels (no option sets it).
+pub const SHADOW_NORMAL_OFFSET: f32 = 1.5;
 
 /// Everything a frame depends on besides the scene. Tier-specific knobs (PBR material
 /// overrides, exposure, tone mapping) are in `lighting`, so this shape stays the legacy one.
@@ -290,17 +283,9 @@ pub struct Bloom {
     pub levels: u32,
 }
 
-impl Default for Bloom {
-    fn default() -> Self {
-        Bloom {
-            strength: 0.0,
-            threshold: 1.0,
-            knee: 0.2,
-            sigma: 8.0,
-            levels: 2,
-        }
-    }
-}
+/// The width of bloom's soft knee below the threshold (no option sets it; the defaults of
+/// the `--bloom*` options are theirs: `Bloom::default` is in `options::convert`).
+pub const BLOOM_KNEE: f32 = 0.2;
 
 /// The post-processing knobs of a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]

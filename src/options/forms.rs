@@ -50,8 +50,11 @@ pub mod value {
         if v == d {
             Vec::new()
         } else {
-            flag_words(flag, Some(v.to_word()))
+            all_words(v, flag)
         }
+    }
+    pub fn all_words<T: OptionValue>(v: &T, flag: &str) -> Vec<String> {
+        flag_words(flag, Some(v.to_word()))
     }
     pub fn meta<T: OptionValue>(d: &T) -> Meta {
         (T::EXPECTED, T::choices(), Some(d.to_word()))
@@ -73,10 +76,16 @@ pub mod maybe {
         Ok(())
     }
     pub fn words<T: OptionValue>(v: &Option<T>, d: &Option<T>, flag: &str) -> Vec<String> {
-        match v {
-            Some(x) if v != d => flag_words(flag, Some(x.to_word())),
-            _ => Vec::new(),
+        if v == d {
+            Vec::new()
+        } else {
+            all_words(v, flag)
         }
+    }
+    pub fn all_words<T: OptionValue>(v: &Option<T>, flag: &str) -> Vec<String> {
+        v.iter()
+            .flat_map(|x| flag_words(flag, Some(x.to_word())))
+            .collect()
     }
     pub fn meta<T: OptionValue>(d: &Option<T>) -> Meta {
         (T::EXPECTED, T::choices(), d.as_ref().map(T::to_word))
@@ -106,6 +115,9 @@ pub mod repeat {
         if v == d {
             return Vec::new();
         }
+        all_words(v, flag)
+    }
+    pub fn all_words<T: OptionValue>(v: &[T], flag: &str) -> Vec<String> {
         v.iter()
             .flat_map(|x| flag_words(flag, Some(x.to_word())))
             .collect()
@@ -139,7 +151,13 @@ pub mod list {
         Ok(())
     }
     pub fn words<T: OptionValue>(v: &[T], d: &[T], flag: &str) -> Vec<String> {
-        if v == d || v.is_empty() {
+        if v == d {
+            return Vec::new();
+        }
+        all_words(v, flag)
+    }
+    pub fn all_words<T: OptionValue>(v: &[T], flag: &str) -> Vec<String> {
+        if v.is_empty() {
             return Vec::new();
         }
         let items: Vec<String> = v.iter().map(T::to_word).collect();
@@ -171,6 +189,10 @@ pub mod flag {
         Ok(())
     }
     pub fn words(v: &bool, _: &bool, flag: &str) -> Vec<String> {
+        all_words(v, flag)
+    }
+    /// A switch has no word for its off state: none.
+    pub fn all_words(v: &bool, flag: &str) -> Vec<String> {
         if *v {
             flag_words(flag, None)
         } else {
@@ -199,6 +221,9 @@ pub mod noflag {
     }
     pub fn words(v: &bool, d: &bool, name: &str) -> Vec<String> {
         flag::words(&!*v, &!*d, name)
+    }
+    pub fn all_words(v: &bool, name: &str) -> Vec<String> {
+        flag::all_words(&!*v, name)
     }
     pub use super::flag::meta;
 }
@@ -233,6 +258,9 @@ pub mod optional {
         Ok(())
     }
     pub fn words(v: &Option<Ortho>, _: &Option<Ortho>, flag: &str) -> Vec<String> {
+        all_words(v, flag)
+    }
+    pub fn all_words(v: &Option<Ortho>, flag: &str) -> Vec<String> {
         match v {
             None => Vec::new(),
             Some(Ortho::Fit) => flag_words(flag, None),

@@ -3,6 +3,7 @@
 //! command line's arguments, Python's keywords, the reproducing command line and
 //! docs/cli.md are derived. Strings are parsed once, at the edge; [`Options::validate`]
 //! needs nothing above this module.
+pub(crate) mod convert;
 mod enums;
 mod forms;
 pub(crate) mod parse;

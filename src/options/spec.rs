@@ -24,6 +24,9 @@ pub struct OptionSpec {
     pub(super) set_json: fn(&mut super::Options, &Value) -> Result<(), String>,
     /// The words that give this option's value (none where it is the default's).
     pub(super) words: fn(&super::Options, &super::Options) -> Vec<String>,
+    /// The words that give this option's value, the default's too (an unset value or a
+    /// switch in its usual state has none).
+    pub(super) all_words: fn(&super::Options) -> Vec<String>,
     /// This option's own checks (ranges); checks across options are in `validate`.
     pub(super) check: fn(&super::Options) -> Result<(), String>,
 }
@@ -42,6 +45,18 @@ impl OptionSpec {
     /// Sets this option from a command-line word (the value; empty for a switch).
     pub fn set(&self, o: &mut super::Options, word: &str) -> Result<(), String> {
         (self.set_word)(o, word)
+    }
+
+    /// The command-line words of this option's value in `o`, written even where it is the
+    /// default (`["--tonemap", "khronos-neutral"]`), so a text can state what a picture was
+    /// drawn with; none for an unset value or a switch in its usual state.
+    pub fn value_words(&self, o: &super::Options) -> Vec<String> {
+        (self.all_words)(o)
+    }
+
+    /// The option group it belongs to (`shadow` for `shadow.bias`).
+    pub fn group(&self) -> &'static str {
+        self.path.split('.').next().unwrap_or_default()
     }
 
     /// Whether the command line takes a value after the name.
@@ -160,6 +175,7 @@ macro_rules! declare_options {
                     set_word: |o, s| forms::$form::set_word(&mut o.$group.$field, s),
                     set_json: |o, v| forms::$form::set_json(&mut o.$group.$field, v),
                     words: |o, d| forms::$form::words(&o.$group.$field, &d.$group.$field, $flag),
+                    all_words: |o| forms::$form::all_words(&o.$group.$field, $flag),
                     check: |_o| {
                         $( return ($check)(&_o.$group.$field); )?
                         #[allow(unreachable_code)]

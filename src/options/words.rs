@@ -136,7 +136,7 @@ pub fn reference_markdown() -> String {
     );
     let mut group = "";
     for s in specs() {
-        let g = s.path.split('.').next().unwrap_or_default();
+        let g = s.group();
         if g != group {
             group = g;
             md.push_str(&format!(

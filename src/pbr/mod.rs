@@ -102,15 +102,6 @@ pub struct OutputParams {
     pub tonemap: Tonemap,
 }
 
-impl Default for OutputParams {
-    fn default() -> Self {
-        OutputParams {
-            exposure_ev: 0.0,
-            tonemap: Tonemap::KhronosNeutral,
-        }
-    }
-}
-
 impl OutputParams {
     /// Linear HDR colour → display value in [0, 1] (the CPU twin of `glviewOutput`).
     pub fn apply(&self, c: [f64; 3]) -> [f64; 3] {
@@ -137,21 +128,6 @@ pub struct PbrParams {
     pub skybox_blur: f32,
     /// Scale of the image-based light (1 = as the environment says).
     pub ibl_intensity: f32,
-}
-
-impl Default for PbrParams {
-    fn default() -> Self {
-        PbrParams {
-            base_color: None,
-            metallic: None,
-            roughness: None,
-            dominant_direction: false,
-            multiscatter: false,
-            skybox: true,
-            skybox_blur: 0.0,
-            ibl_intensity: 1.0,
-        }
-    }
 }
 
 /// Where the environment comes from.

@@ -24,18 +24,9 @@ pub struct IblSettings {
     pub lut_samples: u32,
 }
 
-impl Default for IblSettings {
-    fn default() -> Self {
-        IblSettings {
-            irradiance_size: 32,
-            specular_size: 128,
-            levels: 5,
-            samples: 128,
-            lut_size: 64,
-            lut_samples: 512,
-        }
-    }
-}
+/// GGX samples per lookup-table texel (no option sets it; `IblSettings::default`, the
+/// options' defaults, is in `options::convert`).
+pub const LUT_SAMPLES: u32 = 512;
 
 impl IblSettings {
     pub fn level_roughness(&self, i: u32) -> f32 {

@@ -18,6 +18,17 @@ pub enum ShadowProjection {
     Cube,
 }
 
+impl ShadowProjection {
+    /// Its name in `--stats`' shadow pass entry.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShadowProjection::Ortho => "ortho",
+            ShadowProjection::Perspective => "perspective",
+            ShadowProjection::Cube => "cube",
+        }
+    }
+}
+
 /// A point light nearer the centre than this many bounding radii gets the six-face atlas. At
 /// distance d the single frustum needs a full angle of 2·asin(r/d) (·1.02 padding): just
 /// outside the sphere that passes 180° and the projection mirrors, and below ~1.1 r (131°)

@@ -354,10 +354,7 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
 
 /// The pass entry of `--stats`: how many maps, their projections, size and path.
 fn log_entry(maps: &[ShadowMap], size: u32, use_fbo: bool) -> String {
-    let kinds: Vec<String> = maps
-        .iter()
-        .map(|m| format!("{:?}", m.projection).to_lowercase())
-        .collect();
+    let kinds: Vec<&str> = maps.iter().map(|m| m.projection.name()).collect();
     format!(
         "shadow({} map(s) [{}], {size}², {})",
         maps.len(),

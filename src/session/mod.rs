@@ -290,14 +290,7 @@ pub struct Drawn {
 fn write(args: &Options, path: &Path, keep: usize, kept: &mut Option<KeptContext>) -> Result<()> {
     let start = Instant::now();
     if let Some(img) = modes::map_view(args)? {
-        let text = vec![
-            ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
-            (
-                "glview.show",
-                format!("{:?}", args.render.show).to_lowercase(),
-            ),
-        ];
-        return img.save_png(path, &text);
+        return img.save_png(path, &text::map_view_text(args));
     }
     let mut profile = Profile::default();
     let drawn = draw(args, keep, kept, None, Default::default(), &mut profile)?;

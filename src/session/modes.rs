@@ -17,10 +17,7 @@ pub fn map_view(args: &Options) -> Result<Option<crate::image_out::Rgba>> {
         _ => return Ok(None),
     };
     let (data, _) = crate::render::ibl::load_or_compute(&env_request(args)?)?;
-    let out = OutputParams {
-        exposure_ev: args.pbr.exposure,
-        tonemap: args.pbr.tonemap,
-    };
+    let out = OutputParams::from(&args.pbr);
     Ok(crate::pbr::views::view(
         &data,
         what,
@@ -39,10 +36,9 @@ pub fn render_headless(args: &Options, path: &Path) -> Result<()> {
 pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
     if args.render.show != Show::Scene {
         return Err(Error::Usage(format!(
-            "--show {:?}: the reference renderer draws only the scene; drop --reference for teaching views",
+            "--show {}: the reference renderer draws only the scene; drop --reference for teaching views",
             args.render.show
-        )
-        .to_lowercase()));
+        )));
     }
     // The same bound as the GPU path on llvmpipe (its maximum viewport), checked before the
     // model is loaded or any framebuffer allocated.

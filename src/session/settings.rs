@@ -190,32 +190,19 @@ fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
         None => {}
     }
     let (lights, headlight, kit) = lights(args, scene);
-    let pbr_opts = &args.pbr;
-    let pbr = PbrParams {
-        base_color: pbr_opts.base_color.map(Vec3::from_array),
-        metallic: pbr_opts.metallic,
-        roughness: pbr_opts.roughness,
-        dominant_direction: pbr_opts.dominant_direction,
-        multiscatter: pbr_opts.multiscatter,
-        skybox: args.render.background.is_none(),
-        skybox_blur: pbr_opts.env_blur,
-        ibl_intensity: pbr_opts.ibl_intensity.max(0.0),
-    };
+    let pbr = PbrParams::from(args);
     let post = &args.post;
     let point_px = point_size(args, scene, &camera, h);
     let settings = FrameSettings {
         camera,
         lights,
         lighting: LightingParams {
-            ambient: Vec3::from_array(args.light.ambient).as_dvec3(),
+            ambient: crate::options::convert::ambient(&args.light),
             wrap: args.light.diffuse == Diffuse::Wrap,
             terms: args.render.legacy_terms,
             pbr,
             pbr_terms: args.render.terms,
-            output: OutputParams {
-                exposure_ev: pbr_opts.exposure,
-                tonemap: pbr_opts.tonemap,
-            },
+            output: OutputParams::from(&args.pbr),
             headlight,
             shadow_casters: match args.shadow.lights {
                 Some(n) => n.min(MAX_LIGHTS as u8),
@@ -229,17 +216,7 @@ fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
                 log_depth: args.render.depth == crate::options::DepthMode::Log,
             },
             post: crate::frame::Post {
-                bloom: crate::frame::Bloom {
-                    strength: if post.no_bloom {
-                        0.0
-                    } else {
-                        post.bloom.max(0.0)
-                    },
-                    threshold: post.bloom_threshold,
-                    sigma: post.bloom_sigma.clamp(0.5, 64.0),
-                    levels: post.bloom_levels,
-                    ..Default::default()
-                },
+                bloom: crate::frame::Bloom::from(post),
                 fxaa: post.aa == crate::options::AaMode::Fxaa,
                 transparent: post.transparent,
                 show_bloom: args.render.show == Show::Bloom,
@@ -263,13 +240,7 @@ fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
         },
         shading: args.render.shading,
         background: Vec3::from_array(args.background()),
-        shadows: ShadowSettings {
-            enabled: args.shadow.enabled,
-            size: args.shadow.size,
-            pcf: args.shadow.pcf,
-            bias: args.shadow.bias,
-            ..Default::default()
-        },
+        shadows: ShadowSettings::from(&args.shadow),
         show_shadow_map: args.render.show == Show::ShadowMap,
     };
     Ok(settings)
@@ -393,14 +364,7 @@ pub fn env_request(args: &Options) -> Result<EnvRequest> {
     };
     Ok(EnvRequest {
         source,
-        settings: IblSettings {
-            irradiance_size: args.pbr.irradiance_size,
-            specular_size: args.pbr.ibl_size,
-            levels: args.pbr.ibl_levels,
-            samples: args.pbr.ibl_samples,
-            lut_size: args.pbr.lut_size,
-            ..Default::default()
-        },
+        settings: IblSettings::from(&args.pbr),
         encoding: args.pbr.ibl_encoding,
         cache: args.load.cache,
         precompute: args.pbr.ibl_precompute,

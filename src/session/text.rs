@@ -30,8 +30,10 @@ impl<'a> Repro<'a> {
     }
 }
 
-/// PNG text chunks that let anyone reproduce a picture: renderer, context, the camera as
-/// command-line options and `glview.command`, a whole command line that renders it again.
+/// PNG text chunks that let anyone reproduce a picture: renderer, context, the camera (and
+/// in the PBR tier the PBR options) as command-line options, `glview.options`, the options
+/// as JSON, and `glview.command`, a whole command line that renders it again. Every option
+/// word is the specs' ([`crate::options::OptionSpec::value_words`]), never spelled here.
 pub fn png_text(
     r: Drawer,
     s: &FrameSettings,
@@ -53,63 +55,58 @@ pub fn png_text(
     }
     let c = &s.camera;
     let target = scene.origin + c.target.as_dvec3();
-    let p = &s.lighting.pbr;
-    let o = &s.lighting.output;
+    let shown = crate::repro::shown_options(repro.args, c, target.to_array(), repro.size);
     if s.shading == crate::frame::Shading::Pbr {
-        text.push((
-            "glview.pbr",
-            format!(
-                "--exposure {} --tonemap {}{}{}{}{}{}",
-                o.exposure_ev,
-                format!("{:?}", o.tonemap).to_lowercase(),
-                p.metallic
-                    .map(|m| format!(" --metallic {m}"))
-                    .unwrap_or_default(),
-                p.roughness
-                    .map(|r| format!(" --roughness {r}"))
-                    .unwrap_or_default(),
-                p.base_color
-                    .map(|c| format!(" --base-color {},{},{}", c.x, c.y, c.z))
-                    .unwrap_or_default(),
-                if p.dominant_direction {
-                    " --dominant-direction"
-                } else {
-                    ""
-                },
-                if p.multiscatter {
-                    " --multiscatter"
-                } else {
-                    ""
-                },
-            ),
-        ));
+        text.push(("glview.pbr", group_words(&shown, "pbr", &[])));
     }
     text.extend([
         ("glview.tier", s.shading.tier().into()),
-        ("glview.shading", format!("{:?}", s.shading).to_lowercase()),
+        ("glview.shading", s.shading.word().into()),
         ("glview.model", scene.name.clone()),
     ]);
-    let camera = format!(
-        "--yaw {} --pitch {} --distance {} --target {},{},{} --fov {}{}{}",
-        c.yaw_deg,
-        c.pitch_deg,
-        c.distance,
-        target.x,
-        target.y,
-        target.z,
-        c.fov_y_deg,
-        c.ortho_height
-            .map(|h| format!(" --ortho {h}"))
-            .unwrap_or_default(),
-        c.near.map(|n| format!(" --near {n}")).unwrap_or_default()
-    );
-    let shown = crate::repro::shown_options(repro.args, c, target.to_array(), repro.size);
-    let command = crate::repro::command_line(&shown);
-    text.push(("glview.camera", camera));
-    text.push((
-        "glview.options",
-        serde_json::to_string(&shown).unwrap_or_default(),
-    ));
-    text.push(("glview.command", command));
+    // The shown options' keys are already replayed into them (none are left).
+    text.push(("glview.camera", group_words(&shown, "camera", &["keys"])));
+    text.extend(reproducing(&shown));
     text
+}
+
+/// The PNG text of a teaching view drawn without a scene (`--show irradiance`, `specular`,
+/// `lut`): what is shown and what draws it again (its options; no camera or model decides it).
+pub fn map_view_text(args: &Options) -> Vec<(&'static str, String)> {
+    let mut shown = args.clone();
+    shown.camera = Default::default();
+    shown.picture = crate::options::Picture {
+        size: args.picture.size,
+        ..Default::default()
+    };
+    let mut text = vec![
+        ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
+        ("glview.show", args.render.show.word().into()),
+    ];
+    text.extend(reproducing(&shown));
+    text
+}
+
+/// `glview.options` (the JSON `--repro` reads) and `glview.command` (the same for people).
+fn reproducing(shown: &Options) -> [(&'static str, String); 2] {
+    [
+        (
+            "glview.options",
+            serde_json::to_string(shown).unwrap_or_default(),
+        ),
+        ("glview.command", crate::repro::command_line(shown)),
+    ]
+}
+
+/// The command-line words of one option group's values in `o`, defaults included (the text
+/// states what the picture was drawn with), spelled by the options' own specs so every word
+/// is one the command line takes; `except` names options left out.
+fn group_words(o: &Options, group: &str, except: &[&str]) -> String {
+    let words: Vec<String> = crate::options::specs()
+        .iter()
+        .filter(|s| s.group() == group && !except.contains(&s.name))
+        .flat_map(|s| s.value_words(o))
+        .map(|w| crate::repro::quote(&w))
+        .collect();
+    words.join(" ")
 }

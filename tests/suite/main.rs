@@ -36,6 +36,7 @@ mod lod;
 mod models_committed;
 mod parity;
 mod pbr;
+mod png_words;
 mod points;
 mod points_shadow;
 mod post_copy;

@@ -114,7 +114,7 @@ pub fn run_lod(
                 let e = compare(&img, reference, &[])?;
                 table.row(vec![
                     name.to_string(),
-                    format!("{shading:?}").to_lowercase(),
+                    shading.word().into(),
                     if bound > 0.0 {
                         num(f64::from(bound), 2)
                     } else {

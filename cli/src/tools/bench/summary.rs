@@ -282,7 +282,7 @@ pub fn write_outputs(dir: &Path, report: &Report) -> Result<()> {
             k.size.to_string(),
             k.pcf.to_string(),
             k.bias.to_string(),
-            format!("{:?}", k.shading).to_lowercase(),
+            k.shading.word().into(),
             num(r.ms, 3),
             num(r.ms_min, 3),
             num(r.ms_reused, 3),

@@ -66,7 +66,7 @@ pub fn run_translucency(models_dir: &Path) -> Result<()> {
             if mode.is_none() && !log {
                 opaque_ms = ms;
             }
-            let mode_name = mode.map_or("opaque".to_string(), |m| format!("{m:?}").to_lowercase());
+            let mode_name = mode.map_or("opaque", |m| m.word()).to_string();
             table.row(vec![
                 name.to_string(),
                 mode_name,
