@@ -23,7 +23,8 @@ def sphere_obj(path, rings: int, segments: int) -> str:
     lines = ["o sphere"]
 
     def vertex(p):
-        lines.append("v {:.6f} {:.6f} {:.6f}\nvn {0:.6f} {1:.6f} {2:.6f}".format(*p))
+        xyz = " ".join(f"{c:.6f}" for c in p)
+        lines.append(f"v {xyz}\nvn {xyz}")
 
     vertex((0.0, 1.0, 0.0))
     for j in range(1, rings):
@@ -81,7 +82,12 @@ def test_cache_cold_warm_off_threads_and_the_cli_give_one_picture(
         )
         assert p.returncode == 0, p.stderr
         pictures[f"cli, {threads} thread(s)"] = decode_png(str(out))
-    glview.release()
     first = pictures["cold"]
     for name, img in pictures.items():
         assert np.array_equal(img, first), f"{name}: differs from the cold picture"
+    # Above the threshold the levels take part (every triangle is another picture); below
+    # it every triangle is what auto draws.
+    every = glview.render(model, size=SIZE, lod="off").color
+    glview.release()
+    triangles = 2 * segments * (rings - 1)
+    assert np.array_equal(every, first) == (triangles <= SIZE[0] * SIZE[1])
