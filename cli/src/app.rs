@@ -34,10 +34,9 @@ pub fn display_available() -> bool {
 /// lost context later ends the loop with that error.
 pub fn run_window(args: &Args) -> Result<()> {
     glview::platform::keep_freed_heap();
-    // With the cache's clusters and levels of detail when it had them: a window rebuilds
-    // nothing (the levels of the 2M-triangle sphere cost 1.6 s). A miss that writes the entry
-    // brings clusters without levels (they are built on the cache's writer thread for the
-    // next run), so this window draws without levels of detail.
+    // With the cache's clusters and levels of detail when it had them (or built them for the
+    // entry): a window rebuilds nothing (the levels of the 2M-triangle sphere cost 1.6 s).
+    // Clusters without levels get them from the renderer before a frame would draw them.
     let (scene, prepared) = session::load_scene_prepared(args)?;
     let settings = session::frame_settings(args, &scene)?.0;
     let event_loop = EventLoop::new()

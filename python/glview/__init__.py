@@ -23,8 +23,8 @@ import numpy as np
 
 from . import _glview as _native
 
-# A large model's first load writes its mesh cache entry on another thread (its levels of
-# detail are built while the first picture is drawn): let it finish before the process ends.
+# A large model's first load writes its mesh cache entry on another thread while the first
+# picture is drawn: let it finish before the process ends.
 atexit.register(_native.wait_for_cache_writes)
 from ._glview import (
     BusyError,

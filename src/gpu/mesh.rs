@@ -121,31 +121,17 @@ impl GpuMesh {
         let uv1 = stream(streams.uv1.map(bytemuck::cast_slice))?;
         let vbo = Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(vertices))?;
         // 16-bit indices where they suffice: half the memory, and the only kind ES 2 had.
-        let (ibo, index_type) = if vertices.len() <= u16::MAX as usize + 1 {
-            let small: Vec<u16> = indices.iter().chain(levels).map(|&i| i as u16).collect();
-            (
-                Buffer::new_static(
-                    gpu,
-                    glow::ELEMENT_ARRAY_BUFFER,
-                    bytemuck::cast_slice(&small),
-                )?,
-                glow::UNSIGNED_SHORT,
-            )
+        let index_type = if vertices.len() <= u16::MAX as usize + 1 {
+            glow::UNSIGNED_SHORT
         } else if gpu.caps.uint_indices {
-            (
-                Buffer::new_static_parts(
-                    gpu,
-                    glow::ELEMENT_ARRAY_BUFFER,
-                    &[bytemuck::cast_slice(indices), bytemuck::cast_slice(levels)],
-                )?,
-                glow::UNSIGNED_INT,
-            )
+            glow::UNSIGNED_INT
         } else {
             return Err(Error::Unsupported(format!(
                 "mesh with {} vertices needs 32-bit indices, which this driver lacks",
                 vertices.len()
             )));
         };
+        let ibo = index_buffer(gpu, index_type, indices, levels)?;
         let vao = if gpu.caps.vao {
             // SAFETY: recording the attribute layout into a new VAO, then unbinding it.
             unsafe {
@@ -178,6 +164,26 @@ impl GpuMesh {
             index_count: (indices.len() + levels.len()) as i32,
             whole_count: indices.len() as i32,
         })
+    }
+
+    /// Replaces the levels of detail after the mesh's own `indices` (the ones it was made
+    /// with): a new index buffer of both, the vertex streams kept. For levels built after
+    /// the upload, when a draw first needs them.
+    pub fn set_levels(&mut self, indices: &[u32], levels: &[u32]) -> Result<()> {
+        debug_assert_eq!(indices.len(), self.whole_count as usize);
+        let ibo = index_buffer(&self.gpu, self.index_type, indices, levels)?;
+        if let Some(vao) = self.vao {
+            // SAFETY: re-recording our own VAO's element buffer, then unbinding it.
+            unsafe {
+                self.gpu.gl.bind_vertex_array(Some(vao));
+                ibo.bind();
+                self.gpu.gl.bind_vertex_array(None);
+            }
+        }
+        // The old buffer is deleted here, no VAO naming it any more.
+        self.ibo = ibo;
+        self.index_count = (indices.len() + levels.len()) as i32;
+        Ok(())
     }
 
     pub fn draw(&self) {
@@ -220,6 +226,24 @@ impl GpuMesh {
                 gl.bind_vertex_array(None);
             }
         }
+    }
+}
+
+/// An element buffer of `indices` then `levels`, as `index_type` (16- or 32-bit).
+fn index_buffer(gpu: &GpuRef, index_type: u32, indices: &[u32], levels: &[u32]) -> Result<Buffer> {
+    if index_type == glow::UNSIGNED_SHORT {
+        let small: Vec<u16> = indices.iter().chain(levels).map(|&i| i as u16).collect();
+        Buffer::new_static(
+            gpu,
+            glow::ELEMENT_ARRAY_BUFFER,
+            bytemuck::cast_slice(&small),
+        )
+    } else {
+        Buffer::new_static_parts(
+            gpu,
+            glow::ELEMENT_ARRAY_BUFFER,
+            &[bytemuck::cast_slice(indices), bytemuck::cast_slice(levels)],
+        )
     }
 }
 

@@ -109,6 +109,9 @@ impl Renderer {
         )?;
         let fbo =
             Framebuffer::color_texture(&gpu, ColorAttachment::Level(&tex, 0), width, height, true)?;
+        // Levels a draw here uses exist before it, as for the picture's passes.
+        let pixels = u64::from(width) * u64::from(height);
+        super::cull::build_levels(&mut self.scene, self.lod, self.cull_clusters, pixels)?;
         let program = self.programs.borrow_mut().get(&key())?;
         let view = s.camera.view();
         let aspect = width as f32 / height.max(1) as f32;
@@ -138,15 +141,10 @@ impl Renderer {
             for (i, dm) in self.scene.meshes.iter().enumerate() {
                 if dm.primitive == Primitive::Triangles {
                     program.set_vec2("uIds", glam::Vec2::new(i as f32, dm.material as f32));
-                    let lod = match self.lod.mode {
-                        crate::options::LodMode::On => true,
-                        crate::options::LodMode::Auto => {
-                            dm.triangles > u64::from(width) * u64::from(height)
-                        }
-                        crate::options::LodMode::Off => false,
-                    };
+                    let lod =
+                        super::cull::uses_lod(self.lod, self.cull_clusters, dm.triangles, pixels);
                     match &dm.clusters {
-                        Some(c) if lod && lod_view.lod.is_some() && self.cull_clusters => {
+                        Some(c) if lod => {
                             c.visible(&lod_view, false, &mut ranges);
                             dm.mesh.draw_ranges(&ranges);
                         }

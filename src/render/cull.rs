@@ -7,9 +7,12 @@
 //! nothing outside the frustum is rasterised (but for a rare silhouette pixel where a back
 //! face used to win a near-tie in depth: README, The frame). Passes set the view ([`FrameCx::cull`]):
 //! the lit passes the camera's, the shadow pass each light view's.
+use super::upload::SceneGpu;
 use super::FrameCx;
+use super::Lod;
 use crate::gpu::state::{Blend, Cull, RenderState};
 use crate::options::LodMode;
+use crate::Result;
 
 /// Draws mesh `i` with `state`, whole or by its visible clusters.
 pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
@@ -61,14 +64,12 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
         },
         ..*state
     };
-    // Coarser levels where asked, and with auto only where the mesh has more triangles than
-    // the picture has pixels (most are then smaller than a pixel, and each costs llvmpipe's
-    // set-up): decided by the picture for the light views too, whose maps are larger.
+    // Decided by the picture for the light views too, whose maps are larger.
     let pixels = u64::from(cx.viewport[2]) * u64::from(cx.viewport[3]);
-    let view = match cx.lod.mode {
-        LodMode::On => view,
-        LodMode::Auto if dm.triangles > pixels => view,
-        _ => view.without_lod(),
+    let view = if uses_lod(cx.lod, cx.cull_clusters, dm.triangles, pixels) {
+        view
+    } else {
+        view.without_lod()
     };
     let mut ranges = std::mem::take(&mut cx.ranges);
     let drawn = clusters.visible(&view, hide_back_faces, &mut ranges);
@@ -80,4 +81,54 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
     cx.stats.triangles += drawn;
     cx.stats.triangles_skipped += dm.triangles.saturating_sub(drawn);
     cx.ranges = ranges;
+}
+
+/// Whether a draw of a mesh of `triangles` into a picture of `pixels` uses its levels of
+/// detail (when it has clusters): where asked, and with auto only where the mesh has more
+/// triangles than the picture has pixels (most are then smaller than a pixel, and each
+/// costs llvmpipe's set-up); never at error 0 or without cluster culling. The one rule:
+/// the lit and shadow passes, the attribute pass and [`build_levels`] all ask it.
+pub(crate) fn uses_lod(lod: Lod, cull_clusters: bool, triangles: u64, pixels: u64) -> bool {
+    let wanted = match lod.mode {
+        LodMode::On => true,
+        LodMode::Auto => triangles > pixels,
+        LodMode::Off => false,
+    };
+    wanted && lod.error > 0.0 && cull_clusters
+}
+
+/// Builds the levels of detail of every clustered mesh that a picture of `pixels` would
+/// draw with levels ([`uses_lod`]) and has none yet (a cache miss brings clusters without
+/// them), and keeps them for later frames. Built before the first picture that uses them,
+/// so a picture never depends on whether the mesh cache held them: the cache's levels are
+/// these same levels ([`crate::scene::clusters::add_lod`]), it only saves building them.
+/// Returns the meshes built.
+pub(crate) fn build_levels(
+    scene: &mut SceneGpu,
+    lod: Lod,
+    cull_clusters: bool,
+    pixels: u64,
+) -> Result<usize> {
+    let mut built = 0;
+    // Mesh i of the scene is draw mesh i (the lines and points follow, without clusters).
+    for (dm, m) in scene.meshes.iter_mut().zip(&scene.scene.meshes) {
+        let Some(c) = &mut dm.clusters else { continue };
+        if !c.lod.groups.is_empty() || !uses_lod(lod, cull_clusters, dm.triangles, pixels) {
+            continue;
+        }
+        let t = std::time::Instant::now();
+        let mut levels =
+            crate::scene::lod::Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &c.list);
+        dm.mesh.set_levels(&m.indices, &levels.indices)?;
+        // As at upload: the levels' indices live on the GPU only.
+        levels.indices = Vec::new();
+        c.lod = levels;
+        built += 1;
+        log::debug!(
+            "levels of detail of a {}-triangle mesh built for this picture in {:.0} ms",
+            dm.triangles,
+            t.elapsed().as_secs_f64() * 1e3
+        );
+    }
+    Ok(built)
 }

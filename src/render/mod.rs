@@ -365,6 +365,8 @@ impl Renderer {
     ) -> Result<FrameStats> {
         let start = Instant::now();
         let s = &*crate::frame::resolve(s);
+        let pixels = u64::from(viewport[2]) * u64::from(viewport[3]);
+        cull::build_levels(&mut self.scene, self.lod, self.cull_clusters, pixels)?;
         self.frame += 1;
         let mut stats = FrameStats {
             frame: self.frame,

@@ -36,12 +36,15 @@ pub use super::reorder::reorder;
 /// Reorders every large mesh of `scene` and builds its clusters and their levels of detail
 /// (None for small meshes), in mesh order: pure CPU work, done on the loading thread. The
 /// levels cost more than they save in one frame (1.2 s against ~0.1 s on the 2M-triangle
-/// sphere), so they are built where they are kept: the mesh cache's entry, a renderer.
+/// sphere), but a picture that draws them must have them (the renderer builds those it
+/// lacks before such a picture): built here for the mesh cache's entry and a renderer.
 pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
     prepare_with(scene, true)
 }
 
-/// As [`prepare`] without levels of detail: for one picture of a model not in the cache.
+/// As [`prepare`] without levels of detail: for a model not in the cache, whose picture may
+/// not need them (the renderer builds them, with [`Lod::build`] as [`add_lod`] does, before
+/// the first picture that draws them, so the pictures are those of [`prepare`]'s clusters).
 pub fn prepare_without_lod(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
     prepare_with(scene, false)
 }

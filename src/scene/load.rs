@@ -59,9 +59,10 @@ pub fn load(path: &Path, opts: &LoadOptions) -> Result<Scene> {
     load_prepared(path, opts).map(|(scene, _)| scene)
 }
 
-/// As [`load`], with the meshes' clusters when the mesh cache took part: a hit stores them
-/// and a miss builds them ([`super::clusters::prepare`], which reorders the indices) to write
-/// the entry; otherwise None, and the caller prepares the scene itself.
+/// As [`load`], with the meshes' clusters and their levels of detail when the mesh cache took
+/// part: a hit stores them and a miss builds them ([`super::clusters::prepare`], which
+/// reorders the indices) to write the entry; otherwise None, and the caller prepares the
+/// scene itself.
 pub fn load_prepared(
     path: &Path,
     opts: &LoadOptions,
@@ -86,21 +87,18 @@ pub fn load_prepared(
     if !(cached && super::cache::worth_an_entry(size, &scene)) {
         return Ok((scene, None));
     }
-    // This picture draws every triangle (as an uncached one does): simplifying a large mesh
-    // costs more than one picture saves (1.6 s against ~130 ms for the 2M-triangle sphere).
-    // The levels are built on another thread while the picture is drawn, and the entry,
-    // levels included, is written when they are done; `cache::wait_for_writes` (the CLI's
-    // exit, the next lookup) waits for it, so the first picture is not later than before
-    // level of detail and every later one has them.
-    let clusters = super::clusters::prepare_without_lod(&mut scene);
+    // The levels of detail are built here, once, for the entry and for this picture alike
+    // (a picture that would draw them builds them anyway: the renderer's `build_levels`,
+    // so the cache never changes a picture); only writing the entry is left to another
+    // thread, which `cache::wait_for_writes` (the CLI's exit, the next lookup) waits for.
+    let clusters = super::clusters::prepare(&mut scene);
     if clusters.iter().flatten().next().is_none() {
         super::cache::put(path, content.as_deref(), opts.textures, (&scene, &clusters));
     } else {
         let (path, textures) = (path.to_path_buf(), opts.textures);
-        let (copy, mut with_levels) = (scene.clone(), clusters.clone());
+        let (copy, levels) = (scene.clone(), clusters.clone());
         super::cache::put_later(move || {
-            super::clusters::add_lod(&copy, &mut with_levels);
-            super::cache::put(&path, content.as_deref(), textures, (&copy, &with_levels));
+            super::cache::put(&path, content.as_deref(), textures, (&copy, &levels));
         });
     }
     Ok((scene, Some(clusters)))

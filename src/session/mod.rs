@@ -210,8 +210,8 @@ impl Session {
     /// comparison's panes and a sheet's cells are viewports of one target), and a renderer
     /// of `scene` with the environment of `args`, made for the call and dropped after it.
     /// `clusters` are the loader's ([`load_scene_prepared`]: a cache hit's carry the levels
-    /// of detail); without them the clusters are made here without levels, as for one
-    /// uncached picture (building levels costs more than a few pictures save).
+    /// of detail); without them the clusters are made here without levels, which the
+    /// renderer builds before a picture that draws them.
     pub fn with_scene<T>(
         &mut self,
         args: &Options,
@@ -255,7 +255,7 @@ fn load(args: &Options) -> Loaded {
     let profile = crate::scene::profile::take_last();
     let c = Instant::now();
     // A cache hit (or the miss that wrote the entry) brings them, levels of detail included;
-    // else they are built here, without levels (they cost more than one picture saves).
+    // else they are built here, without levels (the renderer builds those a picture draws).
     let scene = scene.map(|(mut s, prepared)| {
         let clusters =
             prepared.unwrap_or_else(|| crate::scene::clusters::prepare_without_lod(&mut s));

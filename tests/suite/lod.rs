@@ -24,8 +24,8 @@ fn stats(args: &[&str], out: &std::path::Path) -> serde_json::Value {
     serde_json::from_str(String::from_utf8_lossy(&o.stdout).lines().last().unwrap()).unwrap()
 }
 
-/// Loads `model` once, so its mesh cache entry (where the levels are built: the first,
-/// uncached picture draws every triangle) exists for the pictures after.
+/// Loads `model` once, so its mesh cache entry (with the levels) exists for the pictures
+/// after: they then measure drawing, not building the levels (the pictures are the same).
 fn warm(dir: &std::path::Path, model: &str) {
     let out = dir.join("warm.png");
     let o = run(

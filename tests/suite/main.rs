@@ -15,6 +15,7 @@ mod common;
 mod compare;
 mod conformance;
 mod culling;
+mod determinism;
 mod edges;
 mod fast_parse;
 mod fuzz_format_regressions;

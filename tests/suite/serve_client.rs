@@ -20,11 +20,17 @@ pub struct Server {
 impl Server {
     /// `glview serve ARGS --bind 127.0.0.1:0`, started and its addresses read.
     pub fn start(args: &[&str]) -> Server {
+        Self::start_with_env(args, &[])
+    }
+
+    /// As [`Server::start`], with extra environment variables.
+    pub fn start_with_env(args: &[&str], env: &[(&str, &str)]) -> Server {
         common::at_repo();
         let mut child = Command::new(common::bin())
             .arg("serve")
             .args(["--bind", "127.0.0.1:0"])
             .args(args)
+            .envs(env.iter().copied())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
