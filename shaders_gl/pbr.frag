@@ -139,13 +139,32 @@ vec3 glviewToLinear(vec3 c) {
     return c;
 #endif
 }
-
-void main() {
-#ifdef POINTS
-    // Round points: the sprite's square less what lies outside its inscribed disk.
-    vec2 pc = gl_PointCoord - vec2(0.5);
-    if (dot(pc, pc) > 0.25) discard;
+// The fragment's material and, once the normal is known, what every lobe shares. main's steps
+// pass it along (GLSL 1.20 has no references); a step that changes it returns it or takes it
+// inout. Each step computes its values with the same expressions, in the same order, as the
+// one main they were split from, so the pictures stay bit-identical.
+struct PbrSurface {
+    vec3 albedo;      // linear
+    float opacity;    // blend: the texture's and the vertex colour's alpha multiplied in
+    float metallic;
+    float rough;
+    float ao;         // 1 where the ambient occlusion term is off
+    vec3 emissive;    // linear
+    vec3 n;           // the shading normal (normal map applied), on the viewer's side
+    vec3 geomN;       // the geometry's: shadows, and the clear coat without its own map
+    vec3 v;           // towards the eye
+    float nv;
+    vec3 kd;          // the diffuse colour (less what transmission takes)
+    vec3 ks;          // the specular colour at normal incidence
+#ifdef KHR_SPECULAR
+    vec3 f90;
 #endif
+};
+
+// The base colour, metallic, roughness, occlusion and emission: the factors times their
+// maps and the vertex colour; the alpha test's discard on the way.
+PbrSurface pbrMaterial() {
+    PbrSurface s;
     vec3 albedo = uBaseColor;
     float texAlpha = 1.0;
 #ifdef HAS_ALBEDO_MAP
@@ -158,60 +177,41 @@ void main() {
 #endif
     glviewAlphaTest(uBaseAlpha * texAlpha);
 #if ALPHA_MODE == 2
-    float opacity = uOpacity * texAlpha;
+    s.opacity = uOpacity * texAlpha;
 #else
-    float opacity = uOpacity;
+    s.opacity = uOpacity;
 #endif
 #ifdef HAS_COLOR
     // Vertex colours are sRGB values that no sampler decodes: always decoded here.
     albedo *= mix(vColor.rgb / 12.92, pow((vColor.rgb + 0.055) / 1.055, vec3(2.4)),
                   step(0.04045, vColor.rgb));
 #endif
-    float metallic = uMetallic;
-    float rough = uRoughness;
+    s.albedo = albedo;
+    s.metallic = uMetallic;
+    s.rough = uRoughness;
     float ao = 1.0;
 #ifdef HAS_ORM_MAP
     vec3 orm = TEX2D(uOrmMap, SLOT_UV(1)).rgb;
     ao = mix(1.0, orm.r, uOrmAo);
-    rough *= orm.g;
-    metallic *= orm.b;
+    s.rough *= orm.g;
+    s.metallic *= orm.b;
 #endif
 #ifdef HAS_AO_MAP
     ao *= 1.0 + uOcclusionStrength * (TEX2D(uAoMap, SLOT_UV(3)).r - 1.0);
 #endif
-    ao = mix(1.0, ao, uTermsB.x);
-    vec3 emissive = uEmissive;
+    s.ao = mix(1.0, ao, uTermsB.x);
+    s.emissive = uEmissive;
 #ifdef HAS_EMISSIVE_MAP
-    emissive *= glviewToLinear(TEX2D(uEmissiveMap, SLOT_UV(4)).rgb);
+    s.emissive *= glviewToLinear(TEX2D(uEmissiveMap, SLOT_UV(4)).rgb);
 #endif
-#ifdef UNLIT
-    // KHR_materials_unlit: the base colour is the colour, through the same output step.
-    FRAG_COLOR = glviewOutputRgba(albedo, opacity);
-#else
-    vec3 n = glviewSafeNormalize(vNormal);
-    if (!gl_FrontFacing) n = -n;
-    vec3 geomN = n;
-#ifdef HAS_NORMAL_MAP
-    n = glviewNormalMap(n, gl_FrontFacing);
-#endif
-#ifndef SHOW_ATTRIBUTE
-#define SHOW_ATTRIBUTE 0
-#endif
-#if SHOW_ATTRIBUTE == 1
-    FRAG_COLOR = vec4(n * 0.5 + 0.5, 1.0);
-    return;
-#elif SHOW_ATTRIBUTE == 2
-    FRAG_COLOR = vec4(fract(vUv), 0.0, 1.0);
-    return;
-#elif SHOW_ATTRIBUTE == 3
-    FRAG_COLOR = vec4(vec3(clamp(rough, 0.0, 1.0)), 1.0);
-    return;
-#elif SHOW_ATTRIBUTE == 4
-    FRAG_COLOR = vec4(vec3(clamp(metallic, 0.0, 1.0)), 1.0);
-    return;
-#endif
-    vec3 v = normalize(-vEyePos);
-    float nv = max(dot(n, v), 1e-4);
+    return s;
+}
+
+// The view direction and the base layer's diffuse and specular colours (KHR_SPECULAR: its
+// dielectric F0 and F90).
+void pbrView(inout PbrSurface s) {
+    s.v = normalize(-vEyePos);
+    s.nv = max(dot(s.n, s.v), 1e-4);
 #ifdef KHR_SPECULAR
     vec3 f0d = uF0;
     float specW = uSpecularWeight;
@@ -222,190 +222,333 @@ void main() {
     specW *= TEX2D(uSpecularMap, KHR_UV(5)).a;
 #endif
     f0d = min(f0d, vec3(1.0)) * specW;
-    vec3 kd = albedo * (1.0 - max(max(f0d.r, f0d.g), f0d.b)) * (1.0 - metallic);
-    vec3 ks = mix(f0d, albedo, metallic);
-    vec3 f90 = vec3(mix(specW, 1.0, metallic));
+    s.kd = s.albedo * (1.0 - max(max(f0d.r, f0d.g), f0d.b)) * (1.0 - s.metallic);
+    s.ks = mix(f0d, s.albedo, s.metallic);
+    s.f90 = vec3(mix(specW, 1.0, s.metallic));
 #else
-    vec3 kd = albedo * (1.0 - 0.04) * (1.0 - metallic);
-    vec3 ks = mix(vec3(0.04), albedo, metallic);
+    s.kd = s.albedo * (1.0 - 0.04) * (1.0 - s.metallic);
+    s.ks = mix(vec3(0.04), s.albedo, s.metallic);
 #endif
-    vec3 color = uTermsB.z * emissive;
+}
+
+// The base layer's Fresnel at the angle whose cosine is vh.
+vec3 pbrFresnel(PbrSurface s, float vh) {
+#ifdef KHR_SPECULAR
+    return glviewF_Schlick90(s.ks, s.f90, vh);
+#else
+    return glviewF_Schlick(s.ks, vh);
+#endif
+}
+
+// The split sum's specular colour k_s A + F90 B (F90 is 1 without KHR_SPECULAR).
+vec3 pbrSplitSum(PbrSurface s, vec2 bf) {
+#ifdef KHR_SPECULAR
+    return s.ks * bf.x + s.f90 * bf.y;
+#else
+    return s.ks * bf.x + bf.y;
+#endif
+}
+
+// Image-based light (the seed's split sum): the irradiance's diffuse and the prefiltered
+// cube's specular, occluded.
+vec3 pbrIbl(PbrSurface s) {
+    vec2 bf = glviewBrdf(s.nv, s.rough);
+    vec3 r = reflect(-s.v, s.n);
+#ifdef DOMINANT_DIRECTION
+    // Filament's dominant direction: rough lobes lean towards the normal.
+    float a = s.rough * s.rough;
+    r = normalize(mix(r, s.n, a * a));
+#endif
+    vec3 spec = pbrSplitSum(s, bf);
+#ifdef MULTISCATTER
+    // Energy lost to single scattering is added back (Fdez-Aguera 2019).
+    spec *= 1.0 + s.ks * (1.0 / max(bf.x + bf.y, 1e-4) - 1.0);
+#endif
+    return s.ao * (uTermsA.z * glviewIrradiance(s.n) * s.kd
+        + uTermsA.w * glviewSpecular(r, s.rough) * spec);
+}
+
 #ifdef KHR_TRANSMISSION
-    // KHR_materials_transmission (the Sample Viewer's getIBLVolumeRefraction): the diffuse
-    // share becomes the light from behind, read from the opaque frame where the ray leaves
-    // (here when thin-walled; refracted through the thickness with KHR_materials_volume),
-    // blurred by the roughness scaled by the ior.
-    float trans = uTransmission * uTermsC.z;
-#ifdef HAS_TRANSMISSION_MAP
-    trans *= TEX2D(uTransmissionMap, KHR_UV(7)).r;
+// KHR_materials_transmission (the Sample Viewer's getIBLVolumeRefraction): the diffuse share
+// becomes the light from behind, read from the opaque frame where the ray leaves (here when
+// thin-walled; refracted through the thickness with KHR_materials_volume), blurred by the
+// roughness scaled by the ior.
+struct PbrTransmission {
+    float weight;        // the share of the dielectric's diffuse that is transmitted
+    vec3 exitPos;        // where the ray leaves the volume (eye space)
+    float rough;         // the lights' transmission lobe's: the roughness scaled by the ior
+    vec3 behind;         // the light from behind, attenuated
+#ifdef KHR_VOLUME
+    vec3 attenuation;    // Beer-Lambert through the thickness
 #endif
-    vec3 exitPos = vEyePos;
+};
+
+PbrTransmission pbrTransmission(PbrSurface s) {
+    PbrTransmission t;
+    t.weight = uTransmission * uTermsC.z;
+#ifdef HAS_TRANSMISSION_MAP
+    t.weight *= TEX2D(uTransmissionMap, KHR_UV(7)).r;
+#endif
+    t.exitPos = vEyePos;
 #ifdef KHR_VOLUME
     float thick = uThickness;
 #ifdef HAS_THICKNESS_MAP
     thick *= TEX2D(uThicknessMap, KHR_UV(8)).g;
 #endif
-    exitPos += glviewSafeNormalize(refract(-v, n, 1.0 / uIor)) * thick;
+    t.exitPos += glviewSafeNormalize(refract(-s.v, s.n, 1.0 / uIor)) * thick;
     // Beer-Lambert: after a distance d the light keeps attenuationColor^(d / distance)
     // (the light from behind and each light through the surface alike).
-    vec3 attenuation = vec3(1.0);
+    t.attenuation = vec3(1.0);
     if (uAttenuationDistance > 0.0)
-        attenuation = pow(max(uAttenuationColor, vec3(1e-6)), vec3(thick / uAttenuationDistance));
+        t.attenuation = pow(max(uAttenuationColor, vec3(1e-6)), vec3(thick / uAttenuationDistance));
 #endif
-    vec4 exitClip = uProjection * vec4(exitPos, 1.0);
+    vec4 exitClip = uProjection * vec4(t.exitPos, 1.0);
     vec2 frameUv = exitClip.xy / exitClip.w * 0.5 + 0.5;
-    float frameLod = uFrameLevels * rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
+    float frameLod = uFrameLevels * s.rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
     // The lights' transmission lobe's roughness: the same ior scaling (the same for each light).
-    float transRough = rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
-    vec3 behind = glviewInverseOutput(GLVIEW_TEX2D_LOD(uTransmissionFrame, frameUv, frameLod).rgb);
+    t.rough = s.rough * clamp(uIor * 2.0 - 2.0, 0.0, 1.0);
+    t.behind = glviewInverseOutput(GLVIEW_TEX2D_LOD(uTransmissionFrame, frameUv, frameLod).rgb);
 #ifdef KHR_VOLUME
-    behind *= attenuation;
+    t.behind *= t.attenuation;
 #endif
-    kd *= 1.0 - trans;
+    return t;
+}
+
+// What the specular lobe does not reflect passes: (1 - (k_s A + F90 B)) of the light behind,
+// tinted by the base colour, for the dielectric share.
+vec3 pbrIblTransmitted(PbrSurface s, PbrTransmission t) {
+    vec2 bf = glviewBrdf(s.nv, s.rough);
+    vec3 passes = 1.0 - pbrSplitSum(s, bf);
+    return t.weight * (1.0 - s.metallic) * passes * s.albedo * t.behind;
+}
+
+#if NUM_LIGHTS > 0
+// Light i through the surface (the Sample Viewer's punctual BTDF): the light's direction
+// from where the ray leaves, mirrored to the viewer's side, in a GGX lobe of the roughness
+// scaled by the ior; no cosine and no shadow map (the surface would shadow itself), as there.
+vec3 pbrTransmittedLight(int i, vec3 l, PbrSurface s, PbrTransmission t) {
+    vec3 lt = l;
+    if (uLightPos[i].w != 0.0) lt = glviewSafeNormalize(uLightPos[i].xyz - t.exitPos);
+    vec3 lm = glviewSafeNormalize(lt - 2.0 * s.n * dot(lt, s.n));
+    vec3 ht = glviewSafeNormalize(lm + s.v);
+    float nlm = max(dot(s.n, lm), 1e-4);
+    vec3 ft = pbrFresnel(s, dot(s.v, ht));
+    vec3 bt = (1.0 - ft) * s.albedo * glviewD_GGX(max(dot(s.n, ht), 0.0), t.rough)
+        * glviewG_Smith(s.nv, nlm, t.rough) / (4.0 * s.nv * nlm);
+#ifdef KHR_VOLUME
+    bt *= t.attenuation;
+#endif
+    return t.weight * (1.0 - s.metallic) * uTermsA.x * uLightColor[i] * GLVIEW_PI * bt;
+}
+#endif
 #endif
 
-    // Image-based light (the seed's split sum).
-    vec2 bf = glviewBrdf(nv, rough);
-    vec3 r = reflect(-v, n);
-#ifdef DOMINANT_DIRECTION
-    // Filament's dominant direction: rough lobes lean towards the normal.
-    float a = rough * rough;
-    r = normalize(mix(r, n, a * a));
-#endif
-#ifdef KHR_SPECULAR
-    vec3 spec = ks * bf.x + f90 * bf.y;
-#else
-    vec3 spec = ks * bf.x + bf.y;
-#endif
-#ifdef MULTISCATTER
-    // Energy lost to single scattering is added back (Fdez-Aguera 2019).
-    spec *= 1.0 + ks * (1.0 / max(bf.x + bf.y, 1e-4) - 1.0);
-#endif
-    color += ao * (uTermsA.z * glviewIrradiance(n) * kd + uTermsA.w * glviewSpecular(r, rough) * spec);
-#ifdef KHR_TRANSMISSION
-    // What the specular lobe does not reflect passes: (1 - (k_s A + F90 B)) of the light
-    // behind, tinted by the base colour, for the dielectric share.
-#ifdef KHR_SPECULAR
-    vec3 passes = 1.0 - (ks * bf.x + f90 * bf.y);
-#else
-    vec3 passes = 1.0 - (ks * bf.x + bf.y);
-#endif
-    color += trans * (1.0 - metallic) * passes * albedo * behind;
-#endif
 #ifdef KHR_SHEEN
-    vec3 sheenColor = uSheenColor * uTermsC.y;
+// KHR_materials_sheen's Charlie lobe: what it reflects is added over the base, which is
+// scaled by 1 - max(sheen colour) * E_sheen(N.V).
+struct PbrSheen {
+    vec3 color;
+    float rough;
+    float albedo;    // E_sheen(N.V)
+};
+
+PbrSheen pbrSheen(PbrSurface s) {
+    PbrSheen sh;
+    sh.color = uSheenColor * uTermsC.y;
 #ifdef HAS_SHEEN_COLOR_MAP
-    sheenColor *= glviewToLinear(TEX2D(uSheenColorMap, KHR_UV(3)).rgb);
+    sh.color *= glviewToLinear(TEX2D(uSheenColorMap, KHR_UV(3)).rgb);
 #endif
-    float sheenRough = uSheenRoughness;
+    sh.rough = uSheenRoughness;
 #ifdef HAS_SHEEN_ROUGH_MAP
-    sheenRough *= TEX2D(uSheenRoughMap, KHR_UV(4)).a;
+    sh.rough *= TEX2D(uSheenRoughMap, KHR_UV(4)).a;
 #endif
-    float sheenE = glviewSheenE(nv, sheenRough);
-    // The sheen's light: the irradiance times its albedo (exact in a uniform environment).
-    // The Charlie lobe is wide and leans to the horizon: against the reference on the
-    // built-in sky the irradiance cube is nearer than the specular cube at the sheen
-    // roughness along R (pixels > 8/255 at sheen roughness 0.1/0.4/1: 5/18/0.3 % against
-    // 9/39/40 %; docs/gltf/extensions.md).
-    vec3 fSheen = ao * uTermsA.w * glviewIrradiance(n) * sheenColor * sheenE;
-    float sheenScale = 1.0 - max(max(sheenColor.r, sheenColor.g), sheenColor.b) * sheenE;
+    sh.albedo = glviewSheenE(s.nv, sh.rough);
+    return sh;
+}
+
+// The sheen's light from the environment: the irradiance times its albedo (exact in a
+// uniform environment). The Charlie lobe is wide and leans to the horizon: against the
+// reference on the built-in sky the irradiance cube is nearer than the specular cube at the
+// sheen roughness along R (pixels > 8/255 at sheen roughness 0.1/0.4/1: 5/18/0.3 % against
+// 9/39/40 %; docs/gltf/extensions.md).
+vec3 pbrSheenIbl(PbrSurface s, PbrSheen sh) {
+    return s.ao * uTermsA.w * glviewIrradiance(s.n) * sh.color * sh.albedo;
+}
+
+// The sheen lobe's light from light l (unit direction towards it), shadowed.
+void pbrAddSheenLight(vec3 l, float shadow, vec3 lightColor, PbrSurface s, PbrSheen sh,
+                      inout vec3 fSheen) {
+    float nl = dot(s.n, l);
+    if (nl > 0.0) {
+        vec3 h = glviewSafeNormalize(l + s.v);
+        float d = glviewD_Charlie(max(dot(s.n, h), 0.0), sh.rough) * glviewV_Neubelt(s.nv, nl);
+        fSheen += shadow * lightColor * (uTermsA.y * GLVIEW_PI * d * nl) * sh.color;
+    }
+}
 #endif
+
 #ifdef KHR_CLEARCOAT
-    float cc = uClearcoat * uTermsC.x;
+// KHR_materials_clearcoat: a GGX lobe of F0 0.04 on its own normal and roughness over the
+// base, which is scaled by 1 - clearcoat * F_cc(N_cc.V).
+struct PbrCoat {
+    float weight;
+    float rough;
+    vec3 n;
+    float nv;
+    float fresnel;   // F_cc(N_cc.V)
+};
+
+PbrCoat pbrCoat(PbrSurface s) {
+    PbrCoat c;
+    c.weight = uClearcoat * uTermsC.x;
 #ifdef HAS_CC_MAP
-    cc *= TEX2D(uClearcoatMap, KHR_UV(0)).r;
+    c.weight *= TEX2D(uClearcoatMap, KHR_UV(0)).r;
 #endif
-    float ccRough = uClearcoatRoughness;
+    c.rough = uClearcoatRoughness;
 #ifdef HAS_CC_ROUGH_MAP
-    ccRough *= TEX2D(uClearcoatRoughMap, KHR_UV(1)).g;
+    c.rough *= TEX2D(uClearcoatRoughMap, KHR_UV(1)).g;
 #endif
-    ccRough = clamp(ccRough, 0.0, 1.0);
+    c.rough = clamp(c.rough, 0.0, 1.0);
     // Without its own map the coat follows the geometry, not the base's normal map.
-    vec3 ccN = geomN;
+    c.n = s.geomN;
 #ifdef HAS_CC_NORMAL_MAP
     vec3 ccM = TEX2D(uClearcoatNormalMap, KHR_UV(2)).rgb * 2.0 - 1.0;
     ccM.xy *= uClearcoatNormalScale;
-    ccN = glviewTangentToEye(geomN, gl_FrontFacing, ccM);
+    c.n = glviewTangentToEye(s.geomN, gl_FrontFacing, ccM);
 #endif
-    float ccNv = max(dot(ccN, v), 1e-4);
-    vec2 ccBf = glviewBrdf(ccNv, ccRough);
-    vec3 fCoat = vec3(ao * uTermsA.w * (0.04 * ccBf.x + ccBf.y))
-        * glviewSpecular(reflect(-v, ccN), ccRough);
-    float ccF = glviewF_Schlick(vec3(0.04), ccNv).x;
+    c.nv = max(dot(c.n, s.v), 1e-4);
+    c.fresnel = glviewF_Schlick(vec3(0.04), c.nv).x;
+    return c;
+}
+
+// The coat's light from the environment (the split sum on its own normal and roughness).
+vec3 pbrCoatIbl(PbrSurface s, PbrCoat c) {
+    vec2 ccBf = glviewBrdf(c.nv, c.rough);
+    return vec3(s.ao * uTermsA.w * (0.04 * ccBf.x + ccBf.y))
+        * glviewSpecular(reflect(-s.v, c.n), c.rough);
+}
+
+// The coat's light from light l (unit direction towards it), shadowed.
+void pbrAddCoatLight(vec3 l, float shadow, vec3 lightColor, PbrSurface s, PbrCoat c,
+                     inout vec3 fCoat) {
+    float ccNl = dot(c.n, l);
+    if (ccNl > 0.0) {
+        vec3 hc = glviewSafeNormalize(l + s.v);
+        float fc = glviewF_Schlick(vec3(0.04), dot(s.v, hc)).x;
+        float sc = glviewD_GGX(max(dot(c.n, hc), 0.0), c.rough)
+            * glviewG_Smith(c.nv, ccNl, c.rough) * fc / (4.0 * c.nv * ccNl);
+        fCoat += shadow * lightColor * (uTermsA.y * GLVIEW_PI * sc * ccNl);
+    }
+}
+#endif
+
+#if NUM_LIGHTS > 0
+// The unit direction from the fragment towards light i (0 when the fragment is at the light).
+vec3 pbrToLight(int i) {
+    vec3 l = uLightPos[i].xyz;
+    if (uLightPos[i].w != 0.0) {
+        vec3 d = uLightPos[i].xyz - vEyePos;
+        float len = length(d);
+        l = len > 0.0 ? d / len : vec3(0.0);
+    }
+    return l;
+}
+
+// The base layer's light from light l (unit direction towards it), shadowed: Lambert's
+// diffuse and the GGX specular.
+void pbrAddDirectLight(vec3 l, float shadow, vec3 lightColor, PbrSurface s,
+                       inout vec3 color) {
+    float nl = dot(s.n, l);
+    if (nl > 0.0) {
+        vec3 h = glviewSafeNormalize(l + s.v);
+        vec3 f = pbrFresnel(s, dot(s.v, h));
+        vec3 fs = glviewD_GGX(max(dot(s.n, h), 0.0), s.rough) * glviewG_Smith(s.nv, nl, s.rough)
+            * f / (4.0 * s.nv * nl);
+        color += shadow * lightColor * (uTermsA.x * s.kd + uTermsA.y * GLVIEW_PI * fs) * nl;
+    }
+}
+#endif
+
+void main() {
+#ifdef POINTS
+    // Round points: the sprite's square less what lies outside its inscribed disk.
+    vec2 pc = gl_PointCoord - vec2(0.5);
+    if (dot(pc, pc) > 0.25) discard;
+#endif
+    PbrSurface s = pbrMaterial();
+#ifdef UNLIT
+    // KHR_materials_unlit: the base colour is the colour, through the same output step.
+    FRAG_COLOR = glviewOutputRgba(s.albedo, s.opacity);
+#else
+    s.n = glviewSafeNormalize(vNormal);
+    if (!gl_FrontFacing) s.n = -s.n;
+    s.geomN = s.n;
+#ifdef HAS_NORMAL_MAP
+    s.n = glviewNormalMap(s.n, gl_FrontFacing);
+#endif
+#ifndef SHOW_ATTRIBUTE
+#define SHOW_ATTRIBUTE 0
+#endif
+#if SHOW_ATTRIBUTE == 1
+    FRAG_COLOR = vec4(s.n * 0.5 + 0.5, 1.0);
+    return;
+#elif SHOW_ATTRIBUTE == 2
+    FRAG_COLOR = vec4(fract(vUv), 0.0, 1.0);
+    return;
+#elif SHOW_ATTRIBUTE == 3
+    FRAG_COLOR = vec4(vec3(clamp(s.rough, 0.0, 1.0)), 1.0);
+    return;
+#elif SHOW_ATTRIBUTE == 4
+    FRAG_COLOR = vec4(vec3(clamp(s.metallic, 0.0, 1.0)), 1.0);
+    return;
+#endif
+    pbrView(s);
+    vec3 color = uTermsB.z * s.emissive;
+#ifdef KHR_TRANSMISSION
+    PbrTransmission t = pbrTransmission(s);
+    s.kd *= 1.0 - t.weight;
+#endif
+    color += pbrIbl(s);
+#ifdef KHR_TRANSMISSION
+    color += pbrIblTransmitted(s, t);
+#endif
+#ifdef KHR_SHEEN
+    PbrSheen sheen = pbrSheen(s);
+    vec3 fSheen = pbrSheenIbl(s, sheen);
+    float sheenScale = 1.0 - max(max(sheen.color.r, sheen.color.g), sheen.color.b) * sheen.albedo;
+#endif
+#ifdef KHR_CLEARCOAT
+    PbrCoat coat = pbrCoat(s);
+    vec3 fCoat = pbrCoatIbl(s, coat);
 #endif
 
 #if NUM_LIGHTS > 0
     float vis[NUM_LIGHTS];
     for (int i = 0; i < NUM_LIGHTS; ++i) vis[i] = 1.0;
 #if NUM_SHADOWS > 0
-    vis[0] = shadowVisibility(uShadowMap0, 0, SHADOW_CUBE0, vEyePos, geomN);
+    vis[0] = shadowVisibility(uShadowMap0, 0, SHADOW_CUBE0, vEyePos, s.geomN);
 #endif
 #if NUM_SHADOWS > 1
-    vis[1] = shadowVisibility(uShadowMap1, 1, SHADOW_CUBE1, vEyePos, geomN);
+    vis[1] = shadowVisibility(uShadowMap1, 1, SHADOW_CUBE1, vEyePos, s.geomN);
 #endif
 #if NUM_SHADOWS > 2
-    vis[2] = shadowVisibility(uShadowMap2, 2, SHADOW_CUBE2, vEyePos, geomN);
+    vis[2] = shadowVisibility(uShadowMap2, 2, SHADOW_CUBE2, vEyePos, s.geomN);
 #endif
 #if NUM_SHADOWS > 3
-    vis[3] = shadowVisibility(uShadowMap3, 3, SHADOW_CUBE3, vEyePos, geomN);
+    vis[3] = shadowVisibility(uShadowMap3, 3, SHADOW_CUBE3, vEyePos, s.geomN);
 #endif
     for (int i = 0; i < NUM_LIGHTS; ++i) {
-        vec3 l = uLightPos[i].xyz;
-        if (uLightPos[i].w != 0.0) {
-            vec3 d = uLightPos[i].xyz - vEyePos;
-            float len = length(d);
-            l = len > 0.0 ? d / len : vec3(0.0);
-        }
-        float nl = dot(n, l);
+        vec3 l = pbrToLight(i);
         float shadow = mix(1.0, vis[i], uTermsB.y);
 #ifdef KHR_TRANSMISSION
-        {
-            // The light through the surface (the Sample Viewer's punctual BTDF): the light's
-            // direction from where the ray leaves, mirrored to the viewer's side, in a GGX
-            // lobe of the roughness scaled by the ior; no cosine and no shadow map (the
-            // surface would shadow itself), as there.
-            vec3 lt = l;
-            if (uLightPos[i].w != 0.0) lt = glviewSafeNormalize(uLightPos[i].xyz - exitPos);
-            vec3 lm = glviewSafeNormalize(lt - 2.0 * n * dot(lt, n));
-            vec3 ht = glviewSafeNormalize(lm + v);
-            float nlm = max(dot(n, lm), 1e-4);
-#ifdef KHR_SPECULAR
-            vec3 ft = glviewF_Schlick90(ks, f90, dot(v, ht));
-#else
-            vec3 ft = glviewF_Schlick(ks, dot(v, ht));
+        color += pbrTransmittedLight(i, l, s, t);
 #endif
-            vec3 bt = (1.0 - ft) * albedo * glviewD_GGX(max(dot(n, ht), 0.0), transRough)
-                * glviewG_Smith(nv, nlm, transRough) / (4.0 * nv * nlm);
-#ifdef KHR_VOLUME
-            bt *= attenuation;
-#endif
-            color += trans * (1.0 - metallic) * uTermsA.x * uLightColor[i] * GLVIEW_PI * bt;
-        }
-#endif
-        if (nl > 0.0) {
-            vec3 h = glviewSafeNormalize(l + v);
-#ifdef KHR_SPECULAR
-            vec3 f = glviewF_Schlick90(ks, f90, dot(v, h));
-#else
-            vec3 f = glviewF_Schlick(ks, dot(v, h));
-#endif
-            vec3 fs = glviewD_GGX(max(dot(n, h), 0.0), rough) * glviewG_Smith(nv, nl, rough) * f
-                / (4.0 * nv * nl);
-            color += shadow * uLightColor[i] * (uTermsA.x * kd + uTermsA.y * GLVIEW_PI * fs) * nl;
+        pbrAddDirectLight(l, shadow, uLightColor[i], s, color);
 #ifdef KHR_SHEEN
-            float sh = glviewD_Charlie(max(dot(n, h), 0.0), sheenRough) * glviewV_Neubelt(nv, nl);
-            fSheen += shadow * uLightColor[i] * (uTermsA.y * GLVIEW_PI * sh * nl) * sheenColor;
+        pbrAddSheenLight(l, shadow, uLightColor[i], s, sheen, fSheen);
 #endif
-        }
 #ifdef KHR_CLEARCOAT
-        float ccNl = dot(ccN, l);
-        if (ccNl > 0.0) {
-            vec3 hc = glviewSafeNormalize(l + v);
-            float fc = glviewF_Schlick(vec3(0.04), dot(v, hc)).x;
-            float sc = glviewD_GGX(max(dot(ccN, hc), 0.0), ccRough)
-                * glviewG_Smith(ccNv, ccNl, ccRough) * fc / (4.0 * ccNv * ccNl);
-            fCoat += shadow * uLightColor[i] * (uTermsA.y * GLVIEW_PI * sc * ccNl);
-        }
+        pbrAddCoatLight(l, shadow, uLightColor[i], s, coat, fCoat);
 #endif
     }
 #endif
@@ -413,9 +556,9 @@ void main() {
     color = color * sheenScale + fSheen;
 #endif
 #ifdef KHR_CLEARCOAT
-    color = color * (1.0 - cc * ccF) + cc * fCoat;
+    color = color * (1.0 - coat.weight * coat.fresnel) + coat.weight * fCoat;
 #endif
-    FRAG_COLOR = glviewOutputRgba(color, opacity);
+    FRAG_COLOR = glviewOutputRgba(color, s.opacity);
 #endif
 #ifdef LOG_DEPTH
     glviewLogDepth();

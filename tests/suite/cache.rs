@@ -324,49 +324,11 @@ fn gltf_without_textures_is_cached_with_its_material_model() {
 /// external image is a dependency, so rewriting it makes the entry a miss.
 #[test]
 fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
-    use crate::gltf_draw::{png, quad, Quad};
-    use glview::scene::clusters;
     let dir = common::out_dir("cache_gltf_textured");
     let entries = dir.join("entries");
     let _ = std::fs::remove_dir_all(&entries);
     let env = [("GLVIEW_CACHE_DIR", entries.to_str().unwrap())];
-    // A 1100² base colour of noise (PNG cannot compress it), so the file is above MIN_SIZE.
-    let mut seed = 0x2545_f491_u32;
-    let mut next = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 17;
-        seed ^= seed << 5;
-        seed
-    };
-    let noise: Vec<[u8; 4]> = (0..1100 * 1100)
-        .map(|_| {
-            let v = next().to_le_bytes();
-            [v[0], v[1], v[2], 255]
-        })
-        .collect();
-    // A normal map of slopes in x and y, and an emissive ramp.
-    let normals: Vec<[u8; 4]> = (0..16 * 16)
-        .map(|i| [96 + (i % 16) as u8 * 4, 96 + (i / 16) as u8 * 4, 230, 255])
-        .collect();
-    let emissive: Vec<[u8; 4]> = (0..8 * 8).map(|i| [i as u8 * 3, 0, 40, 255]).collect();
-    let q = Quad {
-        uv0: [[0., 0.], [3., 0.], [3., 3.], [0., 3.]],
-        uv1: Some([[0., 0.], [1., 0.], [1., 1.], [0., 1.]]),
-        tangent: Some([1., 0., 0., 1.]),
-        ..Quad::default()
-    };
-    let materials = format!(
-        r#""materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}},
-            "metallicRoughnessTexture": {{"index": 2, "texCoord": 1}}}},
-          "normalTexture": {{"index": 1, "texCoord": 1}},
-          "emissiveTexture": {{"index": 2, "texCoord": 1}}, "emissiveFactor": [1, 1, 1]}}],
-        "textures": [{{"source": 0}}, {{"source": 1}}, {{"source": 2}}],
-        "images": [{{"uri": "{}"}}, {{"uri": "{}"}}, {{"uri": "{}"}}]"#,
-        png(1100, 1100, &noise),
-        png(16, 16, &normals),
-        png(8, 8, &emissive)
-    );
-    let model = quad(&dir, "textured", &q, &materials);
+    let model = textured_quad(&dir);
     assert!(std::fs::metadata(&model).unwrap().len() >= cache::MIN_SIZE);
     let m = model.to_str().unwrap();
     for shading in ["phong", "pbr"] {
@@ -403,19 +365,69 @@ fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
         .iter()
         .any(|l| l.contains("TEXCOORD_1") || l.contains("UV set 1")));
 
-    // In process, against the fresh scene: every stream and every image, the metallic-
-    // roughness and emissive slots sharing one image.
+    let own = dir.join("own-entries");
+    let _ = std::fs::remove_dir_all(&own);
+    entry_equals_fresh_scene(&own, &model);
+    external_image_is_a_dependency(&dir, &own);
+}
+
+/// The textured test's model: a quad with a 1100² base colour of noise, a normal map and an
+/// emissive ramp, the metallic-roughness and emissive slots naming one image; two UV sets and
+/// supplied tangents.
+fn textured_quad(dir: &std::path::Path) -> std::path::PathBuf {
+    use crate::gltf_draw::{png, quad, Quad};
+    // A 1100² base colour of noise (PNG cannot compress it), so the file is above MIN_SIZE.
+    let mut seed = 0x2545_f491_u32;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed
+    };
+    let noise: Vec<[u8; 4]> = (0..1100 * 1100)
+        .map(|_| {
+            let v = next().to_le_bytes();
+            [v[0], v[1], v[2], 255]
+        })
+        .collect();
+    // A normal map of slopes in x and y, and an emissive ramp.
+    let normals: Vec<[u8; 4]> = (0..16 * 16)
+        .map(|i| [96 + (i % 16) as u8 * 4, 96 + (i / 16) as u8 * 4, 230, 255])
+        .collect();
+    let emissive: Vec<[u8; 4]> = (0..8 * 8).map(|i| [i as u8 * 3, 0, 40, 255]).collect();
+    let q = Quad {
+        uv0: [[0., 0.], [3., 0.], [3., 3.], [0., 3.]],
+        uv1: Some([[0., 0.], [1., 0.], [1., 1.], [0., 1.]]),
+        tangent: Some([1., 0., 0., 1.]),
+        ..Quad::default()
+    };
+    let materials = format!(
+        r#""materials": [{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}},
+            "metallicRoughnessTexture": {{"index": 2, "texCoord": 1}}}},
+          "normalTexture": {{"index": 1, "texCoord": 1}},
+          "emissiveTexture": {{"index": 2, "texCoord": 1}}, "emissiveFactor": [1, 1, 1]}}],
+        "textures": [{{"source": 0}}, {{"source": 1}}, {{"source": 2}}],
+        "images": [{{"uri": "{}"}}, {{"uri": "{}"}}, {{"uri": "{}"}}]"#,
+        png(1100, 1100, &noise),
+        png(16, 16, &normals),
+        png(8, 8, &emissive)
+    );
+    quad(dir, "textured", &q, &materials)
+}
+
+/// The textured model put in and read back from `own` in process equals the fresh scene:
+/// every stream and every image, the metallic-roughness and emissive slots sharing one image.
+fn entry_equals_fresh_scene(own: &std::path::Path, model: &std::path::Path) {
+    use glview::scene::clusters;
     let off = LoadOptions {
         cache: false,
         ..Default::default()
     };
     let tex = TextureOptions::default();
-    let mut fresh = load(&model, &off).unwrap();
+    let mut fresh = load(model, &off).unwrap();
     let prepared = clusters::prepare(&mut fresh);
-    let own = dir.join("own-entries");
-    let _ = std::fs::remove_dir_all(&own);
-    cache::put_in(&own, 1 << 30, &model, None, tex, (&fresh, &prepared)).unwrap();
-    let (hit, _) = cache::get_in(&own, &model, None, tex).expect("a hit");
+    cache::put_in(own, 1 << 30, model, None, tex, (&fresh, &prepared)).unwrap();
+    let (hit, _) = cache::get_in(own, model, None, tex).expect("a hit");
     for (a, b) in hit.meshes.iter().zip(&fresh.meshes) {
         assert_eq!(
             (&a.vertices, &a.indices, &a.uv1, &a.tangents, &a.colors),
@@ -443,8 +455,17 @@ fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
         a.image(Slot::Emissive).unwrap(),
         a.image(Slot::MetallicRoughness).unwrap()
     ));
+}
 
-    // An external image is a dependency: rewriting it is a miss.
+/// An external image is a dependency of the entry: rewriting it makes the entry a miss.
+fn external_image_is_a_dependency(dir: &std::path::Path, own: &std::path::Path) {
+    use crate::gltf_draw::{quad, Quad};
+    use glview::scene::clusters;
+    let off = LoadOptions {
+        cache: false,
+        ..Default::default()
+    };
+    let tex = TextureOptions::default();
     let ext = dir.join("ext.png");
     image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, 255, 0, 255, 0, 255])
         .unwrap()
@@ -452,19 +473,19 @@ fn textured_gltf_is_cached_with_its_images_uv_sets_and_tangents() {
         .unwrap();
     let materials = r#""materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
         "textures": [{"source": 0}], "images": [{"uri": "ext.png"}]"#;
-    let model = quad(&dir, "external", &Quad::default(), materials);
+    let model = quad(dir, "external", &Quad::default(), materials);
     let mut fresh = load(&model, &off).unwrap();
     assert_eq!(fresh.dependencies, vec![ext.canonicalize().unwrap()]);
     let prepared = clusters::prepare(&mut fresh);
-    cache::put_in(&own, 1 << 30, &model, None, tex, (&fresh, &prepared)).unwrap();
-    assert!(cache::get_in(&own, &model, None, tex).is_some());
+    cache::put_in(own, 1 << 30, &model, None, tex, (&fresh, &prepared)).unwrap();
+    assert!(cache::get_in(own, &model, None, tex).is_some());
     std::thread::sleep(Duration::from_millis(20));
     image::RgbaImage::from_raw(1, 1, vec![0, 0, 255, 255])
         .unwrap()
         .save(&ext)
         .unwrap();
     assert!(
-        cache::get_in(&own, &model, None, tex).is_none(),
+        cache::get_in(own, &model, None, tex).is_none(),
         "a rewritten external image hit"
     );
 }

@@ -118,76 +118,80 @@ fn nodes(n: usize, children: &dyn Fn(usize) -> Vec<usize>) -> String {
     format!("\"nodes\": [{}]", v.join(", "))
 }
 
-#[test]
-fn hostile_gltf_files_are_refused_within_bounds() {
-    let dir = out_dir("hostile-gltf");
-    let sub = dir.join("model");
-    std::fs::create_dir_all(&sub).unwrap();
-    std::fs::write(dir.join("secret.bin"), [0u8; 36]).unwrap();
+/// Hostile glTF files in `sub` whose node graph or buffer path is what is wrong, with the
+/// error each must be refused with (the one naming `../secret.bin` is `cases[3]`).
+fn graph_and_path_cases(sub: &Path) -> Vec<(PathBuf, &'static str)> {
     let node_list = |s: String, n: String| s.replace(r#""nodes": [{"mesh": 0}]"#, &n);
-    let cases: Vec<(PathBuf, &str)> = vec![
+    vec![
         // The issue's 1 KB cycle: 0 → 1 → 0.
         (
-            tri_gltf(&sub, "cycle.gltf", &|s| {
+            tri_gltf(sub, "cycle.gltf", &|s| {
                 node_list(s, nodes(2, &|k| vec![1 - k]))
             }),
             "node 0: the node graph has a cycle",
         ),
         (
-            tri_gltf(&sub, "self.gltf", &|s| node_list(s, nodes(1, &|_| vec![0]))),
+            tri_gltf(sub, "self.gltf", &|s| node_list(s, nodes(1, &|_| vec![0]))),
             "cycle",
         ),
         // A DAG: node k lists k+1 and k+2, 2^40 paths when walked as written.
         (
-            tri_gltf(&sub, "dag.gltf", &|s| {
+            tri_gltf(sub, "dag.gltf", &|s| {
                 node_list(s, nodes(42, &|k| (k + 1..(k + 3).min(42)).collect()))
             }),
             "has two parents",
         ),
         (
-            tri_gltf(&sub, "outside.gltf", &|s| {
+            tri_gltf(sub, "outside.gltf", &|s| {
                 s.replace("tri.bin", "../secret.bin")
             }),
             "outside the model's folder",
         ),
         (
-            tri_gltf(&sub, "outside-pct.gltf", &|s| {
+            tri_gltf(sub, "outside-pct.gltf", &|s| {
                 s.replace("tri.bin", "%2e%2e/secret.bin")
             }),
             "outside the model's folder",
         ),
         (
-            tri_gltf(&sub, "remote.gltf", &|s| {
+            tri_gltf(sub, "remote.gltf", &|s| {
                 s.replace("tri.bin", "http://example.com/tri.bin")
             }),
             "URI scheme \"http\" is not supported",
         ),
+    ]
+}
+
+/// Hostile glTF files in `sub` whose sizes, counts or required extensions are what is wrong,
+/// with the error each must be refused with.
+fn size_and_content_cases(sub: &Path) -> Vec<(PathBuf, &'static str)> {
+    vec![
         (
-            tri_gltf(&sub, "short-buffer.gltf", &|s| {
+            tri_gltf(sub, "short-buffer.gltf", &|s| {
                 s.replacen("\"byteLength\": 36", "\"byteLength\": 40000", 1)
             }),
             "buffer 0 (\"tri.bin\"): byteLength is 40000 but the file has 36 bytes",
         ),
         (
-            tri_gltf(&sub, "huge-buffer.gltf", &|s| {
+            tri_gltf(sub, "huge-buffer.gltf", &|s| {
                 s.replacen("\"byteLength\": 36", "\"byteLength\": 4000000000", 1)
             }),
             "buffer 0 (\"tri.bin\"): byteLength 4000000000 is more than glview reads",
         ),
         (
-            tri_gltf(&sub, "count.gltf", &|s| {
+            tri_gltf(sub, "count.gltf", &|s| {
                 s.replace("\"count\": 3", "\"count\": 3000000")
             }),
             "accessor 0: 3000000 elements of 12 bytes",
         ),
         (
-            tri_gltf(&sub, "huge-count.gltf", &|s| {
+            tri_gltf(sub, "huge-count.gltf", &|s| {
                 s.replace("\"count\": 3", "\"count\": 18446744073709551615")
             }),
             "",
         ),
         (
-            tri_gltf(&sub, "sparse.gltf", &|s| {
+            tri_gltf(sub, "sparse.gltf", &|s| {
                 s.replace(
                     "\"max\": [1, 1, 0]}",
                     "\"max\": [1, 1, 0], \"sparse\": {\"count\": 1, \
@@ -198,7 +202,7 @@ fn hostile_gltf_files_are_refused_within_bounds() {
             "sparse index 1065353216 (entry 0)",
         ),
         (
-            tri_gltf(&sub, "required.gltf", &|s| {
+            tri_gltf(sub, "required.gltf", &|s| {
                 s.replace(
                     "\"scene\": 0",
                     "\"extensionsUsed\": [\"KHR_draco_mesh_compression\"], \
@@ -209,7 +213,7 @@ fn hostile_gltf_files_are_refused_within_bounds() {
         ),
         // One mesh instanced by 200,000 nodes, its accessor claiming 100 vertices: 20 M.
         (
-            tri_gltf(&sub, "instances.gltf", &|s| {
+            tri_gltf(sub, "instances.gltf", &|s| {
                 let roots: Vec<usize> = (0..200_000).collect();
                 let n = vec!["{\"mesh\": 0}"; 200_000].join(",");
                 s.replace(
@@ -221,7 +225,17 @@ fn hostile_gltf_files_are_refused_within_bounds() {
             }),
             "instances more than 16777216 vertices",
         ),
-    ];
+    ]
+}
+
+#[test]
+fn hostile_gltf_files_are_refused_within_bounds() {
+    let dir = out_dir("hostile-gltf");
+    let sub = dir.join("model");
+    std::fs::create_dir_all(&sub).unwrap();
+    std::fs::write(dir.join("secret.bin"), [0u8; 36]).unwrap();
+    let mut cases = graph_and_path_cases(&sub);
+    cases.extend(size_and_content_cases(&sub));
     std::fs::write(sub.join("nan.bin"), {
         let mut b = Vec::new();
         for x in [0f32, 0., 0., 1., f32::NAN, 0., 0., 1., 0.] {
