@@ -129,6 +129,33 @@ def test_renderer_keeps_one_context_and_closes(bunny):
         r.render()
 
 
+def test_view_changes_upload_nothing_and_equal_a_fresh_picture(bunny):
+    """A kept renderer's tier, exposure, bloom and terms are the view's: after the first
+    picture they upload no scene and make no environment map (the profile counts both), and
+    each picture equals the one a fresh renderer draws."""
+    views = [
+        dict(shading="pbr", ibl_size=16, irradiance_size=8, ibl_samples=8),
+        dict(shading="pbr", exposure=1.0, ibl_size=16, irradiance_size=8, ibl_samples=8),
+        dict(shading="phong"),
+        dict(shading="pbr", bloom=0.3, ibl_size=16, irradiance_size=8, ibl_samples=8),
+        dict(shading="pbr", terms="ibl-diffuse,ao", ibl_size=16, irradiance_size=8, ibl_samples=8),
+        dict(yaw=80),
+    ]
+    kept = []
+    with glview.Renderer(96, 64) as r:
+        r.load(bunny)
+        for i, v in enumerate(views):
+            img = r.render(**v)
+            profile = img.stats["profile"]
+            assert profile["scene_uploads"] == (1 if i == 0 else 0), v
+            assert profile["environments_made"] == (1 if i == 0 else 0), v
+            kept.append(img.color)
+    for v, color in zip(views, kept):
+        with glview.Renderer(96, 64) as fresh:
+            fresh.load(bunny)
+            assert np.array_equal(fresh.render(**v).color, color), v
+
+
 def test_bad_options_raise_naming_the_keyword(cli):
     p = cli("--pcf", "3", "-o", "x.png", check=False)
     assert p.returncode != 0

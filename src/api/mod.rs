@@ -118,7 +118,8 @@ pub struct Frame {
     /// With [`Outputs::linear`]: the colour before bloom, exposure, tone mapping and sRGB
     /// (linear, unclamped), RGB per pixel, top row first.
     pub linear: Option<Vec<[f32; 3]>>,
-    /// The frame's `--stats` line.
+    /// The frame's `--stats` line, with the picture's `profile` (what was uploaded and
+    /// made for it, and where the time went).
     pub stats: serde_json::Value,
 }
 
@@ -282,7 +283,12 @@ impl Renderer {
                 key: &m.key,
                 scene: &m.scene,
             });
-            let drawn = session.draw(&opts, given, outputs, &mut Profile::default())?;
+            let mut profile = Profile::default();
+            let drawn = session.draw(&opts, given, outputs, &mut profile)?;
+            // As `--stats` prints it: the frame's line with the picture's profile (its
+            // scene uploads and environments made among it).
+            let mut stats = serde_json::to_value(&drawn.stats).unwrap_or_default();
+            stats["profile"] = serde_json::to_value(&profile).unwrap_or_default();
             Ok(Frame {
                 color: drawn.image,
                 text: drawn
@@ -292,7 +298,7 @@ impl Renderer {
                     .collect(),
                 attributes: drawn.attributes,
                 linear: drawn.linear,
-                stats: serde_json::to_value(&drawn.stats).unwrap_or_default(),
+                stats,
             })
         })
     }
