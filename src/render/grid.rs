@@ -1,6 +1,6 @@
 //! Pass "grid" (`--grid`, key Z): the ground grid of [`crate::grid::GridPlane`], one
 //! blended square drawn after the lit tiers (either) and before the edges, with the lit
-//! passes' view, lights and shadow maps (`lit::View`), so it receives the model's shadow
+//! passes' view, lights and shadow maps (`view::View`), so it receives the model's shadow
 //! through the same `shadow.glsl` lookups. The model lies above the plane, so from above the
 //! model hides the grid and from below the grid is in front: the depth test settles both.
 //! The shadow pass fits its maps to the model and its shadow on the plane while the grid is

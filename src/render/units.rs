@@ -54,7 +54,7 @@ pub(crate) const LUT_UNIT: u32 = IRRADIANCE_UNIT + 1;
 /// Specular cube of roughness level l is on `SPECULAR_UNIT + l`.
 pub(crate) const SPECULAR_UNIT: u32 = LUT_UNIT + 1;
 /// Specular levels the shader can take (`uSpecular0..7`).
-pub const MAX_LEVELS: u32 = 8;
+pub(crate) const MAX_LEVELS: u32 = 8;
 /// The last texture unit the PBR tier's core maps can use.
 const LAST_PBR_UNIT: u32 = SPECULAR_UNIT + MAX_LEVELS - 1;
 
@@ -67,6 +67,11 @@ pub(crate) const KHR_FIRST_UNIT: u32 = BEHIND_UNIT + 1;
 pub(crate) const FRAME_UNIT: u32 = KHR_FIRST_UNIT + KHR_MAPS as u32;
 
 /// Roughness levels that fit the driver's texture units next to the other maps.
-pub fn max_levels(units: u32) -> u32 {
+pub(crate) fn max_levels(units: u32) -> u32 {
     units.saturating_sub(SPECULAR_UNIT).min(MAX_LEVELS)
 }
+
+// The promises of the table above: the legacy tier runs on an 8-unit driver, the PBR tier
+// with two roughness levels (the least `ibl` makes) on a 16-unit one.
+const _: () = assert!(LEGACY_EMISSIVE_UNIT < 8);
+const _: () = assert!(SPECULAR_UNIT + 2 <= 16);
