@@ -3,7 +3,9 @@
 //! the lit pass clears to the background colour and this pass does not run. With
 //! `--translucency nearest-masked` the background is drawn after the model instead, only
 //! where the stencil is not 1 (`fill_unmarked`).
+use super::units::SKY_UNIT;
 use super::{FrameCx, Outcome, Pass, Shading};
+use crate::frame::TranslucencyMode;
 use crate::gpu::state::{DepthFunc, RenderState, Stencil, StencilFunc};
 use crate::shader::cache::ProgramKey;
 use crate::Result;
@@ -21,8 +23,12 @@ pub(crate) fn skybox_key(rgbm: bool, tonemap: i32) -> ProgramKey {
         .count("TONEMAP", "tm", tonemap)
 }
 
-/// Texture unit the skybox reads its cube from.
-const SKY_UNIT: u32 = 0;
+/// Whether this frame masks the background by the stencil (`nearest-masked`, with
+/// translucent meshes): the background comes last, never behind a translucent surface.
+pub(crate) fn masked(cx: &FrameCx) -> bool {
+    cx.settings.lighting.translucency.mode == TranslucencyMode::NearestMasked
+        && cx.scene.meshes.iter().any(|m| m.translucent)
+}
 
 impl Pass for Background {
     fn name(&self) -> &'static str {
@@ -44,7 +50,7 @@ impl Pass for Background {
         if s.lighting.post.transparent {
             return Ok(Outcome::Skipped("--transparent".into()));
         }
-        if super::translucent::masked(cx) {
+        if masked(cx) {
             return Ok(Outcome::Skipped(
                 "drawn after the translucent surfaces, where the stencil is not 1".into(),
             ));

@@ -1,12 +1,13 @@
 //! Pass "grid" (`--grid`, key Z): the ground grid of [`crate::grid::GridPlane`], one
 //! blended square drawn after the lit tiers (either) and before the edges, with the lit
-//! passes' view, lights and shadow maps (`lit::View`), so it receives the model's shadow
+//! passes' view, lights and shadow maps (`view::View`), so it receives the model's shadow
 //! through the same `shadow.glsl` lookups. The model lies above the plane, so from above the
 //! model hides the grid and from below the grid is in front: the depth test settles both.
 //! The shadow pass fits its maps to the model and its shadow on the plane while the grid is
 //! on (`shadow.rs`). Known limit: glass in front of the grid (the nearest-layer scheme writes
 //! its depth) hides the grid behind it.
-use super::lit::{shadow_flags, View};
+use super::units::BEHIND_UNIT;
+use super::view::{shadow_flags, View};
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::mesh::GpuMesh;
 use crate::gpu::state::{Blend, DepthFunc, RenderState};
@@ -57,7 +58,7 @@ impl Pass for Grid {
                 "a teaching view replaces the scene".into(),
             ));
         }
-        if cx.rgbm && cx.gpu.caps.max_texture_units <= super::translucent::BEHIND_UNIT {
+        if cx.rgbm && cx.gpu.caps.max_texture_units <= BEHIND_UNIT {
             return Ok(Outcome::Skipped(
                 "no texture unit is left for the copy the RGBM frame blends over".into(),
             ));
@@ -153,7 +154,7 @@ fn draw(cx: &mut FrameCx, state: &mut GridState, plane: &GridPlane) -> Result<()
     if cx.rgbm {
         // The fixed function cannot blend RGBM: the shader blends over a copy of the frame.
         let [x, y, w, h] = cx.viewport;
-        let unit = super::translucent::BEHIND_UNIT;
+        let unit = BEHIND_UNIT;
         cx.res
             .post
             .behind(cx.gpu, w, h)?

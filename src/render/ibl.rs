@@ -128,7 +128,7 @@ impl IblState {
 
 /// Reads or computes the maps of `req` (on the GPU where that is faster) and uploads them.
 fn make(gpu: &GpuRef, programs: &mut ProgramCache, mut req: EnvRequest) -> Result<EnvMaps> {
-    let fit = super::pbr::max_levels(gpu.caps.max_texture_units);
+    let fit = super::units::max_levels(gpu.caps.max_texture_units);
     if req.settings.levels > fit {
         log::warn!(
             "{} roughness levels need more texture units than {} has: using {fit}",

@@ -27,7 +27,9 @@ mod slots;
 mod textures;
 mod tier;
 pub mod translucent;
+mod units;
 mod upload;
+mod view;
 
 pub use crate::frame::{FrameSettings, Shading, ShadowSettings};
 use crate::gpu::mesh::GpuMesh;
@@ -218,7 +220,7 @@ impl FrameCx<'_> {
         if self.rgbm {
             let [x, y, w, h] = self.viewport;
             p.set_f32("uRgbmBlend", self.rgbm_blend);
-            p.set_i32("uBehind", translucent::BEHIND_UNIT as i32);
+            p.set_i32("uBehind", units::BEHIND_UNIT as i32);
             p.set_vec4(
                 "uBehindRect",
                 glam::Vec4::new(x as f32, y as f32, w as f32, h as f32),

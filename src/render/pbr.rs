@@ -3,10 +3,14 @@
 //! and by the `--light` lights with the shadow pass's maps; output through exposure, tone
 //! mapping and sRGB encoding.
 use super::ibl::IblGpu;
-use super::lit::{shadow_flags, View, SHADOW_UNIT};
 use super::pbr_khr::{KhrFlags, KhrTextures};
 use super::textures::TextureTable;
 use super::tier::{MeshDraw, Prepared};
+use super::units::{
+    max_levels, AO_UNIT, BASE_UNIT, EMISSIVE_UNIT, FRAME_UNIT, IRRADIANCE_UNIT, LUT_UNIT,
+    NORMAL_UNIT, ORM_UNIT, SPECULAR_UNIT,
+};
+use super::view::{shadow_flags, View};
 use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::program::Program;
 use crate::gpu::texture::TextureFormat;
@@ -18,25 +22,6 @@ use crate::{Error, Result};
 use glam::{Mat3, Vec3, Vec4};
 
 pub(crate) struct Pbr;
-
-/// Texture units: 0 albedo, 1–4 shadow maps (`SHADOW_UNIT`), then these.
-const NORMAL_UNIT: u32 = SHADOW_UNIT + 4;
-const ORM_UNIT: u32 = NORMAL_UNIT + 1;
-const EMISSIVE_UNIT: u32 = ORM_UNIT + 1;
-/// glTF's occlusion map (its own UV set and sampler; an MTL's is packed into the ORM map).
-const AO_UNIT: u32 = EMISSIVE_UNIT + 1;
-const IRRADIANCE_UNIT: u32 = AO_UNIT + 1;
-const LUT_UNIT: u32 = IRRADIANCE_UNIT + 1;
-const SPECULAR_UNIT: u32 = LUT_UNIT + 1;
-/// Specular levels the shader can take (`uSpecular0..7`).
-pub const MAX_LEVELS: u32 = 8;
-/// The last texture unit the tier can use.
-pub(crate) const LAST_UNIT: u32 = SPECULAR_UNIT + MAX_LEVELS - 1;
-
-/// Roughness levels that fit the driver's texture units next to the other maps.
-pub fn max_levels(units: u32) -> u32 {
-    units.saturating_sub(SPECULAR_UNIT).min(MAX_LEVELS)
-}
 
 /// Which of a material's optional inputs a program reads.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -355,7 +340,7 @@ impl super::tier::Tier for PbrTier {
         for l in 0..self.opts.levels {
             program.set_i32(&format!("uSpecular{l}"), (SPECULAR_UNIT + l) as i32);
         }
-        program.set_i32("uAlbedoMap", 0);
+        program.set_i32("uAlbedoMap", BASE_UNIT as i32);
         program.set_i32("uNormalMap", NORMAL_UNIT as i32);
         program.set_i32("uOrmMap", ORM_UNIT as i32);
         program.set_i32("uEmissiveMap", EMISSIVE_UNIT as i32);
@@ -399,7 +384,7 @@ impl super::tier::Tier for PbrTier {
         program.set_f32("uRoughness", p.roughness.unwrap_or(mat.roughness));
         program.set_vec3("uEmissive", Vec3::from(mat.emissive));
         for (index, on, unit) in [
-            (mm.albedo, maps.albedo, 0),
+            (mm.albedo, maps.albedo, BASE_UNIT),
             (mm.normal, maps.normal, NORMAL_UNIT),
             (mm.orm, maps.orm, ORM_UNIT),
             (mm.ao, maps.ao, AO_UNIT),
@@ -414,7 +399,7 @@ impl super::tier::Tier for PbrTier {
             super::pbr_khr::material(program, &cx.res.textures, mat, khr, &mm.khr, m.has_uv1);
         if khr.transmission {
             if let Some(t) = &cx.res.transmission {
-                t.bind(super::pbr_khr::FRAME_UNIT);
+                t.bind(FRAME_UNIT);
             }
         }
     }

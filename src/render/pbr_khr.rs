@@ -4,6 +4,7 @@
 //! textures' units and their uniforms, and the copy of the opaque frame transmission reads
 //! (`copy_frame`). The formulas are in `pbr.frag` and docs/gltf/extensions.md.
 use super::textures::TextureTable;
+use super::units::{FRAME_UNIT, KHR_FIRST_UNIT};
 use crate::gpu::program::Program;
 use crate::gpu::GpuRef;
 use crate::scene::material_khr::{COUNT, SLOTS};
@@ -26,11 +27,6 @@ const MAPS: [(&str, &str, &str); COUNT] = [
     ("HAS_TRANSMISSION_MAP", "trm", "uTransmissionMap"),
     ("HAS_THICKNESS_MAP", "thm", "uThicknessMap"),
 ];
-
-/// The first unit of the extension maps: past the RGBM path's frame copy.
-pub(crate) const FIRST_UNIT: u32 = super::translucent::BEHIND_UNIT + 1;
-/// The opaque frame's copy transmission reads.
-pub(crate) const FRAME_UNIT: u32 = FIRST_UNIT + COUNT as u32;
 
 /// Which extensions and maps a program computes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -95,7 +91,7 @@ static UNITS_WARNED: AtomicBool = AtomicBool::new(false);
 
 /// The program flags of material `m` drawn with `textures`: the extensions it uses, and the
 /// maps that have UVs, tangents (the coat's normal map) and a texture unit (from
-/// [`FIRST_UNIT`]; a map past the driver's last unit is left out, said once).
+/// [`KHR_FIRST_UNIT`]; a map past the driver's last unit is left out, said once).
 /// `transmission`: the opaque frame's copy is there to read (the mesh is drawn after it).
 pub(crate) fn flags(
     m: &Material,
@@ -128,7 +124,7 @@ pub(crate) fn flags(
     ];
     for (i, on) in f.maps.iter_mut().enumerate() {
         *on = has_uv && used[i] && textures[i].is_some();
-        if *on && FIRST_UNIT + i as u32 >= units {
+        if *on && KHR_FIRST_UNIT + i as u32 >= units {
             *on = false;
             if !UNITS_WARNED.swap(true, Ordering::Relaxed) {
                 log::warn!(
@@ -146,7 +142,7 @@ pub(crate) fn flags(
 /// program); `levels`: the copy's mip levels (0: none, read sharp).
 pub(crate) fn program_uniforms(p: &Program, terms: (bool, bool, bool), levels: f32) {
     for (i, (_, _, name)) in MAPS.iter().enumerate() {
-        p.set_i32(name, (FIRST_UNIT + i as u32) as i32);
+        p.set_i32(name, (KHR_FIRST_UNIT + i as u32) as i32);
     }
     p.set_i32("uTransmissionFrame", FRAME_UNIT as i32);
     p.set_f32("uFrameLevels", levels);
@@ -209,7 +205,7 @@ pub(crate) fn material(
         }
         for (i, on) in f.maps.iter().enumerate() {
             if let (true, Some(t)) = (on, textures[i]) {
-                table.texture(t).bind(FIRST_UNIT + i as u32);
+                table.texture(t).bind(KHR_FIRST_UNIT + i as u32);
                 bound += 1;
             }
         }
@@ -226,7 +222,7 @@ static NO_COPY_WARNED: AtomicBool = AtomicBool::new(false);
 pub(crate) fn frame_allows(cx: &super::FrameCx) -> bool {
     let why = if cx.linear || cx.rgbm {
         Some("with bloom's offscreen frame")
-    } else if super::translucent::masked(cx) {
+    } else if super::background::masked(cx) {
         Some("with --translucency nearest-masked")
     } else if FRAME_UNIT >= cx.gpu.caps.max_texture_units {
         Some("with fewer than 30 texture units")

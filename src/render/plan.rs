@@ -1,7 +1,7 @@
 //! How a frame is drawn, decided before any pass runs: straight into the target, into an
 //! offscreen float frame that post (bloom, FXAA) reads, or — without float render targets
 //! (the copy path) — RGBM-encoded into the 8-bit target itself.
-use super::{post, translucent, FrameStats, SceneGpu, Target};
+use super::{post, FrameStats, SceneGpu, Target};
 use crate::frame::FrameSettings;
 use crate::gpu::GpuRef;
 use crate::Result;
@@ -72,7 +72,7 @@ fn copy_path_bloom(
         Some("the target is multisampled (--aa msaa), which glCopyTexSubImage2D cannot read: use --aa ssaa")
     } else if post.transparent {
         Some("--transparent: the 8-bit frame's alpha would hold the RGBM multiplier")
-    } else if glass && gpu.caps.max_texture_units <= translucent::BEHIND_UNIT {
+    } else if glass && gpu.caps.max_texture_units <= super::units::BEHIND_UNIT {
         Some("no texture unit is left for the copy translucent surfaces blend over")
     } else {
         None

@@ -1,7 +1,8 @@
 //! Every program key the renderer can ask for, listed in one place for `--compile-shaders`
 //! (which compiles them all ahead of any frame) and its test. The renderer owns the keys (each
 //! pass builds its own), so the list lives here and the shader cache only stores programs.
-use super::{attributes, background, edges, grid, guides, lit, pbr, post, shadow, slots};
+use super::{attributes, background, edges, grid, guides, lit, pbr, post, shadow, slots, view};
+use crate::scene::material::{AlphaMode, Material};
 use crate::shader::cache::ProgramKey;
 
 /// Every program key the renderer can ask for with up to `max_lights` lights: the legacy
@@ -40,7 +41,7 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
                 }
             }
             keys.extend(pbr::all_keys(lights, shadows, pcf, cube_mask));
-            keys.push(lit::shadow_flags(
+            keys.push(view::shadow_flags(
                 grid::key(),
                 lights,
                 shadows,
@@ -60,8 +61,8 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         attributes::key(),
         edges::key(),
         edges::key().switch("LOG_DEPTH", "logz", true),
-        lit::shadow_flags(grid::key(), 1, 1, 1, 0).switch("LOG_DEPTH", "logz", true),
-        lit::shadow_flags(grid::key(), 1, 1, 1, 0).switch("LINEAR_OUTPUT", "lin", true),
+        view::shadow_flags(grid::key(), 1, 1, 1, 0).switch("LOG_DEPTH", "logz", true),
+        view::shadow_flags(grid::key(), 1, 1, 1, 0).switch("LINEAR_OUTPUT", "lin", true),
         guides::key(),
         edges::key().switch("WIDE", "wide", true),
         edges::key().switch("BARYCENTRIC", "bary", true),
@@ -74,7 +75,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         ]
     }))
     .chain(post::keys())
-    .chain(slots::variant_keys())
+    .chain(variant_keys())
     // Points: disks of gl_PointSize, lit (with normals) or unlit, coloured, both tiers.
     .chain([false, true].into_iter().flat_map(|unlit| {
         [
@@ -92,7 +93,7 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         [
             background::skybox_key(true, 3),
             lit::program_key(1, 1, 1, 0, true, false, true),
-            lit::shadow_flags(grid::key(), 1, 1, 1, 0),
+            view::shadow_flags(grid::key(), 1, 1, 1, 0),
         ]
         .map(|k| {
             k.switch("LINEAR_OUTPUT", "lin", true)
@@ -100,4 +101,39 @@ pub fn fixed_programs() -> Vec<ProgramKey> {
         }),
     )
     .collect()
+}
+
+/// The material variants of each lit program and of the depth program, for
+/// `--compile-shaders` (every flag of slots.rs in both tiers, with every map on).
+fn variant_keys() -> Vec<ProgramKey> {
+    let models = [
+        Material {
+            alpha_mode: AlphaMode::Mask(0.5),
+            ..Material::gltf_default()
+        },
+        Material {
+            alpha_mode: AlphaMode::Blend,
+            unlit: true,
+            ..Material::gltf_default()
+        },
+    ];
+    let mut keys = Vec::new();
+    for m in &models {
+        for gouraud in [false, true] {
+            let lit = lit::program_key(1, 1, 1, 0, true, gouraud, true)
+                .switch("HAS_NORMAL_MAP", "nrm", !gouraud)
+                .switch("HAS_EMISSIVE_MAP", "emi", true);
+            keys.push(slots::flags(lit, m, true, true, true));
+        }
+        for pbr in pbr::all_keys(1, 1, 1, 0) {
+            keys.push(slots::flags(pbr, m, true, true, true));
+        }
+        for (textured, colored) in [(false, false), (true, false), (true, true)] {
+            let depth = shadow::depth_key()
+                .switch("HAS_TEXTURE", "tex", textured)
+                .switch("HAS_COLOR", "vc", colored);
+            keys.push(slots::flags(depth, m, textured, textured, colored));
+        }
+    }
+    keys
 }

@@ -326,7 +326,7 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
         }
         let texture = if is_masked(cx, i) {
             let (material, has_uv) = (cx.scene.meshes[i].material, cx.scene.meshes[i].has_uv);
-            super::lit::base_texture(cx, material, has_uv)?
+            super::view::base_texture(cx, material, has_uv)?
         } else {
             None
         };
@@ -335,7 +335,7 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
             let p = cx.program(&key)?;
             p.bind();
             p.set_mat4("uLightMvp", vp);
-            p.set_i32("uDiffuseMap", 0);
+            p.set_i32("uDiffuseMap", super::units::BASE_UNIT as i32);
             current = Some(key);
         }
         let dm = &cx.scene.meshes[i];
@@ -344,7 +344,7 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
             let model = &cx.scene.scene.materials[dm.material];
             super::slots::set_uniforms(&p, model, dm.has_uv1);
             if let Some(t) = texture {
-                cx.res.textures.texture(t).bind(0);
+                cx.res.textures.texture(t).bind(super::units::BASE_UNIT);
             }
         }
         super::cull::draw(cx, i, state);

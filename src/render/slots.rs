@@ -101,41 +101,6 @@ pub(crate) fn set_uniforms(p: &Program, model: &Material, has_uv1: bool) {
     p.set_f32("uBaseAlpha", model.base_alpha);
 }
 
-/// The material variants of each lit program and of the depth program, for
-/// `--compile-shaders` (every flag of this module in both tiers, with every map on).
-pub(crate) fn variant_keys() -> Vec<ProgramKey> {
-    let models = [
-        Material {
-            alpha_mode: AlphaMode::Mask(0.5),
-            ..Material::gltf_default()
-        },
-        Material {
-            alpha_mode: AlphaMode::Blend,
-            unlit: true,
-            ..Material::gltf_default()
-        },
-    ];
-    let mut keys = Vec::new();
-    for m in &models {
-        for gouraud in [false, true] {
-            let lit = super::lit::program_key(1, 1, 1, 0, true, gouraud, true)
-                .switch("HAS_NORMAL_MAP", "nrm", !gouraud)
-                .switch("HAS_EMISSIVE_MAP", "emi", true);
-            keys.push(flags(lit, m, true, true, true));
-        }
-        for pbr in super::pbr::all_keys(1, 1, 1, 0) {
-            keys.push(flags(pbr, m, true, true, true));
-        }
-        for (textured, colored) in [(false, false), (true, false), (true, true)] {
-            let depth = super::shadow::depth_key()
-                .switch("HAS_TEXTURE", "tex", textured)
-                .switch("HAS_COLOR", "vc", colored);
-            keys.push(flags(depth, m, textured, textured, colored));
-        }
-    }
-    keys
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,7 +3,7 @@
 //! draw order and drawn through the translucency scheme ([`run`]); each mesh gets its
 //! program, the program its per-frame uniforms once, then the material's uniforms and
 //! textures, and the mesh is drawn with each of its render states ([`draw_meshes`]).
-use super::lit::View;
+use super::view::View;
 use super::FrameCx;
 use crate::gpu::program::Program;
 use crate::gpu::state::RenderState;

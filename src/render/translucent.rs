@@ -12,7 +12,8 @@
 //! needed; the EQUAL pass drawing every pixel the depth pass covered is tested).
 //! `--translucency sorted` keeps the legacy order (meshes back to front by centre, back faces
 //! then front faces).
-use super::background;
+use super::background::{self, masked};
+use super::units::BEHIND_UNIT;
 use super::FrameCx;
 use crate::frame::{BlendFormula, TranslucencyMode};
 use crate::gpu::program::Program;
@@ -25,17 +26,6 @@ fn nearest(cx: &FrameCx) -> bool {
     cx.settings.lighting.translucency.mode != TranslucencyMode::Sorted
         && cx.scene.meshes.iter().any(|m| m.translucent)
 }
-
-/// Whether this frame masks the background by the stencil (`nearest-masked`, with
-/// translucent meshes): the background comes last, never behind a translucent surface.
-pub(crate) fn masked(cx: &FrameCx) -> bool {
-    cx.settings.lighting.translucency.mode == TranslucencyMode::NearestMasked
-        && cx.scene.meshes.iter().any(|m| m.translucent)
-}
-
-/// The unit of the frame's copy translucent surfaces blend over on the RGBM path: past the
-/// PBR tier's last specular level.
-pub(crate) const BEHIND_UNIT: u32 = super::pbr::LAST_UNIT + 1;
 
 /// Draws mesh `i` (its program bound) once per state. On the RGBM frame (bloom without float
 /// render targets) fixed-function blending cannot decode the frame, so each blended draw

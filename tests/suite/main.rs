@@ -45,6 +45,7 @@ mod precision;
 mod quirky_formats;
 mod reference;
 mod reference_materials;
+mod render_layers;
 mod repro;
 mod serve;
 mod serve_client;
