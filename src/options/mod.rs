@@ -189,9 +189,11 @@ declare_options! {
         /// Level of detail of large meshes (those with clusters): per group of clusters,
         /// the coarsest simplified level whose error seen from the view (camera or light)
         /// is at most --lod-error pixels. auto: for meshes with more triangles than the
-        /// picture has pixels; on: every large mesh; off: every triangle (so does
-        /// --no-culling). The levels are built before the first picture that draws them and
-        /// kept in the mesh cache's entry: the cache makes a picture faster, never different.
+        /// picture has pixels (but every triangle where the library's depth, normals or ids
+        /// are read back: they are measurements); on: every large mesh; off: every
+        /// triangle (so does --no-culling). The levels are built before the first picture
+        /// that draws them and kept in the mesh cache's entry: the cache makes a picture
+        /// faster, never different.
         lod: LodMode = LodMode::Auto, "lod" value;
         /// The level of detail's error bound in pixels of the view (0: every triangle).
         lod_error: f32 = DEFAULT_LOD_ERROR, "lod-error" value, check = in_range(0.0, 16.0);

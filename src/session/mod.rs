@@ -325,8 +325,15 @@ fn draw(
     );
     renderer.time_post = args.picture.stats;
     renderer.cull_clusters = args.render.culling;
+    // Depth, normals and ids are measurements (a data set's ground truth): with `auto`
+    // they and the picture drawn with them take every triangle; `--lod on` still asks for
+    // levels there.
+    let mode = match args.render.lod {
+        crate::options::LodMode::Auto if outputs.any() => crate::options::LodMode::Off,
+        m => m,
+    };
     renderer.lod = crate::render::Lod {
-        mode: args.render.lod,
+        mode,
         error: args.render.lod_error,
     };
     let shown = View::settled(args, renderer.scene())?;
