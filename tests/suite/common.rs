@@ -70,6 +70,19 @@ pub fn run(args: &[&str], env: &[(&str, &str)]) -> Output {
 /// Renders to `dir/name.png` and reads it back; panics with glview's error on failure.
 /// A plain picture with no special environment is rendered in this process by the shared
 /// fixture (one context, one program cache); anything else runs the binary.
+/// `glview --repro PNG -o OUT`: the picture drawn again from its PNG text.
+pub fn repro(png: &Path, out: &Path) -> Output {
+    run(
+        &[
+            "--repro",
+            png.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    )
+}
+
 pub fn render(dir: &Path, name: &str, args: &[&str], env: &[(&str, &str)]) -> Rgba {
     let out = dir.join(format!("{name}.png"));
     let mut all = vec!["--output", out.to_str().unwrap()];

@@ -166,13 +166,13 @@ fn assert_all_equal(dir: &Path, all: &[(String, Rgba)]) {
     }
 }
 
-#[test]
-fn above_the_lod_threshold_every_way_gives_one_picture() {
-    let dir = out_dir("determinism_above");
-    let model = sphere(&dir, ABOVE);
+/// Every way's pictures of a sphere of `size` (all equal, asserted), and the one `--lod
+/// off` draws.
+fn every_way_and_lod_off(name: &str, size: (u32, u32)) -> (Vec<(String, Rgba)>, Rgba) {
+    let dir = out_dir(name);
+    let model = sphere(&dir, size);
     let all = every_way(&dir, &model);
     assert_all_equal(&dir, &all);
-    // The levels take part: every triangle (`--lod off`) is another picture.
     let off = cli(
         &dir,
         "lod-off",
@@ -181,24 +181,21 @@ fn above_the_lod_threshold_every_way_gives_one_picture() {
         &dir.join("cache-2"),
         "2",
     );
+    (all, off)
+}
+
+#[test]
+fn above_the_lod_threshold_every_way_gives_one_picture() {
+    let (all, off) = every_way_and_lod_off("determinism_above", ABOVE);
+    // The levels take part: every triangle (`--lod off`) is another picture.
     assert!(off.data != all[0].1.data, "--lod off drew the same picture");
 }
 
 #[test]
 fn below_the_lod_threshold_every_way_gives_one_picture() {
-    let dir = out_dir("determinism_below");
-    let model = sphere(&dir, BELOW);
-    let all = every_way(&dir, &model);
-    assert_all_equal(&dir, &all);
+    let (all, off) = every_way_and_lod_off("determinism_below", BELOW);
     // Fewer triangles than pixels: auto draws every one, as `--lod off` does.
-    let off = cli(
-        &dir,
-        "lod-off",
-        &model,
-        &["--lod", "off"],
-        &dir.join("cache-2"),
-        "2",
-    );
+    let dir = out_dir("determinism_below");
     assert_all_equal(&dir, &[all[0].clone(), ("--lod off".into(), off)]);
 }
 

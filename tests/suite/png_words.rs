@@ -216,15 +216,7 @@ fn every_option_word_in_png_text_parses_to_the_pictures_value() {
             );
         }
         let again = dir.join(format!("{name}-repro.png"));
-        let o = run(
-            &[
-                "--repro",
-                png.to_str().unwrap(),
-                "-o",
-                again.to_str().unwrap(),
-            ],
-            &[],
-        );
+        let o = repro(&png, &again);
         assert!(o.status.success(), "{name}: --repro: {o:?}");
         let (a, b) = (
             Rgba::load_png(&png).unwrap(),

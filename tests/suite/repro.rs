@@ -142,15 +142,7 @@ fn repro_draws_the_picture_again_from_its_options() {
         let opts = glview::Options::from_json(&json).expect("the JSON is valid options");
         assert_eq!(opts.picture.size, first_size(&first), "{json}");
         let again = dir.join(format!("{name}-repro.png"));
-        let o = run(
-            &[
-                "--repro",
-                png.to_str().unwrap(),
-                "-o",
-                again.to_str().unwrap(),
-            ],
-            &[],
-        );
+        let o = repro(&png, &again);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         assert_close(
             &dir,
