@@ -40,4 +40,3 @@ pub struct LightingParams {
 /// surface of dots, large enough that a sparse one (or glTF POINTS) shows round dots.
 pub const MIN_POINT_PX: f32 = 2.0;
 pub const MAX_POINT_PX: f32 = 8.0;
-

@@ -6,9 +6,9 @@
 //! the type's own (the library's sorted translucency: the command line's is `nearest`).
 use super::{Diffuse, Light, Options, Pbr, Post, Shadow};
 use crate::frame::{Bloom, ShadowSettings, BLOOM_KNEE, SHADOW_NORMAL_OFFSET, SHADOW_SLOPE_BIAS};
+use crate::frame::{LightingParams, MIN_POINT_PX};
 use crate::pbr::precompute::{IblSettings, LUT_SAMPLES};
 use crate::pbr::{OutputParams, PbrParams};
-use crate::frame::{LightingParams, MIN_POINT_PX};
 use glam::{DVec3, Vec3};
 
 impl From<&Shadow> for ShadowSettings {

@@ -63,7 +63,7 @@ fn load_mtl(
 }
 
 /// Loads OBJ bytes as if they were the file `path` (MTL and textures are looked up beside it).
-pub fn load_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
+pub(crate) fn load_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     load_bytes_with(path, bytes, opts, Parser::from_env())
 }
 
@@ -78,7 +78,12 @@ pub fn load_bytes_with(
 }
 
 /// Loads an OBJ whose MTL library is in memory too (the built-in scene).
-pub fn load_embedded(path: &Path, obj: &[u8], mtl: &[u8], opts: &LoadOptions) -> Result<Scene> {
+pub(crate) fn load_embedded(
+    path: &Path,
+    obj: &[u8],
+    mtl: &[u8],
+    opts: &LoadOptions,
+) -> Result<Scene> {
     load_embedded_with(path, obj, mtl, opts, Parser::from_env())
 }
 
