@@ -212,7 +212,7 @@ pub enum Effect {
 /// a picture is drawn from. Camera actions ([`Action::Camera`], [`Action::Reset`],
 /// [`Action::Fit`]) need the scene and the view's home and are the caller's
 /// ([`crate::session::View`]); they return [`Effect::Camera`] untouched.
-pub(crate) fn apply(action: Action, o: &mut Options) -> Effect {
+pub fn apply(action: Action, o: &mut Options) -> Effect {
     match action {
         Action::Camera(_) | Action::Reset | Action::Fit => return Effect::Camera,
         Action::ToggleShadows => o.shadow.enabled = !o.shadow.enabled,

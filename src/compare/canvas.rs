@@ -84,7 +84,7 @@ pub(crate) fn text(img: &mut Rgba, x: u32, y: u32, text: &str, rgb: [u8; 3]) {
     text_scaled(img, x, y, text, rgb, SCALE);
 }
 
-/// [`text`] with glyphs of 8·`scale` pixels (the window overlay uses 1).
+/// `text` with glyphs of 8·`scale` pixels (the window overlay uses 1).
 pub fn text_scaled(img: &mut Rgba, x: u32, y: u32, text: &str, rgb: [u8; 3], scale: u32) {
     let scale = scale.max(1);
     for (i, ch) in drawn(text).into_iter().enumerate() {

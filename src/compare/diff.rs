@@ -160,7 +160,7 @@ pub struct TierDiff {
     pub(crate) names: [String; 2],
     pub a: Rgba,
     pub b: Rgba,
-    /// [`difference_image`] of the two over the model's pixels (the background is 0).
+    /// `difference_image` of the two over the model's pixels (the background is 0).
     pub image: Rgba,
     /// Over the whole picture, backgrounds included.
     pub(crate) numbers: DiffNumbers,

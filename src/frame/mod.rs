@@ -127,7 +127,7 @@ impl Default for Translucency {
 /// The ground grid and the orientation triad (`--grid`, `--axes`; keys `Z`, `X`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Guides {
-    /// A grid at the model's lowest point, receiving its shadow ([`crate::grid::GridPlane`]).
+    /// A grid at the model's lowest point, receiving its shadow (`crate::grid::GridPlane`).
     pub grid: bool,
     /// The X/Y/Z triad in the bottom-left corner, turning with the camera.
     pub axes: bool,
@@ -156,7 +156,7 @@ impl Default for Guides {
 pub enum EdgeMode {
     #[default]
     Off,
-    /// Boundary and creased edges ([`crate::scene::edges::EdgeSet::Feature`]).
+    /// Boundary and creased edges (`crate::scene::edges::EdgeSet::Feature`).
     Feature,
     /// Every triangle edge.
     Wireframe,

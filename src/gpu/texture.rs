@@ -4,7 +4,7 @@ use super::{Caps, GpuRef};
 use crate::{Error, Result};
 use glow::HasContext;
 
-/// Texel formats, each gated on the capability probe ([`TextureFormat::supported`]).
+/// Texel formats, each gated on the capability probe (`TextureFormat::supported`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum TextureFormat {
     Rgba8,
@@ -115,7 +115,7 @@ unsafe fn tex_image(
 /// Where a colour texture's mipmaps come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MipSource {
-    /// Built on the CPU ([`super::mipmaps`]): fast on every driver, and present without
+    /// Built on the CPU (`super::mipmaps`): fast on every driver, and present without
     /// `glGenerateMipmap`.
     Cpu,
     /// `glGenerateMipmap`, where the driver has it (else no mipmaps).

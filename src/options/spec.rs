@@ -50,7 +50,7 @@ impl OptionSpec {
     /// The command-line words of this option's value in `o`, written even where it is the
     /// default (`["--tonemap", "khronos-neutral"]`), so a text can state what a picture was
     /// drawn with; none for an unset value or a switch in its usual state.
-    pub(crate) fn value_words(&self, o: &super::Options) -> Vec<String> {
+    pub fn value_words(&self, o: &super::Options) -> Vec<String> {
         (self.all_words)(o)
     }
 

@@ -187,7 +187,7 @@ pub(crate) fn render_env(
     render_rows(scene, s, env, width, height, false).0
 }
 
-/// [`render_env`], plus what each pixel saw.
+/// `render_env`, plus what each pixel saw.
 pub fn render_env_with_info(
     scene: &Scene,
     s: &FrameSettings,

@@ -33,7 +33,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 mod read;
 
 /// Files smaller than this parse in well under 100 ms: not worth a cache entry, unless their
-/// images are large (see [`worth_an_entry`]).
+/// images are large (see `worth_an_entry`).
 pub const MIN_SIZE: u64 = 4 << 20;
 /// Decoded texture pixels above which a model is cached whatever its file size: one 2048²
 /// image costs tens of milliseconds to decode (a 3.4 MB GLB can hold five of them).
@@ -248,7 +248,7 @@ fn entry_path(dir: &Path, model: &Path) -> Option<PathBuf> {
 }
 
 /// A cached scene for `path`, if a valid entry exists: validated by the file's metadata only,
-/// unless [`verify`] is on (then its content is read and hashed too).
+/// unless `verify` is on (then its content is read and hashed too).
 pub fn lookup(path: &Path, textures: TextureOptions) -> Option<Prepared> {
     if verify() {
         let bytes = std::fs::read(path).ok()?;
@@ -307,7 +307,7 @@ pub(crate) fn put_later(write: impl FnOnce() + Send + 'static) {
     }
 }
 
-/// Waits until the entries [`put_later`] is writing are written: before a process exits
+/// Waits until the entries `put_later` is writing are written: before a process exits
 /// (the CLI calls it), and before a lookup, so a second load in one process finds the
 /// first one's entry.
 pub fn wait_for_writes() {
@@ -332,7 +332,7 @@ pub(crate) fn put(
     }
 }
 
-/// As [`put`], with entries in `dir` bounded to `max_bytes` in total: least recently used
+/// As `put`, with entries in `dir` bounded to `max_bytes` in total: least recently used
 /// entries are deleted first; an entry larger than the whole bound is not written.
 pub fn put_in(
     dir: &Path,

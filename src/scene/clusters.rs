@@ -1,7 +1,7 @@
 //! Large meshes drawn in parts. Their triangles are put in an order that is both
 //! vertex-cache friendly and spatially coherent ([`super::reorder`]: blocks along a Morton
 //! curve, each in meshopt's FIFO cache order), and the index buffer is cut into runs of
-//! [`MIN_RUN`]–[`RUN`] triangles ("clusters") with a bounding sphere and a normal cone each. A pass then skips, on the CPU,
+//! `MIN_RUN`–`RUN` triangles ("clusters") with a bounding sphere and a normal cone each. A pass then skips, on the CPU,
 //! the runs outside its frustum (any mesh) and, for closed outward-facing meshes seen from
 //! outside or for draws that cull back faces anyway, the runs that face away from the
 //! viewer: llvmpipe shades vertices and sets up triangles on one thread, so triangles never
@@ -43,7 +43,7 @@ pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
 }
 
 /// As [`prepare`] without levels of detail: for a model not in the cache, whose picture may
-/// not need them (the renderer builds them, with [`Lod::build`] as [`add_lod`] does, before
+/// not need them (the renderer builds them, with `Lod::build` as [`add_lod`] does, before
 /// the first picture that draws them, so the pictures are those of [`prepare`]'s clusters).
 pub fn prepare_without_lod(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
     prepare_with(scene, false)

@@ -1,4 +1,4 @@
-//! STL ([`super::stl`]) and PLY ([`super::ply`]), optionally gzipped (`flate2`, read as a
+//! STL (`super::stl`) and PLY (`super::ply`), optionally gzipped (`flate2`, read as a
 //! stream), into the same [`Scene`] as OBJ: re-centred in f64, polygons triangulated like
 //! OBJ faces, normals generated with the same creases. Bad input is a one-line error naming
 //! the file, as for OBJ.

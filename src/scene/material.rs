@@ -2,7 +2,7 @@
 //! outside (base colour and alpha mode, metallic, roughness, emissive, normal scale,
 //! occlusion strength, sidedness, unlit, one [`TextureSlot`] per map), and the Phong terms an
 //! MTL gives ([`PhongTerms`]) as an optional part, which the legacy tier draws with. An MTL is
-//! mapped into the PBR values once, at load ([`super::mtl_mapping`]); a glTF material has
+//! mapped into the PBR values once, at load (`super::mtl_mapping`); a glTF material has
 //! no Phong terms and the legacy tier derives them from the base colour
 //! ([`Material::phong_terms`]). Decoded images (RGBA8) are here too; no GL.
 use super::texture_slot::{Slot, TextureSlot};
@@ -85,7 +85,7 @@ impl Default for PhongTerms {
 /// The one colour rule: what a material's colour factors (base colour, emissive) and its
 /// meshes' colours mean, decided by the loader. The legacy tier draws display values, so it
 /// draws a linear colour as its sRGB encoding (the display value of the same colour), once,
-/// where its uniforms are made ([`Material::phong_terms`], [`Material::legacy_emissive`]):
+/// where its uniforms are made ([`Material::phong_terms`], `Material::legacy_emissive`):
 /// a factor, an sRGB texture and a vertex colour of one colour then look the same. The PBR
 /// tier reads every factor as linear.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

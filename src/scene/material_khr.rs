@@ -57,10 +57,10 @@ pub struct Volume {
 }
 
 /// The number of extension slots.
-pub(crate) const COUNT: usize = 9;
+pub const COUNT: usize = 9;
 
 /// The extension slots in the order of [`Khr::maps`] (and of the mesh cache's table).
-pub(crate) const SLOTS: [Slot; COUNT] = [
+pub const SLOTS: [Slot; COUNT] = [
     Slot::Clearcoat,
     Slot::ClearcoatRoughness,
     Slot::ClearcoatNormal,

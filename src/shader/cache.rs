@@ -195,4 +195,9 @@ impl ProgramCache {
     pub fn len(&self) -> usize {
         self.programs.len()
     }
+
+    /// Whether no program is compiled yet (clippy's `len_without_is_empty`: `len` is public).
+    pub fn is_empty(&self) -> bool {
+        self.programs.is_empty()
+    }
 }

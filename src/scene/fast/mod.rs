@@ -1,4 +1,4 @@
-//! The fast OBJ path: one pass over the bytes that does what [`super::repair`] and tobj do
+//! The fast OBJ path: one pass over the bytes that does what `super::repair` and tobj do
 //! together, for files where that is certain. The file is cut into chunks at line ends and
 //! the chunks are parsed in parallel (`chunk`); element counts are prefix-summed so
 //! relative indices resolve (`resolve`); then one ordered pass applies names, materials and
