@@ -18,7 +18,7 @@ pub struct OrbitCamera {
     /// Orthographic view of this height, if set.
     pub ortho_height: Option<f32>,
     /// `--near`: a fixed near plane instead of the one fitted to the bounds.
-    pub near: Option<f32>,
+    pub(crate) near: Option<f32>,
 }
 
 /// Camera input, independent of any windowing library.
@@ -30,8 +30,8 @@ pub enum CameraMove {
     Zoom(f32),
 }
 
-pub const KEY_STEP_DEG: f32 = 5.0;
-pub const ZOOM_STEP: f32 = 1.1;
+pub(crate) const KEY_STEP_DEG: f32 = 5.0;
+pub(crate) const ZOOM_STEP: f32 = 1.1;
 
 impl OrbitCamera {
     /// The default view: looks at the bounds' centre from +Z at a distance where the bounding
@@ -50,7 +50,7 @@ impl OrbitCamera {
         c
     }
 
-    pub fn fit_distance(&self, bounds: &Bounds, aspect: f32) -> f32 {
+    pub(crate) fn fit_distance(&self, bounds: &Bounds, aspect: f32) -> f32 {
         let half_v = (self.fov_y_deg.to_radians() * 0.5).clamp(1e-3, 1.55);
         let half_h = (half_v.tan() * aspect.max(1e-3)).atan();
         bounds.radius() / half_v.min(half_h).sin()
@@ -58,11 +58,11 @@ impl OrbitCamera {
 
     /// The orthographic view height that fits the bounding sphere: it touches the top and
     /// bottom edges of a landscape picture, the left and right edges of a portrait one.
-    pub fn fit_ortho_height(bounds: &Bounds, aspect: f32) -> f32 {
+    pub(crate) fn fit_ortho_height(bounds: &Bounds, aspect: f32) -> f32 {
         2.0 * bounds.radius() * (1.0 / aspect.max(1e-3)).max(1.0)
     }
 
-    pub fn direction(&self) -> Vec3 {
+    pub(crate) fn direction(&self) -> Vec3 {
         let (y, p) = (self.yaw_deg.to_radians(), self.pitch_deg.to_radians());
         Vec3::new(p.cos() * y.sin(), p.sin(), p.cos() * y.cos())
     }
@@ -71,7 +71,7 @@ impl OrbitCamera {
         self.target + self.distance * self.direction()
     }
 
-    pub fn up(&self) -> Vec3 {
+    pub(crate) fn up(&self) -> Vec3 {
         let (y, p) = (self.yaw_deg.to_radians(), self.pitch_deg.to_radians());
         Vec3::new(-p.sin() * y.sin(), p.cos(), -p.sin() * y.cos())
     }
@@ -106,7 +106,7 @@ impl OrbitCamera {
 
     /// The view's projection with clip planes `near` and `far`: the frame's come from
     /// [`Self::near_far`]; the ground grid reaches further (`render/grid.rs`).
-    pub fn projection_between(&self, aspect: f32, near: f32, far: f32) -> Mat4 {
+    pub(crate) fn projection_between(&self, aspect: f32, near: f32, far: f32) -> Mat4 {
         let aspect = if aspect.is_finite() && aspect > 0.0 {
             aspect
         } else {
@@ -121,7 +121,7 @@ impl OrbitCamera {
         }
     }
 
-    pub fn apply(&mut self, m: CameraMove) {
+    pub(crate) fn apply(&mut self, m: CameraMove) {
         match m {
             CameraMove::Yaw(d) => self.yaw_deg = (self.yaw_deg + d) % 360.0,
             CameraMove::Pitch(d) => self.pitch_deg = (self.pitch_deg + d) % 360.0,

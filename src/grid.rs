@@ -11,30 +11,30 @@ use glam::{DVec2, DVec3, Mat4, Vec3};
 /// half `fade` and `fade` from `centre` (x, z); the file's two axes that lie on the floor
 /// drawn through its origin in the triad's colours (as f3d draws them).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GridPlane {
-    pub height: f64,
-    pub centre: DVec2,
-    pub unit: f64,
-    pub fade: f64,
+pub(crate) struct GridPlane {
+    pub(crate) height: f64,
+    pub(crate) centre: DVec2,
+    pub(crate) unit: f64,
+    pub(crate) fade: f64,
     /// Where the file's origin lies on the plane (x, z of the scene's coordinates, which
     /// are the file's re-centred and turned by `--up`).
-    pub file_origin: DVec2,
+    pub(crate) file_origin: DVec2,
     /// The colours of the file axes along the scene's X and along its Z (display values).
-    pub axis_colors: [DVec3; 2],
+    pub(crate) axis_colors: [DVec3; 2],
 }
 
 /// How far the grid reaches, in bounding radii: far enough to hold a low light's shadow.
-pub const FADE_RADII: f64 = 4.0;
+pub(crate) const FADE_RADII: f64 = 4.0;
 /// The grid lines' opacity where they are fully drawn.
-pub const LINE_ALPHA: f64 = 0.6;
+pub(crate) const LINE_ALPHA: f64 = 0.6;
 /// The axis lines' opacity; they are half again as wide as the grid's.
-pub const AXIS_ALPHA: f64 = 0.9;
+pub(crate) const AXIS_ALPHA: f64 = 0.9;
 
 impl GridPlane {
     /// The grid under `bounds` of a scene whose file origin lies at `origin` below zero
     /// (`Scene::origin`), read with `up`: at the bounds' lowest point, centred below them,
     /// with a unit of 1, 2 or 5 × 10^k near half the bounding radius (a few cells across).
-    pub fn new(bounds: &Bounds, origin: DVec3, up: UpAxis) -> GridPlane {
+    pub(crate) fn new(bounds: &Bounds, origin: DVec3, up: UpAxis) -> GridPlane {
         let r = f64::from(bounds.radius());
         let c = bounds.center().as_dvec3();
         let height = if bounds.is_empty() {
@@ -53,12 +53,12 @@ impl GridPlane {
     }
 
     /// [`GridPlane::new`] for a loaded scene.
-    pub fn for_scene(scene: &crate::scene::Scene, up: UpAxis) -> GridPlane {
+    pub(crate) fn for_scene(scene: &crate::scene::Scene, up: UpAxis) -> GridPlane {
         GridPlane::new(&scene.bounds, scene.origin, up)
     }
 
     /// The overlay's label: `grid 0.5` (model units per cell).
-    pub fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         format!("grid {}", self.unit as f32)
     }
 
@@ -66,7 +66,7 @@ impl GridPlane {
     /// `fw` = fwidth(q) for q = p.xz / unit (the sum of the absolute changes across one
     /// pixel in x and in y), lines `width` pixels wide over the grid colour `grid`: their
     /// colour and opacity. grid.frag computes exactly this.
-    pub fn lines(&self, p: DVec3, fw: DVec2, width: f64, grid: DVec3) -> (DVec3, f64) {
+    pub(crate) fn lines(&self, p: DVec3, fw: DVec2, width: f64, grid: DVec3) -> (DVec3, f64) {
         let q = (DVec2::new(p.x, p.z) - self.file_origin) / self.unit;
         let fw = fw.max(DVec2::splat(1e-9));
         let fade = self.fade_at(p);
@@ -85,14 +85,14 @@ impl GridPlane {
 
     /// How much of the grid (lines and shadow) is left at `p`: 1 near the model, 0 from
     /// `fade` on.
-    pub fn fade_at(&self, p: DVec3) -> f64 {
+    pub(crate) fn fade_at(&self, p: DVec3) -> f64 {
         let far = (DVec2::new(p.x, p.z) - self.centre).length();
         1.0 - smoothstep(0.5 * self.fade, self.fade, far)
     }
 
     /// A point of the lines' lattice on the plane near the centre: the GPU draws relative to
     /// it, so its f32 line rule never works on large coordinates.
-    pub fn origin(&self) -> DVec3 {
+    pub(crate) fn origin(&self) -> DVec3 {
         let k = ((self.centre - self.file_origin) / self.unit).round();
         let o = self.file_origin + k * self.unit;
         DVec3::new(o.x, self.height, o.y)
@@ -100,7 +100,7 @@ impl GridPlane {
 
     /// The square the grid is drawn on, relative to [`GridPlane::origin`] (corners on the
     /// plane, counter-clockwise from above).
-    pub fn corners(&self) -> [Vec3; 4] {
+    pub(crate) fn corners(&self) -> [Vec3; 4] {
         let o = self.origin();
         let (c, f) = (self.centre, self.fade);
         [(-1.0, 1.0), (1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)]
@@ -111,7 +111,7 @@ impl GridPlane {
 /// The bounds a shadow map is fitted to while the grid is on: the model's, and where its
 /// box's shadow falls on the plane from each casting light (clipped to the grid's square),
 /// so the model's shadow on the grid lies inside the map instead of being cut at its edge.
-pub fn shadow_bounds(bounds: &Bounds, lights: &[crate::light::Light]) -> Bounds {
+pub(crate) fn shadow_bounds(bounds: &Bounds, lights: &[crate::light::Light]) -> Bounds {
     use crate::light::LightKind;
     // (Where the lines lie does not matter here: no origin or up needed.)
     let g = GridPlane::new(bounds, glam::DVec3::ZERO, UpAxis::PosY);
@@ -139,7 +139,7 @@ pub fn shadow_bounds(bounds: &Bounds, lights: &[crate::light::Light]) -> Bounds 
 
 /// The lines' colour over a background of `background` (display values): light grey over a
 /// dark one, dark grey over a light one.
-pub fn line_color(background: Vec3) -> [f32; 3] {
+pub(crate) fn line_color(background: Vec3) -> [f32; 3] {
     let y = background.dot(Vec3::from(LUMINANCE.map(|k| k as f32)));
     [if y > 0.5 { 0.15 } else { 0.8 }; 3]
 }
@@ -147,7 +147,7 @@ pub fn line_color(background: Vec3) -> [f32; 3] {
 /// What the model's shadow leaves of the light on a white diffuse floor with normal `n`:
 /// (ambient + Σ visᵢ·Lᵢ·max(n·lᵢ, 0)) / (ambient + Σ Lᵢ·max(n·lᵢ, 0)), with L the lights'
 /// luminance; the grid darkens what lies behind it by 1 minus this (grid.frag does the same).
-pub fn floor_light(ambient: f64, lights: &[(f64, f64)]) -> f64 {
+pub(crate) fn floor_light(ambient: f64, lights: &[(f64, f64)]) -> f64 {
     let full: f64 = ambient + lights.iter().map(|(k, _)| k).sum::<f64>();
     let lit: f64 = ambient + lights.iter().map(|(k, vis)| k * vis).sum::<f64>();
     if full > 0.0 {
@@ -158,10 +158,10 @@ pub fn floor_light(ambient: f64, lights: &[(f64, f64)]) -> f64 {
 }
 
 /// Luminance weights (Rec. 709) of the lights' colours in the floor's light.
-pub const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
+pub(crate) const LUMINANCE: [f64; 3] = [0.2126, 0.7152, 0.0722];
 
 /// `src` over `dst`, each (colour, opacity) with straight alpha.
-pub fn over(src: (DVec3, f64), dst: (DVec3, f64)) -> (DVec3, f64) {
+pub(crate) fn over(src: (DVec3, f64), dst: (DVec3, f64)) -> (DVec3, f64) {
     let a = src.1 + dst.1 * (1.0 - src.1);
     if a <= 0.0 {
         return (DVec3::ZERO, 0.0);
@@ -171,7 +171,7 @@ pub fn over(src: (DVec3, f64), dst: (DVec3, f64)) -> (DVec3, f64) {
 
 /// The triad colour of the file axis that `--up` turns onto the scene's direction `d` (X or
 /// Z: the floor's axes).
-pub fn floor_axis_color(up: UpAxis, d: Vec3) -> DVec3 {
+pub(crate) fn floor_axis_color(up: UpAxis, d: Vec3) -> DVec3 {
     let (_, rgb, _) = AXES
         .iter()
         .find(|(a, _, _)| up.rotate(a.as_dvec3()).as_vec3().dot(d).abs() > 0.5)
@@ -181,7 +181,7 @@ pub fn floor_axis_color(up: UpAxis, d: Vec3) -> DVec3 {
 }
 
 /// The largest 1, 2 or 5 × 10^k at most `x` (x > 0; 1 otherwise).
-pub fn nice_unit(x: f64) -> f64 {
+pub(crate) fn nice_unit(x: f64) -> f64 {
     if !(x.is_finite() && x > 0.0) {
         return 1.0;
     }
@@ -204,7 +204,7 @@ fn fract(v: DVec2) -> DVec2 {
 }
 
 /// GLSL's smoothstep.
-pub fn smoothstep(e0: f64, e1: f64, x: f64) -> f64 {
+pub(crate) fn smoothstep(e0: f64, e1: f64, x: f64) -> f64 {
     let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
 }

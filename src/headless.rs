@@ -24,8 +24,8 @@ pub struct Headless {
     fbo: Option<Framebuffer>,
     pub gpu: GpuRef,
     platform: Platform,
-    pub width: u32,
-    pub height: u32,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
 }
 
 fn osmesa_profile(r: GlRequest) -> Option<OsMesaProfile> {
@@ -111,14 +111,14 @@ impl Headless {
 
     /// Whether [`Headless::reset_target`] can give this context another size (not an
     /// OSMesa buffer).
-    pub fn resizable(&self) -> bool {
+    pub(crate) fn resizable(&self) -> bool {
         self.fbo.is_some()
     }
 
     /// Gives the context a render target of `width`×`height` and no multisampling, so one
     /// context serves pictures of any size (the test fixture renders many in one process).
     /// OSMesa draws into a buffer fixed at creation: there only the same size is accepted.
-    pub fn reset_target(&mut self, width: u32, height: u32) -> Result<()> {
+    pub(crate) fn reset_target(&mut self, width: u32, height: u32) -> Result<()> {
         self.msaa = None;
         if (width, height) == (self.width, self.height) {
             return Ok(());
@@ -173,7 +173,7 @@ impl Headless {
 
     /// Stencil bits of the render target: OSMesa's buffer has 8; the EGL target's
     /// renderbuffer is depth24-stencil8 where the driver has packed depth-stencil.
-    pub fn stencil_bits(&self) -> u32 {
+    pub(crate) fn stencil_bits(&self) -> u32 {
         match self.platform {
             Platform::OsMesa(_) => 8,
             Platform::Egl(_) if self.gpu.caps.depth_stencil => 8,

@@ -22,7 +22,7 @@ impl OutputFormat {
 }
 
 /// A PNG's text chunks (key, value), as pictures carry them to the file.
-pub type PngText = Vec<(&'static str, String)>;
+pub(crate) type PngText = Vec<(&'static str, String)>;
 
 /// An RGBA8 image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,7 +50,7 @@ impl Rgba {
 
     /// Saves as PNG (with `text` chunks) or JPEG (quality 95, no alpha, no text) by the
     /// extension; refuses other extensions.
-    pub fn save(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
+    pub(crate) fn save(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
         match OutputFormat::of(path) {
             Some(OutputFormat::Png) => self.save_png(path, text),
             Some(OutputFormat::Jpeg) => {
@@ -192,7 +192,7 @@ pub fn png_text(path: &Path) -> Result<Vec<(String, String)>> {
 
 /// The framebuffer holds colour multiplied by coverage (blending over a cleared transparent
 /// black, resolved or box-filtered edges); PNG wants straight alpha.
-pub fn unpremultiply(img: &mut Rgba) {
+pub(crate) fn unpremultiply(img: &mut Rgba) {
     for p in img.data.chunks_exact_mut(4) {
         let a = u32::from(p[3]);
         if a > 0 && a < 255 {

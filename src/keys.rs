@@ -34,25 +34,7 @@ pub enum Action {
     Quit,
 }
 
-impl Action {
-    /// Whether the key changes what is drawn other than through the camera (the PNG text
-    /// replays these keys; the camera is written out as options).
-    pub fn changes_state(self) -> bool {
-        matches!(
-            self,
-            Action::ToggleShadows
-                | Action::ToggleGouraud
-                | Action::CycleShading
-                | Action::ToggleWrap
-                | Action::ToggleTerm(_)
-                | Action::ToggleBloom
-                | Action::Opacity(_)
-                | Action::CycleEdges
-                | Action::ToggleGrid
-                | Action::ToggleAxes
-        )
-    }
-}
+impl Action {}
 
 /// (key names, action, description) — the table `H`/`F1` prints and the README shows.
 pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
@@ -179,19 +161,11 @@ pub fn remote_table() -> serde_json::Value {
 /// Degrees of orbit per pixel of a left-drag (the window's and the server's).
 pub const DRAG_DEG_PER_PIXEL: f32 = 0.4;
 
-/// The first name of the key that does `action` (as `--keys` takes it).
-pub fn name_of(action: Action) -> Option<&'static str> {
-    KEY_TABLE
-        .iter()
-        .find(|(_, a, _)| *a == action)
-        .map(|(names, _, _)| names[0])
-}
-
 /// The bloom strength `B` switches on.
-pub const DEFAULT_KEY_BLOOM: f32 = 0.05;
+pub(crate) const DEFAULT_KEY_BLOOM: f32 = 0.05;
 
 /// Where `[` and `]` start when no `--opacity` was given.
-pub const DEFAULT_KEY_OPACITY: f32 = 0.5;
+pub(crate) const DEFAULT_KEY_OPACITY: f32 = 0.5;
 
 /// Looks up a key by name (case-insensitive for letters).
 pub fn action_for(name: &str) -> Option<Action> {
@@ -202,7 +176,7 @@ pub fn action_for(name: &str) -> Option<Action> {
 }
 
 /// Parses `--keys "Left Left Up"`.
-pub fn parse_keys(s: &str) -> Result<Vec<Action>, String> {
+pub(crate) fn parse_keys(s: &str) -> Result<Vec<Action>, String> {
     s.split_whitespace()
         .map(|k| {
             action_for(k)

@@ -16,9 +16,9 @@ pub struct Light {
 }
 
 /// The default kit (no `--light`): key (casts the shadow), fill and headlight colours.
-pub const KIT_KEY: f32 = 0.75;
-pub const KIT_FILL: f32 = 0.3;
-pub const KIT_HEAD: f32 = 0.3;
+pub(crate) const KIT_KEY: f32 = 0.75;
+pub(crate) const KIT_FILL: f32 = 0.3;
+pub(crate) const KIT_HEAD: f32 = 0.3;
 
 /// The most lights a frame draws (each may cast a shadow); more is an error at the CLI.
 pub const MAX_LIGHTS: usize = 4;
@@ -44,13 +44,13 @@ impl LightSpec {
     }
 
     /// The default light when none is given: from above, in front and to the left of the default view.
-    pub fn default_light() -> LightSpec {
+    pub(crate) fn default_light() -> LightSpec {
         LightSpec::Directional(DVec3::new(0.3, -0.8, -0.55).normalize())
     }
 
     /// The default light kit's fill: from the other side and a little below the key, so
     /// what the key leaves dark is still readable.
-    pub fn fill_light() -> LightSpec {
+    pub(crate) fn fill_light() -> LightSpec {
         LightSpec::Directional(DVec3::new(-0.45, 0.25, 0.6).normalize())
     }
 
@@ -121,7 +121,7 @@ impl LightOpt {
 }
 
 /// Parses `X,Y,Z` of finite numbers.
-pub fn parse_vec3(s: &str) -> Result<DVec3, String> {
+pub(crate) fn parse_vec3(s: &str) -> Result<DVec3, String> {
     let parts: Vec<f64> = s
         .split(',')
         .map(|p| {

@@ -12,7 +12,7 @@ pub trait Task: Send + Sync {
 }
 
 /// Makes a [`Task`] for a step of `total` units (bytes, pictures) named `what`.
-pub type Reporter = Box<dyn Fn(&str, u64, Unit) -> Box<dyn Task> + Send + Sync>;
+pub(crate) type Reporter = Box<dyn Fn(&str, u64, Unit) -> Box<dyn Task> + Send + Sync>;
 
 /// What a step counts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,6 +29,6 @@ pub fn install(r: Reporter) {
 }
 
 /// A task for this step, if a reporter is installed.
-pub fn start(what: &str, total: u64, unit: Unit) -> Option<Box<dyn Task>> {
+pub(crate) fn start(what: &str, total: u64, unit: Unit) -> Option<Box<dyn Task>> {
     REPORTER.get().map(|r| r(what, total, unit))
 }

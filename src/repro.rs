@@ -18,7 +18,7 @@ fn scene_part(args: &Options) -> Options {
 /// they bake in), and the model file's size and time (so a file changed between two
 /// pictures is read again). Equal keys share a GPU scene: the camera, tier, lights,
 /// environment, exposure, post-processing and size are the view's and upload nothing.
-pub fn scene_key(args: &Options) -> String {
+pub(crate) fn scene_key(args: &Options) -> String {
     let stamp = args
         .load
         .model
@@ -35,7 +35,7 @@ pub fn scene_key(args: &Options) -> String {
 
 /// The options that draw this picture again: `args` (their `--keys` already replayed into
 /// them) with the camera as it is (`target` in the file's coordinates) and this size.
-pub fn shown_options(
+pub(crate) fn shown_options(
     args: &Options,
     camera: &OrbitCamera,
     target: [f64; 3],

@@ -11,7 +11,7 @@ use crate::scene::Material;
 use glam::DVec3;
 
 /// The specular factor; see the module comment for Ns <= 0.
-pub fn specular_factor(r_dot_v: f64, ns: f64) -> f64 {
+pub(crate) fn specular_factor(r_dot_v: f64, ns: f64) -> f64 {
     if ns <= 0.0 {
         1.0
     } else if r_dot_v <= 0.0 {
@@ -33,9 +33,9 @@ pub fn to_light(light: &Light, p: DVec3) -> DVec3 {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Tex {
     /// Multiplies Ka and Kd (the diffuse map, times vertex colours).
-    pub diffuse: DVec3,
+    pub(crate) diffuse: DVec3,
     /// Multiplies Ke (the emissive map).
-    pub emissive: DVec3,
+    pub(crate) emissive: DVec3,
 }
 
 impl Tex {
@@ -44,7 +44,7 @@ impl Tex {
         emissive: DVec3::ONE,
     };
 
-    pub fn diffuse(c: DVec3) -> Tex {
+    pub(crate) fn diffuse(c: DVec3) -> Tex {
         Tex {
             diffuse: c,
             ..Tex::WHITE
@@ -98,7 +98,7 @@ pub fn shade(
     c.clamp(DVec3::ZERO, DVec3::ONE)
 }
 
-pub fn reflect(i: DVec3, n: DVec3) -> DVec3 {
+pub(crate) fn reflect(i: DVec3, n: DVec3) -> DVec3 {
     i - 2.0 * n.dot(i) * n
 }
 

@@ -17,7 +17,7 @@ pub fn blank(width: u32, height: u32, rgb: [u8; 3]) -> Rgba {
 }
 
 /// Copies `src` into `dst` with its top-left corner at (x, y) (clipped).
-pub fn paste(dst: &mut Rgba, src: &Rgba, x: u32, y: u32) {
+pub(crate) fn paste(dst: &mut Rgba, src: &Rgba, x: u32, y: u32) {
     for row in 0..src.height.min(dst.height.saturating_sub(y)) {
         let w = src.width.min(dst.width.saturating_sub(x)) as usize;
         let s = (row * src.width) as usize * 4;
@@ -27,9 +27,9 @@ pub fn paste(dst: &mut Rgba, src: &Rgba, x: u32, y: u32) {
 }
 
 /// Glyph scale of every label: 8×8 glyphs drawn 16×16, one size everywhere.
-pub const SCALE: u32 = 2;
+pub(crate) const SCALE: u32 = 2;
 /// Side of a label glyph in pixels.
-pub const GLYPH: u32 = 8 * SCALE;
+pub(crate) const GLYPH: u32 = 8 * SCALE;
 /// Label lines are this far apart (a glyph and 2 pixels).
 const LINE: u32 = GLYPH + 2;
 /// Left margin of a label.
@@ -80,11 +80,11 @@ fn drawn(text: &str) -> Vec<char> {
 }
 
 /// Writes `text` at (x, y) in `rgb`, each glyph 16×16 pixels.
-pub fn text(img: &mut Rgba, x: u32, y: u32, text: &str, rgb: [u8; 3]) {
+pub(crate) fn text(img: &mut Rgba, x: u32, y: u32, text: &str, rgb: [u8; 3]) {
     text_scaled(img, x, y, text, rgb, SCALE);
 }
 
-/// [`text`] with glyphs of 8·`scale` pixels (the window overlay uses 1).
+/// `text` with glyphs of 8·`scale` pixels (the window overlay uses 1).
 pub fn text_scaled(img: &mut Rgba, x: u32, y: u32, text: &str, rgb: [u8; 3], scale: u32) {
     let scale = scale.max(1);
     for (i, ch) in drawn(text).into_iter().enumerate() {
@@ -113,7 +113,7 @@ pub fn text_scaled(img: &mut Rgba, x: u32, y: u32, text: &str, rgb: [u8; 3], sca
 
 /// `label` broken into lines that fit `width` at the label size: at spaces where it can,
 /// inside a word only when the word alone is too long.
-pub fn wrap(width: u32, label: &str) -> Vec<String> {
+pub(crate) fn wrap(width: u32, label: &str) -> Vec<String> {
     let fit = (width.saturating_sub(2 * MARGIN) / GLYPH).max(1) as usize;
     let label: String = drawn(label).into_iter().collect();
     let mut lines: Vec<String> = Vec::new();
@@ -142,7 +142,7 @@ pub fn wrap(width: u32, label: &str) -> Vec<String> {
 
 /// Height of a label strip holding `lines` lines: 2-pixel margins, lines 2 pixels apart
 /// (one line: [`STRIP`]).
-pub fn strip_height_lines(lines: usize) -> u32 {
+pub(crate) fn strip_height_lines(lines: usize) -> u32 {
     lines.max(1) as u32 * LINE + 2
 }
 
@@ -155,7 +155,8 @@ pub fn strip_height(width: u32, labels: &[&str]) -> u32 {
 
 /// Where each glyph of `label` goes in a strip of `width`: (x, y, side) per drawn character,
 /// spaces included.
-pub fn glyph_boxes(width: u32, label: &str) -> Vec<(u32, u32, u32)> {
+#[cfg(test)] // only the unit tests call it
+pub(crate) fn glyph_boxes(width: u32, label: &str) -> Vec<(u32, u32, u32)> {
     wrap(width, label)
         .iter()
         .enumerate()
@@ -167,7 +168,7 @@ pub fn glyph_boxes(width: u32, label: &str) -> Vec<(u32, u32, u32)> {
 }
 
 /// A label strip `width` × `height` with `label` wrapped on it, every glyph 16×16.
-pub fn strip_sized(width: u32, height: u32, label: &str) -> Rgba {
+pub(crate) fn strip_sized(width: u32, height: u32, label: &str) -> Rgba {
     let mut s = blank(width, height, [24, 24, 28]);
     for (row, line) in wrap(width, label).iter().enumerate() {
         text(&mut s, MARGIN, 2 + row as u32 * LINE, line, [235, 235, 235]);
@@ -177,7 +178,7 @@ pub fn strip_sized(width: u32, height: u32, label: &str) -> Rgba {
 
 /// A one-line label strip ([`STRIP`] high): what does not fit is cut with an ellipsis
 /// (for pictures laid out around one line).
-pub fn strip(width: u32, label: &str) -> Rgba {
+pub(crate) fn strip(width: u32, label: &str) -> Rgba {
     let fit = (width.saturating_sub(2 * MARGIN) / GLYPH).max(1) as usize;
     let chars = drawn(label);
     let line: String = if chars.len() <= fit {

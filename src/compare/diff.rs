@@ -9,13 +9,13 @@ use std::path::{Path, PathBuf};
 /// The numbers of a comparison, in 0–255 units where they are errors.
 #[derive(Clone, Copy, Debug, serde::Serialize)]
 pub struct DiffNumbers {
-    pub mean: f64,
-    pub max: f64,
-    pub p99: f64,
+    pub(crate) mean: f64,
+    pub(crate) max: f64,
+    pub(crate) p99: f64,
     /// Share of pixels (0–1) whose largest channel differs by more than 8/255.
-    pub over_8: f64,
+    pub(crate) over_8: f64,
     /// 1 − SSIM (worst channel).
-    pub one_minus_ssim: f64,
+    pub(crate) one_minus_ssim: f64,
 }
 
 impl From<ImageError> for DiffNumbers {
@@ -31,7 +31,7 @@ impl From<ImageError> for DiffNumbers {
 }
 
 impl DiffNumbers {
-    pub fn table(&self, a: &str, b: &str) -> String {
+    pub(crate) fn table(&self, a: &str, b: &str) -> String {
         format!(
             "{a} against {b}:\n  mean      {:.3}/255\n  max       {:.0}/255\n  99th pct  {:.0}/255\n  > 8/255   {:.3} % of pixels\n  1 - SSIM  {:.5}\n",
             self.mean,
@@ -47,7 +47,7 @@ impl DiffNumbers {
 /// backgrounds differ by design): mean, max, 99th percentile and share over 8/255 count
 /// those pixels alone; 1 − SSIM is the whole picture's with every other pixel made equal.
 /// None when nothing is covered.
-pub fn over_pixels(a: &Rgba, b: &Rgba, covered: &[bool]) -> Result<Option<DiffNumbers>> {
+pub(crate) fn over_pixels(a: &Rgba, b: &Rgba, covered: &[bool]) -> Result<Option<DiffNumbers>> {
     let n = covered.iter().filter(|&&c| c).count();
     if n == 0 {
         return Ok(None);
@@ -87,7 +87,7 @@ pub fn over_pixels(a: &Rgba, b: &Rgba, covered: &[bool]) -> Result<Option<DiffNu
 }
 
 /// The union of two panes' coverage.
-pub fn union(a: &[bool], b: &[bool]) -> Vec<bool> {
+pub(crate) fn union(a: &[bool], b: &[bool]) -> Vec<bool> {
     a.iter().zip(b).map(|(x, y)| *x || *y).collect()
 }
 
@@ -110,7 +110,7 @@ fn heat(t: f64) -> [u8; 3] {
 /// scale bar and its range written under the image. Given `covered` (the model's pixels),
 /// every other pixel is 0: two tiers' backgrounds differ by design (the PBR tier's sky, the
 /// legacy tier's flat colour), and would otherwise fill the picture and its scale.
-pub fn difference_image(a: &Rgba, b: &Rgba, covered: Option<&[bool]>) -> Rgba {
+pub(crate) fn difference_image(a: &Rgba, b: &Rgba, covered: Option<&[bool]>) -> Rgba {
     let d: Vec<u8> = a
         .data
         .chunks_exact(4)
@@ -157,17 +157,17 @@ fn sibling(path: &Path, suffix: &str) -> PathBuf {
 /// Two tiers' pictures of one model compared: what `--diff A,B` writes and prints.
 pub struct TierDiff {
     /// The tiers' names, in order.
-    pub names: [String; 2],
+    pub(crate) names: [String; 2],
     pub a: Rgba,
     pub b: Rgba,
-    /// [`difference_image`] of the two over the model's pixels (the background is 0).
+    /// `difference_image` of the two over the model's pixels (the background is 0).
     pub image: Rgba,
     /// Over the whole picture, backgrounds included.
-    pub numbers: DiffNumbers,
+    pub(crate) numbers: DiffNumbers,
     /// Over the model's pixels (the union of both panes' coverage); None when neither
     /// covers any.
-    pub model: Option<DiffNumbers>,
-    pub model_pixels: usize,
+    pub(crate) model: Option<DiffNumbers>,
+    pub(crate) model_pixels: usize,
 }
 
 impl TierDiff {

@@ -22,7 +22,7 @@ pub enum PaneTier {
 }
 
 impl PaneTier {
-    pub fn name(self) -> String {
+    pub(crate) fn name(self) -> String {
         match self {
             PaneTier::Gpu(s) => s.word().into(),
             PaneTier::Reference(Shading::Pbr) => "reference-pbr".into(),
@@ -80,16 +80,16 @@ pub fn label(tier: PaneTier, s: &FrameSettings) -> String {
 }
 
 /// One frame, several tiers: one context, one upload, one pane (viewport) per GPU tier.
-pub struct Panes {
-    pub images: Vec<Rgba>,
-    pub labels: Vec<String>,
+pub(crate) struct Panes {
+    pub(crate) images: Vec<Rgba>,
+    pub(crate) labels: Vec<String>,
     /// Per pane, where the model covers a pixel (row-major, top row first), when asked for.
-    pub coverage: Vec<Vec<bool>>,
+    pub(crate) coverage: Vec<Vec<bool>>,
 }
 
 /// Renders each tier at `args.size` on one camera: GPU tiers as viewports of one target,
 /// reference tiers on the CPU.
-pub fn render_panes(
+pub(crate) fn render_panes(
     args: &crate::options::Options,
     scene: Scene,
     clusters: Option<Vec<Option<Clusters>>>,
@@ -101,7 +101,7 @@ pub fn render_panes(
 /// [`render_panes`], with each pane's coverage where `coverage` is set: the GPU tiers are
 /// drawn once more with a transparent background (alpha = coverage), the reference records
 /// which pixels hit a surface.
-pub fn render_panes_with(
+pub(crate) fn render_panes_with(
     args: &crate::options::Options,
     scene: Scene,
     clusters: Option<Vec<Option<Clusters>>>,

@@ -23,7 +23,7 @@ pub struct Sheet {
 
 /// The (yaw, pitch) of each column: `--angles` as given, else N views around the model at the
 /// command line's pitch.
-pub fn angles(cmd: &Sheet, pitch: f32) -> Result<Vec<(f32, f32)>> {
+pub(crate) fn angles(cmd: &Sheet, pitch: f32) -> Result<Vec<(f32, f32)>> {
     if let Some(list) = &cmd.angles {
         return list
             .split(',')

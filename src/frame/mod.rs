@@ -8,7 +8,7 @@ use serde::Serialize;
 mod lighting;
 mod terms;
 pub use lighting::{LightingParams, MAX_POINT_PX, MIN_POINT_PX};
-pub use terms::{PbrTerms, Terms};
+pub(crate) use terms::{PbrTerms, Terms};
 
 crate::choice! {
     /// The shading tier: the legacy formula per fragment or per vertex, or the PBR/IBL tier.
@@ -30,7 +30,7 @@ impl Shading {
     }
 
     /// Phong → Gouraud → PBR → Phong (the `P` key).
-    pub fn next(self) -> Shading {
+    pub(crate) fn next(self) -> Shading {
         match self {
             Shading::Phong => Shading::Gouraud,
             Shading::Gouraud => Shading::Pbr,
@@ -56,9 +56,9 @@ pub struct ShadowSettings {
 
 /// The slope-scaled part of the shadow bias (no option sets it; the defaults of the options'
 /// part are theirs: `ShadowSettings::default` is in `options::convert`).
-pub const SHADOW_SLOPE_BIAS: f32 = 2.0;
+pub(crate) const SHADOW_SLOPE_BIAS: f32 = 2.0;
 /// The shadow lookup's offset along the normal in texels (no option sets it).
-pub const SHADOW_NORMAL_OFFSET: f32 = 1.5;
+pub(crate) const SHADOW_NORMAL_OFFSET: f32 = 1.5;
 
 /// Everything a frame depends on besides the scene. Tier-specific knobs (PBR material
 /// overrides, exposure, tone mapping) are in `lighting`, so this shape stays the legacy one.
@@ -105,9 +105,9 @@ crate::choice! {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Translucency {
     pub mode: TranslucencyMode,
-    pub blend: BlendFormula,
+    pub(crate) blend: BlendFormula,
     /// `--opacity`: overrides every translucent material's opacity.
-    pub opacity: Option<f32>,
+    pub(crate) opacity: Option<f32>,
     /// Logarithmic depth (the seed's 2.10), written through gl_FragDepth.
     pub log_depth: bool,
 }
@@ -127,17 +127,17 @@ impl Default for Translucency {
 /// The ground grid and the orientation triad (`--grid`, `--axes`; keys `Z`, `X`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Guides {
-    /// A grid at the model's lowest point, receiving its shadow ([`crate::grid::GridPlane`]).
+    /// A grid at the model's lowest point, receiving its shadow (`crate::grid::GridPlane`).
     pub grid: bool,
     /// The X/Y/Z triad in the bottom-left corner, turning with the camera.
     pub axes: bool,
     /// Pixels of the frame drawn per pixel of the picture (the SSAA factor): lines and
     /// labels keep their size.
-    pub scale: f32,
+    pub(crate) scale: f32,
     /// Which file axis is up (`--up`): the triad and the grid's axis lines name the file's
     /// axes, not the scene's turned ones.
     #[serde(skip)]
-    pub up: crate::scene::UpAxis,
+    pub(crate) up: crate::scene::UpAxis,
 }
 
 impl Default for Guides {
@@ -156,7 +156,7 @@ impl Default for Guides {
 pub enum EdgeMode {
     #[default]
     Off,
-    /// Boundary and creased edges ([`crate::scene::edges::EdgeSet::Feature`]).
+    /// Boundary and creased edges (`crate::scene::edges::EdgeSet::Feature`).
     Feature,
     /// Every triangle edge.
     Wireframe,
@@ -164,7 +164,7 @@ pub enum EdgeMode {
 
 impl EdgeMode {
     /// Off → feature edges → wireframe → off (the `E` key).
-    pub fn next(self) -> EdgeMode {
+    pub(crate) fn next(self) -> EdgeMode {
         match self {
             EdgeMode::Off => EdgeMode::Feature,
             EdgeMode::Feature => EdgeMode::Wireframe,
@@ -190,16 +190,16 @@ crate::choice! {
 pub struct Edges {
     pub mode: EdgeMode,
     /// The crease angle of feature edges in degrees (the loader's, `--crease`).
-    pub crease_deg: f32,
+    pub(crate) crease_deg: f32,
     /// The lines' colour (display values).
-    pub color: [f32; 3],
+    pub(crate) color: [f32; 3],
     /// `--wireframe-only`: the surface is not drawn, but still hides the lines behind it
     /// (a hidden-line view); the lines then take `only_color`.
-    pub surface: bool,
-    pub only_color: [f32; 3],
+    pub(crate) surface: bool,
+    pub(crate) only_color: [f32; 3],
     /// Line width in pixels of the frame drawn (`--line-width` times the SSAA factor).
-    pub width: f32,
-    pub method: EdgeMethod,
+    pub(crate) width: f32,
+    pub(crate) method: EdgeMethod,
 }
 
 impl Default for Edges {
@@ -218,7 +218,7 @@ impl Default for Edges {
 
 impl Edges {
     /// The edge set of a mesh, or None when no lines are drawn.
-    pub fn set(&self) -> Option<crate::scene::edges::EdgeSet> {
+    pub(crate) fn set(&self) -> Option<crate::scene::edges::EdgeSet> {
         match self.mode {
             EdgeMode::Off => None,
             EdgeMode::Feature => Some(crate::scene::edges::EdgeSet::Feature {
@@ -229,12 +229,12 @@ impl Edges {
     }
 
     /// Whether the shaded surface is drawn in colour.
-    pub fn surface_shown(&self) -> bool {
+    pub(crate) fn surface_shown(&self) -> bool {
         self.surface || self.mode == EdgeMode::Off
     }
 
     /// The lines' colour this frame.
-    pub fn line_color(&self) -> [f32; 3] {
+    pub(crate) fn line_color(&self) -> [f32; 3] {
         if self.surface_shown() {
             self.color
         } else {
@@ -246,7 +246,7 @@ impl Edges {
 /// The calibration constant C of the logarithmic depth
 /// z_ndc = 2·ln(C·w + 1)/ln(C·far + 1) − 1: C = 1 keeps the relative depth step near
 /// ln(C·far)/2²⁴ everywhere beyond w = 1/C (the seed's choice for a planet-sized range).
-pub const LOG_DEPTH_C: f32 = 1.0;
+pub(crate) const LOG_DEPTH_C: f32 = 1.0;
 
 /// A per-pixel teaching view drawn by the PBR program instead of the lit picture.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -263,7 +263,7 @@ pub enum AttributeView {
 
 impl AttributeView {
     /// `SHOW_ATTRIBUTE` in pbr.frag.
-    pub fn code(self) -> i32 {
+    pub(crate) fn code(self) -> i32 {
         self as i32
     }
 }
@@ -285,34 +285,29 @@ pub struct Bloom {
 
 /// The width of bloom's soft knee below the threshold (no option sets it; the defaults of
 /// the `--bloom*` options are theirs: `Bloom::default` is in `options::convert`).
-pub const BLOOM_KNEE: f32 = 0.2;
+pub(crate) const BLOOM_KNEE: f32 = 0.2;
 
 /// The post-processing knobs of a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Post {
     pub bloom: Bloom,
     /// FXAA over the final image.
-    pub fxaa: bool,
+    pub(crate) fxaa: bool,
     /// Alpha = coverage: the background is cleared transparent and not drawn.
     pub transparent: bool,
     /// `--show bloom`: the blurred bright part alone (teaching view).
-    pub show_bloom: bool,
+    pub(crate) show_bloom: bool,
     /// The library's float colour: the frame stays in its offscreen image, linear and
     /// unclamped (before bloom, exposure, tone mapping and sRGB), and no post step runs.
-    pub linear_out: bool,
+    pub(crate) linear_out: bool,
 }
 
-impl Post {
-    /// Whether the frame is drawn into an offscreen image first.
-    pub fn offscreen(&self) -> bool {
-        self.bloom.strength > 0.0 || self.fxaa
-    }
-}
+impl Post {}
 
 /// The frame's lights with the headlight made a directional light along the current view
 /// (eye towards target), appended last; everything else unchanged. Every renderer (GPU
 /// passes, the CPU reference) draws the resolved settings.
-pub fn resolve(s: &FrameSettings) -> std::borrow::Cow<'_, FrameSettings> {
+pub(crate) fn resolve(s: &FrameSettings) -> std::borrow::Cow<'_, FrameSettings> {
     match s.lighting.headlight {
         None => std::borrow::Cow::Borrowed(s),
         Some(color) => {

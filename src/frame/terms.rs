@@ -106,7 +106,7 @@ switch_words!(Terms, "all, none or terms: ambient,diffuse,specular");
 
 impl Terms {
     /// The switch the legacy tier's key `1`, `2` or `3` (index 0–2) toggles.
-    pub fn key_switch(&mut self, i: u8) -> Option<&mut bool> {
+    pub(crate) fn key_switch(&mut self, i: u8) -> Option<&mut bool> {
         self.named().into_iter().nth(usize::from(i)).map(|(_, b)| b)
     }
 }
@@ -137,12 +137,9 @@ impl Default for PbrTerms {
 }
 
 impl PbrTerms {
-    /// No term drawn.
-    pub const NONE: PbrTerms = <PbrTerms as Switches>::NONE;
-
     /// The switch the PBR tier's key `1`–`9`, `0` (index 0–9) toggles: the terms in their
     /// written order, the normal map skipped (it has no key).
-    pub fn key_switch(&mut self, i: u8) -> Option<&mut bool> {
+    pub(crate) fn key_switch(&mut self, i: u8) -> Option<&mut bool> {
         self.named()
             .into_iter()
             .filter(|(n, _)| *n != "normal-map")

@@ -3,14 +3,14 @@ use super::GpuRef;
 use crate::{Error, Result};
 use glow::HasContext;
 
-pub struct Buffer {
+pub(crate) struct Buffer {
     gpu: GpuRef,
-    pub raw: glow::Buffer,
-    pub target: u32,
+    pub(crate) raw: glow::Buffer,
+    pub(crate) target: u32,
 }
 
 impl Buffer {
-    pub fn new_static(gpu: &GpuRef, target: u32, data: &[u8]) -> Result<Buffer> {
+    pub(crate) fn new_static(gpu: &GpuRef, target: u32, data: &[u8]) -> Result<Buffer> {
         // SAFETY: a fresh buffer is bound and filled with a slice that lives for the call.
         unsafe {
             let raw = gpu.gl.create_buffer().map_err(Error::Unsupported)?;
@@ -27,7 +27,7 @@ impl Buffer {
     }
 
     /// A buffer of `parts` end to end, filled part by part (no joined copy of them).
-    pub fn new_static_parts(gpu: &GpuRef, target: u32, parts: &[&[u8]]) -> Result<Buffer> {
+    pub(crate) fn new_static_parts(gpu: &GpuRef, target: u32, parts: &[&[u8]]) -> Result<Buffer> {
         let total: usize = parts.iter().map(|p| p.len()).sum();
         // SAFETY: a fresh buffer is bound, sized, and filled with slices that live for the
         // call, each within the size.
@@ -51,7 +51,7 @@ impl Buffer {
         }
     }
 
-    pub fn bind(&self) {
+    pub(crate) fn bind(&self) {
         // SAFETY: raw is a live buffer of this context.
         unsafe { self.gpu.gl.bind_buffer(self.target, Some(self.raw)) }
     }

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 /// The GLSL dialect shaders are assembled for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-pub enum Dialect {
+pub(crate) enum Dialect {
     /// GLSL 1.20 (OpenGL 2.1 and compatibility profiles).
     Glsl120,
     /// GLSL ES 3.00 (OpenGL ES 3.0).
@@ -15,7 +15,7 @@ pub enum Dialect {
 }
 
 impl Dialect {
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Dialect::Glsl120 => "GLSL 1.20",
             Dialect::Glsl300Es => "GLSL ES 3.00",
@@ -27,58 +27,58 @@ impl Dialect {
 #[derive(Clone, Debug, Serialize)]
 pub struct Caps {
     pub version: String,
-    pub glsl_version: String,
+    pub(crate) glsl_version: String,
     pub renderer: String,
-    pub vendor: String,
-    pub major: u32,
-    pub minor: u32,
-    pub embedded: bool,
-    pub core_profile: bool,
-    pub glsl: (u32, u32),
-    pub dialect: Dialect,
+    pub(crate) vendor: String,
+    pub(crate) major: u32,
+    pub(crate) minor: u32,
+    pub(crate) embedded: bool,
+    pub(crate) core_profile: bool,
+    pub(crate) glsl: (u32, u32),
+    pub(crate) dialect: Dialect,
     /// Framebuffer objects: GL >= 3.0, ES, ARB_ or EXT_framebuffer_object.
     pub fbo: bool,
-    pub vao: bool,
-    pub depth_texture: bool,
-    pub shadow_compare: bool,
-    pub float_textures: bool,
-    pub texture_lod: bool,
-    pub uint_indices: bool,
+    pub(crate) vao: bool,
+    pub(crate) depth_texture: bool,
+    pub(crate) shadow_compare: bool,
+    pub(crate) float_textures: bool,
+    pub(crate) texture_lod: bool,
+    pub(crate) uint_indices: bool,
     /// `samplerCubeShadow` lookups (GLSL 1.30+ / ES 3.00; not in GLSL 1.20).
-    pub cube_shadow: bool,
+    pub(crate) cube_shadow: bool,
     pub generate_mipmap: bool,
     /// GL_TIME_ELAPSED queries (desktop GL 3.3 or ARB_timer_query).
-    pub timer_query: bool,
-    pub max_texture_size: u32,
+    pub(crate) timer_query: bool,
+    pub(crate) max_texture_size: u32,
     /// Texture units a fragment shader can sample (GL_MAX_TEXTURE_IMAGE_UNITS).
-    pub max_texture_units: u32,
+    pub(crate) max_texture_units: u32,
     /// 16-bit float textures (RGBA16F, RG16F): GL 3.0, ES 3.0, ARB_texture_float with
     /// ARB_half_float_pixel.
-    pub half_float_textures: bool,
+    pub(crate) half_float_textures: bool,
     /// Two-channel textures (RG8, RG16F): GL 3.0, ES 3.0 or ARB_texture_rg.
-    pub rg_textures: bool,
+    pub(crate) rg_textures: bool,
     /// sRGB textures decoded by the sampler: GL 2.1, ES 3.0, EXT_texture_sRGB.
-    pub srgb_textures: bool,
+    pub(crate) srgb_textures: bool,
     /// Filtering across cube faces (GL_TEXTURE_CUBE_MAP_SEAMLESS): GL 3.2 or ARB_seamless_cube_map.
-    pub seamless_cube: bool,
+    pub(crate) seamless_cube: bool,
     /// Packed depth + stencil formats: GL 3.0, ES 3.0 or EXT/OES_packed_depth_stencil.
-    pub depth_stencil: bool,
+    pub(crate) depth_stencil: bool,
     /// `glReadPixels` can return rows top first (GL_MESA_pack_invert): no flip afterwards.
-    pub pack_invert: bool,
+    pub(crate) pack_invert: bool,
     /// 32-bit float colour render targets read back as floats: GL 3.0, or ES 3.0 with
     /// EXT_color_buffer_float.
-    pub float_render: bool,
+    pub(crate) float_render: bool,
     /// Samples a multisampled renderbuffer may have (GL_MAX_SAMPLES; 0 without them).
-    pub max_samples: u32,
-    pub max_renderbuffer_size: u32,
-    pub max_viewport: (u32, u32),
-    pub max_varying_floats: u32,
+    pub(crate) max_samples: u32,
+    pub(crate) max_renderbuffer_size: u32,
+    pub(crate) max_viewport: (u32, u32),
+    pub(crate) max_varying_floats: u32,
     /// Uniform components (floats) a vertex / fragment shader may use: GL 2.1 only promises
     /// 512 / 64, which the lit shader's per-light uniforms can exceed; the renderer falls
     /// back on these.
-    pub max_vertex_uniform_components: u32,
-    pub max_fragment_uniform_components: u32,
-    pub extension_count: usize,
+    pub(crate) max_vertex_uniform_components: u32,
+    pub(crate) max_fragment_uniform_components: u32,
+    pub(crate) extension_count: usize,
 }
 
 fn parse_version(s: &str) -> Option<(u32, u32)> {
@@ -92,7 +92,7 @@ fn parse_version(s: &str) -> Option<(u32, u32)> {
 }
 
 impl Caps {
-    pub fn probe(gl: &glow::Context) -> Caps {
+    pub(crate) fn probe(gl: &glow::Context) -> Caps {
         // SAFETY: plain queries on a current context.
         unsafe {
             let v = gl.version();
@@ -212,7 +212,7 @@ impl Caps {
     }
 
     /// One line per fact, for `glview --info`.
-    pub fn report(&self) -> String {
+    pub(crate) fn report(&self) -> String {
         let yes = |b: bool| if b { "yes" } else { "no" };
         format!(
             "GL_VERSION: {}\nGLSL: {} (dialect {})\nrenderer: {} ({})\nprofile: {}\n\

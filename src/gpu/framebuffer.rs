@@ -1,17 +1,16 @@
 //! Framebuffer objects: the headless colour+depth target, and depth-only shadow targets.
-use super::texture::{Texture2d, TextureCube};
+use super::texture::Texture2d;
 
-/// Where a colour target draws: a level of a 2D texture, or a face (0..6 in GL order) and
-/// level of a cube map.
-pub enum ColorAttachment<'a> {
+/// Where a colour target draws: a level of a 2D texture (the only target the passes use; a
+/// cube-map face was here once and went unused).
+pub(crate) enum ColorAttachment<'a> {
     Level(&'a Texture2d, u32),
-    CubeFace(&'a TextureCube, u32, u32),
 }
 use super::GpuRef;
 use crate::{Error, Result};
 use glow::HasContext;
 
-pub struct Renderbuffer {
+pub(crate) struct Renderbuffer {
     gpu: GpuRef,
     raw: glow::Renderbuffer,
 }
@@ -59,12 +58,12 @@ fn renderbuffer_ms(
     }
 }
 
-pub struct Framebuffer {
+pub(crate) struct Framebuffer {
     gpu: GpuRef,
-    pub raw: glow::Framebuffer,
+    pub(crate) raw: glow::Framebuffer,
     _attachments: Vec<Renderbuffer>,
-    pub width: u32,
-    pub height: u32,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
 }
 
 impl Framebuffer {
@@ -103,13 +102,18 @@ impl Framebuffer {
 
     /// RGBA8 colour + 24-bit depth renderbuffers (with 8 stencil bits where the driver has
     /// packed depth-stencil): the headless render target.
-    pub fn color_depth(gpu: &GpuRef, w: u32, h: u32) -> Result<Framebuffer> {
+    pub(crate) fn color_depth(gpu: &GpuRef, w: u32, h: u32) -> Result<Framebuffer> {
         Self::color_depth_samples(gpu, w, h, 0)
     }
 
     /// [`Framebuffer::color_depth`] with `samples` samples per pixel (0 = single-sampled);
     /// resolve with [`Framebuffer::resolve_into`].
-    pub fn color_depth_samples(gpu: &GpuRef, w: u32, h: u32, samples: u32) -> Result<Framebuffer> {
+    pub(crate) fn color_depth_samples(
+        gpu: &GpuRef,
+        w: u32,
+        h: u32,
+        samples: u32,
+    ) -> Result<Framebuffer> {
         let mut fb = Self::create(gpu, w, h)?;
         let color = renderbuffer_ms(gpu, glow::RGBA8, w, h, samples)?;
         let stencil = gpu.caps.depth_stencil;
@@ -145,7 +149,7 @@ impl Framebuffer {
     }
 
     /// A depth-only target writing into `depth` (no colour: draw and read buffers NONE).
-    pub fn depth_only(gpu: &GpuRef, depth: &Texture2d) -> Result<Framebuffer> {
+    pub(crate) fn depth_only(gpu: &GpuRef, depth: &Texture2d) -> Result<Framebuffer> {
         let fb = Self::create(gpu, depth.width, depth.height)?;
         // SAFETY: attaching a live depth texture; DrawBuffers(NONE) exists in every context
         // that has FBOs (GL 2.0+, ES 3.0).
@@ -167,7 +171,7 @@ impl Framebuffer {
 
     /// A colour target drawing into one level of a 2D texture or one face (and level) of a
     /// cube map, with a depth renderbuffer when `depth` is set.
-    pub fn color_texture(
+    pub(crate) fn color_texture(
         gpu: &GpuRef,
         attachment: ColorAttachment,
         width: u32,
@@ -177,11 +181,6 @@ impl Framebuffer {
         let mut fb = Self::create(gpu, width, height)?;
         let (target, raw, level) = match attachment {
             ColorAttachment::Level(t, level) => (glow::TEXTURE_2D, t.raw, level),
-            ColorAttachment::CubeFace(t, face, level) => (
-                glow::TEXTURE_CUBE_MAP_POSITIVE_X + face.min(5),
-                t.raw,
-                level,
-            ),
         };
         // SAFETY: attaching a live texture level to the bound framebuffer.
         unsafe {
@@ -220,13 +219,13 @@ impl Framebuffer {
 
     /// Resolves this (multisampled) framebuffer's colour into `dst` (glBlitFramebuffer:
     /// GL 3.0, ES 3.0 or the FBO extensions).
-    pub fn resolve_into(&self, dst: &Framebuffer) {
+    pub(crate) fn resolve_into(&self, dst: &Framebuffer) {
         self.resolve_into_raw(Some(dst.raw), dst.width, dst.height);
     }
 
     /// [`Framebuffer::resolve_into`] the default framebuffer (a window's back buffer) of
     /// this framebuffer's size: MSAA in the window.
-    pub fn resolve_into_default(&self) {
+    pub(crate) fn resolve_into_default(&self) {
         self.resolve_into_raw(None, self.width, self.height);
     }
 
@@ -252,7 +251,7 @@ impl Framebuffer {
         }
     }
 
-    pub fn bind(&self) {
+    pub(crate) fn bind(&self) {
         // SAFETY: binding our own framebuffer.
         unsafe {
             self.gpu

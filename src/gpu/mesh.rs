@@ -6,7 +6,7 @@ use crate::scene::Vertex;
 use crate::{Error, Result};
 use glow::HasContext;
 
-pub struct GpuMesh {
+pub(crate) struct GpuMesh {
     gpu: GpuRef,
     vbo: Buffer,
     ibo: Buffer,
@@ -22,21 +22,21 @@ pub struct GpuMesh {
     index_type: u32,
     /// GL_TRIANGLES, GL_LINES or GL_POINTS.
     mode: u32,
-    pub index_count: i32,
+    pub(crate) index_count: i32,
     /// The indices [`GpuMesh::draw`] draws: the first ones, when levels of detail follow.
-    pub whole_count: i32,
+    pub(crate) whole_count: i32,
 }
 
 /// Attribute location of the optional tangent stream.
-pub const TANGENT_ATTRIBUTE: u32 = 3;
+pub(crate) const TANGENT_ATTRIBUTE: u32 = 3;
 /// Attribute location of the optional colour stream.
-pub const COLOR_ATTRIBUTE: u32 = 4;
+pub(crate) const COLOR_ATTRIBUTE: u32 = 4;
 /// Attribute location of the optional second UV set.
-pub const UV1_ATTRIBUTE: u32 = 5;
+pub(crate) const UV1_ATTRIBUTE: u32 = 5;
 
 /// What the indices of a mesh describe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Primitive {
+pub(crate) enum Primitive {
     Triangles,
     Lines,
     Points,
@@ -44,12 +44,12 @@ pub enum Primitive {
 
 /// The optional per-vertex streams beside the interleaved [`Vertex`] array.
 #[derive(Clone, Copy, Default)]
-pub struct Streams<'a> {
-    pub tangents: Option<&'a [[f32; 4]]>,
-    pub colors: Option<&'a [[f32; 3]]>,
+pub(crate) struct Streams<'a> {
+    pub(crate) tangents: Option<&'a [[f32; 4]]>,
+    pub(crate) colors: Option<&'a [[f32; 3]]>,
     /// Colours with alpha, used instead of `colors` when given.
-    pub colors_rgba: Option<&'a [[f32; 4]]>,
-    pub uv1: Option<&'a [[f32; 2]]>,
+    pub(crate) colors_rgba: Option<&'a [[f32; 4]]>,
+    pub(crate) uv1: Option<&'a [[f32; 2]]>,
 }
 
 fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&Buffer>); 3]) {
@@ -77,7 +77,7 @@ fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&B
 }
 
 impl GpuMesh {
-    pub fn new(gpu: &GpuRef, vertices: &[Vertex], indices: &[u32]) -> Result<GpuMesh> {
+    pub(crate) fn new(gpu: &GpuRef, vertices: &[Vertex], indices: &[u32]) -> Result<GpuMesh> {
         Self::with_streams(
             gpu,
             vertices,
@@ -89,7 +89,7 @@ impl GpuMesh {
 
     /// A mesh with optional streams of tangents and colours (one per vertex), whose indices
     /// describe `primitive`s.
-    pub fn with_streams(
+    pub(crate) fn with_streams(
         gpu: &GpuRef,
         vertices: &[Vertex],
         indices: &[u32],
@@ -101,7 +101,7 @@ impl GpuMesh {
 
     /// As [`GpuMesh::with_streams`], with `levels` (coarser levels of detail) after `indices`
     /// in the same index buffer; [`GpuMesh::draw`] draws `indices` only.
-    pub fn with_levels(
+    pub(crate) fn with_levels(
         gpu: &GpuRef,
         vertices: &[Vertex],
         indices: &[u32],
@@ -169,7 +169,7 @@ impl GpuMesh {
     /// Replaces the levels of detail after the mesh's own `indices` (the ones it was made
     /// with): a new index buffer of both, the vertex streams kept. For levels built after
     /// the upload, when a draw first needs them.
-    pub fn set_levels(&mut self, indices: &[u32], levels: &[u32]) -> Result<()> {
+    pub(crate) fn set_levels(&mut self, indices: &[u32], levels: &[u32]) -> Result<()> {
         debug_assert_eq!(indices.len(), self.whole_count as usize);
         let ibo = index_buffer(&self.gpu, self.index_type, indices, levels)?;
         if let Some(vao) = self.vao {
@@ -186,13 +186,13 @@ impl GpuMesh {
         Ok(())
     }
 
-    pub fn draw(&self) {
+    pub(crate) fn draw(&self) {
         self.draw_ranges(&[(0, self.whole_count as u32)]);
     }
 
     /// Draws the index ranges (first index, count), one draw call each, with the attribute
     /// set-up done once. Ranges must lie within the index buffer.
-    pub fn draw_ranges(&self, ranges: &[(u32, u32)]) {
+    pub(crate) fn draw_ranges(&self, ranges: &[(u32, u32)]) {
         let gl = &self.gpu.gl;
         let size = if self.index_type == glow::UNSIGNED_SHORT {
             2

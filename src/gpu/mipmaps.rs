@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use std::sync::OnceLock;
 
 /// One level: width, height, RGBA8 texels (row 0 first, as level 0 was given).
-pub type Level = (u32, u32, Vec<u8>);
+pub(crate) type Level = (u32, u32, Vec<u8>);
 
 fn decode_table() -> &'static [f32; 256] {
     static T: OnceLock<[f32; 256]> = OnceLock::new();
@@ -60,7 +60,7 @@ fn taps(src: u32, dst: u32) -> Vec<(usize, usize, f32)> {
 }
 
 /// The next level of `src` (`w`×`h`): ⌊w/2⌋×⌊h/2⌋, at least 1×1.
-pub fn half(w: u32, h: u32, src: &[u8], srgb: bool) -> Level {
+pub(crate) fn half(w: u32, h: u32, src: &[u8], srgb: bool) -> Level {
     if w.is_multiple_of(2) && h.is_multiple_of(2) {
         half_even(w, h, src, srgb)
     } else {
@@ -136,7 +136,7 @@ fn half_even(w: u32, h: u32, src: &[u8], srgb: bool) -> Level {
 }
 
 /// Levels 1.. of the chain under the `w`×`h` image `rgba`, down to 1×1.
-pub fn chain(w: u32, h: u32, rgba: &[u8], srgb: bool) -> Vec<Level> {
+pub(crate) fn chain(w: u32, h: u32, rgba: &[u8], srgb: bool) -> Vec<Level> {
     let mut levels: Vec<Level> = Vec::new();
     let (mut cw, mut ch) = (w, h);
     while cw > 1 || ch > 1 {

@@ -2,17 +2,17 @@
 //! is owned by one wrapper that deletes it in `Drop`; wrappers hold an `Rc<Gpu>`, so the
 //! context's function table outlives them. The platform context itself must outlive the
 //! `Gpu` (the caller drops renderers before the platform context).
-pub mod buffer;
-pub mod caps;
-pub mod framebuffer;
-pub mod mesh;
-pub mod mipmaps;
+pub(crate) mod buffer;
+pub(crate) mod caps;
+pub(crate) mod framebuffer;
+pub(crate) mod mesh;
+pub(crate) mod mipmaps;
 pub mod program;
-pub mod query;
-pub mod state;
+pub(crate) mod query;
+pub(crate) mod state;
 pub mod texture;
 
-pub use caps::{Caps, Dialect};
+pub(crate) use caps::{Caps, Dialect};
 use glow::HasContext;
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
@@ -33,10 +33,10 @@ pub struct Gpu {
 /// glFinish (wall time).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct TextureCost {
-    pub name: String,
-    pub width: u32,
-    pub height: u32,
-    pub ms: f64,
+    pub(crate) name: String,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
+    pub(crate) ms: f64,
 }
 
 pub type GpuRef = Rc<Gpu>;
@@ -72,7 +72,7 @@ impl Gpu {
     }
 
     /// The image textures uploaded since the last call, in upload order.
-    pub fn take_texture_costs(&self) -> Vec<TextureCost> {
+    pub(crate) fn take_texture_costs(&self) -> Vec<TextureCost> {
         self.texture_costs.take()
     }
 
@@ -97,7 +97,7 @@ impl Gpu {
 
     /// Whether the bound draw framebuffer is multisampled (its colour cannot be copied into a
     /// texture with glCopyTexSubImage2D).
-    pub fn framebuffer_multisampled(&self) -> bool {
+    pub(crate) fn framebuffer_multisampled(&self) -> bool {
         // SAFETY: GL_SAMPLE_BUFFERS is a plain integer query of every GL version here.
         unsafe { self.gl.get_parameter_i32(glow::SAMPLE_BUFFERS) > 0 }
     }
@@ -128,7 +128,12 @@ impl Gpu {
     /// UNSIGNED_INT_24_8, which Mesa copies as stored (depth above the stencil byte); else
     /// DEPTH_COMPONENT as UNSIGNED_INT, whose top 24 bits are the same depth: on llvmpipe at
     /// 640x480 0.16 against 0.27 ms, and the FLOAT read the generic path takes was 0.35.
-    pub fn read_depth_u32(&self, width: u32, height: u32, stencil: bool) -> (Vec<u32>, bool) {
+    pub(crate) fn read_depth_u32(
+        &self,
+        width: u32,
+        height: u32,
+        stencil: bool,
+    ) -> (Vec<u32>, bool) {
         let mut buf = vec![0u32; width as usize * height as usize];
         let (format, ty) = if stencil {
             (glow::DEPTH_STENCIL, glow::UNSIGNED_INT_24_8)
@@ -191,7 +196,7 @@ impl Gpu {
 impl Gpu {
     /// Reads the bound read framebuffer's float colour as RGBA f32, bottom row first (GL
     /// order; cube-face rows are stored that way).
-    pub fn read_rgba_f32(&self, width: u32, height: u32) -> Vec<f32> {
+    pub(crate) fn read_rgba_f32(&self, width: u32, height: u32) -> Vec<f32> {
         let mut buf = vec![0f32; width as usize * height as usize * 4];
         let bytes = bytemuck::cast_slice_mut(&mut buf);
         self.read_pixels(width, height, glow::RGBA, glow::FLOAT, 4, bytes, false);
@@ -200,7 +205,7 @@ impl Gpu {
 }
 
 /// Flips an image vertically in place (GL bottom-up ↔ PNG top-down).
-pub fn flip_rows(buf: &mut [u8], row_bytes: usize) {
+pub(crate) fn flip_rows(buf: &mut [u8], row_bytes: usize) {
     let rows = buf.len() / row_bytes.max(1);
     for y in 0..rows / 2 {
         let (top, bottom) = buf.split_at_mut((rows - 1 - y) * row_bytes);

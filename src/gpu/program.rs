@@ -7,7 +7,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Attribute locations, bound before linking so every program shares one vertex layout.
-pub const ATTRIBUTES: [(u32, &str); 6] = [
+pub(crate) const ATTRIBUTES: [(u32, &str); 6] = [
     (0, "aPosition"),
     (1, "aNormal"),
     (2, "aUv"),
@@ -18,7 +18,7 @@ pub const ATTRIBUTES: [(u32, &str); 6] = [
 
 pub struct Program {
     gpu: GpuRef,
-    pub raw: glow::Program,
+    pub(crate) raw: glow::Program,
     uniforms: RefCell<HashMap<String, Option<glow::UniformLocation>>>,
 }
 
@@ -96,7 +96,7 @@ impl Program {
         }
     }
 
-    pub fn bind(&self) {
+    pub(crate) fn bind(&self) {
         // SAFETY: using our own linked program.
         unsafe { self.gpu.gl.use_program(Some(self.raw)) }
     }
@@ -110,7 +110,7 @@ impl Program {
             .to_owned()
     }
 
-    pub fn set_mat4(&self, name: &str, m: &glam::Mat4) {
+    pub(crate) fn set_mat4(&self, name: &str, m: &glam::Mat4) {
         if let Some(l) = self.location(name) {
             // SAFETY: the program is bound by the caller; 16 floats.
             unsafe {
@@ -121,7 +121,7 @@ impl Program {
         }
     }
 
-    pub fn set_mat3(&self, name: &str, m: &glam::Mat3) {
+    pub(crate) fn set_mat3(&self, name: &str, m: &glam::Mat3) {
         if let Some(l) = self.location(name) {
             // SAFETY: as above; 9 floats.
             unsafe {
@@ -132,42 +132,42 @@ impl Program {
         }
     }
 
-    pub fn set_vec3(&self, name: &str, v: glam::Vec3) {
+    pub(crate) fn set_vec3(&self, name: &str, v: glam::Vec3) {
         if let Some(l) = self.location(name) {
             // SAFETY: as above.
             unsafe { self.gpu.gl.uniform_3_f32(Some(&l), v.x, v.y, v.z) }
         }
     }
 
-    pub fn set_vec2(&self, name: &str, v: glam::Vec2) {
+    pub(crate) fn set_vec2(&self, name: &str, v: glam::Vec2) {
         if let Some(l) = self.location(name) {
             // SAFETY: as above.
             unsafe { self.gpu.gl.uniform_2_f32(Some(&l), v.x, v.y) }
         }
     }
 
-    pub fn set_vec4(&self, name: &str, v: glam::Vec4) {
+    pub(crate) fn set_vec4(&self, name: &str, v: glam::Vec4) {
         if let Some(l) = self.location(name) {
             // SAFETY: as above.
             unsafe { self.gpu.gl.uniform_4_f32(Some(&l), v.x, v.y, v.z, v.w) }
         }
     }
 
-    pub fn set_f32(&self, name: &str, v: f32) {
+    pub(crate) fn set_f32(&self, name: &str, v: f32) {
         if let Some(l) = self.location(name) {
             // SAFETY: as above.
             unsafe { self.gpu.gl.uniform_1_f32(Some(&l), v) }
         }
     }
 
-    pub fn set_i32(&self, name: &str, v: i32) {
+    pub(crate) fn set_i32(&self, name: &str, v: i32) {
         if let Some(l) = self.location(name) {
             // SAFETY: as above.
             unsafe { self.gpu.gl.uniform_1_i32(Some(&l), v) }
         }
     }
 
-    pub fn set_ivec2(&self, name: &str, x: i32, y: i32) {
+    pub(crate) fn set_ivec2(&self, name: &str, x: i32, y: i32) {
         if let Some(l) = self.location(name) {
             // SAFETY: as above.
             unsafe { self.gpu.gl.uniform_2_i32(Some(&l), x, y) }

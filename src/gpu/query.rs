@@ -4,14 +4,14 @@ use super::GpuRef;
 use crate::{Error, Result};
 use glow::HasContext;
 
-pub struct TimerQuery {
+pub(crate) struct TimerQuery {
     gpu: GpuRef,
     raw: glow::Query,
 }
 
 impl TimerQuery {
     /// None where the driver has no timer queries.
-    pub fn new(gpu: &GpuRef) -> Result<Option<TimerQuery>> {
+    pub(crate) fn new(gpu: &GpuRef) -> Result<Option<TimerQuery>> {
         if !gpu.caps.timer_query {
             return Ok(None);
         }
@@ -50,18 +50,18 @@ impl TimerQuery {
         Ok(Some(q))
     }
 
-    pub fn begin(&self) {
+    pub(crate) fn begin(&self) {
         // SAFETY: our own query; no other TIME_ELAPSED query is active (one per renderer).
         unsafe { self.gpu.gl.begin_query(glow::TIME_ELAPSED, self.raw) }
     }
 
-    pub fn end(&self) {
+    pub(crate) fn end(&self) {
         // SAFETY: ends the query begun above.
         unsafe { self.gpu.gl.end_query(glow::TIME_ELAPSED) }
     }
 
     /// Nanoseconds between begin and end; waits for the result.
-    pub fn result_ns(&self) -> u64 {
+    pub(crate) fn result_ns(&self) -> u64 {
         let mut ns: u64 = 0;
         // SAFETY: glGetQueryObjectui64v writes one u64. glow passes its "offset" as the params
         // pointer, which GL reads as a client address because glview never binds a

@@ -6,7 +6,7 @@ use glow::HasContext;
 
 /// Which faces to cull.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Cull {
+pub(crate) enum Cull {
     None,
     Front,
     Back,
@@ -14,18 +14,17 @@ pub enum Cull {
 
 /// Depth comparison.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DepthFunc {
+pub(crate) enum DepthFunc {
     Less,
     LessEqual,
     Equal,
-    Always,
 }
 
 /// Colour blending. Alpha composes with (ONE, ONE_MINUS_SRC_ALPHA): over an opaque frame
 /// (alpha 1) it stays 1, over a transparent background (`--transparent`) it becomes the
 /// coverage α + (1 − α)·α_dst.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Blend {
+pub(crate) enum Blend {
     Off,
     /// C = α·C_src + (1 − α)·C_dst
     Alpha,
@@ -36,31 +35,30 @@ pub enum Blend {
 /// Stencil test and write: pass where `(stencil & mask) <func> reference`, and on pass write
 /// `reference` (REPLACE) when `write` is set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Stencil {
-    pub func: StencilFunc,
-    pub reference: u8,
-    pub write: bool,
+pub(crate) struct Stencil {
+    pub(crate) func: StencilFunc,
+    pub(crate) reference: u8,
+    pub(crate) write: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StencilFunc {
+pub(crate) enum StencilFunc {
     Always,
-    Equal,
     NotEqual,
 }
 
 /// Everything a draw depends on besides program, buffers and textures.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RenderState {
+pub(crate) struct RenderState {
     /// None: no depth test.
-    pub depth: Option<DepthFunc>,
-    pub depth_write: bool,
-    pub blend: Blend,
-    pub cull: Cull,
-    pub stencil: Option<Stencil>,
-    pub color_write: bool,
+    pub(crate) depth: Option<DepthFunc>,
+    pub(crate) depth_write: bool,
+    pub(crate) blend: Blend,
+    pub(crate) cull: Cull,
+    pub(crate) stencil: Option<Stencil>,
+    pub(crate) color_write: bool,
     /// glPolygonOffset(factor, units) for filled polygons.
-    pub polygon_offset: Option<(f32, f32)>,
+    pub(crate) polygon_offset: Option<(f32, f32)>,
 }
 
 impl Default for RenderState {
@@ -80,7 +78,7 @@ impl Default for RenderState {
 
 impl RenderState {
     /// Full-screen passes: no depth test or writes.
-    pub fn overlay() -> Self {
+    pub(crate) fn overlay() -> Self {
         RenderState {
             depth: None,
             depth_write: false,
@@ -91,7 +89,7 @@ impl RenderState {
 
 impl Gpu {
     /// Makes `s` the current state, touching only what differs from the last applied state.
-    pub fn apply(&self, s: &RenderState) {
+    pub(crate) fn apply(&self, s: &RenderState) {
         let last = self.state.get();
         let changed = |f: &dyn Fn(&RenderState) -> bool| last.is_none_or(|l| f(&l));
         let gl = &self.gl;
@@ -105,7 +103,6 @@ impl Gpu {
                             DepthFunc::Less => glow::LESS,
                             DepthFunc::LessEqual => glow::LEQUAL,
                             DepthFunc::Equal => glow::EQUAL,
-                            DepthFunc::Always => glow::ALWAYS,
                         });
                     }
                     None => gl.disable(glow::DEPTH_TEST),
@@ -149,7 +146,6 @@ impl Gpu {
                         gl.enable(glow::STENCIL_TEST);
                         let func = match st.func {
                             StencilFunc::Always => glow::ALWAYS,
-                            StencilFunc::Equal => glow::EQUAL,
                             StencilFunc::NotEqual => glow::NOTEQUAL,
                         };
                         gl.stencil_func(func, i32::from(st.reference), 0xff);
@@ -176,38 +172,32 @@ impl Gpu {
         self.state.set(Some(*s));
     }
 
-    /// Forgets the tracked state, so the next `apply` sets everything (after foreign code, e.g.
-    /// a platform layer, may have changed it).
-    pub fn forget_state(&self) {
-        self.state.set(None);
-    }
-
     /// Binds a framebuffer object, or the default framebuffer for None, and sets the viewport.
-    pub fn bind_target(&self, fbo: Option<glow::Framebuffer>, width: u32, height: u32) {
+    pub(crate) fn bind_target(&self, fbo: Option<glow::Framebuffer>, width: u32, height: u32) {
         self.bind_framebuffer(fbo);
         self.viewport(0, 0, width, height);
     }
 
     /// Samples per pixel of a framebuffer (0: single-sampled), e.g. whether the copy-to-texture
     /// post path may read it (glCopyTexSubImage2D refuses multisampled sources).
-    pub fn framebuffer_samples(&self, fbo: Option<glow::Framebuffer>) -> u32 {
+    pub(crate) fn framebuffer_samples(&self, fbo: Option<glow::Framebuffer>) -> u32 {
         self.bind_framebuffer(fbo);
         // SAFETY: a state query on the bound framebuffer.
         unsafe { self.gl.get_parameter_i32(glow::SAMPLES).max(0) as u32 }
     }
 
     /// The framebuffer bound now (None: the default one), to bind back after a pass.
-    pub fn bound_framebuffer(&self) -> Option<glow::Framebuffer> {
+    pub(crate) fn bound_framebuffer(&self) -> Option<glow::Framebuffer> {
         // SAFETY: a plain query on the current context.
         unsafe { self.gl.get_parameter_framebuffer(glow::FRAMEBUFFER_BINDING) }
     }
 
-    pub fn bind_framebuffer(&self, fbo: Option<glow::Framebuffer>) {
+    pub(crate) fn bind_framebuffer(&self, fbo: Option<glow::Framebuffer>) {
         // SAFETY: fbo is None or a live framebuffer of this context.
         unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, fbo) }
     }
 
-    pub fn viewport(&self, x: u32, y: u32, width: u32, height: u32) {
+    pub(crate) fn viewport(&self, x: u32, y: u32, width: u32, height: u32) {
         // SAFETY: no preconditions.
         unsafe {
             self.gl
@@ -218,12 +208,12 @@ impl Gpu {
     /// Clears depth (and stencil, where the target has one), and colour too when given. The
     /// write masks a clear obeys are opened for it and restored afterwards, so a clear leaves
     /// the render state as it found it.
-    pub fn clear(&self, color: Option<[f32; 3]>) {
+    pub(crate) fn clear(&self, color: Option<[f32; 3]>) {
         self.clear_rgba(color.map(|[r, g, b]| [r, g, b, 1.0]));
     }
 
     /// [`Gpu::clear`] with an alpha for the colour.
-    pub fn clear_rgba(&self, color: Option<[f32; 4]>) {
+    pub(crate) fn clear_rgba(&self, color: Option<[f32; 4]>) {
         // SAFETY: no preconditions.
         unsafe {
             self.gl.depth_mask(true);
@@ -249,7 +239,7 @@ impl Gpu {
     }
 
     /// Clears a rectangle only (a pane of a side-by-side frame) with the scissor test.
-    pub fn clear_rect(&self, rect: [u32; 4], color: Option<[f32; 4]>) {
+    pub(crate) fn clear_rect(&self, rect: [u32; 4], color: Option<[f32; 4]>) {
         // SAFETY: no preconditions.
         unsafe {
             self.gl.enable(glow::SCISSOR_TEST);

@@ -4,7 +4,7 @@ use super::{Caps, GpuRef};
 use crate::{Error, Result};
 use glow::HasContext;
 
-/// Texel formats, each gated on the capability probe ([`TextureFormat::supported`]).
+/// Texel formats, each gated on the capability probe (`TextureFormat::supported`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum TextureFormat {
     Rgba8,
@@ -20,14 +20,14 @@ pub enum TextureFormat {
 
 /// Pixel data for an upload: 8-bit channels, or f32 channels converted by the driver.
 #[derive(Clone, Copy, Debug)]
-pub enum Pixels<'a> {
+pub(crate) enum Pixels<'a> {
     U8(&'a [u8]),
     F32(&'a [f32]),
     None,
 }
 
 impl TextureFormat {
-    pub fn supported(self, caps: &Caps) -> bool {
+    pub(crate) fn supported(self, caps: &Caps) -> bool {
         match self {
             TextureFormat::Rgba8 => true,
             TextureFormat::Srgb8A8 => caps.srgb_textures,
@@ -64,28 +64,19 @@ impl TextureFormat {
             ),
         }
     }
-
-    /// Channels per texel of the data given for an upload.
-    pub fn channels(self) -> usize {
-        match self {
-            TextureFormat::Rg16F => 2,
-            TextureFormat::Depth24 | TextureFormat::Depth24Stencil8 => 1,
-            _ => 4,
-        }
-    }
 }
 
 /// Sampler filtering and wrapping.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Sampling {
-    pub linear: bool,
-    pub mipmaps: bool,
-    pub repeat: bool,
+pub(crate) struct Sampling {
+    pub(crate) linear: bool,
+    pub(crate) mipmaps: bool,
+    pub(crate) repeat: bool,
 }
 
 impl Sampling {
     /// Exact texel lookups, no mip chain, clamped: render targets and tables read texel by texel.
-    pub const NEAREST: Sampling = Sampling {
+    pub(crate) const NEAREST: Sampling = Sampling {
         linear: false,
         mipmaps: false,
         repeat: false,
@@ -124,7 +115,7 @@ unsafe fn tex_image(
 /// Where a colour texture's mipmaps come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MipSource {
-    /// Built on the CPU ([`super::mipmaps`]): fast on every driver, and present without
+    /// Built on the CPU (`super::mipmaps`): fast on every driver, and present without
     /// `glGenerateMipmap`.
     Cpu,
     /// `glGenerateMipmap`, where the driver has it (else no mipmaps).
@@ -176,17 +167,15 @@ unsafe fn sampler_params(gl: &glow::Context, target: u32, s: Sampling) {
 }
 
 /// A cube map: six square faces in GL order (+X, −X, +Y, −Y, +Z, −Z).
-pub struct TextureCube {
+pub(crate) struct TextureCube {
     gpu: GpuRef,
-    pub raw: glow::Texture,
-    pub size: u32,
-    pub format: TextureFormat,
+    pub(crate) raw: glow::Texture,
 }
 
 impl TextureCube {
-    /// Uploads six faces (each `size`² texels of `format.channels()` values), or allocates
+    /// Uploads six faces (each `size`² texels of the format's channels), or allocates
     /// them empty (render target) with `Pixels::None` faces.
-    pub fn new(
+    pub(crate) fn new(
         gpu: &GpuRef,
         format: TextureFormat,
         size: u32,
@@ -224,13 +213,11 @@ impl TextureCube {
             Ok(TextureCube {
                 gpu: gpu.clone(),
                 raw,
-                size,
-                format,
             })
         }
     }
 
-    pub fn bind(&self, unit: u32) {
+    pub(crate) fn bind(&self, unit: u32) {
         // SAFETY: binding our own texture to a unit the caller keeps below the driver's limit.
         unsafe {
             self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
@@ -251,14 +238,14 @@ impl Drop for TextureCube {
 
 pub struct Texture2d {
     gpu: GpuRef,
-    pub raw: glow::Texture,
-    pub width: u32,
-    pub height: u32,
+    pub(crate) raw: glow::Texture,
+    pub(crate) width: u32,
+    pub(crate) height: u32,
 }
 
 impl Texture2d {
     /// A texture of any supported format; `Pixels::None` allocates it empty (render target).
-    pub fn new(
+    pub(crate) fn new(
         gpu: &GpuRef,
         format: TextureFormat,
         width: u32,
@@ -310,7 +297,7 @@ impl Texture2d {
     /// A mipmapped texture from explicit levels (level 0 first, each half the last), for
     /// formats a driver cannot `glGenerateMipmap` (ES 3.0: RGBA16F is not colour-renderable
     /// there) and for chains that must equal a CPU-computed one.
-    pub fn with_levels(
+    pub(crate) fn with_levels(
         gpu: &GpuRef,
         format: TextureFormat,
         levels: &[(u32, u32, Pixels)],
@@ -463,7 +450,7 @@ impl Texture2d {
     /// (`sampler2DShadow`): compare mode COMPARE_REF_TO_TEXTURE, LEQUAL, linear filtering
     /// (the driver then blends the 2×2 compared results where it supports it), clamped to the
     /// edge.
-    pub fn depth(gpu: &GpuRef, width: u32, height: u32) -> Result<Texture2d> {
+    pub(crate) fn depth(gpu: &GpuRef, width: u32, height: u32) -> Result<Texture2d> {
         let (t, _rebind) = Self::create(gpu, width, height)?;
         // ES 3.0 needs a sized internal format paired with UNSIGNED_INT; desktop GL 1.4+
         // accepts the same pair, so one choice serves every dialect.
@@ -577,7 +564,7 @@ impl Texture2d {
 
     /// Rebuilds the mip chain from level 0 (`glGenerateMipmap`, where the driver has it),
     /// binding the texture on `unit`.
-    pub fn generate_mipmaps(&self, unit: u32) {
+    pub(crate) fn generate_mipmaps(&self, unit: u32) {
         if !self.gpu.caps.generate_mipmap {
             return;
         }
@@ -592,7 +579,7 @@ impl Texture2d {
     /// Copies a `size`² square from the lower-left corner of the bound read framebuffer's
     /// depth into level 0 at (x, y): the shadow-map path for drivers without framebuffer
     /// objects.
-    pub fn copy_from_framebuffer(&self, x: u32, y: u32, size: u32) {
+    pub(crate) fn copy_from_framebuffer(&self, x: u32, y: u32, size: u32) {
         // SAFETY: the caller keeps (x, y, size) inside the texture and size within the
         // framebuffer.
         unsafe {
@@ -615,7 +602,7 @@ impl Texture2d {
     /// Copies the `self.width`×`self.height` rectangle at (x, y) of the bound read framebuffer
     /// into level 0 (glCopyTexSubImage2D, GL 1.1 / ES 2.0): how post-processing reads the frame
     /// on drivers without framebuffer objects.
-    pub fn copy_region_from_framebuffer(&self, unit: u32, x: u32, y: u32) {
+    pub(crate) fn copy_region_from_framebuffer(&self, unit: u32, x: u32, y: u32) {
         // SAFETY: level 0 is allocated at this size; the caller keeps the rectangle inside
         // the (single-sampled) read framebuffer. The texture is bound on `unit` (where it is
         // read next, or a unit the next step rebinds), never on whatever unit was active.

@@ -25,7 +25,7 @@ pub enum Form {
 
 /// What the reference and the CLI's help say of an option's value: what it looks like, its
 /// choices with their docs, its default as a word.
-pub type Meta = (
+pub(crate) type Meta = (
     &'static str,
     Vec<(&'static str, &'static str)>,
     Option<String>,
@@ -35,72 +35,72 @@ fn flag_words(flag: &str, value: Option<String>) -> Vec<String> {
     std::iter::once(format!("--{flag}")).chain(value).collect()
 }
 
-pub mod value {
+pub(crate) mod value {
     use super::*;
-    pub const FORM: Form = Form::Value;
-    pub fn set_word<T: OptionValue>(slot: &mut T, s: &str) -> Result<(), String> {
+    pub(crate) const FORM: Form = Form::Value;
+    pub(crate) fn set_word<T: OptionValue>(slot: &mut T, s: &str) -> Result<(), String> {
         *slot = T::parse_word(s)?;
         Ok(())
     }
-    pub fn set_json<T: OptionValue>(slot: &mut T, v: &Value) -> Result<(), String> {
+    pub(crate) fn set_json<T: OptionValue>(slot: &mut T, v: &Value) -> Result<(), String> {
         *slot = T::from_json(v)?;
         Ok(())
     }
-    pub fn words<T: OptionValue>(v: &T, d: &T, flag: &str) -> Vec<String> {
+    pub(crate) fn words<T: OptionValue>(v: &T, d: &T, flag: &str) -> Vec<String> {
         if v == d {
             Vec::new()
         } else {
             all_words(v, flag)
         }
     }
-    pub fn all_words<T: OptionValue>(v: &T, flag: &str) -> Vec<String> {
+    pub(crate) fn all_words<T: OptionValue>(v: &T, flag: &str) -> Vec<String> {
         flag_words(flag, Some(v.to_word()))
     }
-    pub fn meta<T: OptionValue>(d: &T) -> Meta {
+    pub(crate) fn meta<T: OptionValue>(d: &T) -> Meta {
         (T::EXPECTED, T::choices(), Some(d.to_word()))
     }
 }
 
-pub mod maybe {
+pub(crate) mod maybe {
     use super::*;
-    pub const FORM: Form = Form::Value;
-    pub fn set_word<T: OptionValue>(slot: &mut Option<T>, s: &str) -> Result<(), String> {
+    pub(crate) const FORM: Form = Form::Value;
+    pub(crate) fn set_word<T: OptionValue>(slot: &mut Option<T>, s: &str) -> Result<(), String> {
         *slot = Some(T::parse_word(s)?);
         Ok(())
     }
-    pub fn set_json<T: OptionValue>(slot: &mut Option<T>, v: &Value) -> Result<(), String> {
+    pub(crate) fn set_json<T: OptionValue>(slot: &mut Option<T>, v: &Value) -> Result<(), String> {
         *slot = match v {
             Value::Null => None,
             v => Some(T::from_json(v)?),
         };
         Ok(())
     }
-    pub fn words<T: OptionValue>(v: &Option<T>, d: &Option<T>, flag: &str) -> Vec<String> {
+    pub(crate) fn words<T: OptionValue>(v: &Option<T>, d: &Option<T>, flag: &str) -> Vec<String> {
         if v == d {
             Vec::new()
         } else {
             all_words(v, flag)
         }
     }
-    pub fn all_words<T: OptionValue>(v: &Option<T>, flag: &str) -> Vec<String> {
+    pub(crate) fn all_words<T: OptionValue>(v: &Option<T>, flag: &str) -> Vec<String> {
         v.iter()
             .flat_map(|x| flag_words(flag, Some(x.to_word())))
             .collect()
     }
-    pub fn meta<T: OptionValue>(d: &Option<T>) -> Meta {
+    pub(crate) fn meta<T: OptionValue>(d: &Option<T>) -> Meta {
         (T::EXPECTED, T::choices(), d.as_ref().map(T::to_word))
     }
 }
 
-pub mod repeat {
+pub(crate) mod repeat {
     use super::*;
-    pub const FORM: Form = Form::Repeat;
-    pub fn set_word<T: OptionValue>(slot: &mut Vec<T>, s: &str) -> Result<(), String> {
+    pub(crate) const FORM: Form = Form::Repeat;
+    pub(crate) fn set_word<T: OptionValue>(slot: &mut Vec<T>, s: &str) -> Result<(), String> {
         slot.push(T::parse_word(s)?);
         Ok(())
     }
     /// A list replaces the option's values; one value is a list of one.
-    pub fn set_json<T: OptionValue>(slot: &mut Vec<T>, v: &Value) -> Result<(), String> {
+    pub(crate) fn set_json<T: OptionValue>(slot: &mut Vec<T>, v: &Value) -> Result<(), String> {
         *slot = match v {
             Value::Null => Vec::new(),
             Value::Array(items) if !items.is_empty() && !items.iter().all(Value::is_number) => {
@@ -111,32 +111,32 @@ pub mod repeat {
         };
         Ok(())
     }
-    pub fn words<T: OptionValue>(v: &[T], d: &[T], flag: &str) -> Vec<String> {
+    pub(crate) fn words<T: OptionValue>(v: &[T], d: &[T], flag: &str) -> Vec<String> {
         if v == d {
             return Vec::new();
         }
         all_words(v, flag)
     }
-    pub fn all_words<T: OptionValue>(v: &[T], flag: &str) -> Vec<String> {
+    pub(crate) fn all_words<T: OptionValue>(v: &[T], flag: &str) -> Vec<String> {
         v.iter()
             .flat_map(|x| flag_words(flag, Some(x.to_word())))
             .collect()
     }
-    pub fn meta<T: OptionValue>(_: &[T]) -> Meta {
+    pub(crate) fn meta<T: OptionValue>(_: &[T]) -> Meta {
         (T::EXPECTED, T::choices(), None)
     }
 }
 
-pub mod list {
+pub(crate) mod list {
     use super::*;
-    pub const FORM: Form = Form::List;
-    pub fn set_word<T: OptionValue>(slot: &mut Vec<T>, s: &str) -> Result<(), String> {
+    pub(crate) const FORM: Form = Form::List;
+    pub(crate) fn set_word<T: OptionValue>(slot: &mut Vec<T>, s: &str) -> Result<(), String> {
         for item in s.split(',') {
             slot.push(T::parse_word(item)?);
         }
         Ok(())
     }
-    pub fn set_json<T: OptionValue>(slot: &mut Vec<T>, v: &Value) -> Result<(), String> {
+    pub(crate) fn set_json<T: OptionValue>(slot: &mut Vec<T>, v: &Value) -> Result<(), String> {
         match v {
             Value::Array(items) => {
                 *slot = items.iter().map(T::from_json).collect::<Result<_, _>>()?
@@ -150,20 +150,20 @@ pub mod list {
         }
         Ok(())
     }
-    pub fn words<T: OptionValue>(v: &[T], d: &[T], flag: &str) -> Vec<String> {
+    pub(crate) fn words<T: OptionValue>(v: &[T], d: &[T], flag: &str) -> Vec<String> {
         if v == d {
             return Vec::new();
         }
         all_words(v, flag)
     }
-    pub fn all_words<T: OptionValue>(v: &[T], flag: &str) -> Vec<String> {
+    pub(crate) fn all_words<T: OptionValue>(v: &[T], flag: &str) -> Vec<String> {
         if v.is_empty() {
             return Vec::new();
         }
         let items: Vec<String> = v.iter().map(T::to_word).collect();
         flag_words(flag, Some(items.join(",")))
     }
-    pub fn meta<T: OptionValue>(_: &[T]) -> Meta {
+    pub(crate) fn meta<T: OptionValue>(_: &[T]) -> Meta {
         (T::EXPECTED, T::choices(), None)
     }
 }
@@ -177,63 +177,63 @@ fn json_bool(v: &Value) -> Result<bool, String> {
     }
 }
 
-pub mod flag {
+pub(crate) mod flag {
     use super::*;
-    pub const FORM: Form = Form::Flag;
-    pub fn set_word(slot: &mut bool, _: &str) -> Result<(), String> {
+    pub(crate) const FORM: Form = Form::Flag;
+    pub(crate) fn set_word(slot: &mut bool, _: &str) -> Result<(), String> {
         *slot = true;
         Ok(())
     }
-    pub fn set_json(slot: &mut bool, v: &Value) -> Result<(), String> {
+    pub(crate) fn set_json(slot: &mut bool, v: &Value) -> Result<(), String> {
         *slot = json_bool(v)?;
         Ok(())
     }
-    pub fn words(v: &bool, _: &bool, flag: &str) -> Vec<String> {
+    pub(crate) fn words(v: &bool, _: &bool, flag: &str) -> Vec<String> {
         all_words(v, flag)
     }
     /// A switch has no word for its off state: none.
-    pub fn all_words(v: &bool, flag: &str) -> Vec<String> {
+    pub(crate) fn all_words(v: &bool, flag: &str) -> Vec<String> {
         if *v {
             flag_words(flag, None)
         } else {
             Vec::new()
         }
     }
-    pub fn meta(_: &bool) -> Meta {
+    pub(crate) fn meta(_: &bool) -> Meta {
         ("", Vec::new(), None)
     }
 }
 
 /// A setting that is on unless `--no-...` is given; the keyword `no_shadows=True` turns it
 /// off as the flag does.
-pub mod noflag {
+pub(crate) mod noflag {
     use super::*;
-    pub const FORM: Form = Form::NoFlag;
-    pub fn set_word(slot: &mut bool, _: &str) -> Result<(), String> {
+    pub(crate) const FORM: Form = Form::NoFlag;
+    pub(crate) fn set_word(slot: &mut bool, _: &str) -> Result<(), String> {
         *slot = false;
         Ok(())
     }
     /// [`flag`]'s, of the switch's opposite.
-    pub fn set_json(slot: &mut bool, v: &Value) -> Result<(), String> {
+    pub(crate) fn set_json(slot: &mut bool, v: &Value) -> Result<(), String> {
         flag::set_json(slot, v)?;
         *slot = !*slot;
         Ok(())
     }
-    pub fn words(v: &bool, d: &bool, name: &str) -> Vec<String> {
+    pub(crate) fn words(v: &bool, d: &bool, name: &str) -> Vec<String> {
         flag::words(&!*v, &!*d, name)
     }
-    pub fn all_words(v: &bool, name: &str) -> Vec<String> {
+    pub(crate) fn all_words(v: &bool, name: &str) -> Vec<String> {
         flag::all_words(&!*v, name)
     }
-    pub use super::flag::meta;
+    pub(crate) use super::flag::meta;
 }
 
 /// `--ortho` (fit the model) or `--ortho H`.
-pub mod optional {
+pub(crate) mod optional {
     use super::*;
     use crate::options::Ortho;
-    pub const FORM: Form = Form::Optional;
-    pub fn set_word(slot: &mut Option<Ortho>, s: &str) -> Result<(), String> {
+    pub(crate) const FORM: Form = Form::Optional;
+    pub(crate) fn set_word(slot: &mut Option<Ortho>, s: &str) -> Result<(), String> {
         *slot = Some(if s.is_empty() {
             Ortho::Fit
         } else {
@@ -241,7 +241,7 @@ pub mod optional {
         });
         Ok(())
     }
-    pub fn set_json(slot: &mut Option<Ortho>, v: &Value) -> Result<(), String> {
+    pub(crate) fn set_json(slot: &mut Option<Ortho>, v: &Value) -> Result<(), String> {
         *slot = match v {
             Value::Null | Value::Bool(false) => None,
             Value::Bool(true) => Some(Ortho::Fit),
@@ -257,17 +257,17 @@ pub mod optional {
         };
         Ok(())
     }
-    pub fn words(v: &Option<Ortho>, _: &Option<Ortho>, flag: &str) -> Vec<String> {
+    pub(crate) fn words(v: &Option<Ortho>, _: &Option<Ortho>, flag: &str) -> Vec<String> {
         all_words(v, flag)
     }
-    pub fn all_words(v: &Option<Ortho>, flag: &str) -> Vec<String> {
+    pub(crate) fn all_words(v: &Option<Ortho>, flag: &str) -> Vec<String> {
         match v {
             None => Vec::new(),
             Some(Ortho::Fit) => flag_words(flag, None),
             Some(Ortho::Height(h)) => flag_words(flag, Some(h.to_string())),
         }
     }
-    pub fn meta(_: &Option<Ortho>) -> Meta {
+    pub(crate) fn meta(_: &Option<Ortho>) -> Meta {
         ("a height", Vec::new(), None)
     }
 }

@@ -38,10 +38,10 @@ pub enum Ortho {
 
 /// `Ortho::Fit` as the string `"fit"` in JSON.
 mod fit {
-    pub fn serialize<S: serde::Serializer>(s: S) -> Result<S::Ok, S::Error> {
+    pub(crate) fn serialize<S: serde::Serializer>(s: S) -> Result<S::Ok, S::Error> {
         s.serialize_str("fit")
     }
-    pub fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<(), D::Error> {
+    pub(crate) fn deserialize<'de, D: serde::Deserializer<'de>>(d: D) -> Result<(), D::Error> {
         let s = <String as serde::Deserialize>::deserialize(d)?;
         if s == "fit" {
             Ok(())
@@ -55,7 +55,7 @@ mod fit {
 pub const DEFAULT_LOD_ERROR: f32 = 1.0;
 
 /// The background colour without `--background`.
-pub const DEFAULT_BACKGROUND: [f32; 3] = [0.1, 0.1, 0.12];
+pub(crate) const DEFAULT_BACKGROUND: [f32; 3] = [0.1, 0.1, 0.12];
 
 declare_options! {
     /// What to load and how.
@@ -388,13 +388,6 @@ fn keys(v: &Option<String>) -> Result<(), String> {
 }
 
 impl Options {
-    /// Options for this model file, every other option at its default.
-    pub fn for_model(path: impl Into<PathBuf>) -> Options {
-        let mut o = Options::default();
-        o.load.model = Some(path.into());
-        o
-    }
-
     /// The checks of every option and those between options (lights, conflicts), with no
     /// model needed. A JSON value is checked here too: serde only reads types.
     pub fn validate(&self) -> Result<(), OptionError> {
@@ -435,7 +428,7 @@ impl Options {
     }
 
     /// The background colour drawn (the option's, else the default).
-    pub fn background(&self) -> [f32; 3] {
+    pub(crate) fn background(&self) -> [f32; 3] {
         self.render.background.unwrap_or(DEFAULT_BACKGROUND)
     }
 }

@@ -15,7 +15,7 @@ pub struct OptionSpec {
     pub doc: &'static str,
     pub form: Form,
     /// What a value looks like (`a number`, `R,G,B`); empty for switches.
-    pub expected: &'static str,
+    pub(crate) expected: &'static str,
     /// A choice's words and their docs.
     pub choices: Vec<(&'static str, &'static str)>,
     /// The default as a command-line word (None: unset by default, or a switch).
@@ -33,7 +33,7 @@ pub struct OptionSpec {
 
 impl OptionSpec {
     /// The Python keyword.
-    pub fn keyword(&self) -> String {
+    pub(crate) fn keyword(&self) -> String {
         self.name.replace('-', "_")
     }
 
@@ -55,13 +55,8 @@ impl OptionSpec {
     }
 
     /// The option group it belongs to (`shadow` for `shadow.bias`).
-    pub fn group(&self) -> &'static str {
+    pub(crate) fn group(&self) -> &'static str {
         self.path.split('.').next().unwrap_or_default()
-    }
-
-    /// Whether the command line takes a value after the name.
-    pub fn takes_value(&self) -> bool {
-        matches!(self.form, Form::Value | Form::Repeat | Form::List)
     }
 }
 
@@ -71,8 +66,8 @@ impl OptionSpec {
 #[error("{name}: {message}")]
 pub struct OptionError {
     /// The option's name (`yaw`, `shadow-bias`) or, for a JSON key, its path.
-    pub name: String,
-    pub message: String,
+    pub(crate) name: String,
+    pub(crate) message: String,
 }
 
 impl OptionError {

@@ -30,7 +30,7 @@ pub trait OptionValue: Sized + Clone + PartialEq + Serialize + DeserializeOwned 
 }
 
 /// A JSON value as a message shows it: strings in single quotes, like Python's repr.
-pub fn shown(v: &Value) -> String {
+pub(crate) fn shown(v: &Value) -> String {
     match v {
         Value::String(s) => format!("'{s}'"),
         other => other.to_string(),
@@ -104,7 +104,7 @@ impl OptionValue for bool {
 
 /// Three comma-separated finite numbers, read in f64 as they always were (a colour's f32
 /// is the f64's nearest, as before the options were typed: pictures do not move).
-pub fn parse_triple(s: &str) -> Result<[f64; 3], String> {
+pub(crate) fn parse_triple(s: &str) -> Result<[f64; 3], String> {
     crate::light::parse_vec3(s).map(|v| v.to_array())
 }
 

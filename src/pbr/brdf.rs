@@ -6,39 +6,39 @@ use std::f64::consts::PI;
 
 /// The lowest roughness the lobes are evaluated with: r = 0 is a mirror (a Dirac lobe), which
 /// sampled and analytic forms only reach as a limit.
-pub const MIN_ROUGHNESS: f64 = 0.02;
+pub(crate) const MIN_ROUGHNESS: f64 = 0.02;
 
-pub fn alpha(r: f64) -> f64 {
+pub(crate) fn alpha(r: f64) -> f64 {
     let r = r.max(MIN_ROUGHNESS);
     r * r
 }
 
 /// GGX normal distribution D(h).
-pub fn d_ggx(n_dot_h: f64, r: f64) -> f64 {
+pub(crate) fn d_ggx(n_dot_h: f64, r: f64) -> f64 {
     let a2 = alpha(r) * alpha(r);
     let d = n_dot_h * n_dot_h * (a2 - 1.0) + 1.0;
     a2 / (PI * d * d)
 }
 
 /// Smith–Schlick geometry term G(l, v) with k = α/2 = r²/2.
-pub fn g_smith(n_dot_v: f64, n_dot_l: f64, r: f64) -> f64 {
+pub(crate) fn g_smith(n_dot_v: f64, n_dot_l: f64, r: f64) -> f64 {
     let k = alpha(r) / 2.0;
     let g1 = |x: f64| x / (x * (1.0 - k) + k);
     g1(n_dot_v) * g1(n_dot_l)
 }
 
 /// Schlick's Fresnel.
-pub fn f_schlick(f0: DVec3, v_dot_h: f64) -> DVec3 {
+pub(crate) fn f_schlick(f0: DVec3, v_dot_h: f64) -> DVec3 {
     f0 + (DVec3::ONE - f0) * (1.0 - v_dot_h).clamp(0.0, 1.0).powi(5)
 }
 
 /// Schlick's Fresnel with reflectance `f90` at grazing incidence.
-pub fn f_schlick90(f0: DVec3, f90: f64, v_dot_h: f64) -> DVec3 {
+pub(crate) fn f_schlick90(f0: DVec3, f90: f64, v_dot_h: f64) -> DVec3 {
     f0 + (DVec3::splat(f90) - f0) * (1.0 - v_dot_h).clamp(0.0, 1.0).powi(5)
 }
 
 /// The i-th of n points of the Hammersley set in [0, 1)².
-pub fn hammersley(i: u32, n: u32) -> (f64, f64) {
+pub(crate) fn hammersley(i: u32, n: u32) -> (f64, f64) {
     (
         (f64::from(i) + 0.5) / f64::from(n),
         f64::from(i.reverse_bits()) / 4294967296.0,
@@ -46,7 +46,7 @@ pub fn hammersley(i: u32, n: u32) -> (f64, f64) {
 }
 
 /// An orthonormal basis (t, b) around unit `n` (Duff et al. 2017, no singularity).
-pub fn basis(n: DVec3) -> (DVec3, DVec3) {
+pub(crate) fn basis(n: DVec3) -> (DVec3, DVec3) {
     let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
     let a = -1.0 / (s + n.z);
     let b = n.x * n.y * a;
@@ -57,7 +57,7 @@ pub fn basis(n: DVec3) -> (DVec3, DVec3) {
 }
 
 /// A GGX-distributed half vector around `n` for the sample point (u1, u2).
-pub fn sample_ggx(u1: f64, u2: f64, n: DVec3, r: f64) -> DVec3 {
+pub(crate) fn sample_ggx(u1: f64, u2: f64, n: DVec3, r: f64) -> DVec3 {
     let a = alpha(r);
     let phi = 2.0 * PI * u1;
     let cos_t = ((1.0 - u2) / (1.0 + (a * a - 1.0) * u2)).sqrt();
@@ -67,7 +67,7 @@ pub fn sample_ggx(u1: f64, u2: f64, n: DVec3, r: f64) -> DVec3 {
 }
 
 /// A cosine-distributed direction around `n`.
-pub fn sample_cosine(u1: f64, u2: f64, n: DVec3) -> DVec3 {
+pub(crate) fn sample_cosine(u1: f64, u2: f64, n: DVec3) -> DVec3 {
     let phi = 2.0 * PI * u1;
     let r = u2.sqrt();
     let (t, b) = basis(n);
@@ -76,7 +76,7 @@ pub fn sample_cosine(u1: f64, u2: f64, n: DVec3) -> DVec3 {
 
 /// The split-sum BRDF integral (A, B) with ∫ f_spec·cos dω = F0·A + B, for N·V and
 /// roughness, by importance-sampling GGX with `samples` Hammersley points.
-pub fn integrate_brdf(n_dot_v: f64, r: f64, samples: u32) -> (f64, f64) {
+pub(crate) fn integrate_brdf(n_dot_v: f64, r: f64, samples: u32) -> (f64, f64) {
     let n_dot_v = n_dot_v.max(1e-4);
     let v = DVec3::new((1.0 - n_dot_v * n_dot_v).sqrt(), 0.0, n_dot_v);
     let n = DVec3::Z;
@@ -99,44 +99,44 @@ pub fn integrate_brdf(n_dot_v: f64, r: f64, samples: u32) -> (f64, f64) {
 
 /// A material as the PBR formula sees it (linear colours).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Surface {
-    pub albedo: DVec3,
-    pub metallic: f64,
-    pub roughness: f64,
-    pub ao: f64,
-    pub emissive: DVec3,
+pub(crate) struct Surface {
+    pub(crate) albedo: DVec3,
+    pub(crate) metallic: f64,
+    pub(crate) roughness: f64,
+    pub(crate) ao: f64,
+    pub(crate) emissive: DVec3,
     /// The dielectric's F0 (the core's 0.04; KHR_materials_ior and _specular: the ior's F0
     /// times the specular colour, clamped to 1, times the specular weight).
-    pub f0: DVec3,
+    pub(crate) f0: DVec3,
     /// The dielectric's reflectance at grazing incidence (the specular weight; 1 in the core).
-    pub f90: f64,
+    pub(crate) f90: f64,
     /// KHR_materials_transmission's share of the diffuse term that becomes transmission.
-    pub transmission: f64,
+    pub(crate) transmission: f64,
 }
 
 impl Surface {
     /// The core model's dielectric: F0 0.04, F90 1.
-    pub const CORE_F0: (DVec3, f64) = (DVec3::splat(super::F0), 1.0);
+    pub(crate) const CORE_F0: (DVec3, f64) = (DVec3::splat(super::F0), 1.0);
 
     /// k_d = albedo·(1 − max(f0))·(1 − metallic)·(1 − transmission)
-    pub fn kd(&self) -> DVec3 {
+    pub(crate) fn kd(&self) -> DVec3 {
         self.albedo
             * (1.0 - self.f0.max_element())
             * (1.0 - self.metallic)
             * (1.0 - self.transmission)
     }
     /// k_s = mix(f0, albedo, metallic)
-    pub fn ks(&self) -> DVec3 {
+    pub(crate) fn ks(&self) -> DVec3 {
         self.f0.lerp(self.albedo, self.metallic)
     }
     /// F90 = mix(f90, 1, metallic)
-    pub fn f90(&self) -> f64 {
+    pub(crate) fn f90(&self) -> f64 {
         self.f90 + (1.0 - self.f90) * self.metallic
     }
 
     /// Direct light of unit colour from direction `l`: (k_d + π·f_spec)·N·L. A light's colour
     /// is the radiance a white Lambert surface facing it reflects, as in the legacy tier.
-    pub fn direct(&self, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
+    pub(crate) fn direct(&self, n: DVec3, v: DVec3, l: DVec3) -> DVec3 {
         let n_dot_l = n.dot(l);
         if n_dot_l <= 0.0 {
             return DVec3::ZERO;
@@ -151,7 +151,11 @@ impl Surface {
     }
 
     /// E_d by Monte Carlo: (1/π)∫ L·cos dω as the mean of cosine-distributed samples.
-    pub fn mc_irradiance(n: DVec3, samples: u32, radiance: &dyn Fn(DVec3) -> DVec3) -> DVec3 {
+    pub(crate) fn mc_irradiance(
+        n: DVec3,
+        samples: u32,
+        radiance: &dyn Fn(DVec3) -> DVec3,
+    ) -> DVec3 {
         let mut sum = DVec3::ZERO;
         for i in 0..samples {
             let (u1, u2) = hammersley(i, samples);
@@ -162,7 +166,7 @@ impl Surface {
 
     /// The specular image-based light ∫ L·f_spec·cos dω by Monte Carlo with GGX-sampled half
     /// vectors (the truth the split sum approximates).
-    pub fn mc_specular(
+    pub(crate) fn mc_specular(
         &self,
         n: DVec3,
         v: DVec3,

@@ -19,7 +19,7 @@ struct Header {
 }
 
 /// The cache key: the environment's bytes (or its description) and the settings.
-pub fn key(source: &EnvSource, settings: &IblSettings) -> Option<u64> {
+pub(crate) fn key(source: &EnvSource, settings: &IblSettings) -> Option<u64> {
     let mut bytes = match source {
         EnvSource::Builtin => b"builtin-sky-1".to_vec(),
         EnvSource::Uniform(c) => format!("uniform {c:?}").into_bytes(),
@@ -36,7 +36,7 @@ fn path(key: u64) -> Option<PathBuf> {
     Some(crate::scene::cache::dir()?.join(format!("ibl-{key:016x}.bin")))
 }
 
-pub fn get(key: u64) -> Option<IblData> {
+pub(crate) fn get(key: u64) -> Option<IblData> {
     let data = std::fs::read(path(key)?).ok()?;
     let rest = data.strip_prefix(MAGIC)?;
     let nl = rest.iter().position(|&b| b == b'\n')?;
@@ -89,7 +89,7 @@ pub fn get(key: u64) -> Option<IblData> {
     })
 }
 
-pub fn put(key: u64, d: &IblData) {
+pub(crate) fn put(key: u64, d: &IblData) {
     let Some(p) = path(key) else { return };
     let h = Header {
         settings: d.settings,

@@ -8,10 +8,10 @@ use std::path::Path;
 
 #[derive(Clone, Debug)]
 pub struct Environment {
-    pub width: usize,
-    pub height: usize,
+    pub(crate) width: usize,
+    pub(crate) height: usize,
     /// Linear RGB, row 0 at the top (+Y).
-    pub texels: Vec<[f32; 3]>,
+    pub(crate) texels: Vec<[f32; 3]>,
 }
 
 /// Files larger than this many texels are box-downscaled after decoding; the prefiltered
@@ -29,7 +29,7 @@ impl Environment {
 
     /// The built-in sky: a zenith-to-horizon gradient, a darker ground, and a soft sun, so a
     /// PBR model looks lit without a file.
-    pub fn builtin() -> Environment {
+    pub(crate) fn builtin() -> Environment {
         let (w, h) = (256usize, 128usize);
         let sun = DVec3::new(-0.45, 0.7, 0.55).normalize();
         let mut texels = Vec::with_capacity(w * h);
@@ -56,7 +56,7 @@ impl Environment {
     }
 
     /// The environment a request names.
-    pub fn from_source(source: &super::EnvSource) -> Result<Environment> {
+    pub(crate) fn from_source(source: &super::EnvSource) -> Result<Environment> {
         Ok(match source {
             super::EnvSource::Builtin => Environment::builtin(),
             super::EnvSource::Uniform(c) => Environment::uniform(*c),
@@ -98,12 +98,12 @@ impl Environment {
     }
 
     /// Bilinear radiance in direction `d` (unit).
-    pub fn sample(&self, d: DVec3) -> DVec3 {
+    pub(crate) fn sample(&self, d: DVec3) -> DVec3 {
         sample_level(&self.texels, self.width, self.height, d)
     }
 
     /// The mip chain (level 0 = self), each level a 2×2 box filter of the one before.
-    pub fn mips(&self) -> Vec<(Vec<[f32; 3]>, usize, usize)> {
+    pub(crate) fn mips(&self) -> Vec<(Vec<[f32; 3]>, usize, usize)> {
         let mut levels = vec![(self.texels.clone(), self.width, self.height)];
         while let Some((t, w, h)) = levels.last() {
             if *w < 2 || *h < 2 {
@@ -117,7 +117,7 @@ impl Environment {
 }
 
 /// Direction of equirect position (x, y) in pixels of a w×h image.
-pub fn direction(x: f64, y: f64, w: usize, h: usize) -> DVec3 {
+pub(crate) fn direction(x: f64, y: f64, w: usize, h: usize) -> DVec3 {
     let phi = (x / w as f64 - 0.5) * 2.0 * PI;
     let theta = y / h as f64 * PI;
     DVec3::new(
@@ -128,7 +128,7 @@ pub fn direction(x: f64, y: f64, w: usize, h: usize) -> DVec3 {
 }
 
 /// Bilinear lookup of direction `d` in one w×h level (wrapping in u, clamped in v).
-pub fn sample_level(t: &[[f32; 3]], w: usize, h: usize, d: DVec3) -> DVec3 {
+pub(crate) fn sample_level(t: &[[f32; 3]], w: usize, h: usize, d: DVec3) -> DVec3 {
     let u = 0.5 + d.x.atan2(-d.z) / (2.0 * PI);
     let v = d.y.clamp(-1.0, 1.0).acos() / PI;
     let x = u * w as f64 - 0.5;
@@ -166,7 +166,7 @@ fn downsample(t: &[[f32; 3]], w: usize, h: usize) -> (Vec<[f32; 3]>, usize, usiz
 
 /// Direction through texel (x, y) of cube face `face` (GL order +X, −X, +Y, −Y, +Z, −Z; row 0
 /// is the first row uploaded, t = 0), for a face of `size` texels.
-pub fn cube_direction(face: usize, x: f64, y: f64, size: usize) -> DVec3 {
+pub(crate) fn cube_direction(face: usize, x: f64, y: f64, size: usize) -> DVec3 {
     let s = (x + 0.5) / size as f64 * 2.0 - 1.0;
     let t = (y + 0.5) / size as f64 * 2.0 - 1.0;
     let d = match face {

@@ -5,19 +5,19 @@
 //! k_d = albedo·(1 − f0)·(1 − metallic), k_s = mix(f0, albedo, metallic), f0 = 0.04;
 //! E_d: irradiance cube; E_s: one prefiltered cube per roughness level, linear between levels;
 //! BF: the BRDF lookup table (GGX, α = r², Smith–Schlick G with k = r²/2).
-pub mod brdf;
-pub mod cache;
+pub(crate) mod brdf;
+pub(crate) mod cache;
 pub mod env;
 pub mod precompute;
-pub mod sheen;
-pub mod views;
+pub(crate) mod sheen;
+pub(crate) mod views;
 
 use glam::Vec3;
 use serde::Serialize;
 use std::path::PathBuf;
 
 /// The dielectric reflectance at normal incidence.
-pub const F0: f64 = 0.04;
+pub(crate) const F0: f64 = 0.04;
 
 crate::choice! {
     /// Tone mapping of the exposed linear colour before sRGB encoding.
@@ -35,7 +35,7 @@ crate::choice! {
 
 impl Tonemap {
     /// Shader switch value (`TONEMAP`).
-    pub fn code(self) -> i32 {
+    pub(crate) fn code(self) -> i32 {
         match self {
             Tonemap::None => 0,
             Tonemap::Aces => 1,
@@ -45,7 +45,7 @@ impl Tonemap {
     }
 
     /// The curve per channel (Khronos Neutral needs all three), as in `output.glsl`.
-    pub fn apply(self, c: [f64; 3]) -> [f64; 3] {
+    pub(crate) fn apply(self, c: [f64; 3]) -> [f64; 3] {
         match self {
             Tonemap::None => c.map(|x| x.clamp(0.0, 1.0)),
             Tonemap::Reinhard => c.map(|x| {
@@ -98,8 +98,8 @@ pub fn srgb_decode(x: f64) -> f64 {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct OutputParams {
     /// Exposure in EV: the linear colour is multiplied by 2^ev.
-    pub exposure_ev: f32,
-    pub tonemap: Tonemap,
+    pub(crate) exposure_ev: f32,
+    pub(crate) tonemap: Tonemap,
 }
 
 impl OutputParams {
@@ -114,20 +114,20 @@ impl OutputParams {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct PbrParams {
     /// `--base-color`, `--metallic`, `--roughness`: override every material.
-    pub base_color: Option<Vec3>,
-    pub metallic: Option<f32>,
-    pub roughness: Option<f32>,
+    pub(crate) base_color: Option<Vec3>,
+    pub(crate) metallic: Option<f32>,
+    pub(crate) roughness: Option<f32>,
     /// Sample E_s at normalize(mix(R, N, r²·…)) (Filament's dominant direction); off = the
     /// seed's formula.
-    pub dominant_direction: bool,
+    pub(crate) dominant_direction: bool,
     /// Multiple-scattering energy compensation (Fdez-Agüera / Filament); off = the seed's.
-    pub multiscatter: bool,
+    pub(crate) multiscatter: bool,
     /// Draw the environment behind the model (else the background colour).
-    pub skybox: bool,
+    pub(crate) skybox: bool,
     /// Roughness of the specular level the skybox shows (0 = sharp).
-    pub skybox_blur: f32,
+    pub(crate) skybox_blur: f32,
     /// Scale of the image-based light (1 = as the environment says).
-    pub ibl_intensity: f32,
+    pub(crate) ibl_intensity: f32,
 }
 
 /// Where the environment comes from.

@@ -26,13 +26,13 @@ pub struct IblSettings {
 
 /// GGX samples per lookup-table texel (no option sets it; `IblSettings::default`, the
 /// options' defaults, is in `options::convert`).
-pub const LUT_SAMPLES: u32 = 512;
+pub(crate) const LUT_SAMPLES: u32 = 512;
 
 impl IblSettings {
-    pub fn level_roughness(&self, i: u32) -> f32 {
+    pub(crate) fn level_roughness(&self, i: u32) -> f32 {
         i as f32 / (self.levels.max(2) - 1) as f32
     }
-    pub fn level_size(&self, i: u32) -> u32 {
+    pub(crate) fn level_size(&self, i: u32) -> u32 {
         (self.specular_size >> i)
             .max(16)
             .min(self.specular_size.max(1))
@@ -41,9 +41,9 @@ impl IblSettings {
 
 /// Six faces of RGB texels in GL order, rows from t = 0.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Cube {
-    pub size: u32,
-    pub faces: Vec<Vec<[f32; 3]>>,
+pub(crate) struct Cube {
+    pub(crate) size: u32,
+    pub(crate) faces: Vec<Vec<[f32; 3]>>,
 }
 
 impl Cube {
@@ -64,7 +64,8 @@ impl Cube {
     }
 
     /// Nearest-texel lookup (for tests and the teaching views).
-    pub fn lookup(&self, d: DVec3) -> DVec3 {
+    #[cfg(test)] // only the unit tests call it
+    pub(crate) fn lookup(&self, d: DVec3) -> DVec3 {
         let a = d.abs();
         let (face, sc, tc, ma) = if a.x >= a.y && a.x >= a.z {
             if d.x > 0.0 {
@@ -94,19 +95,19 @@ impl Cube {
 /// The BRDF table: (A, B) at x = N·V (texel centres from 0 to 1), y = roughness, and the
 /// sheen lobe's directional albedo E at y = sheen roughness ([`super::sheen::albedo`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Lut {
-    pub size: u32,
-    pub texels: Vec<[f32; 3]>,
+pub(crate) struct Lut {
+    pub(crate) size: u32,
+    pub(crate) texels: Vec<[f32; 3]>,
 }
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct IblData {
-    pub settings: IblSettings,
-    pub irradiance: Cube,
-    pub specular: Vec<Cube>,
-    pub lut: Lut,
+    pub(crate) settings: IblSettings,
+    pub(crate) irradiance: Cube,
+    pub(crate) specular: Vec<Cube>,
+    pub(crate) lut: Lut,
     /// Milliseconds the computation took (0 when read from the cache).
-    pub compute_ms: f64,
+    pub(crate) compute_ms: f64,
 }
 
 /// E_d: (1/π)∫ L(ω)·max(N·ω, 0) dω — the radiance a white Lambert surface reflects; summed
@@ -114,7 +115,7 @@ pub struct IblData {
 /// with its solid angle), so a uniform environment is reproduced to rounding. Coarser copies
 /// fail on small, very bright lights near a normal's horizon: a 64×32 copy put the studio
 /// HDR's key light on the wrong side of the horizon for +Z and gave a third of the true value.
-pub fn irradiance(env: &Environment, size: u32) -> Cube {
+pub(crate) fn irradiance(env: &Environment, size: u32) -> Cube {
     let mips = env.mips();
     let (t, w, h) = mips
         .iter()
@@ -162,7 +163,7 @@ const LOD_BIAS: f64 = 0.0;
 /// E_s for roughness r: Σ L(l)·(N·L) / Σ (N·L) over GGX samples around N = V = R, each read
 /// from the mip level whose texel matches the sample's solid angle (filtered importance
 /// sampling, Křivánek & Colbert 2008), which removes the noise a fixed count would leave.
-pub fn specular(env: &Environment, r: f64, size: u32, samples: u32) -> Cube {
+pub(crate) fn specular(env: &Environment, r: f64, size: u32, samples: u32) -> Cube {
     let mips = env.mips();
     let texel_omega = 2.0 * PI * PI / (env.width * env.height) as f64;
     let lookup = |d: DVec3, lod: f64| {
@@ -210,7 +211,7 @@ pub fn specular(env: &Environment, r: f64, size: u32, samples: u32) -> Cube {
     })
 }
 
-pub fn lut(size: u32, samples: u32) -> Lut {
+pub(crate) fn lut(size: u32, samples: u32) -> Lut {
     let n = size as usize;
     let texels = (0..n * n)
         .into_par_iter()

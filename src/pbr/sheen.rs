@@ -12,10 +12,10 @@ use glam::DVec3;
 use std::f64::consts::PI;
 
 /// The lowest sheen roughness evaluated (0 is a limit the lobe only approaches).
-pub const MIN_SHEEN_ROUGHNESS: f64 = 0.07;
+pub(crate) const MIN_SHEEN_ROUGHNESS: f64 = 0.07;
 
 /// Charlie D(h) with α = r²: (2 + 1/α)·sin(θ_h)^(1/α) / 2π.
-pub fn d_charlie(n_dot_h: f64, r: f64) -> f64 {
+pub(crate) fn d_charlie(n_dot_h: f64, r: f64) -> f64 {
     let a = r.max(MIN_SHEEN_ROUGHNESS).powi(2);
     let inv = 1.0 / a;
     let sin2 = (1.0 - n_dot_h * n_dot_h).max(0.0);
@@ -23,12 +23,12 @@ pub fn d_charlie(n_dot_h: f64, r: f64) -> f64 {
 }
 
 /// Neubelt–Pettineo visibility 1 / (4·(N·L + N·V − N·L·N·V)).
-pub fn v_neubelt(n_dot_v: f64, n_dot_l: f64) -> f64 {
+pub(crate) fn v_neubelt(n_dot_v: f64, n_dot_l: f64) -> f64 {
     1.0 / (4.0 * (n_dot_l + n_dot_v - n_dot_l * n_dot_v)).max(1e-8)
 }
 
 /// The sheen BRDF (white colour) for unit vectors.
-pub fn brdf(n: DVec3, v: DVec3, l: DVec3, r: f64) -> f64 {
+pub(crate) fn brdf(n: DVec3, v: DVec3, l: DVec3, r: f64) -> f64 {
     let (n_dot_l, n_dot_v) = (n.dot(l), n.dot(v).max(1e-4));
     if n_dot_l <= 0.0 {
         return 0.0;
@@ -47,7 +47,7 @@ fn uniform_hemisphere(u1: f64, u2: f64) -> DVec3 {
 
 /// E(N·V, r) = ∫ f_sheen·(N·L) dω, by uniform hemisphere sampling (the lobe lies near the
 /// horizon at low roughness, where cosine sampling puts few points).
-pub fn albedo(n_dot_v: f64, r: f64, samples: u32) -> f64 {
+pub(crate) fn albedo(n_dot_v: f64, r: f64, samples: u32) -> f64 {
     let n_dot_v = n_dot_v.max(1e-4);
     let v = DVec3::new((1.0 - n_dot_v * n_dot_v).sqrt(), 0.0, n_dot_v);
     let mut e = 0.0;
@@ -60,13 +60,13 @@ pub fn albedo(n_dot_v: f64, r: f64, samples: u32) -> f64 {
 }
 
 /// The albedo the table holds and the layering uses: E, at most 1.
-pub fn table_albedo(n_dot_v: f64, r: f64, samples: u32) -> f64 {
+pub(crate) fn table_albedo(n_dot_v: f64, r: f64, samples: u32) -> f64 {
     albedo(n_dot_v, r, samples).min(1.0)
 }
 
 /// ∫ L·f_sheen·(N·L) dω by Monte Carlo (uniform hemisphere samples around `n`): the
 /// reference's sheen image-based light (white colour).
-pub fn mc_radiance(
+pub(crate) fn mc_radiance(
     n: DVec3,
     v: DVec3,
     r: f64,

@@ -14,7 +14,7 @@ fn range(values: impl Iterator<Item = f32>) -> (f32, f32) {
 }
 
 /// The cube as a 4×3 cross of `face`-sized tiles, labelled.
-pub fn cube_cross(c: &Cube, name: &str, out: &OutputParams) -> Rgba {
+pub(crate) fn cube_cross(c: &Cube, name: &str, out: &OutputParams) -> Rgba {
     let n = c.size;
     let tile = n.max(64);
     let mut img = canvas::blank(4 * tile, 3 * tile + canvas::STRIP, [24, 24, 28]);
@@ -49,7 +49,7 @@ pub fn cube_cross(c: &Cube, name: &str, out: &OutputParams) -> Rgba {
 }
 
 /// The BRDF table: A in red, B in green; x = N·V, y = roughness (0 at the top).
-pub fn lut_image(l: &Lut) -> Rgba {
+pub(crate) fn lut_image(l: &Lut) -> Rgba {
     let n = l.size;
     let scale = (256 / n.max(1)).max(1);
     let side = n * scale;
@@ -71,7 +71,7 @@ pub fn lut_image(l: &Lut) -> Rgba {
 }
 
 /// The view `what` names: `irradiance`, `specular` (level `level`) or `lut`.
-pub fn view(d: &IblData, what: &str, level: u32, out: &OutputParams) -> Option<Rgba> {
+pub(crate) fn view(d: &IblData, what: &str, level: u32, out: &OutputParams) -> Option<Rgba> {
     Some(match what {
         "irradiance" => cube_cross(&d.irradiance, "irradiance E_d", out),
         "specular" => {

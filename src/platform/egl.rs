@@ -10,16 +10,15 @@ use glutin::prelude::*;
 
 /// A current, surfaceless EGL context. Drop everything made with its `glow::Context` first,
 /// and drop it on the thread it is current on (it is released from there, then destroyed).
-pub struct EglHeadless {
+pub(crate) struct EglHeadless {
     context: PossiblyCurrentContext,
     display: Display,
-    pub request: GlRequest,
 }
 
 impl EglHeadless {
     /// Tries every EGL device and each candidate context in order; the error lists every
     /// attempt so a user sees why nothing worked.
-    pub fn new(request: GlRequest) -> Result<EglHeadless> {
+    pub(crate) fn new(request: GlRequest) -> Result<EglHeadless> {
         let mut tried = Vec::new();
         let devices = Device::query_devices().map_err(|e| Error::Context(format!("EGL: {e}")))?;
         for device in devices {
@@ -33,13 +32,7 @@ impl EglHeadless {
             };
             for &candidate in request.candidates() {
                 match Self::create(&display, candidate) {
-                    Ok(context) => {
-                        return Ok(EglHeadless {
-                            context,
-                            display,
-                            request: candidate,
-                        })
-                    }
+                    Ok(context) => return Ok(EglHeadless { context, display }),
                     Err(e) => tried.push(format!("{candidate:?} on {:?}: {e}", device.name())),
                 }
             }
@@ -75,7 +68,7 @@ impl EglHeadless {
             .map_err(|e| e.to_string())
     }
 
-    pub fn glow_context(&self) -> glow::Context {
+    pub(crate) fn glow_context(&self) -> glow::Context {
         // SAFETY: the context is current on this thread and its display lives in self.
         unsafe {
             glow::Context::from_loader_function_cstr(|name| self.display.get_proc_address(name))

@@ -58,7 +58,7 @@ pub enum OsMesaError {
 
 /// Which context to ask OSMesa for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum OsMesaProfile {
+pub(crate) enum OsMesaProfile {
     /// Compatibility profile, at least 2.1: Mesa 22.3 returns 4.5 compat;
     /// `MESA_GL_VERSION_OVERRIDE=2.1 MESA_GLSL_VERSION_OVERRIDE=120` pins 2.1.
     Compat21,
@@ -68,7 +68,7 @@ pub enum OsMesaProfile {
 }
 
 /// An OSMesa context rendering into an owned RGBA8 buffer.
-pub struct OsMesaContext {
+pub(crate) struct OsMesaContext {
     ctx: RawContext,
     get_proc_address: GetProcAddressFn,
     destroy: DestroyFn,
@@ -141,7 +141,11 @@ impl OsMesaContext {
     /// Loads the library, creates a context with a 24-bit depth buffer and
     /// 8-bit stencil, and makes it current on this thread on an owned RGBA8
     /// buffer of `width` x `height`.
-    pub fn new(profile: OsMesaProfile, width: u32, height: u32) -> Result<Self, OsMesaError> {
+    pub(crate) fn new(
+        profile: OsMesaProfile,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, OsMesaError> {
         if width == 0 || height == 0 || width > MAX_SIZE || height > MAX_SIZE {
             return Err(OsMesaError::Size(width, height));
         }
@@ -179,14 +183,15 @@ impl OsMesaContext {
     ///
     /// Use it only on this thread and drop it before `self`: its function
     /// pointers point into the library `self` owns.
-    pub fn glow_context(&self) -> glow::Context {
+    pub(crate) fn glow_context(&self) -> glow::Context {
         let get = self.get_proc_address;
         // SAFETY: our context is current on this thread (made so in `new`),
         // which glow needs to query GL_VERSION; `get` takes a C string.
         unsafe { glow::Context::from_loader_function_cstr(|name: &CStr| get(name.as_ptr())) }
     }
 
-    pub fn size(&self) -> (u32, u32) {
+    #[cfg(test)] // only the unit tests call it
+    pub(crate) fn size(&self) -> (u32, u32) {
         (self.width, self.height)
     }
 
@@ -194,7 +199,7 @@ impl OsMesaContext {
     /// GL's bottom-up order (OSMESA_Y_UP = 1) and the rows are flipped here.
     /// Calls glFinish through `gl` first: llvmpipe renders asynchronously and
     /// only writes our buffer when flushed.
-    pub fn read_rgba(&self, gl: &glow::Context) -> Vec<u8> {
+    pub(crate) fn read_rgba(&self, gl: &glow::Context) -> Vec<u8> {
         use glow::HasContext;
         // SAFETY: glFinish has no preconditions beyond a current context.
         unsafe { gl.finish() };
@@ -207,7 +212,8 @@ impl OsMesaContext {
     }
 
     /// Whether the library can be loaded at all (for tests / `--info`).
-    pub fn available() -> bool {
+    #[cfg(test)] // only the unit tests call it
+    pub(crate) fn available() -> bool {
         load_library().is_ok()
     }
 }

@@ -73,7 +73,7 @@ pub fn available() -> bool {
 
 /// RGBA pixels (top row first, alpha ignored) as a 4:2:0 JPEG of `quality` (1–100); None
 /// when the library is not installed; Err with its message when it fails.
-pub fn encode_rgba(
+pub(crate) fn encode_rgba(
     rgba: &[u8],
     width: u32,
     height: u32,

@@ -26,17 +26,17 @@ struct Segment {
 }
 
 /// The frame's segments, binned by tile.
-pub struct ScreenEdges {
+pub(crate) struct ScreenEdges {
     segments: Vec<Segment>,
     tiles: Vec<Vec<u32>>,
     tiles_x: u32,
-    pub color: DVec3,
+    pub(crate) color: DVec3,
     /// Line width in pixels.
     width: f64,
 }
 
 impl ScreenEdges {
-    pub fn new(ctx: &Context, set: EdgeSet, color: DVec3, width: f64) -> ScreenEdges {
+    pub(crate) fn new(ctx: &Context, set: EdgeSet, color: DVec3, width: f64) -> ScreenEdges {
         let (w, h) = ctx.size;
         let tiles_x = w.div_ceil(TILE);
         let tiles_y = h.div_ceil(TILE);
@@ -103,7 +103,7 @@ impl ScreenEdges {
     }
 
     /// Whether pixel (x, y) (top row 0) shows an edge.
-    pub fn covers(&self, ctx: &Context, x: u32, y: u32) -> bool {
+    pub(crate) fn covers(&self, ctx: &Context, x: u32, y: u32) -> bool {
         let c = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
         let tile = &self.tiles[((y / TILE) * self.tiles_x + x / TILE) as usize];
         tile.iter().any(|&i| {

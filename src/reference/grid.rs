@@ -8,7 +8,7 @@ use super::Context;
 use crate::grid::{floor_light, line_color, GridPlane, LUMINANCE};
 use glam::{DVec2, DVec3};
 
-pub struct RefGrid {
+pub(crate) struct RefGrid {
     plane: GridPlane,
     color: DVec3,
     width: f64,
@@ -17,7 +17,7 @@ pub struct RefGrid {
 }
 
 impl RefGrid {
-    pub fn new(ctx: &Context) -> Option<RefGrid> {
+    pub(crate) fn new(ctx: &Context) -> Option<RefGrid> {
         let s = ctx.settings;
         if !s.lighting.guides.grid {
             return None;
@@ -48,7 +48,7 @@ impl RefGrid {
 
     /// The colour and opacity of the lines and the darkening of what lies behind at pixel
     /// (x, y) when the plane is seen there in front of `t_opaque`, or None.
-    pub fn cover(
+    pub(crate) fn cover(
         &self,
         ctx: &Context,
         x: u32,
@@ -103,7 +103,7 @@ impl RefGrid {
     }
 
     /// `color` with the grid blended over it: C = L·a + C·(1 − s)(1 − a).
-    pub fn blend(&self, color: DVec3, (line, a, s): (DVec3, f64, f64)) -> DVec3 {
+    pub(crate) fn blend(&self, color: DVec3, (line, a, s): (DVec3, f64, f64)) -> DVec3 {
         line * a + color * (1.0 - s) * (1.0 - a)
     }
 }

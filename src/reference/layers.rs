@@ -20,7 +20,7 @@ fn texel(m: &Material, slot: Slot, c: &Corners, srgb: bool) -> Option<glam::DVec
 
 /// The dielectric (F0, F90) of KHR_materials_ior and _specular at a hit:
 /// F0 = min(ior F0 · specularColor, 1) · weight, F90 = weight, weight = specularFactor.
-pub fn dielectric(m: &Material, c: &Corners) -> (DVec3, f64) {
+pub(crate) fn dielectric(m: &Material, c: &Corners) -> (DVec3, f64) {
     let (f0, w) = m.khr.dielectric();
     let mut f0 = DVec3::from(f0.map(f64::from));
     let mut w = f64::from(w);
@@ -35,19 +35,19 @@ pub fn dielectric(m: &Material, c: &Corners) -> (DVec3, f64) {
 
 /// The layers over the core model at one hit.
 #[derive(Default)]
-pub struct Layers {
+pub(crate) struct Layers {
     /// Clearcoat factor, roughness and normal.
     clearcoat: Option<(f64, f64, DVec3)>,
     /// Sheen colour and roughness.
     sheen: Option<(DVec3, f64)>,
     /// The transmission at the hit ([`super::transmission`]).
-    pub transmission: Option<super::transmission::Transmit>,
+    pub(crate) transmission: Option<super::transmission::Transmit>,
 }
 
 impl Layers {
     /// The material's layers at a hit at `p`; `n` is the interpolated normal turned to the
     /// viewer (the coat's normal where it has no map of its own), `mapped` the shading normal.
-    pub fn new(
+    pub(crate) fn new(
         ctx: &Context,
         m: &Material,
         c: &Corners,
@@ -91,7 +91,7 @@ impl Layers {
 
     /// `base` (the core model's linear radiance at `p`, normal `n`) under the sheen, then
     /// the coat: base·(1 − max(sheen)·E) + sheen, then ·(1 − clearcoat·F_cc) + clearcoat·coat.
-    pub fn over(
+    pub(crate) fn over(
         &self,
         ctx: &Context,
         ao: f64,

@@ -16,16 +16,16 @@ use crate::scene::{Material, Mesh, Texture};
 use glam::{DVec2, DVec3, DVec4};
 
 /// A hit's triangle corners and barycentric weights: what attributes are interpolated from.
-pub struct Corners<'a> {
-    pub mesh: &'a Mesh,
-    pub idx: [usize; 3],
-    pub w: [f64; 3],
+pub(crate) struct Corners<'a> {
+    pub(crate) mesh: &'a Mesh,
+    pub(crate) idx: [usize; 3],
+    pub(crate) w: [f64; 3],
     /// The file's tangents, or those the upload would generate (empty: none).
     tangents: &'a [[f32; 4]],
 }
 
 impl<'a> Corners<'a> {
-    pub fn new(ctx: &'a Context, hit: &Hit) -> Self {
+    pub(crate) fn new(ctx: &'a Context, hit: &Hit) -> Self {
         let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
         let base = 3 * hit.tri.tri as usize;
         let generated = &ctx.generated_tangents[hit.tri.mesh as usize];
@@ -43,7 +43,7 @@ impl<'a> Corners<'a> {
 
     /// A point sprite's: no triangle, `mesh` (one vertex, no UVs) reads no map, as the GPU
     /// draws points without texture coordinates.
-    pub fn at_point(mesh: &'a Mesh) -> Self {
+    pub(crate) fn at_point(mesh: &'a Mesh) -> Self {
         Corners {
             mesh,
             idx: [0; 3],
@@ -53,7 +53,7 @@ impl<'a> Corners<'a> {
     }
 
     /// UV set `set` (set 1 falls back to set 0 where the mesh has none, as `SLOT_UV` does).
-    pub fn uv(&self, set: u32) -> DVec2 {
+    pub(crate) fn uv(&self, set: u32) -> DVec2 {
         let uv1 = set == 1 && self.mesh.uv1.len() == self.mesh.vertices.len();
         (0..3).fold(DVec2::ZERO, |a, k| {
             let i = self.idx[k];
@@ -67,7 +67,7 @@ impl<'a> Corners<'a> {
     }
 
     /// The interpolated tangent (xyz, handedness w), where the mesh has tangents.
-    pub fn tangent(&self) -> Option<DVec4> {
+    pub(crate) fn tangent(&self) -> Option<DVec4> {
         (self.tangents.len() == self.mesh.vertices.len()).then(|| {
             (0..3).fold(DVec4::ZERO, |a, k| {
                 a + self.w[k] * DVec4::from(self.tangents[self.idx[k]].map(f64::from))
@@ -77,7 +77,7 @@ impl<'a> Corners<'a> {
 }
 
 /// The UV slot `slot` reads: its set, through its transform (`uSlotXf`).
-pub fn slot_uv(model: &Material, slot: Slot, c: &Corners) -> DVec2 {
+pub(crate) fn slot_uv(model: &Material, slot: Slot, c: &Corners) -> DVec2 {
     let Some(s) = model.slot(slot) else {
         return c.uv(0);
     };
@@ -96,7 +96,7 @@ pub fn slot_uv(model: &Material, slot: Slot, c: &Corners) -> DVec2 {
 }
 
 /// The sampler a slot is read with (the viewer's repeat/linear where the file has none).
-pub fn slot_sampler(model: &Material, slot: Slot) -> Sampler {
+pub(crate) fn slot_sampler(model: &Material, slot: Slot) -> Sampler {
     model.slot(slot).map(|s| s.sampler).unwrap_or_default()
 }
 
@@ -126,7 +126,7 @@ fn is_linear(f: Filter) -> bool {
 
 /// `t` at `uv` with sampler `s` (RGBA in [0, 1]; rgb decoded from sRGB per texel when `srgb`).
 /// Row 0 at v = 0, texel centres at (i + 0.5) / size, as GL reads an uploaded image.
-pub fn sample(t: &Texture, s: &Sampler, uv: DVec2, srgb: bool) -> DVec4 {
+pub(crate) fn sample(t: &Texture, s: &Sampler, uv: DVec2, srgb: bool) -> DVec4 {
     if t.width == 0 || t.height == 0 || !uv.is_finite() {
         return DVec4::ONE;
     }
@@ -166,7 +166,7 @@ pub fn sample(t: &Texture, s: &Sampler, uv: DVec2, srgb: bool) -> DVec4 {
 
 /// A slot's texture at the hit, or None where the material has no image there or the mesh
 /// no UVs (the GPU then leaves the slot's map out of the program).
-pub fn read(
+pub(crate) fn read(
     m: &Material,
     t: Option<&Texture>,
     slot: Slot,
@@ -179,7 +179,7 @@ pub fn read(
 
 /// The base colour texture's alpha times the vertex colour's (glTF COLOR_0) times the
 /// factor's: what MASK tests; and the first two alone, which multiply BLEND's opacity.
-pub fn base_alpha(m: &Material, c: &Corners) -> (f64, f64) {
+pub(crate) fn base_alpha(m: &Material, c: &Corners) -> (f64, f64) {
     let image = m.image(Slot::BaseColor).map(|t| &**t);
     let mut tex = read(m, image, Slot::BaseColor, c, false).map_or(1.0, |t| t.w);
     let a = &c.mesh.color_alpha;
@@ -192,7 +192,7 @@ pub fn base_alpha(m: &Material, c: &Corners) -> (f64, f64) {
 /// Whether the rasterizer draws this hit at all: single-sided materials show no back faces
 /// (`facing` is the ray's direction for a primary ray, towards the viewer), MASK cut-outs are
 /// discarded. Both hold in the shadow pass too, where the light is the viewer.
-pub fn drawn(ctx: &Context, hit: &Hit, dir: DVec3) -> bool {
+pub(crate) fn drawn(ctx: &Context, hit: &Hit, dir: DVec3) -> bool {
     let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
     let Some(m) = ctx.scene.materials.get(mesh.material) else {
         return true;
@@ -220,12 +220,12 @@ pub fn drawn(ctx: &Context, hit: &Hit, dir: DVec3) -> bool {
 /// `glviewNormalMap`: the map's normal (xy scaled) in the frame of the interpolated tangent,
 /// Gram-Schmidt against `n`, bitangent cross(n, t)·w; tangent and bitangent flip with the
 /// normal on back faces. `n` is the unit normal already turned to the viewer's side.
-pub fn normal_map(m: &Material, c: &Corners, n: DVec3, front: bool) -> DVec3 {
+pub(crate) fn normal_map(m: &Material, c: &Corners, n: DVec3, front: bool) -> DVec3 {
     normal_map_slot(m, Slot::Normal, m.normal_scale, c, n, front)
 }
 
 /// [`normal_map`] with the map of slot `slot` and its scale (the clearcoat's normal map).
-pub fn normal_map_slot(
+pub(crate) fn normal_map_slot(
     m: &Material,
     slot: Slot,
     scale: f32,

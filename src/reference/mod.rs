@@ -23,16 +23,16 @@
 //! a translucent layer agree to a mean of 0.000/255 (2 of 294k pixels off by more than 8/255,
 //! on edges); the glass differs by its blend order, and shadows by the shadow map's
 //! approximations. See `gpu_against_reference_builtin` in tests/suite/reference.rs.
-pub mod bvh;
-pub mod edges;
-pub mod grid;
-pub mod layers;
-pub mod material;
-pub mod pbr;
-pub mod points;
-pub mod surface;
-pub mod transmission;
-pub mod view;
+pub(crate) mod bvh;
+pub(crate) mod edges;
+pub(crate) mod grid;
+pub(crate) mod layers;
+pub(crate) mod material;
+pub(crate) mod pbr;
+pub(crate) mod points;
+pub(crate) mod surface;
+pub(crate) mod transmission;
+pub(crate) mod view;
 
 use crate::frame::FrameSettings;
 use crate::image_out::Rgba;
@@ -63,36 +63,41 @@ impl PixelInfo {
 }
 
 /// Everything shared by all pixels of one render.
-pub struct Context<'a> {
-    pub scene: &'a Scene,
-    pub settings: &'a FrameSettings,
-    pub view: View,
+pub(crate) struct Context<'a> {
+    pub(crate) scene: &'a Scene,
+    pub(crate) settings: &'a FrameSettings,
+    pub(crate) view: View,
     /// Output size in pixels.
-    pub size: (u32, u32),
+    pub(crate) size: (u32, u32),
     /// Opaque triangles: primary hits and shadow casters.
-    pub opaque: Bvh,
+    pub(crate) opaque: Bvh,
     /// Translucent triangles: blended layers only.
-    pub translucent: Bvh,
-    pub shadows: bool,
+    pub(crate) translucent: Bvh,
+    pub(crate) shadows: bool,
     /// Shadow-ray offset; see `surface::light_visible`.
-    pub epsilon: f64,
+    pub(crate) epsilon: f64,
     /// The PBR tier's environment (None: the tier gets no image-based light).
-    pub env: Option<std::sync::Arc<crate::pbr::env::Environment>>,
+    pub(crate) env: Option<std::sync::Arc<crate::pbr::env::Environment>>,
     /// Monte Carlo samples per lobe for the PBR tier's image-based light.
-    pub pbr_samples: u32,
+    pub(crate) pbr_samples: u32,
     /// Per mesh: the shadow-terminator lift (see `surface::light_visible`).
-    pub terminator_lift: Vec<f64>,
+    pub(crate) terminator_lift: Vec<f64>,
     /// Per mesh: MikkTSpace tangents where a normal map needs them and the file gave none,
     /// as the upload makes them (empty otherwise).
-    pub generated_tangents: Vec<Vec<[f32; 4]>>,
+    pub(crate) generated_tangents: Vec<Vec<[f32; 4]>>,
     /// `--edges` / `--wireframe`: the projected segments.
-    pub edges: Option<edges::ScreenEdges>,
+    pub(crate) edges: Option<edges::ScreenEdges>,
     /// `--grid`: the ray-cast ground plane.
-    pub grid: Option<grid::RefGrid>,
+    pub(crate) grid: Option<grid::RefGrid>,
 }
 
 impl<'a> Context<'a> {
-    pub fn new(scene: &'a Scene, settings: &'a FrameSettings, width: u32, height: u32) -> Self {
+    pub(crate) fn new(
+        scene: &'a Scene,
+        settings: &'a FrameSettings,
+        width: u32,
+        height: u32,
+    ) -> Self {
         let (mut opaque, mut translucent) = (Vec::new(), Vec::new());
         for (mi, mesh) in scene.meshes.iter().enumerate() {
             let glass = scene
@@ -172,7 +177,7 @@ pub struct PbrEnv {
 }
 
 /// [`render`] for any tier: `env` lights the PBR tier (ignored by the legacy tier).
-pub fn render_env(
+pub(crate) fn render_env(
     scene: &Scene,
     s: &FrameSettings,
     env: Option<&PbrEnv>,
@@ -182,7 +187,7 @@ pub fn render_env(
     render_rows(scene, s, env, width, height, false).0
 }
 
-/// [`render_env`], plus what each pixel saw.
+/// `render_env`, plus what each pixel saw.
 pub fn render_env_with_info(
     scene: &Scene,
     s: &FrameSettings,

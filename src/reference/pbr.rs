@@ -15,11 +15,11 @@ use crate::scene::Material;
 use glam::DVec3;
 
 /// Default Monte Carlo samples per lobe and pixel; the tests state the noise this leaves.
-pub const DEFAULT_SAMPLES: u32 = 2048;
+pub(crate) const DEFAULT_SAMPLES: u32 = 2048;
 
 /// The material at a hit as the PBR formula sees it (`base` is the base colour texture's
 /// linear colour, or white).
-pub fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams) -> Surface {
+pub(crate) fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams) -> Surface {
     let p = &l.pbr;
     let factor = p
         .base_color
@@ -83,7 +83,7 @@ fn image(t: &Option<TextureSlot>) -> Option<&crate::scene::Texture> {
 
 /// Linear radiance leaving point `p` towards the eye with the extensions' layers over it, then
 /// the output step (display value).
-pub fn shade(
+pub(crate) fn shade(
     ctx: &Context,
     s: &Surface,
     layers: &super::layers::Layers,

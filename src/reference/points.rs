@@ -19,7 +19,7 @@ use crate::shading::{shade, Tex};
 use glam::{DVec3, DVec4};
 
 /// The diameter the frame draws points at, in pixels of a picture `height` high.
-pub fn diameter(lighting: &crate::frame::LightingParams, height: u32) -> f64 {
+pub(crate) fn diameter(lighting: &crate::frame::LightingParams, height: u32) -> f64 {
     let (px, at) = lighting.point_size;
     let scale = if at == 0 {
         1.0
@@ -31,7 +31,7 @@ pub fn diameter(lighting: &crate::frame::LightingParams, height: u32) -> f64 {
 
 /// Draws the scene's points over `data` (RGBA rows, top first), whose opaque surfaces lie at
 /// window depths `depth` (1 where there is none).
-pub fn draw(ctx: &Context, data: &mut [u8], depth: &mut [f64]) {
+pub(crate) fn draw(ctx: &Context, data: &mut [u8], depth: &mut [f64]) {
     let w = &ctx.scene.wire;
     let Some(material) = ctx.scene.materials.first() else {
         return;

@@ -12,13 +12,13 @@ use crate::shading::{reflect, shade, specular_factor, to_light, Tex};
 use glam::DVec3;
 
 /// What the renderer records about a shaded surface besides its colour.
-pub struct Shaded {
-    pub color: DVec3,
+pub(crate) struct Shaded {
+    pub(crate) color: DVec3,
     /// Bit i set: light i's shadow ray was blocked.
-    pub shadowed: u32,
+    pub(crate) shadowed: u32,
 }
 
-pub fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Shaded {
+pub(crate) fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>) -> Shaded {
     let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
     let material = &ctx.scene.materials[mesh.material];
     let corners = Corners::new(ctx, hit);

@@ -15,7 +15,7 @@ use crate::scene::Material;
 use glam::{DVec3, DVec4};
 
 /// Whether the rasterizer draws `m` after the opaque frame's copy (the GPU's rule).
-pub fn transmissive(ctx: &Context, m: &Material) -> bool {
+pub(crate) fn transmissive(ctx: &Context, m: &Material) -> bool {
     let s = ctx.settings;
     s.shading == crate::frame::Shading::Pbr
         && s.lighting.pbr_terms.transmission
@@ -25,19 +25,19 @@ pub fn transmissive(ctx: &Context, m: &Material) -> bool {
 
 /// The transmission at a hit.
 #[derive(Clone, Copy, Debug)]
-pub struct Transmit {
-    pub factor: f64,
+pub(crate) struct Transmit {
+    pub(crate) factor: f64,
     /// The linear light from behind (attenuated).
-    pub light: DVec3,
+    pub(crate) light: DVec3,
     /// Where the ray leaves (the hit itself when thin-walled).
-    pub exit: DVec3,
+    pub(crate) exit: DVec3,
     /// Beer–Lambert's factor over the thickness (1 without a volume).
-    pub attenuation: DVec3,
-    pub ior: f64,
+    pub(crate) attenuation: DVec3,
+    pub(crate) ior: f64,
 }
 
 /// The transmission at a hit.
-pub fn at_hit(ctx: &Context, m: &Material, c: &Corners, p: DVec3, n: DVec3) -> Transmit {
+pub(crate) fn at_hit(ctx: &Context, m: &Material, c: &Corners, p: DVec3, n: DVec3) -> Transmit {
     let mut factor = f64::from(m.khr.transmission.unwrap_or(0.0));
     if let Some(t) = material::read(
         m,
@@ -98,7 +98,7 @@ pub fn at_hit(ctx: &Context, m: &Material, c: &Corners, p: DVec3, n: DVec3) -> T
 /// The lights through the surface (`pbr.frag`'s punctual BTDF, the Sample Viewer's): each
 /// light's direction from the exit point mirrored to the viewer's side, a GGX lobe of the
 /// roughness scaled by the ior, (1 − F)·albedo, no cosine, no shadow.
-pub fn punctual(ctx: &Context, s: &Surface, t: &Transmit, n: DVec3, v: DVec3) -> DVec3 {
+pub(crate) fn punctual(ctx: &Context, s: &Surface, t: &Transmit, n: DVec3, v: DVec3) -> DVec3 {
     use crate::pbr::brdf::{d_ggx, f_schlick90, g_smith};
     if !ctx.settings.lighting.pbr_terms.direct_diffuse {
         return DVec3::ZERO;
@@ -138,7 +138,7 @@ fn refract(i: DVec3, n: DVec3, eta: f64) -> DVec3 {
 
 /// What the surface passes of the light behind: trans·(1 − metallic)·(1 − (k_s·A + F90·B))
 /// ·albedo·light, (A, B) integrated here.
-pub fn passed(s: &Surface, n_dot_v: f64, factor: f64, light: DVec3, samples: u32) -> DVec3 {
+pub(crate) fn passed(s: &Surface, n_dot_v: f64, factor: f64, light: DVec3, samples: u32) -> DVec3 {
     let (a, b) = integrate_brdf(n_dot_v, s.roughness, samples.max(256));
     let spec = s.ks() * a + DVec3::splat(s.f90() * b);
     factor * (1.0 - s.metallic) * (DVec3::ONE - spec) * s.albedo * light
@@ -146,7 +146,7 @@ pub fn passed(s: &Surface, n_dot_v: f64, factor: f64, light: DVec3, samples: u32
 
 /// The output step undone (`glviewInverseOutput`): sRGB decoded, the tone curve inverted,
 /// the exposure divided out; at most 4 before the exposure.
-pub fn inverse_output(ctx: &Context, shown: DVec3) -> DVec3 {
+pub(crate) fn inverse_output(ctx: &Context, shown: DVec3) -> DVec3 {
     let out = ctx.settings.lighting.output;
     let y = shown.map(|s| crate::pbr::srgb_decode(s.clamp(0.0, 1.0)));
     let y = match out.tonemap {

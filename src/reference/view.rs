@@ -5,17 +5,17 @@ use crate::camera::OrbitCamera;
 use crate::scene::Bounds;
 use glam::{DMat4, DVec3, DVec4};
 
-pub struct View {
+pub(crate) struct View {
     inverse: DMat4,
     /// Projection · view: world to clip coordinates (points and edges are projected with it).
-    pub forward: DMat4,
-    pub eye: DVec3,
+    pub(crate) forward: DMat4,
+    pub(crate) eye: DVec3,
     /// Eye-space +Z in world coordinates: where a zero normal points (see `surface`).
-    pub back: DVec3,
+    pub(crate) back: DVec3,
 }
 
 impl View {
-    pub fn new(c: &OrbitCamera, bounds: &Bounds, width: u32, height: u32) -> View {
+    pub(crate) fn new(c: &OrbitCamera, bounds: &Bounds, width: u32, height: u32) -> View {
         let (yaw, pitch) = (
             f64::from(c.yaw_deg).to_radians(),
             f64::from(c.pitch_deg).to_radians(),
@@ -61,14 +61,14 @@ impl View {
 
     /// The ray through the centre of pixel (x, y), y = 0 the top row: it starts on the near
     /// plane and reaches the far plane at t = 1, so GL's depth clipping is t ∈ [0, 1].
-    pub fn ray(&self, x: u32, y: u32, width: u32, height: u32) -> (DVec3, DVec3) {
+    pub(crate) fn ray(&self, x: u32, y: u32, width: u32, height: u32) -> (DVec3, DVec3) {
         let nx = 2.0 * (f64::from(x) + 0.5) / f64::from(width) - 1.0;
         let ny = 1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(height);
         self.ray_ndc(nx, ny)
     }
 
     /// The ray through normalised device coordinates (nx, ny), as [`View::ray`].
-    pub fn ray_ndc(&self, nx: f64, ny: f64) -> (DVec3, DVec3) {
+    pub(crate) fn ray_ndc(&self, nx: f64, ny: f64) -> (DVec3, DVec3) {
         let unproject = |z: f64| {
             let p = self.inverse * DVec4::new(nx, ny, z, 1.0);
             p.truncate() / p.w

@@ -5,7 +5,7 @@
 
 /// Groups `items` (key, value) with keys below `keys`: group `k` is
 /// `values[start[k]..start[k + 1]]`, in the order the items came.
-pub fn group<T: Copy + Default>(
+pub(crate) fn group<T: Copy + Default>(
     keys: usize,
     items: impl Iterator<Item = (usize, T)> + Clone,
 ) -> (Vec<usize>, Vec<T>) {

@@ -33,15 +33,15 @@ use std::time::{SystemTime, UNIX_EPOCH};
 mod read;
 
 /// Files smaller than this parse in well under 100 ms: not worth a cache entry, unless their
-/// images are large (see [`worth_an_entry`]).
+/// images are large (see `worth_an_entry`).
 pub const MIN_SIZE: u64 = 4 << 20;
 /// Decoded texture pixels above which a model is cached whatever its file size: one 2048²
 /// image costs tens of milliseconds to decode (a 3.4 MB GLB can hold five of them).
-pub const MIN_TEXTURE_PIXELS: u64 = 1 << 22;
+pub(crate) const MIN_TEXTURE_PIXELS: u64 = 1 << 22;
 
 /// Whether a scene loaded from a file of `size` bytes earns an entry: a large file, or large
 /// images (a few MB of JPEG inside a GLB decode far slower than they read back raw).
-pub fn worth_an_entry(size: u64, scene: &Scene) -> bool {
+pub(crate) fn worth_an_entry(size: u64, scene: &Scene) -> bool {
     let pixels: u64 = image_table(scene)
         .0
         .iter()
@@ -85,7 +85,7 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 12: level of detail (issue 30): clusters' groups and levels, levels' indices at the end.
 const FORMAT: u32 = 12;
 /// The default bound on the cache folder's total size.
-pub const DEFAULT_MAX_BYTES: u64 = 1 << 30;
+pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
 static VERIFY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -94,17 +94,17 @@ pub fn set_verify(on: bool) {
     VERIFY.store(on, Ordering::Relaxed);
 }
 
-pub fn verify() -> bool {
+pub(crate) fn verify() -> bool {
     VERIFY.load(Ordering::Relaxed)
 }
 
 /// Sets the bound on the folder's total size (`--cache-size`). A process-wide setting rather
 /// than a `LoadOptions` field, so the loader's signature stays as it is.
-pub fn set_max_bytes(bytes: u64) {
+pub(crate) fn set_max_bytes(bytes: u64) {
     MAX_BYTES.store(bytes, Ordering::Relaxed);
 }
 
-pub fn max_bytes() -> u64 {
+pub(crate) fn max_bytes() -> u64 {
     MAX_BYTES.load(Ordering::Relaxed)
 }
 
@@ -218,7 +218,7 @@ pub fn set_dir(dir: PathBuf) {
 }
 
 /// The folder entries go in.
-pub fn dir() -> Option<PathBuf> {
+pub(crate) fn dir() -> Option<PathBuf> {
     if let Some(d) = DIR_OVERRIDE
         .lock()
         .unwrap_or_else(|e| e.into_inner())
@@ -237,7 +237,7 @@ pub fn dir() -> Option<PathBuf> {
 
 /// XXH3-128: a strong non-cryptographic hash at memory speed (the FNV-1a it replaces was
 /// weak and several times slower); deterministic across runs, versions and machines.
-pub fn content_hash(bytes: &[u8]) -> u128 {
+pub(crate) fn content_hash(bytes: &[u8]) -> u128 {
     xxhash_rust::xxh3::xxh3_128(bytes)
 }
 
@@ -248,7 +248,7 @@ fn entry_path(dir: &Path, model: &Path) -> Option<PathBuf> {
 }
 
 /// A cached scene for `path`, if a valid entry exists: validated by the file's metadata only,
-/// unless [`verify`] is on (then its content is read and hashed too).
+/// unless `verify` is on (then its content is read and hashed too).
 pub fn lookup(path: &Path, textures: TextureOptions) -> Option<Prepared> {
     if verify() {
         let bytes = std::fs::read(path).ok()?;
@@ -282,7 +282,7 @@ pub fn get_in(
 }
 
 /// A scene with its meshes' clusters, as [`super::clusters::prepare`] makes them.
-pub type Prepared = (Scene, Vec<Option<Clusters>>);
+pub(crate) type Prepared = (Scene, Vec<Option<Clusters>>);
 
 /// Marks an entry as used now (its modification time is the LRU clock).
 fn touch(entry: &Path) {
@@ -297,7 +297,7 @@ static PENDING: std::sync::Mutex<Vec<std::thread::JoinHandle<()>>> =
 
 /// Runs `write` (which builds and puts an entry) on another thread; [`wait_for_writes`]
 /// waits for it.
-pub fn put_later(write: impl FnOnce() + Send + 'static) {
+pub(crate) fn put_later(write: impl FnOnce() + Send + 'static) {
     let handle = std::thread::Builder::new()
         .name("glview-cache-write".into())
         .spawn(write);
@@ -307,7 +307,7 @@ pub fn put_later(write: impl FnOnce() + Send + 'static) {
     }
 }
 
-/// Waits until the entries [`put_later`] is writing are written: before a process exits
+/// Waits until the entries `put_later` is writing are written: before a process exits
 /// (the CLI calls it), and before a lookup, so a second load in one process finds the
 /// first one's entry.
 pub fn wait_for_writes() {
@@ -320,7 +320,7 @@ pub fn wait_for_writes() {
 
 /// Stores `scene` and its `clusters` for `path` (and the content hash of `bytes`, the file's,
 /// when given); failures only cost the next load its speed-up.
-pub fn put(
+pub(crate) fn put(
     path: &Path,
     bytes: Option<&[u8]>,
     textures: TextureOptions,
@@ -332,7 +332,7 @@ pub fn put(
     }
 }
 
-/// As [`put`], with entries in `dir` bounded to `max_bytes` in total: least recently used
+/// As `put`, with entries in `dir` bounded to `max_bytes` in total: least recently used
 /// entries are deleted first; an entry larger than the whole bound is not written.
 pub fn put_in(
     dir: &Path,
@@ -458,7 +458,7 @@ pub fn put_in(
 
 /// Deletes the least recently used entries (oldest modification time first) until the
 /// folder's entries total at most `max_bytes`; `keep` (the entry just written) goes last.
-pub fn evict(dir: &Path, max_bytes: u64, keep: &Path) -> std::io::Result<()> {
+pub(crate) fn evict(dir: &Path, max_bytes: u64, keep: &Path) -> std::io::Result<()> {
     let mut entries: Vec<(SystemTime, u64, PathBuf)> = std::fs::read_dir(dir)?
         .flatten()
         .filter(|e| e.path().extension().is_some_and(|x| x == "glvc"))

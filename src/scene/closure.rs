@@ -13,11 +13,11 @@ use serde::{Deserialize, Serialize};
 /// Corners closer than this fraction of the mesh's bounding-box diagonal (per axis) are one
 /// corner for the closedness decision: ~8 float ulps of a model's extent, far below a pixel
 /// at any zoom that frames it, far above the rounding of a seam written by an exporter.
-pub const WELD_TOLERANCE: f32 = 1.0 / (1 << 20) as f32;
+pub(crate) const WELD_TOLERANCE: f32 = 1.0 / (1 << 20) as f32;
 
 /// What [`closure`] found.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Closure {
+pub(crate) enum Closure {
     /// Every edge is run once each way and each connected piece encloses a positive volume.
     Closed,
     /// Fewer than four triangles cannot enclose anything.
@@ -32,12 +32,12 @@ pub enum Closure {
 }
 
 impl Closure {
-    pub fn is_closed(self) -> bool {
+    pub(crate) fn is_closed(self) -> bool {
         self == Closure::Closed
     }
 
     /// Why back faces of the mesh must be drawn, for `--stats` and `--check`.
-    pub fn reason(self) -> String {
+    pub(crate) fn reason(self) -> String {
         match self {
             Closure::Closed => "closed, faces outwards".into(),
             Closure::TooSmall => "fewer than 4 triangles".into(),
@@ -54,7 +54,7 @@ impl Closure {
 /// edge leaving it comes back (w.h.p.). A degenerate triangle (two corners welded together)
 /// runs its edges both ways and cancels itself; a face and its reverse both kept pair up too
 /// (they tie in depth, and the front one is the one drawn).
-pub fn closure(vertices: &[Vertex], indices: &[u32]) -> Closure {
+pub(crate) fn closure(vertices: &[Vertex], indices: &[u32]) -> Closure {
     if indices.len() < 12 {
         return Closure::TooSmall;
     }

@@ -1,7 +1,7 @@
 //! Large meshes drawn in parts. Their triangles are put in an order that is both
 //! vertex-cache friendly and spatially coherent ([`super::reorder`]: blocks along a Morton
 //! curve, each in meshopt's FIFO cache order), and the index buffer is cut into runs of
-//! [`MIN_RUN`]–[`RUN`] triangles ("clusters") with a bounding sphere and a normal cone each. A pass then skips, on the CPU,
+//! `MIN_RUN`–`RUN` triangles ("clusters") with a bounding sphere and a normal cone each. A pass then skips, on the CPU,
 //! the runs outside its frustum (any mesh) and, for closed outward-facing meshes seen from
 //! outside or for draws that cull back faces anyway, the runs that face away from the
 //! viewer: llvmpipe shades vertices and sets up triangles on one thread, so triangles never
@@ -13,19 +13,19 @@ use glam::{Mat4, Vec3, Vec4, Vec4Swizzles};
 use rayon::prelude::*;
 
 /// Meshes with fewer triangles are drawn whole: one draw call is cheaper than the test.
-pub const MIN_TRIANGLES: usize = 1 << 14;
+pub(crate) const MIN_TRIANGLES: usize = 1 << 14;
 /// Triangles per cluster at most: small enough that a sphere's silhouette band is a few
 /// percent of it, large enough that a 1M-triangle mesh has only ~4,000 to test.
-pub const RUN: usize = 256;
+pub(crate) const RUN: usize = 256;
 /// Triangles per cluster at least: a smaller mesh gets smaller runs (up to [`CLUSTERS`] of
 /// them), whose tighter normal cones let a noisy scan skip more of its far side.
-pub const MIN_RUN: usize = 64;
+pub(crate) const MIN_RUN: usize = 64;
 /// How many clusters a mesh is cut into at most, while runs can shrink towards [`MIN_RUN`].
-pub const CLUSTERS: usize = 4096;
+pub(crate) const CLUSTERS: usize = 4096;
 
 /// Triangles per cluster for a mesh of `triangles`: the power of two between [`MIN_RUN`] and
 /// [`RUN`] that keeps the count near [`CLUSTERS`].
-pub fn run_length(triangles: usize) -> usize {
+pub(crate) fn run_length(triangles: usize) -> usize {
     triangles
         .div_ceil(CLUSTERS)
         .next_power_of_two()
@@ -43,7 +43,7 @@ pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
 }
 
 /// As [`prepare`] without levels of detail: for a model not in the cache, whose picture may
-/// not need them (the renderer builds them, with [`Lod::build`] as [`add_lod`] does, before
+/// not need them (the renderer builds them, with `Lod::build` as [`add_lod`] does, before
 /// the first picture that draws them, so the pictures are those of [`prepare`]'s clusters).
 pub fn prepare_without_lod(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
     prepare_with(scene, false)
@@ -78,15 +78,15 @@ fn prepare_with(scene: &mut super::Scene, lod: bool) -> Vec<Option<Clusters>> {
 /// One run of triangles: `count` triangles from triangle `first`.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Cluster {
-    pub first: u32,
+    pub(crate) first: u32,
     pub count: u32,
-    pub center: Vec3,
-    pub radius: f32,
+    pub(crate) center: Vec3,
+    pub(crate) radius: f32,
     /// Mean facet normal (unit), and the sine of the largest angle between it and a facet
     /// normal; `sin_spread` > 1 means the facets do not fit in a half-space cone.
-    pub axis: Vec3,
-    pub sin_spread: f32,
-    pub cos_spread: f32,
+    pub(crate) axis: Vec3,
+    pub(crate) sin_spread: f32,
+    pub(crate) cos_spread: f32,
 }
 
 /// The clusters of one mesh, and whether back faces can never be seen from outside it.
@@ -95,7 +95,7 @@ pub struct Cluster {
 pub struct Clusters {
     pub list: Vec<Cluster>,
     /// Whether back faces can be seen from outside, and if so why ([`closure`]).
-    pub closure: Closure,
+    pub(crate) closure: Closure,
     /// Coarser levels of groups of clusters (empty: none built).
     #[serde(default)]
     pub lod: Lod,
@@ -103,7 +103,7 @@ pub struct Clusters {
 
 impl Clusters {
     /// Bounds and cones of every run of `indices`, and whether the mesh is closed.
-    pub fn build(vertices: &[Vertex], indices: &[u32]) -> Clusters {
+    pub(crate) fn build(vertices: &[Vertex], indices: &[u32]) -> Clusters {
         let run = run_length(indices.len() / 3);
         let list = indices
             .par_chunks(run * 3)
@@ -118,7 +118,7 @@ impl Clusters {
     }
 
     /// A closed surface facing outwards: from outside, only its front faces can be seen.
-    pub fn closed(&self) -> bool {
+    pub(crate) fn closed(&self) -> bool {
         self.closure.is_closed()
     }
 
@@ -126,7 +126,7 @@ impl Clusters {
     /// merged, and the triangles in them. With `hide_back_faces` clusters whose every facet
     /// faces away from the viewer are skipped too: the caller has checked that no back face
     /// could show (the draw culls back faces, or `view` sees this closed mesh from outside).
-    pub fn visible(
+    pub(crate) fn visible(
         &self,
         view: &ClusterView,
         hide_back_faces: bool,
@@ -218,15 +218,15 @@ pub(crate) fn cluster(vertices: &[Vertex], run: &[u32], first: u32) -> Cluster {
 /// Whom a pass draws for: a point (perspective) or a direction (orthographic), and its
 /// frustum.
 #[derive(Clone, Copy, Debug)]
-pub struct ClusterView {
-    pub viewer: Viewer,
+pub(crate) struct ClusterView {
+    pub(crate) viewer: Viewer,
     planes: [Vec4; 6],
     /// Level of detail: the view's pixels and error bound (None: every triangle).
-    pub lod: Option<Pixels>,
+    pub(crate) lod: Option<Pixels>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Viewer {
+pub(crate) enum Viewer {
     Point(Vec3),
     /// The direction the view looks (from the viewer into the scene).
     Direction(Vec3),
@@ -237,7 +237,7 @@ const SLACK: f32 = 1e-4;
 
 impl ClusterView {
     /// The view of a view-projection matrix (mesh coordinates → clip space).
-    pub fn new(view_proj: Mat4) -> ClusterView {
+    pub(crate) fn new(view_proj: Mat4) -> ClusterView {
         let r = [
             view_proj.row(0),
             view_proj.row(1),
@@ -272,7 +272,13 @@ impl ClusterView {
 
     /// The view drawn into `width` × `height` pixels with level of detail at `bound` pixels
     /// of error (0 or less: none).
-    pub fn with_lod(self, view_proj: Mat4, width: u32, height: u32, bound: f32) -> ClusterView {
+    pub(crate) fn with_lod(
+        self,
+        view_proj: Mat4,
+        width: u32,
+        height: u32,
+        bound: f32,
+    ) -> ClusterView {
         ClusterView {
             lod: (bound > 0.0).then(|| Pixels::new(view_proj, width, height, bound)),
             ..self
@@ -280,12 +286,12 @@ impl ClusterView {
     }
 
     /// The same view drawing every triangle.
-    pub fn without_lod(self) -> ClusterView {
+    pub(crate) fn without_lod(self) -> ClusterView {
         ClusterView { lod: None, ..self }
     }
 
     /// The sphere lies entirely outside one plane of the frustum.
-    pub fn outside(&self, center: Vec3, radius: f32) -> bool {
+    pub(crate) fn outside(&self, center: Vec3, radius: f32) -> bool {
         self.planes
             .iter()
             .any(|p| p.xyz().dot(center) + p.w < -radius * (1.0 + SLACK) - SLACK)
@@ -293,7 +299,7 @@ impl ClusterView {
 
     /// The sphere lies entirely beyond the near plane, so rays start outside it and nothing
     /// of it is clipped open: then only front faces of a closed mesh inside it can be seen.
-    pub fn sees_from_outside(&self, center: Vec3, radius: f32) -> bool {
+    pub(crate) fn sees_from_outside(&self, center: Vec3, radius: f32) -> bool {
         let p = self.planes[4];
         p.xyz().dot(center) + p.w > radius * (1.0 + SLACK) + SLACK
     }

@@ -14,9 +14,9 @@ type FaceSet = HashSet<[u32; 3], foldhash::fast::RandomState>;
 
 /// What [`drop_redundant_faces`] removed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Dropped {
-    pub duplicate: usize,
-    pub degenerate: usize,
+pub(crate) struct Dropped {
+    pub(crate) duplicate: usize,
+    pub(crate) degenerate: usize,
 }
 
 /// Rotates a face so its smallest index comes first, keeping the winding.
@@ -38,7 +38,7 @@ const SHARDS: usize = 16;
 /// Faces are classified in parallel, then searched for duplicates shard by shard (a shard's
 /// faces in file order, so the first of each stays): the same result as one pass over a
 /// single set, without its cache misses on one thread (110 ms on the 1M-triangle sphere).
-pub fn dedup_mesh(mesh: &mut Mesh) -> Dropped {
+pub(crate) fn dedup_mesh(mesh: &mut Mesh) -> Dropped {
     use rayon::prelude::*;
     use std::hash::BuildHasher;
     let pos = |i: u32| Vec3::from(mesh.vertices[i as usize].position);
@@ -102,7 +102,11 @@ pub fn dedup_mesh(mesh: &mut Mesh) -> Dropped {
 
 /// Drops redundant faces from every mesh (and meshes left empty), adding one warning that
 /// counts them.
-pub fn drop_redundant_faces(path: &Path, meshes: &mut Vec<Mesh>, warnings: &mut Vec<Warning>) {
+pub(crate) fn drop_redundant_faces(
+    path: &Path,
+    meshes: &mut Vec<Mesh>,
+    warnings: &mut Vec<Warning>,
+) {
     let mut total = Dropped::default();
     for m in meshes.iter_mut() {
         let d = dedup_mesh(m);

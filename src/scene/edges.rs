@@ -13,7 +13,7 @@ use std::collections::HashMap;
 
 /// Which edges of a mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum EdgeSet {
+pub(crate) enum EdgeSet {
     /// Boundary, non-manifold and creased edges (faces' normals more than this many degrees
     /// apart).
     Feature { crease_deg: f32 },
@@ -23,14 +23,14 @@ pub enum EdgeSet {
 
 /// Line segments over a mesh's welded corners.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct EdgeLines {
-    pub positions: Vec<[f32; 3]>,
+pub(crate) struct EdgeLines {
+    pub(crate) positions: Vec<[f32; 3]>,
     /// Pairs of indices into `positions`, each edge once, in a fixed order.
-    pub segments: Vec<[u32; 2]>,
+    pub(crate) segments: Vec<[u32; 2]>,
 }
 
 /// The edges of `mesh` in `set`.
-pub fn extract(mesh: &Mesh, set: EdgeSet) -> EdgeLines {
+pub(crate) fn extract(mesh: &Mesh, set: EdgeSet) -> EdgeLines {
     let (_, positions, segments) = classify(mesh, set);
     compact(positions, segments)
 }
@@ -39,7 +39,7 @@ pub fn extract(mesh: &Mesh, set: EdgeSet) -> EdgeLines {
 /// the barycentric method (`--edge-method barycentric`), which draws on the triangles; and
 /// how many edges are in `set` (what [`extract`] would give as segments, without a second
 /// weld).
-pub fn triangle_masks(mesh: &Mesh, set: EdgeSet) -> (Vec<u8>, usize) {
+pub(crate) fn triangle_masks(mesh: &Mesh, set: EdgeSet) -> (Vec<u8>, usize) {
     let (weld, _, segments) = classify(mesh, set);
     let n = segments.len();
     let kept: std::collections::HashSet<[u32; 2]> = segments.into_iter().collect();
@@ -153,20 +153,20 @@ fn classify(mesh: &Mesh, set: EdgeSet) -> (Vec<u32>, Vec<[f32; 3]>, Vec<[u32; 2]
 
 /// How many edges of a mesh are of each kind (`--check`), over welded corners.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct EdgeCounts {
+pub(crate) struct EdgeCounts {
     /// Every distinct triangle edge (the wireframe).
-    pub total: usize,
+    pub(crate) total: usize,
     /// Edges of one face.
-    pub boundary: usize,
+    pub(crate) boundary: usize,
     /// Edges of more than two faces.
-    pub non_manifold: usize,
+    pub(crate) non_manifold: usize,
     /// Edges of two faces whose normals differ by more than the crease angle.
-    pub creased: usize,
+    pub(crate) creased: usize,
 }
 
 impl EdgeCounts {
     /// The feature edges `--edges` draws: boundary, non-manifold and creased.
-    pub fn feature(&self) -> usize {
+    pub(crate) fn feature(&self) -> usize {
         self.boundary + self.non_manifold + self.creased
     }
 }
@@ -182,7 +182,7 @@ impl std::ops::AddAssign for EdgeCounts {
 
 /// The edges of `mesh` by kind, creases at `crease_deg` (the feature set's rule), in one
 /// pass over its sorted edges.
-pub fn count(mesh: &Mesh, crease_deg: f32) -> EdgeCounts {
+pub(crate) fn count(mesh: &Mesh, crease_deg: f32) -> EdgeCounts {
     let w = weld(mesh);
     let cos_crease = f64::from(crease_deg).to_radians().cos();
     let mut c = EdgeCounts::default();

@@ -5,7 +5,7 @@ use super::texture_slot::Slot;
 use super::{dedup, texture, Material, Mesh, Warning};
 use std::path::Path;
 
-pub fn finish(
+pub(crate) fn finish(
     path: &Path,
     meshes: &mut Vec<Mesh>,
     materials: &[Material],
@@ -18,7 +18,7 @@ pub fn finish(
 }
 
 /// One warning per downscaled texture, naming the image file.
-pub fn texture_warnings(materials: &[Material], warnings: &mut Vec<Warning>) {
+pub(crate) fn texture_warnings(materials: &[Material], warnings: &mut Vec<Warning>) {
     let mut seen = std::collections::HashSet::new();
     for m in materials {
         let Some(t) = m.image(Slot::BaseColor) else {

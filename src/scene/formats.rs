@@ -1,4 +1,4 @@
-//! STL ([`super::stl`]) and PLY ([`super::ply`]), optionally gzipped (`flate2`, read as a
+//! STL (`super::stl`) and PLY (`super::ply`), optionally gzipped (`flate2`, read as a
 //! stream), into the same [`Scene`] as OBJ: re-centred in f64, polygons triangulated like
 //! OBJ faces, normals generated with the same creases. Bad input is a one-line error naming
 //! the file, as for OBJ.
@@ -47,7 +47,7 @@ pub fn format_of(path: &Path) -> (Format, bool) {
     (f, gz)
 }
 
-pub fn gunzip(path: &Path, bytes: &[u8]) -> Result<Vec<u8>> {
+pub(crate) fn gunzip(path: &Path, bytes: &[u8]) -> Result<Vec<u8>> {
     let mut out = Vec::new();
     flate2::read::GzDecoder::new(bytes)
         .take(MAX_INFLATED + 1)
@@ -83,7 +83,7 @@ fn facets(first: impl std::fmt::Display, dropped: usize) -> String {
     }
 }
 
-pub fn load_stl(
+pub(crate) fn load_stl(
     path: &Path,
     r: impl std::io::BufRead,
     size: Option<u64>,
@@ -127,7 +127,7 @@ pub fn load_stl(
     Ok(scene)
 }
 
-pub fn load_ply(
+pub(crate) fn load_ply(
     path: &Path,
     r: impl std::io::BufRead,
     size: Option<u64>,

@@ -17,7 +17,7 @@ use std::sync::Arc;
 
 /// Extensions whose absence would make glview draw a required extension wrongly are refused;
 /// these are the ones it implements.
-pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_mesh_quantization",
     "KHR_materials_emissive_strength",
     "EXT_meshopt_compression",
@@ -35,11 +35,6 @@ pub const SUPPORTED_EXTENSIONS: &[&str] = &[
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
 const MAX_TEXTURE_BYTES: usize = 512 << 20;
 
-pub fn load_gltf(path: &Path, opts: &LoadOptions) -> Result<Scene> {
-    let bytes = super::load::read_regular_file(path)?;
-    load_gltf_bytes(path, &bytes, opts)
-}
-
 /// The error for a file that cannot be loaded: gltf's validation errors can span lines; the
 /// user gets one.
 fn invalid(path: &Path, m: String) -> Error {
@@ -48,7 +43,7 @@ fn invalid(path: &Path, m: String) -> Error {
 
 /// Loads glTF or GLB bytes as if they were the file `path` (buffers and images are looked up
 /// beside it).
-pub fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
+pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     let bad = |m: String| invalid(path, m);
     let mut warnings = Vec::new();
     let (doc, blob) = parse_document(path, bytes, &mut warnings)?;

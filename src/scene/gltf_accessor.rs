@@ -7,13 +7,13 @@ use gltf::accessor::{DataType, Dimensions};
 
 /// Largest element count of one accessor (and of the whole instanced scene, see `gltf.rs`):
 /// 16 M vertices already take ~1 GB through the loading pipeline.
-pub const MAX_ELEMENTS: usize = 1 << 24;
+pub(crate) const MAX_ELEMENTS: usize = 1 << 24;
 
 /// The bytes of each buffer, as resolved (exactly `byteLength` long), and of each buffer view
 /// that `EXT_meshopt_compression` decoded (which then replaces the view's own bytes).
-pub struct Buffers {
-    pub buffers: Vec<Vec<u8>>,
-    pub views: Vec<Option<Vec<u8>>>,
+pub(crate) struct Buffers {
+    pub(crate) buffers: Vec<Vec<u8>>,
+    pub(crate) views: Vec<Option<Vec<u8>>>,
 }
 
 fn view_bytes<'a>(view: &gltf::buffer::View, buffers: &'a Buffers) -> Result<&'a [u8], String> {
@@ -71,7 +71,7 @@ fn component(bytes: &[u8], t: DataType, normalized: bool) -> f32 {
 
 /// The accessor as `dims`-wide rows of f32 (row-major, `count × dims`), sparse values applied.
 /// `dims` must be one of `allowed`.
-pub fn read_f32(
+pub(crate) fn read_f32(
     acc: &gltf::Accessor,
     buffers: &Buffers,
     allowed: &[Dimensions],
@@ -177,7 +177,7 @@ pub fn read_f32(
 }
 
 /// An index accessor (unsigned 8/16/32-bit scalars) as u32.
-pub fn read_indices(acc: &gltf::Accessor, buffers: &Buffers) -> Result<Vec<u32>, String> {
+pub(crate) fn read_indices(acc: &gltf::Accessor, buffers: &Buffers) -> Result<Vec<u32>, String> {
     if !matches!(
         acc.data_type(),
         DataType::U8 | DataType::U16 | DataType::U32

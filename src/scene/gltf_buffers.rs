@@ -9,7 +9,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Largest buffer glview reads (a `byteLength` beyond it is refused before reading).
-pub const MAX_BUFFER_BYTES: usize = 1 << 31;
+pub(crate) const MAX_BUFFER_BYTES: usize = 1 << 31;
 
 fn read_prefix(path: &Path, len: usize) -> Result<Vec<u8>, String> {
     let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
@@ -30,7 +30,7 @@ fn read_prefix(path: &Path, len: usize) -> Result<Vec<u8>, String> {
 }
 
 /// Every buffer's bytes, exactly `byteLength` long. `blob` is the GLB binary chunk.
-pub fn buffers(
+pub(crate) fn buffers(
     doc: &gltf::Document,
     blob: Option<Vec<u8>>,
     dir: &Path,
@@ -84,7 +84,7 @@ pub fn buffers(
 }
 
 /// The bytes of every buffer view compressed with `EXT_meshopt_compression`, decoded.
-pub fn decoded_views(
+pub(crate) fn decoded_views(
     doc: &gltf::Document,
     buffers: &[Vec<u8>],
 ) -> Result<Vec<Option<Vec<u8>>>, String> {
@@ -102,7 +102,7 @@ pub fn decoded_views(
 
 /// Decodes image `index`, or says why not (for a warning). Read from the JSON: the crate's
 /// `Image::source` unwraps a missing `mimeType` or `uri` (found by the gltf fuzz target).
-pub fn image(
+pub(crate) fn image(
     doc: &gltf::Document,
     index: usize,
     buffers: &[Vec<u8>],
@@ -135,7 +135,11 @@ pub fn image(
 
 /// The files outside the glTF file that its buffers and images name (not `data:` URIs, not
 /// the GLB's own chunk): the mesh cache checks them as it checks an OBJ's MTL and textures.
-pub fn external_files(doc: &gltf::Document, dir: &Path, opts: TextureOptions) -> Vec<PathBuf> {
+pub(crate) fn external_files(
+    doc: &gltf::Document,
+    dir: &Path,
+    opts: TextureOptions,
+) -> Vec<PathBuf> {
     let json = doc.as_json();
     let buffer_uris = json.buffers.iter().filter_map(|b| b.uri.as_deref());
     let image_uris = json.images.iter().filter_map(|i| i.uri.as_deref());
@@ -150,7 +154,7 @@ pub fn external_files(doc: &gltf::Document, dir: &Path, opts: TextureOptions) ->
 }
 
 /// How an image is named in a warning: its URI when it has a (non-data) one.
-pub fn image_label(doc: &gltf::Document, index: usize) -> String {
+pub(crate) fn image_label(doc: &gltf::Document, index: usize) -> String {
     match doc
         .as_json()
         .images

@@ -5,14 +5,14 @@
 use glam::{DMat4, Mat4};
 
 /// Deeper hierarchies are refused (a valid 10,000-level chain loads).
-pub const MAX_DEPTH: usize = 1 << 16;
+pub(crate) const MAX_DEPTH: usize = 1 << 16;
 
 const UNSEEN: usize = usize::MAX;
 const ROOT: usize = usize::MAX - 1;
 
 /// Every mesh instance of `scene` as (node index, mesh, world transform), each node visited
 /// once.
-pub fn instances<'a>(
+pub(crate) fn instances<'a>(
     doc: &'a gltf::Document,
     scene: &gltf::Scene<'a>,
 ) -> Result<Vec<(usize, gltf::Mesh<'a>, DMat4)>, String> {

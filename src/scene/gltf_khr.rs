@@ -67,7 +67,7 @@ const EXTENSIONS: [&str; 7] = [
 
 /// The images the extensions' texture infos of material `m` name (decoded with the core
 /// slots' images).
-pub fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
+pub(crate) fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
     let mut out = Vec::new();
     for ext in EXTENSIONS {
         let Some(Value::Object(e)) = m.extension_value(ext) else {
@@ -94,7 +94,7 @@ pub fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize> {
 /// By the extensions' naming: a `…Texture` is a texture info whose index names a texture,
 /// a `…Factor`, `ior`, `attenuationColor` and `attenuationDistance` are a finite number or
 /// an array of them (their lengths and ranges are the reader's to keep).
-pub fn problems(doc: &gltf::Document, m: &gltf::Material) -> Vec<String> {
+pub(crate) fn problems(doc: &gltf::Document, m: &gltf::Material) -> Vec<String> {
     let finite = |v: &Value| v.as_f64().is_some_and(f64::is_finite);
     let textures = doc.textures().count();
     let mut out = Vec::new();
@@ -131,7 +131,7 @@ pub fn problems(doc: &gltf::Document, m: &gltf::Material) -> Vec<String> {
 
 /// The extensions of material `m`; `load` turns a slot's facts into its slot (decoding the
 /// image and writing the `--check` line).
-pub fn read(
+pub(crate) fn read(
     doc: &gltf::Document,
     m: &gltf::Material,
     load: &mut dyn FnMut(SlotFacts, ColorSpace) -> Option<super::texture_slot::TextureSlot>,

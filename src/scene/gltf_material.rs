@@ -87,7 +87,7 @@ fn load_slot(
 }
 
 /// `image(i)` decodes (once) or gives None after warning.
-pub fn material(
+pub(crate) fn material(
     doc: &gltf::Document,
     m: &gltf::Material,
     image: &mut dyn FnMut(usize) -> Option<Arc<Texture>>,

@@ -58,7 +58,7 @@ fn put_i16_rows(data: &mut [u8], rows: &[[i16; 4]]) {
 }
 
 /// The decoded bytes of one view, from its extension object `ext`.
-pub fn decode(ext: &Value, buffers: &[Vec<u8>]) -> Result<Vec<u8>, String> {
+pub(crate) fn decode(ext: &Value, buffers: &[Vec<u8>]) -> Result<Vec<u8>, String> {
     let num = |k: &str| ext.get(k).and_then(Value::as_u64).map(|x| x as usize);
     let text =
         |k: &str, d: &'static str| ext.get(k).and_then(Value::as_str).unwrap_or(d).to_string();

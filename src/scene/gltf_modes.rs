@@ -5,7 +5,7 @@
 use gltf::mesh::Mode;
 
 /// (triangle corners, line segments) of a primitive with these corner indices.
-pub fn split(mode: Mode, c: &[u32], mirrored: bool) -> (Vec<u32>, Vec<[u32; 2]>) {
+pub(crate) fn split(mode: Mode, c: &[u32], mirrored: bool) -> (Vec<u32>, Vec<[u32; 2]>) {
     let mut tris: Vec<[u32; 3]> = Vec::new();
     let mut segs = Vec::new();
     match mode {

@@ -13,8 +13,8 @@ use std::path::Path;
 
 /// A triangle primitive as read: world coordinates (f64, not yet re-centred) and its
 /// attributes, each None if absent or unusable.
-pub struct Prim {
-    pub positions: Vec<DVec3>,
+pub(crate) struct Prim {
+    pub(crate) positions: Vec<DVec3>,
     normals: Option<Vec<DVec3>>,
     uvs: Option<Vec<[f32; 2]>>,
     uv1: Option<Vec<[f32; 2]>>,
@@ -22,7 +22,7 @@ pub struct Prim {
     colors: Option<Vec<[f32; 3]>>,
     /// COLOR_0's alpha where it is a VEC4.
     alphas: Option<Vec<f32>>,
-    pub indices: Vec<u32>,
+    pub(crate) indices: Vec<u32>,
     material: Option<usize>,
     name: String,
 }
@@ -30,10 +30,10 @@ pub struct Prim {
 /// What the scene's primitives gave: the triangle primitives, and the lines and points with
 /// the positions they index (world coordinates, re-centred later with the triangles).
 #[derive(Default)]
-pub struct Primitives {
-    pub prims: Vec<Prim>,
-    pub wire_pts: Vec<DVec3>,
-    pub wire: Wire,
+pub(crate) struct Primitives {
+    pub(crate) prims: Vec<Prim>,
+    pub(crate) wire_pts: Vec<DVec3>,
+    pub(crate) wire: Wire,
     /// Some wire primitive had no normals: the points are drawn unlit.
     wire_unlit: bool,
 }
@@ -73,7 +73,7 @@ impl Primitives {
 
 /// A node instancing a mesh: its transform and what follows from it for directions, and where
 /// the accessors' bytes are.
-pub struct Instance<'a> {
+pub(crate) struct Instance<'a> {
     node: usize,
     world: DMat4,
     /// The inverse transpose, for normals.
@@ -89,7 +89,7 @@ pub struct Instance<'a> {
 }
 
 impl<'a> Instance<'a> {
-    pub fn new(
+    pub(crate) fn new(
         node: usize,
         world: DMat4,
         up: UpAxis,
@@ -119,7 +119,7 @@ impl<'a> Instance<'a> {
 
     /// Reads every primitive of `mesh` into `out`; a primitive without positions is skipped
     /// with a warning. An error is a message for the file as a whole.
-    pub fn read_mesh(
+    pub(crate) fn read_mesh(
         &self,
         mesh: &gltf::Mesh,
         out: &mut Primitives,
@@ -347,7 +347,12 @@ impl Prim {
     /// The mesh, re-centred on `origin`: attributes of another length than the positions are
     /// dropped, a material index past the file's materials becomes `default_material`, and
     /// normals are generated where the file gave none.
-    pub fn into_mesh(self, origin: DVec3, default_material: usize, opts: &LoadOptions) -> Mesh {
+    pub(crate) fn into_mesh(
+        self,
+        origin: DVec3,
+        default_material: usize,
+        opts: &LoadOptions,
+    ) -> Mesh {
         let p = self;
         let count = p.positions.len();
         let has_n = p.normals.as_ref().is_some_and(|v| v.len() == count);

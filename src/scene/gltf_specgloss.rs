@@ -12,11 +12,11 @@ use super::texture_slot::{ColorSpace, Slot, TextureSlot};
 use super::Texture;
 use std::sync::Arc;
 
-pub const EXTENSION: &str = "KHR_materials_pbrSpecularGlossiness";
+pub(crate) const EXTENSION: &str = "KHR_materials_pbrSpecularGlossiness";
 
 /// Converts `m`'s specular-glossiness values into `out`, if it has them; `load` decodes a
 /// slot's image (and writes its `--check` line).
-pub fn convert(
+pub(crate) fn convert(
     doc: &gltf::Document,
     m: &gltf::Material,
     out: &mut Material,

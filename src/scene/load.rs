@@ -40,7 +40,7 @@ impl LoadOptions {
 }
 
 /// Reads a file, refusing what is not a regular file (directories, devices, FIFOs would hang).
-pub fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
+pub(crate) fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if meta.is_dir() {
         return Err(Error::model(path, None, "is a directory, not an OBJ file"));

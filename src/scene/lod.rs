@@ -14,9 +14,9 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// Clusters simplified together.
-pub const GROUP: usize = 16;
+pub(crate) const GROUP: usize = 16;
 /// Coarser levels per group at most, each about half the triangles of the one before.
-pub const LEVELS: usize = 6;
+pub(crate) const LEVELS: usize = 6;
 /// A level must save at least this share of its predecessor's triangles to be kept.
 const MIN_SAVING: f32 = 0.15;
 
@@ -29,50 +29,50 @@ pub struct Lod {
     /// levels with the groups' borders free, for views where the whole mesh's error fits
     /// (a group's locked border keeps a fifth of its triangles at best).
     #[serde(default)]
-    pub whole: Vec<Level>,
+    pub(crate) whole: Vec<Level>,
     /// Every level's triangles, drawn from the same index buffer after the mesh's own: a
     /// level's `part.first` counts triangles from the start of the mesh's indices. Stored in
     /// the mesh cache's payload, not its header.
     #[serde(skip)]
-    pub indices: Vec<u32>,
+    pub(crate) indices: Vec<u32>,
     /// `indices.len()`, for reading the payload back.
-    pub index_count: usize,
+    pub(crate) index_count: usize,
 }
 
 /// A run of clusters simplified together, its bounds, and its levels (finest first).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Group {
     /// Its clusters: `first..end` in [`super::clusters::Clusters::list`].
-    pub clusters: [u32; 2],
+    pub(crate) clusters: [u32; 2],
     /// Bounding sphere (and cone) of all its triangles.
-    pub bound: Cluster,
+    pub(crate) bound: Cluster,
     /// Its levels: `first..end` in [`Lod::levels`], errors increasing.
-    pub levels: [u32; 2],
+    pub(crate) levels: [u32; 2],
 }
 
 /// One simplified version of a group: its triangles (with their own bounds and cone, for
 /// culling) and how far, at most, its surface lies from the original (object units).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Level {
-    pub error: f32,
+    pub(crate) error: f32,
     pub part: Cluster,
 }
 
 /// The screen-space error of a view: pixels per object unit at a point of clip-space depth
 /// `w` are `scale / w` (perspective: the focal length in pixels; orthographic: `w` = 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pixels {
+pub(crate) struct Pixels {
     /// Row 3 of the view-projection matrix (clip w) and the length of its xyz part.
     w_row: glam::Vec4,
     w_len: f32,
     scale: f32,
     /// The bound, in pixels.
-    pub bound: f32,
+    pub(crate) bound: f32,
 }
 
 impl Pixels {
     /// For `view_proj` drawn into `width` × `height` pixels, with `bound` pixels of error.
-    pub fn new(view_proj: glam::Mat4, width: u32, height: u32, bound: f32) -> Pixels {
+    pub(crate) fn new(view_proj: glam::Mat4, width: u32, height: u32, bound: f32) -> Pixels {
         use glam::Vec4Swizzles;
         let w_row = view_proj.row(3);
         // The larger of the two axes' scales: an error along either is at most this many pixels.
@@ -88,7 +88,7 @@ impl Pixels {
 
     /// Pixels per object unit anywhere in the sphere (its nearest point's depth); infinite
     /// when the sphere reaches the eye's plane.
-    pub fn per_unit(&self, center: glam::Vec3, radius: f32) -> f32 {
+    pub(crate) fn per_unit(&self, center: glam::Vec3, radius: f32) -> f32 {
         let w = self.w_row.truncate().dot(center) + self.w_row.w - self.w_len * radius;
         if w > 1e-6 {
             self.scale / w
@@ -100,7 +100,7 @@ impl Pixels {
 
 impl Lod {
     /// The coarsest level of `g` whose error is within the view's bound, if any.
-    pub fn choose(&self, g: &Group, px: &Pixels) -> Option<&Level> {
+    pub(crate) fn choose(&self, g: &Group, px: &Pixels) -> Option<&Level> {
         let per_unit = px.per_unit(g.bound.center, g.bound.radius);
         self.levels[g.levels[0] as usize..g.levels[1] as usize]
             .iter()
@@ -109,7 +109,7 @@ impl Lod {
     }
 
     /// Whether every level's triangles lie within `triangles` (the mesh's, then these).
-    pub fn fits(&self, triangles: u64, clusters: usize) -> bool {
+    pub(crate) fn fits(&self, triangles: u64, clusters: usize) -> bool {
         let all = triangles + self.indices.len() as u64 / 3;
         self.indices.len() == self.index_count
             && self.groups.iter().all(|g| {
@@ -129,7 +129,7 @@ impl Lod {
     /// per-vertex `colors`), simplified in parallel. Normals, UVs and colours weigh in the
     /// simplifier's error, and vertices that share a position but not those (seams: UV,
     /// crease, colour) stay seams.
-    pub fn build(
+    pub(crate) fn build(
         vertices: &[Vertex],
         colors: &[[f32; 3]],
         has_uv: bool,
@@ -181,7 +181,7 @@ impl Lod {
     }
 
     /// The coarsest level of the whole mesh whose error is within the view's bound, if any.
-    pub fn choose_whole(&self, px: &Pixels) -> Option<&Level> {
+    pub(crate) fn choose_whole(&self, px: &Pixels) -> Option<&Level> {
         let b = &self.whole.first()?.part;
         let per_unit = px.per_unit(b.center, b.radius);
         self.whole
@@ -385,7 +385,7 @@ fn simplify(
 }
 
 /// Whether `view` may skip `c` (see [`super::clusters::Clusters::visible`]).
-pub fn hidden(view: &ClusterView, c: &Cluster, hide_back_faces: bool) -> bool {
+pub(crate) fn hidden(view: &ClusterView, c: &Cluster, hide_back_faces: bool) -> bool {
     view.outside(c.center, c.radius) || (hide_back_faces && view.faces_away(c))
 }
 

@@ -2,7 +2,7 @@
 //! outside (base colour and alpha mode, metallic, roughness, emissive, normal scale,
 //! occlusion strength, sidedness, unlit, one [`TextureSlot`] per map), and the Phong terms an
 //! MTL gives ([`PhongTerms`]) as an optional part, which the legacy tier draws with. An MTL is
-//! mapped into the PBR values once, at load ([`super::mtl_mapping`]); a glTF material has
+//! mapped into the PBR values once, at load (`super::mtl_mapping`); a glTF material has
 //! no Phong terms and the legacy tier derives them from the base colour
 //! ([`Material::phong_terms`]). Decoded images (RGBA8) are here too; no GL.
 use super::texture_slot::{Slot, TextureSlot};
@@ -31,10 +31,10 @@ impl PartialEq for Texture {
 /// Options that make texture loading safe; see `--allow-outside-paths`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TextureOptions {
-    pub allow_outside_paths: bool,
+    pub(crate) allow_outside_paths: bool,
     /// Largest width/height accepted from a file header; larger images are refused before
     /// decoding (decompression bombs) and images above the driver limit are downscaled later.
-    pub max_dimension: u32,
+    pub(crate) max_dimension: u32,
 }
 
 /// How the base colour's alpha (factor times texture) is used: glTF's `alphaMode`. An MTL's
@@ -85,7 +85,7 @@ impl Default for PhongTerms {
 /// The one colour rule: what a material's colour factors (base colour, emissive) and its
 /// meshes' colours mean, decided by the loader. The legacy tier draws display values, so it
 /// draws a linear colour as its sRGB encoding (the display value of the same colour), once,
-/// where its uniforms are made ([`Material::phong_terms`], [`Material::legacy_emissive`]):
+/// where its uniforms are made ([`Material::phong_terms`], `Material::legacy_emissive`):
 /// a factor, an sRGB texture and a vertex colour of one colour then look the same. The PBR
 /// tier reads every factor as linear.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -101,7 +101,7 @@ pub enum ColourRule {
 
 impl ColourRule {
     /// `c` as the legacy tier draws it.
-    pub fn legacy(self, c: [f32; 3]) -> [f32; 3] {
+    pub(crate) fn legacy(self, c: [f32; 3]) -> [f32; 3] {
         match self {
             ColourRule::Display => c,
             ColourRule::Linear => c.map(srgb_encode_hdr),
@@ -109,7 +109,7 @@ impl ColourRule {
     }
 
     /// `--check`'s words for the rule.
-    pub fn describe(self) -> &'static str {
+    pub(crate) fn describe(self) -> &'static str {
         match self {
             ColourRule::Display => "display colours, drawn as written by the legacy tier",
             ColourRule::Linear => {
@@ -123,7 +123,7 @@ impl ColourRule {
 /// sRGB encoding continued above 1 (an emissive strength makes linear values above 1: their
 /// encoding stays above 1 and the legacy tier's output clamps it).
 /// 0 and 1 are kept exactly (pure colours stay pure).
-pub fn srgb_encode_hdr(x: f32) -> f32 {
+pub(crate) fn srgb_encode_hdr(x: f32) -> f32 {
     if x <= 0.003_130_8 {
         12.92 * x.max(0.0)
     } else if x <= 1.0 {
@@ -139,7 +139,7 @@ pub fn srgb_encode_hdr(x: f32) -> f32 {
 pub struct CheckNotes {
     /// The base colour texture as the file names it (`map_Kd` as written, `--texture`'s
     /// path, glTF's "baseColorTexture image N").
-    pub base_color: Option<String>,
+    pub(crate) base_color: Option<String>,
     /// Every other MTL map statement as (key, file as written, what happened).
     pub maps: Vec<(String, String, String)>,
     /// A glTF material's texture slots in glTF terms, one line each, the failed ones too.
@@ -202,7 +202,7 @@ impl Default for Material {
 
 impl Material {
     /// glTF's defaults where a PBR value is concerned, no textures, no Phong terms.
-    pub fn gltf_default() -> Self {
+    pub(crate) fn gltf_default() -> Self {
         Material {
             name: "default".into(),
             base_color: [1.0; 3],
@@ -233,7 +233,7 @@ impl Material {
 
     /// A point cloud's: white diffuse (so per-point colours are drawn as given), the
     /// fixed-function ambient, no specular.
-    pub fn cloud() -> Self {
+    pub(crate) fn cloud() -> Self {
         Material::with_phong(PhongTerms {
             diffuse: [1.0; 3],
             ..PhongTerms::default()
@@ -251,19 +251,19 @@ impl Material {
     }
 
     /// Drawn blended, in the translucent pass.
-    pub fn is_translucent(&self) -> bool {
+    pub(crate) fn is_translucent(&self) -> bool {
         self.opacity.is_some()
     }
 
     /// The opacity the material is drawn with (1 when opaque).
-    pub fn draw_opacity(&self) -> f32 {
+    pub(crate) fn draw_opacity(&self) -> f32 {
         self.opacity.unwrap_or(1.0)
     }
 
     /// Sets the opacity as x-ray does (the only change made to a loaded material that an
     /// input of the MTL mapping depends on): translucent below 1 or where the alpha mode is
     /// BLEND, and the classic mapping made again, whose glass rule reads the translucency.
-    pub fn set_opacity(&mut self, opacity: f32) {
+    pub(crate) fn set_opacity(&mut self, opacity: f32) {
         self.opacity = translucency(opacity, self.alpha_mode);
         if self.phong.is_some_and(|p| p.mapped) {
             super::mtl_mapping::map(self, None, None);
@@ -285,7 +285,7 @@ impl Material {
     }
 
     /// The emissive colour the legacy tier draws (`Ke`), by the colour rule.
-    pub fn legacy_emissive(&self) -> [f32; 3] {
+    pub(crate) fn legacy_emissive(&self) -> [f32; 3] {
         self.colour_rule.legacy(self.emissive)
     }
 
@@ -308,7 +308,7 @@ impl Material {
     }
 
     /// Every texture slot in one fixed order (the mesh cache's slot table follows it).
-    pub fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 16] {
+    pub(crate) fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 16] {
         let [a, b, c, d, e, f, g, h, i] = &mut self.khr.maps;
         [
             &mut self.base_color_texture,
@@ -331,7 +331,7 @@ impl Material {
     }
 
     /// As [`Material::slots_mut`], read only.
-    pub fn slots(&self) -> [&Option<TextureSlot>; 16] {
+    pub(crate) fn slots(&self) -> [&Option<TextureSlot>; 16] {
         let [a, b, c, d, e, f, g, h, i] = &self.khr.maps;
         [
             &self.base_color_texture,
@@ -354,21 +354,21 @@ impl Material {
     }
 
     /// Whether a tangent frame is read: the normal map, or the clearcoat's.
-    pub fn needs_tangents(&self) -> bool {
+    pub(crate) fn needs_tangents(&self) -> bool {
         self.normal_texture.is_some() || self.khr.slot(Slot::ClearcoatNormal).is_some()
     }
 
     /// Whether the occlusion, roughness and metallic maps are an MTL's single-channel images,
     /// which the GPU packs into one texture (glTF's are used as they are). MTL materials are
     /// the ones with Phong terms.
-    pub fn packs_orm(&self) -> bool {
+    pub(crate) fn packs_orm(&self) -> bool {
         self.phong.is_some()
     }
 }
 
 /// Translucency from an opacity and an alpha mode: below 1, or BLEND (whose texture alpha
 /// may be below 1 where the factor is 1).
-pub fn translucency(opacity: f32, mode: AlphaMode) -> Option<f32> {
+pub(crate) fn translucency(opacity: f32, mode: AlphaMode) -> Option<f32> {
     (opacity < 1.0 || mode == AlphaMode::Blend).then_some(opacity)
 }
 

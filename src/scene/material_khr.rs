@@ -93,24 +93,24 @@ pub struct Khr {
 }
 
 /// The core model's index of refraction (F0 0.04).
-pub const CORE_IOR: f32 = 1.5;
+pub(crate) const CORE_IOR: f32 = 1.5;
 
 impl Khr {
     /// Whether the dielectric F0 differs from the core's path: KHR_materials_specular or
     /// KHR_materials_ior is present.
-    pub fn has_f0(&self) -> bool {
+    pub(crate) fn has_f0(&self) -> bool {
         self.specular.is_some() || self.ior.is_some()
     }
 
     /// ((ior − 1)/(ior + 1))²: the dielectric F0 before the specular colour.
-    pub fn ior_f0(&self) -> f32 {
+    pub(crate) fn ior_f0(&self) -> f32 {
         let ior = self.ior.unwrap_or(CORE_IOR);
         ((ior - 1.0) / (ior + 1.0)).powi(2)
     }
 
     /// The dielectric F0 factor (ior times specular colour; textures multiply it and the
     /// shader clamps the product to 1) and the specular weight (specular factor).
-    pub fn dielectric(&self) -> ([f32; 3], f32) {
+    pub(crate) fn dielectric(&self) -> ([f32; 3], f32) {
         let f0 = self.ior_f0();
         match &self.specular {
             Some(s) => (s.color.map(|c| f0 * c), s.factor),
@@ -119,38 +119,14 @@ impl Khr {
     }
 
     /// Slot `s` of the extensions (None for a core slot).
-    pub fn slot(&self, s: Slot) -> Option<&TextureSlot> {
+    pub(crate) fn slot(&self, s: Slot) -> Option<&TextureSlot> {
         let i = SLOTS.iter().position(|x| *x == s)?;
         self.maps[i].as_ref()
     }
 
     /// Extension slot `s`'s place in `maps` (for the loaders; `s` is one of [`SLOTS`]).
-    pub fn slot_mut(&mut self, s: Slot) -> &mut Option<TextureSlot> {
+    pub(crate) fn slot_mut(&mut self, s: Slot) -> &mut Option<TextureSlot> {
         let i = SLOTS.iter().position(|x| *x == s);
         &mut self.maps[i.expect("an extension slot")]
-    }
-
-    /// The extensions used, as `--check` names them.
-    pub fn names(&self) -> Vec<&'static str> {
-        let mut v = Vec::new();
-        if self.clearcoat.is_some() {
-            v.push("KHR_materials_clearcoat");
-        }
-        if self.sheen.is_some() {
-            v.push("KHR_materials_sheen");
-        }
-        if self.specular.is_some() {
-            v.push("KHR_materials_specular");
-        }
-        if self.ior.is_some() {
-            v.push("KHR_materials_ior");
-        }
-        if self.transmission.is_some() {
-            v.push("KHR_materials_transmission");
-        }
-        if self.volume.is_some() {
-            v.push("KHR_materials_volume");
-        }
-        v
     }
 }

@@ -6,7 +6,7 @@ use super::texture_slot::{Sampler, Slot, TexTransform};
 
 /// A glTF material, one line per fact: alpha mode, sidedness, unlit, factor alpha, emissive
 /// strength, then each texture slot (written at load by [`slot_line`]).
-pub fn describe(m: &Material) -> Vec<String> {
+pub(crate) fn describe(m: &Material) -> Vec<String> {
     let mut out = vec![format!(
         "alphaMode {}, doubleSided {}{}, baseColorFactor alpha {:.3}, emissiveStrength {}",
         match m.alpha_mode {
@@ -76,21 +76,21 @@ fn khr_lines(k: &super::material_khr::Khr) -> Vec<String> {
 }
 
 /// What a glTF texture slot says, whether or not its image could be decoded.
-pub struct SlotFacts {
-    pub slot: Slot,
+pub(crate) struct SlotFacts {
+    pub(crate) slot: Slot,
     /// The image's index in its glTF file.
-    pub image: usize,
-    pub loaded: bool,
-    pub sampler: Sampler,
-    pub uv_set: u32,
-    pub transform: Option<TexTransform>,
+    pub(crate) image: usize,
+    pub(crate) loaded: bool,
+    pub(crate) sampler: Sampler,
+    pub(crate) uv_set: u32,
+    pub(crate) transform: Option<TexTransform>,
     /// The normal texture's scale or the occlusion texture's strength.
-    pub scale: f32,
+    pub(crate) scale: f32,
 }
 
 /// One `--check` line for a glTF texture slot (made at load: a slot whose image failed to
 /// decode has no [`super::texture_slot::TextureSlot`]).
-pub fn slot_line(t: &SlotFacts) -> String {
+pub(crate) fn slot_line(t: &SlotFacts) -> String {
     let mut s = format!(
         "{} image {}{}: TEXCOORD_{}, wrap {:?}/{:?}, mag {:?}, min {}",
         t.slot.gltf_name(),
@@ -120,7 +120,11 @@ pub fn slot_line(t: &SlotFacts) -> String {
 
 /// How `m`, loaded from a file of `format` (not glTF), maps into the material model: one
 /// line for `--check`, naming each slot's source in the file's own terms.
-pub fn mapping(m: &Material, format: super::formats::Format, vertex_colours: bool) -> String {
+pub(crate) fn mapping(
+    m: &Material,
+    format: super::formats::Format,
+    vertex_colours: bool,
+) -> String {
     use super::formats::Format;
     use super::texture_slot::TextureSlot;
     let rgb = |c: [f32; 3]| format!("({:.3}, {:.3}, {:.3})", c[0], c[1], c[2]);

@@ -1,50 +1,50 @@
 //! Scene data: meshes, materials and bounds, loaded from OBJ/MTL. No GL, no windowing, so the
 //! GPU renderer, the CPU reference renderer and the tests share it.
-pub mod buckets;
+pub(crate) mod buckets;
 pub mod cache;
-pub mod closure;
+pub(crate) mod closure;
 pub mod clusters;
-pub mod dedup;
-pub mod edges;
+pub(crate) mod dedup;
+pub(crate) mod edges;
 pub mod fast;
-pub mod finish;
+pub(crate) mod finish;
 pub mod formats;
 pub mod generate;
-pub mod gltf;
-pub mod gltf_accessor;
-pub mod gltf_buffers;
-pub mod gltf_graph;
-pub mod gltf_khr;
-pub mod gltf_material;
-pub mod gltf_meshopt;
-pub mod gltf_modes;
-pub mod gltf_primitive;
-pub mod gltf_specgloss;
+pub(crate) mod gltf;
+pub(crate) mod gltf_accessor;
+pub(crate) mod gltf_buffers;
+pub(crate) mod gltf_graph;
+pub(crate) mod gltf_khr;
+pub(crate) mod gltf_material;
+pub(crate) mod gltf_meshopt;
+pub(crate) mod gltf_modes;
+pub(crate) mod gltf_primitive;
+pub(crate) mod gltf_specgloss;
 pub mod load;
-pub mod lod;
+pub(crate) mod lod;
 pub mod material;
 pub mod material_khr;
-pub mod material_report;
-pub mod mtl;
-pub mod mtl_mapping;
+pub(crate) mod material_report;
+pub(crate) mod mtl;
+pub(crate) mod mtl_mapping;
 pub mod normals;
 pub mod obj;
-pub mod ply;
+pub(crate) mod ply;
 pub mod profile;
-pub mod quirks;
+pub(crate) mod quirks;
 pub mod reorder;
-pub mod repair;
+pub(crate) mod repair;
 pub mod report;
-pub mod spacing;
-pub mod stl;
-pub mod tangents;
-pub mod texture;
-pub mod texture_path;
+pub(crate) mod spacing;
+pub(crate) mod stl;
+pub(crate) mod tangents;
+pub(crate) mod texture;
+pub(crate) mod texture_path;
 pub mod texture_slot;
-pub mod tokens;
-pub mod triangulate;
-pub mod uri;
-pub mod xray;
+pub(crate) mod tokens;
+pub(crate) mod triangulate;
+pub(crate) mod uri;
+pub(crate) mod xray;
 
 use glam::{DVec3, Vec3};
 pub use load::{load, load_prepared, LoadOptions, ProgressFn};
@@ -86,7 +86,7 @@ pub struct Mesh {
 /// The shadow-terminator lift of a mesh: a quarter of its mean edge length (f64, local
 /// units). The GPU (`shadow.glsl`) and the reference raise shadow lookups by it where the
 /// shading normal faces a light that the facet itself faces away from.
-pub fn terminator_lift(m: &Mesh) -> f64 {
+pub(crate) fn terminator_lift(m: &Mesh) -> f64 {
     use rayon::prelude::*;
     let p = |i: u32| glam::DVec3::from(m.vertices[i as usize].position.map(f64::from));
     // In parallel slices of 64k triangles: 20 ms of a cached 2M-triangle picture's ~190 on
@@ -109,19 +109,15 @@ pub fn terminator_lift(m: &Mesh) -> f64 {
 }
 
 impl Mesh {
-    pub fn triangle_count(&self) -> usize {
+    pub(crate) fn triangle_count(&self) -> usize {
         self.indices.len() / 3
-    }
-    /// The largest index, which decides whether 16-bit indices suffice.
-    pub fn max_index(&self) -> u32 {
-        self.indices.iter().copied().max().unwrap_or(0)
     }
 }
 
 /// The bounding box (lo, hi) of `points` in file coordinates and the centre every loader
 /// re-centres its positions on in f64 before rounding to f32 (the origin when there are no
 /// points).
-pub fn extent_and_origin(points: impl IntoIterator<Item = DVec3>) -> (DVec3, DVec3, DVec3) {
+pub(crate) fn extent_and_origin(points: impl IntoIterator<Item = DVec3>) -> (DVec3, DVec3, DVec3) {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for p in points {
         lo = lo.min(p);
@@ -143,7 +139,7 @@ pub struct Bounds {
 }
 
 impl Bounds {
-    pub fn empty() -> Self {
+    pub(crate) fn empty() -> Self {
         Bounds {
             min: Vec3::splat(f32::INFINITY),
             max: Vec3::splat(f32::NEG_INFINITY),
@@ -153,7 +149,7 @@ impl Bounds {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.min.x > self.max.x
     }
     pub fn center(&self) -> Vec3 {
@@ -161,7 +157,7 @@ impl Bounds {
     }
     /// Radius of the sphere around [`Bounds::center`] that holds the box; never zero, so a
     /// single point or a flat model still gets a usable camera.
-    pub fn radius(&self) -> f32 {
+    pub(crate) fn radius(&self) -> f32 {
         let r = (self.max - self.min).length() * 0.5;
         if r.is_finite() && r > 0.0 {
             r
@@ -169,7 +165,7 @@ impl Bounds {
             1.0
         }
     }
-    pub fn corners(&self) -> [Vec3; 8] {
+    pub(crate) fn corners(&self) -> [Vec3; 8] {
         let (a, b) = (self.min, self.max);
         [
             Vec3::new(a.x, a.y, a.z),
@@ -222,7 +218,7 @@ pub struct Scene {
     /// Lines (`l`) and points (`p`), in local coordinates; not triangles.
     pub wire: Wire,
     /// For `--check`: every texture statement of the MTL and what happens to it.
-    pub maps: Vec<String>,
+    pub(crate) maps: Vec<String>,
 }
 
 /// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
@@ -234,9 +230,9 @@ pub struct Wire {
     pub segments: Vec<[u32; 2]>,
     pub points: Vec<u32>,
     /// Per-position colours (display-encoded, as PLY's), or empty.
-    pub colors: Vec<[f32; 3]>,
+    pub(crate) colors: Vec<[f32; 3]>,
     /// Per-position unit normals (a cloud's), or empty: points are then drawn unlit.
-    pub normals: Vec<[f32; 3]>,
+    pub(crate) normals: Vec<[f32; 3]>,
 }
 
 impl Wire {
@@ -245,13 +241,13 @@ impl Wire {
     }
 
     /// Every position is a point and there are no lines: a point cloud.
-    pub fn is_cloud(&self) -> bool {
+    pub(crate) fn is_cloud(&self) -> bool {
         self.segments.is_empty() && !self.points.is_empty()
     }
 
     /// The mean distance from a point to its nearest distinct neighbour, over a sample of at
     /// most 2,048 points ([`spacing::mean_nearest`]); None below two distinct points.
-    pub fn spacing(&self) -> Option<f64> {
+    pub(crate) fn spacing(&self) -> Option<f64> {
         if self.points.len() == self.positions.len() {
             // A cloud: every position is a point, read in place.
             return spacing::mean_nearest(&self.positions);
@@ -314,7 +310,7 @@ crate::word_value!(UpAxis, "an axis: +Y, -Y, +X, -X, +Z or -Z");
 impl UpAxis {
     /// The proper rotation (no mirroring) taking this axis to +Y; exact (only swaps and
     /// sign changes).
-    pub fn rotate(self, p: DVec3) -> DVec3 {
+    pub(crate) fn rotate(self, p: DVec3) -> DVec3 {
         match self {
             UpAxis::PosY => p,
             UpAxis::NegY => DVec3::new(p.x, -p.y, -p.z),

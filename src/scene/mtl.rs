@@ -21,7 +21,7 @@ thread_local! {
 /// A material read from an MTL whose PBR values are not mapped yet: `Pm` and `Pr` as the
 /// file gives them, kept until [`Read::map`] consumes them.
 #[derive(Debug)]
-pub struct Read {
+pub(crate) struct Read {
     material: Material,
     pm: Option<f32>,
     pr: Option<f32>,
@@ -29,12 +29,12 @@ pub struct Read {
 
 impl Read {
     /// The material before the mapping (the quirks change its opacity and `Ks`).
-    pub fn material_mut(&mut self) -> &mut Material {
+    pub(crate) fn material_mut(&mut self) -> &mut Material {
         &mut self.material
     }
 
     /// The mapping into the PBR values, once: it consumes the read material.
-    pub fn map(self) -> Material {
+    pub(crate) fn map(self) -> Material {
         let Read {
             mut material,
             pm,
@@ -51,16 +51,16 @@ fn to_rgb(v: Option<[f64; 3]>, default: [f32; 3]) -> [f32; 3] {
 }
 
 /// Where a material's textures are and where warnings about them go.
-pub struct Files<'a> {
+pub(crate) struct Files<'a> {
     /// Texture paths are relative to this folder.
-    pub dir: &'a Path,
+    pub(crate) dir: &'a Path,
     /// The material library warnings name.
-    pub mtl_file: &'a Path,
-    pub opts: TextureOptions,
+    pub(crate) mtl_file: &'a Path,
+    pub(crate) opts: TextureOptions,
 }
 
 /// Reads one tobj material: values, then maps, relative to `files.dir`.
-pub fn read(m: tobj::Material, files: &Files, warnings: &mut Vec<Warning>) -> Read {
+pub(crate) fn read(m: tobj::Material, files: &Files, warnings: &mut Vec<Warning>) -> Read {
     #[cfg(test)]
     READS.with(|r| r.set(r.get() + 1));
     let mut out = values(&m);
@@ -232,7 +232,7 @@ fn read_maps(m: &tobj::Material, files: &Files, out: &mut Material, warnings: &m
 
 /// A normal map is mostly "up" in tangent space: blue high, red and green near one half. A
 /// height (bump) map is grey. Decides which a `map_Bump` image is.
-pub fn looks_like_normal_map(t: &Texture) -> bool {
+pub(crate) fn looks_like_normal_map(t: &Texture) -> bool {
     let n = (t.rgba.len() / 4).max(1) as f64;
     let mut sum = [0f64; 3];
     for p in t.rgba.chunks_exact(4) {

@@ -18,7 +18,7 @@ fn luminance(c: [f32; 3]) -> f32 {
 
 /// Roughness from a Phong exponent: the Blinn-Phong lobe x^Ns matches a GGX lobe of
 /// α² = 2 / (Ns + 2) (Walter et al. 2007), and roughness r = √α. Ns ≤ 0 (matte) gives 1.
-pub fn roughness_from_ns(ns: f32) -> f32 {
+pub(crate) fn roughness_from_ns(ns: f32) -> f32 {
     if ns.is_finite() && ns > 0.0 {
         (2.0 / (ns + 2.0)).sqrt().sqrt().clamp(0.0, 1.0)
     } else {
@@ -28,7 +28,7 @@ pub fn roughness_from_ns(ns: f32) -> f32 {
 
 /// Sets `m`'s base colour, metallic and roughness from its Phong terms and the file's `Pm`
 /// and `Pr`, as the module says. A material without Phong terms (glTF) is left as it is.
-pub fn map(m: &mut Material, pm: Option<f32>, pr: Option<f32>) {
+pub(crate) fn map(m: &mut Material, pm: Option<f32>, pr: Option<f32>) {
     let translucent = m.is_translucent();
     let Some(p) = &mut m.phong else {
         return;

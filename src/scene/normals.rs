@@ -21,7 +21,7 @@ fn key(p: [f32; 3]) -> [u32; 3] {
 /// Welds corners by position: an id per distinct position (+0.0 and −0.0 alike) per vertex,
 /// and how many positions there are. A parallel sort of the position bits (a hash map of
 /// them took twice as long on the 1M-triangle sphere's 500k vertices, on one thread).
-pub fn weld(vertices: &[Vertex]) -> (Vec<u32>, usize) {
+pub(crate) fn weld(vertices: &[Vertex]) -> (Vec<u32>, usize) {
     use rayon::prelude::*;
     let mut keyed: Vec<(u128, u32)> = vertices
         .par_iter()
@@ -74,7 +74,7 @@ fn usable(n: [f32; 3]) -> bool {
 
 /// Fills in normals that are missing (`all`), zero or not finite; normalises the rest.
 /// Returns how many normals were generated.
-pub fn repair_normals(vertices: &mut [Vertex], indices: &[u32], all: bool) -> usize {
+pub(crate) fn repair_normals(vertices: &mut [Vertex], indices: &[u32], all: bool) -> usize {
     let _timer = super::profile::nested(super::profile::Stage::Normals);
     let need = all || vertices.iter().any(|v| !usable(v.normal));
     let smooth = if need {
@@ -121,7 +121,7 @@ impl Default for Creases {
 /// (one per triangle, from `s N`; 0 = off), those in the same non-zero group; without, those
 /// within the crease angle. Vertices are split where corners sharing one get different
 /// normals. Returns the new vertices, the new indices and, per new vertex, its old index.
-pub fn generate(
+pub(crate) fn generate(
     vertices: &[Vertex],
     indices: &[u32],
     groups: Option<&[u32]>,
@@ -242,7 +242,7 @@ impl super::Mesh {
     /// Normals for a freshly loaded mesh, the same for every format: where the file gave
     /// them, broken ones are regenerated; where it did not, they are generated with the crease
     /// rule (and smoothing `groups`, one per triangle), splitting vertices (colours follow).
-    pub fn finish_normals(
+    pub(crate) fn finish_normals(
         &mut self,
         file_has_normals: bool,
         groups: Option<&[u32]>,

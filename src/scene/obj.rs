@@ -1,4 +1,4 @@
-//! OBJ/MTL bytes → [`Scene`] (files reach it through [`super::load()`]): tobj does the parsing (after [`super::repair`]); positions are read as
+//! OBJ/MTL bytes → [`Scene`] (files reach it through [`super::load()`]): tobj does the parsing (after `super::repair`); positions are read as
 //! f64 and re-centred on the bounding-box centre before they are rounded to f32.
 use super::fast::Parser;
 use super::load::{read_regular_file, LoadOptions};
@@ -63,11 +63,11 @@ fn load_mtl(
 }
 
 /// Loads OBJ bytes as if they were the file `path` (MTL and textures are looked up beside it).
-pub fn load_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
+pub(crate) fn load_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     load_bytes_with(path, bytes, opts, Parser::from_env())
 }
 
-/// As [`load_bytes`] with a chosen OBJ parser (the differential test compares the two).
+/// As `load_bytes` with a chosen OBJ parser (the differential test compares the two).
 pub fn load_bytes_with(
     path: &Path,
     bytes: &[u8],
@@ -78,11 +78,16 @@ pub fn load_bytes_with(
 }
 
 /// Loads an OBJ whose MTL library is in memory too (the built-in scene).
-pub fn load_embedded(path: &Path, obj: &[u8], mtl: &[u8], opts: &LoadOptions) -> Result<Scene> {
+pub(crate) fn load_embedded(
+    path: &Path,
+    obj: &[u8],
+    mtl: &[u8],
+    opts: &LoadOptions,
+) -> Result<Scene> {
     load_embedded_with(path, obj, mtl, opts, Parser::from_env())
 }
 
-/// As [`load_embedded`] with a chosen OBJ parser: every `mtllib` gets the same in-memory MTL
+/// As `load_embedded` with a chosen OBJ parser: every `mtllib` gets the same in-memory MTL
 /// bytes whichever parser runs (the fuzz target compares the fast path with the old one).
 pub fn load_embedded_with(
     path: &Path,

@@ -11,12 +11,12 @@ use std::io::{BufRead, Read};
 
 /// What a PLY file gave (positions, polygons as flat corners + sizes, optional normals and
 /// colours); errors are `(line, message)`.
-pub struct Raw {
-    pub positions: Vec<DVec3>,
-    pub corners: Vec<u32>,
-    pub sizes: Vec<u32>,
-    pub normals: Option<Vec<[f32; 3]>>,
-    pub colors: Option<Vec<[f32; 3]>>,
+pub(crate) struct Raw {
+    pub(crate) positions: Vec<DVec3>,
+    pub(crate) corners: Vec<u32>,
+    pub(crate) sizes: Vec<u32>,
+    pub(crate) normals: Option<Vec<[f32; 3]>>,
+    pub(crate) colors: Option<Vec<[f32; 3]>>,
 }
 
 type Fail = (Option<usize>, String);
@@ -169,7 +169,7 @@ fn header<R: BufRead>(r: &mut R, n: &mut usize) -> Result<(Encoding, Vec<Element
 
 /// Reads a PLY stream. `size` (the bytes after the header, when known) lets element counts
 /// be checked against the file before reading.
-pub fn read<R: BufRead>(mut r: R, size: Option<u64>) -> Result<Raw, Fail> {
+pub(crate) fn read<R: BufRead>(mut r: R, size: Option<u64>) -> Result<Raw, Fail> {
     let mut n = 0;
     let (enc, elems) = header(&mut r, &mut n)?;
     if let Some(size) = size {

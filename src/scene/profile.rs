@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 /// A loader stage; see the module comment.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stage {
+pub(crate) enum Stage {
     Read,
     Repair,
     Parse,
@@ -24,26 +24,21 @@ pub enum Stage {
 /// only `read` and `total` are set).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct LoadProfile {
-    pub bytes: u64,
-    pub cached: bool,
-    pub read_ms: f64,
-    pub repair_ms: f64,
-    pub parse_ms: f64,
-    pub textures_ms: f64,
-    pub meshes_ms: f64,
-    pub normals_ms: f64,
-    pub finish_ms: f64,
-    pub total_ms: f64,
+    pub(crate) bytes: u64,
+    pub(crate) cached: bool,
+    pub(crate) read_ms: f64,
+    pub(crate) repair_ms: f64,
+    pub(crate) parse_ms: f64,
+    pub(crate) textures_ms: f64,
+    pub(crate) meshes_ms: f64,
+    pub(crate) normals_ms: f64,
+    pub(crate) finish_ms: f64,
+    pub(crate) total_ms: f64,
     /// The one-pass parser ran (`scene::fast`): `repair_ms` is 0, `parse_ms` is that pass.
     pub fast_path: bool,
 }
 
 impl LoadProfile {
-    /// Input megabytes per second of the parse path (repair + parse).
-    pub fn parse_mb_per_s(&self) -> f64 {
-        self.bytes as f64 / 1e6 / ((self.repair_ms + self.parse_ms) / 1e3).max(1e-9)
-    }
-
     fn slot(&mut self, s: Stage) -> &mut f64 {
         match s {
             Stage::Read => &mut self.read_ms,
@@ -111,7 +106,7 @@ pub fn begin(bytes: u64) {
 }
 
 /// Ends the stage that began at the previous mark (or at [`begin`]).
-pub fn mark(stage: Stage) {
+pub(crate) fn mark(stage: Stage) {
     REC.with_borrow_mut(|r| {
         let now = Instant::now();
         *r.current.slot(stage) += ms(now - r.mark);
@@ -120,18 +115,18 @@ pub fn mark(stage: Stage) {
 }
 
 /// Sets the input size once it is known (after reading).
-pub fn set_bytes(bytes: u64) {
+pub(crate) fn set_bytes(bytes: u64) {
     REC.with_borrow_mut(|r| r.current.bytes = bytes);
 }
 
 /// Time spent inside a stage nested in another (normals inside meshes, textures inside
 /// materials): added to `stage`, and taken out of the enclosing stage by moving its mark.
-pub struct Nested {
+pub(crate) struct Nested {
     stage: Stage,
     start: Instant,
 }
 
-pub fn nested(stage: Stage) -> Nested {
+pub(crate) fn nested(stage: Stage) -> Nested {
     Nested {
         stage,
         start: Instant::now(),
@@ -149,12 +144,12 @@ impl Drop for Nested {
 }
 
 /// Notes whether this load took the fast OBJ path.
-pub fn set_fast_path(fast: bool) {
+pub(crate) fn set_fast_path(fast: bool) {
     REC.with_borrow_mut(|r| r.current.fast_path = fast);
 }
 
 /// Ends the load: the profile becomes [`last`].
-pub fn end(cached: bool) {
+pub(crate) fn end(cached: bool) {
     REC.with_borrow_mut(|r| {
         r.current.cached = cached;
         r.current.total_ms = ms(r.start.elapsed());
@@ -169,7 +164,7 @@ pub fn last() -> Option<LoadProfile> {
 
 /// The most recent load's profile, forgotten here (so the next call says whether another
 /// load happened since).
-pub fn take_last() -> Option<LoadProfile> {
+pub(crate) fn take_last() -> Option<LoadProfile> {
     REC.with_borrow_mut(|r| r.last.take())
 }
 

@@ -6,7 +6,7 @@ use super::{Material, Warning};
 use std::path::Path;
 
 /// Where a material came from: its MTL file and the lines of its statements.
-pub type Origin<'a> = Option<(&'a Path, &'a MtlLines)>;
+pub(crate) type Origin<'a> = Option<(&'a Path, &'a MtlLines)>;
 
 fn warn(warnings: &mut Vec<Warning>, origin: Origin, line: Option<usize>, msg: String) {
     if let Some((file, _)) = origin {
@@ -21,7 +21,7 @@ fn warn(warnings: &mut Vec<Warning>, origin: Origin, line: Option<usize>, msg: S
 /// A material that would be fully invisible (`d 0`, `Tr 1`) is drawn opaque: many exporters
 /// write those values meaning opaque, and a model vanishing without a word is never what a
 /// user wants. `honor` keeps the file's value.
-pub fn fix_invisible(m: &mut Material, origin: Origin, honor: bool, w: &mut Vec<Warning>) {
+pub(crate) fn fix_invisible(m: &mut Material, origin: Origin, honor: bool, w: &mut Vec<Warning>) {
     if !matches!(m.opacity, Some(a) if a <= 0.0) || honor {
         return;
     }
@@ -41,7 +41,7 @@ pub fn fix_invisible(m: &mut Material, origin: Origin, honor: bool, w: &mut Vec<
 /// `Ns 0` (or negative) with a specular colour: the formula's limit x⁰ = 1 turns every lit
 /// point white. Exporters write it for the roughest surface (Blender's exporter maps
 /// roughness 1 to Ns 0), so the material is made matte (Ks 0).
-pub fn fix_ns_zero(m: &mut Material, origin: Origin, w: &mut Vec<Warning>) {
+pub(crate) fn fix_ns_zero(m: &mut Material, origin: Origin, w: &mut Vec<Warning>) {
     let Some(p) = &mut m.phong else {
         return;
     };
@@ -76,7 +76,7 @@ fn map_outcome(keyword: &str) -> &'static str {
 }
 
 /// One `--check` line per texture statement of the material.
-pub fn map_report(m: &Material, origin: Origin) -> Vec<String> {
+pub(crate) fn map_report(m: &Material, origin: Origin) -> Vec<String> {
     let Some((file, lines)) = origin else {
         return Vec::new();
     };

@@ -6,7 +6,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 /// Reorders `indices` (whole triangles) into compact patches: triangles sorted along a Morton
-/// curve of their centroids, cut into blocks of [`super::lod::GROUP`] clusters, each block then put
+/// curve of their centroids, cut into blocks of `super::lod::GROUP` clusters, each block then put
 /// in meshopt's FIFO vertex-cache order. A block is one compact patch (a run of 256 triangles
 /// in FIFO order over the whole mesh was a long strip: its locked border stopped the
 /// simplifier of the levels of detail at a fifth of the triangles, and its wide sphere

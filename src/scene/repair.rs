@@ -13,30 +13,30 @@ use pass::Pass;
 
 /// The OBJ text ready for tobj, and what was repaired.
 #[derive(Default)]
-pub struct Repaired {
-    pub text: String,
-    pub warnings: Vec<Warning>,
+pub(crate) struct Repaired {
+    pub(crate) text: String,
+    pub(crate) warnings: Vec<Warning>,
     /// Faces dropped because they had fewer than three distinct corners.
-    pub dropped_faces: usize,
+    pub(crate) dropped_faces: usize,
     /// Every `usemtl` name with its line, to report names no MTL defines.
-    pub usemtl: Vec<(usize, String)>,
+    pub(crate) usemtl: Vec<(usize, String)>,
     /// The smoothing group (`s N`; 0 = `s off`) of every face passed on, in file order;
     /// empty when the file has no `s` statement (then the crease angle decides).
-    pub face_groups: Vec<u32>,
+    pub(crate) face_groups: Vec<u32>,
     /// Every `v` position as written (after any `w` division), for lines and points.
-    pub positions: Vec<[f64; 3]>,
+    pub(crate) positions: Vec<[f64; 3]>,
     /// `l` statements as segments between 0-based position indices (polylines split).
-    pub segments: Vec<[u32; 2]>,
+    pub(crate) segments: Vec<[u32; 2]>,
     /// `p` statements as 0-based position indices.
-    pub points: Vec<u32>,
+    pub(crate) points: Vec<u32>,
     /// Vertices written without a colour in a file where others have one (made white).
-    pub uncoloured: usize,
+    pub(crate) uncoloured: usize,
     /// A file without faces (a point cloud, or lines and points): every `v` line's colour
     /// (`v x y z r g b`, white where a line has none), or empty where no line has one.
-    pub colours: Vec<[f32; 3]>,
+    pub(crate) colours: Vec<[f32; 3]>,
     /// A file without faces with as many `vn` as `v` lines: the i-th normal is the i-th
     /// vertex's (as cloud exporters write them); empty otherwise or if one is malformed.
-    pub normals: Vec<[f32; 3]>,
+    pub(crate) normals: Vec<[f32; 3]>,
 }
 
 #[derive(Default)]
@@ -127,12 +127,13 @@ fn resolve(index: i64, so_far: usize) -> Option<usize> {
     }
 }
 
-pub fn repair_obj(path: &Path, bytes: &[u8]) -> Result<Repaired, Error> {
+#[cfg(test)] // only the unit tests call it
+pub(crate) fn repair_obj(path: &Path, bytes: &[u8]) -> Result<Repaired, Error> {
     repair_obj_with_progress(path, bytes, &|_| {})
 }
 
 /// As [`repair_obj`], calling `progress(bytes scanned)` about every MiB.
-pub fn repair_obj_with_progress(
+pub(crate) fn repair_obj_with_progress(
     path: &Path,
     bytes: &[u8],
     progress: &dyn Fn(u64),
@@ -168,7 +169,7 @@ pub fn repair_obj_with_progress(
 /// Repairs MTL text before tobj sees it: tobj 4.0.5 panics on a colour statement with fewer
 /// than three numbers. One number is a valid short form (g and b default to r); zero or two
 /// are dropped with a warning naming the line.
-pub fn repair_mtl(path: &Path, text: &str, warnings: &mut Vec<Warning>) -> String {
+pub(crate) fn repair_mtl(path: &Path, text: &str, warnings: &mut Vec<Warning>) -> String {
     let mut out = String::with_capacity(text.len());
     for (i, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
@@ -202,17 +203,17 @@ pub fn repair_mtl(path: &Path, text: &str, warnings: &mut Vec<Warning>) -> Strin
 
 /// Where a material's statements are in its MTL file, for warnings that name the line.
 #[derive(Clone, Debug, Default)]
-pub struct MtlLines {
+pub(crate) struct MtlLines {
     /// The last `d` or `Tr` line.
-    pub opacity: Option<usize>,
+    pub(crate) opacity: Option<usize>,
     /// The last `Ns` line.
-    pub shininess: Option<usize>,
+    pub(crate) shininess: Option<usize>,
     /// Every texture statement: (line, keyword, argument as written).
-    pub maps: Vec<(usize, String, String)>,
+    pub(crate) maps: Vec<(usize, String, String)>,
 }
 
 /// Finds, per `newmtl` name, the lines of the statements warnings refer to.
-pub fn mtl_lines(text: &str) -> std::collections::HashMap<String, MtlLines> {
+pub(crate) fn mtl_lines(text: &str) -> std::collections::HashMap<String, MtlLines> {
     let mut out = std::collections::HashMap::new();
     let mut cur: Option<String> = None;
     for (i, line) in text.lines().enumerate() {

@@ -9,7 +9,7 @@ const SAMPLES: usize = 2048;
 
 /// The mean nearest-neighbour distance over a sample of `pts`; coincident points are skipped.
 /// None without two distinct points.
-pub fn mean_nearest(pts: &[[f32; 3]]) -> Option<f64> {
+pub(crate) fn mean_nearest(pts: &[[f32; 3]]) -> Option<f64> {
     let at = |i: usize| glam::Vec3::from(pts[i]).as_dvec3();
     if pts.len() < 2 {
         return None;

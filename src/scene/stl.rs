@@ -10,11 +10,11 @@ use std::collections::HashMap;
 use std::io::{BufRead, Read};
 
 /// Vertices welded by exact value, triangles as index triples; errors are `(line, message)`.
-pub struct Raw {
-    pub positions: Vec<DVec3>,
-    pub corners: Vec<u32>,
+pub(crate) struct Raw {
+    pub(crate) positions: Vec<DVec3>,
+    pub(crate) corners: Vec<u32>,
     /// (facets dropped for non-finite vertices, the first one's 1-based number).
-    pub non_finite: (usize, usize),
+    pub(crate) non_finite: (usize, usize),
 }
 
 type Fail = (Option<usize>, String);
@@ -64,7 +64,7 @@ impl Weld {
 }
 
 /// Reads an STL stream of `size` bytes (when known).
-pub fn read<R: BufRead>(mut r: R, size: Option<u64>) -> Result<Raw, Fail> {
+pub(crate) fn read<R: BufRead>(mut r: R, size: Option<u64>) -> Result<Raw, Fail> {
     let mut head = Vec::with_capacity(84);
     r.by_ref()
         .take(84)

@@ -38,7 +38,7 @@ impl bevy_mikktspace::Geometry for Geometry<'_> {
 
 /// Tangents (xyz unit, w = ±1 bitangent sign) for every vertex of `mesh`; vertices whose
 /// tangent cannot be made (no UV area) get (1, 0, 0, 1).
-pub fn generate(mesh: &Mesh) -> Vec<[f32; 4]> {
+pub(crate) fn generate(mesh: &Mesh) -> Vec<[f32; 4]> {
     let mut g = Geometry {
         mesh,
         sum: vec![[0.0; 4]; mesh.vertices.len()],

@@ -9,15 +9,15 @@ use std::path::{Path, PathBuf};
 
 /// Source images with more pixels than this are refused before decoding: even streamed, the
 /// inflate and filter work grows with the pixel count (a 32768² image).
-pub const MAX_SOURCE_PIXELS: u64 = 1 << 30;
+pub(crate) const MAX_SOURCE_PIXELS: u64 = 1 << 30;
 /// Decoded textures hold at most this many pixels (8192², 256 MiB as RGBA8); larger images
 /// are downscaled, keeping their aspect ratio.
-pub const MAX_TEXTURE_PIXELS: u64 = 1 << 26;
+pub(crate) const MAX_TEXTURE_PIXELS: u64 = 1 << 26;
 /// Largest side when the caller gives no driver limit (`TextureOptions::max_dimension` 0).
 const DEFAULT_MAX_SIDE: u32 = 16384;
 
 /// The size a `w`×`h` image is decoded to: within `max_side` and [`MAX_TEXTURE_PIXELS`].
-pub fn target_size(w: u32, h: u32, max_side: u32) -> (u32, u32) {
+pub(crate) fn target_size(w: u32, h: u32, max_side: u32) -> (u32, u32) {
     let mut s = 1.0f64;
     s = s.min(f64::from(max_side) / f64::from(w.max(h)));
     let px = f64::from(w) * f64::from(h);
@@ -78,7 +78,7 @@ fn header(src: Source) -> Result<(Option<ImageFormat>, u32, u32), String> {
 
 /// If the texture at `t.path` was decoded smaller than its file, the sentence saying so
 /// (for a warning); re-reads only the header.
-pub fn downscale_note(t: &Texture) -> Option<String> {
+pub(crate) fn downscale_note(t: &Texture) -> Option<String> {
     let (_, w, h) = header(Source::File(&t.path)).ok()?;
     ((w, h) != (t.width, t.height)).then(|| {
         format!(
@@ -89,7 +89,7 @@ pub fn downscale_note(t: &Texture) -> Option<String> {
 }
 
 /// Decodes an image file already resolved (and checked against the folder rule).
-pub fn decode(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
+pub(crate) fn decode(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
     let (width, height, rgba) = decode_from(Source::File(&path), opts)?;
     Ok(Texture {
         path,
@@ -102,7 +102,7 @@ pub fn decode(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
 
 /// Decodes an image held in memory (image `index` of the container `path`), with the same
 /// bounds as a file.
-pub fn decode_bytes(
+pub(crate) fn decode_bytes(
     bytes: &[u8],
     path: PathBuf,
     index: usize,
@@ -209,7 +209,7 @@ fn decode_png(src: Source, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result<V
 
 /// Area (box) downscaling of RGBA8 rows as they arrive: output pixel (i, j) averages the
 /// source pixels whose row and column fall in its bin.
-pub struct BoxDownscaler {
+pub(crate) struct BoxDownscaler {
     w: u32,
     h: u32,
     tw: u32,
@@ -224,7 +224,7 @@ pub struct BoxDownscaler {
 }
 
 impl BoxDownscaler {
-    pub fn new((w, h): (u32, u32), (tw, th): (u32, u32)) -> Self {
+    pub(crate) fn new((w, h): (u32, u32), (tw, th): (u32, u32)) -> Self {
         let col_start = (0..=tw)
             .map(|j| (u64::from(j) * u64::from(w) / u64::from(tw)) as u32)
             .collect();
@@ -247,7 +247,7 @@ impl BoxDownscaler {
     }
 
     /// One source row, `w` RGBA8 pixels; rows beyond `h` are ignored.
-    pub fn push_rgba_row(&mut self, row: &[u8]) {
+    pub(crate) fn push_rgba_row(&mut self, row: &[u8]) {
         if self.rows_in >= self.h {
             return;
         }
@@ -290,7 +290,7 @@ impl BoxDownscaler {
     }
 
     /// The downscaled RGBA8 image, `tw`×`th`.
-    pub fn finish(mut self) -> Vec<u8> {
+    pub(crate) fn finish(mut self) -> Vec<u8> {
         while self.out_row < self.th {
             self.flush_row();
         }

@@ -17,7 +17,7 @@ fn option_arity(opt: &str) -> Option<usize> {
 
 /// Strips MTL texture options (`-s 1 1 1 file.png`) and returns the file name. `-o`, `-s` and
 /// `-t` take 1 to 3 numbers, so numeric words after them are consumed greedily.
-pub fn strip_texture_options(spec: &str) -> String {
+pub(crate) fn strip_texture_options(spec: &str) -> String {
     let words: Vec<&str> = spec.split_whitespace().collect();
     let mut i = 0;
     while i < words.len() {
@@ -40,7 +40,7 @@ pub fn strip_texture_options(spec: &str) -> String {
 /// Finds a texture file: as written, with backslashes as separators, then by case-insensitive
 /// match of each component. Refuses paths that leave `dir` unless allowed (the rule every
 /// format shares: [`super::uri`]).
-pub fn resolve_texture_path(
+pub(crate) fn resolve_texture_path(
     spec: &str,
     dir: &Path,
     allow_outside: bool,
@@ -61,7 +61,7 @@ pub(crate) fn load_texture(
 
 /// Decodes an image file already resolved (and checked against the folder rule), within the
 /// memory bounds of [`super::texture`].
-pub fn decode_texture(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
+pub(crate) fn decode_texture(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
     super::texture::decode(path, opts)
 }
 

@@ -74,7 +74,7 @@ pub enum Slot {
 }
 
 impl Slot {
-    pub fn gltf_name(self) -> &'static str {
+    pub(crate) fn gltf_name(self) -> &'static str {
         match self {
             Slot::BaseColor => "baseColorTexture",
             Slot::MetallicRoughness => "metallicRoughnessTexture",

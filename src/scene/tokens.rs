@@ -6,16 +6,16 @@ use std::io::BufRead;
 /// Longest token accepted (a number or keyword; names are skipped with [`Tokens::skip_line`]).
 const MAX_TOKEN: usize = 256;
 
-pub struct Tokens<R> {
+pub(crate) struct Tokens<R> {
     r: R,
     /// 1-based line of the last token returned.
-    pub line: usize,
+    pub(crate) line: usize,
     next_line: usize,
     tok: Vec<u8>,
 }
 
 impl<R: BufRead> Tokens<R> {
-    pub fn new(r: R, first_line: usize) -> Self {
+    pub(crate) fn new(r: R, first_line: usize) -> Self {
         Tokens {
             r,
             line: first_line,
@@ -25,7 +25,7 @@ impl<R: BufRead> Tokens<R> {
     }
 
     /// The next token, `Ok(None)` at the end of the stream.
-    pub fn token(&mut self) -> Result<Option<&[u8]>, String> {
+    pub(crate) fn token(&mut self) -> Result<Option<&[u8]>, String> {
         self.tok.clear();
         loop {
             let buf = self.r.fill_buf().map_err(|e| e.to_string())?;
@@ -64,7 +64,7 @@ impl<R: BufRead> Tokens<R> {
 
     /// The next token as a number; `what` names it in the error (the caller adds
     /// [`Tokens::line`]).
-    pub fn number(&mut self, what: &str) -> Result<f64, String> {
+    pub(crate) fn number(&mut self, what: &str) -> Result<f64, String> {
         match self.token()? {
             Some(t) => std::str::from_utf8(t)
                 .ok()
@@ -75,7 +75,7 @@ impl<R: BufRead> Tokens<R> {
     }
 
     /// Skips the rest of the current line (a name after `solid`).
-    pub fn skip_line(&mut self) -> Result<(), String> {
+    pub(crate) fn skip_line(&mut self) -> Result<(), String> {
         loop {
             let buf = self.r.fill_buf().map_err(|e| e.to_string())?;
             if buf.is_empty() {
@@ -94,7 +94,7 @@ impl<R: BufRead> Tokens<R> {
 
 impl<R> Tokens<R> {
     /// The stream itself, for binary data after a text header.
-    pub fn reader(&mut self) -> &mut R {
+    pub(crate) fn reader(&mut self) -> &mut R {
         &mut self.r
     }
 }

@@ -6,7 +6,7 @@ use glam::{DVec2, DVec3};
 
 /// The Newell normal: robust for non-planar and concave polygons; its length is twice the
 /// area of the projection onto the plane it defines.
-pub fn newell_normal(p: &[DVec3]) -> DVec3 {
+pub(crate) fn newell_normal(p: &[DVec3]) -> DVec3 {
     let mut n = DVec3::ZERO;
     for (i, a) in p.iter().enumerate() {
         let b = p[(i + 1) % p.len()];
@@ -38,7 +38,7 @@ fn is_convex(q: &[DVec2]) -> bool {
 }
 
 /// Triangles (indices into `p`) covering the polygon `p`, wound like `p`.
-pub fn polygon(p: &[DVec3]) -> Vec<[usize; 3]> {
+pub(crate) fn polygon(p: &[DVec3]) -> Vec<[usize; 3]> {
     let n = p.len();
     let fan = || (1..n.saturating_sub(1)).map(|i| [0, i, i + 1]).collect();
     if n <= 3 {

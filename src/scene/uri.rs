@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 /// Where the bytes of a URI are.
 #[derive(Debug)]
-pub enum Resolved {
+pub(crate) enum Resolved {
     /// Decoded from a `data:` URI.
     Data(Vec<u8>),
     /// A file that exists and obeys the folder rule (canonical path).
@@ -15,7 +15,7 @@ pub enum Resolved {
 }
 
 /// Resolves `uri` (as written in a glTF file) against `dir`, the model's folder.
-pub fn resolve(uri: &str, dir: &Path, allow_outside: bool) -> Result<Resolved, String> {
+pub(crate) fn resolve(uri: &str, dir: &Path, allow_outside: bool) -> Result<Resolved, String> {
     if let Some(rest) = strip_prefix_ignore_case(uri, "data:") {
         return data_uri(rest).map(Resolved::Data);
     }
@@ -52,7 +52,7 @@ fn scheme_of(uri: &str) -> Option<&str> {
 }
 
 /// `%20` → space; a `%` not followed by two hex digits stays as it is.
-pub fn percent_decode(s: &[u8]) -> Vec<u8> {
+pub(crate) fn percent_decode(s: &[u8]) -> Vec<u8> {
     let hex = |c: u8| (c as char).to_digit(16).map(|d| d as u8);
     let mut out = Vec::with_capacity(s.len());
     let mut i = 0;
@@ -83,7 +83,7 @@ fn data_uri(rest: &str) -> Result<Vec<u8>, String> {
 }
 
 /// Standard or URL-safe base64, padding optional, whitespace ignored.
-pub fn base64(s: &[u8]) -> Option<Vec<u8>> {
+pub(crate) fn base64(s: &[u8]) -> Option<Vec<u8>> {
     let val = |c: u8| -> Option<u32> {
         Some(match c {
             b'A'..=b'Z' => c - b'A',
@@ -121,7 +121,7 @@ pub fn base64(s: &[u8]) -> Option<Vec<u8>> {
 
 /// A file named relative to `dir` (or absolute): as written, then by case-insensitive match of
 /// each component; symlinks and `..` are resolved before the folder rule is applied.
-pub fn in_folder(name: &str, dir: &Path, allow_outside: bool) -> Result<PathBuf, String> {
+pub(crate) fn in_folder(name: &str, dir: &Path, allow_outside: bool) -> Result<PathBuf, String> {
     if name.is_empty() {
         return Err("no file name".into());
     }

@@ -5,12 +5,12 @@
 use super::Scene;
 
 /// Opacity given to x-rayed surfaces unless `--opacity` says otherwise.
-pub const XRAY_OPACITY: f32 = 0.3;
+pub(crate) const XRAY_OPACITY: f32 = 0.3;
 
 impl Scene {
     /// Applies `--xray`; a name that matches no material and no object is an error naming it
     /// and the names there are.
-    pub fn xray(&mut self, names: &[String], opacity: f32) -> Result<(), String> {
+    pub(crate) fn xray(&mut self, names: &[String], opacity: f32) -> Result<(), String> {
         let mut rayed = vec![false; self.materials.len()];
         for name in names {
             let by_material: Vec<usize> = (0..self.materials.len())

@@ -12,7 +12,7 @@ use std::rc::{Rc, Weak};
 
 /// How a flag becomes a `#define` and a part of the label.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum FlagKind {
+pub(crate) enum FlagKind {
     /// `#define NAME value`; label `short` + value (e.g. `l2`).
     Count,
     /// `#define NAME 1` when non-zero, nothing otherwise; label `short` when set.
@@ -26,26 +26,26 @@ pub enum FlagKind {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Flag {
-    pub define: &'static str,
-    pub short: &'static str,
-    pub kind: FlagKind,
-    pub value: i32,
+pub(crate) struct Flag {
+    pub(crate) define: &'static str,
+    pub(crate) short: &'static str,
+    pub(crate) kind: FlagKind,
+    pub(crate) value: i32,
 }
 
 /// Everything that changes a program's source; the cache key.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct ProgramKey {
     /// Label prefix, e.g. `lit`.
-    pub name: &'static str,
-    pub vertex: &'static str,
-    pub fragment: &'static str,
-    pub flags: Vec<Flag>,
+    pub(crate) name: &'static str,
+    pub(crate) vertex: &'static str,
+    pub(crate) fragment: &'static str,
+    pub(crate) flags: Vec<Flag>,
 }
 
 impl ProgramKey {
     /// A program from `NAME.vert` + `NAME.frag` without flags.
-    pub fn new(name: &'static str, vertex: &'static str, fragment: &'static str) -> Self {
+    pub(crate) fn new(name: &'static str, vertex: &'static str, fragment: &'static str) -> Self {
         ProgramKey {
             name,
             vertex,
@@ -64,29 +64,29 @@ impl ProgramKey {
         self
     }
 
-    pub fn count(self, define: &'static str, short: &'static str, v: i32) -> Self {
+    pub(crate) fn count(self, define: &'static str, short: &'static str, v: i32) -> Self {
         self.with(define, short, FlagKind::Count, v)
     }
 
-    pub fn switch(self, define: &'static str, short: &'static str, on: bool) -> Self {
+    pub(crate) fn switch(self, define: &'static str, short: &'static str, on: bool) -> Self {
         self.with(define, short, FlagKind::Switch, i32::from(on))
     }
 
-    pub fn hidden(self, define: &'static str, v: i32) -> Self {
+    pub(crate) fn hidden(self, define: &'static str, v: i32) -> Self {
         self.with(define, "", FlagKind::Hidden, v)
     }
 
-    pub fn hidden_float(self, define: &'static str, v: i32) -> Self {
+    pub(crate) fn hidden_float(self, define: &'static str, v: i32) -> Self {
         self.with(define, "", FlagKind::HiddenFloat, v)
     }
 
-    pub fn mask(self, define: &'static str, short: &'static str, v: i32) -> Self {
+    pub(crate) fn mask(self, define: &'static str, short: &'static str, v: i32) -> Self {
         self.with(define, short, FlagKind::Mask, v)
     }
 
     /// A short name for stats and errors, e.g. `lit[l1,s1,pcf4,tex]`; flagless keys are just
     /// the name.
-    pub fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         let parts: Vec<String> = self
             .flags
             .iter()
@@ -104,7 +104,7 @@ impl ProgramKey {
         }
     }
 
-    pub fn defines(&self) -> Vec<(&'static str, String)> {
+    pub(crate) fn defines(&self) -> Vec<(&'static str, String)> {
         self.flags
             .iter()
             .filter_map(|f| match f.kind {
@@ -138,7 +138,7 @@ thread_local! {
 }
 
 impl ProgramCache {
-    pub fn new(gpu: &GpuRef) -> Self {
+    pub(crate) fn new(gpu: &GpuRef) -> Self {
         ProgramCache {
             gpu: gpu.clone(),
             programs: HashMap::new(),
@@ -167,7 +167,7 @@ impl ProgramCache {
         })
     }
 
-    pub fn get(&mut self, key: &ProgramKey) -> Result<Rc<Program>> {
+    pub(crate) fn get(&mut self, key: &ProgramKey) -> Result<Rc<Program>> {
         if let Some(p) = self.programs.get(key) {
             return Ok(p.clone());
         }
@@ -188,7 +188,7 @@ impl ProgramCache {
 
     /// Programs compiled so far and the milliseconds spent compiling and linking them (the
     /// driver may finish linking lazily at first use, which this cannot see).
-    pub fn compiled(&self) -> (usize, f64) {
+    pub(crate) fn compiled(&self) -> (usize, f64) {
         (self.compiled, self.compile_ms)
     }
 
@@ -196,6 +196,7 @@ impl ProgramCache {
         self.programs.len()
     }
 
+    /// Whether no program is compiled yet (clippy's `len_without_is_empty`: `len` is public).
     pub fn is_empty(&self) -> bool {
         self.programs.is_empty()
     }

@@ -6,7 +6,7 @@ use crate::gpu::Dialect;
 pub mod cache;
 
 /// (name, source) of every shader file, embedded at build time.
-pub const SOURCES: &[(&str, &str)] = &[
+pub(crate) const SOURCES: &[(&str, &str)] = &[
     ("lit.vert", include_str!("../../shaders_gl/lit.vert")),
     ("lit.frag", include_str!("../../shaders_gl/lit.frag")),
     ("depth.vert", include_str!("../../shaders_gl/depth.vert")),
@@ -95,7 +95,7 @@ pub const SOURCES: &[(&str, &str)] = &[
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stage {
+pub(crate) enum Stage {
     Vertex,
     Fragment,
 }
@@ -111,7 +111,7 @@ fn source(name: &str) -> &'static str {
 /// The header that makes one body valid in each dialect. GLSL 1.20 rejects `precision`
 /// statements, so they only appear for ES, where `highp` keeps llvmpipe from evaluating
 /// fragments at half precision.
-pub fn header(dialect: Dialect, stage: Stage) -> &'static str {
+pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
     match (dialect, stage) {
         (Dialect::Glsl120, Stage::Vertex) => {
             "#version 120\n#define IN attribute\n#define OUT varying\n"
@@ -166,7 +166,12 @@ fn resolve_includes(body: &str) -> String {
 }
 
 /// Header + `#define NAME VALUE` lines + body.
-pub fn assemble(dialect: Dialect, stage: Stage, defines: &[(&str, String)], file: &str) -> String {
+pub(crate) fn assemble(
+    dialect: Dialect,
+    stage: Stage,
+    defines: &[(&str, String)],
+    file: &str,
+) -> String {
     let mut s = String::from(header(dialect, stage));
     for (name, value) in defines {
         s.push_str(&format!("#define {name} {value}\n"));

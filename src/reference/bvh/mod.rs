@@ -8,18 +8,18 @@ use rayon::prelude::*;
 
 /// Which scene triangle a BVH primitive is: mesh index and triangle index within the mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TriRef {
-    pub mesh: u32,
-    pub tri: u32,
+pub(crate) struct TriRef {
+    pub(crate) mesh: u32,
+    pub(crate) tri: u32,
 }
 
 /// A ray–triangle hit: ray parameter and the barycentric weights of vertices 1 and 2.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hit {
-    pub t: f64,
-    pub u: f64,
-    pub v: f64,
-    pub tri: TriRef,
+pub(crate) struct Hit {
+    pub(crate) t: f64,
+    pub(crate) u: f64,
+    pub(crate) v: f64,
+    pub(crate) tri: TriRef,
 }
 
 /// Vertex 0 and the two edges from it, as Möller–Trumbore wants them.
@@ -40,7 +40,7 @@ struct Node {
     count: u32,
 }
 
-pub struct Bvh {
+pub(crate) struct Bvh {
     nodes: Vec<Node>,
     tris: Vec<Tri>,
     refs: Vec<TriRef>,
@@ -56,7 +56,7 @@ const MAX_DEPTH: usize = build::SAH_DEPTH + 33;
 impl Bvh {
     /// Builds over the given triangles (positions in f64); zero-area ones are kept but are
     /// never hit (their determinant is zero).
-    pub fn build(input: Vec<([DVec3; 3], TriRef)>) -> Bvh {
+    pub(crate) fn build(input: Vec<([DVec3; 3], TriRef)>) -> Bvh {
         let (nodes, order) = build::build(input.par_iter().map(|(p, _)| p));
         let tris = order
             .iter()
@@ -74,13 +74,14 @@ impl Bvh {
     }
 
     /// The nearest hit with `t_min <= t <= t_max`.
-    pub fn closest(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<Hit> {
+    #[cfg(test)] // only the unit tests call it
+    pub(crate) fn closest(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<Hit> {
         self.closest_where(o, d, t_min, t_max, |_| true)
     }
 
     /// The nearest hit `accept` takes (the material model's cut-outs and culled back faces
     /// are hits the rasterizer does not draw).
-    pub fn closest_where(
+    pub(crate) fn closest_where(
         &self,
         o: DVec3,
         d: DVec3,
@@ -101,12 +102,13 @@ impl Bvh {
     }
 
     /// Whether anything lies on the ray within `t_min < t < t_max` (shadow rays).
-    pub fn occluded(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> bool {
+    #[cfg(test)] // only the unit tests call it
+    pub(crate) fn occluded(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> bool {
         self.occluded_where(o, d, t_min, t_max, |_| true)
     }
 
     /// Whether a hit `accept` takes lies on the ray within `t_min < t < t_max`.
-    pub fn occluded_where(
+    pub(crate) fn occluded_where(
         &self,
         o: DVec3,
         d: DVec3,
@@ -124,7 +126,7 @@ impl Bvh {
     }
 
     /// Appends every hit within `t_min <= t <= t_max`, unordered.
-    pub fn all(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64, out: &mut Vec<Hit>) {
+    pub(crate) fn all(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64, out: &mut Vec<Hit>) {
         let mut t_max = t_max;
         self.traverse(o, d, t_min, &mut t_max, |hit, _| {
             out.push(hit);

@@ -8,13 +8,13 @@ use std::collections::HashMap;
 use std::path::Path;
 
 /// What the loader takes from the repair pass and tobj, as the fast path found it.
-pub struct Parsed {
-    pub models: Vec<tobj::Model>,
-    pub materials: Result<Vec<tobj::Material>, tobj::LoadError>,
+pub(crate) struct Parsed {
+    pub(crate) models: Vec<tobj::Model>,
+    pub(crate) materials: Result<Vec<tobj::Material>, tobj::LoadError>,
     /// Every `usemtl` name with its line.
-    pub usemtl: Vec<(usize, String)>,
+    pub(crate) usemtl: Vec<(usize, String)>,
     /// Smoothing group per face; empty when the file has no `s` statement.
-    pub face_groups: Vec<u32>,
+    pub(crate) face_groups: Vec<u32>,
 }
 
 /// The model being filled (tobj's `TmpModels`), with the dedup tables.
@@ -173,7 +173,7 @@ impl<'a, const N: usize> Pool<'a, N> {
     }
 }
 
-pub fn build(
+pub(crate) fn build(
     chunks: Vec<Chunk>,
     bases: &[Base],
     mtl: &mut dyn FnMut(&Path) -> tobj::MTLLoadResult,

@@ -5,22 +5,22 @@
 //! events. `None` = a line the fast path does not take on (the whole file falls back).
 
 /// A missing `vt` or `vn` in a corner (tobj's `MISSING_INDEX`).
-pub const MISSING: u32 = u32::MAX;
+pub(crate) const MISSING: u32 = u32::MAX;
 /// Marks a relative index: `REL | (seen in this chunk + index + REL_BIAS)`.
-pub const REL: u32 = 1 << 31;
-pub const REL_BIAS: i64 = 1 << 30;
+pub(crate) const REL: u32 = 1 << 31;
+pub(crate) const REL_BIAS: i64 = 1 << 30;
 
 use super::scan::Scan;
 
 /// A statement applied in file order, before face `face` (chunk-local) of the file.
-pub struct Event {
-    pub face: usize,
+pub(crate) struct Event {
+    pub(crate) face: usize,
     /// Line number within the chunk (0-based).
-    pub line: usize,
-    pub kind: EventKind,
+    pub(crate) line: usize,
+    pub(crate) kind: EventKind,
 }
 
-pub enum EventKind {
+pub(crate) enum EventKind {
     /// `o` or `g`: the model name as tobj takes it.
     Name(String),
     /// `usemtl`: the name as repair records it, and as tobj looks it up.
@@ -32,23 +32,23 @@ pub enum EventKind {
 }
 
 #[derive(Default)]
-pub struct Chunk {
-    pub lines: usize,
-    pub pos: Vec<f64>,
-    pub nrm: Vec<f64>,
-    pub tex: Vec<f64>,
+pub(crate) struct Chunk {
+    pub(crate) lines: usize,
+    pub(crate) pos: Vec<f64>,
+    pub(crate) nrm: Vec<f64>,
+    pub(crate) tex: Vec<f64>,
     /// Corners as (v, vt, vn); encoded until [`super::resolve`] makes them absolute.
-    pub corners: Vec<[u32; 3]>,
+    pub(crate) corners: Vec<[u32; 3]>,
     /// Corners per face.
-    pub arity: Vec<u32>,
-    pub events: Vec<Event>,
+    pub(crate) arity: Vec<u32>,
+    pub(crate) events: Vec<Event>,
     /// Per kind (v, vt, vn): the largest `absolute index − elements seen so far in the chunk`
     /// (must stay below the chunk's base: no forward references).
-    pub ahead: [i64; 3],
+    pub(crate) ahead: [i64; 3],
 }
 
 impl Chunk {
-    pub fn parse(bytes: &[u8]) -> Option<Chunk> {
+    pub(crate) fn parse(bytes: &[u8]) -> Option<Chunk> {
         let mut c = Chunk {
             ahead: [i64::MIN; 3],
             ..Chunk::default()

@@ -1,4 +1,4 @@
-//! The fast OBJ path: one pass over the bytes that does what [`super::repair`] and tobj do
+//! The fast OBJ path: one pass over the bytes that does what `super::repair` and tobj do
 //! together, for files where that is certain. The file is cut into chunks at line ends and
 //! the chunks are parsed in parallel (`chunk`); element counts are prefix-summed so
 //! relative indices resolve (`resolve`); then one ordered pass applies names, materials and
@@ -14,7 +14,7 @@ use chunk::{Chunk, MISSING, REL, REL_BIAS};
 use rayon::prelude::*;
 use std::path::Path;
 
-pub use build::Parsed;
+pub(crate) use build::Parsed;
 
 /// Which OBJ parser [`super::obj`] runs.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -31,7 +31,7 @@ pub enum Parser {
 impl Parser {
     /// The parser the environment asks for: `GLVIEW_OBJ_PARSER=tobj` forces the old path
     /// (for comparisons and the load benchmark).
-    pub fn from_env() -> Parser {
+    pub(crate) fn from_env() -> Parser {
         match std::env::var("GLVIEW_OBJ_PARSER") {
             Ok(v) if v.eq_ignore_ascii_case("tobj") => Parser::Tobj,
             _ => Parser::Auto,
@@ -64,7 +64,7 @@ fn split(bytes: &[u8], size: usize) -> Vec<&[u8]> {
 
 /// Parses an OBJ file on the fast path; `None` when the old path must run instead.
 /// `mtl` loads a material library as tobj's loader callback would (same order of calls).
-pub fn parse(
+pub(crate) fn parse(
     bytes: &[u8],
     chunk: Option<usize>,
     progress: &(dyn Fn(u64) + Sync),
@@ -96,10 +96,10 @@ pub fn parse(
 }
 
 /// Where a chunk starts: elements (v, vt, vn), faces and lines before it.
-pub struct Base {
-    pub elems: [usize; 3],
-    pub faces: usize,
-    pub lines: usize,
+pub(crate) struct Base {
+    pub(crate) elems: [usize; 3],
+    pub(crate) faces: usize,
+    pub(crate) lines: usize,
 }
 
 fn prefix(chunks: &[Chunk]) -> Option<Vec<Base>> {

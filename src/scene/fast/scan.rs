@@ -3,17 +3,17 @@
 //! spaces and tabs separate words, and a `\r` only counts before `\n` or at the end of the
 //! file (as the old path strips it); any other byte inside a number makes it fail, and the
 //! file falls back to the old path, which reads words split at any Unicode whitespace.
-pub struct Scan<'a> {
+pub(crate) struct Scan<'a> {
     b: &'a [u8],
-    pub i: usize,
+    pub(crate) i: usize,
 }
 
 impl<'a> Scan<'a> {
-    pub fn new(b: &'a [u8]) -> Self {
+    pub(crate) fn new(b: &'a [u8]) -> Self {
         Scan { b, i: 0 }
     }
 
-    pub fn rest(&self) -> &'a [u8] {
+    pub(crate) fn rest(&self) -> &'a [u8] {
         &self.b[self.i..]
     }
 
@@ -28,7 +28,7 @@ impl<'a> Scan<'a> {
     }
 
     #[inline]
-    pub fn blanks(&mut self) {
+    pub(crate) fn blanks(&mut self) {
         while matches!(self.b.get(self.i), Some(b' ' | b'\t')) {
             self.i += 1;
         }
@@ -36,7 +36,7 @@ impl<'a> Scan<'a> {
 
     /// Consumes the line end (`\n`, `\r\n`, or `\r` / nothing at the end of the chunk).
     #[inline]
-    pub fn end_line(&mut self) -> bool {
+    pub(crate) fn end_line(&mut self) -> bool {
         match self.b.get(self.i) {
             None => true,
             Some(b'\n') => {
@@ -53,7 +53,7 @@ impl<'a> Scan<'a> {
 
     /// Whether the cursor is at the end of the line (nothing consumed).
     #[inline]
-    pub fn at_line_end(&self) -> bool {
+    pub(crate) fn at_line_end(&self) -> bool {
         match self.b.get(self.i) {
             None | Some(b'\n') => true,
             Some(b'\r') => self.sep(self.i),
@@ -79,7 +79,7 @@ impl<'a> Scan<'a> {
     /// `nan`, a decimal that overflows to infinity, an empty word) goes to `str::parse` on the
     /// whole word, which decides acceptance and value exactly as before.
     #[inline]
-    pub fn float(&mut self) -> Option<f64> {
+    pub(crate) fn float(&mut self) -> Option<f64> {
         let (b, start) = (self.b, self.i);
         if let Ok((x, n)) = fast_float2::parse_partial::<f64, _>(&b[start..]) {
             if x.is_finite() && self.sep(start + n) {
@@ -98,7 +98,7 @@ impl<'a> Scan<'a> {
 
     /// A face index: `-`? up to 12 digits (more, or `+`, fall back).
     #[inline]
-    pub fn index(&mut self) -> Option<i64> {
+    pub(crate) fn index(&mut self) -> Option<i64> {
         let b = self.b;
         let neg = b.get(self.i) == Some(&b'-');
         let start = self.i + usize::from(neg);
@@ -117,7 +117,7 @@ impl<'a> Scan<'a> {
 
     /// Consumes `c` if it is next.
     #[inline]
-    pub fn eat(&mut self, c: u8) -> bool {
+    pub(crate) fn eat(&mut self, c: u8) -> bool {
         let hit = self.b.get(self.i) == Some(&c);
         self.i += usize::from(hit);
         hit
@@ -125,7 +125,7 @@ impl<'a> Scan<'a> {
 
     /// Whether the next byte ends a word.
     #[inline]
-    pub fn at_sep(&self) -> bool {
+    pub(crate) fn at_sep(&self) -> bool {
         self.sep(self.i)
     }
 }
