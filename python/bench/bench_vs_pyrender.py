@@ -11,6 +11,10 @@ is an open scan).
 
     bash scripts/bench_python.sh       # makes both venvs, then runs this
 
+A second table (glview alone) times one call that changes only the exposure, the tier, the
+bloom or the camera after a first picture (issue #41: an option of the view uploads nothing
+and costs about what a camera change costs).
+
 Each renderer runs in its own venv (pyrender needs numpy<2 and PyOpenGL on EGL), as a child
 process of this script: `python bench_vs_pyrender.py glview|pyrender MODEL` prints one JSON
 line; without arguments it runs both children and prints the table.
@@ -54,6 +58,34 @@ def bench_glview(model):
                         assert img.depth is not None
 
                 row["shadow" if shadow else "no shadow"] = timed(run)
+        out["options"] = option_changes(r)
+    return out
+
+
+CHANGES = 20
+
+
+def option_changes(r):
+    """The issue's measurement: after a first picture, the milliseconds of a call that changes
+    only the exposure, the tier (shading), the bloom, or the camera (yaw); each call's
+    value differs from the one before (two values alternate; the yaw takes 20), median of
+    20, and the scenes uploaded meanwhile (from each picture's stats; 0 expected)."""
+    cases = {
+        "exposure": [{"exposure": 1.0}, {"exposure": 0.0}],
+        "shading": [{"shading": "phong"}, {"shading": "pbr"}],
+        "bloom": [{"bloom": 0.5}, {"bloom": 0.0}],
+        "yaw": [{"yaw": 360 * i / CHANGES} for i in range(CHANGES)],
+    }
+    out = {}
+    for name, values in cases.items():
+        r.render(depth=True, **values[-1])  # the first picture (and the value before the first)
+        times, uploads = [], 0
+        for i in range(CHANGES):
+            t = time.perf_counter()
+            img = r.render(depth=True, **values[i % len(values)])
+            times.append(time.perf_counter() - t)
+            uploads += img.stats["profile"]["scene_uploads"]
+        out[name] = {"ms": 1000 * statistics.median(times), "uploads": uploads}
     return out
 
 
@@ -143,6 +175,15 @@ def main():
             f"| {label} ÷ pyrender | {g[kit]['shadow'] / p['shadow']:.1f}× | "
             f"{g[kit]['no shadow'] / p['no shadow']:.1f}× |"
         )
+    print()
+    print(
+        f"glview, its defaults, colour + depth: one call changing one option after a first "
+        f"picture, ms (median of {CHANGES})"
+    )
+    print("| change | ms | scenes uploaded |")
+    print("| --- | ---: | ---: |")
+    for name, v in g["options"].items():
+        print(f"| {name} | {v['ms']:.2f} | {v['uploads']} |")
 
 
 if __name__ == "__main__":
