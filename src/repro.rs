@@ -3,7 +3,7 @@
 //! since start-up), as JSON (`glview.options`, read back by `glview --repro FILE.png`) and
 //! as a command line for people (`glview.command`).
 use crate::camera::OrbitCamera;
-use crate::options::{Camera, Options, Ortho, Picture};
+use crate::options::{Camera, Load, Options, Ortho, Picture};
 
 /// The options without what does not decide the scene, the environment or the lights
 /// (camera, size, keys, frames, stats).
@@ -15,22 +15,51 @@ fn scene_part(args: &Options) -> Options {
 }
 
 /// What decides the uploaded scene of a picture: the load options (with the x-ray opacity
-/// they bake in), and the model file's size and time (so a file changed between two
-/// pictures is read again). Equal keys share a GPU scene: the camera, tier, lights,
-/// environment, exposure, post-processing and size are the view's and upload nothing.
-pub(crate) fn scene_key(args: &Options) -> String {
-    let stamp = args
-        .load
-        .model
-        .as_ref()
-        .and_then(|m| std::fs::metadata(m).ok())
-        .map(|m| format!("{} {:?}", m.len(), m.modified().ok()))
-        .unwrap_or_default();
-    let xray_opacity = (!args.load.xray.is_empty()).then_some(args.render.opacity);
-    let mut key = serde_json::to_string(&(&args.load, xray_opacity)).unwrap_or_default();
-    key.push('\0');
-    key.push_str(&stamp);
-    key
+/// they bake in), the name of a scene given in memory (the library API's models), and the
+/// model file's size and time (so a file changed between two pictures is read again). Equal
+/// keys share a GPU scene: the camera, tier, lights, environment, exposure,
+/// post-processing and size are the view's and upload nothing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneKey {
+    given: Option<String>,
+    load: Load,
+    xray_opacity: Option<Option<f32>>,
+    stamp: Stamp,
+}
+
+/// The model file's size and modification time (`None` without a model or a readable file).
+pub type Stamp = Option<(u64, Option<std::time::SystemTime>)>;
+
+/// One `stat` of the model file: kept per picture (a few µs) because it is what sees a file
+/// rewritten between two pictures of one session.
+pub fn stamp(args: &Options) -> Stamp {
+    let m = std::fs::metadata(args.load.model.as_ref()?).ok()?;
+    Some((m.len(), m.modified().ok()))
+}
+
+fn xray_opacity(args: &Options) -> Option<Option<f32>> {
+    (!args.load.xray.is_empty()).then_some(args.render.opacity)
+}
+
+impl SceneKey {
+    /// The key of the scene `args` draws (`given`: the caller's name of an in-memory scene).
+    pub fn new(args: &Options, given: Option<&str>, stamp: Stamp) -> SceneKey {
+        SceneKey {
+            given: given.map(str::to_string),
+            load: args.load.clone(),
+            xray_opacity: xray_opacity(args),
+            stamp,
+        }
+    }
+
+    /// Whether a picture of `args` draws this scene: the typed options compared in place
+    /// (nothing serialised or cloned per picture).
+    pub fn matches(&self, args: &Options, given: Option<&str>, stamp: &Stamp) -> bool {
+        self.given.as_deref() == given
+            && self.load == args.load
+            && self.xray_opacity == xray_opacity(args)
+            && self.stamp == *stamp
+    }
 }
 
 /// The options that draw this picture again: `args` (their `--keys` already replayed into
@@ -126,7 +155,12 @@ mod tests {
             "0.001",
         ])
         .unwrap();
-        assert_eq!(scene_key(&a), scene_key(&b));
+        let key = SceneKey::new(&a, None, stamp(&a));
+        assert!(key.matches(&b, None, &stamp(&b)));
+        assert!(!key.matches(&b, Some("arrays"), &stamp(&b)));
+        let mut c = b.clone();
+        c.load.flat = true;
+        assert!(!key.matches(&c, None, &stamp(&c)));
         let b = crate::scene::Bounds {
             min: glam::Vec3::splat(-1.0),
             max: glam::Vec3::splat(1.0),

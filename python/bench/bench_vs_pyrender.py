@@ -1,6 +1,7 @@
 """glview's Python API beside pyrender on one job: the Stanford bunny, 24 views around it at
 640×480, colour and depth arrays out, with and without a directional shadow; pictures per
-second (median of 3 timed runs after a warm-up picture), both in one table from one run.
+second (median of 3 timed runs after a warm-up picture, in each of 3 rounds where the two
+renderers' processes alternate; the table gives the median round), both in one table.
 
 pyrender's scene is one directional light (from (1, 2, 1.5) towards the model), ambient 0.2,
 and the mesh single-sided (pyrender's default material culls back faces). glview runs that
@@ -11,9 +12,14 @@ is an open scan).
 
     bash scripts/bench_python.sh       # makes both venvs, then runs this
 
+A second table (glview alone, its defaults) times a call that changes only the exposure, the
+tier or the bloom after a first picture, and the call after it that changes only the camera
+(so both draw the same settings) — issue #41: an option of the view uploads nothing and
+costs about what a camera change costs.
+
 Each renderer runs in its own venv (pyrender needs numpy<2 and PyOpenGL on EGL), as a child
-process of this script: `python bench_vs_pyrender.py glview|pyrender MODEL` prints one JSON
-line; without arguments it runs both children and prints the table.
+process of this script: `python bench_vs_pyrender.py glview|pyrender MODEL [options]` prints one
+JSON line; without arguments it runs both children and prints the table.
 """
 import json
 import math
@@ -23,7 +29,8 @@ import subprocess
 import sys
 import time
 
-W, H, VIEWS, RUNS = 640, 480, 24, 3
+W, H, VIEWS, RUNS, ROUNDS = 640, 480, 24, 3, 3
+COLUMNS = ("shadow", "no shadow")
 
 
 def timed(render_all):
@@ -36,7 +43,7 @@ def timed(render_all):
     return VIEWS / statistics.median(times)
 
 
-def bench_glview(model):
+def bench_glview(model, options=False):
     import glview
 
     out = {}
@@ -54,7 +61,49 @@ def bench_glview(model):
                         assert img.depth is not None
 
                 row["shadow" if shadow else "no shadow"] = timed(run)
+        if options:
+            out["options"] = option_changes(r)
     return out
+
+
+CHANGES = 20
+
+
+def option_changes(r):
+    """The issue's measurement, glview's defaults, colour + depth: after a first picture, a
+    call that changes only the exposure, the tier or the bloom (to the value named), beside
+    a call that then changes only the camera (the same settings, so the same picture cost):
+    median of 20 each, interleaved so the machine's load falls on both alike; and the
+    scenes uploaded by the option changes (from each picture's stats; 0 expected)."""
+    cases = {
+        "exposure=1": ({"exposure": 0.0}, {"exposure": 1.0}),
+        'shading="phong"': ({"shading": "pbr"}, {"shading": "phong"}),
+        "bloom=0.5": ({"bloom": 0.0}, {"bloom": 0.5}),
+    }
+    times = {name: ([], []) for name in cases}
+    uploads = dict.fromkeys(cases, 0)
+    for i in range(CHANGES + 1):
+        yaw = 360 * i / CHANGES
+        for name, (before, after) in cases.items():
+            r.render(depth=True, yaw=yaw, **before)
+            t = time.perf_counter()
+            img = r.render(depth=True, yaw=yaw, **after)
+            option = time.perf_counter() - t
+            t = time.perf_counter()
+            r.render(depth=True, yaw=yaw + 7.5, **after)
+            camera = time.perf_counter() - t
+            if i > 0:  # the first round is the warm-up (programs, environment maps)
+                times[name][0].append(option)
+                times[name][1].append(camera)
+                uploads[name] += img.stats["profile"]["scene_uploads"]
+    return {
+        name: {
+            "option_ms": 1000 * statistics.median(o),
+            "yaw_ms": 1000 * statistics.median(c),
+            "uploads": uploads[name],
+        }
+        for name, (o, c) in times.items()
+    }
 
 
 # pyrender's light below travels from center + (1, 2, 1.5) r towards the center; its mesh
@@ -112,25 +161,38 @@ def main():
     here = os.path.dirname(os.path.abspath(__file__))
     repo = os.path.dirname(os.path.dirname(here))
     model = os.path.join(repo, "..", "shared", "models", "stanford-bunny", "stanford-bunny.obj")
-    if len(sys.argv) == 3:
-        fn = bench_glview if sys.argv[1] == "glview" else bench_pyrender
-        print(json.dumps(fn(sys.argv[2])))
+    if len(sys.argv) >= 3:
+        if sys.argv[1] == "glview":
+            print(json.dumps(bench_glview(sys.argv[2], options="options" in sys.argv[3:])))
+        else:
+            print(json.dumps(bench_pyrender(sys.argv[2])))
         return
     pythons = {
         "glview": os.path.join(repo, "target", "pyvenv", "bin", "python"),
         "pyrender": os.path.join(repo, "target", "pyrender-venv", "bin", "python"),
     }
-    rows = {}
-    for name, py in pythons.items():
-        p = subprocess.run([py, __file__, name, model], capture_output=True, text=True)
-        if p.returncode != 0:
-            sys.exit(f"{name} failed:\n{p.stderr}")
-        rows[name] = json.loads(p.stdout.strip().splitlines()[-1])
-    print(f"bunny, {VIEWS} views, {W}x{H}, colour + depth arrays; pictures/s (median of {RUNS})")
+    # The two alternate, ROUNDS times each, so a shared machine's load falls on both alike;
+    # each cell is the median of the rounds (each round's figure a median of RUNS).
+    rounds = {name: [] for name in pythons}
+    for i in range(ROUNDS):
+        for name, py in pythons.items():
+            extra = ["options"] if name == "glview" and i == 0 else []
+            p = subprocess.run([py, __file__, name, model, *extra], capture_output=True, text=True)
+            if p.returncode != 0:
+                sys.exit(f"{name} failed:\n{p.stderr}")
+            rounds[name].append(json.loads(p.stdout.strip().splitlines()[-1]))
+    p = {c: statistics.median(r[c] for r in rounds["pyrender"]) for c in COLUMNS}
+    g = {
+        kit: {c: statistics.median(r[kit][c] for r in rounds["glview"]) for c in COLUMNS}
+        for kit in ("one light", "kit")
+    }
+    g["options"] = rounds["glview"][0]["options"]
+    print(
+        f"bunny, {VIEWS} views, {W}x{H}, colour + depth arrays; pictures/s (median of {ROUNDS} "
+        f"alternating rounds, each the median of {RUNS} runs)"
+    )
     print("| renderer | with shadow | without shadow |")
     print("| --- | ---: | ---: |")
-    p = rows["pyrender"]
-    g = rows["glview"]
     labels = {
         "one light": "glview, pyrender's scene (one light, single-sided)",
         "kit": "glview, its defaults (three lights, both sides)",
@@ -143,6 +205,15 @@ def main():
             f"| {label} ÷ pyrender | {g[kit]['shadow'] / p['shadow']:.1f}× | "
             f"{g[kit]['no shadow'] / p['no shadow']:.1f}× |"
         )
+    print()
+    print(
+        f"glview, its defaults, colour + depth: a call changing one option after a first "
+        f"picture, then one changing the camera; ms (median of {CHANGES})"
+    )
+    print("| option changed | ms | then a camera change (yaw) | scenes uploaded |")
+    print("| --- | ---: | ---: | ---: |")
+    for name, v in g["options"].items():
+        print(f"| {name} | {v['option_ms']:.2f} | {v['yaw_ms']:.2f} | {v['uploads']} |")
 
 
 if __name__ == "__main__":

@@ -97,7 +97,9 @@ class Image:
         stats: Optional[dict] = None,
     ) -> None:
         self.color = color
-        self.text = list(text or [])
+        # A native PictureText is made into pairs on first use of ``text`` (a picture used
+        # as arrays never pays for its options' JSON and command line).
+        self._text: Any = text if isinstance(text, _native.PictureText) else list(text or [])
         self.depth = depth
         self.normals = normals
         self.object_ids = object_ids
@@ -106,6 +108,23 @@ class Image:
         self.object_names = list(object_names)
         self.material_names = list(material_names)
         self.stats = stats or {}
+
+    @property
+    def text(self) -> List[Tuple[str, str]]:
+        """The PNG text chunks (renderer, camera, the reproducing command line) as pairs."""
+        if isinstance(self._text, _native.PictureText):
+            self._text = self._text.pairs()
+        return self._text
+
+    @text.setter
+    def text(self, text: List[Tuple[str, str]]) -> None:
+        self._text = list(text)
+
+    def __getstate__(self) -> Dict[str, Any]:
+        # Pickled (a dask result) with its text as pairs: the native object does not pickle.
+        state = dict(self.__dict__)
+        state["_text"] = self.text
+        return state
 
     @property
     def rgb(self) -> np.ndarray:

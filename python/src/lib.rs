@@ -63,6 +63,22 @@ fn options_words(json: &str) -> PyResult<Vec<String>> {
     Ok(options(json)?.to_words())
 }
 
+/// A picture's PNG text, made when `pairs()` is called (`glview.Image.text` calls it on
+/// first use): a picture used only as arrays never serialises its options.
+#[pyclass(module = "glview._glview", frozen)]
+struct PictureText(glview::session::PictureText);
+
+#[pymethods]
+impl PictureText {
+    fn pairs(&self) -> Vec<(String, String)> {
+        self.0
+            .text()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect()
+    }
+}
+
 /// A kept OpenGL context on a thread of its own (see `glview.Renderer`).
 #[pyclass(module = "glview._glview")]
 struct NativeRenderer {
@@ -171,7 +187,8 @@ impl NativeRenderer {
     }
 
     /// Renders; returns a dict of NumPy arrays (color, and as asked depth, normals,
-    /// object_ids and material_ids) and the PNG text as a list of pairs.
+    /// object_ids and material_ids) and the PNG text (a `PictureText`: its pairs made when
+    /// asked for).
     fn render<'py>(
         &self,
         py: Python<'py>,
@@ -201,7 +218,7 @@ impl NativeRenderer {
         let (w, h) = (frame.color.width as usize, frame.color.height as usize);
         let color = frame.color.data.into_pyarray(py).reshape([h, w, 4])?;
         out.set_item("color", color)?;
-        out.set_item("text", frame.text)?;
+        out.set_item("text", Bound::new(py, PictureText(frame.repro))?)?;
         out.set_item("stats", frame.stats.to_string())?;
         if let Some(l) = frame.linear {
             let l: Vec<f32> = l.into_iter().flatten().collect();
@@ -406,6 +423,7 @@ fn wait_for_cache_writes(py: Python<'_>) {
 fn _glview(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<NativeRenderer>()?;
+    m.add_class::<PictureText>()?;
     m.add_function(wrap_pyfunction!(encode_png, m)?)?;
     m.add_function(wrap_pyfunction!(options_words, m)?)?;
     m.add_function(wrap_pyfunction!(decode_png, m)?)?;

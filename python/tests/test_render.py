@@ -1,6 +1,8 @@
 """The Python API against the command line and against analytic truth."""
 import json
 import math
+import pickle
+import struct
 import threading
 
 import numpy as np
@@ -21,6 +23,36 @@ def test_colour_equals_the_cli_png_pixel_for_pixel(tmp_path, bunny, cli):
     assert np.array_equal(decode_png(str(tmp_path / "py.png")), img.color)
     command = dict(img.text)["glview.command"]
     assert str(bunny) in command and "--shading gouraud" in command
+
+
+def png_text(path):
+    """A PNG file's tEXt chunks as (keyword, text) pairs, in file order."""
+    data, pos, pairs = open(path, "rb").read(), 8, []
+    while pos < len(data):
+        n = struct.unpack(">I", data[pos:pos + 4])[0]
+        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]
+        if kind == b"tEXt":
+            k, v = body.split(b"\0", 1)
+            pairs.append((k.decode("latin-1"), v.decode("latin-1")))
+        pos += 12 + n
+    return pairs
+
+
+def test_text_is_made_on_first_use_and_is_the_cli_pngs(tmp_path, bunny, cli):
+    out = tmp_path / "cli.png"
+    cli(bunny, "--size", "120x90", "--yaw", "25", "-o", out)
+    img = glview.render(bunny, size=(120, 90), yaw=25)
+    assert not isinstance(img.__dict__["_text"], list), "made before it was asked for"
+    assert img.text == png_text(out)
+    assert png_text(_saved(tmp_path, img)) == img.text
+    # Pickled (a dask result) with its text as pairs.
+    assert pickle.loads(pickle.dumps(img)).text == img.text
+
+
+def _saved(tmp_path, img):
+    path = tmp_path / "py.png"
+    img.save(path)
+    return path
 
 
 def test_pyrenders_scene_single_sided_equals_the_cli(tmp_path, shared, cli):

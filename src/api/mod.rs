@@ -112,8 +112,8 @@ impl Model {
 pub struct Frame {
     /// RGBA8, straight alpha, top row first: the pixels `glview -o x.png` writes.
     pub color: Rgba,
-    /// The PNG text chunks (renderer, camera, the reproducing command line).
-    pub text: Vec<(String, String)>,
+    /// What the PNG text chunks are made of ([`Frame::text`]).
+    pub repro: crate::session::PictureText,
     pub attributes: Option<Attributes>,
     /// With [`Outputs::linear`]: the colour before bloom, exposure, tone mapping and sRGB
     /// (linear, unclamped), RGB per pixel, top row first.
@@ -124,14 +124,19 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// The PNG text chunks (renderer, camera, the reproducing command line), made now: a
+    /// picture used as arrays never pays for them.
+    pub fn text(&self) -> Vec<(String, String)> {
+        self.repro
+            .text()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect()
+    }
+
     /// The picture as a PNG file's bytes, text chunks included.
     pub fn png(&self) -> Vec<u8> {
-        let text: Vec<(&str, String)> = self
-            .text
-            .iter()
-            .map(|(k, v)| (k.as_str(), v.clone()))
-            .collect();
-        self.color.png_bytes(&text)
+        self.color.png_bytes(&self.repro.text())
     }
 }
 
@@ -291,11 +296,7 @@ impl Renderer {
             stats["profile"] = serde_json::to_value(&profile).unwrap_or_default();
             Ok(Frame {
                 color: drawn.image,
-                text: drawn
-                    .text
-                    .into_iter()
-                    .map(|(k, v)| (k.to_string(), v))
-                    .collect(),
+                repro: drawn.repro,
                 attributes: drawn.attributes,
                 linear: drawn.linear,
                 stats,

@@ -26,7 +26,7 @@ pub use settings::{
     env_request, frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with,
     reference_env, BUILTIN_MTL, BUILTIN_OBJ,
 };
-pub use text::{png_text, Drawer, Repro};
+pub use text::{png_text, Drawer, PictureText, Repro};
 pub use view::View;
 
 use crate::error::Result;
@@ -36,6 +36,7 @@ use crate::platform::{Backend, GlRequest};
 use crate::render::attributes::{FrameDepth, Outputs};
 use crate::render::ibl::{Environments, SharedEnvironments};
 use crate::render::Renderer;
+use crate::repro::SceneKey;
 use crate::scene::clusters::Clusters;
 use crate::scene::profile::LoadProfile;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
@@ -49,8 +50,8 @@ use std::time::Instant;
 /// options it was made for. Field order is drop order: GL objects before their context.
 struct KeptContext {
     /// Least recently drawn first; at most [`Session::keep_scenes`] of them. Keyed by the
-    /// model and its load options only ([`crate::repro::scene_key`]).
-    renderers: Vec<(String, Renderer)>,
+    /// model and its load options only ([`SceneKey`]).
+    renderers: Vec<(SceneKey, Renderer)>,
     /// The environment maps every renderer of the context shares (one copy of each).
     envs: SharedEnvironments,
     programs: SharedPrograms,
@@ -271,18 +272,26 @@ pub struct Given<'a> {
     pub scene: &'a crate::scene::Scene,
 }
 
-/// A drawn picture before it is written: the pixels (straight alpha), its PNG text, the
-/// last frame's stats, and with `attributes` asked for, the attribute buffers (normals too
-/// when `Some(true)`).
+/// A drawn picture before it is written: the pixels (straight alpha), what its PNG text is
+/// made of, the last frame's stats, and with `attributes` asked for, the attribute buffers
+/// (normals too when `Some(true)`).
 pub struct Drawn {
     pub image: crate::image_out::Rgba,
-    pub text: Vec<(&'static str, String)>,
+    /// The PNG text, built by [`Drawn::text`] for the pictures that need it.
+    pub repro: PictureText,
     pub stats: crate::render::FrameStats,
     pub attributes: Option<crate::render::attributes::Attributes>,
     /// With `Outputs::linear`: the linear, unclamped colour, RGB per pixel, top row first.
     pub linear: Option<Vec<[f32; 3]>>,
     /// What the picture was drawn with (`--keys` applied): its tier and toggles.
     pub settings: crate::frame::FrameSettings,
+}
+
+impl Drawn {
+    /// The picture's PNG text chunks (options as JSON, command line, camera words), made now.
+    pub fn text(&self) -> Vec<(&'static str, String)> {
+        self.repro.text()
+    }
 }
 
 /// [`Session::write`]: `kept` is reused when it was made for the same backend and GL request
@@ -295,7 +304,10 @@ fn write(args: &Options, path: &Path, keep: usize, kept: &mut Option<KeptContext
     let mut profile = Profile::default();
     let drawn = draw(args, keep, kept, None, Default::default(), &mut profile)?;
     let t = Instant::now();
-    drawn.image.save(path, &drawn.text)?;
+    // A JPEG carries no text: it is not made for one.
+    let png = crate::image_out::OutputFormat::of(path) == Some(crate::image_out::OutputFormat::Png);
+    let text = if png { drawn.text() } else { Vec::new() };
+    drawn.image.save(path, &text)?;
     profile.encode_ms = ms(t);
     profile.total_ms = ms(start);
     if args.picture.stats {
@@ -338,11 +350,13 @@ fn draw(
     };
     let shown = View::settled(args, renderer.scene())?;
     let settings = crate::frame::FrameSettings::new(&shown, renderer.scene())?;
-    let gpu = Drawer::Gpu {
-        caps: &hl.gpu.caps,
-        backend: hl.backend_name(),
-    };
-    let text = png_text(gpu, &settings, renderer.scene(), &Repro::headless(&shown));
+    let repro = PictureText::new(
+        &hl.gpu.caps,
+        hl.backend_name(),
+        &settings,
+        renderer.scene(),
+        shown,
+    );
     let compiled_before = kept.programs.borrow().compiled();
     let envs_before = kept.envs.borrow().made();
     let frames = args.picture.frames.max(1);
@@ -391,7 +405,7 @@ fn draw(
     };
     Ok(Drawn {
         image,
-        text,
+        repro,
         stats,
         attributes,
         linear,
@@ -412,13 +426,15 @@ fn prepare<'k>(
     size: (u32, u32),
     profile: &mut Profile,
 ) -> Result<&'k mut KeptContext> {
-    let mut key = crate::repro::scene_key(args);
-    if let Some(g) = &given {
-        key = format!("{}\0{key}", g.key);
-    }
+    let name = given.as_ref().map(|g| g.key);
+    let stamp = crate::repro::stamp(args);
     let found = kept.as_ref().and_then(|c| {
         (c.request == (args.context.backend, args.context.gl))
-            .then(|| c.renderers.iter().position(|(k, _)| *k == key))
+            .then(|| {
+                c.renderers
+                    .iter()
+                    .position(|(k, _)| k.matches(args, name, &stamp))
+            })
             .flatten()
     });
     let scene = if let Some(i) = found {
@@ -458,7 +474,7 @@ fn prepare<'k>(
         profile.upload_ms = ms(t);
         profile.scene_uploads += 1;
         r.share_environments(kept.envs.clone());
-        kept.renderers.push((key, r));
+        kept.renderers.push((SceneKey::new(args, name, stamp), r));
     }
     // The environment is the view's: a kept scene takes another one without an upload,
     // and maps another scene of this context made are shared.

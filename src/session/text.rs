@@ -42,32 +42,108 @@ pub fn png_text(
 ) -> Vec<(&'static str, String)> {
     let mut text = vec![("Software", format!("glview {}", env!("CARGO_PKG_VERSION")))];
     match r {
-        Drawer::Gpu { caps, backend } => text.extend([
-            ("glview.renderer", caps.renderer.clone()),
-            ("glview.gl_version", caps.version.clone()),
-            ("glview.dialect", caps.dialect.name().into()),
-            ("glview.backend", backend.into()),
-        ]),
+        Drawer::Gpu { caps, backend } => text.extend(gpu_text(caps, backend)),
         Drawer::Reference => text.push((
             "glview.renderer",
             "reference (CPU ray casting, f64, exact shadows)".into(),
         )),
     }
-    let c = &s.camera;
-    let target = scene.origin + c.target.as_dvec3();
-    let shown = crate::repro::shown_options(repro.args, c, target.to_array(), repro.size);
-    if s.shading == crate::frame::Shading::Pbr {
-        text.push(("glview.pbr", group_words(&shown, "pbr", &[])));
-    }
-    text.extend([
-        ("glview.tier", s.shading.tier().into()),
-        ("glview.shading", s.shading.word().into()),
-        ("glview.model", scene.name.clone()),
-    ]);
-    // The shown options' keys are already replayed into them (none are left).
-    text.push(("glview.camera", group_words(&shown, "camera", &["keys"])));
-    text.extend(reproducing(&shown));
+    let view = ViewText {
+        camera: s.camera,
+        shading: s.shading,
+        origin: scene.origin,
+        model: &scene.name,
+    };
+    text.extend(view.text(repro));
     text
+}
+
+fn gpu_text(caps: &crate::gpu::Caps, backend: &str) -> [(&'static str, String); 4] {
+    [
+        ("glview.renderer", caps.renderer.clone()),
+        ("glview.gl_version", caps.version.clone()),
+        ("glview.dialect", caps.dialect.name().into()),
+        ("glview.backend", backend.into()),
+    ]
+}
+
+/// What the view part of the text is made of: the camera, tier and model of the picture.
+struct ViewText<'a> {
+    camera: crate::camera::OrbitCamera,
+    shading: crate::frame::Shading,
+    origin: glam::DVec3,
+    model: &'a str,
+}
+
+impl ViewText<'_> {
+    fn text(&self, repro: &Repro) -> Vec<(&'static str, String)> {
+        let c = &self.camera;
+        let target = self.origin + c.target.as_dvec3();
+        let shown = crate::repro::shown_options(repro.args, c, target.to_array(), repro.size);
+        let mut text = vec![];
+        if self.shading == crate::frame::Shading::Pbr {
+            text.push(("glview.pbr", group_words(&shown, "pbr", &[])));
+        }
+        text.extend([
+            ("glview.tier", self.shading.tier().into()),
+            ("glview.shading", self.shading.word().into()),
+            ("glview.model", self.model.to_string()),
+        ]);
+        // The shown options' keys are already replayed into them (none are left).
+        text.push(("glview.camera", group_words(&shown, "camera", &["keys"])));
+        text.extend(reproducing(&shown));
+        text
+    }
+}
+
+/// A GPU picture's PNG text, not built yet: what it is made of, kept beside the picture so
+/// that the options' JSON, the command line and the option groups' words are made only for
+/// a picture that is written as PNG or asked for its text ([`PictureText::text`]), not for
+/// every array, JPEG preview or JPEG batch line.
+#[derive(Clone, Debug)]
+pub struct PictureText {
+    gpu: [(&'static str, String); 4],
+    camera: crate::camera::OrbitCamera,
+    shading: crate::frame::Shading,
+    origin: glam::DVec3,
+    model: String,
+    /// The options drawn (`--keys` replayed into them), at their own size.
+    shown: Options,
+}
+
+impl PictureText {
+    /// The text of a picture drawn by `caps`/`backend` with `s` of `scene` from `shown`:
+    /// [`png_text`]'s, when [`PictureText::text`] is called.
+    pub fn new(
+        caps: &crate::gpu::Caps,
+        backend: &str,
+        s: &FrameSettings,
+        scene: &Scene,
+        shown: Options,
+    ) -> PictureText {
+        PictureText {
+            gpu: gpu_text(caps, backend),
+            camera: s.camera,
+            shading: s.shading,
+            origin: scene.origin,
+            model: scene.name.clone(),
+            shown,
+        }
+    }
+
+    /// The PNG text chunks, as [`png_text`] makes them.
+    pub fn text(&self) -> Vec<(&'static str, String)> {
+        let mut text = vec![("Software", format!("glview {}", env!("CARGO_PKG_VERSION")))];
+        text.extend(self.gpu.iter().cloned());
+        let view = ViewText {
+            camera: self.camera,
+            shading: self.shading,
+            origin: self.origin,
+            model: &self.model,
+        };
+        text.extend(view.text(&Repro::headless(&self.shown)));
+        text
+    }
 }
 
 /// The PNG text of a teaching view drawn without a scene (`--show irradiance`, `specular`,

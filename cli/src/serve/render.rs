@@ -40,8 +40,8 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
     let view = p.view.options().picture.size;
     let t = Instant::now();
     let mut profile = Profile::default();
+    let still = p.kind == Kind::Still;
     let (image, text, diff, command, settings) = if p.view.compare() {
-        let still = p.kind == Kind::Still;
         let pair = glview::compare::phong_pbr(session, &o, still)?;
         let command = format!("{} --compare phong,pbr", glview::repro::command_line(&o));
         let text = vec![
@@ -58,7 +58,9 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
     } else {
         let drawn = session.draw(&o, None, Outputs::default(), &mut profile)?;
         let command = glview::repro::command_line(&o);
-        (drawn.image, drawn.text, None, command, drawn.settings)
+        // A preview is JPEG, without text: only a still's is made.
+        let text = if still { drawn.text() } else { Vec::new() };
+        (drawn.image, text, None, command, drawn.settings)
     };
     let draw_ms = ms(t);
     // What the overlay shows: the settings the picture was drawn with.
