@@ -54,7 +54,7 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
 }
 
 /// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
-pub fn fixed_programs() -> Vec<ProgramKey> {
+pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
     vec![
         shadow::depth_key(),
         shadow::show_key(),
