@@ -62,13 +62,6 @@ impl Model {
         Ok(Model::new(crate::session::load_scene_with(&o, false)?).warned())
     }
 
-    /// The built-in scene (what `glview` shows without a model).
-    pub(crate) fn builtin(opts: &Options) -> Result<Model> {
-        let mut o = opts.clone();
-        o.load.model = None;
-        Ok(Model::new(crate::session::load_scene_with(&o, false)?).warned())
-    }
-
     /// A model from arrays: the same scene as the same data in an OBJ file.
     pub fn from_arrays(a: &Arrays, opts: &Options) -> Result<Model> {
         let obj = a.to_obj()?;
@@ -88,7 +81,7 @@ impl Model {
         self
     }
 
-    pub(crate) fn scene(&self) -> &Scene {
+    pub fn scene(&self) -> &Scene {
         &self.scene
     }
 
@@ -268,10 +261,6 @@ impl Renderer {
     /// model, which is no longer kept.
     pub fn unload(&mut self) {
         self.model = None;
-    }
-
-    pub(crate) fn model(&self) -> Option<&Model> {
-        self.model.as_ref()
     }
 
     /// Renders `opts` (the loaded model, else `opts.model` or the built-in scene).

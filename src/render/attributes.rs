@@ -17,8 +17,8 @@ use glam::Mat3;
 /// Attribute buffers, top row first, `width * height` entries each.
 #[derive(Clone, Debug, Default)]
 pub struct Attributes {
-    pub(crate) width: u32,
-    pub(crate) height: u32,
+    pub width: u32,
+    pub height: u32,
     /// Distance from the eye along the view axis (eye-space −z); infinity where nothing is.
     pub depth: Vec<f32>,
     /// Eye-space unit normal facing the camera (x right, y up, z towards the eye); zero where

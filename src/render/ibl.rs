@@ -194,11 +194,6 @@ pub(crate) fn rgbm(c: [f32; 3]) -> [u8; 4] {
     [q(c[0]), q(c[1]), q(c[2]), (m * 255.0).round() as u8]
 }
 
-pub(crate) fn rgbm_decode(p: [u8; 4]) -> [f32; 3] {
-    let m = f32::from(p[3]) / 255.0 * RGBM_RANGE;
-    [0, 1, 2].map(|i| f32::from(p[i]) / 255.0 * m)
-}
-
 fn upload_cube(gpu: &GpuRef, c: &precompute::Cube, rgbm_on: bool) -> Result<TextureCube> {
     let sampling = Sampling {
         linear: true,
@@ -309,6 +304,11 @@ fn upload(gpu: &GpuRef, d: &IblData, encoding: Encoding) -> Result<IblGpu> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn rgbm_decode(p: [u8; 4]) -> [f32; 3] {
+        let m = f32::from(p[3]) / 255.0 * RGBM_RANGE;
+        [0, 1, 2].map(|i| f32::from(p[i]) / 255.0 * m)
+    }
 
     #[test]
     fn rgbm_round_trip_error() {

@@ -39,11 +39,6 @@ fn key(mode: i32) -> ProgramKey {
     ProgramKey::new("prefilter", "show_depth.vert", "prefilter.frag").count("MODE", "mode", mode)
 }
 
-/// The programs `--compile-shaders` checks (GLSL 3.30 and ES 3.00 only).
-pub(crate) fn keys() -> Vec<ProgramKey> {
-    vec![key(0), key(1)]
-}
-
 pub fn compute(
     gpu: &GpuRef,
     programs: &mut ProgramCache,

@@ -348,11 +348,6 @@ impl Renderer {
         self.res.ibl.share(envs);
     }
 
-    /// The environment maps in use, if a PBR frame has made them.
-    pub(crate) fn environment(&self) -> Option<&crate::pbr::precompute::IblData> {
-        self.res.ibl.data()
-    }
-
     /// Draws one frame into `target`.
     pub fn render(&mut self, s: &FrameSettings, target: &Target) -> Result<FrameStats> {
         self.render_viewport(s, target, [0, 0, target.width, target.height])

@@ -3,7 +3,7 @@
 //! load, draw (options and the outputs asked for → colour, depth, normals, ids), write.
 //! The library API, `glview batch`, the tests' fixture and the server draw through a
 //! [`Session`]; nothing here calls back up. What a picture is made of comes from
-//! [`settings`] (no GL), its PNG text from [`text`], the other headless modes are [`modes`].
+//! `settings` (no GL), its PNG text from `text`, the other headless modes are `modes`.
 //!
 //! ```no_run
 //! let mut session = glview::session::Session::new();
@@ -23,7 +23,7 @@ pub(crate) mod view;
 pub use modes::{compile_shaders, map_view, print_info, render_headless, render_reference};
 pub use profile::Profile;
 pub use settings::{frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with};
-pub(crate) use settings::{env_request, reference_env, BUILTIN_MTL, BUILTIN_OBJ};
+pub(crate) use settings::{env_request, reference_env};
 pub use text::{png_text, Drawer, Repro};
 pub use view::View;
 

@@ -148,7 +148,7 @@ pub fn load_options(args: &Options, progress: Option<ProgressFn>) -> LoadOptions
 }
 
 /// The frame settings the options describe, with `--keys` applied (replayed on the
-/// options by a [`View`], as the window and the server apply them: [`View::settled`]), and
+/// options by a [`View`], as the window and the server apply them: `View::settled`), and
 /// the camera before the keys (where `R` returns).
 pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, OrbitCamera)> {
     let mut plain = args.clone();
