@@ -20,7 +20,7 @@ pub(crate) mod settings;
 pub(crate) mod text;
 pub(crate) mod view;
 
-pub use modes::{compile_shaders, map_view, print_info, render_headless, render_reference};
+pub use modes::{compile_shaders, print_info, render_headless, render_reference};
 pub use profile::Profile;
 pub use settings::{frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with};
 pub(crate) use settings::{env_request, reference_env};
