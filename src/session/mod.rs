@@ -22,8 +22,10 @@ pub(crate) mod view;
 
 pub use modes::{compile_shaders, print_info, render_headless, render_reference};
 pub use profile::Profile;
-pub use settings::{frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with};
 pub(crate) use settings::{env_request, reference_env};
+pub use settings::{
+    frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with,
+};
 pub use text::{png_text, Drawer, Repro};
 pub use view::View;
 
