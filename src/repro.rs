@@ -20,7 +20,7 @@ fn scene_part(args: &Options) -> Options {
 /// keys share a GPU scene: the camera, tier, lights, environment, exposure,
 /// post-processing and size are the view's and upload nothing.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SceneKey {
+pub(crate) struct SceneKey {
     given: Option<String>,
     load: Load,
     xray_opacity: Option<Option<f32>>,
@@ -28,11 +28,11 @@ pub struct SceneKey {
 }
 
 /// The model file's size and modification time (`None` without a model or a readable file).
-pub type Stamp = Option<(u64, Option<std::time::SystemTime>)>;
+pub(crate) type Stamp = Option<(u64, Option<std::time::SystemTime>)>;
 
 /// One `stat` of the model file: kept per picture (a few µs) because it is what sees a file
 /// rewritten between two pictures of one session.
-pub fn stamp(args: &Options) -> Stamp {
+pub(crate) fn stamp(args: &Options) -> Stamp {
     let m = std::fs::metadata(args.load.model.as_ref()?).ok()?;
     Some((m.len(), m.modified().ok()))
 }
@@ -43,7 +43,7 @@ fn xray_opacity(args: &Options) -> Option<Option<f32>> {
 
 impl SceneKey {
     /// The key of the scene `args` draws (`given`: the caller's name of an in-memory scene).
-    pub fn new(args: &Options, given: Option<&str>, stamp: Stamp) -> SceneKey {
+    pub(crate) fn new(args: &Options, given: Option<&str>, stamp: Stamp) -> SceneKey {
         SceneKey {
             given: given.map(str::to_string),
             load: args.load.clone(),
@@ -54,7 +54,7 @@ impl SceneKey {
 
     /// Whether a picture of `args` draws this scene: the typed options compared in place
     /// (nothing serialised or cloned per picture).
-    pub fn matches(&self, args: &Options, given: Option<&str>, stamp: &Stamp) -> bool {
+    pub(crate) fn matches(&self, args: &Options, given: Option<&str>, stamp: &Stamp) -> bool {
         self.given.as_deref() == given
             && self.load == args.load
             && self.xray_opacity == xray_opacity(args)

@@ -30,7 +30,7 @@ fn bad(message: String) -> Error {
 
 impl Arrays<'_> {
     /// The arrays as OBJ text, after checking their shapes, values and indices.
-    pub fn to_obj(&self) -> Result<String> {
+    pub(crate) fn to_obj(self) -> Result<String> {
         if !self.vertices.len().is_multiple_of(3) {
             return Err(bad(format!(
                 "vertices has {} numbers: expected 3 per vertex",

@@ -5,10 +5,10 @@
 //! A GL context is current on one thread, so a renderer draws on a thread of its own and
 //! its methods send it work: a `Renderer` may be used from any thread, but not from two at
 //! once (the second call is refused with [`Error::Busy`](crate::Error) instead of waiting).
-pub mod arrays;
+pub(crate) mod arrays;
 
-pub use crate::image_out::Rgba;
-pub use crate::options::Options;
+pub(crate) use crate::image_out::Rgba;
+pub(crate) use crate::options::Options;
 pub use crate::render::attributes::{Attributes, Outputs};
 pub use arrays::Arrays;
 
@@ -59,13 +59,6 @@ impl Model {
     pub fn load(path: &Path, opts: &Options) -> Result<Model> {
         let mut o = opts.clone();
         o.load.model = Some(path.to_path_buf());
-        Ok(Model::new(crate::session::load_scene_with(&o, false)?).warned())
-    }
-
-    /// The built-in scene (what `glview` shows without a model).
-    pub fn builtin(opts: &Options) -> Result<Model> {
-        let mut o = opts.clone();
-        o.load.model = None;
         Ok(Model::new(crate::session::load_scene_with(&o, false)?).warned())
     }
 
@@ -203,7 +196,7 @@ pub struct Renderer {
     /// How long the last call took ([`wait_answer`]).
     last_job: Mutex<std::time::Duration>,
     /// Options every render starts from (size, backend, ...) unless it gives its own.
-    pub defaults: Options,
+    pub(crate) defaults: Options,
 }
 
 impl Renderer {
@@ -273,10 +266,6 @@ impl Renderer {
     /// model, which is no longer kept.
     pub fn unload(&mut self) {
         self.model = None;
-    }
-
-    pub fn model(&self) -> Option<&Model> {
-        self.model.as_ref()
     }
 
     /// Renders `opts` (the loaded model, else `opts.model` or the built-in scene).

@@ -45,7 +45,7 @@ pub struct Outputs {
 
 impl Outputs {
     /// Whether any attribute buffer (depth, normals, ids) is asked for.
-    pub fn any(&self) -> bool {
+    pub(crate) fn any(&self) -> bool {
         self.depth || self.normals || self.ids
     }
 }
@@ -53,7 +53,7 @@ impl Outputs {
 /// Whether a frame's target holds the picture's depth (see [`Renderer::attributes`]), and
 /// whether a stencil buffer is beside it (which picks the faster read).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FrameDepth {
+pub(crate) enum FrameDepth {
     No,
     Depth,
     WithStencil,
@@ -70,7 +70,7 @@ impl Renderer {
     ///
     /// `frame_depth`: whether the target's depth buffer is the frame's, single-sampled, at
     /// the picture's size (no MSAA, no supersampling): then depth alone is read from it.
-    pub fn attributes(
+    pub(crate) fn attributes(
         &mut self,
         s: &FrameSettings,
         width: u32,

@@ -6,7 +6,7 @@ use glam::{Mat4, Vec3};
 
 /// How a light's shadow is stored.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ShadowProjection {
+pub(crate) enum ShadowProjection {
     /// Directional light: orthographic, fitted tightly to the bounds seen from the light.
     Ortho,
     /// Point light at least [`CUBE_BELOW`] radii from the centre: one perspective frustum
@@ -20,7 +20,7 @@ pub enum ShadowProjection {
 
 impl ShadowProjection {
     /// Its name in `--stats`' shadow pass entry.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             ShadowProjection::Ortho => "ortho",
             ShadowProjection::Perspective => "perspective",
@@ -33,10 +33,10 @@ impl ShadowProjection {
 /// distance d the single frustum needs a full angle of 2·asin(r/d) (·1.02 padding): just
 /// outside the sphere that passes 180° and the projection mirrors, and below ~1.1 r (131°)
 /// the map's texels spread so thin towards the edges that six 90° faces resolve more.
-pub const CUBE_BELOW: f32 = 1.1;
+pub(crate) const CUBE_BELOW: f32 = 1.1;
 
 /// The atlas faces' view directions, in the order the shader picks them.
-pub const CUBE_DIRECTIONS: [Vec3; 6] = [
+pub(crate) const CUBE_DIRECTIONS: [Vec3; 6] = [
     Vec3::X,
     Vec3::NEG_X,
     Vec3::Y,
@@ -47,7 +47,7 @@ pub const CUBE_DIRECTIONS: [Vec3; 6] = [
 
 /// The six faces' view-projections of a point light at `p`, in the order the shader picks
 /// them: face = 2·axis + (negative ? 1 : 0) for the dominant axis of (fragment − light).
-pub fn cube_faces(p: Vec3, bounds: &Bounds) -> [Mat4; 6] {
+pub(crate) fn cube_faces(p: Vec3, bounds: &Bounds) -> [Mat4; 6] {
     let r = bounds.radius();
     let far = ((bounds.center() - p).length() + r) * 1.01;
     // The near plane only has to exclude the light itself; r·1e-3 keeps the depth precision
@@ -58,7 +58,7 @@ pub fn cube_faces(p: Vec3, bounds: &Bounds) -> [Mat4; 6] {
 }
 
 /// Maps a face's texture space [0, 1]² to its tile of the 3×2 atlas.
-pub fn atlas_tile(face: usize) -> Mat4 {
+pub(crate) fn atlas_tile(face: usize) -> Mat4 {
     let (fx, fy) = ((face % 3) as f32, (face / 3) as f32);
     Mat4::from_translation(Vec3::new(fx / 3.0, fy / 2.0, 0.0))
         * Mat4::from_scale(Vec3::new(1.0 / 3.0, 0.5, 1.0))
@@ -66,7 +66,7 @@ pub fn atlas_tile(face: usize) -> Mat4 {
 
 /// An up vector that is never parallel to `dir` (a light shining straight down must not
 /// break `look_at`).
-pub fn stable_up(dir: Vec3) -> Vec3 {
+pub(crate) fn stable_up(dir: Vec3) -> Vec3 {
     if dir.normalize().dot(Vec3::Y).abs() > 0.99 {
         Vec3::Z
     } else {
@@ -76,7 +76,7 @@ pub fn stable_up(dir: Vec3) -> Vec3 {
 
 /// The light's view-projection (to GL clip space) and its kind, or None for a point light
 /// inside or just outside the bounding sphere (see `point_inside`).
-pub fn light_view_proj(light: &Light, bounds: &Bounds) -> Option<(Mat4, ShadowProjection)> {
+pub(crate) fn light_view_proj(light: &Light, bounds: &Bounds) -> Option<(Mat4, ShadowProjection)> {
     let c = bounds.center();
     let r = bounds.radius();
     match light.kind {
@@ -114,12 +114,14 @@ pub fn light_view_proj(light: &Light, bounds: &Bounds) -> Option<(Mat4, ShadowPr
 
 /// Whether a point light is inside the bounding sphere or within [`CUBE_BELOW`] radii of its
 /// centre (a single frustum cannot see all of the scene from there, or only badly).
-pub fn point_inside(light: &Light, bounds: &Bounds) -> bool {
+/// The tests' statement of the rule `light_view_proj` applies inline.
+#[cfg(test)]
+fn point_inside(light: &Light, bounds: &Bounds) -> bool {
     matches!(light.kind, LightKind::Point(p) if (bounds.center() - p).length() < bounds.radius() * CUBE_BELOW)
 }
 
 /// Maps clip space [-1, 1]³ to texture space [0, 1]³.
-pub fn bias_matrix() -> Mat4 {
+pub(crate) fn bias_matrix() -> Mat4 {
     Mat4::from_translation(Vec3::splat(0.5)) * Mat4::from_scale(Vec3::splat(0.5))
 }
 

@@ -13,7 +13,7 @@ use crate::Result;
 /// The triad's square, in pixels of the picture.
 pub const TRIAD_PX: f32 = 84.0;
 /// Gap between the guides and the frame's edges, in pixels of the picture.
-pub const MARGIN_PX: f32 = 4.0;
+pub(crate) const MARGIN_PX: f32 = 4.0;
 /// An axis seen side-on is this share of half the triad's square.
 pub const AXIS_SHARE: f32 = 0.72;
 
@@ -81,7 +81,7 @@ pub(crate) fn key() -> crate::shader::cache::ProgramKey {
 
 /// The guides' picture (rows top first, straight alpha, transparent elsewhere): the triad in
 /// a square at the left, the grid's label along the bottom (right of the triad if any).
-pub fn compose(
+pub(crate) fn compose(
     view: &glam::Mat4,
     g: crate::frame::Guides,
     label: Option<&str>,

@@ -12,13 +12,13 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 /// RGBM range: values up to 16 are stored, brighter ones clipped (documented).
-pub const RGBM_RANGE: f32 = 16.0;
+pub(crate) const RGBM_RANGE: f32 = 16.0;
 
 pub(crate) struct IblGpu {
-    pub irradiance: TextureCube,
-    pub specular: Vec<TextureCube>,
-    pub lut: Texture2d,
-    pub rgbm: bool,
+    pub(crate) irradiance: TextureCube,
+    pub(crate) specular: Vec<TextureCube>,
+    pub(crate) lut: Texture2d,
+    pub(crate) rgbm: bool,
 }
 
 /// One environment's maps: the CPU copy, the uploaded textures and where they came from.
@@ -36,7 +36,7 @@ const KEPT_ENVIRONMENTS: usize = 4;
 /// The environment maps made on one context, keyed by their request and shared by every
 /// renderer (scene) drawn on it: N scenes of one environment hold one copy of its maps.
 #[derive(Default)]
-pub struct Environments {
+pub(crate) struct Environments {
     /// Least recently used first.
     kept: Vec<(EnvRequest, Rc<EnvMaps>)>,
     made: u64,
@@ -44,13 +44,13 @@ pub struct Environments {
 
 impl Environments {
     /// A context's shared set, empty.
-    pub fn shared() -> SharedEnvironments {
+    pub(crate) fn shared() -> SharedEnvironments {
         Rc::new(RefCell::new(Environments::default()))
     }
 
     /// How many environments have been made (read from the disk cache or computed, and
     /// uploaded) since the set was made: `--stats` counts them per picture.
-    pub fn made(&self) -> u64 {
+    pub(crate) fn made(&self) -> u64 {
         self.made
     }
 
@@ -71,7 +71,7 @@ impl Environments {
 }
 
 /// A context's [`Environments`], held by its session and every renderer on it.
-pub type SharedEnvironments = Rc<RefCell<Environments>>;
+pub(crate) type SharedEnvironments = Rc<RefCell<Environments>>;
 
 #[derive(Default)]
 pub(crate) struct IblState {
@@ -82,29 +82,29 @@ pub(crate) struct IblState {
 }
 
 impl IblState {
-    pub fn request(&mut self, r: EnvRequest) {
+    pub(crate) fn request(&mut self, r: EnvRequest) {
         if self.request.as_ref() != Some(&r) {
             self.request = Some(r);
             self.maps = None;
         }
     }
 
-    pub fn share(&mut self, envs: SharedEnvironments) {
+    pub(crate) fn share(&mut self, envs: SharedEnvironments) {
         self.shared = Some(envs);
     }
 
-    pub fn data(&self) -> Option<&IblData> {
+    pub(crate) fn data(&self) -> Option<&IblData> {
         self.maps.as_ref().map(|m| &m.data)
     }
 
     /// What was done to get the maps in use, for `--stats`.
-    pub fn origin(&self) -> &str {
+    pub(crate) fn origin(&self) -> &str {
         self.maps.as_ref().map_or("", |m| &m.origin)
     }
 
     /// Makes the maps on first use: the context's shared ones, else from the disk cache,
     /// else computed (and cached).
-    pub fn ensure(&mut self, gpu: &GpuRef, programs: &mut ProgramCache) -> Result<&IblGpu> {
+    pub(crate) fn ensure(&mut self, gpu: &GpuRef, programs: &mut ProgramCache) -> Result<&IblGpu> {
         if self.maps.is_none() {
             let req = self.request.get_or_insert_with(EnvRequest::default).clone();
             let found = self.shared.as_ref().and_then(|s| s.borrow_mut().get(&req));
@@ -157,12 +157,12 @@ fn make(gpu: &GpuRef, programs: &mut ProgramCache, mut req: EnvRequest) -> Resul
 }
 
 /// Reads the maps from the disk cache or computes them on the CPU; says which.
-pub fn load_or_compute(req: &EnvRequest) -> Result<(IblData, String)> {
+pub(crate) fn load_or_compute(req: &EnvRequest) -> Result<(IblData, String)> {
     load_or_compute_with(req, |env, s| Ok(precompute::compute(env, s)), "CPU")
 }
 
 /// [`load_or_compute`] with the computation given (CPU or GPU, named by `on`).
-pub fn load_or_compute_with(
+pub(crate) fn load_or_compute_with(
     req: &EnvRequest,
     mut compute: impl FnMut(&Environment, &IblSettings) -> Result<IblData>,
     on: &str,
@@ -187,16 +187,11 @@ pub fn load_or_compute_with(
 }
 
 /// RGBM with M quantised upwards, so the stored rgb never exceeds 1.
-pub fn rgbm(c: [f32; 3]) -> [u8; 4] {
+pub(crate) fn rgbm(c: [f32; 3]) -> [u8; 4] {
     let max = c[0].max(c[1]).max(c[2]).max(1e-6) / RGBM_RANGE;
     let m = (max.clamp(1.0 / 255.0, 1.0) * 255.0).ceil() / 255.0;
     let q = |v: f32| ((v / (m * RGBM_RANGE)).clamp(0.0, 1.0) * 255.0).round() as u8;
     [q(c[0]), q(c[1]), q(c[2]), (m * 255.0).round() as u8]
-}
-
-pub fn rgbm_decode(p: [u8; 4]) -> [f32; 3] {
-    let m = f32::from(p[3]) / 255.0 * RGBM_RANGE;
-    [0, 1, 2].map(|i| f32::from(p[i]) / 255.0 * m)
 }
 
 fn upload_cube(gpu: &GpuRef, c: &precompute::Cube, rgbm_on: bool) -> Result<TextureCube> {
@@ -309,6 +304,11 @@ fn upload(gpu: &GpuRef, d: &IblData, encoding: Encoding) -> Result<IblGpu> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn rgbm_decode(p: [u8; 4]) -> [f32; 3] {
+        let m = f32::from(p[3]) / 255.0 * RGBM_RANGE;
+        [0, 1, 2].map(|i| f32::from(p[i]) / 255.0 * m)
+    }
 
     #[test]
     fn rgbm_round_trip_error() {

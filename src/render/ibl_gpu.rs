@@ -28,7 +28,7 @@ pub fn unsupported(gpu: &GpuRef) -> Option<String> {
 
 /// Whether the driver rasterises on the CPU (llvmpipe, softpipe, swrast): there the rayon
 /// precomputation is faster (measured by `glview bench --pbr`).
-pub fn software(gpu: &GpuRef) -> bool {
+pub(crate) fn software(gpu: &GpuRef) -> bool {
     let r = gpu.caps.renderer.to_lowercase();
     ["llvmpipe", "softpipe", "swrast", "software"]
         .iter()
@@ -37,11 +37,6 @@ pub fn software(gpu: &GpuRef) -> bool {
 
 fn key(mode: i32) -> ProgramKey {
     ProgramKey::new("prefilter", "show_depth.vert", "prefilter.frag").count("MODE", "mode", mode)
-}
-
-/// The programs `--compile-shaders` checks (GLSL 3.30 and ES 3.00 only).
-pub fn keys() -> Vec<ProgramKey> {
-    vec![key(0), key(1)]
 }
 
 pub fn compute(

@@ -17,7 +17,7 @@ pub(crate) struct Lit;
 
 /// The legacy tier's program: lights, shadow maps, PCF taps, which maps are six-face
 /// atlases, texture, Gouraud.
-pub fn program_key(
+pub(crate) fn program_key(
     lights: u8,
     shadows: u8,
     pcf: u8,

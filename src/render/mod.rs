@@ -7,26 +7,26 @@
 //! post (post.rs) → guides (the axes triad and the grid's label, in display colour).
 pub mod aa;
 pub mod attributes;
-pub mod background;
+pub(crate) mod background;
 mod cull;
 pub(crate) mod edges;
-pub mod frusta;
+pub(crate) mod frusta;
 pub(crate) mod grid;
 pub mod guides;
-pub mod ibl;
+pub(crate) mod ibl;
 pub mod ibl_gpu;
-pub mod lit;
-pub mod overlay;
-pub mod pbr;
-pub mod pbr_khr;
+pub(crate) mod lit;
+pub(crate) mod overlay;
+pub(crate) mod pbr;
+pub(crate) mod pbr_khr;
 mod plan;
 pub mod post;
 pub mod programs;
-pub mod shadow;
+pub(crate) mod shadow;
 mod slots;
 mod textures;
 mod tier;
-pub mod translucent;
+pub(crate) mod translucent;
 mod units;
 mod upload;
 mod view;
@@ -52,33 +52,33 @@ pub struct Target {
 /// What one frame did; `--stats` prints it as one JSON line.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct FrameStats {
-    pub frame: u64,
+    pub(crate) frame: u64,
     /// The passes that drew, in order.
-    pub passes: Vec<String>,
+    pub(crate) passes: Vec<String>,
     /// Every pass of the frame with what it did or why it was skipped.
-    pub pass_log: Vec<String>,
+    pub(crate) pass_log: Vec<String>,
     /// The shading tier that drew the scene: `legacy` or `pbr`.
-    pub tier: String,
+    pub(crate) tier: String,
     pub shadow: String,
-    pub draw_calls: u32,
+    pub(crate) draw_calls: u32,
     pub triangles: u64,
     pub programs: Vec<String>,
-    pub textures_bound: u32,
+    pub(crate) textures_bound: u32,
     /// Meshes skipped by the lit pass because their bounding sphere is outside the view.
-    pub culled: u32,
+    pub(crate) culled: u32,
     /// Triangles of large meshes not sent to the GPU, in every pass: clusters outside the
     /// view's frustum or, on closed meshes, facing away (`render/cull.rs`).
-    pub triangles_skipped: u64,
+    pub(crate) triangles_skipped: u64,
     /// Why back faces of a clustered (large) mesh were sent in some pass where a closed mesh's
     /// would have been skipped: `mesh I: REASON`, once per mesh and reason (`render/cull.rs`).
-    pub back_faces_kept: Vec<String>,
+    pub(crate) back_faces_kept: Vec<String>,
     /// CPU wall time of the frame up to glFinish.
     pub ms: f64,
     /// GPU time of the frame (GL_TIME_ELAPSED) where the driver has timer queries.
-    pub gpu_ms: Option<f64>,
+    pub(crate) gpu_ms: Option<f64>,
     /// Each post step with its time (ms between glFinish calls), listed when the renderer's
     /// `time_post` is on (`--stats`) and bloom or FXAA ran.
-    pub post: Vec<post::PostStep>,
+    pub(crate) post: Vec<post::PostStep>,
 }
 
 impl FrameStats {
@@ -100,27 +100,27 @@ pub(crate) enum Outcome {
 /// The state passes keep between frames (depth maps, IBL textures, helper geometry).
 #[derive(Default)]
 pub(crate) struct Resources {
-    pub shadow: shadow::ShadowState,
-    pub ibl: ibl::IblState,
-    pub pbr_textures: Option<pbr::MaterialTextures>,
+    pub(crate) shadow: shadow::ShadowState,
+    pub(crate) ibl: ibl::IblState,
+    pub(crate) pbr_textures: Option<pbr::MaterialTextures>,
     /// Material textures of both tiers, made on first use ([`textures::TextureTable`]).
-    pub textures: textures::TextureTable,
-    pub quad: Option<GpuMesh>,
+    pub(crate) textures: textures::TextureTable,
+    pub(crate) quad: Option<GpuMesh>,
     /// The background pass drew this frame (the lit passes then clear nothing).
-    pub background_drawn: bool,
-    pub post: post::PostState,
+    pub(crate) background_drawn: bool,
+    pub(crate) post: post::PostState,
     /// The line meshes of `--edges` / `--wireframe`, made on first use.
-    pub edges: edges::EdgeState,
+    pub(crate) edges: edges::EdgeState,
     /// The square of `--grid`, made on first use.
-    pub grid: grid::GridState,
+    pub(crate) grid: grid::GridState,
     /// KHR_materials_transmission: the copy of the opaque frame with its mip chain, made on
     /// first use at the frame's size ([`pbr_khr::copy_frame`]).
-    pub transmission: Option<crate::gpu::texture::Texture2d>,
+    pub(crate) transmission: Option<crate::gpu::texture::Texture2d>,
 }
 
 impl Resources {
     /// A full-screen quad (two triangles over clip space), made on first use.
-    pub fn quad(&mut self, gpu: &GpuRef) -> Result<&GpuMesh> {
+    pub(crate) fn quad(&mut self, gpu: &GpuRef) -> Result<&GpuMesh> {
         if self.quad.is_none() {
             self.quad = Some(GpuMesh::new(gpu, &quad_vertices(), &[0, 1, 2, 0, 2, 3])?);
         }
@@ -131,39 +131,39 @@ impl Resources {
 /// Everything a pass may use: the GPU, the context's program cache, the uploaded scene, the
 /// kept resources, the settings, the target and the rectangle of it to draw into.
 pub(crate) struct FrameCx<'a> {
-    pub gpu: &'a GpuRef,
-    pub programs: &'a mut ProgramCache,
-    pub scene: &'a SceneGpu,
-    pub res: &'a mut Resources,
-    pub settings: &'a FrameSettings,
-    pub target: &'a Target,
+    pub(crate) gpu: &'a GpuRef,
+    pub(crate) programs: &'a mut ProgramCache,
+    pub(crate) scene: &'a SceneGpu,
+    pub(crate) res: &'a mut Resources,
+    pub(crate) settings: &'a FrameSettings,
+    pub(crate) target: &'a Target,
     /// x, y, width, height in the target (GL convention: y from the bottom).
-    pub viewport: [u32; 4],
-    pub stats: &'a mut FrameStats,
+    pub(crate) viewport: [u32; 4],
+    pub(crate) stats: &'a mut FrameStats,
     /// The frame is offscreen: lit passes write linear, unclamped colour (`LINEAR_OUTPUT`).
-    pub linear: bool,
+    pub(crate) linear: bool,
     /// The linear frame is RGBM-encoded in the 8-bit target (bloom on the copy path).
-    pub rgbm: bool,
+    pub(crate) rgbm: bool,
     /// RGBM only: how lit draws blend in the shader (`uRgbmBlend`: 0 off, 1 alpha, 2 add).
-    pub rgbm_blend: f32,
+    pub(crate) rgbm_blend: f32,
     /// The view large meshes are culled against, cluster by cluster: set by each pass that
     /// draws meshes (the camera's, or a light's).
-    pub cull: Option<crate::scene::clusters::ClusterView>,
+    pub(crate) cull: Option<crate::scene::clusters::ClusterView>,
     /// Cluster culling is on ([`Renderer::cull_clusters`]).
-    pub cull_clusters: bool,
+    pub(crate) cull_clusters: bool,
     /// Level of detail ([`Renderer::lod`]).
-    pub lod: Lod,
+    pub(crate) lod: Lod,
     /// Scratch list of index ranges, kept so draws do not allocate.
-    pub ranges: Vec<(u32, u32)>,
+    pub(crate) ranges: Vec<(u32, u32)>,
 }
 
 impl FrameCx<'_> {
-    pub fn aspect(&self) -> f32 {
+    pub(crate) fn aspect(&self) -> f32 {
         self.viewport[2] as f32 / self.viewport[3].max(1) as f32
     }
 
     /// Binds the target and the frame's viewport.
-    pub fn bind_target(&self) {
+    pub(crate) fn bind_target(&self) {
         self.gpu.bind_framebuffer(self.target.fbo);
         let [x, y, w, h] = self.viewport;
         self.gpu.viewport(x, y, w, h);
@@ -171,7 +171,7 @@ impl FrameCx<'_> {
 
     /// Clears the frame's rectangle (the whole target without a scissor when it is all of
     /// it); with `--transparent` the colour's alpha is 0.
-    pub fn clear(&self, color: Option<[f32; 3]>) {
+    pub(crate) fn clear(&self, color: Option<[f32; 3]>) {
         let a = if self.settings.lighting.post.transparent {
             0.0
         } else {
@@ -194,7 +194,7 @@ impl FrameCx<'_> {
     }
 
     /// Fetches (compiling on first use) a program and records its label in the stats.
-    pub fn program(
+    pub(crate) fn program(
         &mut self,
         key: &ProgramKey,
     ) -> Result<std::rc::Rc<crate::gpu::program::Program>> {
@@ -205,7 +205,7 @@ impl FrameCx<'_> {
 
     /// The frame-wide flags every lit program carries: logarithmic depth and the offscreen
     /// frame's linear output.
-    pub fn lit_flags(&self, key: ProgramKey) -> ProgramKey {
+    pub(crate) fn lit_flags(&self, key: ProgramKey) -> ProgramKey {
         key.switch(
             "LOG_DEPTH",
             "logz",
@@ -216,7 +216,7 @@ impl FrameCx<'_> {
     }
 
     /// The RGBM blending uniforms of a lit program (no-ops on other programs).
-    pub fn set_rgbm_blend(&self, p: &crate::gpu::program::Program) {
+    pub(crate) fn set_rgbm_blend(&self, p: &crate::gpu::program::Program) {
         if self.rgbm {
             let [x, y, w, h] = self.viewport;
             p.set_f32("uRgbmBlend", self.rgbm_blend);
@@ -229,7 +229,7 @@ impl FrameCx<'_> {
     }
 
     /// Draws the full-screen quad with `state` (one draw call).
-    pub fn draw_quad(&mut self, state: &crate::gpu::state::RenderState) -> Result<()> {
+    pub(crate) fn draw_quad(&mut self, state: &crate::gpu::state::RenderState) -> Result<()> {
         self.quad()?;
         self.gpu.apply(state);
         if let Some(q) = &self.res.quad {
@@ -240,7 +240,7 @@ impl FrameCx<'_> {
     }
 
     /// A full-screen quad (two triangles over clip space), made on first use.
-    pub fn quad(&mut self) -> Result<&GpuMesh> {
+    pub(crate) fn quad(&mut self) -> Result<&GpuMesh> {
         self.res.quad(self.gpu)
     }
 }
@@ -274,7 +274,7 @@ const PASSES: &[&dyn Pass] = &[
 
 /// The scene on the GPU, the context's programs and the passes' kept state.
 pub struct Renderer {
-    pub gpu: GpuRef,
+    pub(crate) gpu: GpuRef,
     pub(crate) scene: SceneGpu,
     programs: SharedPrograms,
     pub(crate) res: Resources,
@@ -344,13 +344,8 @@ impl Renderer {
 
     /// Takes its environment maps from (and adds them to) `envs`, the set every renderer
     /// of this context shares, instead of making its own.
-    pub fn share_environments(&mut self, envs: ibl::SharedEnvironments) {
+    pub(crate) fn share_environments(&mut self, envs: ibl::SharedEnvironments) {
         self.res.ibl.share(envs);
-    }
-
-    /// The environment maps in use, if a PBR frame has made them.
-    pub fn environment(&self) -> Option<&crate::pbr::precompute::IblData> {
-        self.res.ibl.data()
     }
 
     /// Draws one frame into `target`.
@@ -445,7 +440,7 @@ impl Renderer {
 
     /// The last frame drawn with `post.linear_out`: its linear, unclamped colour, RGB per
     /// pixel, top row first.
-    pub fn read_linear(&mut self, width: u32, height: u32) -> Result<Vec<[f32; 3]>> {
+    pub(crate) fn read_linear(&mut self, width: u32, height: u32) -> Result<Vec<[f32; 3]>> {
         // The frame's own image: made at this size by the frame, so nothing is remade here.
         let fbo = post::frame_target(&mut self.res.post, &self.gpu, width, height)?;
         self.gpu.bind_framebuffer(Some(fbo));

@@ -25,28 +25,28 @@ pub(crate) struct Pbr;
 
 /// Which of a material's optional inputs a program reads.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Maps {
-    pub albedo: bool,
-    pub normal: bool,
-    pub orm: bool,
-    pub ao: bool,
-    pub emissive: bool,
+pub(crate) struct Maps {
+    pub(crate) albedo: bool,
+    pub(crate) normal: bool,
+    pub(crate) orm: bool,
+    pub(crate) ao: bool,
+    pub(crate) emissive: bool,
     /// Per-vertex colours (they multiply the base colour like the albedo map).
-    pub color: bool,
+    pub(crate) color: bool,
 }
 
 /// Per-program options of the tier (the extensions' flags are added by [`KhrFlags::key`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Options {
-    pub levels: u32,
-    pub rgbm: bool,
-    pub srgb_in_shader: bool,
-    pub tonemap: i32,
-    pub dominant: bool,
-    pub multiscatter: bool,
+pub(crate) struct Options {
+    pub(crate) levels: u32,
+    pub(crate) rgbm: bool,
+    pub(crate) srgb_in_shader: bool,
+    pub(crate) tonemap: i32,
+    pub(crate) dominant: bool,
+    pub(crate) multiscatter: bool,
 }
 
-pub fn program_key(
+pub(crate) fn program_key(
     lights: u8,
     shadows: u8,
     pcf: u8,
@@ -77,7 +77,7 @@ pub fn program_key(
 
 /// The PBR keys `--compile-shaders` checks for one light/shadow variant: no maps with float
 /// maps, and every map with RGBM, shader-side sRGB and both measured options.
-pub fn all_keys(lights: u8, shadows: u8, pcf: u8, cube_mask: u8) -> Vec<ProgramKey> {
+pub(crate) fn all_keys(lights: u8, shadows: u8, pcf: u8, cube_mask: u8) -> Vec<ProgramKey> {
     let plain = Options {
         levels: 6,
         rgbm: false,

@@ -30,21 +30,21 @@ const MAPS: [(&str, &str, &str); COUNT] = [
 
 /// Which extensions and maps a program computes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct KhrFlags {
-    pub clearcoat: bool,
-    pub sheen: bool,
-    pub specular: bool,
+pub(crate) struct KhrFlags {
+    pub(crate) clearcoat: bool,
+    pub(crate) sheen: bool,
+    pub(crate) specular: bool,
     /// Thin-walled transmission through the opaque frame's copy (drawn after it).
-    pub transmission: bool,
+    pub(crate) transmission: bool,
     /// Refraction through the volume and Beer–Lambert attenuation (with transmission).
-    pub volume: bool,
+    pub(crate) volume: bool,
     /// Per slot of [`SLOTS`]: the map is read.
-    pub maps: [bool; COUNT],
+    pub(crate) maps: [bool; COUNT],
 }
 
 impl KhrFlags {
     /// Every extension and map (for `--compile-shaders`).
-    pub const ALL: KhrFlags = KhrFlags {
+    pub(crate) const ALL: KhrFlags = KhrFlags {
         clearcoat: true,
         sheen: true,
         specular: true,
@@ -53,7 +53,7 @@ impl KhrFlags {
         maps: [true; COUNT],
     };
 
-    pub fn key(self, key: ProgramKey) -> ProgramKey {
+    pub(crate) fn key(self, key: ProgramKey) -> ProgramKey {
         let mut key = key
             .switch("KHR_CLEARCOAT", "cc", self.clearcoat)
             .switch("KHR_SHEEN", "sheen", self.sheen)

@@ -9,21 +9,21 @@ use crate::Result;
 /// The frame's path, from the settings and what the driver and target allow.
 pub(crate) struct FramePlan {
     /// No float render targets: post copies the frame with glCopyTexSubImage2D.
-    pub copy: bool,
+    pub(crate) copy: bool,
     /// Bloom runs (asked for, and possible on this path).
-    pub bloom: bool,
+    pub(crate) bloom: bool,
     /// A post step (bloom or FXAA) runs after the passes.
-    pub any_post: bool,
+    pub(crate) any_post: bool,
     /// The passes draw into the offscreen float frame, not the target.
-    pub offscreen: bool,
+    pub(crate) offscreen: bool,
     /// The passes write RGBM into the 8-bit target (bloom on the copy path).
-    pub rgbm: bool,
+    pub(crate) rgbm: bool,
 }
 
 impl FramePlan {
     /// Decides the frame's path, logging in `stats` why bloom is dropped on the copy path;
     /// an error if float linear output is asked for where there are no float targets.
-    pub fn new(
+    pub(crate) fn new(
         gpu: &GpuRef,
         scene: &SceneGpu,
         s: &FrameSettings,

@@ -23,10 +23,10 @@ use crate::{Error, Result};
 use std::time::Instant;
 
 /// The RGBM range of the copy path's encoded frame (`GLVIEW_RGBM_RANGE` in rgbm.glsl).
-pub const RGBM_RANGE: f32 = 8.0;
+pub(crate) const RGBM_RANGE: f32 = 8.0;
 
 /// The CPU twin of `glviewRgbmEncode`: linear RGB to RGBM in [0, 1].
-pub fn rgbm_encode(c: [f32; 3]) -> [f32; 4] {
+pub(crate) fn rgbm_encode(c: [f32; 3]) -> [f32; 4] {
     let c = c.map(|v| (v / RGBM_RANGE).clamp(0.0, 1.0));
     let m = c.iter().fold(1e-6f32, |a, &b| a.max(b));
     let m = (m * 255.0).ceil() / 255.0;
@@ -34,7 +34,7 @@ pub fn rgbm_encode(c: [f32; 3]) -> [f32; 4] {
 }
 
 /// Decodes 8-bit RGBM.
-pub fn rgbm_decode(p: [u8; 4]) -> [f32; 3] {
+pub(crate) fn rgbm_decode(p: [u8; 4]) -> [f32; 3] {
     let m = f32::from(p[3]) / 255.0 * RGBM_RANGE;
     [0, 1, 2].map(|i| f32::from(p[i]) / 255.0 * m)
 }
@@ -42,8 +42,8 @@ pub fn rgbm_decode(p: [u8; 4]) -> [f32; 3] {
 /// A colour texture, with its framebuffer on the offscreen path; on the copy path (`fbo`
 /// None) it is drawn in the canvas and copied.
 pub(crate) struct Surface {
-    pub color: Texture2d,
-    pub fbo: Option<Framebuffer>,
+    pub(crate) color: Texture2d,
+    pub(crate) fbo: Option<Framebuffer>,
 }
 
 impl Surface {
@@ -91,21 +91,21 @@ impl Surface {
 /// corner of its rectangle.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct Canvas {
-    pub fbo: Option<glow::Framebuffer>,
-    pub x: u32,
-    pub y: u32,
+    pub(crate) fbo: Option<glow::Framebuffer>,
+    pub(crate) x: u32,
+    pub(crate) y: u32,
 }
 
 #[derive(Default)]
 pub(crate) struct PostState {
     /// The offscreen frame, with depth and stencil (copy path: the frame's copy).
-    pub frame: Option<Surface>,
+    pub(crate) frame: Option<Surface>,
     /// Bright pass and the downsampled chain (level 0 at full size), plus a blur scratch.
     chain: Vec<Surface>,
     scratch: Option<Surface>,
     /// The composited display image FXAA reads.
     display: Option<Surface>,
-    pub canvas: Canvas,
+    pub(crate) canvas: Canvas,
     /// Copy path with bloom: the frame translucent surfaces blend over (RGBM, nearest).
     behind: Option<Texture2d>,
 }
@@ -133,21 +133,21 @@ impl PostState {
 
 /// One timed post step for `--stats`.
 #[derive(Clone, Debug, serde::Serialize)]
-pub struct PostStep {
-    pub pass: String,
-    pub ms: f64,
+pub(crate) struct PostStep {
+    pub(crate) pass: String,
+    pub(crate) ms: f64,
 }
 
 /// Times post steps between glFinish calls when on (`--stats`); otherwise only names them.
 pub(crate) struct Laps {
     on: bool,
     t: Instant,
-    pub steps: Vec<PostStep>,
+    pub(crate) steps: Vec<PostStep>,
 }
 
 impl Laps {
     /// Waits for the frame so far (when on) and starts the clock.
-    pub fn start(gpu: &GpuRef, on: bool) -> Laps {
+    pub(crate) fn start(gpu: &GpuRef, on: bool) -> Laps {
         if on {
             gpu.finish();
         }
@@ -174,7 +174,7 @@ impl Laps {
 
 /// Whether this context post-processes by copying from the target (no framebuffer objects
 /// with float render targets).
-pub fn copy_path(gpu: &GpuRef) -> bool {
+pub(crate) fn copy_path(gpu: &GpuRef) -> bool {
     let c = &gpu.caps;
     !(c.fbo && c.float_render && c.half_float_textures)
 }
@@ -184,7 +184,7 @@ fn key(frag: &'static str, name: &'static str, rgbm: bool) -> ProgramKey {
 }
 
 /// The post programs without the composite's output variants (for `--compile-shaders`).
-pub fn keys() -> Vec<ProgramKey> {
+pub(crate) fn keys() -> Vec<ProgramKey> {
     [false, true]
         .into_iter()
         .flat_map(|rgbm| {

@@ -6,7 +6,7 @@ use crate::scene::material::{AlphaMode, Material};
 use crate::shader::cache::ProgramKey;
 
 /// Every program key the renderer can ask for with up to `max_lights` lights: the legacy
-/// tier's permutations (see [`lit::program_key`]), the PBR tier's, and the depth,
+/// tier's permutations (see `lit::program_key`), the PBR tier's, and the depth,
 /// background and teaching-view programs.
 pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
     let mut keys = fixed_programs();
@@ -54,7 +54,7 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
 }
 
 /// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
-pub fn fixed_programs() -> Vec<ProgramKey> {
+pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
     vec![
         shadow::depth_key(),
         shadow::show_key(),

@@ -32,21 +32,21 @@ pub(crate) fn show_key() -> ProgramKey {
 }
 
 pub(crate) struct ShadowMap {
-    pub texture: Texture2d,
+    pub(crate) texture: Texture2d,
     fbo: Option<Framebuffer>,
     /// Light view-projections (local coordinates → light clip space): one, or six faces.
-    pub views: Vec<Mat4>,
-    pub projection: ShadowProjection,
+    pub(crate) views: Vec<Mat4>,
+    pub(crate) projection: ShadowProjection,
     /// Side of one view's square in texels.
-    pub face: u32,
+    pub(crate) face: u32,
     /// Radius of the bounds the views are fitted to (the model's, or with `--grid` also its
     /// shadow on the floor): a texel spans about 2·radius/face.
-    pub radius: f32,
+    pub(crate) radius: f32,
 }
 
 impl ShadowMap {
     /// Eye space → texture space of each view (atlas tile included): what the lit pass needs.
-    pub fn eye_to_texture(&self, view: &Mat4) -> Vec<Mat4> {
+    pub(crate) fn eye_to_texture(&self, view: &Mat4) -> Vec<Mat4> {
         let inv_view = view.inverse();
         self.views
             .iter()
@@ -74,12 +74,12 @@ struct ShadowKey {
 
 #[derive(Default)]
 pub(crate) struct ShadowState {
-    pub maps: Vec<ShadowMap>,
+    pub(crate) maps: Vec<ShadowMap>,
     key: Option<ShadowKey>,
 }
 
 impl ShadowState {
-    pub fn invalidate(&mut self) {
+    pub(crate) fn invalidate(&mut self) {
         self.key = None;
     }
 }
@@ -125,7 +125,7 @@ fn mask_key(cx: &FrameCx, i: usize, textured: bool) -> ProgramKey {
 
 /// The map size actually used: the request, limited by the driver and, on the copy path,
 /// by the target's size (the light's view is drawn into the target first).
-pub fn effective_size(gpu: &GpuRef, s: &FrameSettings, target: &Target) -> u32 {
+pub(crate) fn effective_size(gpu: &GpuRef, s: &FrameSettings, target: &Target) -> u32 {
     let caps = &gpu.caps;
     let mut size = s.shadows.size.clamp(16, caps.max_texture_size.max(16));
     if caps.fbo {

@@ -44,7 +44,7 @@ pub(crate) fn upload(gpu: &GpuRef, t: &Texture, srgb: bool) -> Result<Texture2d>
 
 impl TextureTable {
     /// The index of `t` read as `srgb` with `sampler`, uploading it the first time.
-    pub fn get(
+    pub(crate) fn get(
         &mut self,
         gpu: &GpuRef,
         t: &Texture,
@@ -67,7 +67,7 @@ impl TextureTable {
         Ok(self.textures.len() - 1)
     }
 
-    pub fn texture(&self, i: usize) -> &Texture2d {
+    pub(crate) fn texture(&self, i: usize) -> &Texture2d {
         &self.textures[i]
     }
 }

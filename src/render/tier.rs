@@ -12,25 +12,25 @@ use crate::Result;
 
 /// What the skeleton knows about a mesh to draw.
 pub(crate) struct MeshDraw {
-    pub material: usize,
-    pub translucent: bool,
-    pub has_uv: bool,
-    pub has_uv1: bool,
-    pub has_tangents: bool,
-    pub has_colors: bool,
+    pub(crate) material: usize,
+    pub(crate) translucent: bool,
+    pub(crate) has_uv: bool,
+    pub(crate) has_uv1: bool,
+    pub(crate) has_tangents: bool,
+    pub(crate) has_colors: bool,
     /// GL_POINTS: round disks of the frame's point size (`POINTS`).
-    pub points: bool,
+    pub(crate) points: bool,
     /// Points without normals are drawn in their unlit colour.
-    pub unlit_points: bool,
+    pub(crate) unlit_points: bool,
 }
 
 /// A mesh's program, before the material's flags ([`super::slots::flags`]) and the frame's
 /// ([`FrameCx::lit_flags`]) are added, and the tier's textures for it.
 pub(crate) struct Prepared<M> {
-    pub key: ProgramKey,
+    pub(crate) key: ProgramKey,
     /// The base colour texture is drawn (BLEND reads its alpha only then).
-    pub textured: bool,
-    pub maps: M,
+    pub(crate) textured: bool,
+    pub(crate) maps: M,
 }
 
 /// What a lit tier does differently. A value lives for one [`draw_meshes`] call (a fresh

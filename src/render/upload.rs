@@ -11,40 +11,40 @@ use crate::Result;
 use glam::Vec3;
 
 pub(crate) struct DrawMesh {
-    pub mesh: GpuMesh,
-    pub material: usize,
-    pub center: Vec3,
+    pub(crate) mesh: GpuMesh,
+    pub(crate) material: usize,
+    pub(crate) center: Vec3,
     /// Bounding sphere radius around `center`, for frustum culling.
-    pub radius: f32,
-    pub triangles: u64,
-    pub translucent: bool,
-    pub has_uv: bool,
-    pub has_tangents: bool,
+    pub(crate) radius: f32,
+    pub(crate) triangles: u64,
+    pub(crate) translucent: bool,
+    pub(crate) has_uv: bool,
+    pub(crate) has_tangents: bool,
     /// A second UV set (attribute 5, `HAS_UV1`).
-    pub has_uv1: bool,
+    pub(crate) has_uv1: bool,
     /// Per-vertex colours multiply the diffuse colour (attribute 4, `HAS_COLOR`).
-    pub has_colors: bool,
+    pub(crate) has_colors: bool,
     /// Triangles, or the scene's lines and points (casting no shadow).
-    pub primitive: Primitive,
+    pub(crate) primitive: Primitive,
     /// Points with normals are lit; without, drawn in their unlit colour (`UNLIT`).
-    pub has_normals: bool,
+    pub(crate) has_normals: bool,
     /// How far a shadow lookup rises in the terminator band (`uTerminatorLift`).
-    pub terminator_lift: f32,
+    pub(crate) terminator_lift: f32,
     /// Runs of triangles with bounds and normal cones, for meshes large enough that
     /// skipping what a pass cannot see pays ([`crate::scene::clusters`]).
-    pub clusters: Option<Clusters>,
+    pub(crate) clusters: Option<Clusters>,
 }
 
 impl DrawMesh {
     /// Translucent meshes, lines and points cast no shadow.
-    pub fn casts_shadow(&self) -> bool {
+    pub(crate) fn casts_shadow(&self) -> bool {
         !self.translucent && self.primitive == Primitive::Triangles
     }
 }
 
 pub(crate) struct SceneGpu {
-    pub scene: Scene,
-    pub meshes: Vec<DrawMesh>,
+    pub(crate) scene: Scene,
+    pub(crate) meshes: Vec<DrawMesh>,
 }
 
 /// Makes a texture from `t`'s pixels (fitted to the driver's size limit) with `make`, and
@@ -101,7 +101,7 @@ pub(crate) fn fit_texture<'a>(
 
 impl SceneGpu {
     /// Uploads `scene`; `clusters` are [`clusters::prepare`]'s for it (same mesh order).
-    pub fn new(
+    pub(crate) fn new(
         gpu: &GpuRef,
         mut scene: Scene,
         clusters: Vec<Option<Clusters>>,
@@ -196,7 +196,7 @@ impl SceneGpu {
 
     /// Indices of the meshes whose bounding sphere touches the view frustum of `view_proj`:
     /// off-screen meshes cost a program bind and a draw call each for nothing.
-    pub fn visible(&self, view_proj: &glam::Mat4) -> Vec<usize> {
+    pub(crate) fn visible(&self, view_proj: &glam::Mat4) -> Vec<usize> {
         let view = crate::scene::clusters::ClusterView::new(*view_proj);
         (0..self.meshes.len())
             .filter(|&i| !view.outside(self.meshes[i].center, self.meshes[i].radius))

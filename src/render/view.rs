@@ -42,15 +42,15 @@ pub(crate) fn shadow_flags(
 
 /// Per-frame view and light data both lit tiers use.
 pub(crate) struct View {
-    pub view: Mat4,
-    pub proj: Mat4,
-    pub normal_matrix: Mat3,
+    pub(crate) view: Mat4,
+    pub(crate) proj: Mat4,
+    pub(crate) normal_matrix: Mat3,
     /// Light positions (w = 1) or directions towards the light (w = 0) in eye space.
-    pub light_pos: Vec<Vec4>,
-    pub shadow: ShadowUniforms,
-    pub lights: u8,
-    pub shadows: u8,
-    pub cube_mask: u8,
+    pub(crate) light_pos: Vec<Vec4>,
+    pub(crate) shadow: ShadowUniforms,
+    pub(crate) lights: u8,
+    pub(crate) shadows: u8,
+    pub(crate) cube_mask: u8,
 }
 
 /// Shadow lookup parameters, per light; matrices as (uniform array index, matrix).
@@ -64,7 +64,7 @@ pub(crate) struct ShadowUniforms {
 
 impl View {
     /// Sets up camera and lights, and binds the shadow maps to their units.
-    pub fn new(cx: &mut FrameCx) -> View {
+    pub(crate) fn new(cx: &mut FrameCx) -> View {
         let s = cx.settings;
         let view = s.camera.view();
         let proj = s.camera.projection(&cx.scene.scene.bounds, cx.aspect());
@@ -116,7 +116,7 @@ impl View {
     }
 
     /// Camera, light and shadow uniforms (once per program per frame: a program keeps them).
-    pub fn set_uniforms(&self, p: &Program, cx: &FrameCx) {
+    pub(crate) fn set_uniforms(&self, p: &Program, cx: &FrameCx) {
         let s = cx.settings;
         if s.lighting.translucency.log_depth {
             let (_, far) = s.camera.near_far(&cx.scene.scene.bounds);
@@ -145,7 +145,7 @@ impl View {
 
     /// Visible meshes in draw order: opaque ones, then translucent ones back to front (by
     /// mesh centre); and the index in that order where the translucent ones start.
-    pub fn draw_order(&self, cx: &mut FrameCx) -> (Vec<usize>, usize) {
+    pub(crate) fn draw_order(&self, cx: &mut FrameCx) -> (Vec<usize>, usize) {
         let meshes = &cx.scene.meshes;
         let visible = cx.scene.visible(&(self.proj * self.view));
         cx.stats.culled = (meshes.len() - visible.len()) as u32;

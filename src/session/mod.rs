@@ -3,7 +3,7 @@
 //! load, draw (options and the outputs asked for → colour, depth, normals, ids), write.
 //! The library API, `glview batch`, the tests' fixture and the server draw through a
 //! [`Session`]; nothing here calls back up. What a picture is made of comes from
-//! [`settings`] (no GL), its PNG text from [`text`], the other headless modes are [`modes`].
+//! `settings` (no GL), its PNG text from `text`, the other headless modes are `modes`.
 //!
 //! ```no_run
 //! let mut session = glview::session::Session::new();
@@ -14,17 +14,17 @@
 //! session.write(&o, std::path::Path::new("builtin-60.png"))?;
 //! # Ok::<(), glview::Error>(())
 //! ```
-pub mod modes;
+pub(crate) mod modes;
 mod profile;
-pub mod settings;
-pub mod text;
-pub mod view;
+pub(crate) mod settings;
+pub(crate) mod text;
+pub(crate) mod view;
 
-pub use modes::{compile_shaders, map_view, print_info, render_headless, render_reference};
+pub use modes::{compile_shaders, print_info, render_headless, render_reference};
 pub use profile::Profile;
+pub(crate) use settings::{env_request, reference_env};
 pub use settings::{
-    env_request, frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with,
-    reference_env, BUILTIN_MTL, BUILTIN_OBJ,
+    frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with,
 };
 pub use text::{png_text, Drawer, PictureText, Repro};
 pub use view::View;
@@ -177,7 +177,7 @@ impl Session {
     /// Runs `f` with the renderer of `args`' scene (kept, or loaded and uploaded now) and
     /// the context re-targeted to `size`, single-sampled: for pictures made of several
     /// viewports of one target (the server's Phong | PBR panes).
-    pub fn with_renderer<T>(
+    pub(crate) fn with_renderer<T>(
         &mut self,
         args: &Options,
         size: (u32, u32),
@@ -213,7 +213,7 @@ impl Session {
     /// `clusters` are the loader's ([`load_scene_prepared`]: a cache hit's carry the levels
     /// of detail); without them the clusters are made here without levels, which the
     /// renderer builds before a picture that draws them.
-    pub fn with_scene<T>(
+    pub(crate) fn with_scene<T>(
         &mut self,
         args: &Options,
         mut scene: crate::scene::Scene,
@@ -268,8 +268,8 @@ fn load(args: &Options) -> Loaded {
 /// A scene given by the caller (the library API's in-memory models) instead of the
 /// options' model file: `key` names it (equal keys are the same scene, kept uploaded).
 pub struct Given<'a> {
-    pub key: &'a str,
-    pub scene: &'a crate::scene::Scene,
+    pub(crate) key: &'a str,
+    pub(crate) scene: &'a crate::scene::Scene,
 }
 
 /// A drawn picture before it is written: the pixels (straight alpha), what its PNG text is
@@ -279,10 +279,10 @@ pub struct Drawn {
     pub image: crate::image_out::Rgba,
     /// The PNG text, built by [`Drawn::text`] for the pictures that need it.
     pub repro: PictureText,
-    pub stats: crate::render::FrameStats,
-    pub attributes: Option<crate::render::attributes::Attributes>,
+    pub(crate) stats: crate::render::FrameStats,
+    pub(crate) attributes: Option<crate::render::attributes::Attributes>,
     /// With `Outputs::linear`: the linear, unclamped colour, RGB per pixel, top row first.
-    pub linear: Option<Vec<[f32; 3]>>,
+    pub(crate) linear: Option<Vec<[f32; 3]>>,
     /// What the picture was drawn with (`--keys` applied): its tier and toggles.
     pub settings: crate::frame::FrameSettings,
 }

@@ -9,7 +9,7 @@ use std::path::Path;
 
 /// `--show irradiance|specular|lut`: the PBR maps, composed on the CPU from the
 /// precomputed data (no GL needed, the same on every context). None for other views.
-pub fn map_view(args: &Options) -> Result<Option<crate::image_out::Rgba>> {
+pub(crate) fn map_view(args: &Options) -> Result<Option<crate::image_out::Rgba>> {
     let what = match args.render.show {
         Show::Irradiance => "irradiance",
         Show::Specular => "specular",

@@ -9,15 +9,15 @@ use std::time::Instant;
 #[derive(Debug, Default, Serialize)]
 pub struct Profile {
     /// The loader's own stages (read, repair, parse, textures, meshes, normals, finish).
-    pub load: Option<LoadProfile>,
+    pub(crate) load: Option<LoadProfile>,
     /// Loading as seen from here (arguments to scene, textures included). It runs on another
     /// thread while the context is made, so the two overlap.
-    pub load_ms: f64,
+    pub(crate) load_ms: f64,
     /// Of `load_ms`: large meshes reordered and cut into clusters (`scene::clusters`).
-    pub clusters_ms: f64,
-    pub context_ms: f64,
+    pub(crate) clusters_ms: f64,
+    pub(crate) context_ms: f64,
     /// Vertex/index buffers and textures to the GPU.
-    pub upload_ms: f64,
+    pub(crate) upload_ms: f64,
     /// Scenes uploaded for this picture (0 when a kept one drew it: a change of camera,
     /// tier, exposure, bloom or terms uploads nothing).
     pub scene_uploads: u32,
@@ -25,16 +25,16 @@ pub struct Profile {
     /// context already had them, whichever of its scenes made them.
     pub environments_made: u64,
     /// Programs compiled and linked during the frames, and the time it took.
-    pub programs_compiled: usize,
-    pub compile_ms: f64,
+    pub(crate) programs_compiled: usize,
+    pub(crate) compile_ms: f64,
     /// Wall time of each frame to glFinish (compiles and map precomputation included).
     pub frames_ms: Vec<f64>,
     /// Each image texture uploaded for this picture (name, size, ms), the PBR tier's
     /// included (made in its first frame).
-    pub textures: Vec<crate::gpu::TextureCost>,
+    pub(crate) textures: Vec<crate::gpu::TextureCost>,
     pub readback_ms: f64,
-    pub encode_ms: f64,
-    pub total_ms: f64,
+    pub(crate) encode_ms: f64,
+    pub(crate) total_ms: f64,
 }
 
 pub(super) fn ms(since: Instant) -> f64 {

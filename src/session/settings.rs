@@ -20,8 +20,8 @@ use glam::Vec3;
 use std::path::Path;
 
 /// The built-in scene: the committed output of `src/scene/generate.rs`.
-pub const BUILTIN_OBJ: &str = include_str!("../../models/glass_holder.obj");
-pub const BUILTIN_MTL: &str = include_str!("../../models/glass_holder.mtl");
+pub(crate) const BUILTIN_OBJ: &str = include_str!("../../models/glass_holder.obj");
+pub(crate) const BUILTIN_MTL: &str = include_str!("../../models/glass_holder.mtl");
 
 /// Loads the model (or the built-in scene). Files that take a while report their progress
 /// (bytes scanned, then the triangle count) to the installed reporter ([`crate::progress`]).
@@ -148,7 +148,7 @@ pub fn load_options(args: &Options, progress: Option<ProgressFn>) -> LoadOptions
 }
 
 /// The frame settings the options describe, with `--keys` applied (replayed on the
-/// options by a [`View`], as the window and the server apply them: [`View::settled`]), and
+/// options by a [`View`], as the window and the server apply them: `View::settled`), and
 /// the camera before the keys (where `R` returns).
 pub fn frame_settings(args: &Options, scene: &Scene) -> Result<(FrameSettings, OrbitCamera)> {
     let mut plain = args.clone();
@@ -163,7 +163,7 @@ impl FrameSettings {
     /// option's: nothing here has one of its own); `--keys` is not replayed here
     /// ([`frame_settings`] does). The options are typed and checked
     /// ([`Options::validate`]); this only places them in the scene.
-    pub fn new(args: &Options, scene: &Scene) -> Result<FrameSettings> {
+    pub(crate) fn new(args: &Options, scene: &Scene) -> Result<FrameSettings> {
         derive(args, scene)
     }
 }
@@ -356,7 +356,7 @@ fn lights(args: &Options, scene: &Scene) -> (Vec<crate::light::Light>, Option<Ve
 }
 
 /// Where the PBR tier's environment comes from, and how its maps are made.
-pub fn env_request(args: &Options) -> Result<EnvRequest> {
+pub(crate) fn env_request(args: &Options) -> Result<EnvRequest> {
     let source = match (&args.pbr.env, args.pbr.env_color) {
         (Some(p), _) => EnvSource::File(p.clone()),
         (None, Some(c)) => EnvSource::Uniform(c),
@@ -372,7 +372,7 @@ pub fn env_request(args: &Options) -> Result<EnvRequest> {
 }
 
 /// The environment a PBR reference render integrates (None for the legacy tier).
-pub fn reference_env(
+pub(crate) fn reference_env(
     args: &Options,
     shading: crate::frame::Shading,
 ) -> Result<Option<crate::reference::PbrEnv>> {

@@ -22,7 +22,7 @@ pub struct Repro<'a> {
 
 impl<'a> Repro<'a> {
     /// A headless picture: the options' own size.
-    pub fn headless(args: &'a Options) -> Self {
+    pub(crate) fn headless(args: &'a Options) -> Self {
         Repro {
             args,
             size: args.picture.size,
@@ -148,7 +148,7 @@ impl PictureText {
 
 /// The PNG text of a teaching view drawn without a scene (`--show irradiance`, `specular`,
 /// `lut`): what is shown and what draws it again (its options; no camera or model decides it).
-pub fn map_view_text(args: &Options) -> Vec<(&'static str, String)> {
+pub(crate) fn map_view_text(args: &Options) -> Vec<(&'static str, String)> {
     let mut shown = args.clone();
     shown.camera = Default::default();
     shown.picture = crate::options::Picture {

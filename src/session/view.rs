@@ -36,7 +36,7 @@ impl View {
 
     /// `options` with their `--keys` replayed into them (the state and camera the keys lead
     /// to, `keys` none): what a picture of them shows, as options.
-    pub fn settled(options: &Options, scene: &Scene) -> Result<Options> {
+    pub(crate) fn settled(options: &Options, scene: &Scene) -> Result<Options> {
         let mut v = View::new(options.clone());
         v.settle_keys(scene)?;
         Ok(v.options)
