@@ -1,12 +1,12 @@
-//! What reproduces a picture, for its PNG text: the options it was drawn with, the camera,
-//! size and state keys of the moment in place of the ones given (a window's view has moved
-//! since start-up), as JSON (`glview.options`, read back by `glview --repro FILE.png`) and
+//! What reproduces a picture, for its PNG text: the options it was drawn with (`--keys`
+//! replayed into them), the camera and size of the moment in place of the ones given (a
+//! window's view has moved since start-up), as JSON (`glview.options`, read back by `glview --repro FILE.png`) and
 //! as a command line for people (`glview.command`).
 use crate::camera::OrbitCamera;
 use crate::options::{Camera, Load, Options, Ortho, Picture};
 
-/// The options without what does not decide the scene, the environment or the lights
-/// (camera, size, keys, frames, stats).
+/// The options without the camera and the picture group (size, frames, stats): what
+/// [`shown_options`] fills in with the moment's camera and size.
 fn scene_part(args: &Options) -> Options {
     let mut o = args.clone();
     o.camera = Camera::default();

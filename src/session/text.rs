@@ -40,26 +40,20 @@ pub fn png_text(
     scene: &Scene,
     repro: &Repro,
 ) -> Vec<(&'static str, String)> {
-    let mut text = vec![("Software", format!("glview {}", env!("CARGO_PKG_VERSION")))];
-    match r {
-        Drawer::Gpu { caps, backend } => text.extend(gpu_text(caps, backend)),
-        Drawer::Reference => text.push((
+    let drawer = match r {
+        Drawer::Gpu { caps, backend } => gpu_text(caps, backend),
+        Drawer::Reference => vec![(
             "glview.renderer",
             "reference (CPU ray casting, f64, exact shadows)".into(),
-        )),
-    }
-    let view = ViewText {
-        camera: s.camera,
-        shading: s.shading,
-        origin: scene.origin,
-        model: &scene.name,
+        )],
     };
-    text.extend(view.text(repro));
-    text
+    let mut shown = repro.args.clone();
+    shown.picture.size = repro.size;
+    PictureText::of(drawer, s, scene, shown).text()
 }
 
-fn gpu_text(caps: &crate::gpu::Caps, backend: &str) -> [(&'static str, String); 4] {
-    [
+fn gpu_text(caps: &crate::gpu::Caps, backend: &str) -> Vec<(&'static str, String)> {
+    vec![
         ("glview.renderer", caps.renderer.clone()),
         ("glview.gl_version", caps.version.clone()),
         ("glview.dialect", caps.dialect.name().into()),
@@ -67,47 +61,19 @@ fn gpu_text(caps: &crate::gpu::Caps, backend: &str) -> [(&'static str, String); 
     ]
 }
 
-/// What the view part of the text is made of: the camera, tier and model of the picture.
-struct ViewText<'a> {
-    camera: crate::camera::OrbitCamera,
-    shading: crate::frame::Shading,
-    origin: glam::DVec3,
-    model: &'a str,
-}
-
-impl ViewText<'_> {
-    fn text(&self, repro: &Repro) -> Vec<(&'static str, String)> {
-        let c = &self.camera;
-        let target = self.origin + c.target.as_dvec3();
-        let shown = crate::repro::shown_options(repro.args, c, target.to_array(), repro.size);
-        let mut text = vec![];
-        if self.shading == crate::frame::Shading::Pbr {
-            text.push(("glview.pbr", group_words(&shown, "pbr", &[])));
-        }
-        text.extend([
-            ("glview.tier", self.shading.tier().into()),
-            ("glview.shading", self.shading.word().into()),
-            ("glview.model", self.model.to_string()),
-        ]);
-        // The shown options' keys are already replayed into them (none are left).
-        text.push(("glview.camera", group_words(&shown, "camera", &["keys"])));
-        text.extend(reproducing(&shown));
-        text
-    }
-}
-
-/// A GPU picture's PNG text, not built yet: what it is made of, kept beside the picture so
-/// that the options' JSON, the command line and the option groups' words are made only for
-/// a picture that is written as PNG or asked for its text ([`PictureText::text`]), not for
-/// every array, JPEG preview or JPEG batch line.
+/// A picture's PNG text, not built yet: what it is made of, kept beside the picture so that
+/// the options' JSON, the command line and the option groups' words are made only for a
+/// picture that is written as PNG or asked for its text ([`PictureText::text`]), not for
+/// every array, JPEG preview or JPEG batch line. [`png_text`] is the same text made at once.
 #[derive(Clone, Debug)]
 pub struct PictureText {
-    gpu: [(&'static str, String); 4],
+    /// Who drew it (renderer, context, dialect, backend; or the reference).
+    drawer: Vec<(&'static str, String)>,
     camera: crate::camera::OrbitCamera,
     shading: crate::frame::Shading,
     origin: glam::DVec3,
     model: String,
-    /// The options drawn (`--keys` replayed into them), at their own size.
+    /// The options drawn (`--keys` replayed into them), at the picture's size.
     shown: Options,
 }
 
@@ -121,8 +87,17 @@ impl PictureText {
         scene: &Scene,
         shown: Options,
     ) -> PictureText {
+        PictureText::of(gpu_text(caps, backend), s, scene, shown)
+    }
+
+    fn of(
+        drawer: Vec<(&'static str, String)>,
+        s: &FrameSettings,
+        scene: &Scene,
+        shown: Options,
+    ) -> PictureText {
         PictureText {
-            gpu: gpu_text(caps, backend),
+            drawer,
             camera: s.camera,
             shading: s.shading,
             origin: scene.origin,
@@ -131,17 +106,25 @@ impl PictureText {
         }
     }
 
-    /// The PNG text chunks, as [`png_text`] makes them.
+    /// The PNG text chunks, made now.
     pub fn text(&self) -> Vec<(&'static str, String)> {
         let mut text = vec![("Software", format!("glview {}", env!("CARGO_PKG_VERSION")))];
-        text.extend(self.gpu.iter().cloned());
-        let view = ViewText {
-            camera: self.camera,
-            shading: self.shading,
-            origin: self.origin,
-            model: &self.model,
-        };
-        text.extend(view.text(&Repro::headless(&self.shown)));
+        text.extend(self.drawer.iter().cloned());
+        let c = &self.camera;
+        let target = self.origin + c.target.as_dvec3();
+        let size = self.shown.picture.size;
+        let shown = crate::repro::shown_options(&self.shown, c, target.to_array(), size);
+        if self.shading == crate::frame::Shading::Pbr {
+            text.push(("glview.pbr", group_words(&shown, "pbr", &[])));
+        }
+        text.extend([
+            ("glview.tier", self.shading.tier().into()),
+            ("glview.shading", self.shading.word().into()),
+            ("glview.model", self.model.clone()),
+        ]);
+        // The shown options' keys are already replayed into them (none are left).
+        text.push(("glview.camera", group_words(&shown, "camera", &["keys"])));
+        text.extend(reproducing(&shown));
         text
     }
 }
