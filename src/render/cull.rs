@@ -101,7 +101,7 @@ pub(crate) fn uses_lod(lod: Lod, cull_clusters: bool, triangles: u64, pixels: u6
 /// draw with levels ([`uses_lod`]) and has none yet (a cache miss brings clusters without
 /// them), and keeps them for later frames. Built before the first picture that uses them,
 /// so a picture never depends on whether the mesh cache held them: the cache's levels are
-/// these same levels ([`crate::scene::clusters::add_lod`]), it only saves building them.
+/// these same levels ([`crate::scene::clusters::levels_of`]), it only saves building them.
 /// Returns the meshes built.
 pub(crate) fn build_levels(
     scene: &mut SceneGpu,
@@ -117,8 +117,7 @@ pub(crate) fn build_levels(
             continue;
         }
         let t = std::time::Instant::now();
-        let mut levels =
-            crate::scene::lod::Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &c.list);
+        let mut levels = crate::scene::clusters::levels_of(m, c);
         dm.mesh.set_levels(&m.indices, &levels.indices)?;
         // As at upload: the levels' indices live on the GPU only.
         levels.indices = Vec::new();

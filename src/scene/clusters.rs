@@ -43,7 +43,7 @@ pub fn prepare(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
 }
 
 /// As [`prepare`] without levels of detail: for a model not in the cache, whose picture may
-/// not need them (the renderer builds them, with `Lod::build` as [`add_lod`] does, before
+/// not need them (the renderer builds them, with [`levels_of`] as [`add_lod`] does, before
 /// the first picture that draws them, so the pictures are those of [`prepare`]'s clusters).
 pub fn prepare_without_lod(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
     prepare_with(scene, false)
@@ -53,9 +53,16 @@ pub fn prepare_without_lod(scene: &mut super::Scene) -> Vec<Option<Clusters>> {
 pub fn add_lod(scene: &super::Scene, clusters: &mut [Option<Clusters>]) {
     for (m, c) in scene.meshes.iter().zip(clusters) {
         if let Some(c) = c {
-            c.lod = Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &c.list);
+            c.lod = levels_of(m, c);
         }
     }
+}
+
+/// The levels of detail of mesh `m` cut into `clusters`: the one call every builder makes
+/// (the loader, the mesh cache's writer, the renderer before a picture), so a picture's
+/// levels are the same whoever built them.
+pub fn levels_of(m: &super::Mesh, clusters: &Clusters) -> Lod {
+    Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &clusters.list)
 }
 
 fn prepare_with(scene: &mut super::Scene, lod: bool) -> Vec<Option<Clusters>> {
@@ -67,7 +74,7 @@ fn prepare_with(scene: &mut super::Scene, lod: bool) -> Vec<Option<Clusters>> {
                 reorder(&m.vertices, &mut m.indices);
                 let mut c = Clusters::build(&m.vertices, &m.indices);
                 if lod {
-                    c.lod = Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &c.list);
+                    c.lod = levels_of(m, &c);
                 }
                 c
             })
