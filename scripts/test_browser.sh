@@ -16,6 +16,17 @@ fi
 "$venv/bin/pip" install --quiet playwright==1.65.2 pillow pytest
 echo "scripts/test_browser.sh: $(/usr/bin/chromium --version 2>/dev/null), playwright $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("playwright"))')"
 
+# The SCORM 1.2 runtime the export page's package is run in (python/tests_browser/scorm:
+# scorm-again, pinned with its integrity hash in package-lock.json), copied out of the
+# project so npm never touches the repository's tree.
+runtime=target/scorm-runtime
+if [ ! -f "$runtime/node_modules/scorm-again/dist/scorm12.js" ]; then
+  mkdir -p "$runtime"
+  cp python/tests_browser/scorm/package.json python/tests_browser/scorm/package-lock.json "$runtime/"
+  (cd "$runtime" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+export SCORM_RUNTIME="$PWD/$runtime/node_modules/scorm-again/dist/scorm12.js"
+
 rc=0
 GLVIEW_BIN="${GLVIEW_BIN:-$PWD/target/debug/glview}" \
   "$venv/bin/python" -m pytest -q -p no:cacheprovider python/tests_browser "$@" || rc=$?
