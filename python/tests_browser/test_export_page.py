@@ -240,6 +240,7 @@ def test_scorm_package_completes_after_a_full_turn_and_both_tiers(browser, lesso
         page.keyboard.press("ArrowLeft")
     assert status() == "completed"
     assert page.evaluate("window.API.cmi.core.lesson_location") == frame.locator("#view").get_attribute("data-view")
+    assert page.evaluate("window.API.cmi.suspend_data") == "yaws:" + "1" * YAWS + ";tiers:phong,pbr"
     outside = [u for u in page.context.requests if not u.startswith(LMS)]
     page.context.close()
     assert not outside, outside

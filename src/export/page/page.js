@@ -155,6 +155,7 @@
     if (api) {
       var status = String(api.LMSGetValue('cmi.core.lesson_status'));
       done = status === 'completed' || status === 'passed';
+      restore(String(api.LMSGetValue('cmi.suspend_data') || ''));
       if (!done) api.LMSSetValue('cmi.core.lesson_status', 'incomplete');
       api.LMSCommit('');
       var finish = function () {
@@ -165,6 +166,25 @@
       };
       window.addEventListener('pagehide', finish);
       window.addEventListener('beforeunload', finish);
+    }
+    // cmi.suspend_data: "yaws:0110...;tiers:phong,pbr", the columns and tiers seen so far,
+    // so a student who comes back goes on where they left.
+    function restore(text) {
+      var m = /^yaws:([01]*);tiers:([a-z,]*)$/.exec(text);
+      if (!m || m[1].length !== NY) return;
+      for (var i = 0; i < NY; i++) {
+        if (m[1].charAt(i) === '1' && !seen[i]) { seen[i] = true; count++; }
+      }
+      var t = m[2].split(',');
+      for (var j = 0; j < t.length; j++) if (t[j] === 'phong' || t[j] === 'pbr') tiers[t[j]] = true;
+    }
+    function saved() {
+      var bits = '';
+      for (var i = 0; i < NY; i++) bits += seen[i] ? '1' : '0';
+      var t = [];
+      if (tiers.phong) t.push('phong');
+      if (tiers.pbr) t.push('pbr');
+      return 'yaws:' + bits + ';tiers:' + t.join(',');
     }
     function report() {
       var t = (tiers.phong ? 1 : 0) + (tiers.pbr ? 1 : 0);
@@ -181,6 +201,7 @@
         report();
         if (api) {
           api.LMSSetValue('cmi.core.lesson_location', String(state.pitch * NY + state.yaw));
+          api.LMSSetValue('cmi.suspend_data', saved());
           if (complete && !done) {
             done = true;
             api.LMSSetValue('cmi.core.lesson_status', 'completed');
