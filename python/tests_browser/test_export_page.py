@@ -179,7 +179,7 @@ def test_tier_switch_compare_numbers_and_wheel(page, lesson):
     assert page.get_by_role("button", name="Zoom out").is_visible()
 
 
-def serve_lms(lesson, tmp_path, runtime):
+def serve_lms(lesson, tmp_path, runtime, preset=""):
     """The package unzipped under the LMS origin, with the harness page that makes the
     runtime's window.API and opens the lesson in an iframe."""
     root = tmp_path / "lms"
@@ -188,7 +188,7 @@ def serve_lms(lesson, tmp_path, runtime):
     (root / "scorm12.js").write_bytes(pathlib.Path(runtime).read_bytes())
     (root / "harness.html").write_text(
         "<!DOCTYPE html><html><head><script src='scorm12.js'></script><script>"
-        "window.API = new Scorm12API({autocommit: false, logLevel: 5});"
+        "window.API = new Scorm12API({autocommit: false, logLevel: 5});" + preset +
         "</script></head><body><iframe id='lesson' src='course/index.html' "
         "width='880' height='760'></iframe></body></html>")
     return root
@@ -213,14 +213,18 @@ def open_in_lms(browser, root):
     return page, frame
 
 
-@pytest.mark.parametrize("order", ["turn first", "tiers first"])
-def test_scorm_package_completes_after_a_full_turn_and_both_tiers(browser, lesson, tmp_path, order):
+def scorm_runtime():
     runtime = os.environ.get("SCORM_RUNTIME")
     if not runtime or not os.path.exists(runtime):
         if os.environ.get("CI") == "true":
             pytest.fail("SCORM_RUNTIME is missing (scripts/test_browser.sh installs it)")
         pytest.skip("SCORM_RUNTIME is missing (scripts/test_browser.sh installs it)")
-    page, frame = open_in_lms(browser, serve_lms(lesson, tmp_path, runtime))
+    return runtime
+
+
+@pytest.mark.parametrize("order", ["turn first", "tiers first"])
+def test_scorm_package_completes_after_a_full_turn_and_both_tiers(browser, lesson, tmp_path, order):
+    page, frame = open_in_lms(browser, serve_lms(lesson, tmp_path, scorm_runtime()))
     status = lambda: page.evaluate("window.API.cmi.core.lesson_status")
     assert page.evaluate("window.API.isInitialized()")
     assert status() == "incomplete"
@@ -244,3 +248,17 @@ def test_scorm_package_completes_after_a_full_turn_and_both_tiers(browser, lesso
     outside = [u for u in page.context.requests if not u.startswith(LMS)]
     page.context.close()
     assert not outside, outside
+
+
+def test_scorm_progress_is_restored_from_suspend_data(browser, lesson, tmp_path):
+    # A student who saw every direction but the last (yaw step 7) in both tiers comes back.
+    saved = "yaws:" + "1" * (YAWS - 1) + "0;tiers:phong,pbr"
+    preset = f"window.API.cmi.suspend_data = '{saved}';"
+    page, frame = open_in_lms(browser, serve_lms(lesson, tmp_path, scorm_runtime(), preset))
+    status = lambda: page.evaluate("window.API.cmi.core.lesson_status")
+    assert status() == "incomplete"
+    assert frame.locator("#view").get_attribute("data-seen") == f"{YAWS - 1}/{YAWS},2/2"
+    frame.locator("#view").focus()
+    page.keyboard.press("ArrowLeft")
+    assert status() == "completed"
+    page.context.close()
