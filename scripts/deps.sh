@@ -14,7 +14,7 @@ case "${1:-}" in
   # the export test's pinned SCORM runtime (a node from elsewhere, e.g. NodeSource's, which
   # bundles npm, is used as it is: Debian's npm package would conflict with it).
   --browser)
-    pkgs=(chromium)
+    pkgs=(chromium libxml2-utils) # xmllint: the SCORM manifest against ADL's schemas
     command -v npm >/dev/null || pkgs+=(nodejs npm)
     ;;
 esac
