@@ -151,6 +151,22 @@ mod tests {
         }
     }
 
+    /// The page runs in old browsers: its script is ES5 (no `let`/`const`, arrow functions,
+    /// template strings, classes or modules).
+    #[test]
+    fn script_is_es5() {
+        let code: String = SCRIPT
+            .lines()
+            .map(|l| l.split("//").next().unwrap_or(""))
+            .collect::<Vec<_>>()
+            .join("\n");
+        for token in [
+            "let ", "const ", "=>", "`", "class ", "import ", "export ", "async ", "...",
+        ] {
+            assert!(!code.contains(token), "page.js uses {token:?}");
+        }
+    }
+
     #[test]
     fn fill_replaces_in_one_pass() {
         let v = |n: &str| match n {
