@@ -155,6 +155,27 @@ def test_arrow_keys_and_drags_step_the_grid(page, lesson):
     assert shown(page) == data["phong"][start]
 
 
+def test_touch_drag_steps_the_grid(browser, lesson):
+    """A finger's drag (real touch input through the DevTools protocol, as a phone sends it)
+    moves between views as a mouse drag does."""
+    context = browser.new_context(viewport={"width": 900, "height": 800}, has_touch=True)
+    context.route("**/*", lambda r: r.continue_() if r.request.url.startswith("file:") else r.abort())
+    page = context.new_page()
+    page.goto(lesson["page"].as_uri())
+    start = lesson["data"]["start"]
+    box = page.locator("#pic-a").bounding_box()
+    x, y = box["x"] + 80, box["y"] + 30
+    cdp = context.new_cdp_session(page)
+    cdp.send("Input.dispatchTouchEvent", {"type": "touchStart", "touchPoints": [{"x": x, "y": y}]})
+    for i in range(1, 7):
+        cdp.send("Input.dispatchTouchEvent",
+                 {"type": "touchMove", "touchPoints": [{"x": x - 20 * i, "y": y}]})
+    cdp.send("Input.dispatchTouchEvent", {"type": "touchEnd", "touchPoints": []})
+    # 120 px to the left: one 45° step, yaw up (the model turns left).
+    assert int(view(page)["view"]) == start + 1
+    context.close()
+
+
 def test_tier_switch_compare_numbers_and_wheel(page, lesson):
     data = lesson["data"]
     v = data["start"]
