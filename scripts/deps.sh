@@ -10,7 +10,13 @@ pkgs=(
 )
 case "${1:-}" in
   --tests) pkgs+=(xvfb xdotool) ;; # window tests under a virtual X server
-  --browser) pkgs=(chromium) ;;    # the page of glview serve (scripts/test_browser.sh)
+  # The pages of glview serve and glview export (scripts/test_browser.sh); npm installs
+  # the export test's pinned SCORM runtime (a node from elsewhere, e.g. NodeSource's, which
+  # bundles npm, is used as it is: Debian's npm package would conflict with it).
+  --browser)
+    pkgs=(chromium libxml2-utils) # xmllint: the SCORM manifest against ADL's schemas
+    command -v npm >/dev/null || pkgs+=(nodejs npm)
+    ;;
 esac
 missing=()
 for p in "${pkgs[@]}"; do

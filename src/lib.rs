@@ -9,6 +9,7 @@
 pub mod camera;
 pub mod compare;
 pub mod error;
+pub mod export;
 pub mod frame;
 pub mod grid;
 pub mod image_out;

@@ -209,6 +209,10 @@ pub enum Command {
     /// built-in scene) rendered here, streamed to every page that opens the printed address
     /// (docs/serve.md). The picture options are every viewer's defaults.
     Serve(Box<ServeCommand>),
+    /// A lesson page for a learning platform: a turntable grid of Phong and PBR views in
+    /// one self-contained HTML file (no server, no WebGL), optionally a SCORM 1.2 package
+    /// (docs/export.md).
+    Export(Box<crate::export::ExportCommand>),
 }
 
 #[derive(Debug, clap::Args)]

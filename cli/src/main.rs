@@ -4,6 +4,7 @@
 mod app;
 mod batch;
 mod cli;
+mod export;
 mod serve;
 mod tools;
 mod window;
@@ -82,6 +83,7 @@ fn dispatch(args: &Args) -> Result<()> {
         Some(crate::cli::Command::Sheet(s)) => return s.run(),
         Some(crate::cli::Command::Batch(b)) => return crate::batch::run(b),
         Some(crate::cli::Command::Serve(s)) => return crate::serve::run(s),
+        Some(crate::cli::Command::Export(e)) => return e.run(),
         None => {}
     }
     if args.options_reference {

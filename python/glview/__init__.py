@@ -47,6 +47,7 @@ __all__ = [
     "diff_tiers",
     "compare",
     "sheet",
+    "export",
     "GlviewError",
     "OptionError",
     "ModelError",
@@ -425,7 +426,7 @@ def diff(a: "Image | np.ndarray", b: "Image | np.ndarray") -> Tuple[Image, Dict[
 def _path_options(model: Any, options: Dict[str, Any]) -> str:
     if model is not None and not isinstance(model, (str, os.PathLike)):
         raise TypeError(
-            "compare, diff_tiers and sheet take a model file (or None for the built-in "
+            "compare, diff_tiers, sheet and export take a model file (or None for the built-in "
             f"scene), not {type(model).__name__}"
         )
     if model is not None:
@@ -456,6 +457,40 @@ def diff_tiers(
     out["names"] = (n["a"], n["b"])
     out["a"], out["b"] = Image(a), Image(b)
     return Image(img), out
+
+
+def export(
+    model: Any,
+    path: "str | os.PathLike[str]",
+    yaw_steps: int = 36,
+    pitch_steps: int = 5,
+    pitch_step: float = 15.0,
+    quality: int = 85,
+    png: bool = False,
+    title: Optional[str] = None,
+    caption: Optional[str] = None,
+    max_size: Optional[int] = None,
+    scorm: "str | os.PathLike[str] | None" = None,
+    **options: Any,
+) -> Dict[str, Any]:
+    """``glview export MODEL -o PATH``: the lesson page (one self-contained HTML file of
+    turntable views, Phong and PBR, docs/export.md) and with ``scorm`` its SCORM 1.2
+    package. ``size`` is each picture's (default 640×480); the other keywords are the
+    picture's options. Returns what the page cost: views, bytes, picture_bytes, title."""
+    options = {"size": (640, 480), **options}
+    own = {
+        "yaw_steps": yaw_steps,
+        "pitch_steps": pitch_steps,
+        "pitch_step": pitch_step,
+        "quality": quality,
+        "png": png,
+        "title": title,
+        "caption": caption,
+        "max_size": max_size,
+        "scorm": None if scorm is None else os.fspath(scorm),
+    }
+    out = _native.export(_path_options(model, options), os.fspath(path), json.dumps(own))
+    return json.loads(out)
 
 
 def sheet(

@@ -85,6 +85,20 @@ def diff_tiers(
 def compare(
     model: Union[str, "os.PathLike[str]", None] = ..., tiers: str = ..., **options: Any
 ) -> Image: ...
+def export(
+    model: Union[str, "os.PathLike[str]", None],
+    path: Union[str, "os.PathLike[str]"],
+    yaw_steps: int = ...,
+    pitch_steps: int = ...,
+    pitch_step: float = ...,
+    quality: int = ...,
+    png: bool = ...,
+    title: Optional[str] = ...,
+    caption: Optional[str] = ...,
+    max_size: Optional[int] = ...,
+    scorm: Union[str, "os.PathLike[str]", None] = ...,
+    **options: Any,
+) -> Dict[str, Any]: ...
 def sheet(
     model: Union[str, "os.PathLike[str]", None] = ...,
     tiers: str = ...,

@@ -10,6 +10,7 @@ use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
+use std::path::PathBuf;
 
 create_exception!(_glview, GlviewError, PyException, "Any error of glview.");
 create_exception!(
@@ -411,6 +412,32 @@ fn sheet<'py>(
     array(py, img)
 }
 
+/// `glview export`: the lesson page of the picture options and the export's own (a JSON
+/// object) written to `path` (and the SCORM package where asked); its summary as JSON.
+#[pyfunction]
+fn export(
+    py: Python<'_>,
+    options_json: &str,
+    path: PathBuf,
+    export_json: &str,
+) -> PyResult<String> {
+    let o = options(options_json)?;
+    let keywords: serde_json::Value = serde_json::from_str(export_json)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+    let opts = glview::export::ExportOptions::with_keywords(o, &keywords).map_err(py_err)?;
+    let e = py
+        .detach(move || glview::export::write(&opts, &path))
+        .map_err(py_err)?;
+    Ok(serde_json::json!({
+        "views": e.views,
+        "bytes": e.html.len(),
+        "picture_bytes": e.picture_bytes,
+        "title": e.title,
+        "summary": e.summary,
+    })
+    .to_string())
+}
+
 /// Waits until the mesh cache entries being written on other threads (a large model's
 /// levels of detail, built while its first picture was drawn) are written; the package
 /// calls it at exit, so a short script's first load still leaves its entry.
@@ -431,6 +458,7 @@ fn _glview(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(diff_tiers, m)?)?;
     m.add_function(wrap_pyfunction!(diff_images, m)?)?;
     m.add_function(wrap_pyfunction!(sheet, m)?)?;
+    m.add_function(wrap_pyfunction!(export, m)?)?;
     m.add_function(wrap_pyfunction!(wait_for_cache_writes, m)?)?;
     m.add("GlviewError", py.get_type::<GlviewError>())?;
     m.add("OptionError", py.get_type::<OptionError>())?;

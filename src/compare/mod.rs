@@ -262,7 +262,7 @@ pub fn phong_pbr(
 }
 
 /// Columns x0..x0+w of `img`.
-fn crop(img: &Rgba, x0: u32, w: u32) -> Rgba {
+pub(crate) fn crop(img: &Rgba, x0: u32, w: u32) -> Rgba {
     let mut data = Vec::with_capacity((w * img.height * 4) as usize);
     for y in 0..img.height {
         let s = ((y * img.width + x0) * 4) as usize;

@@ -17,6 +17,7 @@ mod conformance;
 mod culling;
 mod determinism;
 mod edges;
+mod export;
 mod fast_parse;
 mod fuzz_format_regressions;
 mod fuzz_regressions;
