@@ -240,6 +240,14 @@ pub struct ServeCommand {
     /// Scenes kept uploaded at once (folder mode: viewers on different models).
     #[arg(long, default_value_t = 4)]
     pub keep_scenes: usize,
+    /// Connections at once from one address (page loads and viewers); more are closed at
+    /// once. Behind a reverse proxy every connection is the proxy's: raise it there.
+    #[arg(long, default_value_t = 64)]
+    pub max_per_address: usize,
+    /// The address viewers open when it is not the bind address (a reverse proxy, a DNS
+    /// name): printed instead, and its host is one the `Host` header may name.
+    #[arg(long)]
+    pub public_url: Option<String>,
     #[command(flatten)]
     pub opts: PictureArgs,
 }

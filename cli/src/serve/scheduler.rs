@@ -4,12 +4,13 @@
 //! presenter's frames go to every follower.
 use super::models::Models;
 use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
+use super::queues::{Inbox, Outbox};
 use super::render::{options_for, render, Kind, Picture};
 use glview::keys::{self, Effect};
 use glview::options::Options;
 use glview::session::{Session, View};
 use std::collections::BTreeMap;
-use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -25,7 +26,8 @@ pub struct Config {
 }
 
 struct Viewer {
-    out: Sender<Outgoing>,
+    out: Arc<Outbox>,
+    inbox: Arc<Inbox>,
     view: View,
     presenter: bool,
     following: bool,
@@ -53,14 +55,14 @@ impl Viewer {
     fn send_frame(&mut self, id: u64, frame: &tungstenite::Bytes) {
         if self.in_flight.is_none() {
             self.in_flight = Some(id);
-            let _ = self.out.send(Outgoing::Frame(frame.clone()));
+            self.out.push(Outgoing::Frame(frame.clone()));
         } else {
             self.owed = Some((id, frame.clone()));
         }
     }
 
     fn error(&self, message: &str) {
-        let _ = self.out.send(Outgoing::Text(error_json(message, false)));
+        self.out.push(Outgoing::Text(error_json(message, false)));
     }
 
     /// A follower's own input leaves the class (a presenter coming later is not followed),
@@ -173,22 +175,31 @@ impl Scheduler {
 
     fn event(&mut self, e: Event) {
         match e {
-            Event::Join { id, out, presenter } => self.join(id, out, presenter),
+            Event::Join {
+                id,
+                out,
+                inbox,
+                presenter,
+            } => self.join(id, out, inbox, presenter),
             Event::Leave { id } => self.leave(id),
-            Event::Input { id, msg } => {
-                if self.viewers.contains_key(&id) {
+            Event::Wake { id } => {
+                let msgs = match self.viewers.get(&id) {
+                    Some(v) => v.inbox.take(),
+                    None => return,
+                };
+                for msg in msgs {
                     self.input(id, msg);
                 }
             }
         }
     }
 
-    fn join(&mut self, id: u64, out: Sender<Outgoing>, want_presenter: bool) {
+    fn join(&mut self, id: u64, out: Arc<Outbox>, inbox: Arc<Inbox>, want_presenter: bool) {
         let mut options = self.base.clone();
         options.load.model = self.models.first().1.map(Into::into);
         let presenter = want_presenter && self.presenter.is_none();
         if want_presenter && !presenter {
-            let _ = out.send(Outgoing::Text(error_json(
+            out.push(Outgoing::Text(error_json(
                 "a presenter is already connected: this is an ordinary viewer",
                 false,
             )));
@@ -203,9 +214,10 @@ impl Scheduler {
             "max_size": super::protocol::MAX_SIZE,
             "keys": keys::remote_table(),
         });
-        let _ = out.send(Outgoing::Text(hello.to_string()));
+        out.push(Outgoing::Text(hello.to_string()));
         let v = Viewer {
             out,
+            inbox,
             view: View::new(options),
             presenter,
             following: false,
@@ -249,7 +261,7 @@ impl Scheduler {
             .store(online, std::sync::atomic::Ordering::Relaxed);
         let note = serde_json::json!({"type": "presenter", "online": online}).to_string();
         for v in self.viewers.values() {
-            let _ = v.out.send(Outgoing::Text(note.clone()));
+            v.out.push(Outgoing::Text(note.clone()));
         }
     }
 
@@ -325,7 +337,8 @@ impl Scheduler {
                     v.changed();
                 }
                 None => v.error(&format!(
-                    "no model named {name:?} (the server lists {})",
+                    "no model named {:?} (the server lists {})",
+                    super::http::clip(&name),
                     self.models.names().len()
                 )),
             },
@@ -366,7 +379,8 @@ impl Scheduler {
                         other => other.map(|_| ()),
                     },
                     None => Err(glview::Error::Usage(format!(
-                        "unknown key {key:?} (the window's keys: glview --help)"
+                        "unknown key {:?} (the window's keys: glview --help)",
+                        super::http::clip(&key)
                     ))),
                 },
                 ClientMsg::Drag { dx, dy, .. } => v.view.drag(dx, dy, scene),
