@@ -49,6 +49,7 @@ mod render_layers;
 mod repro;
 mod serve;
 mod serve_client;
+mod serve_load;
 mod shaders;
 mod shadows;
 mod stats;

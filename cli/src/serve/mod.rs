@@ -143,6 +143,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         drag_scale: if fixed_size { 1.0 } else { cmd.drag_scale },
         drag_quality: cmd.drag_quality,
         fixed_size,
+        max_size: base.picture.size,
     };
     scheduler::Scheduler::new(session, base, models, config, presenter_online).run(&rx);
     Ok(())

@@ -16,6 +16,11 @@ use std::time::{Duration, Instant};
 
 /// Inputs waiting for their scene (the first frame of a model) are bounded.
 const MAX_PENDING: usize = 256;
+/// A frame costing more than this holds its viewer back for the excess while others are
+/// active, so an expensive view takes at most about half the render thread's time.
+const CHEAP: Duration = Duration::from_millis(40);
+/// A viewer served this recently counts as active.
+const ACTIVE: Duration = Duration::from_secs(1);
 
 pub struct Config {
     pub still_delay: Duration,
@@ -23,6 +28,8 @@ pub struct Config {
     pub drag_quality: u8,
     /// The context cannot change size (OSMesa): size messages are refused.
     pub fixed_size: bool,
+    /// `--size`: the largest view a viewer may ask for.
+    pub max_size: (u32, u32),
 }
 
 struct Viewer {
@@ -49,6 +56,12 @@ struct Viewer {
     /// The newest frame sent (a new follower starts with it), and whether it is a still.
     last_frame: Option<(u64, tungstenite::Bytes)>,
     last_was_still: bool,
+    /// Render time charged to this viewer (virtual time: the least charged is served first).
+    used: Duration,
+    /// An expensive frame's viewer waits until then while others are active.
+    not_before: Instant,
+    /// When its last frame was drawn.
+    served_at: Option<Instant>,
 }
 
 impl Viewer {
@@ -91,6 +104,9 @@ pub struct Scheduler {
     viewers: BTreeMap<u64, Viewer>,
     /// The viewer served last: the next turn starts after it.
     last_served: u64,
+    /// The charge of the viewer served last: no viewer's counts for less (an idle viewer
+    /// does not bank time to spend in a burst).
+    vclock: Duration,
     next_frame: u64,
     presenter: Option<u64>,
     presenter_online: Arc<std::sync::atomic::AtomicBool>,
@@ -111,6 +127,7 @@ impl Scheduler {
             config,
             viewers: BTreeMap::new(),
             last_served: 0,
+            vclock: Duration::ZERO,
             next_frame: 1,
             presenter: None,
             presenter_online,
@@ -137,7 +154,9 @@ impl Scheduler {
             }
             if let Some(id) = self.ready(Instant::now()) {
                 self.last_served = id;
+                let t = Instant::now();
                 self.serve(id);
+                self.charge_frame(id, t.elapsed());
             }
         }
     }
@@ -148,29 +167,65 @@ impl Scheduler {
         !(v.following && self.presenter.is_some_and(|p| p != id))
     }
 
-    /// The next viewer to draw, in turn after the last one served.
-    fn ready(&self, now: Instant) -> Option<u64> {
-        let due = |id: &u64, v: &Viewer| {
-            v.in_flight.is_none()
-                && (v.dirty || (v.still_owed && now >= v.last_input + self.config.still_delay))
-                && self.draws_own(*id)
+    /// When `v` wants a frame next (None: it waits for an ack, input, or its presenter).
+    fn due_at(&self, id: u64, v: &Viewer) -> Option<Instant> {
+        if v.in_flight.is_some() || !self.draws_own(id) {
+            return None;
+        }
+        let at = if v.dirty {
+            v.not_before
+        } else if v.still_owed {
+            v.not_before.max(v.last_input + self.config.still_delay)
+        } else {
+            return None;
         };
+        Some(at)
+    }
+
+    /// A viewer's charge as the turns count it.
+    fn charge(&self, v: &Viewer) -> Duration {
+        v.used.max(self.vclock)
+    }
+
+    /// The next viewer to draw: of those due, the least charged with render time; among
+    /// equals, in turn after the last one served.
+    fn ready(&self, now: Instant) -> Option<u64> {
         let after = self.viewers.range(self.last_served + 1..);
         let before = self.viewers.range(..=self.last_served);
         after
             .chain(before)
-            .find(|(id, v)| due(id, v))
+            .filter(|(id, v)| self.due_at(**id, v).is_some_and(|t| t <= now))
+            .min_by_key(|(_, v)| self.charge(v))
             .map(|(id, _)| *id)
     }
 
-    /// How long nothing is due: until the nearest owed still (or a while).
+    /// How long nothing is due: until the nearest owed still or held-back frame (or a while).
     fn next_deadline(&self, now: Instant) -> Duration {
         self.viewers
-            .values()
-            .filter(|v| v.still_owed && v.in_flight.is_none())
-            .map(|v| (v.last_input + self.config.still_delay).saturating_duration_since(now))
+            .iter()
+            .filter_map(|(id, v)| self.due_at(*id, v))
+            .map(|t| t.saturating_duration_since(now))
             .min()
             .unwrap_or(Duration::from_secs(3600))
+    }
+
+    /// Charges `id` with a frame that took `cost`: an expensive one holds it back while
+    /// another viewer is active.
+    fn charge_frame(&mut self, id: u64, cost: Duration) {
+        let now = Instant::now();
+        let others = self.viewers.iter().any(|(other, v)| {
+            *other != id
+                && (v.served_at.is_some_and(|t| now - t < ACTIVE)
+                    || self.due_at(*other, v).is_some())
+        });
+        let start = self.charge(&self.viewers[&id]);
+        self.vclock = start;
+        let v = self.viewers.get_mut(&id).expect("served");
+        v.used = start + cost;
+        v.served_at = Some(now);
+        if others && cost > CHEAP {
+            v.not_before = now + (cost - CHEAP);
+        }
     }
 
     fn event(&mut self, e: Event) {
@@ -197,12 +252,14 @@ impl Scheduler {
     fn join(&mut self, id: u64, out: Arc<Outbox>, inbox: Arc<Inbox>, want_presenter: bool) {
         let mut options = self.base.clone();
         options.load.model = self.models.first().1.map(Into::into);
-        let presenter = want_presenter && self.presenter.is_none();
-        if want_presenter && !presenter {
-            out.push(Outgoing::Text(error_json(
-                "a presenter is already connected: this is an ordinary viewer",
-                false,
-            )));
+        // The presenter's key is proof enough: a presenter coming back (a reload, a new
+        // network) takes the role over from its old socket, which may not be closed yet.
+        let presenter = want_presenter;
+        if let Some(old) = self.presenter.filter(|_| presenter) {
+            if let Some(o) = self.viewers.get_mut(&old) {
+                o.presenter = false;
+                o.error("the presenter's key opened another page: this one is an ordinary viewer");
+            }
         }
         let hello = serde_json::json!({
             "type": "hello",
@@ -211,7 +268,7 @@ impl Scheduler {
             "size": [options.picture.size.0, options.picture.size.1],
             "presenter": presenter,
             "presenter_online": self.presenter.is_some() || presenter,
-            "max_size": super::protocol::MAX_SIZE,
+            "max_size": [self.config.max_size.0, self.config.max_size.1],
             "keys": keys::remote_table(),
         });
         out.push(Outgoing::Text(hello.to_string()));
@@ -231,6 +288,9 @@ impl Scheduler {
             owed: None,
             last_frame: None,
             last_was_still: false,
+            used: self.vclock,
+            not_before: Instant::now(),
+            served_at: None,
         };
         self.viewers.insert(id, v);
         if presenter {
@@ -324,6 +384,14 @@ impl Scheduler {
             }
             ClientMsg::Size { .. } if self.config.fixed_size => {
                 v.error("this server's context (OSMesa) keeps one size: the view stays as it is")
+            }
+            ClientMsg::Size { width, height }
+                if width > self.config.max_size.0 || height > self.config.max_size.1 =>
+            {
+                let (w, h) = self.config.max_size;
+                v.error(&format!(
+                    "the largest view here is {w}x{h} (the server's --size): asked {width}x{height}"
+                ))
             }
             ClientMsg::Size { width, height } => {
                 v.view.resize((width, height));
