@@ -48,6 +48,7 @@ mod reference_materials;
 mod render_layers;
 mod repro;
 mod serve;
+mod serve_audit;
 mod serve_client;
 mod serve_load;
 mod shaders;

@@ -122,6 +122,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         Some(u) => u.trim_end_matches('/').to_string(),
         None => format!("http://{local}"),
     };
+    println!("glview serve: listening on {local}");
     println!("glview serve: open {open}/{query}");
     println!("glview serve: presenter {open}/{query}{sep}present={presenter_key}");
     println!(

@@ -15,7 +15,9 @@ pub enum Kind {
 
 pub struct Picture<'a> {
     pub view: &'a View,
-    pub model: String,
+    /// The list the model's name comes from, and what takes the server's paths out of the
+    /// command and the PNG text (relative to the served folder, as the viewer's names are).
+    pub models: &'a super::models::Models,
     pub kind: Kind,
 }
 
@@ -43,7 +45,10 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
     let still = p.kind == Kind::Still;
     let (image, text, diff, command, settings) = if p.view.compare() {
         let pair = glview::compare::phong_pbr(session, &o, still)?;
-        let command = format!("{} --compare phong,pbr", glview::repro::command_line(&o));
+        let command = format!(
+            "{} --compare phong,pbr",
+            p.models.scrub(&glview::repro::command_line(&o))
+        );
         let text = vec![
             ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
             ("glview.compare", "phong,pbr".to_string()),
@@ -57,9 +62,16 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
         (pair.image, text, diff, command, pair.settings)
     } else {
         let drawn = session.draw(&o, None, Outputs::default(), &mut profile)?;
-        let command = glview::repro::command_line(&o);
+        let command = p.models.scrub(&glview::repro::command_line(&o));
         // A preview is JPEG, without text: only a still's is made.
-        let text = if still { drawn.text() } else { Vec::new() };
+        let text = if still {
+            let text = drawn.text();
+            text.into_iter()
+                .map(|(k, v)| (k, p.models.scrub(&v)))
+                .collect()
+        } else {
+            Vec::new()
+        };
         (drawn.image, text, None, command, drawn.settings)
     };
     let draw_ms = ms(t);
@@ -83,7 +95,7 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
         "width": image.width,
         "height": image.height,
         "view": [view.0, view.1],
-        "model": p.model,
+        "model": p.models.name_of(p.view.options().load.model.as_deref()),
         "compare": p.view.compare(),
         "tier": tier,
         "shadows": settings.shadows.enabled,

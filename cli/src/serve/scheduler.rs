@@ -397,18 +397,14 @@ impl Scheduler {
                 v.view.resize((width, height));
                 v.changed();
             }
-            ClientMsg::Model { name, .. } => match self.models.get(&name) {
-                Some(path) => {
+            ClientMsg::Model { name, .. } => match self.models.open(&name) {
+                Ok(path) => {
                     v.leave_class(presenter_view.as_ref());
                     v.pending.clear();
-                    v.view.set_model(path.map(Into::into));
+                    v.view.set_model(path);
                     v.changed();
                 }
-                None => v.error(&format!(
-                    "no model named {:?} (the server lists {})",
-                    super::http::clip(&name),
-                    self.models.names().len()
-                )),
+                Err(e) => v.error(&e),
             },
             m @ (ClientMsg::Key { .. } | ClientMsg::Drag { .. } | ClientMsg::Wheel { .. }) => {
                 v.leave_class(presenter_view.as_ref());
@@ -456,7 +452,7 @@ impl Scheduler {
                 _ => Ok(()),
             };
             if let Err(e) = r {
-                v.error(&e.to_string());
+                v.error(&self.models.scrub(&e.to_string()));
             }
         }
         Ok(())
@@ -476,14 +472,14 @@ impl Scheduler {
         };
         if let Err(e) = self.apply_pending(id, kind) {
             let v = self.viewers.get_mut(&id).expect("served");
-            v.error(&e);
+            v.error(&self.models.scrub(&e));
             (v.dirty, v.still_owed) = (false, false);
             return;
         }
         let v = &self.viewers[&id];
         let picture = Picture {
             view: &v.view,
-            model: self.models.name_of(v.view.options().load.model.as_deref()),
+            models: &self.models,
             kind,
         };
         let frame = self.next_frame;
@@ -502,7 +498,7 @@ impl Scheduler {
         let bytes = match drawn {
             Ok(b) => tungstenite::Bytes::from(b),
             Err(e) => {
-                v.error(&e.to_string());
+                v.error(&self.models.scrub(&e.to_string()));
                 v.still_owed = false;
                 return;
             }
