@@ -290,6 +290,7 @@ def test_presenter_and_follower(browser, server):
     follower = open_page(browser, server.url + "&follow=1")
     try:
         assert presenter.locator("#presenting").is_visible()
+        assert "present=" not in presenter.url and "token" not in presenter.url, presenter.url
         assert presenter.locator("#follow-label").is_hidden()
         box = follower.locator("#follow")
         assert box.is_checked() and box.is_enabled()
@@ -408,6 +409,8 @@ def test_token_is_required(browser, server):
     # (a reload after the query was cut off), socket included.
     page = open_page(browser, server.url)
     try:
+        # The address bar no longer shows the token (a projected tab shows no secret).
+        assert "token" not in page.url and page.url.startswith(server.origin), page.url
         page.goto(server.origin + "/")
         page.wait_for_function("window.glview && window.glview.frames >= 1", timeout=15000)
         assert not page.errors, page.errors

@@ -9,10 +9,24 @@ const ctx = canvas.getContext('2d');
 const params = new URLSearchParams(location.search);
 
 // The token may be absent from the URL when the page came with the server's cookie; the
-// socket's handshake then carries the cookie instead.
+// socket's handshake then carries the cookie instead. The presenter's key is kept for this
+// tab only (sessionStorage: a reload presents again, another tab does not).
 const query = new URLSearchParams();
 if (params.get('token')) query.set('token', params.get('token'));
-if (params.get('present')) query.set('present', params.get('present'));
+const presentKey = params.get('present') || sessionStorage.getItem('glview_present');
+if (presentKey) {
+  sessionStorage.setItem('glview_present', presentKey);
+  query.set('present', presentKey);
+}
+// The address bar keeps neither secret (a projected presenter tab shows it): the server's
+// cookie (HttpOnly) lets this page, its reloads and its socket in; the printed links still
+// work for others, since the server takes the token from a link as before.
+if (params.has('token') || params.has('present')) {
+  const rest = new URLSearchParams(params);
+  rest.delete('token');
+  rest.delete('present');
+  history.replaceState(null, '', location.pathname + (rest.toString() ? '?' + rest : '') + location.hash);
+}
 const wsUrl = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws' +
   (query.toString() ? '?' + query : '');
 
