@@ -113,7 +113,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
             Duration::from_secs(cmd.idle_timeout),
         ),
         hosts(&local, public.as_deref()),
-        events,
+        events.clone(),
         presenter_online.clone(),
     ));
     let query = token.map(|t| format!("?token={t}")).unwrap_or_default();
@@ -146,7 +146,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         fixed_size,
         max_size: base.picture.size,
     };
-    scheduler::Scheduler::new(session, base, models, config, presenter_online).run(&rx);
+    scheduler::Scheduler::new(session, base, models, config, presenter_online, events).run(&rx);
     Ok(())
 }
 

@@ -78,8 +78,9 @@ pub enum Outgoing {
     Close(u16, String),
 }
 
-/// From the connections to the render thread: a bounded stream (one `Wake` per viewer
-/// until the render thread takes its inbox; a join and a leave per viewer).
+/// To the render thread, from the connections and the encoders: a bounded stream (one
+/// `Wake` per viewer until the render thread takes its inbox; a join and a leave per viewer;
+/// one `Encoded` per viewer at a time).
 pub enum Event {
     Join {
         id: u64,
@@ -93,6 +94,13 @@ pub enum Event {
     },
     Leave {
         id: u64,
+    },
+    /// From an encoding worker: a frame's bytes (or the encoder's error).
+    Encoded {
+        id: u64,
+        frame: u64,
+        still: bool,
+        bytes: Result<tungstenite::Bytes, String>,
     },
 }
 

@@ -5,12 +5,12 @@
 use super::models::Models;
 use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
 use super::queues::{Inbox, Outbox};
-use super::render::{options_for, render, Kind, Picture};
+use super::render::{draw, encode, options_for, Kind, Picture};
 use glview::keys::{self, Effect};
 use glview::options::Options;
 use glview::session::{Session, View};
 use std::collections::BTreeMap;
-use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -62,6 +62,8 @@ struct Viewer {
     not_before: Instant,
     /// When its last frame was drawn.
     served_at: Option<Instant>,
+    /// Its frame is being encoded on a worker: the next one waits.
+    encoding: bool,
 }
 
 impl Viewer {
@@ -110,6 +112,8 @@ pub struct Scheduler {
     next_frame: u64,
     presenter: Option<u64>,
     presenter_online: Arc<std::sync::atomic::AtomicBool>,
+    /// The encoders' way back (`Event::Encoded`).
+    events: Sender<Event>,
 }
 
 impl Scheduler {
@@ -119,6 +123,7 @@ impl Scheduler {
         models: Models,
         config: Config,
         presenter_online: Arc<std::sync::atomic::AtomicBool>,
+        events: Sender<Event>,
     ) -> Scheduler {
         Scheduler {
             session,
@@ -131,10 +136,11 @@ impl Scheduler {
             next_frame: 1,
             presenter: None,
             presenter_online,
+            events,
         }
     }
 
-    /// Serves until every sender of events is gone.
+    /// Serves for the life of the process.
     pub fn run(&mut self, events: &Receiver<Event>) {
         loop {
             let now = Instant::now();
@@ -169,7 +175,7 @@ impl Scheduler {
 
     /// When `v` wants a frame next (None: it waits for an ack, input, or its presenter).
     fn due_at(&self, id: u64, v: &Viewer) -> Option<Instant> {
-        if v.in_flight.is_some() || !self.draws_own(id) {
+        if v.in_flight.is_some() || v.encoding || !self.draws_own(id) {
             return None;
         }
         let at = if v.dirty {
@@ -237,6 +243,12 @@ impl Scheduler {
                 presenter,
             } => self.join(id, out, inbox, presenter),
             Event::Leave { id } => self.leave(id),
+            Event::Encoded {
+                id,
+                frame,
+                still,
+                bytes,
+            } => self.encoded(id, frame, still, bytes),
             Event::Wake { id } => {
                 let msgs = match self.viewers.get(&id) {
                     Some(v) => v.inbox.take(),
@@ -291,6 +303,7 @@ impl Scheduler {
             used: self.vclock,
             not_before: Instant::now(),
             served_at: None,
+            encoding: false,
         };
         self.viewers.insert(id, v);
         if presenter {
@@ -483,11 +496,11 @@ impl Scheduler {
             kind,
         };
         let frame = self.next_frame;
-        let drawn = render(&mut self.session, &picture).map(|(mut header, image)| {
-            header["frame"] = frame.into();
-            header["seq"] = v.seq.into();
-            header["presenter"] = v.presenter.into();
-            frame_bytes(&header, &image)
+        let drawn = draw(&mut self.session, &picture).map(|mut d| {
+            d.header["frame"] = frame.into();
+            d.header["seq"] = v.seq.into();
+            d.header["presenter"] = v.presenter.into();
+            d
         });
         let v = self.viewers.get_mut(&id).expect("served");
         v.dirty = false;
@@ -495,8 +508,8 @@ impl Scheduler {
         if kind == Kind::Still {
             v.still_owed = false;
         }
-        let bytes = match drawn {
-            Ok(b) => tungstenite::Bytes::from(b),
+        let drawn = match drawn {
+            Ok(d) => d,
             Err(e) => {
                 v.error(&self.models.scrub(&e.to_string()));
                 v.still_owed = false;
@@ -504,9 +517,43 @@ impl Scheduler {
             }
         };
         self.next_frame += 1;
+        // Encoding takes a worker, not the render thread; the viewer waits for it as for an
+        // ack (one frame of a viewer at a time, in order).
+        v.encoding = true;
+        let events = self.events.clone();
+        let still = kind == Kind::Still;
+        rayon::spawn(move || {
+            let bytes = encode(drawn)
+                .map(|(header, image)| frame_bytes(&header, &image).into())
+                .map_err(|e| e.to_string());
+            let _ = events.send(Event::Encoded {
+                id,
+                frame,
+                still,
+                bytes,
+            });
+        });
+    }
+
+    /// A frame encoded: sent to its viewer, and to the followers when it is the presenter.
+    fn encoded(
+        &mut self,
+        id: u64,
+        frame: u64,
+        still: bool,
+        bytes: Result<tungstenite::Bytes, String>,
+    ) {
+        let Some(v) = self.viewers.get_mut(&id) else {
+            return;
+        };
+        v.encoding = false;
+        let bytes = match bytes {
+            Ok(b) => b,
+            Err(e) => return v.error(&e),
+        };
         v.send_frame(frame, &bytes);
         v.last_frame = Some((frame, bytes.clone()));
-        v.last_was_still = kind == Kind::Still;
+        v.last_was_still = still;
         if self.presenter == Some(id) {
             for f in self.viewers.values_mut().filter(|f| f.following) {
                 f.send_frame(frame, &bytes);
