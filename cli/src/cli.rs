@@ -207,7 +207,8 @@ pub enum Command {
     Batch(BatchCommand),
     /// Serve the viewer to browsers: PATH (a model, or a folder of models; default the
     /// built-in scene) rendered here, streamed to every page that opens the printed address
-    /// (docs/serve.md). The picture options are every viewer's defaults.
+    /// (docs/serve.md). The picture options are every viewer's defaults; `--size` is also
+    /// the largest view a viewer may ask for.
     Serve(Box<ServeCommand>),
 }
 
