@@ -137,6 +137,9 @@ impl Run<'_> {
 
 static BASE_RSS: AtomicU64 = AtomicU64::new(0);
 
+/// An attacker: runs until the run's `stop` is set.
+type Attack = fn(&Run);
+
 /// Drags and 4 KiB model messages as fast as the socket takes them, nothing read.
 fn flood(run: &Run) {
     let mut c = run.attacker();
@@ -145,7 +148,7 @@ fn flood(run: &Run) {
     let mut i = 0u64;
     while !run.stop.load(Ordering::Relaxed) {
         i += 1;
-        let m = if i % 2 == 0 { &model } else { &drag };
+        let m = if i.is_multiple_of(2) { &model } else { &drag };
         let _ = c.ws.send(Message::text(m.clone()));
     }
 }
@@ -262,7 +265,7 @@ fn one_client_cannot_stall_the_class() {
         let t = Instant::now();
         std::thread::sleep(Duration::from_secs(3));
         let base = run.fps_since(t);
-        let attacks: [(&str, fn(&Run)); 4] = [
+        let attacks: [(&str, Attack); 4] = [
             ("message flood", flood),
             ("slow reader", slow_reader),
             ("expensive view", expensive),

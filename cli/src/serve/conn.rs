@@ -147,9 +147,8 @@ pub async fn accept(listener: tokio::net::TcpListener, shared: Arc<Shared>) {
 
 /// Answers one request.
 fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) -> Answer {
-    let r = match Request::of(&req) {
-        Ok(r) => r,
-        Err(answer) => return answer,
+    let Some(r) = Request::of(&req) else {
+        return http::text(400, "the path is not UTF-8");
     };
     if r.method != "GET" {
         return http::text(405, "only GET is served");

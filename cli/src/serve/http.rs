@@ -26,14 +26,14 @@ pub struct Request {
 }
 
 impl Request {
-    /// The parts the routes read of hyper's request; an undecodable path is a 400.
-    pub fn of<B>(req: &hyper::Request<B>) -> Result<Request, Answer> {
-        let bad = || text(400, "the path is not UTF-8");
+    /// The parts the routes read of hyper's request; None when the path or query does not
+    /// decode to UTF-8 (a 400).
+    pub fn of<B>(req: &hyper::Request<B>) -> Option<Request> {
         let decode = |s: &str| {
             percent_decode_str(s)
                 .decode_utf8()
+                .ok()
                 .map(|c| c.into_owned())
-                .map_err(|_| bad())
         };
         let query = req
             .uri()
@@ -43,9 +43,9 @@ impl Request {
             .filter(|p| !p.is_empty())
             .map(|p| {
                 let (n, v) = p.split_once('=').unwrap_or((p, ""));
-                Ok((decode(n)?, decode(v)?))
+                Some((decode(n)?, decode(v)?))
             })
-            .collect::<Result<_, Answer>>()?;
+            .collect::<Option<_>>()?;
         let headers = req
             .headers()
             .iter()
@@ -56,7 +56,7 @@ impl Request {
                 )
             })
             .collect();
-        Ok(Request {
+        Some(Request {
             method: req.method().as_str().to_string(),
             path: decode(req.uri().path())?,
             query,
