@@ -416,3 +416,53 @@ def test_token_is_required(browser, server):
         assert not page.errors, page.errors
     finally:
         page.context.close()
+
+
+FITS = """() => {
+  if (!window.glview) return false;
+  const h = window.glview.last, c = document.getElementById('view').getBoundingClientRect();
+  const root = document.documentElement;
+  return h && h.still && h.view[0] === c.width && h.view[1] === c.height &&
+    c.top >= 0 && c.bottom <= window.innerHeight && c.right <= root.clientWidth &&
+    root.scrollWidth <= root.clientWidth;
+}"""
+
+
+def test_the_view_fits_a_laptop_window(browser, glview_bin):
+    """A 1366×768 screen leaves Firefox ESR 1366×682 of page: with the default --size
+    (1024x768) the view takes the room below the bar, all of it visible without scrolling
+    (the help line below it may need a scroll), and its still is one image pixel per CSS
+    pixel at that size."""
+    s = Server(glview_bin)
+    try:
+        context = browser.new_context(viewport={"width": 1366, "height": 682})
+        page = context.new_page()
+        page.goto(s.url)
+        page.wait_for_function(FITS, timeout=20000)
+        h = page.evaluate("window.glview.last")
+        assert h["view"][0] == 1024 and 600 <= h["view"][1] < 682, h["view"]
+        assert (h["width"], h["height"]) == tuple(h["view"]), h
+        # A resize asks again: a smaller window, a smaller view.
+        page.set_viewport_size({"width": 900, "height": 500})
+        page.wait_for_function("(" + FITS + ")() && window.glview.last.view[0] < 900", timeout=20000)
+        context.close()
+    finally:
+        s.stop()
+
+
+def test_the_view_fits_a_480x360_iframe(browser, glview_bin):
+    """A course page frames the viewer in 480×360: the whole view is visible inside it."""
+    s = Server(glview_bin)
+    try:
+        context = browser.new_context(viewport={"width": 800, "height": 600})
+        page = context.new_page()
+        page.set_content(f'<iframe src="{s.url}" width="480" height="360" style="border:0"></iframe>')
+        frame = page.frame_locator("iframe")
+        frame.locator("#view").wait_for(timeout=20000)
+        inner = page.frames[1]
+        inner.wait_for_function(FITS, timeout=20000)
+        h = inner.evaluate("window.glview.last")
+        assert h["view"][0] <= 480 and h["view"][1] < 360, h["view"]
+        context.close()
+    finally:
+        s.stop()

@@ -178,7 +178,7 @@ fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) 
             200,
             "text/html; charset=utf-8",
             &with_cookie,
-            Bytes::from(PAGE),
+            page(&r, shared),
         ),
         "/app.js" => file("text/javascript; charset=utf-8", APP_JS),
         "/style.css" => file("text/css; charset=utf-8", STYLE),
@@ -193,6 +193,18 @@ fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) 
         }
         "/ws" => upgrade(req, &r, shared, slot),
         _ => http::text(404, "not found"),
+    }
+}
+
+/// The page. Opened with the token in its address, its script and style carry it too: in
+/// a frame of another site the cookie (SameSite=Strict) is not sent for them.
+fn page(r: &Request, shared: &Shared) -> Bytes {
+    match (&shared.token, r.param("token")) {
+        (Some(t), Some(_)) => Bytes::from(
+            PAGE.replace("\"app.js\"", &format!("\"app.js?token={t}\""))
+                .replace("\"style.css\"", &format!("\"style.css?token={t}\"")),
+        ),
+        _ => Bytes::from(PAGE),
     }
 }
 

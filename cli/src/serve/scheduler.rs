@@ -281,6 +281,7 @@ impl Scheduler {
             "presenter": presenter,
             "presenter_online": self.presenter.is_some() || presenter,
             "max_size": [self.config.max_size.0, self.config.max_size.1],
+            "resizable": !self.config.fixed_size,
             "keys": keys::remote_table(),
         });
         out.push(Outgoing::Text(hello.to_string()));

@@ -13,15 +13,20 @@ const params = new URLSearchParams(location.search);
 // tab only (sessionStorage: a reload presents again, another tab does not).
 const query = new URLSearchParams();
 if (params.get('token')) query.set('token', params.get('token'));
-const presentKey = params.get('present') || sessionStorage.getItem('glview_present');
+// Storage may be refused (a frame of another site, a private window): then the key lives as
+// long as the page.
+const stored = (f) => { try { return f(window.sessionStorage); } catch (e) { return null; } };
+const presentKey = params.get('present') || stored((s) => s.getItem('glview_present'));
 if (presentKey) {
-  sessionStorage.setItem('glview_present', presentKey);
+  stored((s) => s.setItem('glview_present', presentKey));
   query.set('present', presentKey);
 }
 // The address bar keeps neither secret (a projected presenter tab shows it): the server's
 // cookie (HttpOnly) lets this page, its reloads and its socket in; the printed links still
 // work for others, since the server takes the token from a link as before.
-if (params.has('token') || params.has('present')) {
+// In a frame (a course page) there is no address bar, and the cookie may not be sent: the
+// address stays as it is there.
+if ((params.has('token') || params.has('present')) && window.top === window.self) {
   const rest = new URLSearchParams(params);
   rest.delete('token');
   rest.delete('present');
@@ -75,6 +80,36 @@ function setViewSize(w, h) {
   canvas.style.height = h + 'px';
 }
 
+// ---- the view fits the window (or the iframe) ----
+// The view takes the room below the bar, one image pixel per CSS pixel (devicePixelRatio
+// does not enter: the browser scales the canvas as it scales any CSS pixel), within the
+// server's largest view (--size, `max_size`); the server is asked for that size on load and
+// after a resize.
+
+function fitSize() {
+  const main = document.querySelector('main');
+  const pad = parseFloat(getComputedStyle(main).paddingLeft) || 0;
+  const top = $('stage').getBoundingClientRect().top + window.scrollY;
+  const [maxW, maxH] = hello.max_size;
+  const w = Math.floor(Math.min(maxW, document.documentElement.clientWidth - 2 * pad));
+  const h = Math.floor(Math.min(maxH, window.innerHeight - top - pad));
+  return [Math.max(16, w), Math.max(16, h)];
+}
+
+function fitView() {
+  if (!hello || !hello.resizable) return;
+  const [w, h] = fitSize();
+  if (w === viewW && h === viewH) return;
+  setViewSize(w, h);
+  send({ type: 'size', width: w, height: h });
+}
+
+let fitTimer = 0;
+window.addEventListener('resize', () => {
+  clearTimeout(fitTimer);
+  fitTimer = setTimeout(fitView, 150);
+});
+
 // ---- the socket ----
 
 function connect() {
@@ -98,6 +133,7 @@ function onText(m) {
     serverKeys.clear();
     for (const k of m.keys || []) for (const n of k.names) serverKeys.set(n.toUpperCase(), n);
     setViewSize(m.size[0], m.size[1]);
+    fitView();
     fillModels(m.models, m.model);
     $('presenting').hidden = !m.presenter;
     $('follow-label').hidden = !!m.presenter;
