@@ -249,6 +249,12 @@ pub struct ServeCommand {
     /// name): printed instead, and its host is one the `Host` header may name.
     #[arg(long)]
     pub public_url: Option<String>,
+    /// A site whose pages may frame the viewer (`https://lms.example`; repeatable): the
+    /// page's CSP `frame-ancestors` names it (otherwise only this server may frame it). With
+    /// an `https://` `--public-url` the cookie is then SameSite=None; Secure, so it works in
+    /// the frame. The server prints an iframe snippet.
+    #[arg(long = "embed-origin")]
+    pub embed_origin: Vec<String>,
     #[command(flatten)]
     pub opts: PictureArgs,
 }

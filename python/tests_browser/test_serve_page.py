@@ -450,19 +450,72 @@ def test_the_view_fits_a_laptop_window(browser, glview_bin):
         s.stop()
 
 
+class CoursePage:
+    """A page of another site framing `url` in 480×360, as a learning platform's lesson
+    would: served by this test on another loopback port (a public address would be refused
+    by Chromium's local network access rules, whatever the viewer's headers)."""
+
+    def __init__(self, url):
+        import http.server
+        self.url = url
+        course = self
+
+        class Handler(http.server.BaseHTTPRequestHandler):
+            def do_GET(self):
+                html = (f'<p>Lesson 3</p><iframe src="{course.url}" width="480" height="360" '
+                        'style="border:0"></iframe>').encode()
+                self.send_response(200)
+                self.send_header("Content-Type", "text/html")
+                self.send_header("Content-Length", str(len(html)))
+                self.end_headers()
+                self.wfile.write(html)
+
+            def log_message(self, *args):
+                pass
+
+        self.httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+        self.origin = f"http://127.0.0.1:{self.httpd.server_address[1]}"
+        threading.Thread(target=self.httpd.serve_forever, daemon=True).start()
+
+    def open(self, browser):
+        page = browser.new_context(viewport={"width": 800, "height": 600}).new_page()
+        page.goto(self.origin + "/")
+        return page
+
+    def stop(self):
+        self.httpd.shutdown()
+
+
 def test_the_view_fits_a_480x360_iframe(browser, glview_bin):
-    """A course page frames the viewer in 480×360: the whole view is visible inside it."""
-    s = Server(glview_bin)
+    """A course page of an --embed-origin frames the viewer in 480×360: the whole view is
+    visible inside it. The server prints the iframe snippet."""
+    course = CoursePage(None)
+    s = Server(glview_bin, "--embed-origin", course.origin)
     try:
-        context = browser.new_context(viewport={"width": 800, "height": 600})
-        page = context.new_page()
-        page.set_content(f'<iframe src="{s.url}" width="480" height="360" style="border:0"></iframe>')
-        frame = page.frame_locator("iframe")
-        frame.locator("#view").wait_for(timeout=20000)
+        course.url = s.url
+        page = course.open(browser)
+        page.frame_locator("iframe").locator("#view").wait_for(timeout=20000)
         inner = page.frames[1]
         inner.wait_for_function(FITS, timeout=20000)
         h = inner.evaluate("window.glview.last")
         assert h["view"][0] <= 480 and h["view"][1] < 360, h["view"]
-        context.close()
+        snippet = next(line for line in s.output if "<iframe" in line)
+        assert f'src="{s.url}"' in snippet, snippet
+        page.context.close()
     finally:
         s.stop()
+        course.stop()
+
+
+def test_other_sites_cannot_frame_the_viewer(browser, server):
+    """Without --embed-origin only the server itself may frame the page (CSP
+    frame-ancestors): another site's frame stays empty."""
+    course = CoursePage(server.url)
+    page = course.open(browser)
+    try:
+        page.wait_for_timeout(2000)
+        inner = page.frames[1]
+        assert not inner.evaluate("() => { try { return !!window.glview; } catch (e) { return false; } }")
+    finally:
+        page.context.close()
+        course.stop()

@@ -32,6 +32,10 @@ pub struct Shared {
     /// without `--public-url`, where the token is the guard).
     pub hosts: Option<Vec<String>>,
     pub max_per_address: usize,
+    /// The page's `Content-Security-Policy: frame-ancestors` sources.
+    pub frame_ancestors: String,
+    /// The cookie's `SameSite` (and `Secure`) attributes.
+    pub cookie_site: &'static str,
     pub events: std::sync::mpsc::Sender<Event>,
     pub viewers: AtomicUsize,
     pub next_id: AtomicU64,
@@ -61,6 +65,8 @@ impl Shared {
             max_per_address: limits.1,
             idle_timeout: limits.2,
             hosts,
+            frame_ancestors: "'self'".into(),
+            cookie_site: "SameSite=Strict",
             events,
             viewers: AtomicUsize::new(0),
             next_id: AtomicU64::new(1),
@@ -170,14 +176,20 @@ fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) 
     let cookie = shared
         .token
         .as_ref()
-        .map(|t| format!("glview_token={t}; Path=/; HttpOnly; SameSite=Strict"));
-    let with_cookie: Vec<(&str, String)> = cookie.into_iter().map(|c| ("Set-Cookie", c)).collect();
+        .map(|t| format!("glview_token={t}; Path=/; HttpOnly; {}", shared.cookie_site));
+    let mut page_headers: Vec<(&str, String)> =
+        cookie.into_iter().map(|c| ("Set-Cookie", c)).collect();
+    // Who may frame the page: this server, and the sites --embed-origin names.
+    page_headers.push((
+        "Content-Security-Policy",
+        format!("frame-ancestors {}", shared.frame_ancestors),
+    ));
     let file = |ty: &str, body: &'static str| http::respond(200, ty, &[], Bytes::from(body));
     match r.path.as_str() {
         "/" => http::respond(
             200,
             "text/html; charset=utf-8",
-            &with_cookie,
+            &page_headers,
             page(&r, shared),
         ),
         "/app.js" => file("text/javascript; charset=utf-8", APP_JS),

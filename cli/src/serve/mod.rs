@@ -102,7 +102,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
     let (events, rx) = std::sync::mpsc::channel();
     let presenter_online = Arc::new(AtomicBool::new(false));
     let public = public_authority(cmd.public_url.as_deref())?;
-    let shared = Arc::new(conn::Shared::new(
+    let mut shared = conn::Shared::new(
         token.clone(),
         presenter_key.clone(),
         (models.names(), models.first().0.to_string()),
@@ -115,7 +115,21 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         hosts(&local, public.as_deref()),
         events.clone(),
         presenter_online.clone(),
-    ));
+    );
+    let embed = embed_origins(&cmd.embed_origin)?;
+    if !embed.is_empty() {
+        shared.frame_ancestors = format!("'self' {}", embed.join(" "));
+        // A frame of another site gets the cookie only as SameSite=None, and browsers take
+        // that only with Secure (HTTPS).
+        if cmd
+            .public_url
+            .as_deref()
+            .is_some_and(|u| u.starts_with("https://"))
+        {
+            shared.cookie_site = "SameSite=None; Secure";
+        }
+    }
+    let shared = Arc::new(shared);
     let query = token.map(|t| format!("?token={t}")).unwrap_or_default();
     let sep = if query.is_empty() { '?' } else { '&' };
     let open = match &cmd.public_url {
@@ -125,6 +139,12 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
     println!("glview serve: listening on {local}");
     println!("glview serve: open {open}/{query}");
     println!("glview serve: presenter {open}/{query}{sep}present={presenter_key}");
+    if !embed.is_empty() {
+        println!(
+            "glview serve: embed <iframe src=\"{open}/{query}\" width=\"{w}\" height=\"{h}\" \
+             style=\"border:0;max-width:100%\" allow=\"fullscreen\"></iframe>"
+        );
+    }
     println!(
         "glview serve: {} model(s), views {w}x{h}, at most {} viewers",
         models.names().len(),
@@ -187,6 +207,32 @@ fn raise_descriptor_limit() {
             libc::setrlimit(libc::RLIMIT_NOFILE, &lim);
         }
     }
+}
+
+/// `--embed-origin`s as CSP sources: `scheme://host[:port]`, nothing else.
+fn embed_origins(given: &[String]) -> Result<Vec<String>> {
+    given
+        .iter()
+        .map(|o| {
+            let o = o.trim_end_matches('/');
+            let rest = o
+                .strip_prefix("https://")
+                .or_else(|| o.strip_prefix("http://"))
+                .unwrap_or("");
+            let ok = !rest.is_empty()
+                && rest
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || ".-:[]".contains(c));
+            if ok {
+                Ok(o.to_ascii_lowercase())
+            } else {
+                Err(Error::Usage(format!(
+                    "--embed-origin {}: an origin is http(s)://host[:port], no path",
+                    http::clip(o)
+                )))
+            }
+        })
+        .collect()
 }
 
 /// `--public-url`'s host and port as a `Host` header names them (lower case).
