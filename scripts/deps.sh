@@ -10,7 +10,7 @@ pkgs=(
 )
 case "${1:-}" in
   --tests) pkgs+=(xvfb xdotool) ;; # window tests under a virtual X server
-  --browser) pkgs=(chromium) ;;    # the page of glview serve (scripts/test_browser.sh)
+  --browser) pkgs=(chromium nginx) ;; # the page of glview serve, and behind nginx (scripts/test_browser.sh)
 esac
 missing=()
 for p in "${pkgs[@]}"; do

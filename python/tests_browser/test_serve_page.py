@@ -75,12 +75,10 @@ class Server:
             except queue.Empty:
                 self.stop()
                 pytest.fail("glview serve printed no address in 30 s:\n" + "".join(self.output))
-            if "http://" in line:
-                url = line[line.index("http://"):].split()[0]
-                if "present=" in url:
-                    self.presenter_url = url
-                else:
-                    self.url = url
+            if line.startswith("glview serve: open "):
+                self.url = line.split()[-1]
+            elif line.startswith("glview serve: presenter "):
+                self.presenter_url = line.split()[-1]
         parts = urllib.parse.urlsplit(self.url)
         self.origin = f"{parts.scheme}://{parts.netloc}"
         self.token = urllib.parse.parse_qs(parts.query)["token"][0]
