@@ -517,3 +517,22 @@ def test_other_sites_cannot_frame_the_viewer(browser, server):
     finally:
         page.context.close()
         course.stop()
+
+
+def test_a_link_opens_a_model_and_a_view(browser, glview_bin, tmp_path):
+    """A course page's link carries a model and a view (keys of the window's table): the
+    page opens there, and the still is the command line's picture of that view."""
+    shared = REPO.parent / "shared" / "models"
+    for name in ("bunny-small/bunny.obj", "teapot-small/teapot.obj"):
+        shutil.copy(shared / name, tmp_path)
+    s = Server(glview_bin, "--size", f"{SIZE[0]}x{SIZE[1]}", str(tmp_path))
+    try:
+        page = open_page(browser, s.url + "&model=teapot.obj&keys=Right,Right,P,P,nonsense")
+        h = wait_still(page, 5)
+        assert h["model"] == "teapot.obj" and h["tier"] == "pbr", h
+        assert "--yaw 40" in h["command"] and "teapot.obj" in h["command"], h["command"]
+        assert page.locator("#model").input_value() == "teapot.obj"
+        assert not page.errors, page.errors
+        page.context.close()
+    finally:
+        s.stop()

@@ -138,6 +138,7 @@ function onText(m) {
     $('presenting').hidden = !m.presenter;
     $('follow-label').hidden = !!m.presenter;
     setPresenterOnline(m.presenter_online);
+    openLink(m);
     if (params.get('follow') === '1' && !m.presenter) $('follow').checked = true;
     if ($('follow').checked && m.presenter_online) send({ type: 'follow', on: true });
   } else if (m.type === 'presenter') {
@@ -195,6 +196,25 @@ async function onFrame(buf) {
 }
 
 // ---- the model picker, buttons and follow box ----
+
+// A link may carry a model and a view, so a course page opens the model where the lesson
+// needs it: `?model=sub/part.glb&keys=Right,Right,Up,P,P,B` (keys of the window's table:
+// camera steps, tier, toggles). Sent once, as the user's own input would be.
+let linkOpened = false;
+function openLink(m) {
+  if (linkOpened) return;
+  linkOpened = true;
+  const model = params.get('model');
+  if (model && m.models.includes(model) && model !== m.model) {
+    $('model').value = model;
+    sendInput({ type: 'model', name: model });
+  }
+  const keys = (params.get('keys') || '').split(',').filter(Boolean).slice(0, 64);
+  for (const k of keys) {
+    const name = serverKeys.get(k.trim().toUpperCase());
+    if (name) sendInput({ type: 'key', key: name });
+  }
+}
 
 function fillModels(models, current) {
   const sel = $('model');
