@@ -1,7 +1,8 @@
-//! The GL thread: every viewer's view, drawn in turn through one [`Session`]. Inputs only
-//! change a view (the latest wins); a view is drawn when it changed and its last frame was
-//! acknowledged: small and JPEG while input arrives, full-size PNG once it stops. A
-//! presenter's frames go to every follower.
+//! The GL thread: every viewer's view, drawn through one [`Session`], the viewer charged
+//! least render time first. Inputs (taken from each viewer's bounded inbox) only change a
+//! view (the latest wins); a view is drawn when it changed and its last frame was
+//! acknowledged: small and JPEG while input arrives, full-size PNG once it stops, encoded on
+//! a worker. A presenter's frames go to every follower.
 use super::models::Models;
 use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
 use super::queues::{Inbox, Outbox};
