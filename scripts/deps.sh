@@ -10,11 +10,11 @@ pkgs=(
 )
 case "${1:-}" in
   --tests) pkgs+=(xvfb xdotool) ;; # window tests under a virtual X server
-  # The pages of glview serve and glview export (scripts/test_browser.sh); npm installs
-  # the export test's pinned SCORM runtime (a node from elsewhere, e.g. NodeSource's, which
-  # bundles npm, is used as it is: Debian's npm package would conflict with it).
+  # The pages of glview serve (also behind nginx) and glview export (scripts/test_browser.sh);
+  # npm installs the export test's pinned SCORM runtime (a node from elsewhere, e.g.
+  # NodeSource's, which bundles npm, is used as it is: Debian's npm package would conflict).
   --browser)
-    pkgs=(chromium libxml2-utils) # xmllint: the SCORM manifest against ADL's schemas
+    pkgs=(chromium nginx libxml2-utils) # xmllint: the SCORM manifest against ADL's schemas
     command -v npm >/dev/null || pkgs+=(nodejs npm)
     ;;
 esac

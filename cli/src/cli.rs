@@ -207,7 +207,8 @@ pub enum Command {
     Batch(BatchCommand),
     /// Serve the viewer to browsers: PATH (a model, or a folder of models; default the
     /// built-in scene) rendered here, streamed to every page that opens the printed address
-    /// (docs/serve.md). The picture options are every viewer's defaults.
+    /// (docs/serve.md). The picture options are every viewer's defaults; `--size` is also
+    /// the largest view a viewer may ask for.
     Serve(Box<ServeCommand>),
     /// A lesson page for a learning platform: a turntable grid of Phong and PBR views in
     /// one self-contained HTML file (no server, no WebGL), optionally a SCORM 1.2 package
@@ -244,6 +245,20 @@ pub struct ServeCommand {
     /// Scenes kept uploaded at once (folder mode: viewers on different models).
     #[arg(long, default_value_t = 4)]
     pub keep_scenes: usize,
+    /// Connections at once from one address (page loads and viewers); more are closed at
+    /// once. Behind a reverse proxy every connection is the proxy's: raise it there.
+    #[arg(long, default_value_t = 64)]
+    pub max_per_address: usize,
+    /// The address viewers open when it is not the bind address (a reverse proxy, a DNS
+    /// name): printed instead, and its host is one the `Host` header may name.
+    #[arg(long)]
+    pub public_url: Option<String>,
+    /// A site whose pages may frame the viewer (`https://lms.example`; repeatable): the
+    /// page's CSP `frame-ancestors` names it (otherwise only this server may frame it). With
+    /// an `https://` `--public-url` the cookie is then SameSite=None; Secure, so it works in
+    /// the frame. The server prints an iframe snippet.
+    #[arg(long = "embed-origin")]
+    pub embed_origin: Vec<String>,
     #[command(flatten)]
     pub opts: PictureArgs,
 }

@@ -75,12 +75,10 @@ class Server:
             except queue.Empty:
                 self.stop()
                 pytest.fail("glview serve printed no address in 30 s:\n" + "".join(self.output))
-            if "http://" in line:
-                url = line[line.index("http://"):].split()[0]
-                if "present=" in url:
-                    self.presenter_url = url
-                else:
-                    self.url = url
+            if line.startswith("glview serve: open "):
+                self.url = line.split()[-1]
+            elif line.startswith("glview serve: presenter "):
+                self.presenter_url = line.split()[-1]
         parts = urllib.parse.urlsplit(self.url)
         self.origin = f"{parts.scheme}://{parts.netloc}"
         self.token = urllib.parse.parse_qs(parts.query)["token"][0]
@@ -290,6 +288,7 @@ def test_presenter_and_follower(browser, server):
     follower = open_page(browser, server.url + "&follow=1")
     try:
         assert presenter.locator("#presenting").is_visible()
+        assert "present=" not in presenter.url and "token" not in presenter.url, presenter.url
         assert presenter.locator("#follow-label").is_hidden()
         box = follower.locator("#follow")
         assert box.is_checked() and box.is_enabled()
@@ -408,8 +407,132 @@ def test_token_is_required(browser, server):
     # (a reload after the query was cut off), socket included.
     page = open_page(browser, server.url)
     try:
+        # The address bar no longer shows the token (a projected tab shows no secret).
+        assert "token" not in page.url and page.url.startswith(server.origin), page.url
         page.goto(server.origin + "/")
         page.wait_for_function("window.glview && window.glview.frames >= 1", timeout=15000)
         assert not page.errors, page.errors
     finally:
         page.context.close()
+
+
+FITS = """() => {
+  if (!window.glview) return false;
+  const h = window.glview.last, c = document.getElementById('view').getBoundingClientRect();
+  const root = document.documentElement;
+  return h && h.still && h.view[0] === c.width && h.view[1] === c.height &&
+    c.top >= 0 && c.bottom <= window.innerHeight && c.right <= root.clientWidth &&
+    root.scrollWidth <= root.clientWidth;
+}"""
+
+
+def test_the_view_fits_a_laptop_window(browser, glview_bin):
+    """A 1366×768 screen leaves Firefox ESR 1366×682 of page: with the default --size
+    (1024x768) the view takes the room below the bar, all of it visible without scrolling
+    (the help line below it may need a scroll), and its still is one image pixel per CSS
+    pixel at that size."""
+    s = Server(glview_bin)
+    try:
+        context = browser.new_context(viewport={"width": 1366, "height": 682})
+        page = context.new_page()
+        page.goto(s.url)
+        page.wait_for_function(FITS, timeout=20000)
+        h = page.evaluate("window.glview.last")
+        assert h["view"][0] == 1024 and 600 <= h["view"][1] < 682, h["view"]
+        assert (h["width"], h["height"]) == tuple(h["view"]), h
+        # A resize asks again: a smaller window, a smaller view.
+        page.set_viewport_size({"width": 900, "height": 500})
+        page.wait_for_function("(" + FITS + ")() && window.glview.last.view[0] < 900", timeout=20000)
+        context.close()
+    finally:
+        s.stop()
+
+
+class CoursePage:
+    """A page of another site framing `url` in 480×360, as a learning platform's lesson
+    would: served by this test on another loopback port (a public address would be refused
+    by Chromium's local network access rules, whatever the viewer's headers)."""
+
+    def __init__(self, url):
+        import http.server
+        self.url = url
+        course = self
+
+        class Handler(http.server.BaseHTTPRequestHandler):
+            def do_GET(self):
+                html = (f'<p>Lesson 3</p><iframe src="{course.url}" width="480" height="360" '
+                        'style="border:0"></iframe>').encode()
+                self.send_response(200)
+                self.send_header("Content-Type", "text/html")
+                self.send_header("Content-Length", str(len(html)))
+                self.end_headers()
+                self.wfile.write(html)
+
+            def log_message(self, *args):
+                pass
+
+        self.httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+        self.origin = f"http://127.0.0.1:{self.httpd.server_address[1]}"
+        threading.Thread(target=self.httpd.serve_forever, daemon=True).start()
+
+    def open(self, browser):
+        page = browser.new_context(viewport={"width": 800, "height": 600}).new_page()
+        page.goto(self.origin + "/")
+        return page
+
+    def stop(self):
+        self.httpd.shutdown()
+
+
+def test_the_view_fits_a_480x360_iframe(browser, glview_bin):
+    """A course page of an --embed-origin frames the viewer in 480×360: the whole view is
+    visible inside it. The server prints the iframe snippet."""
+    course = CoursePage(None)
+    s = Server(glview_bin, "--embed-origin", course.origin)
+    try:
+        course.url = s.url
+        page = course.open(browser)
+        page.frame_locator("iframe").locator("#view").wait_for(timeout=20000)
+        inner = page.frames[1]
+        inner.wait_for_function(FITS, timeout=20000)
+        h = inner.evaluate("window.glview.last")
+        assert h["view"][0] <= 480 and h["view"][1] < 360, h["view"]
+        snippet = next(line for line in s.output if "<iframe" in line)
+        assert f'src="{s.url}"' in snippet, snippet
+        page.context.close()
+    finally:
+        s.stop()
+        course.stop()
+
+
+def test_other_sites_cannot_frame_the_viewer(browser, server):
+    """Without --embed-origin only the server itself may frame the page (CSP
+    frame-ancestors): another site's frame stays empty."""
+    course = CoursePage(server.url)
+    page = course.open(browser)
+    try:
+        page.wait_for_timeout(2000)
+        inner = page.frames[1]
+        assert not inner.evaluate("() => { try { return !!window.glview; } catch (e) { return false; } }")
+    finally:
+        page.context.close()
+        course.stop()
+
+
+def test_a_link_opens_a_model_and_a_view(browser, glview_bin, tmp_path):
+    """A course page's link carries a model and a view (keys of the window's table): the
+    page opens there, and the still is the command line's picture of that view."""
+    shared = REPO.parent / "shared" / "models"
+    for name in ("bunny-small/bunny.obj", "teapot-small/teapot.obj"):
+        shutil.copy(shared / name, tmp_path)
+    s = Server(glview_bin, "--size", f"{SIZE[0]}x{SIZE[1]}", str(tmp_path))
+    try:
+        page = open_page(browser, s.url + "&model=teapot.obj&keys=Right,Right,P,P,nonsense")
+        h = wait_still(page, 5)
+        assert h["model"] == "teapot.obj" and h["tier"] == "pbr", h
+        assert "--yaw 40" in h["command"] and "teapot.obj" in h["command"], h["command"]
+        assert page.locator("#model").input_value() == "teapot.obj"
+        assert not page.errors, page.errors
+        page.context.close()
+    finally:
+        s.stop()

@@ -235,8 +235,18 @@ fn folder_models_by_name_only() {
         );
     }
     c.send(json!({"type": "model", "name": "sub/tri.obj", "seq": 1}));
-    let (h, _, _) = c.still(Some(1));
+    let (h, png, _) = c.still(Some(1));
     assert_eq!(h["model"], "sub/tri.obj");
+    // The viewer sees names relative to the folder, never where the server keeps it.
+    let folder = dir.canonicalize().unwrap();
+    let folder = folder.to_str().unwrap();
+    let command = h["command"].as_str().unwrap();
+    assert!(
+        command.contains(" sub/tri.obj") && !command.contains(folder),
+        "{command}"
+    );
+    let png_text = String::from_utf8_lossy(&png);
+    assert!(png_text.contains("sub/tri.obj") && !png_text.contains(folder));
 }
 
 /// Without the token: 401; a wrong one: 403; on every route, with no content.

@@ -26,7 +26,9 @@ impl Server {
     /// As [`Server::start`], with extra environment variables.
     pub fn start_with_env(args: &[&str], env: &[(&str, &str)]) -> Server {
         common::at_repo();
-        let mut child = Command::new(common::bin())
+        // The load test measures another build when told to (its before/after table).
+        let bin = std::env::var("GLVIEW_SERVE_BIN").unwrap_or_else(|_| common::bin().into());
+        let mut child = Command::new(bin)
             .arg("serve")
             .args(["--bind", "127.0.0.1:0"])
             .args(args)
@@ -36,12 +38,15 @@ impl Server {
             .spawn()
             .expect("glview serve starts");
         let mut lines = BufReader::new(child.stdout.take().expect("piped"));
-        let (mut open, mut presenter) = (None, None);
+        let (mut open, mut presenter, mut listening) = (None, None, None);
         while presenter.is_none() {
             let mut line = String::new();
             if lines.read_line(&mut line).unwrap_or(0) == 0 {
                 let status = child.wait();
                 panic!("glview serve ended before printing its address: {status:?}");
+            }
+            if let Some(a) = line.trim().strip_prefix("glview serve: listening on ") {
+                listening = Some(a.to_string());
             }
             if let Some(u) = line.trim().strip_prefix("glview serve: open ") {
                 open = Some(u.to_string());
@@ -53,12 +58,14 @@ impl Server {
         // The rest of its output is not read: drain it so the server never blocks on it.
         std::thread::spawn(move || std::io::copy(&mut lines, &mut std::io::sink()));
         let open = open.expect("the open line comes first");
-        let addr = open
-            .trim_start_matches("http://")
-            .split('/')
-            .next()
-            .unwrap()
-            .to_string();
+        // The address to connect to (the open line names --public-url's when given).
+        let addr = listening.unwrap_or_else(|| {
+            open.trim_start_matches("http://")
+                .split('/')
+                .next()
+                .unwrap()
+                .to_string()
+        });
         let token = open.split("token=").nth(1).unwrap_or("").to_string();
         let presenter_key = presenter
             .unwrap()

@@ -1,24 +1,24 @@
-//! One connection: its request answered, or upgraded to a viewer's WebSocket with a reader
-//! (this thread) and a writer (a thread of its own, so a frame going out never waits for the
-//! client to speak, and a slow client only stalls its own writer).
-use super::http::{self, Request};
-use super::protocol::{error_json, ClientMsg, Event, Outgoing, MAX_MESSAGE};
-use std::io::{Read, Write};
-use std::net::TcpStream;
+//! Connections: accepted on tokio's runtime (a task each, so an idle or half-open one costs a
+//! little memory, not a thread or a slot a viewer needs), at most so many per address, read
+//! by hyper's HTTP/1 server (head size, header count and the head's deadline are its), routed
+//! by exact path, and the viewer's socket upgraded to a WebSocket ([`super::socket`]).
+use super::http::{self, Answer, Request};
+use super::protocol::Event;
+use hyper::body::{Bytes, Incoming};
+use hyper::server::conn::http1;
+use hyper::service::service_fn;
+use hyper_util::rt::{TokioIo, TokioTimer};
+use std::collections::HashMap;
+use std::net::IpAddr;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
-use std::sync::mpsc::{self, Sender};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
-use tungstenite::protocol::{frame::coding::CloseCode, CloseFrame, Role, WebSocketConfig};
-use tungstenite::{Message, WebSocket};
 
 const PAGE: &str = include_str!("page/index.html");
 const APP_JS: &str = include_str!("page/app.js");
 const STYLE: &str = include_str!("page/style.css");
 
-/// A frame the client cannot take within this is a dead or stalled client.
-const WRITE_TIMEOUT: Duration = Duration::from_secs(10);
-
-/// What every connection thread shares.
+/// What every connection shares.
 pub struct Shared {
     pub token: Option<String>,
     pub presenter_key: String,
@@ -28,61 +28,172 @@ pub struct Shared {
     pub size: (u32, u32),
     pub max_viewers: usize,
     pub idle_timeout: Duration,
-    pub events: Sender<Event>,
+    /// The `Host` values this server answers to (None: any, on an unspecified bind address
+    /// without `--public-url`, where the token is the guard).
+    pub hosts: Option<Vec<String>>,
+    pub max_per_address: usize,
+    /// The page's `Content-Security-Policy: frame-ancestors` sources.
+    pub frame_ancestors: String,
+    /// The cookie's `SameSite` (and `Secure`) attributes.
+    pub cookie_site: &'static str,
+    pub events: std::sync::mpsc::Sender<Event>,
     pub viewers: AtomicUsize,
     pub next_id: AtomicU64,
-    pub presenter_online: std::sync::Arc<AtomicBool>,
+    pub presenter_online: Arc<AtomicBool>,
+    per_address: Mutex<HashMap<IpAddr, usize>>,
 }
 
-/// Both halves of a viewer's socket: client messages over [`MAX_MESSAGE`] are refused.
-fn ws_config() -> WebSocketConfig {
-    WebSocketConfig::default()
-        .max_message_size(Some(MAX_MESSAGE))
-        .max_frame_size(Some(MAX_MESSAGE))
-}
-
-/// Answers one connection.
-pub fn handle(mut stream: TcpStream, shared: &Shared) {
-    let _ = stream.set_nodelay(true);
-    let req = match http::read_request(&mut stream) {
-        Ok(r) => r,
-        Err(http::Refused(Some((status, why)))) => return http::text(&mut stream, status, &why),
-        Err(http::Refused(None)) => return,
-    };
-    if req.method != "GET" {
-        return http::text(&mut stream, 405, "only GET is served");
+impl Shared {
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        token: Option<String>,
+        presenter_key: String,
+        models: (Vec<String>, String),
+        size: (u32, u32),
+        limits: (usize, usize, Duration),
+        hosts: Option<Vec<String>>,
+        events: std::sync::mpsc::Sender<Event>,
+        presenter_online: Arc<AtomicBool>,
+    ) -> Shared {
+        Shared {
+            token,
+            presenter_key,
+            models: models.0,
+            first_model: models.1,
+            size,
+            max_viewers: limits.0,
+            max_per_address: limits.1,
+            idle_timeout: limits.2,
+            hosts,
+            frame_ancestors: "'self'".into(),
+            cookie_site: "SameSite=Strict",
+            events,
+            viewers: AtomicUsize::new(0),
+            next_id: AtomicU64::new(1),
+            presenter_online,
+            per_address: Mutex::new(HashMap::new()),
+        }
     }
-    if let Err((status, why)) = authorized(&req, shared) {
-        log::info!("{}: {status} {why}", req.describe());
-        return http::text(&mut stream, status, why);
+}
+
+/// One connection's place in its address's count, given back when dropped (the upgraded
+/// socket holds it for its life).
+pub struct Slot {
+    shared: Arc<Shared>,
+    ip: IpAddr,
+}
+
+impl Slot {
+    fn take(shared: &Arc<Shared>, ip: IpAddr) -> Option<Slot> {
+        let mut m = shared.per_address.lock().unwrap_or_else(|e| e.into_inner());
+        let n = m.entry(ip).or_insert(0);
+        if *n >= shared.max_per_address {
+            return None;
+        }
+        *n += 1;
+        Some(Slot {
+            shared: shared.clone(),
+            ip,
+        })
+    }
+}
+
+impl Drop for Slot {
+    fn drop(&mut self) {
+        let mut m = self
+            .shared
+            .per_address
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        if let Some(n) = m.get_mut(&self.ip) {
+            *n -= 1;
+            if *n == 0 {
+                m.remove(&self.ip);
+            }
+        }
+    }
+}
+
+/// Accepts connections until the process ends.
+pub async fn accept(listener: tokio::net::TcpListener, shared: Arc<Shared>) {
+    loop {
+        let (stream, peer) = match listener.accept().await {
+            Ok(s) => s,
+            Err(e) => {
+                // Out of descriptors (or the like): wait for some to close, do not spin.
+                log::warn!("accept: {e}");
+                tokio::time::sleep(Duration::from_millis(50)).await;
+                continue;
+            }
+        };
+        let Some(slot) = Slot::take(&shared, peer.ip()) else {
+            // Over the address's count: closed at once, nothing read.
+            continue;
+        };
+        let _ = stream.set_nodelay(true);
+        let shared = shared.clone();
+        tokio::spawn(async move {
+            let slot = Arc::new(slot);
+            let service = service_fn(move |req| {
+                let (shared, slot) = (shared.clone(), slot.clone());
+                async move { Ok::<_, std::convert::Infallible>(handle(req, &shared, slot)) }
+            });
+            let conn = http1::Builder::new()
+                .timer(TokioTimer::new())
+                .header_read_timeout(http::HEAD_DEADLINE)
+                .max_header_size(http::MAX_HEAD)
+                .max_headers(http::MAX_HEADERS)
+                .title_case_headers(true)
+                .serve_connection(TokioIo::new(stream), service)
+                .with_upgrades();
+            let _ = conn.await;
+        });
+    }
+}
+
+/// Answers one request.
+fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) -> Answer {
+    let Some(r) = Request::of(&req) else {
+        return http::text(400, "the path is not UTF-8");
+    };
+    if r.method != "GET" {
+        return http::text(405, "only GET is served");
+    }
+    if let Some(hosts) = &shared.hosts {
+        let host = r.header("host").unwrap_or("").to_ascii_lowercase();
+        if !hosts.contains(&host) {
+            log::info!("{}: 421 Host {}", r.describe(), http::clip(&host));
+            return http::text(
+                421,
+                "this server does not answer to that host name (--public-url names one)",
+            );
+        }
+    }
+    if let Err((status, why)) = authorized(&r, shared) {
+        log::info!("{}: {status} {why}", r.describe());
+        return http::text(status, why);
     }
     let cookie = shared
         .token
         .as_ref()
-        .map(|t| format!("glview_token={t}; Path=/; HttpOnly; SameSite=Strict"));
-    let with_cookie: Vec<(&str, String)> = cookie.into_iter().map(|c| ("Set-Cookie", c)).collect();
-    match req.path.as_str() {
+        .map(|t| format!("glview_token={t}; Path=/; HttpOnly; {}", shared.cookie_site));
+    let mut page_headers: Vec<(&str, String)> =
+        cookie.into_iter().map(|c| ("Set-Cookie", c)).collect();
+    // Who may frame the page: this server, and the sites --embed-origin names.
+    page_headers.push((
+        "Content-Security-Policy",
+        format!("frame-ancestors {}", shared.frame_ancestors),
+    ));
+    let file = |ty: &str, body: &'static str| http::respond(200, ty, &[], Bytes::from(body));
+    match r.path.as_str() {
         "/" => http::respond(
-            &mut stream,
             200,
             "text/html; charset=utf-8",
-            &with_cookie,
-            PAGE.as_bytes(),
+            &page_headers,
+            page(&r, shared),
         ),
-        "/app.js" => http::respond(
-            &mut stream,
-            200,
-            "text/javascript; charset=utf-8",
-            &[],
-            APP_JS.as_bytes(),
-        ),
-        "/style.css" => http::respond(
-            &mut stream,
-            200,
-            "text/css; charset=utf-8",
-            &[],
-            STYLE.as_bytes(),
-        ),
+        "/app.js" => file("text/javascript; charset=utf-8", APP_JS),
+        "/style.css" => file("text/css; charset=utf-8", STYLE),
         "/models" => {
             let body = serde_json::json!({
                 "models": shared.models,
@@ -90,16 +201,22 @@ pub fn handle(mut stream: TcpStream, shared: &Shared) {
                 "size": [shared.size.0, shared.size.1],
                 "presenter_online": shared.presenter_online.load(Ordering::Relaxed),
             });
-            http::respond(
-                &mut stream,
-                200,
-                "application/json",
-                &[],
-                body.to_string().as_bytes(),
-            )
+            http::respond(200, "application/json", &[], Bytes::from(body.to_string()))
         }
-        "/ws" => upgrade(stream, &req, shared),
-        _ => http::text(&mut stream, 404, "not found"),
+        "/ws" => upgrade(req, &r, shared, slot),
+        _ => http::text(404, "not found"),
+    }
+}
+
+/// The page. Opened with the token in its address, its script and style carry it too: in
+/// a frame of another site the cookie (SameSite=Strict) is not sent for them.
+fn page(r: &Request, shared: &Shared) -> Bytes {
+    match (&shared.token, r.param("token")) {
+        (Some(t), Some(_)) => Bytes::from(
+            PAGE.replace("\"app.js\"", &format!("\"app.js?token={t}\""))
+                .replace("\"style.css\"", &format!("\"style.css?token={t}\"")),
+        ),
+        _ => Bytes::from(PAGE),
     }
 }
 
@@ -118,179 +235,44 @@ fn authorized(req: &Request, shared: &Shared) -> Result<(), (u16, &'static str)>
     }
 }
 
-/// The WebSocket handshake (RFC 6455), then the viewer's life.
-fn upgrade(mut stream: TcpStream, req: &Request, shared: &Shared) {
-    let key = req.header("sec-websocket-key");
-    let is_ws = req
+/// The WebSocket handshake (RFC 6455): the 101 answer now, the viewer's life on a task of
+/// its own once hyper hands the connection over.
+fn upgrade(
+    mut req: hyper::Request<Incoming>,
+    r: &Request,
+    shared: &Arc<Shared>,
+    slot: Arc<Slot>,
+) -> Answer {
+    let key = r.header("sec-websocket-key");
+    let is_ws = r
         .header("upgrade")
         .is_some_and(|u| u.eq_ignore_ascii_case("websocket"));
     let (Some(key), true) = (key, is_ws) else {
-        return http::text(&mut stream, 400, "a WebSocket upgrade is expected here");
+        return http::text(400, "a WebSocket upgrade is expected here");
     };
-    if !http::origin_ok(req) {
-        log::info!("{}: 403 wrong Origin", req.describe());
-        return http::text(
-            &mut stream,
-            403,
-            "this page's origin may not open a viewer here",
-        );
+    if !http::origin_ok(r) {
+        log::info!("{}: 403 wrong Origin", r.describe());
+        return http::text(403, "this page's origin may not open a viewer here");
     }
-    let presenter = match req.param("present") {
+    let presenter = match r.param("present") {
         None => false,
         Some(k) if http::same_secret(k, &shared.presenter_key) => true,
-        Some(_) => return http::text(&mut stream, 403, "wrong presenter key"),
+        Some(_) => return http::text(403, "wrong presenter key"),
     };
     let accept = tungstenite::handshake::derive_accept_key(key.as_bytes());
-    let head = format!(
-        "HTTP/1.1 101 Switching Protocols\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
-         Sec-WebSocket-Accept: {accept}\r\n\r\n"
-    );
-    if stream.write_all(head.as_bytes()).is_err() {
-        return;
-    }
-    let Ok(write_half) = stream.try_clone() else {
-        return;
-    };
-    let _ = write_half.set_write_timeout(Some(WRITE_TIMEOUT));
-    let mut writer = WebSocket::from_raw_socket(write_half, Role::Server, Some(ws_config()));
-    // The viewer count is taken before the viewer exists, so two at once cannot both pass.
-    let count = shared.viewers.fetch_add(1, Ordering::SeqCst) + 1;
-    if count > shared.max_viewers {
-        shared.viewers.fetch_sub(1, Ordering::SeqCst);
-        let msg = format!(
-            "the server is full ({} viewers): try again later",
-            shared.max_viewers
-        );
-        let _ = writer.send(Message::text(error_json(&msg, true)));
-        let _ = writer.close(Some(CloseFrame {
-            code: CloseCode::Again,
-            reason: "server full".into(),
-        }));
-        let _ = writer.flush();
-        return;
-    }
-    let id = shared.next_id.fetch_add(1, Ordering::SeqCst);
-    let (out, rx) = mpsc::channel();
-    let writer_thread = std::thread::Builder::new()
-        .name(format!("glview-ws-write-{id}"))
-        .spawn(move || write_loop(writer, rx));
-    if writer_thread.is_err()
-        || shared
-            .events
-            .send(Event::Join {
-                id,
-                out: out.clone(),
-                presenter,
-            })
-            .is_err()
-    {
-        shared.viewers.fetch_sub(1, Ordering::SeqCst);
-        return;
-    }
-    read_loop(&stream, id, &out, shared);
-    let _ = shared.events.send(Event::Leave { id });
-    let _ = out.send(Outgoing::Close(1000, String::new()));
-    drop(out);
-    if let Ok(t) = writer_thread {
-        let _ = t.join();
-    }
-    let _ = stream.shutdown(std::net::Shutdown::Both);
-    shared.viewers.fetch_sub(1, Ordering::SeqCst);
-}
-
-/// The read side of the socket for tungstenite: reads from the stream; what tungstenite
-/// would write in answer (pongs, the close echo) is dropped, since the writer thread owns
-/// the write side (browsers send no pings, and the writer sends the close).
-struct ReadHalf<'a>(&'a TcpStream);
-
-impl Read for ReadHalf<'_> {
-    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
-        (&mut &*self.0).read(buf)
-    }
-}
-
-impl Write for ReadHalf<'_> {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}
-
-/// Reads messages until the client closes, goes silent for the idle timeout, sends
-/// something too large, or the connection fails; each good message goes to the GL thread,
-/// each malformed one is answered with an error.
-fn read_loop(stream: &TcpStream, id: u64, out: &Sender<Outgoing>, shared: &Shared) {
-    let _ = stream.set_read_timeout(Some(shared.idle_timeout));
-    let mut ws = WebSocket::from_raw_socket(ReadHalf(stream), Role::Server, Some(ws_config()));
-    loop {
-        let text = match ws.read() {
-            Ok(Message::Text(t)) => t,
-            Ok(Message::Binary(_)) => {
-                let _ = out.send(Outgoing::Text(error_json(
-                    "bad message: the client sends JSON text",
-                    false,
-                )));
-                continue;
-            }
-            Ok(Message::Close(_)) => return,
-            Ok(_) => continue,
-            Err(tungstenite::Error::Capacity(e)) => {
-                let why = format!("message refused: {e} (the limit is {MAX_MESSAGE} bytes)");
-                let _ = out.send(Outgoing::Text(error_json(&why, true)));
-                let _ = out.send(Outgoing::Close(1009, "message too big".into()));
-                return;
-            }
-            Err(tungstenite::Error::Io(e))
-                if matches!(
-                    e.kind(),
-                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-                ) =>
-            {
-                let why = format!(
-                    "closed after {} s without a message",
-                    shared.idle_timeout.as_secs()
-                );
-                let _ = out.send(Outgoing::Text(error_json(&why, true)));
-                let _ = out.send(Outgoing::Close(1001, "idle".into()));
-                return;
-            }
-            Err(_) => return,
-        };
-        match ClientMsg::parse(&text) {
-            Ok(ClientMsg::Ping) => {}
-            Ok(msg) => {
-                if shared.events.send(Event::Input { id, msg }).is_err() {
-                    return;
-                }
-            }
-            Err(e) => {
-                let _ = out.send(Outgoing::Text(error_json(&e, false)));
-            }
+    let on_upgrade = hyper::upgrade::on(&mut req);
+    let shared = shared.clone();
+    tokio::spawn(async move {
+        if let Ok(upgraded) = on_upgrade.await {
+            super::socket::viewer(TokioIo::new(upgraded), shared, presenter).await;
         }
-    }
-}
-
-/// Sends what the GL thread queues until it says close or the client cannot take it.
-fn write_loop(mut ws: WebSocket<TcpStream>, rx: mpsc::Receiver<Outgoing>) {
-    while let Ok(m) = rx.recv() {
-        let sent = match m {
-            Outgoing::Frame(bytes) => ws.send(Message::Binary(bytes)),
-            Outgoing::Text(t) => ws.send(Message::text(t)),
-            Outgoing::Close(code, reason) => {
-                let _ = ws.close(Some(CloseFrame {
-                    code: CloseCode::from(code),
-                    reason: reason.into(),
-                }));
-                let _ = ws.flush();
-                break;
-            }
-        };
-        if sent.is_err() {
-            // A stalled or dead client: the reader sees the shut socket and leaves.
-            let _ = ws.get_ref().shutdown(std::net::Shutdown::Both);
-            break;
-        }
-    }
+        drop(slot);
+    });
+    hyper::Response::builder()
+        .status(101)
+        .header("Upgrade", "websocket")
+        .header("Connection", "Upgrade")
+        .header("Sec-WebSocket-Accept", accept)
+        .body(http_body_util::Full::new(Bytes::new()))
+        .unwrap_or_else(|_| http::text(500, "internal error"))
 }

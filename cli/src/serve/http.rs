@@ -1,16 +1,19 @@
-//! The HTTP side: one request per connection (the page makes four), read with limits and a
-//! deadline, routed by exact path, answered with the page's files (built into the binary:
-//! no request reads a file), the model list, or the upgrade to a WebSocket.
+//! The HTTP side's pieces over hyper's request type: the request as the routes read it
+//! (path and query percent-decoded once), the answers (the page's files are built into the
+//! binary: no request reads a file), and the checks of secrets, `Host` and `Origin`.
+use http_body_util::Full;
+use hyper::body::Bytes;
+use hyper::{Response, StatusCode};
 use percent_encoding::percent_decode_str;
-use std::io::{Read, Write};
-use std::net::TcpStream;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-/// A request head larger than this is refused (431).
+/// A request head larger than this is refused (431, by hyper).
 pub const MAX_HEAD: usize = 8 * 1024;
-const MAX_HEADERS: usize = 32;
-/// The whole head must arrive within this (a slow sender holds no thread for long).
+pub const MAX_HEADERS: usize = 32;
+/// The whole head must arrive within this (hyper closes the connection past it).
 pub const HEAD_DEADLINE: Duration = Duration::from_secs(10);
+
+pub type Answer = Response<Full<Bytes>>;
 
 pub struct Request {
     pub method: String,
@@ -23,6 +26,44 @@ pub struct Request {
 }
 
 impl Request {
+    /// The parts the routes read of hyper's request; None when the path or query does not
+    /// decode to UTF-8 (a 400).
+    pub fn of<B>(req: &hyper::Request<B>) -> Option<Request> {
+        let decode = |s: &str| {
+            percent_decode_str(s)
+                .decode_utf8()
+                .ok()
+                .map(|c| c.into_owned())
+        };
+        let query = req
+            .uri()
+            .query()
+            .unwrap_or("")
+            .split('&')
+            .filter(|p| !p.is_empty())
+            .map(|p| {
+                let (n, v) = p.split_once('=').unwrap_or((p, ""));
+                Some((decode(n)?, decode(v)?))
+            })
+            .collect::<Option<_>>()?;
+        let headers = req
+            .headers()
+            .iter()
+            .map(|(n, v)| {
+                (
+                    n.as_str().to_ascii_lowercase(),
+                    String::from_utf8_lossy(v.as_bytes()).into_owned(),
+                )
+            })
+            .collect();
+        Some(Request {
+            method: req.method().as_str().to_string(),
+            path: decode(req.uri().path())?,
+            query,
+            headers,
+        })
+    }
+
     pub fn header(&self, name: &str) -> Option<&str> {
         self.headers
             .iter()
@@ -48,129 +89,49 @@ impl Request {
             .map(|(_, v)| v)
     }
 
-    /// One line for the log: method and path, never the query (it holds the token).
+    /// One line for the log: method and path (clipped), never the query (it holds the token).
     pub fn describe(&self) -> String {
-        format!("{} {}", self.method, self.path)
+        format!("{} {}", clip(&self.method), clip(&self.path))
     }
 }
 
-/// Why a request was not read: the status to answer with (None: the peer went away or was
-/// too slow; nothing is answered).
-pub struct Refused(pub Option<(u16, String)>);
-
-fn decode(s: &str) -> Result<String, Refused> {
-    percent_decode_str(s)
-        .decode_utf8()
-        .map(|c| c.into_owned())
-        .map_err(|_| Refused(Some((400, "the path is not UTF-8".into()))))
-}
-
-/// Reads one request head from `stream`: at most [`MAX_HEAD`] bytes, [`MAX_HEADERS`] headers,
-/// within [`HEAD_DEADLINE`].
-pub fn read_request(stream: &mut TcpStream) -> Result<Request, Refused> {
-    let start = Instant::now();
-    let mut buf = Vec::with_capacity(1024);
-    let mut chunk = [0u8; 1024];
-    loop {
-        let left = HEAD_DEADLINE.saturating_sub(start.elapsed());
-        if left.is_zero() || stream.set_read_timeout(Some(left)).is_err() {
-            return Err(Refused(None));
-        }
-        let n = match stream.read(&mut chunk) {
-            Ok(0) | Err(_) => return Err(Refused(None)),
-            Ok(n) => n,
-        };
-        buf.extend_from_slice(&chunk[..n]);
-        let mut headers = [httparse::EMPTY_HEADER; MAX_HEADERS];
-        let mut req = httparse::Request::new(&mut headers);
-        match req.parse(&buf) {
-            Ok(httparse::Status::Complete(_)) => return request_of(&req),
-            Ok(httparse::Status::Partial) if buf.len() <= MAX_HEAD => continue,
-            Ok(httparse::Status::Partial) => {}
-            Err(httparse::Error::TooManyHeaders) => {
-                return Err(Refused(Some((431, "too many headers".into()))))
-            }
-            Err(e) => return Err(Refused(Some((400, format!("bad request: {e}"))))),
-        }
-        return Err(Refused(Some((
-            431,
-            format!("the request head is over {MAX_HEAD} bytes"),
-        ))));
+/// A client's string as it may appear in a log line or an answer: at most 64 characters
+/// (an error never echoes a long client string back).
+pub fn clip(s: &str) -> String {
+    const MAX: usize = 64;
+    match s.char_indices().nth(MAX) {
+        Some((i, _)) => format!("{}…", &s[..i]),
+        None => s.to_string(),
     }
 }
 
-fn request_of(req: &httparse::Request) -> Result<Request, Refused> {
-    let target = req.path.unwrap_or("/");
-    let (path, query) = target.split_once('?').unwrap_or((target, ""));
-    let query = query
-        .split('&')
-        .filter(|p| !p.is_empty())
-        .map(|p| {
-            let (n, v) = p.split_once('=').unwrap_or((p, ""));
-            Ok((decode(n)?, decode(v)?))
-        })
-        .collect::<Result<_, Refused>>()?;
-    let headers = req
-        .headers
-        .iter()
-        .map(|h| {
-            (
-                h.name.to_ascii_lowercase(),
-                String::from_utf8_lossy(h.value).into_owned(),
-            )
-        })
-        .collect();
-    Ok(Request {
-        method: req.method.unwrap_or("").to_string(),
-        path: decode(path)?,
-        query,
-        headers,
+/// A whole response (the connection may carry the next request: its head has the same
+/// deadline, so an idle kept-alive connection is closed after it).
+pub fn respond(status: u16, content_type: &str, extra: &[(&str, String)], body: Bytes) -> Answer {
+    let mut r = Response::builder()
+        .status(StatusCode::from_u16(status).unwrap_or(StatusCode::INTERNAL_SERVER_ERROR))
+        .header("Content-Type", content_type)
+        .header("Cache-Control", "no-store")
+        .header("X-Content-Type-Options", "nosniff");
+    for (n, v) in extra {
+        r = r.header(*n, v.as_str());
+    }
+    r.body(Full::new(body)).unwrap_or_else(|_| {
+        // Only a header value with a newline fails here, and the values are the server's.
+        let mut plain = Response::new(Full::new(Bytes::from_static(b"internal error\n")));
+        *plain.status_mut() = StatusCode::INTERNAL_SERVER_ERROR;
+        plain
     })
 }
 
-/// Writes a whole response and closes (one request per connection).
-pub fn respond(
-    stream: &mut TcpStream,
-    status: u16,
-    content_type: &str,
-    extra: &[(&str, String)],
-    body: &[u8],
-) {
-    let reason = match status {
-        200 => "OK",
-        400 => "Bad Request",
-        401 => "Unauthorized",
-        403 => "Forbidden",
-        404 => "Not Found",
-        405 => "Method Not Allowed",
-        431 => "Request Header Fields Too Large",
-        503 => "Service Unavailable",
-        _ => "Error",
-    };
-    let mut head = format!(
-        "HTTP/1.1 {status} {reason}\r\nContent-Type: {content_type}\r\nContent-Length: {}\r\n\
-         Cache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nConnection: close\r\n",
-        body.len()
-    );
-    for (n, v) in extra {
-        head += &format!("{n}: {v}\r\n");
-    }
-    head += "\r\n";
-    let _ = stream.set_write_timeout(Some(Duration::from_secs(10)));
-    let _ = stream.write_all(head.as_bytes());
-    let _ = stream.write_all(body);
-    let _ = stream.flush();
-}
-
 /// A plain-text answer (errors).
-pub fn text(stream: &mut TcpStream, status: u16, message: &str) {
+pub fn text(status: u16, message: &str) -> Answer {
     respond(
-        stream,
         status,
         "text/plain; charset=utf-8",
         &[],
-        format!("{message}\n").as_bytes(),
-    );
+        Bytes::from(format!("{message}\n")),
+    )
 }
 
 /// Compares secrets in time independent of where they differ.

@@ -1,25 +1,27 @@
 //! `glview serve PATH`: one process renders for every browser that opens its address. The
 //! main thread holds the one GL context and draws every viewer's view in turn
-//! ([`scheduler`]); a thread per connection reads its requests and messages ([`conn`]);
-//! what crosses the socket is in [`protocol`] and docs/serve.md.
+//! ([`scheduler`]); connections are tasks on a small tokio runtime ([`conn`], [`socket`]),
+//! talking to the render thread through bounded queues ([`queues`]); what crosses the
+//! socket is in [`protocol`] and docs/serve.md.
 mod conn;
 mod http;
 mod models;
 mod protocol;
+mod queues;
 mod render;
 mod scheduler;
+mod socket;
 
 use crate::cli::ServeCommand;
 use glview::session::Session;
 use glview::{Error, Result};
 use std::net::{SocketAddr, TcpListener, ToSocketAddrs};
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use std::time::Duration;
 
-/// Connections being answered at once beyond the viewers (page loads, refused requests):
-/// more are closed at once, so a flood cannot take every thread.
-const SPARE_CONNECTIONS: usize = 64;
+/// A `--token` shorter than this could be guessed.
+const MIN_TOKEN: usize = 16;
 
 fn check(cmd: &ServeCommand, addr: &SocketAddr) -> Result<()> {
     if cmd.no_token && !addr.ip().is_loopback() {
@@ -29,14 +31,18 @@ fn check(cmd: &ServeCommand, addr: &SocketAddr) -> Result<()> {
         )));
     }
     if let Some(t) = &cmd.token {
-        if t.is_empty()
-            || !t
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
+        if !t
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')
         {
             return Err(Error::Usage(
                 "--token: use letters, digits, - and _ only (it goes into a URL)".into(),
             ));
+        }
+        if t.len() < MIN_TOKEN {
+            return Err(Error::Usage(format!(
+                "--token: at least {MIN_TOKEN} characters (a short one can be guessed)"
+            )));
         }
     }
     if !(cmd.drag_scale > 0.0 && cmd.drag_scale <= 1.0) {
@@ -45,9 +51,9 @@ fn check(cmd: &ServeCommand, addr: &SocketAddr) -> Result<()> {
     if !(1..=100).contains(&cmd.drag_quality) {
         return Err(Error::Usage("--drag-quality must be 1 to 100".into()));
     }
-    if cmd.max_viewers == 0 || cmd.idle_timeout == 0 {
+    if cmd.max_viewers == 0 || cmd.idle_timeout == 0 || cmd.max_per_address == 0 {
         return Err(Error::Usage(
-            "--max-viewers and --idle-timeout must be at least 1".into(),
+            "--max-viewers, --max-per-address and --idle-timeout must be at least 1".into(),
         ));
     }
     Ok(())
@@ -95,23 +101,50 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
     let presenter_key = http::random_token();
     let (events, rx) = std::sync::mpsc::channel();
     let presenter_online = Arc::new(AtomicBool::new(false));
-    let shared = Arc::new(conn::Shared {
-        token: token.clone(),
-        presenter_key: presenter_key.clone(),
-        models: models.names(),
-        first_model: models.first().0.to_string(),
-        size: base.picture.size,
-        max_viewers: cmd.max_viewers,
-        idle_timeout: Duration::from_secs(cmd.idle_timeout),
-        events,
-        viewers: AtomicUsize::new(0),
-        next_id: AtomicU64::new(1),
-        presenter_online: presenter_online.clone(),
-    });
+    let public = public_authority(cmd.public_url.as_deref())?;
+    let mut shared = conn::Shared::new(
+        token.clone(),
+        presenter_key.clone(),
+        (models.names(), models.first().0.to_string()),
+        base.picture.size,
+        (
+            cmd.max_viewers,
+            cmd.max_per_address,
+            Duration::from_secs(cmd.idle_timeout),
+        ),
+        hosts(&local, public.as_deref()),
+        events.clone(),
+        presenter_online.clone(),
+    );
+    let embed = embed_origins(&cmd.embed_origin)?;
+    if !embed.is_empty() {
+        shared.frame_ancestors = format!("'self' {}", embed.join(" "));
+        // A frame of another site gets the cookie only as SameSite=None, and browsers take
+        // that only with Secure (HTTPS).
+        if cmd
+            .public_url
+            .as_deref()
+            .is_some_and(|u| u.starts_with("https://"))
+        {
+            shared.cookie_site = "SameSite=None; Secure";
+        }
+    }
+    let shared = Arc::new(shared);
     let query = token.map(|t| format!("?token={t}")).unwrap_or_default();
     let sep = if query.is_empty() { '?' } else { '&' };
-    println!("glview serve: open http://{local}/{query}");
-    println!("glview serve: presenter http://{local}/{query}{sep}present={presenter_key}");
+    let open = match &cmd.public_url {
+        Some(u) => u.trim_end_matches('/').to_string(),
+        None => format!("http://{local}"),
+    };
+    println!("glview serve: listening on {local}");
+    println!("glview serve: open {open}/{query}");
+    println!("glview serve: presenter {open}/{query}{sep}present={presenter_key}");
+    if !embed.is_empty() {
+        println!(
+            "glview serve: embed <iframe src=\"{open}/{query}\" width=\"{w}\" height=\"{h}\" \
+             style=\"border:0;max-width:100%\" allow=\"fullscreen\"></iframe>"
+        );
+    }
     println!(
         "glview serve: {} model(s), views {w}x{h}, at most {} viewers",
         models.names().len(),
@@ -119,11 +152,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
     );
     use std::io::Write;
     let _ = std::io::stdout().flush();
-    let limit = cmd.max_viewers + SPARE_CONNECTIONS;
-    std::thread::Builder::new()
-        .name("glview-accept".into())
-        .spawn(move || accept(listener, shared, limit))
-        .map_err(|e| Error::Usage(format!("cannot start a thread: {e}")))?;
+    start_network(listener, shared)?;
     // An OSMesa context keeps the size it was made with (a new size is a new context and
     // every scene loaded again): its views keep one size, previews included.
     let fixed_size = session.fixed_size();
@@ -135,34 +164,114 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         drag_scale: if fixed_size { 1.0 } else { cmd.drag_scale },
         drag_quality: cmd.drag_quality,
         fixed_size,
+        max_size: base.picture.size,
     };
-    scheduler::Scheduler::new(session, base, models, config, presenter_online).run(&rx);
+    scheduler::Scheduler::new(session, base, models, config, presenter_online, events).run(&rx);
     Ok(())
 }
 
-/// Takes connections, each on a thread of its own, at most `limit` at once.
-fn accept(listener: TcpListener, shared: Arc<conn::Shared>, limit: usize) {
-    let live = Arc::new(AtomicUsize::new(0));
-    for stream in listener.incoming() {
-        let Ok(stream) = stream else {
-            continue;
-        };
-        if live.load(Ordering::SeqCst) >= limit {
-            drop(stream);
-            continue;
-        }
-        live.fetch_add(1, Ordering::SeqCst);
-        let (shared, done) = (shared.clone(), live.clone());
-        let spawned = std::thread::Builder::new()
-            .name("glview-conn".into())
-            .stack_size(256 * 1024)
-            .spawn(move || {
-                conn::handle(stream, &shared);
-                done.fetch_sub(1, Ordering::SeqCst);
-            });
-        if spawned.is_err() {
-            live.fetch_sub(1, Ordering::SeqCst);
-            log::warn!("cannot start a connection thread");
+/// The connections' runtime on two threads of its own (the render thread stays this one).
+fn start_network(listener: TcpListener, shared: Arc<conn::Shared>) -> Result<()> {
+    raise_descriptor_limit();
+    let fail = |e: std::io::Error| Error::Unsupported(format!("cannot start the server: {e}"));
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .thread_name("glview-net")
+        .enable_io()
+        .enable_time()
+        .build()
+        .map_err(fail)?;
+    listener.set_nonblocking(true).map_err(fail)?;
+    let listener = {
+        let _guard = runtime.enter();
+        tokio::net::TcpListener::from_std(listener).map_err(fail)?
+    };
+    std::thread::Builder::new()
+        .name("glview-accept".into())
+        .spawn(move || runtime.block_on(conn::accept(listener, shared)))
+        .map_err(fail)?;
+    Ok(())
+}
+
+/// Idle connections cost a descriptor each: the soft limit goes up to the hard one, so a
+/// thousand of them leave room for the viewers.
+fn raise_descriptor_limit() {
+    let mut lim = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: getrlimit/setrlimit read and write the one struct given.
+    unsafe {
+        if libc::getrlimit(libc::RLIMIT_NOFILE, &mut lim) == 0 && lim.rlim_cur < lim.rlim_max {
+            lim.rlim_cur = lim.rlim_max;
+            libc::setrlimit(libc::RLIMIT_NOFILE, &lim);
         }
     }
+}
+
+/// `--embed-origin`s as CSP sources: `scheme://host[:port]`, nothing else.
+fn embed_origins(given: &[String]) -> Result<Vec<String>> {
+    given
+        .iter()
+        .map(|o| {
+            let o = o.trim_end_matches('/');
+            let rest = o
+                .strip_prefix("https://")
+                .or_else(|| o.strip_prefix("http://"))
+                .unwrap_or("");
+            let ok = !rest.is_empty()
+                && rest
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || ".-:[]".contains(c));
+            if ok {
+                Ok(o.to_ascii_lowercase())
+            } else {
+                Err(Error::Usage(format!(
+                    "--embed-origin {}: an origin is http(s)://host[:port], no path",
+                    http::clip(o)
+                )))
+            }
+        })
+        .collect()
+}
+
+/// `--public-url`'s host and port as a `Host` header names them (lower case).
+fn public_authority(url: Option<&str>) -> Result<Option<String>> {
+    let Some(url) = url else {
+        return Ok(None);
+    };
+    let rest = url
+        .strip_prefix("https://")
+        .or_else(|| url.strip_prefix("http://"))
+        .ok_or_else(|| {
+            Error::Usage(format!(
+                "--public-url {url}: an http:// or https:// address"
+            ))
+        })?;
+    let authority = rest.split('/').next().unwrap_or("");
+    if authority.is_empty() || authority.contains('@') {
+        return Err(Error::Usage(format!("--public-url {url}: no host in it")));
+    }
+    Ok(Some(authority.to_ascii_lowercase()))
+}
+
+/// The `Host` values this server answers to: its bind address (and `localhost` on a loopback
+/// one) and `--public-url`'s; None (any) on an unspecified address without `--public-url`,
+/// where the names machines use for it are not known.
+fn hosts(local: &SocketAddr, public: Option<&str>) -> Option<Vec<String>> {
+    let port = local.port();
+    let mut list: Vec<String> = public.into_iter().map(str::to_string).collect();
+    let ip = local.ip();
+    if ip.is_unspecified() {
+        return (!list.is_empty()).then_some(list);
+    }
+    list.push(local.to_string());
+    if ip.is_loopback() {
+        list.extend([
+            format!("localhost:{port}"),
+            format!("127.0.0.1:{port}"),
+            format!("[::1]:{port}"),
+        ]);
+    }
+    Some(list)
 }

@@ -1,7 +1,9 @@
 //! The models a server offers: PATH's one model, or every model file under PATH's folder,
 //! each named by its path relative to PATH. Clients name models by this list only, so no
 //! request ever becomes a path; links are resolved before the list is made and whatever
-//! resolves outside PATH is left out.
+//! resolves outside PATH is left out, and resolved again at every open (a link swapped in
+//! after the start is not followed). Viewers see names, never the server's paths
+//! ([`Models::scrub`]).
 use glview::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -14,8 +16,10 @@ const MAX_MODELS: usize = 2000;
 pub const BUILTIN: &str = "built-in";
 
 pub struct Models {
-    /// (name, canonical path); None is the built-in scene.
-    entries: Vec<(String, Option<PathBuf>)>,
+    /// (name, canonical path, the path as listed); None is the built-in scene.
+    entries: Vec<(String, Option<(PathBuf, PathBuf)>)>,
+    /// The folder served (a single model's own folder): what viewers' strings are relative to.
+    root: Option<PathBuf>,
 }
 
 fn is_model(p: &Path) -> bool {
@@ -35,6 +39,7 @@ impl Models {
         let Some(path) = path else {
             return Ok(Models {
                 entries: vec![(BUILTIN.into(), None)],
+                root: None,
             });
         };
         let root = path.canonicalize().map_err(|e| Error::io(path, e))?;
@@ -44,7 +49,8 @@ impl Models {
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "model".into());
             return Ok(Models {
-                entries: vec![(name, Some(root))],
+                entries: vec![(name, Some((root.clone(), root.clone())))],
+                root: root.parent().map(Path::to_path_buf),
             });
         }
         let mut entries = Vec::new();
@@ -59,6 +65,7 @@ impl Models {
         }
         Ok(Models {
             entries: entries.into_iter().map(|(n, p)| (n, Some(p))).collect(),
+            root: Some(root),
         })
     }
 
@@ -69,28 +76,61 @@ impl Models {
     /// The first model: what a new viewer sees.
     pub fn first(&self) -> (&str, Option<&Path>) {
         let (n, p) = &self.entries[0];
-        (n, p.as_deref())
+        (n, p.as_ref().map(|(real, _)| real.as_path()))
     }
 
-    /// The model of this name in the list (a name, never a path: `../x` is no name).
-    pub fn get(&self, name: &str) -> Option<Option<&Path>> {
-        self.entries
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, p)| p.as_deref())
+    /// The model of this name in the list (a name, never a path: `../x` is no name), its
+    /// listed path resolved again now: whatever it resolves to must still be a file inside
+    /// the folder. The error is the viewer's, the same whether or not a file outside exists.
+    pub fn open(&self, name: &str) -> std::result::Result<Option<PathBuf>, String> {
+        let Some((_, entry)) = self.entries.iter().find(|(n, _)| n == name) else {
+            return Err(format!(
+                "no model named {:?} (the server lists {})",
+                crate::serve::http::clip(name),
+                self.entries.len()
+            ));
+        };
+        let Some((_, listed)) = entry else {
+            return Ok(None);
+        };
+        let inside = |real: &PathBuf| {
+            real.is_file() && self.root.as_ref().is_none_or(|r| real.starts_with(r))
+        };
+        match listed.canonicalize() {
+            Ok(real) if inside(&real) => Ok(Some(real)),
+            _ => Err(format!(
+                "{name}: no longer a model inside the served folder"
+            )),
+        }
     }
 
     /// The name of the model at this path.
     pub fn name_of(&self, path: Option<&Path>) -> String {
         self.entries
             .iter()
-            .find(|(_, p)| p.as_deref() == path)
+            .find(|(_, p)| p.as_ref().map(|(real, _)| real.as_path()) == path)
             .map_or_else(|| BUILTIN.to_string(), |(n, _)| n.clone())
+    }
+
+    /// `s` as a viewer may read it: the served folder's path taken out (names are relative
+    /// to it), so no frame, PNG text or error tells where the server keeps its files.
+    pub fn scrub(&self, s: &str) -> String {
+        let Some(root) = self.root.as_ref().and_then(|r| r.to_str()) else {
+            return s.to_string();
+        };
+        let root = root.trim_end_matches('/');
+        if root.is_empty() {
+            return s.to_string();
+        }
+        s.replace(&format!("{root}/"), "")
     }
 }
 
-/// Model files under `dir` (canonical, inside `root`), named relative to `root` with `/`.
-fn walk(root: &Path, dir: &Path, depth: usize, out: &mut Vec<(String, PathBuf)>) {
+/// Model files under `dir` (canonical, inside `root`), named relative to `root` with `/`:
+/// (name, (canonical path, path as listed)).
+type Found = (String, (PathBuf, PathBuf));
+
+fn walk(root: &Path, dir: &Path, depth: usize, out: &mut Vec<Found>) {
     let Ok(read) = std::fs::read_dir(dir) else {
         return;
     };
@@ -120,8 +160,8 @@ fn walk(root: &Path, dir: &Path, depth: usize, out: &mut Vec<(String, PathBuf)>)
                 .map(|c| c.as_os_str().to_string_lossy())
                 .collect::<Vec<_>>()
                 .join("/");
-            if !out.iter().any(|(_, p)| *p == real) {
-                out.push((name, real));
+            if !out.iter().any(|(_, (p, _))| *p == real) {
+                out.push((name, (real, item)));
             }
         }
     }
@@ -146,9 +186,21 @@ mod tests {
         std::os::unix::fs::symlink(&outside, dir.join("away")).unwrap();
         let m = Models::scan(Some(&dir)).unwrap();
         assert_eq!(m.names(), vec!["a.obj", "sub/b.STL"]);
-        assert!(m.get("../glview-models.outside/secret.obj").is_none());
-        assert!(m.get("link.obj").is_none());
-        assert!(m.get("a.obj").unwrap().unwrap().ends_with("a.obj"));
+        assert!(m.open("../glview-models.outside/secret.obj").is_err());
+        assert!(m.open("link.obj").is_err());
+        assert!(m.open("a.obj").unwrap().unwrap().ends_with("a.obj"));
+        // A file swapped for a link after the scan is not followed, whether or not the
+        // link's target exists (the error is the same).
+        std::fs::remove_file(dir.join("a.obj")).unwrap();
+        std::os::unix::fs::symlink(outside.join("secret.obj"), dir.join("a.obj")).unwrap();
+        let e = m.open("a.obj").unwrap_err();
+        std::fs::remove_file(dir.join("a.obj")).unwrap();
+        std::os::unix::fs::symlink(outside.join("none.obj"), dir.join("a.obj")).unwrap();
+        assert_eq!(m.open("a.obj").unwrap_err(), e);
+        assert!(!e.contains(outside.to_str().unwrap()), "{e}");
+        let root = dir.canonicalize().unwrap();
+        let said = format!("cannot read {}/sub/b.STL: x", root.display());
+        assert_eq!(m.scrub(&said), "cannot read sub/b.STL: x");
         let _ = std::fs::remove_dir_all(&dir);
         let _ = std::fs::remove_dir_all(&outside);
     }

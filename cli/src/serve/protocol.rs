@@ -1,14 +1,15 @@
-//! What crosses the socket (docs/serve.md, "Protocol") and what the connection threads tell
-//! the GL thread.
+//! What crosses the socket (docs/serve.md, "Protocol") and what the connections tell the
+//! render thread.
+use super::queues::{Inbox, Outbox};
 use serde::Deserialize;
-use std::sync::mpsc::Sender;
+use std::sync::Arc;
 
 /// Client messages are small JSON objects: anything larger is refused.
 pub const MAX_MESSAGE: usize = 4096;
 /// The largest view a client may ask for, per axis.
 pub const MAX_SIZE: u32 = 4096;
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, PartialEq, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum ClientMsg {
     Key { key: String, seq: Option<u64> },
@@ -25,7 +26,9 @@ pub enum ClientMsg {
 impl ClientMsg {
     /// Parses and checks a message; the error is the line the client is sent.
     pub fn parse(text: &str) -> Result<ClientMsg, String> {
-        let m: ClientMsg = serde_json::from_str(text).map_err(|e| format!("bad message: {e}"))?;
+        // serde's message may quote the client's text: clipped, never echoed whole.
+        let m: ClientMsg = serde_json::from_str(text)
+            .map_err(|e| format!("bad message: {}", super::http::clip(&e.to_string())))?;
         let finite = |v: f32, what: &str| {
             if v.is_finite() && v.abs() <= 1e5 {
                 Ok(())
@@ -75,19 +78,29 @@ pub enum Outgoing {
     Close(u16, String),
 }
 
-/// From the connection threads to the GL thread.
+/// To the render thread, from the connections and the encoders: a bounded stream (one
+/// `Wake` per viewer until the render thread takes its inbox; a join and a leave per viewer;
+/// one `Encoded` per viewer at a time).
 pub enum Event {
     Join {
         id: u64,
-        out: Sender<Outgoing>,
+        out: Arc<Outbox>,
+        inbox: Arc<Inbox>,
         presenter: bool,
     },
-    Input {
+    /// The viewer's inbox has messages.
+    Wake {
         id: u64,
-        msg: ClientMsg,
     },
     Leave {
         id: u64,
+    },
+    /// From an encoding worker: a frame's bytes (or the encoder's error).
+    Encoded {
+        id: u64,
+        frame: u64,
+        still: bool,
+        bytes: Result<tungstenite::Bytes, String>,
     },
 }
 

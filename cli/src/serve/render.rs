@@ -1,6 +1,7 @@
-//! One frame of a view: drawn through the session (so a still is the command line's picture
-//! of the same options), read back and encoded: JPEG for a preview, PNG with the picture's
-//! text (its options, its command line) for a still.
+//! One frame of a view: drawn through the session on the render thread (so a still is the
+//! command line's picture of the same options) and read back ([`draw`]), then encoded on a
+//! worker ([`encode`]): JPEG for a preview, PNG with the picture's text (its options, its
+//! command line) for a still.
 use glview::render::attributes::Outputs;
 use glview::session::{Profile, Session, View};
 use std::time::Instant;
@@ -15,7 +16,9 @@ pub enum Kind {
 
 pub struct Picture<'a> {
     pub view: &'a View,
-    pub model: String,
+    /// The list the model's name comes from, and what takes the server's paths out of the
+    /// command and the PNG text (relative to the served folder, as the viewer's names are).
+    pub models: &'a super::models::Models,
     pub kind: Kind,
 }
 
@@ -34,8 +37,17 @@ pub fn options_for(view: &View, kind: Kind) -> glview::Options {
     o
 }
 
-/// The frame's header (without the scheduler's fields) and image bytes.
-pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json::Value, Vec<u8>)> {
+/// A frame drawn and read back, to be encoded.
+pub struct Drawn {
+    /// Without the scheduler's fields and the encoder's.
+    pub header: serde_json::Value,
+    image: glview::image_out::Rgba,
+    text: Vec<(&'static str, String)>,
+    kind: Kind,
+}
+
+/// Draws the frame: its header (without the scheduler's fields) and pixels.
+pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
     let o = options_for(p.view, p.kind);
     let view = p.view.options().picture.size;
     let t = Instant::now();
@@ -43,7 +55,10 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
     let still = p.kind == Kind::Still;
     let (image, text, diff, command, settings) = if p.view.compare() {
         let pair = glview::compare::phong_pbr(session, &o, still)?;
-        let command = format!("{} --compare phong,pbr", glview::repro::command_line(&o));
+        let command = format!(
+            "{} --compare phong,pbr",
+            p.models.scrub(&glview::repro::command_line(&o))
+        );
         let text = vec![
             ("Software", format!("glview {}", env!("CARGO_PKG_VERSION"))),
             ("glview.compare", "phong,pbr".to_string()),
@@ -57,9 +72,16 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
         (pair.image, text, diff, command, pair.settings)
     } else {
         let drawn = session.draw(&o, None, Outputs::default(), &mut profile)?;
-        let command = glview::repro::command_line(&o);
+        let command = p.models.scrub(&glview::repro::command_line(&o));
         // A preview is JPEG, without text: only a still's is made.
-        let text = if still { drawn.text() } else { Vec::new() };
+        let text = if still {
+            let text = drawn.text();
+            text.into_iter()
+                .map(|(k, v)| (k, p.models.scrub(&v)))
+                .collect()
+        } else {
+            Vec::new()
+        };
         (drawn.image, text, None, command, drawn.settings)
     };
     let draw_ms = ms(t);
@@ -69,21 +91,12 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
     } else {
         settings.shading.to_string()
     };
-    let t = Instant::now();
-    let (bytes, format, encoder) = match p.kind {
-        Kind::Still => (image.png_bytes(&text), "png", "png"),
-        Kind::Preview { quality, .. } => {
-            let (b, encoder) = image.jpeg_bytes(quality)?;
-            (b, "jpeg", encoder)
-        }
-    };
     let header = serde_json::json!({
         "still": p.kind == Kind::Still,
-        "format": format,
         "width": image.width,
         "height": image.height,
         "view": [view.0, view.1],
-        "model": p.model,
+        "model": p.models.name_of(p.view.options().load.model.as_deref()),
         "compare": p.view.compare(),
         "tier": tier,
         "shadows": settings.shadows.enabled,
@@ -94,12 +107,32 @@ pub fn render(session: &mut Session, p: &Picture) -> glview::Result<(serde_json:
             "render": if profile.frames_ms.is_empty() { draw_ms } else { round(profile.frames_ms.iter().sum()) },
             "read": round(profile.readback_ms),
             "draw": draw_ms,
-            "encode": ms(t),
         },
-        "encoder": encoder,
         "diff": diff,
         "command": command,
     });
+    Ok(Drawn {
+        header,
+        image,
+        text,
+        kind: p.kind,
+    })
+}
+
+/// Encodes a drawn frame (off the render thread): its full header and image bytes.
+pub fn encode(d: Drawn) -> glview::Result<(serde_json::Value, Vec<u8>)> {
+    let t = Instant::now();
+    let (bytes, format, encoder) = match d.kind {
+        Kind::Still => (d.image.png_bytes(&d.text), "png", "png"),
+        Kind::Preview { quality, .. } => {
+            let (b, encoder) = d.image.jpeg_bytes(quality)?;
+            (b, "jpeg", encoder)
+        }
+    };
+    let mut header = d.header;
+    header["format"] = format.into();
+    header["encoder"] = encoder.into();
+    header["ms"]["encode"] = ms(t).into();
     Ok((header, bytes))
 }
 

@@ -1,10 +1,12 @@
-//! The GL thread: every viewer's view, drawn in turn through one [`Session`]. Inputs only
-//! change a view (the latest wins); a view is drawn when it changed and its last frame was
-//! acknowledged: small and JPEG while input arrives, full-size PNG once it stops. A
-//! presenter's frames go to every follower.
+//! The GL thread: every viewer's view, drawn through one [`Session`], the viewer charged
+//! least render time first. Inputs (taken from each viewer's bounded inbox) only change a
+//! view (the latest wins); a view is drawn when it changed and its last frame was
+//! acknowledged: small and JPEG while input arrives, full-size PNG once it stops, encoded on
+//! a worker. A presenter's frames go to every follower.
 use super::models::Models;
 use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
-use super::render::{options_for, render, Kind, Picture};
+use super::queues::{Inbox, Outbox};
+use super::render::{draw, encode, options_for, Kind, Picture};
 use glview::keys::{self, Effect};
 use glview::options::Options;
 use glview::session::{Session, View};
@@ -15,6 +17,11 @@ use std::time::{Duration, Instant};
 
 /// Inputs waiting for their scene (the first frame of a model) are bounded.
 const MAX_PENDING: usize = 256;
+/// A frame costing more than this holds its viewer back for the excess while others are
+/// active, so an expensive view takes at most about half the render thread's time.
+const CHEAP: Duration = Duration::from_millis(40);
+/// A viewer served this recently counts as active.
+const ACTIVE: Duration = Duration::from_secs(1);
 
 pub struct Config {
     pub still_delay: Duration,
@@ -22,10 +29,13 @@ pub struct Config {
     pub drag_quality: u8,
     /// The context cannot change size (OSMesa): size messages are refused.
     pub fixed_size: bool,
+    /// `--size`: the largest view a viewer may ask for.
+    pub max_size: (u32, u32),
 }
 
 struct Viewer {
-    out: Sender<Outgoing>,
+    out: Arc<Outbox>,
+    inbox: Arc<Inbox>,
     view: View,
     presenter: bool,
     following: bool,
@@ -47,20 +57,28 @@ struct Viewer {
     /// The newest frame sent (a new follower starts with it), and whether it is a still.
     last_frame: Option<(u64, tungstenite::Bytes)>,
     last_was_still: bool,
+    /// Render time charged to this viewer (virtual time: the least charged is served first).
+    used: Duration,
+    /// An expensive frame's viewer waits until then while others are active.
+    not_before: Instant,
+    /// When its last frame was drawn.
+    served_at: Option<Instant>,
+    /// Its frame is being encoded on a worker: the next one waits.
+    encoding: bool,
 }
 
 impl Viewer {
     fn send_frame(&mut self, id: u64, frame: &tungstenite::Bytes) {
         if self.in_flight.is_none() {
             self.in_flight = Some(id);
-            let _ = self.out.send(Outgoing::Frame(frame.clone()));
+            self.out.push(Outgoing::Frame(frame.clone()));
         } else {
             self.owed = Some((id, frame.clone()));
         }
     }
 
     fn error(&self, message: &str) {
-        let _ = self.out.send(Outgoing::Text(error_json(message, false)));
+        self.out.push(Outgoing::Text(error_json(message, false)));
     }
 
     /// A follower's own input leaves the class (a presenter coming later is not followed),
@@ -89,9 +107,14 @@ pub struct Scheduler {
     viewers: BTreeMap<u64, Viewer>,
     /// The viewer served last: the next turn starts after it.
     last_served: u64,
+    /// The charge of the viewer served last: no viewer's counts for less (an idle viewer
+    /// does not bank time to spend in a burst).
+    vclock: Duration,
     next_frame: u64,
     presenter: Option<u64>,
     presenter_online: Arc<std::sync::atomic::AtomicBool>,
+    /// The encoders' way back (`Event::Encoded`).
+    events: Sender<Event>,
 }
 
 impl Scheduler {
@@ -101,6 +124,7 @@ impl Scheduler {
         models: Models,
         config: Config,
         presenter_online: Arc<std::sync::atomic::AtomicBool>,
+        events: Sender<Event>,
     ) -> Scheduler {
         Scheduler {
             session,
@@ -109,13 +133,15 @@ impl Scheduler {
             config,
             viewers: BTreeMap::new(),
             last_served: 0,
+            vclock: Duration::ZERO,
             next_frame: 1,
             presenter: None,
             presenter_online,
+            events,
         }
     }
 
-    /// Serves until every sender of events is gone.
+    /// Serves for the life of the process.
     pub fn run(&mut self, events: &Receiver<Event>) {
         loop {
             let now = Instant::now();
@@ -135,7 +161,9 @@ impl Scheduler {
             }
             if let Some(id) = self.ready(Instant::now()) {
                 self.last_served = id;
+                let t = Instant::now();
                 self.serve(id);
+                self.charge_frame(id, t.elapsed());
             }
         }
     }
@@ -146,52 +174,105 @@ impl Scheduler {
         !(v.following && self.presenter.is_some_and(|p| p != id))
     }
 
-    /// The next viewer to draw, in turn after the last one served.
-    fn ready(&self, now: Instant) -> Option<u64> {
-        let due = |id: &u64, v: &Viewer| {
-            v.in_flight.is_none()
-                && (v.dirty || (v.still_owed && now >= v.last_input + self.config.still_delay))
-                && self.draws_own(*id)
+    /// When `v` wants a frame next (None: it waits for an ack, input, or its presenter).
+    fn due_at(&self, id: u64, v: &Viewer) -> Option<Instant> {
+        if v.in_flight.is_some() || v.encoding || !self.draws_own(id) {
+            return None;
+        }
+        let at = if v.dirty {
+            v.not_before
+        } else if v.still_owed {
+            v.not_before.max(v.last_input + self.config.still_delay)
+        } else {
+            return None;
         };
+        Some(at)
+    }
+
+    /// A viewer's charge as the turns count it.
+    fn charge(&self, v: &Viewer) -> Duration {
+        v.used.max(self.vclock)
+    }
+
+    /// The next viewer to draw: of those due, the least charged with render time; among
+    /// equals, in turn after the last one served.
+    fn ready(&self, now: Instant) -> Option<u64> {
         let after = self.viewers.range(self.last_served + 1..);
         let before = self.viewers.range(..=self.last_served);
         after
             .chain(before)
-            .find(|(id, v)| due(id, v))
+            .filter(|(id, v)| self.due_at(**id, v).is_some_and(|t| t <= now))
+            .min_by_key(|(_, v)| self.charge(v))
             .map(|(id, _)| *id)
     }
 
-    /// How long nothing is due: until the nearest owed still (or a while).
+    /// How long nothing is due: until the nearest owed still or held-back frame (or a while).
     fn next_deadline(&self, now: Instant) -> Duration {
         self.viewers
-            .values()
-            .filter(|v| v.still_owed && v.in_flight.is_none())
-            .map(|v| (v.last_input + self.config.still_delay).saturating_duration_since(now))
+            .iter()
+            .filter_map(|(id, v)| self.due_at(*id, v))
+            .map(|t| t.saturating_duration_since(now))
             .min()
             .unwrap_or(Duration::from_secs(3600))
     }
 
+    /// Charges `id` with a frame that took `cost`: an expensive one holds it back while
+    /// another viewer is active.
+    fn charge_frame(&mut self, id: u64, cost: Duration) {
+        let now = Instant::now();
+        let others = self.viewers.iter().any(|(other, v)| {
+            *other != id
+                && (v.served_at.is_some_and(|t| now - t < ACTIVE)
+                    || self.due_at(*other, v).is_some())
+        });
+        let start = self.charge(&self.viewers[&id]);
+        self.vclock = start;
+        let v = self.viewers.get_mut(&id).expect("served");
+        v.used = start + cost;
+        v.served_at = Some(now);
+        if others && cost > CHEAP {
+            v.not_before = now + (cost - CHEAP);
+        }
+    }
+
     fn event(&mut self, e: Event) {
         match e {
-            Event::Join { id, out, presenter } => self.join(id, out, presenter),
+            Event::Join {
+                id,
+                out,
+                inbox,
+                presenter,
+            } => self.join(id, out, inbox, presenter),
             Event::Leave { id } => self.leave(id),
-            Event::Input { id, msg } => {
-                if self.viewers.contains_key(&id) {
+            Event::Encoded {
+                id,
+                frame,
+                still,
+                bytes,
+            } => self.encoded(id, frame, still, bytes),
+            Event::Wake { id } => {
+                let msgs = match self.viewers.get(&id) {
+                    Some(v) => v.inbox.take(),
+                    None => return,
+                };
+                for msg in msgs {
                     self.input(id, msg);
                 }
             }
         }
     }
 
-    fn join(&mut self, id: u64, out: Sender<Outgoing>, want_presenter: bool) {
+    fn join(&mut self, id: u64, out: Arc<Outbox>, inbox: Arc<Inbox>, want_presenter: bool) {
         let mut options = self.base.clone();
         options.load.model = self.models.first().1.map(Into::into);
-        let presenter = want_presenter && self.presenter.is_none();
-        if want_presenter && !presenter {
-            let _ = out.send(Outgoing::Text(error_json(
-                "a presenter is already connected: this is an ordinary viewer",
-                false,
-            )));
+        // The presenter's key is proof enough: a presenter coming back (a reload, a new
+        // network) takes the role over from its old socket, which may not be closed yet.
+        let presenter = want_presenter;
+        if let Some(old) = self.presenter.filter(|_| presenter) {
+            if let Some(o) = self.viewers.get_mut(&old) {
+                o.presenter = false;
+                o.error("the presenter's key opened another page: this one is an ordinary viewer");
+            }
         }
         let hello = serde_json::json!({
             "type": "hello",
@@ -200,12 +281,14 @@ impl Scheduler {
             "size": [options.picture.size.0, options.picture.size.1],
             "presenter": presenter,
             "presenter_online": self.presenter.is_some() || presenter,
-            "max_size": super::protocol::MAX_SIZE,
+            "max_size": [self.config.max_size.0, self.config.max_size.1],
+            "resizable": !self.config.fixed_size,
             "keys": keys::remote_table(),
         });
-        let _ = out.send(Outgoing::Text(hello.to_string()));
+        out.push(Outgoing::Text(hello.to_string()));
         let v = Viewer {
             out,
+            inbox,
             view: View::new(options),
             presenter,
             following: false,
@@ -219,6 +302,10 @@ impl Scheduler {
             owed: None,
             last_frame: None,
             last_was_still: false,
+            used: self.vclock,
+            not_before: Instant::now(),
+            served_at: None,
+            encoding: false,
         };
         self.viewers.insert(id, v);
         if presenter {
@@ -249,7 +336,7 @@ impl Scheduler {
             .store(online, std::sync::atomic::Ordering::Relaxed);
         let note = serde_json::json!({"type": "presenter", "online": online}).to_string();
         for v in self.viewers.values() {
-            let _ = v.out.send(Outgoing::Text(note.clone()));
+            v.out.push(Outgoing::Text(note.clone()));
         }
     }
 
@@ -313,21 +400,26 @@ impl Scheduler {
             ClientMsg::Size { .. } if self.config.fixed_size => {
                 v.error("this server's context (OSMesa) keeps one size: the view stays as it is")
             }
+            ClientMsg::Size { width, height }
+                if width > self.config.max_size.0 || height > self.config.max_size.1 =>
+            {
+                let (w, h) = self.config.max_size;
+                v.error(&format!(
+                    "the largest view here is {w}x{h} (the server's --size): asked {width}x{height}"
+                ))
+            }
             ClientMsg::Size { width, height } => {
                 v.view.resize((width, height));
                 v.changed();
             }
-            ClientMsg::Model { name, .. } => match self.models.get(&name) {
-                Some(path) => {
+            ClientMsg::Model { name, .. } => match self.models.open(&name) {
+                Ok(path) => {
                     v.leave_class(presenter_view.as_ref());
                     v.pending.clear();
-                    v.view.set_model(path.map(Into::into));
+                    v.view.set_model(path);
                     v.changed();
                 }
-                None => v.error(&format!(
-                    "no model named {name:?} (the server lists {})",
-                    self.models.names().len()
-                )),
+                Err(e) => v.error(&e),
             },
             m @ (ClientMsg::Key { .. } | ClientMsg::Drag { .. } | ClientMsg::Wheel { .. }) => {
                 v.leave_class(presenter_view.as_ref());
@@ -366,7 +458,8 @@ impl Scheduler {
                         other => other.map(|_| ()),
                     },
                     None => Err(glview::Error::Usage(format!(
-                        "unknown key {key:?} (the window's keys: glview --help)"
+                        "unknown key {:?} (the window's keys: glview --help)",
+                        super::http::clip(&key)
                     ))),
                 },
                 ClientMsg::Drag { dx, dy, .. } => v.view.drag(dx, dy, scene),
@@ -374,7 +467,7 @@ impl Scheduler {
                 _ => Ok(()),
             };
             if let Err(e) = r {
-                v.error(&e.to_string());
+                v.error(&self.models.scrub(&e.to_string()));
             }
         }
         Ok(())
@@ -394,22 +487,22 @@ impl Scheduler {
         };
         if let Err(e) = self.apply_pending(id, kind) {
             let v = self.viewers.get_mut(&id).expect("served");
-            v.error(&e);
+            v.error(&self.models.scrub(&e));
             (v.dirty, v.still_owed) = (false, false);
             return;
         }
         let v = &self.viewers[&id];
         let picture = Picture {
             view: &v.view,
-            model: self.models.name_of(v.view.options().load.model.as_deref()),
+            models: &self.models,
             kind,
         };
         let frame = self.next_frame;
-        let drawn = render(&mut self.session, &picture).map(|(mut header, image)| {
-            header["frame"] = frame.into();
-            header["seq"] = v.seq.into();
-            header["presenter"] = v.presenter.into();
-            frame_bytes(&header, &image)
+        let drawn = draw(&mut self.session, &picture).map(|mut d| {
+            d.header["frame"] = frame.into();
+            d.header["seq"] = v.seq.into();
+            d.header["presenter"] = v.presenter.into();
+            d
         });
         let v = self.viewers.get_mut(&id).expect("served");
         v.dirty = false;
@@ -417,18 +510,52 @@ impl Scheduler {
         if kind == Kind::Still {
             v.still_owed = false;
         }
-        let bytes = match drawn {
-            Ok(b) => tungstenite::Bytes::from(b),
+        let drawn = match drawn {
+            Ok(d) => d,
             Err(e) => {
-                v.error(&e.to_string());
+                v.error(&self.models.scrub(&e.to_string()));
                 v.still_owed = false;
                 return;
             }
         };
         self.next_frame += 1;
+        // Encoding takes a worker, not the render thread; the viewer waits for it as for an
+        // ack (one frame of a viewer at a time, in order).
+        v.encoding = true;
+        let events = self.events.clone();
+        let still = kind == Kind::Still;
+        rayon::spawn(move || {
+            let bytes = encode(drawn)
+                .map(|(header, image)| frame_bytes(&header, &image).into())
+                .map_err(|e| e.to_string());
+            let _ = events.send(Event::Encoded {
+                id,
+                frame,
+                still,
+                bytes,
+            });
+        });
+    }
+
+    /// A frame encoded: sent to its viewer, and to the followers when it is the presenter.
+    fn encoded(
+        &mut self,
+        id: u64,
+        frame: u64,
+        still: bool,
+        bytes: Result<tungstenite::Bytes, String>,
+    ) {
+        let Some(v) = self.viewers.get_mut(&id) else {
+            return;
+        };
+        v.encoding = false;
+        let bytes = match bytes {
+            Ok(b) => b,
+            Err(e) => return v.error(&e),
+        };
         v.send_frame(frame, &bytes);
         v.last_frame = Some((frame, bytes.clone()));
-        v.last_was_still = kind == Kind::Still;
+        v.last_was_still = still;
         if self.presenter == Some(id) {
             for f in self.viewers.values_mut().filter(|f| f.following) {
                 f.send_frame(frame, &bytes);

@@ -9,10 +9,29 @@ const ctx = canvas.getContext('2d');
 const params = new URLSearchParams(location.search);
 
 // The token may be absent from the URL when the page came with the server's cookie; the
-// socket's handshake then carries the cookie instead.
+// socket's handshake then carries the cookie instead. The presenter's key is kept for this
+// tab only (sessionStorage: a reload presents again, another tab does not).
 const query = new URLSearchParams();
 if (params.get('token')) query.set('token', params.get('token'));
-if (params.get('present')) query.set('present', params.get('present'));
+// Storage may be refused (a frame of another site, a private window): then the key lives as
+// long as the page.
+const stored = (f) => { try { return f(window.sessionStorage); } catch (e) { return null; } };
+const presentKey = params.get('present') || stored((s) => s.getItem('glview_present'));
+if (presentKey) {
+  stored((s) => s.setItem('glview_present', presentKey));
+  query.set('present', presentKey);
+}
+// The address bar keeps neither secret (a projected presenter tab shows it): the server's
+// cookie (HttpOnly) lets this page, its reloads and its socket in; the printed links still
+// work for others, since the server takes the token from a link as before.
+// In a frame (a course page) there is no address bar, and the cookie may not be sent: the
+// address stays as it is there.
+if ((params.has('token') || params.has('present')) && window.top === window.self) {
+  const rest = new URLSearchParams(params);
+  rest.delete('token');
+  rest.delete('present');
+  history.replaceState(null, '', location.pathname + (rest.toString() ? '?' + rest : '') + location.hash);
+}
 const wsUrl = (location.protocol === 'https:' ? 'wss://' : 'ws://') + location.host + '/ws' +
   (query.toString() ? '?' + query : '');
 
@@ -61,6 +80,36 @@ function setViewSize(w, h) {
   canvas.style.height = h + 'px';
 }
 
+// ---- the view fits the window (or the iframe) ----
+// The view takes the room below the bar, one image pixel per CSS pixel (devicePixelRatio
+// does not enter: the browser scales the canvas as it scales any CSS pixel), within the
+// server's largest view (--size, `max_size`); the server is asked for that size on load and
+// after a resize.
+
+function fitSize() {
+  const main = document.querySelector('main');
+  const pad = parseFloat(getComputedStyle(main).paddingLeft) || 0;
+  const top = $('stage').getBoundingClientRect().top + window.scrollY;
+  const [maxW, maxH] = hello.max_size;
+  const w = Math.floor(Math.min(maxW, document.documentElement.clientWidth - 2 * pad));
+  const h = Math.floor(Math.min(maxH, window.innerHeight - top - pad));
+  return [Math.max(16, w), Math.max(16, h)];
+}
+
+function fitView() {
+  if (!hello || !hello.resizable) return;
+  const [w, h] = fitSize();
+  if (w === viewW && h === viewH) return;
+  setViewSize(w, h);
+  send({ type: 'size', width: w, height: h });
+}
+
+let fitTimer = 0;
+window.addEventListener('resize', () => {
+  clearTimeout(fitTimer);
+  fitTimer = setTimeout(fitView, 150);
+});
+
 // ---- the socket ----
 
 function connect() {
@@ -84,10 +133,12 @@ function onText(m) {
     serverKeys.clear();
     for (const k of m.keys || []) for (const n of k.names) serverKeys.set(n.toUpperCase(), n);
     setViewSize(m.size[0], m.size[1]);
+    fitView();
     fillModels(m.models, m.model);
     $('presenting').hidden = !m.presenter;
     $('follow-label').hidden = !!m.presenter;
     setPresenterOnline(m.presenter_online);
+    openLink(m);
     if (params.get('follow') === '1' && !m.presenter) $('follow').checked = true;
     if ($('follow').checked && m.presenter_online) send({ type: 'follow', on: true });
   } else if (m.type === 'presenter') {
@@ -145,6 +196,25 @@ async function onFrame(buf) {
 }
 
 // ---- the model picker, buttons and follow box ----
+
+// A link may carry a model and a view, so a course page opens the model where the lesson
+// needs it: `?model=sub/part.glb&keys=Right,Right,Up,P,P,B` (keys of the window's table:
+// camera steps, tier, toggles). Sent once, as the user's own input would be.
+let linkOpened = false;
+function openLink(m) {
+  if (linkOpened) return;
+  linkOpened = true;
+  const model = params.get('model');
+  if (model && m.models.includes(model) && model !== m.model) {
+    $('model').value = model;
+    sendInput({ type: 'model', name: model });
+  }
+  const keys = (params.get('keys') || '').split(',').filter(Boolean).slice(0, 64);
+  for (const k of keys) {
+    const name = serverKeys.get(k.trim().toUpperCase());
+    if (name) sendInput({ type: 'key', key: name });
+  }
+}
 
 function fillModels(models, current) {
   const sel = $('model');

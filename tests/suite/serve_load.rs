@@ -1,0 +1,314 @@
+//! `glview serve` under attack from loopback (issue 40): an honest viewer dragging at 10
+//! inputs a second keeps at least half its frame rate while another client floods messages,
+//! reads slowly, asks for an expensive view, or holds 1,000 idle connections; the server's
+//! memory stays under 1 GiB and comes back within 100 MiB; a page load is answered within 1 s
+//! throughout. Each attack runs 3 s (the whole test ~20 s). With
+//! `GLVIEW_SERVE_BIN=/path/to/glview` it measures another build (the table in docs/serve.md).
+use super::serve_client::{Got, Server};
+use serde_json::json;
+use std::net::TcpStream;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+use tungstenite::Message;
+
+const ATTACK: Duration = Duration::from_secs(3);
+const MIB: u64 = 1024;
+
+/// What one attack did to the honest viewer and the server.
+struct Measured {
+    fps: f64,
+    rss_max_kb: u64,
+    rss_after_kb: u64,
+    page_max: Duration,
+}
+
+/// Everything the honest viewer, the watchers and the attacker share.
+struct Run<'a> {
+    server: &'a Server,
+    stop: AtomicBool,
+    /// The honest viewer's frames (arrival times) and newest frame number.
+    frames: Mutex<Vec<Instant>>,
+    latest: AtomicU64,
+}
+
+impl Run<'_> {
+    /// The honest viewer: a drag every 100 ms, each frame acknowledged at once.
+    fn honest(&self, done: &AtomicBool) {
+        let mut c = self.server.viewer("");
+        c.still(None);
+        let (mut next, mut seq) = (Instant::now(), 0u64);
+        while !done.load(Ordering::Relaxed) {
+            if Instant::now() >= next {
+                seq += 1;
+                c.send(json!({"type": "drag", "dx": 2, "dy": 0, "seq": seq}));
+                next += Duration::from_millis(100);
+            }
+            match c.next_within(Duration::from_millis(10)) {
+                Some(Got::Frame(h, _)) => {
+                    c.send(json!({"type": "ack", "frame": h["frame"]}));
+                    self.latest
+                        .store(h["frame"].as_u64().unwrap_or(0), Ordering::Relaxed);
+                    self.frames.lock().unwrap().push(Instant::now());
+                }
+                // Counted as it is: no more frames (the table shows it).
+                Some(Got::Closed) => return,
+                _ => {}
+            }
+        }
+    }
+
+    fn fps_since(&self, t: Instant) -> f64 {
+        let n = self
+            .frames
+            .lock()
+            .unwrap()
+            .iter()
+            .filter(|f| **f >= t)
+            .count();
+        n as f64 / t.elapsed().as_secs_f64()
+    }
+
+    /// Runs `attack` for [`ATTACK`] while watching memory and page loads.
+    fn measure(&self, attack: impl FnOnce(&Self) + Send) -> Measured {
+        self.stop.store(false, Ordering::SeqCst);
+        let rss_max = AtomicU64::new(0);
+        let page_max = Mutex::new(Duration::ZERO);
+        let start = Instant::now();
+        std::thread::scope(|s| {
+            s.spawn(|| attack(self));
+            s.spawn(|| {
+                while !self.stop.load(Ordering::Relaxed) {
+                    let rss = self.server.rss_kb();
+                    rss_max.fetch_max(rss, Ordering::Relaxed);
+                    // A server past 2 GiB has failed already: stop before it takes the machine.
+                    if rss > 2048 * MIB || start.elapsed() >= ATTACK {
+                        self.stop.store(true, Ordering::SeqCst);
+                    }
+                    std::thread::sleep(Duration::from_millis(50));
+                }
+            });
+            s.spawn(|| {
+                std::thread::sleep(Duration::from_millis(500));
+                while !self.stop.load(Ordering::Relaxed) {
+                    let t = Instant::now();
+                    let (status, _) = self.server.get(&format!("/?token={}", self.server.token));
+                    let took = if status == 200 {
+                        t.elapsed()
+                    } else {
+                        Duration::from_secs(99)
+                    };
+                    let mut m = page_max.lock().unwrap();
+                    *m = (*m).max(took);
+                    drop(m);
+                    std::thread::sleep(Duration::from_millis(250));
+                }
+            });
+        });
+        let fps = self.fps_since(start);
+        // Memory comes back once the attacker is gone (given a few seconds).
+        let mut after = self.server.rss_kb();
+        let t = Instant::now();
+        while after > self.base_rss() + 100 * MIB && t.elapsed() < Duration::from_secs(4) {
+            std::thread::sleep(Duration::from_millis(200));
+            after = self.server.rss_kb();
+        }
+        Measured {
+            fps,
+            rss_max_kb: rss_max.into_inner(),
+            rss_after_kb: after,
+            page_max: page_max.into_inner().unwrap(),
+        }
+    }
+
+    fn base_rss(&self) -> u64 {
+        BASE_RSS.load(Ordering::Relaxed)
+    }
+
+    /// A viewer socket that stops blocking the attacker once `stop` is set.
+    fn attacker(&self) -> super::serve_client::Client {
+        let c = self.server.viewer("");
+        c.ws.get_ref()
+            .set_write_timeout(Some(Duration::from_millis(200)))
+            .unwrap();
+        c
+    }
+}
+
+static BASE_RSS: AtomicU64 = AtomicU64::new(0);
+
+/// An attacker: runs until the run's `stop` is set.
+type Attack = fn(&Run);
+
+/// Drags and 4 KiB model messages as fast as the socket takes them, nothing read.
+fn flood(run: &Run) {
+    let mut c = run.attacker();
+    let model = json!({"type": "model", "name": "x".repeat(4000)}).to_string();
+    let drag = json!({"type": "drag", "dx": 1, "dy": 0}).to_string();
+    let mut i = 0u64;
+    while !run.stop.load(Ordering::Relaxed) {
+        i += 1;
+        let m = if i.is_multiple_of(2) { &model } else { &drag };
+        let _ = c.ws.send(Message::text(m.clone()));
+    }
+}
+
+/// Never reads: asks for the largest frames with drags and acknowledges them blind (frame
+/// numbers are the honest viewer's neighbours).
+fn slow_reader(run: &Run) {
+    let mut c = run.attacker();
+    c.send(json!({"type": "size", "width": 4096, "height": 4096}));
+    while !run.stop.load(Ordering::Relaxed) {
+        let _ = c.ws.send(Message::text(
+            json!({"type": "drag", "dx": 1, "dy": 0}).to_string(),
+        ));
+        let n = run.latest.load(Ordering::Relaxed);
+        for f in n.saturating_sub(2)..n + 8 {
+            let _ = c.ws.send(Message::text(
+                json!({"type": "ack", "frame": f}).to_string(),
+            ));
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// The largest view the protocol allows, PBR, bloom and the compare panes, dragged and
+/// every frame taken at once.
+fn expensive(run: &Run) {
+    let mut c = run.attacker();
+    c.send(json!({"type": "size", "width": 4096, "height": 4096}));
+    for key in ["P", "P", "B", "C"] {
+        c.send(json!({"type": "key", "key": key}));
+    }
+    while !run.stop.load(Ordering::Relaxed) {
+        let _ = c.ws.send(Message::text(
+            json!({"type": "drag", "dx": 3, "dy": 0}).to_string(),
+        ));
+        match c.next_within(Duration::from_millis(20)) {
+            Some(Got::Frame(h, _)) => c.send(json!({"type": "ack", "frame": h["frame"]})),
+            Some(Got::Closed) => return,
+            _ => {}
+        }
+    }
+}
+
+/// A connection from 127.0.0.`host` (loopback has them all), so the per-address count does
+/// not refuse what this measures: many addresses, each holding idle connections.
+fn connect_from(host: u8, addr: &str) -> Option<TcpStream> {
+    use std::os::fd::FromRawFd;
+    let port: u16 = addr.rsplit(':').next()?.parse().ok()?;
+    let sa = |ip: [u8; 4], port: u16| libc::sockaddr_in {
+        sin_family: libc::AF_INET as libc::sa_family_t,
+        sin_port: port.to_be(),
+        sin_addr: libc::in_addr {
+            s_addr: u32::from_be_bytes(ip).to_be(),
+        },
+        sin_zero: [0; 8],
+    };
+    let len = std::mem::size_of::<libc::sockaddr_in>() as libc::socklen_t;
+    // SAFETY: a new socket, bound and connected with sockaddr_in values that live across the
+    // calls; its descriptor is owned by the TcpStream made of it (or closed on failure).
+    unsafe {
+        let fd = libc::socket(libc::AF_INET, libc::SOCK_STREAM, 0);
+        if fd < 0 {
+            return None;
+        }
+        let local = sa([127, 0, 0, host], 0);
+        let remote = sa([127, 0, 0, 1], port);
+        let ok = libc::bind(fd, (&raw const local).cast(), len) == 0
+            && libc::connect(fd, (&raw const remote).cast(), len) == 0;
+        if !ok {
+            libc::close(fd);
+            return None;
+        }
+        Some(TcpStream::from_raw_fd(fd))
+    }
+}
+
+/// 1,000 connections that send nothing (20 addresses, 50 each), held open, opened again
+/// when the server drops them.
+fn idle(run: &Run) {
+    let mut held: Vec<(u8, Option<TcpStream>)> =
+        (0..1000).map(|i| (2 + (i % 20) as u8, None)).collect();
+    while !run.stop.load(Ordering::Relaxed) {
+        for (host, s) in &mut held {
+            let dead = s.as_ref().is_none_or(|s| {
+                let mut b = [0u8; 1];
+                s.set_nonblocking(true).ok();
+                matches!(s.peek(&mut b), Ok(0)) || s.take_error().ok().flatten().is_some()
+            });
+            if dead {
+                *s = connect_from(*host, &run.server.addr);
+            }
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+#[test]
+fn one_client_cannot_stall_the_class() {
+    // CI runs small views; `GLVIEW_LOAD_SIZE=1024x768` measures the default size.
+    let size = std::env::var("GLVIEW_LOAD_SIZE").unwrap_or_else(|_| "320x240".into());
+    let server = Server::start(&["--size", &size]);
+    let run = Run {
+        server: &server,
+        stop: AtomicBool::new(false),
+        frames: Mutex::new(Vec::new()),
+        latest: AtomicU64::new(0),
+    };
+    let done = AtomicBool::new(false);
+    let mut rows = Vec::new();
+    std::thread::scope(|s| {
+        s.spawn(|| run.honest(&done));
+        std::thread::sleep(Duration::from_millis(1000));
+        BASE_RSS.store(server.rss_kb(), Ordering::Relaxed);
+        let t = Instant::now();
+        std::thread::sleep(Duration::from_secs(2));
+        let base = run.fps_since(t);
+        let attacks: [(&str, Attack); 4] = [
+            ("message flood", flood),
+            ("slow reader", slow_reader),
+            ("expensive view", expensive),
+            ("1,000 idle connections", idle),
+        ];
+        for (name, attack) in attacks {
+            rows.push((name, base, run.measure(attack)));
+        }
+        done.store(true, Ordering::SeqCst);
+    });
+    let base_rss = run.base_rss();
+    eprintln!("attack | honest frames/s (alone) | RSS max | RSS after (start) | slowest page load");
+    for (name, base, m) in &rows {
+        eprintln!(
+            "{name} | {:.1} ({base:.1}) | {} MiB | {} MiB ({} MiB) | {} ms",
+            m.fps,
+            m.rss_max_kb / MIB,
+            m.rss_after_kb / MIB,
+            base_rss / MIB,
+            m.page_max.as_millis()
+        );
+    }
+    for (name, base, m) in &rows {
+        assert!(
+            m.fps >= 0.5 * base,
+            "{name}: {:.1} frames/s of {base:.1}",
+            m.fps
+        );
+        assert!(
+            m.rss_max_kb <= 1024 * MIB,
+            "{name}: {} MiB",
+            m.rss_max_kb / MIB
+        );
+        assert!(
+            m.rss_after_kb <= base_rss + 100 * MIB,
+            "{name}: {} MiB after, {} MiB at the start",
+            m.rss_after_kb / MIB,
+            base_rss / MIB
+        );
+        assert!(
+            m.page_max <= Duration::from_secs(1),
+            "{name}: a page load took {:?}",
+            m.page_max
+        );
+    }
+}
