@@ -29,8 +29,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{SystemTime, UNIX_EPOCH};
 
+#[path = "cache_compact.rs"]
+mod compact;
 #[path = "cache_read.rs"]
 mod read;
+use super::meshes::Compact;
+use compact::{compact_of, CompactMeta};
 
 /// Files smaller than this parse in well under 100 ms: not worth a cache entry, unless their
 /// images are large (see `worth_an_entry`).
@@ -83,7 +87,9 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// (issue 31): entries of 9 hold such clouds without them.
 /// 11: the glTF PBR extensions (issue 32): `Material::khr` and its nine texture slots.
 /// 12: level of detail (issue 30): clusters' groups and levels, levels' indices at the end.
-const FORMAT: u32 = 12;
+/// 13: two sections (issue 41): a first view's (large meshes' whole levels compact), then
+/// the rest, each with its own hash.
+const FORMAT: u32 = 13;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -202,9 +208,27 @@ struct Header {
     /// Each mesh's clusters (None below `clusters::MIN_TRIANGLES`), built on the indices
     /// stored here (already reordered): a hit prepares nothing.
     clusters: Vec<Option<Clusters>>,
-    /// Length and XXH3-128 of everything after the header: catches truncation and flipped bytes.
-    payload_len: u64,
-    payload_hash: u128,
+    /// Per mesh, its compact copy's lengths when the first section holds one instead of
+    /// the mesh ([`compact_of`]).
+    compact: Vec<Option<CompactMeta>>,
+    /// Length and XXH3-128 of each section after the header (the first view's, then the
+    /// rest): catches truncation and flipped bytes; the rest is checked when it is read.
+    first_len: u64,
+    first_hash: u128,
+    rest_len: u64,
+    rest_hash: u128,
+}
+
+/// A section's length and hash.
+fn section(parts: &[&[u8]]) -> (u64, u128) {
+    let mut hasher = xxhash_rust::xxh3::Xxh3::new();
+    for p in parts {
+        hasher.update(p);
+    }
+    (
+        parts.iter().map(|p| p.len() as u64).sum(),
+        hasher.digest128(),
+    )
 }
 
 /// A folder set by the embedding program, before the environment: tests running many loads
@@ -345,42 +369,69 @@ pub fn put_in(
     let entry = entry_path(dir, path).ok_or_else(|| std::io::Error::other("no canonical path"))?;
     let canonical = path.canonicalize()?;
     let (table, slot_refs) = image_table(scene);
+    let compacts: Vec<Option<Compact>> = scene
+        .meshes
+        .iter()
+        .zip(clusters)
+        .map(|(m, c)| {
+            let tangents = scene
+                .materials
+                .get(m.material)
+                .is_some_and(|t| t.needs_tangents());
+            compact_of(m, c.as_ref()?, tangents)
+        })
+        .collect();
     // The payload's parts in file order, borrowed: hashed, then written, never copied into
-    // one buffer (a textured entry is mostly its images: 84 MB for DamagedHelmet).
+    // one buffer (a textured entry is mostly its images: 84 MB for DamagedHelmet). The
+    // first section is what a first view needs; the rest, what only later views or CPU
+    // users need (the full arrays of the meshes kept compact in the first).
     let w = &scene.wire;
-    let mut parts: Vec<&[u8]> = Vec::new();
-    for m in &scene.meshes {
-        parts.extend([
+    let (mut first, mut rest): (Vec<&[u8]>, Vec<&[u8]>) = (Vec::new(), Vec::new());
+    for ((m, c), k) in scene.meshes.iter().zip(clusters).zip(&compacts) {
+        let full = [
             bytemuck::cast_slice(&m.vertices),
             bytemuck::cast_slice(&m.indices),
             bytemuck::cast_slice(&m.colors),
             bytemuck::cast_slice(&m.color_alpha),
             bytemuck::cast_slice(&m.uv1),
             bytemuck::cast_slice(&m.tangents),
-        ]);
+        ];
+        match k {
+            Some(k) => {
+                first.extend([
+                    bytemuck::cast_slice(&k.vertices),
+                    bytemuck::cast_slice(&k.indices),
+                    bytemuck::cast_slice(&k.colors),
+                    bytemuck::cast_slice(&k.color_alpha),
+                    bytemuck::cast_slice(&k.uv1),
+                ]);
+                rest.extend(full);
+                rest.extend(c.iter().map(|c| bytemuck::cast_slice(&c.lod.indices)));
+            }
+            None => first.extend(full),
+        }
     }
-    parts.extend([
+    first.extend([
         bytemuck::cast_slice(&w.positions),
         bytemuck::cast_slice(&w.segments),
         bytemuck::cast_slice(&w.points),
         bytemuck::cast_slice(&w.colors),
         bytemuck::cast_slice(&w.normals),
     ]);
-    parts.extend(table.iter().map(|t| &t.rgba[..]));
-    // Each large mesh's simplified levels (the header has their tables).
-    parts.extend(
+    first.extend(table.iter().map(|t| &t.rgba[..]));
+    // The levels of the large meshes kept whole (the header has their tables).
+    first.extend(
         clusters
             .iter()
-            .flatten()
+            .zip(&compacts)
+            .filter(|(_, k)| k.is_none())
+            .filter_map(|(c, _)| c.as_ref())
             .map(|c| bytemuck::cast_slice(&c.lod.indices)),
     );
-    let payload_len: u64 = parts.iter().map(|p| p.len() as u64).sum();
-    if payload_len > max_bytes {
+    let (first_len, first_hash) = section(&first);
+    let (rest_len, rest_hash) = section(&rest);
+    if first_len + rest_len > max_bytes {
         return Err(std::io::Error::other("entry larger than --cache-size"));
-    }
-    let mut hasher = xxhash_rust::xxh3::Xxh3::new();
-    for p in &parts {
-        hasher.update(p);
     }
     let header = Header {
         format: FORMAT,
@@ -434,8 +485,14 @@ pub fn put_in(
         ],
         warnings: scene.warnings.clone(),
         clusters: clusters.to_vec(),
-        payload_len,
-        payload_hash: hasher.digest128(),
+        compact: compacts
+            .iter()
+            .map(|k| k.as_ref().map(CompactMeta::of))
+            .collect(),
+        first_len,
+        first_hash,
+        rest_len,
+        rest_hash,
     };
     let json = serde_json::to_vec(&header).map_err(std::io::Error::other)?;
     std::fs::create_dir_all(dir)?;
@@ -447,7 +504,7 @@ pub fn put_in(
         w.write_all(MAGIC)?;
         w.write_all(&(json.len() as u64).to_le_bytes())?;
         w.write_all(&json)?;
-        for p in &parts {
+        for p in first.iter().chain(&rest) {
             w.write_all(p)?;
         }
         w.flush()?;
