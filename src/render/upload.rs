@@ -101,7 +101,7 @@ impl DrawMesh {
             None => {
                 let t = std::time::Instant::now();
                 let mesh = &scene.scene.meshes[i];
-                let lod = scene.scene.meshes.levels_read(i).unwrap_or(&[]);
+                let lod = levels_read(&scene.scene, i)?;
                 let mat = &scene.scene.materials[mesh.material];
                 let (m, _, bytes) = upload_mesh(&scene.gpu, mesh, mat, lod)?;
                 scene.uploaded.set(scene.uploaded.get() + bytes);
@@ -307,9 +307,7 @@ fn whole_draw_mesh(
     // Levels of detail go in the same index buffer, after the mesh's own triangles: the
     // clusters' own, or those read with a compact mesh's full arrays.
     let levels = match &clusters {
-        Some(c) if c.lod.indices.is_empty() && c.lod.index_count > 0 => {
-            scene.meshes.levels_read(i).unwrap_or(&[])
-        }
+        Some(c) if c.lod.indices.is_empty() && c.lod.index_count > 0 => levels_read(scene, i)?,
         Some(c) => &c.lod.indices[..],
         None => &[][..],
     };
@@ -336,6 +334,15 @@ fn whole_draw_mesh(
         clusters,
     };
     Ok((dm, bytes))
+}
+
+/// The levels' indices of mesh `i`, which came compact: read with its full arrays.
+fn levels_read(scene: &Scene, i: usize) -> Result<&[u32]> {
+    scene.meshes.levels_read(i).ok_or_else(|| {
+        crate::Error::Unsupported(format!(
+            "mesh {i}: its levels of detail were not read from the mesh cache"
+        ))
+    })
 }
 
 /// Which optional streams an upload has.

@@ -128,8 +128,26 @@ impl Meshes {
 
     /// The levels' indices of mesh `i` when it came compact (read now with the full arrays
     /// if they are not here yet), else None (its levels came with its clusters).
-    pub(crate) fn levels_read(&self, i: usize) -> Option<&[u32]> {
+    pub fn levels_read(&self, i: usize) -> Option<&[u32]> {
         self.full().levels.get(i)?.as_deref()
+    }
+
+    /// Gives `clusters` (a mesh cache hit's, for these meshes) the levels' indices left in
+    /// the entry with the full arrays (reading them now): clusters as a cold load makes them.
+    pub fn complete(&self, clusters: &mut [Option<super::clusters::Clusters>]) {
+        for (i, c) in clusters.iter_mut().enumerate() {
+            if let (Some(c), Some(l)) = (c, self.levels_read(i)) {
+                if c.lod.indices.is_empty() {
+                    c.lod.indices = l.to_vec();
+                }
+            }
+        }
+    }
+
+    /// The meshes, read if they are still in the entry.
+    pub fn into_vec(self) -> Vec<Mesh> {
+        self.full();
+        self.full.into_inner().map(|f| f.meshes).unwrap_or_default()
     }
 
     fn full(&self) -> &Full {
@@ -207,10 +225,17 @@ impl std::ops::Deref for Meshes {
 impl std::ops::DerefMut for Meshes {
     fn deref_mut(&mut self) -> &mut Vec<Mesh> {
         self.full();
-        let full = self.full.get_mut().expect("filled by full() above");
-        // A changed mesh has no stored levels any more: the caller prepares its own.
-        full.levels.clear();
-        &mut full.meshes
+        // The levels stay: a change of material (`--xray`) keeps them; one of the indices
+        // needs new clusters anyway, which bring their own.
+        &mut self.full.get_mut().expect("filled by full() above").meshes
+    }
+}
+
+impl IntoIterator for Meshes {
+    type Item = Mesh;
+    type IntoIter = std::vec::IntoIter<Mesh>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.into_vec().into_iter()
     }
 }
 
