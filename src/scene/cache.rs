@@ -15,11 +15,19 @@
 //! the total fits.
 //!
 //! Format: `GLVC`, a little-endian u64 header length, a JSON header (metadata, materials,
-//! warnings, the texture table, payload length and hash), then as raw little-endian arrays
-//! each mesh's vertices, indices, colours, second UV set and tangents, the lines and points,
-//! and every distinct texture's decoded RGBA8 pixels. Everything a format can give is stored,
-//! so every format is cached, textures included: a hit decodes no image either (a glTF's
-//! JPEGs and PNGs cost more than its meshes).
+//! warnings, the texture table, clusters and level tables, each section's length and hash),
+//! then two sections of raw little-endian arrays. The first is what a first view draws: per
+//! mesh either its compact copy (a large mesh with whole-mesh levels of detail: the vertices
+//! those levels use, with colours and second UVs, and the levels' remapped indices; see
+//! [`super::meshes`]) or its vertices, indices, colours, colour alphas, second UV set and
+//! tangents; then the lines and points, every distinct texture's decoded RGBA8 pixels, and
+//! the levels' indices of clustered meshes kept whole. The second holds, per compact mesh,
+//! its full arrays and levels' indices. A hit reads the header and the first section (both
+//! checked); the second is read, and checked against its own hash, when the scene's meshes
+//! are first used (a draw needing more than a whole level, a CPU user); if it fails, the
+//! model is read again. On the 2M-triangle sphere the first section is 7 MB of 92.
+//! Everything a format can give is stored, so every format is cached, textures included: a
+//! hit decodes no image either (a glTF's JPEGs and PNGs cost more than its meshes).
 use super::clusters::Clusters;
 use super::material::{Material, Texture, TextureOptions};
 use super::{Bounds, Scene, Warning};
@@ -381,53 +389,7 @@ pub fn put_in(
             compact_of(m, c.as_ref()?, tangents)
         })
         .collect();
-    // The payload's parts in file order, borrowed: hashed, then written, never copied into
-    // one buffer (a textured entry is mostly its images: 84 MB for DamagedHelmet). The
-    // first section is what a first view needs; the rest, what only later views or CPU
-    // users need (the full arrays of the meshes kept compact in the first).
-    let w = &scene.wire;
-    let (mut first, mut rest): (Vec<&[u8]>, Vec<&[u8]>) = (Vec::new(), Vec::new());
-    for ((m, c), k) in scene.meshes.iter().zip(clusters).zip(&compacts) {
-        let full = [
-            bytemuck::cast_slice(&m.vertices),
-            bytemuck::cast_slice(&m.indices),
-            bytemuck::cast_slice(&m.colors),
-            bytemuck::cast_slice(&m.color_alpha),
-            bytemuck::cast_slice(&m.uv1),
-            bytemuck::cast_slice(&m.tangents),
-        ];
-        match k {
-            Some(k) => {
-                first.extend([
-                    bytemuck::cast_slice(&k.vertices),
-                    bytemuck::cast_slice(&k.indices),
-                    bytemuck::cast_slice(&k.colors),
-                    bytemuck::cast_slice(&k.color_alpha),
-                    bytemuck::cast_slice(&k.uv1),
-                ]);
-                rest.extend(full);
-                rest.extend(c.iter().map(|c| bytemuck::cast_slice(&c.lod.indices)));
-            }
-            None => first.extend(full),
-        }
-    }
-    first.extend([
-        bytemuck::cast_slice(&w.positions),
-        bytemuck::cast_slice(&w.segments),
-        bytemuck::cast_slice(&w.points),
-        bytemuck::cast_slice(&w.colors),
-        bytemuck::cast_slice(&w.normals),
-    ]);
-    first.extend(table.iter().map(|t| &t.rgba[..]));
-    // The levels of the large meshes kept whole (the header has their tables).
-    first.extend(
-        clusters
-            .iter()
-            .zip(&compacts)
-            .filter(|(_, k)| k.is_none())
-            .filter_map(|(c, _)| c.as_ref())
-            .map(|c| bytemuck::cast_slice(&c.lod.indices)),
-    );
+    let (first, rest) = sections(scene, clusters, &compacts, &table);
     let (first_len, first_hash) = section(&first);
     let (rest_len, rest_hash) = section(&rest);
     if first_len + rest_len > max_bytes {
@@ -511,6 +473,62 @@ pub fn put_in(
     }
     std::fs::rename(&tmp, &entry)?;
     evict(dir, max_bytes, &entry)
+}
+
+/// The payload's parts in file order, borrowed: hashed, then written, never copied into one
+/// buffer (a textured entry is mostly its images: 84 MB for DamagedHelmet). The first
+/// section is what a first view needs; the rest, what only later views or CPU users need
+/// (the full arrays of the meshes kept compact in the first).
+fn sections<'a>(
+    scene: &'a Scene,
+    clusters: &'a [Option<Clusters>],
+    compacts: &'a [Option<Compact>],
+    table: &[&'a Arc<Texture>],
+) -> (Vec<&'a [u8]>, Vec<&'a [u8]>) {
+    let w = &scene.wire;
+    let (mut first, mut rest): (Vec<&[u8]>, Vec<&[u8]>) = (Vec::new(), Vec::new());
+    for ((m, c), k) in scene.meshes.iter().zip(clusters).zip(compacts) {
+        let full = [
+            bytemuck::cast_slice(&m.vertices),
+            bytemuck::cast_slice(&m.indices),
+            bytemuck::cast_slice(&m.colors),
+            bytemuck::cast_slice(&m.color_alpha),
+            bytemuck::cast_slice(&m.uv1),
+            bytemuck::cast_slice(&m.tangents),
+        ];
+        match k {
+            Some(k) => {
+                first.extend([
+                    bytemuck::cast_slice(&k.vertices),
+                    bytemuck::cast_slice(&k.indices),
+                    bytemuck::cast_slice(&k.colors),
+                    bytemuck::cast_slice(&k.color_alpha),
+                    bytemuck::cast_slice(&k.uv1),
+                ]);
+                rest.extend(full);
+                rest.extend(c.iter().map(|c| bytemuck::cast_slice(&c.lod.indices)));
+            }
+            None => first.extend(full),
+        }
+    }
+    first.extend([
+        bytemuck::cast_slice(&w.positions),
+        bytemuck::cast_slice(&w.segments),
+        bytemuck::cast_slice(&w.points),
+        bytemuck::cast_slice(&w.colors),
+        bytemuck::cast_slice(&w.normals),
+    ]);
+    first.extend(table.iter().map(|t| &t.rgba[..]));
+    // The levels of the large meshes kept whole (the header has their tables).
+    first.extend(
+        clusters
+            .iter()
+            .zip(compacts)
+            .filter(|(_, k)| k.is_none())
+            .filter_map(|(c, _)| c.as_ref())
+            .map(|c| bytemuck::cast_slice(&c.lod.indices)),
+    );
+    (first, rest)
 }
 
 /// Deletes the least recently used entries (oldest modification time first) until the
