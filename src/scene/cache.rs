@@ -390,6 +390,7 @@ pub fn put_in(
         })
         .collect();
     let (first, rest) = sections(scene, clusters, &compacts, &table);
+    let w = &scene.wire;
     let (first_len, first_hash) = section(&first);
     let (rest_len, rest_hash) = section(&rest);
     if first_len + rest_len > max_bytes {
