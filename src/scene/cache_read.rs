@@ -163,7 +163,7 @@ fn read_first_meshes(
 /// A mesh's arrays; None if any is short or inconsistent (a partial triangle, an index past
 /// the vertices, a per-vertex array of another length).
 fn read_mesh(payload: &mut Payload, m: &MeshMeta) -> Option<Mesh> {
-    if m.indices % 3 != 0 {
+    if !m.indices.is_multiple_of(3) {
         return None;
     }
     let vertices: Vec<Vertex> = payload.read(m.vertices)?;
@@ -197,7 +197,7 @@ fn read_mesh(payload: &mut Payload, m: &MeshMeta) -> Option<Mesh> {
 
 /// A mesh's compact copy; None if short or inconsistent, as [`read_mesh`].
 fn read_compact(payload: &mut Payload, m: &MeshMeta, k: &CompactMeta) -> Option<Compact> {
-    if k.indices % 3 != 0 || m.indices % 3 != 0 || k.vertices > m.vertices {
+    if !k.indices.is_multiple_of(3) || !m.indices.is_multiple_of(3) || k.vertices > m.vertices {
         return None;
     }
     let vertices: Vec<Vertex> = payload.read(k.vertices)?;

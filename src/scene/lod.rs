@@ -117,7 +117,7 @@ impl Lod {
     /// tables against `index_count`.
     pub(crate) fn tables_fit(&self, triangles: u64, clusters: usize) -> bool {
         let all = triangles + self.index_count as u64 / 3;
-        self.index_count % 3 == 0
+        self.index_count.is_multiple_of(3)
             && self.groups.iter().all(|g| {
                 g.clusters[0] <= g.clusters[1]
                     && g.clusters[1] as usize <= clusters
