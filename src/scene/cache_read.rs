@@ -341,7 +341,7 @@ struct RestOfEntry {
 
 impl Rest for RestOfEntry {
     fn read(self: Box<Self>, first: Vec<Option<Mesh>>) -> Result<Full, String> {
-        let (model, textures) = (self.model.clone(), self.textures);
+        let (model, textures, count) = (self.model.clone(), self.textures, self.metas.len());
         let t = std::time::Instant::now();
         if let Some(full) = self.read_section(first) {
             log::debug!(
@@ -355,7 +355,7 @@ impl Rest for RestOfEntry {
             "{}: the mesh cache entry is corrupt past its first section: the model is read again",
             model.display()
         );
-        reload(&model, textures)
+        reload(&model, textures, count)
     }
 }
 
@@ -389,8 +389,9 @@ impl RestOfEntry {
     }
 }
 
-/// The model read again without the cache, prepared as the entry's writer prepared it.
-fn reload(model: &Path, textures: TextureOptions) -> Result<Full, String> {
+/// The model read again without the cache, prepared as the entry's writer prepared it; an
+/// error if it no longer has the entry's `count` meshes.
+fn reload(model: &Path, textures: TextureOptions, count: usize) -> Result<Full, String> {
     let opts = crate::scene::LoadOptions {
         textures,
         ..Default::default()
@@ -402,6 +403,13 @@ fn reload(model: &Path, textures: TextureOptions) -> Result<Full, String> {
         .map(|c| c.map(|c| c.lod.indices))
         .collect();
     let meshes = std::mem::take(&mut *scene.meshes);
+    if meshes.len() != count {
+        return Err(format!(
+            "{}: read again for a corrupt mesh cache entry, it has {} meshes, not {count}",
+            model.display(),
+            meshes.len()
+        ));
+    }
     Ok(Full {
         meshes,
         levels,

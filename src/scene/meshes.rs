@@ -6,7 +6,10 @@
 //! ([`Meshes::first_view`], which never reads); anything else that touches the meshes (the
 //! `Deref` to `Vec<Mesh>`: a CPU user, a draw that needs more than a whole level, a clone)
 //! reads them then, once. So a `Meshes` is never read empty: either its meshes are here, or
-//! they are read before the first look.
+//! they are read before the first look. That read is checked against the section's own hash;
+//! if it fails the model is read again (the same meshes: loading is deterministic), and only
+//! if that fails too (the model deleted or changed since the hit) does the access panic,
+//! saying why (a warning said why the entry failed): there is nothing right to return.
 use super::Mesh;
 use super::Vertex;
 use std::sync::{Mutex, OnceLock};
