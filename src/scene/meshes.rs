@@ -39,7 +39,7 @@ pub(crate) enum First {
 }
 
 /// What a first view draws of one mesh, and what the renderer needs of it.
-pub enum FirstView<'a> {
+pub(crate) enum FirstView<'a> {
     /// All of the mesh (it came whole, or it has been read).
     Whole(&'a Mesh),
     /// Only its whole-mesh levels; the rest is read when a draw or a CPU user needs it.
@@ -50,7 +50,7 @@ pub enum FirstView<'a> {
 /// same triangles in the same order as the full mesh's, so a level draws the same pixels
 /// from either. Also what the renderer would otherwise compute from the full arrays.
 #[derive(Clone, Debug, Default)]
-pub struct Compact {
+pub(crate) struct Compact {
     pub(crate) material: usize,
     pub(crate) has_uv: bool,
     /// The full mesh's triangle and vertex counts.
@@ -96,7 +96,7 @@ impl Meshes {
 
     /// Mesh `i` as a first view draws it, without reading anything: whole where its arrays
     /// are here, else its compact copy.
-    pub fn first_view(&self, i: usize) -> Option<FirstView<'_>> {
+    pub(crate) fn first_view(&self, i: usize) -> Option<FirstView<'_>> {
         if let Some(f) = self.full.get() {
             return f.meshes.get(i).map(FirstView::Whole);
         }
@@ -131,7 +131,7 @@ impl Meshes {
 
     /// The levels' indices of mesh `i` when it came compact (read now with the full arrays
     /// if they are not here yet), else None (its levels came with its clusters).
-    pub fn levels_read(&self, i: usize) -> Option<&[u32]> {
+    pub(crate) fn levels_read(&self, i: usize) -> Option<&[u32]> {
         self.full().levels.get(i)?.as_deref()
     }
 
