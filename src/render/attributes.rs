@@ -146,9 +146,9 @@ impl Renderer {
                     match &dm.clusters {
                         Some(c) if lod => {
                             c.visible(&lod_view, false, &mut ranges);
-                            dm.mesh.draw_ranges(&ranges);
+                            dm.draw_ranges(&self.scene, i, &ranges)?;
                         }
-                        _ => dm.mesh.draw(),
+                        _ => dm.draw(&self.scene, i)?,
                     }
                 }
             }

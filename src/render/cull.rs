@@ -15,7 +15,7 @@ use crate::options::LodMode;
 use crate::Result;
 
 /// Draws mesh `i` with `state`, whole or by its visible clusters.
-pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
+pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) -> Result<()> {
     let dm = &cx.scene.meshes[i];
     // glTF's single-sided materials show no back faces (in every pass, so their shadows
     // match what is seen); a pass that already chose a face (translucency's two passes) keeps it.
@@ -31,10 +31,10 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
     let state = &sided;
     let (Some(clusters), Some(view), true) = (&dm.clusters, cx.cull, cx.cull_clusters) else {
         cx.gpu.apply(state);
-        dm.mesh.draw();
+        dm.draw(cx.scene, i)?;
         cx.stats.draw_calls += 1;
         cx.stats.triangles += dm.triangles;
-        return;
+        return Ok(());
     };
     // Only where the draw would show every face anyway: opaque, unblended, no culling asked.
     let could_hide = !dm.translucent && state.cull == Cull::None && state.blend == Blend::Off;
@@ -73,14 +73,17 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) {
     };
     let mut ranges = std::mem::take(&mut cx.ranges);
     let drawn = clusters.visible(&view, hide_back_faces, &mut ranges);
-    if !ranges.is_empty() {
+    let result = if ranges.is_empty() {
+        Ok(())
+    } else {
         cx.gpu.apply(&state);
-        dm.mesh.draw_ranges(&ranges);
-    }
+        dm.draw_ranges(cx.scene, i, &ranges)
+    };
     cx.stats.draw_calls += ranges.len() as u32;
     cx.stats.triangles += drawn;
     cx.stats.triangles_skipped += dm.triangles.saturating_sub(drawn);
     cx.ranges = ranges;
+    result
 }
 
 /// Whether a draw of a mesh of `triangles` into a picture of `pixels` uses its levels of
@@ -111,14 +114,18 @@ pub(crate) fn build_levels(
 ) -> Result<usize> {
     let mut built = 0;
     // Mesh i of the scene is draw mesh i (the lines and points follow, without clusters).
-    for (dm, m) in scene.meshes.iter_mut().zip(&scene.scene.meshes) {
-        let Some(c) = &mut dm.clusters else { continue };
+    for (i, dm) in scene.meshes.iter_mut().enumerate() {
+        let Some(c) = &dm.clusters else { continue };
         if !c.lod.groups.is_empty() || !uses_lod(lod, cull_clusters, dm.triangles, pixels) {
             continue;
         }
         let t = std::time::Instant::now();
+        // A mesh without levels came whole (a compact one brings its levels): this reads
+        // nothing.
+        let m = &scene.scene.meshes[i];
         let mut levels = crate::scene::clusters::levels_of(m, c);
-        dm.mesh.set_levels(&m.indices, &levels.indices)?;
+        dm.set_levels(&m.indices, &levels.indices)?;
+        let Some(c) = &mut dm.clusters else { continue };
         // As at upload: the levels' indices live on the GPU only.
         levels.indices = Vec::new();
         c.lod = levels;

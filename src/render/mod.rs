@@ -72,6 +72,12 @@ pub struct FrameStats {
     /// Why back faces of a clustered (large) mesh were sent in some pass where a closed mesh's
     /// would have been skipped: `mesh I: REASON`, once per mesh and reason (`render/cull.rs`).
     pub(crate) back_faces_kept: Vec<String>,
+    /// The scene's mesh buffers so far: bytes of vertex and index data uploaded, meshes a
+    /// draw needed whole after a first view drew their compact copies (a mesh cache hit's,
+    /// [`crate::scene::meshes`]), and the bytes of the entry read for them.
+    pub mesh_bytes_uploaded: u64,
+    pub meshes_completed: u32,
+    pub mesh_bytes_read_later: u64,
     /// CPU wall time of the frame up to glFinish.
     pub ms: f64,
     /// GPU time of the frame (GL_TIME_ELAPSED) where the driver has timer queries.
@@ -413,6 +419,9 @@ impl Renderer {
             }
             run_pass(&mut cx, &guides::Guides)?;
         }
+        stats.mesh_bytes_uploaded = self.scene.uploaded.get();
+        stats.meshes_completed = self.scene.completed.get();
+        stats.mesh_bytes_read_later = self.scene.scene.meshes.bytes_read_later();
         self.finish_frame(start, &mut stats)?;
         Ok(stats)
     }

@@ -347,7 +347,7 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
                 cx.res.textures.texture(t).bind(super::units::BASE_UNIT);
             }
         }
-        super::cull::draw(cx, i, state);
+        super::cull::draw(cx, i, state)?;
     }
     Ok(())
 }

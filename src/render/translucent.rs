@@ -39,7 +39,7 @@ pub(crate) fn draw_states(
 ) -> Result<()> {
     for state in states {
         if !(cx.rgbm && state.blend != Blend::Off) {
-            super::cull::draw(cx, i, state);
+            super::cull::draw(cx, i, state)?;
             continue;
         }
         let [x, y, w, h] = cx.viewport;
@@ -58,7 +58,7 @@ pub(crate) fn draw_states(
             blend: Blend::Off,
             ..*state
         };
-        super::cull::draw(cx, i, &off);
+        super::cull::draw(cx, i, &off)?;
         cx.rgbm_blend = 0.0;
         cx.set_rgbm_blend(program);
     }

@@ -11,7 +11,8 @@ use crate::Result;
 use glam::Vec3;
 
 pub(crate) struct DrawMesh {
-    pub(crate) mesh: GpuMesh,
+    /// Its buffers: the whole mesh, or first only its whole-mesh levels.
+    mesh: Resident,
     pub(crate) material: usize,
     pub(crate) center: Vec3,
     /// Bounding sphere radius around `center`, for frustum culling.
@@ -35,16 +36,96 @@ pub(crate) struct DrawMesh {
     pub(crate) clusters: Option<Clusters>,
 }
 
+/// A mesh's buffers on the GPU.
+enum Resident {
+    /// The whole mesh, its levels after its own triangles.
+    Full(GpuMesh),
+    /// Only its whole-mesh levels (a mesh cache hit's compact copy), which are its index
+    /// buffer's triangles from `first` on; the whole mesh is read and uploaded into `full`
+    /// when a draw first needs more.
+    Compact {
+        levels: GpuMesh,
+        first: u32,
+        full: std::cell::OnceCell<GpuMesh>,
+    },
+}
+
 impl DrawMesh {
+    /// Replaces the levels after the mesh's own `indices` ([`GpuMesh::set_levels`]); only
+    /// for a mesh uploaded whole (a compact one came with its levels).
+    pub(crate) fn set_levels(&mut self, indices: &[u32], levels: &[u32]) -> Result<()> {
+        match &mut self.mesh {
+            Resident::Full(m) => m.set_levels(indices, levels),
+            Resident::Compact { .. } => Ok(()),
+        }
+    }
+
     /// Translucent meshes, lines and points cast no shadow.
     pub(crate) fn casts_shadow(&self) -> bool {
         !self.translucent && self.primitive == Primitive::Triangles
+    }
+
+    /// Draws all of mesh `i`'s own triangles.
+    pub(crate) fn draw(&self, scene: &SceneGpu, i: usize) -> Result<()> {
+        let n = self.triangles as u32 * 3;
+        self.draw_ranges(scene, i, &[(0, n)])
+    }
+
+    /// Draws the index ranges (first index, count) of mesh `i` (its triangles, then its
+    /// levels): from its compact copy when they all lie in its whole levels, else from the
+    /// whole mesh, uploaded now if it is not yet.
+    pub(crate) fn draw_ranges(
+        &self,
+        scene: &SceneGpu,
+        i: usize,
+        ranges: &[(u32, u32)],
+    ) -> Result<()> {
+        let (levels, first, full) = match &self.mesh {
+            Resident::Full(m) => {
+                m.draw_ranges(ranges);
+                return Ok(());
+            }
+            Resident::Compact {
+                levels,
+                first,
+                full,
+            } => (levels, first * 3, full),
+        };
+        if full.get().is_none() && ranges.iter().all(|r| r.0 >= first) {
+            let shifted: Vec<(u32, u32)> = ranges.iter().map(|r| (r.0 - first, r.1)).collect();
+            levels.draw_ranges(&shifted);
+            return Ok(());
+        }
+        let m = match full.get() {
+            Some(m) => m,
+            None => {
+                let t = std::time::Instant::now();
+                let mesh = &scene.scene.meshes[i];
+                let lod = levels_read(&scene.scene, i)?;
+                let mat = &scene.scene.materials[mesh.material];
+                let (m, _, bytes) = upload_mesh(&scene.gpu, mesh, mat, lod)?;
+                scene.uploaded.set(scene.uploaded.get() + bytes);
+                scene.completed.set(scene.completed.get() + 1);
+                log::debug!(
+                    "mesh {i}: read and uploaded whole for a draw beyond its whole levels in {:.0} ms",
+                    t.elapsed().as_secs_f64() * 1e3
+                );
+                full.get_or_init(|| m)
+            }
+        };
+        m.draw_ranges(ranges);
+        Ok(())
     }
 }
 
 pub(crate) struct SceneGpu {
     pub(crate) scene: Scene,
     pub(crate) meshes: Vec<DrawMesh>,
+    gpu: GpuRef,
+    /// Bytes of vertex and index data uploaded so far (`--stats`).
+    pub(crate) uploaded: std::cell::Cell<u64>,
+    /// Meshes uploaded whole after a first view drew their compact copies.
+    pub(crate) completed: std::cell::Cell<u32>,
 }
 
 /// Makes a texture from `t`'s pixels (fitted to the driver's size limit) with `make`, and
@@ -111,76 +192,12 @@ impl SceneGpu {
         if scene.materials.is_empty() {
             scene.materials.push(crate::scene::Material::default());
         }
-        let mut meshes = Vec::with_capacity(scene.meshes.len());
-
-        for m in &scene.meshes {
-            let mat = &scene.materials[m.material];
-            let mut b = crate::scene::Bounds::empty();
-            for v in &m.vertices {
-                b.include(v.position.into());
-            }
-            let center = b.center();
-            let radius = m
-                .vertices
-                .iter()
-                .map(|v| (Vec3::from(v.position) - center).length())
-                .fold(0.0f32, f32::max);
-            // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
-            let tangents = (m.has_uv && mat.needs_tangents()).then(|| {
-                if m.tangents.len() == m.vertices.len() {
-                    std::borrow::Cow::Borrowed(m.tangents.as_slice())
-                } else {
-                    std::borrow::Cow::Owned(crate::scene::tangents::generate(m))
-                }
-            });
-            let colors = (m.colors.len() == m.vertices.len()).then_some(m.colors.as_slice());
-            // COLOR_0's alpha goes up with the colour as a fourth component.
-            let rgba: Option<Vec<[f32; 4]>> = colors
-                .filter(|_| m.color_alpha.len() == m.vertices.len())
-                .map(|c| {
-                    c.iter()
-                        .zip(&m.color_alpha)
-                        .map(|(c, &a)| [c[0], c[1], c[2], a])
-                        .collect()
-                });
-            let uv1 = (m.uv1.len() == m.vertices.len()).then_some(m.uv1.as_slice());
-            let mut clusters = clusters.next().flatten();
-            // Levels of detail go in the same index buffer, after the mesh's own triangles.
-            let levels = clusters.as_ref().map_or(&[][..], |c| &c.lod.indices[..]);
-            let streams = Streams {
-                tangents: tangents.as_deref(),
-                colors,
-                colors_rgba: rgba.as_deref(),
-                uv1,
-            };
-            let mesh = GpuMesh::with_levels(
-                gpu,
-                &m.vertices,
-                &m.indices,
-                levels,
-                streams,
-                Primitive::Triangles,
-            )?;
-            // The levels' indices now live on the GPU only.
-            if let Some(c) = &mut clusters {
-                c.lod.indices = Vec::new();
-            }
-            meshes.push(DrawMesh {
-                mesh,
-                material: m.material,
-                center,
-                radius,
-                triangles: m.triangle_count() as u64,
-                translucent: mat.is_translucent(),
-                has_uv: m.has_uv,
-                has_tangents: tangents.is_some(),
-                has_uv1: uv1.is_some(),
-                has_colors: colors.is_some(),
-                primitive: Primitive::Triangles,
-                has_normals: true,
-                terminator_lift: crate::scene::terminator_lift(m) as f32,
-                clusters,
-            });
+        let mut meshes = Vec::with_capacity(scene.meshes.count());
+        let mut uploaded = 0;
+        for i in 0..scene.meshes.count() {
+            let (dm, bytes) = draw_mesh(gpu, &scene, i, clusters.next().flatten())?;
+            uploaded += bytes;
+            meshes.push(dm);
         }
         meshes.extend(wire_meshes(gpu, &scene)?);
         gpu.check_error("upload")?;
@@ -191,7 +208,13 @@ impl SceneGpu {
                 caps.version
             );
         }
-        Ok(SceneGpu { scene, meshes })
+        Ok(SceneGpu {
+            scene,
+            meshes,
+            gpu: gpu.clone(),
+            uploaded: std::cell::Cell::new(uploaded),
+            completed: std::cell::Cell::new(0),
+        })
     }
 
     /// Indices of the meshes whose bounding sphere touches the view frustum of `view_proj`:
@@ -202,6 +225,212 @@ impl SceneGpu {
             .filter(|&i| !view.outside(self.meshes[i].center, self.meshes[i].radius))
             .collect()
     }
+}
+
+/// Uploads mesh `i` of `scene` as a first view draws it (its compact copy where it has
+/// one, else whole, its levels after its triangles); returns it and the bytes uploaded.
+fn draw_mesh(
+    gpu: &GpuRef,
+    scene: &Scene,
+    i: usize,
+    clusters: Option<Clusters>,
+) -> Result<(DrawMesh, u64)> {
+    use crate::scene::meshes::FirstView;
+    let first = scene.meshes.first_view(i);
+    let compact = match first {
+        // Generated tangents are the whole mesh's: such a mesh is uploaded whole.
+        Some(FirstView::Compact(c))
+            if !(c.has_uv && scene.materials[c.material].needs_tangents()) =>
+        {
+            c
+        }
+        _ => return whole_draw_mesh(gpu, scene, i, clusters),
+    };
+    let mat = &scene.materials[compact.material];
+    let (colors, rgba, uv1) = streams_of(
+        &compact.vertices,
+        &compact.colors,
+        &compact.color_alpha,
+        &compact.uv1,
+    );
+    let streams = Streams {
+        tangents: None,
+        colors,
+        colors_rgba: rgba.as_deref(),
+        uv1,
+    };
+    let levels = GpuMesh::with_levels(
+        gpu,
+        &compact.vertices,
+        &[],
+        &compact.indices,
+        streams,
+        Primitive::Triangles,
+    )?;
+    let bytes = bytes_of(&compact.vertices, compact.indices.len(), streams);
+    let dm = DrawMesh {
+        mesh: Resident::Compact {
+            levels,
+            first: compact.first,
+            full: std::cell::OnceCell::new(),
+        },
+        material: compact.material,
+        center: Vec3::from(compact.center),
+        radius: compact.radius,
+        triangles: compact.triangles as u64,
+        translucent: mat.is_translucent(),
+        has_uv: compact.has_uv,
+        has_tangents: false,
+        has_uv1: uv1.is_some(),
+        has_colors: colors.is_some(),
+        primitive: Primitive::Triangles,
+        has_normals: true,
+        terminator_lift: compact.terminator_lift,
+        clusters,
+    };
+    Ok((dm, bytes))
+}
+
+/// As [`draw_mesh`] for a mesh uploaded whole (read now if it is still in a cache entry).
+fn whole_draw_mesh(
+    gpu: &GpuRef,
+    scene: &Scene,
+    i: usize,
+    mut clusters: Option<Clusters>,
+) -> Result<(DrawMesh, u64)> {
+    use crate::scene::meshes::FirstView;
+    let m = match scene.meshes.first_view(i) {
+        Some(FirstView::Whole(m)) => m,
+        _ => &scene.meshes[i],
+    };
+    let mat = &scene.materials[m.material];
+    // Levels of detail go in the same index buffer, after the mesh's own triangles: the
+    // clusters' own, or those read with a compact mesh's full arrays.
+    let levels = match &clusters {
+        Some(c) if c.lod.indices.is_empty() && c.lod.index_count > 0 => levels_read(scene, i)?,
+        Some(c) => &c.lod.indices[..],
+        None => &[][..],
+    };
+    let (mesh, has, bytes) = upload_mesh(gpu, m, mat, levels)?;
+    // The levels' indices now live on the GPU only.
+    if let Some(c) = &mut clusters {
+        c.lod.indices = Vec::new();
+    }
+    let (center, radius) = crate::scene::bounding_sphere(&m.vertices);
+    let dm = DrawMesh {
+        mesh: Resident::Full(mesh),
+        material: m.material,
+        center,
+        radius,
+        triangles: m.triangle_count() as u64,
+        translucent: mat.is_translucent(),
+        has_uv: m.has_uv,
+        has_tangents: has.tangents,
+        has_uv1: has.uv1,
+        has_colors: has.colors,
+        primitive: Primitive::Triangles,
+        has_normals: true,
+        terminator_lift: crate::scene::terminator_lift(m) as f32,
+        clusters,
+    };
+    Ok((dm, bytes))
+}
+
+/// The levels' indices of mesh `i`, which came compact: read with its full arrays.
+fn levels_read(scene: &Scene, i: usize) -> Result<&[u32]> {
+    scene.meshes.levels_read(i).ok_or_else(|| {
+        crate::Error::Unsupported(format!(
+            "mesh {i}: its levels of detail were not read from the mesh cache"
+        ))
+    })
+}
+
+/// Which optional streams an upload has.
+struct Has {
+    tangents: bool,
+    uv1: bool,
+    colors: bool,
+}
+
+/// The colour (RGB, or RGBA where alpha is per vertex too) and second UV streams of a
+/// mesh's per-vertex arrays, where they are per vertex.
+#[allow(clippy::type_complexity)]
+fn streams_of<'a>(
+    vertices: &[crate::scene::Vertex],
+    colors: &'a [[f32; 3]],
+    alpha: &[f32],
+    uv1: &'a [[f32; 2]],
+) -> (
+    Option<&'a [[f32; 3]]>,
+    Option<Vec<[f32; 4]>>,
+    Option<&'a [[f32; 2]]>,
+) {
+    let colors = (colors.len() == vertices.len()).then_some(colors);
+    // COLOR_0's alpha goes up with the colour as a fourth component.
+    let rgba = colors.filter(|_| alpha.len() == vertices.len()).map(|c| {
+        c.iter()
+            .zip(alpha)
+            .map(|(c, &a)| [c[0], c[1], c[2], a])
+            .collect()
+    });
+    let uv1 = (uv1.len() == vertices.len()).then_some(uv1);
+    (colors, rgba, uv1)
+}
+
+/// Bytes of a mesh's vertex streams and `indices` indices (16-bit where they suffice).
+fn bytes_of(vertices: &[crate::scene::Vertex], indices: usize, s: Streams) -> u64 {
+    let index = if vertices.len() <= u16::MAX as usize + 1 {
+        2
+    } else {
+        4
+    };
+    let len = |b: Option<&[u8]>| b.map_or(0, <[u8]>::len);
+    let streams = match s.colors_rgba {
+        Some(c) => len(Some(bytemuck::cast_slice(c))),
+        None => len(s.colors.map(bytemuck::cast_slice)),
+    } + len(s.tangents.map(bytemuck::cast_slice))
+        + len(s.uv1.map(bytemuck::cast_slice));
+    (std::mem::size_of_val(vertices) + streams + indices * index) as u64
+}
+
+/// Uploads mesh `m` (drawn with `mat`) with `levels` after its triangles; returns it, its
+/// optional streams and the bytes uploaded.
+fn upload_mesh(
+    gpu: &GpuRef,
+    m: &crate::scene::Mesh,
+    mat: &crate::scene::Material,
+    levels: &[u32],
+) -> Result<(GpuMesh, Has, u64)> {
+    // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
+    let tangents = (m.has_uv && mat.needs_tangents()).then(|| {
+        if m.tangents.len() == m.vertices.len() {
+            std::borrow::Cow::Borrowed(m.tangents.as_slice())
+        } else {
+            std::borrow::Cow::Owned(crate::scene::tangents::generate(m))
+        }
+    });
+    let (colors, rgba, uv1) = streams_of(&m.vertices, &m.colors, &m.color_alpha, &m.uv1);
+    let streams = Streams {
+        tangents: tangents.as_deref(),
+        colors,
+        colors_rgba: rgba.as_deref(),
+        uv1,
+    };
+    let mesh = GpuMesh::with_levels(
+        gpu,
+        &m.vertices,
+        &m.indices,
+        levels,
+        streams,
+        Primitive::Triangles,
+    )?;
+    let has = Has {
+        tangents: tangents.is_some(),
+        uv1: uv1.is_some(),
+        colors: colors.is_some(),
+    };
+    let bytes = bytes_of(&m.vertices, m.indices.len() + levels.len(), streams);
+    Ok((mesh, has, bytes))
 }
 
 /// The scene's lines and points (`l`, `p`, glTF LINES and POINTS, a point cloud) as two
@@ -248,7 +477,7 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
         };
         let mesh = GpuMesh::with_streams(gpu, &vertices, &indices, streams, primitive)?;
         out.push(DrawMesh {
-            mesh,
+            mesh: Resident::Full(mesh),
             material: 0,
             center,
             radius,

@@ -15,11 +15,19 @@
 //! the total fits.
 //!
 //! Format: `GLVC`, a little-endian u64 header length, a JSON header (metadata, materials,
-//! warnings, the texture table, payload length and hash), then as raw little-endian arrays
-//! each mesh's vertices, indices, colours, second UV set and tangents, the lines and points,
-//! and every distinct texture's decoded RGBA8 pixels. Everything a format can give is stored,
-//! so every format is cached, textures included: a hit decodes no image either (a glTF's
-//! JPEGs and PNGs cost more than its meshes).
+//! warnings, the texture table, clusters and level tables, each section's length and hash),
+//! then two sections of raw little-endian arrays. The first is what a first view draws: per
+//! mesh either its compact copy (a large mesh with whole-mesh levels of detail: the vertices
+//! those levels use, with colours and second UVs, and the levels' remapped indices; see
+//! [`super::meshes`]) or its vertices, indices, colours, colour alphas, second UV set and
+//! tangents; then the lines and points, every distinct texture's decoded RGBA8 pixels, and
+//! the levels' indices of clustered meshes kept whole. The second holds, per compact mesh,
+//! its full arrays and levels' indices. A hit reads the header and the first section (both
+//! checked); the second is read, and checked against its own hash, when the scene's meshes
+//! are first used (a draw needing more than a whole level, a CPU user); if it fails, the
+//! model is read again. On the 2M-triangle sphere the first section is 7 MB of 92.
+//! Everything a format can give is stored, so every format is cached, textures included: a
+//! hit decodes no image either (a glTF's JPEGs and PNGs cost more than its meshes).
 use super::clusters::Clusters;
 use super::material::{Material, Texture, TextureOptions};
 use super::{Bounds, Scene, Warning};
@@ -29,8 +37,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{SystemTime, UNIX_EPOCH};
 
+#[path = "cache_compact.rs"]
+mod compact;
 #[path = "cache_read.rs"]
 mod read;
+use super::meshes::Compact;
+use compact::{compact_of, CompactMeta};
 
 /// Files smaller than this parse in well under 100 ms: not worth a cache entry, unless their
 /// images are large (see `worth_an_entry`).
@@ -83,7 +95,9 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// (issue 31): entries of 9 hold such clouds without them.
 /// 11: the glTF PBR extensions (issue 32): `Material::khr` and its nine texture slots.
 /// 12: level of detail (issue 30): clusters' groups and levels, levels' indices at the end.
-const FORMAT: u32 = 12;
+/// 13: two sections (issue 41): a first view's (large meshes' whole levels compact), then
+/// the rest, each with its own hash.
+const FORMAT: u32 = 13;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -202,9 +216,27 @@ struct Header {
     /// Each mesh's clusters (None below `clusters::MIN_TRIANGLES`), built on the indices
     /// stored here (already reordered): a hit prepares nothing.
     clusters: Vec<Option<Clusters>>,
-    /// Length and XXH3-128 of everything after the header: catches truncation and flipped bytes.
-    payload_len: u64,
-    payload_hash: u128,
+    /// Per mesh, its compact copy's lengths when the first section holds one instead of
+    /// the mesh ([`compact_of`]).
+    compact: Vec<Option<CompactMeta>>,
+    /// Length and XXH3-128 of each section after the header (the first view's, then the
+    /// rest): catches truncation and flipped bytes; the rest is checked when it is read.
+    first_len: u64,
+    first_hash: u128,
+    rest_len: u64,
+    rest_hash: u128,
+}
+
+/// A section's length and hash.
+fn section(parts: &[&[u8]]) -> (u64, u128) {
+    let mut hasher = xxhash_rust::xxh3::Xxh3::new();
+    for p in parts {
+        hasher.update(p);
+    }
+    (
+        parts.iter().map(|p| p.len() as u64).sum(),
+        hasher.digest128(),
+    )
 }
 
 /// A folder set by the embedding program, before the environment: tests running many loads
@@ -345,42 +377,24 @@ pub fn put_in(
     let entry = entry_path(dir, path).ok_or_else(|| std::io::Error::other("no canonical path"))?;
     let canonical = path.canonicalize()?;
     let (table, slot_refs) = image_table(scene);
-    // The payload's parts in file order, borrowed: hashed, then written, never copied into
-    // one buffer (a textured entry is mostly its images: 84 MB for DamagedHelmet).
+    let compacts: Vec<Option<Compact>> = scene
+        .meshes
+        .iter()
+        .zip(clusters)
+        .map(|(m, c)| {
+            let tangents = scene
+                .materials
+                .get(m.material)
+                .is_some_and(|t| t.needs_tangents());
+            compact_of(m, c.as_ref()?, tangents)
+        })
+        .collect();
+    let (first, rest) = sections(scene, clusters, &compacts, &table);
     let w = &scene.wire;
-    let mut parts: Vec<&[u8]> = Vec::new();
-    for m in &scene.meshes {
-        parts.extend([
-            bytemuck::cast_slice(&m.vertices),
-            bytemuck::cast_slice(&m.indices),
-            bytemuck::cast_slice(&m.colors),
-            bytemuck::cast_slice(&m.color_alpha),
-            bytemuck::cast_slice(&m.uv1),
-            bytemuck::cast_slice(&m.tangents),
-        ]);
-    }
-    parts.extend([
-        bytemuck::cast_slice(&w.positions),
-        bytemuck::cast_slice(&w.segments),
-        bytemuck::cast_slice(&w.points),
-        bytemuck::cast_slice(&w.colors),
-        bytemuck::cast_slice(&w.normals),
-    ]);
-    parts.extend(table.iter().map(|t| &t.rgba[..]));
-    // Each large mesh's simplified levels (the header has their tables).
-    parts.extend(
-        clusters
-            .iter()
-            .flatten()
-            .map(|c| bytemuck::cast_slice(&c.lod.indices)),
-    );
-    let payload_len: u64 = parts.iter().map(|p| p.len() as u64).sum();
-    if payload_len > max_bytes {
+    let (first_len, first_hash) = section(&first);
+    let (rest_len, rest_hash) = section(&rest);
+    if first_len + rest_len > max_bytes {
         return Err(std::io::Error::other("entry larger than --cache-size"));
-    }
-    let mut hasher = xxhash_rust::xxh3::Xxh3::new();
-    for p in &parts {
-        hasher.update(p);
     }
     let header = Header {
         format: FORMAT,
@@ -434,8 +448,14 @@ pub fn put_in(
         ],
         warnings: scene.warnings.clone(),
         clusters: clusters.to_vec(),
-        payload_len,
-        payload_hash: hasher.digest128(),
+        compact: compacts
+            .iter()
+            .map(|k| k.as_ref().map(CompactMeta::of))
+            .collect(),
+        first_len,
+        first_hash,
+        rest_len,
+        rest_hash,
     };
     let json = serde_json::to_vec(&header).map_err(std::io::Error::other)?;
     std::fs::create_dir_all(dir)?;
@@ -447,13 +467,69 @@ pub fn put_in(
         w.write_all(MAGIC)?;
         w.write_all(&(json.len() as u64).to_le_bytes())?;
         w.write_all(&json)?;
-        for p in &parts {
+        for p in first.iter().chain(&rest) {
             w.write_all(p)?;
         }
         w.flush()?;
     }
     std::fs::rename(&tmp, &entry)?;
     evict(dir, max_bytes, &entry)
+}
+
+/// The payload's parts in file order, borrowed: hashed, then written, never copied into one
+/// buffer (a textured entry is mostly its images: 84 MB for DamagedHelmet). The first
+/// section is what a first view needs; the rest, what only later views or CPU users need
+/// (the full arrays of the meshes kept compact in the first).
+fn sections<'a>(
+    scene: &'a Scene,
+    clusters: &'a [Option<Clusters>],
+    compacts: &'a [Option<Compact>],
+    table: &[&'a Arc<Texture>],
+) -> (Vec<&'a [u8]>, Vec<&'a [u8]>) {
+    let w = &scene.wire;
+    let (mut first, mut rest): (Vec<&[u8]>, Vec<&[u8]>) = (Vec::new(), Vec::new());
+    for ((m, c), k) in scene.meshes.iter().zip(clusters).zip(compacts) {
+        let full = [
+            bytemuck::cast_slice(&m.vertices),
+            bytemuck::cast_slice(&m.indices),
+            bytemuck::cast_slice(&m.colors),
+            bytemuck::cast_slice(&m.color_alpha),
+            bytemuck::cast_slice(&m.uv1),
+            bytemuck::cast_slice(&m.tangents),
+        ];
+        match k {
+            Some(k) => {
+                first.extend([
+                    bytemuck::cast_slice(&k.vertices),
+                    bytemuck::cast_slice(&k.indices),
+                    bytemuck::cast_slice(&k.colors),
+                    bytemuck::cast_slice(&k.color_alpha),
+                    bytemuck::cast_slice(&k.uv1),
+                ]);
+                rest.extend(full);
+                rest.extend(c.iter().map(|c| bytemuck::cast_slice(&c.lod.indices)));
+            }
+            None => first.extend(full),
+        }
+    }
+    first.extend([
+        bytemuck::cast_slice(&w.positions),
+        bytemuck::cast_slice(&w.segments),
+        bytemuck::cast_slice(&w.points),
+        bytemuck::cast_slice(&w.colors),
+        bytemuck::cast_slice(&w.normals),
+    ]);
+    first.extend(table.iter().map(|t| &t.rgba[..]));
+    // The levels of the large meshes kept whole (the header has their tables).
+    first.extend(
+        clusters
+            .iter()
+            .zip(compacts)
+            .filter(|(_, k)| k.is_none())
+            .filter_map(|(c, _)| c.as_ref())
+            .map(|c| bytemuck::cast_slice(&c.lod.indices)),
+    );
+    (first, rest)
 }
 
 /// Deletes the least recently used entries (oldest modification time first) until the

@@ -1,19 +1,22 @@
 //! Reading a mesh cache entry back ([`super::get_in`]): the header validated first, then the
 //! payload's arrays read and checked part by part (see the format in [`super`]).
 use super::{
-    content_hash, stamp, Header, MeshMeta, Prepared, SlotRefs, TexMeta, WireMeta, FORMAT, MAGIC,
+    content_hash, stamp, CompactMeta, Header, MeshMeta, Prepared, SlotRefs, TexMeta, WireMeta,
+    FORMAT, MAGIC,
 };
 use crate::scene::clusters::Clusters;
 use crate::scene::material::{Material, Texture, TextureOptions};
+use crate::scene::meshes::{Compact, First, Full, Meshes, Rest};
 use crate::scene::{Mesh, Scene, Vertex, Wire};
 use glam::DVec3;
 use std::path::Path;
 use std::sync::Arc;
 
 /// Reads an entry: the header first, validated against the model's metadata before any of
-/// the payload is read (a miss costs a few small reads), then each mesh's arrays read once,
-/// straight into their final, aligned buffers, hashed as they arrive (no whole-file buffer,
-/// no copy out of it).
+/// the payload is read (a miss costs a few small reads), then the first section's arrays
+/// read once, straight into their final, aligned buffers, hashed as they arrive (no
+/// whole-file buffer, no copy out of it). The second section (the full arrays of meshes the
+/// first holds compact) is left in the file until the scene's meshes are first used.
 pub(super) fn decode(
     mut file: std::fs::File,
     path: &Path,
@@ -24,30 +27,56 @@ pub(super) fn decode(
     let mut payload = Payload {
         file,
         hasher: xxhash_rust::xxh3::Xxh3::new(),
-        left: header.payload_len,
+        left: header.first_len,
     };
-    let meshes = read_meshes(&mut payload, &header.meshes)?;
+    if header.compact.len() != header.meshes.len() || header.clusters.len() != header.meshes.len() {
+        return None;
+    }
+    let firsts = read_first_meshes(&mut payload, &header.meshes, &header.compact)?;
     let wire = read_wire(&mut payload, &header.wire)?;
     let table = read_textures(&mut payload, &header.textures)?;
     let mut clusters = header.clusters;
-    for c in clusters.iter_mut().flatten() {
-        c.lod.indices = payload.read(c.lod.index_count)?;
+    for (c, k) in clusters.iter_mut().zip(&header.compact) {
+        if let (Some(c), None) = (c, k) {
+            c.lod.indices = payload.read(c.lod.index_count)?;
+        }
     }
-    if payload.left != 0 || payload.hasher.digest128() != header.payload_hash {
+    if payload.left != 0 || payload.hasher.digest128() != header.first_hash {
         return None;
     }
+    super::super::profile::set_entry_bytes(header.first_len);
     let mut materials = header.materials;
     if header.slots.len() != materials.len() {
         return None;
     }
     attach_images(&mut materials, &header.slots, &table)?;
-    let warnings = header.warnings;
-    if meshes.iter().any(|m| m.material >= materials.len()) {
+    if !firsts.iter().all(|f| first_fits(f, materials.len())) || !clusters_fit(&firsts, &clusters) {
         return None;
     }
-    if !clusters_fit(&meshes, &clusters) {
-        return None;
-    }
+    let meshes = if header.compact.iter().all(Option::is_none) {
+        let whole = firsts.into_iter().filter_map(|f| match f {
+            First::Whole(m) => Some(m),
+            First::Compact(_) => None,
+        });
+        Meshes::from(whole.collect::<Vec<_>>())
+    } else {
+        let rest = RestOfEntry {
+            payload: Payload {
+                file: payload.file,
+                hasher: xxhash_rust::xxh3::Xxh3::new(),
+                left: header.rest_len,
+            },
+            hash: header.rest_hash,
+            metas: header.meshes,
+            levels: clusters
+                .iter()
+                .map(|c| c.as_ref().map(|c| c.lod.index_count))
+                .collect(),
+            model: path.to_path_buf(),
+            textures,
+        };
+        Meshes::deferred(firsts, Box::new(rest))
+    };
     let [lo, hi] = header.file_bounds;
     let scene = Scene {
         name: header.name,
@@ -57,11 +86,19 @@ pub(super) fn decode(
         origin: DVec3::from(header.origin),
         file_bounds: (DVec3::from(lo), DVec3::from(hi)),
         dependencies: header.dependencies.into_iter().map(|d| d.path).collect(),
-        warnings,
+        warnings: header.warnings,
         wire,
         maps: header.maps,
     };
     Some((scene, clusters))
+}
+
+/// Whether a first-view mesh's material exists.
+fn first_fits(f: &First, materials: usize) -> bool {
+    match f {
+        First::Whole(m) => m.material < materials,
+        First::Compact(c) => c.material < materials,
+    }
 }
 
 /// The entry's header, if it is one for this model as it is now: magic, header length, cache
@@ -99,47 +136,97 @@ fn read_header(
             .dependencies
             .iter()
             .all(|d| stamp(&d.path).as_ref() == Some(d))
-        && file_len == 12 + json_len + header.payload_len;
+        && Some(file_len)
+            == (12 + json_len)
+                .checked_add(header.first_len)
+                .and_then(|n| n.checked_add(header.rest_len));
     valid.then_some(header)
 }
 
-/// Each mesh's arrays in header order; None if any is short or inconsistent (a partial
-/// triangle, an index past the vertices, a per-vertex array of another length).
-fn read_meshes(payload: &mut Payload, metas: &[MeshMeta]) -> Option<Vec<Mesh>> {
-    let mut meshes = Vec::with_capacity(metas.len());
-    for m in metas {
-        if m.indices % 3 != 0 {
-            return None;
-        }
-        let vertices: Vec<Vertex> = payload.read(m.vertices)?;
-        let indices: Vec<u32> = payload.read(m.indices)?;
-        let colors: Vec<[f32; 3]> = payload.read(m.colors)?;
-        let color_alpha: Vec<f32> = payload.read(m.color_alpha)?;
-        let uv1: Vec<[f32; 2]> = payload.read(m.uv1)?;
-        let tangents: Vec<[f32; 4]> = payload.read(m.tangents)?;
-        let per_vertex = |n: usize| n == 0 || n == vertices.len();
-        if indices.iter().any(|&i| i as usize >= vertices.len())
-            || !(per_vertex(colors.len())
-                && per_vertex(color_alpha.len())
-                && per_vertex(uv1.len())
-                && per_vertex(tangents.len()))
-        {
-            return None;
-        }
-        meshes.push(Mesh {
-            name: m.name.clone(),
-            vertices,
-            indices,
-            material: m.material,
-            has_uv: m.has_uv,
-            generated_normals: m.generated_normals,
-            colors,
-            color_alpha,
-            uv1,
-            tangents,
-        });
+/// Each mesh's first-view part in header order: its compact copy where the header has one,
+/// else its arrays. None if any is short or inconsistent.
+fn read_first_meshes(
+    payload: &mut Payload,
+    metas: &[MeshMeta],
+    compact: &[Option<CompactMeta>],
+) -> Option<Vec<First>> {
+    metas
+        .iter()
+        .zip(compact)
+        .map(|(m, k)| match k {
+            Some(k) => read_compact(payload, m, k).map(First::Compact),
+            None => read_mesh(payload, m).map(First::Whole),
+        })
+        .collect()
+}
+
+/// A mesh's arrays; None if any is short or inconsistent (a partial triangle, an index past
+/// the vertices, a per-vertex array of another length).
+fn read_mesh(payload: &mut Payload, m: &MeshMeta) -> Option<Mesh> {
+    if !m.indices.is_multiple_of(3) {
+        return None;
     }
-    Some(meshes)
+    let vertices: Vec<Vertex> = payload.read(m.vertices)?;
+    let indices: Vec<u32> = payload.read(m.indices)?;
+    let colors: Vec<[f32; 3]> = payload.read(m.colors)?;
+    let color_alpha: Vec<f32> = payload.read(m.color_alpha)?;
+    let uv1: Vec<[f32; 2]> = payload.read(m.uv1)?;
+    let tangents: Vec<[f32; 4]> = payload.read(m.tangents)?;
+    let per_vertex = |n: usize| n == 0 || n == vertices.len();
+    if indices.iter().any(|&i| i as usize >= vertices.len())
+        || !(per_vertex(colors.len())
+            && per_vertex(color_alpha.len())
+            && per_vertex(uv1.len())
+            && per_vertex(tangents.len()))
+    {
+        return None;
+    }
+    Some(Mesh {
+        name: m.name.clone(),
+        vertices,
+        indices,
+        material: m.material,
+        has_uv: m.has_uv,
+        generated_normals: m.generated_normals,
+        colors,
+        color_alpha,
+        uv1,
+        tangents,
+    })
+}
+
+/// A mesh's compact copy; None if short or inconsistent, as [`read_mesh`].
+fn read_compact(payload: &mut Payload, m: &MeshMeta, k: &CompactMeta) -> Option<Compact> {
+    if !k.indices.is_multiple_of(3) || !m.indices.is_multiple_of(3) || k.vertices > m.vertices {
+        return None;
+    }
+    let vertices: Vec<Vertex> = payload.read(k.vertices)?;
+    let indices: Vec<u32> = payload.read(k.indices)?;
+    let colors: Vec<[f32; 3]> = payload.read(k.colors)?;
+    let color_alpha: Vec<f32> = payload.read(k.color_alpha)?;
+    let uv1: Vec<[f32; 2]> = payload.read(k.uv1)?;
+    let per_vertex = |n: usize| n == 0 || n == vertices.len();
+    if indices.iter().any(|&i| i as usize >= vertices.len())
+        || !(per_vertex(colors.len()) && per_vertex(color_alpha.len()) && per_vertex(uv1.len()))
+    {
+        return None;
+    }
+    let f = f32::from_bits;
+    Some(Compact {
+        material: m.material,
+        has_uv: m.has_uv,
+        triangles: m.indices / 3,
+        vertex_count: m.vertices,
+        vertices,
+        indices,
+        first: k.first,
+        colors,
+        color_alpha,
+        uv1,
+        center: [f(k.sphere[0]), f(k.sphere[1]), f(k.sphere[2])],
+        radius: f(k.sphere[3]),
+        terminator_lift: f(k.lift),
+    })
 }
 
 /// The lines and points; None if short or if an index is past the wire's positions.
@@ -203,22 +290,131 @@ fn attach_images(
 }
 
 /// Whether there is one cluster list per mesh and every cluster lies within its mesh's
-/// triangles.
-fn clusters_fit(meshes: &[Mesh], clusters: &[Option<Clusters>]) -> bool {
-    let fits = |m: &Mesh, c: &Option<Clusters>| {
-        let triangles = m.indices.len() as u64 / 3;
-        c.as_ref().is_none_or(|c| {
-            c.list
-                .iter()
-                .all(|k| u64::from(k.first) + u64::from(k.count) <= triangles)
-                && c.lod.fits(triangles, c.list.len())
-                && c.lod
-                    .indices
-                    .iter()
-                    .all(|&i| (i as usize) < m.vertices.len())
-        })
+/// triangles; a compact copy's triangles are its mesh's last levels, all of them.
+fn clusters_fit(meshes: &[First], clusters: &[Option<Clusters>]) -> bool {
+    let fits = |m: &First, c: &Option<Clusters>| {
+        let (triangles, compact) = match m {
+            First::Whole(m) => (m.indices.len() as u64 / 3, None),
+            First::Compact(k) => (k.triangles as u64, Some(k)),
+        };
+        let Some(c) = c else {
+            return compact.is_none();
+        };
+        let runs = c
+            .list
+            .iter()
+            .all(|k| u64::from(k.first) + u64::from(k.count) <= triangles);
+        let levels = match (m, compact) {
+            (First::Whole(m), _) => {
+                c.lod.fits(triangles, c.list.len())
+                    && c.lod
+                        .indices
+                        .iter()
+                        .all(|&i| (i as usize) < m.vertices.len())
+            }
+            (_, Some(k)) => {
+                c.lod.tables_fit(triangles, c.list.len())
+                    && u64::from(k.first) >= triangles
+                    && u64::from(k.first) + k.indices.len() as u64 / 3
+                        == triangles + c.lod.index_count as u64 / 3
+            }
+            _ => false,
+        };
+        runs && levels
     };
     clusters.len() == meshes.len() && meshes.iter().zip(clusters).all(|(m, c)| fits(m, c))
+}
+
+/// The entry's second section, read when the scene's meshes are first used: the full
+/// arrays and levels' indices of the meshes the first section held compact.
+struct RestOfEntry {
+    payload: Payload,
+    hash: u128,
+    metas: Vec<MeshMeta>,
+    /// Per mesh, its levels' index count when it has clusters.
+    levels: Vec<Option<usize>>,
+    /// Read again, whole, if the section fails its hash: the same scene (loading is
+    /// deterministic), at a cold load's cost.
+    model: std::path::PathBuf,
+    textures: TextureOptions,
+}
+
+impl Rest for RestOfEntry {
+    fn read(self: Box<Self>, first: Vec<Option<Mesh>>) -> Result<Full, String> {
+        let (model, textures, count) = (self.model.clone(), self.textures, self.metas.len());
+        let t = std::time::Instant::now();
+        if let Some(full) = self.read_section(first) {
+            log::debug!(
+                "{}: the meshes' full arrays read from the mesh cache in {:.0} ms",
+                model.display(),
+                t.elapsed().as_secs_f64() * 1e3
+            );
+            return Ok(full);
+        }
+        log::warn!(
+            "{}: the mesh cache entry is corrupt past its first section: the model is read again",
+            model.display()
+        );
+        reload(&model, textures, count)
+    }
+}
+
+impl RestOfEntry {
+    fn read_section(mut self, mut first: Vec<Option<Mesh>>) -> Option<Full> {
+        use std::io::Seek;
+        let start = self.payload.file.stream_position().ok()?;
+        let mut levels = vec![None; first.len()];
+        for (i, slot) in first.iter_mut().enumerate() {
+            if slot.is_some() {
+                continue;
+            }
+            let m = read_mesh(&mut self.payload, self.metas.get(i)?)?;
+            let count = (*self.levels.get(i)?)?;
+            let l: Vec<u32> = self.payload.read(count)?;
+            if l.iter().any(|&k| k as usize >= m.vertices.len()) {
+                return None;
+            }
+            levels[i] = Some(l);
+            *slot = Some(m);
+        }
+        if self.payload.left != 0 || self.payload.hasher.digest128() != self.hash {
+            return None;
+        }
+        let bytes = self.payload.file.stream_position().ok()? - start;
+        Some(Full {
+            meshes: first.into_iter().collect::<Option<Vec<_>>>()?,
+            levels,
+            bytes,
+        })
+    }
+}
+
+/// The model read again without the cache, prepared as the entry's writer prepared it; an
+/// error if it no longer has the entry's `count` meshes.
+fn reload(model: &Path, textures: TextureOptions, count: usize) -> Result<Full, String> {
+    let opts = crate::scene::LoadOptions {
+        textures,
+        ..Default::default()
+    };
+    let mut scene = crate::scene::load(model, &opts).map_err(|e| e.to_string())?;
+    let clusters = crate::scene::clusters::prepare(&mut scene);
+    let levels = clusters
+        .into_iter()
+        .map(|c| c.map(|c| c.lod.indices))
+        .collect();
+    let meshes = std::mem::take(&mut *scene.meshes);
+    if meshes.len() != count {
+        return Err(format!(
+            "{}: read again for a corrupt mesh cache entry, it has {} meshes, not {count}",
+            model.display(),
+            meshes.len()
+        ));
+    }
+    Ok(Full {
+        meshes,
+        levels,
+        bytes: 0,
+    })
 }
 
 /// The entry's payload being read: what is left of its stated length, and its running hash.

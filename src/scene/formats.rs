@@ -238,7 +238,7 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
     material.name = "default".into();
     Ok(Scene {
         name: mesh.name.clone(),
-        meshes: vec![mesh],
+        meshes: vec![mesh].into(),
         materials: vec![material],
         bounds,
         origin,
@@ -303,7 +303,7 @@ fn cloud(
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default(),
-        meshes: Vec::new(),
+        meshes: Vec::new().into(),
         materials: vec![material],
         bounds,
         origin,

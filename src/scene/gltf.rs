@@ -113,7 +113,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     }
     Ok(Scene {
         name: Scene::name_of(path),
-        meshes,
+        meshes: meshes.into(),
         materials,
         bounds,
         origin,

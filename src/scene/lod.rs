@@ -110,8 +110,14 @@ impl Lod {
 
     /// Whether every level's triangles lie within `triangles` (the mesh's, then these).
     pub(crate) fn fits(&self, triangles: u64, clusters: usize) -> bool {
-        let all = triangles + self.indices.len() as u64 / 3;
-        self.indices.len() == self.index_count
+        self.indices.len() == self.index_count && self.tables_fit(triangles, clusters)
+    }
+
+    /// As [`Lod::fits`] before the indices are read (a mesh the cache kept compact): the
+    /// tables against `index_count`.
+    pub(crate) fn tables_fit(&self, triangles: u64, clusters: usize) -> bool {
+        let all = triangles + self.index_count as u64 / 3;
+        self.index_count.is_multiple_of(3)
             && self.groups.iter().all(|g| {
                 g.clusters[0] <= g.clusters[1]
                     && g.clusters[1] as usize <= clusters

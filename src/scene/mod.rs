@@ -25,6 +25,7 @@ pub(crate) mod lod;
 pub mod material;
 pub mod material_khr;
 pub(crate) mod material_report;
+pub mod meshes;
 pub(crate) mod mtl;
 pub(crate) mod mtl_mapping;
 pub mod normals;
@@ -49,6 +50,7 @@ pub(crate) mod xray;
 use glam::{DVec3, Vec3};
 pub use load::{load, load_prepared, LoadOptions, ProgressFn};
 pub use material::{Material, Texture};
+pub use meshes::Meshes;
 
 /// One interleaved vertex as uploaded to the vertex buffer.
 #[repr(C)]
@@ -81,6 +83,21 @@ pub struct Mesh {
     /// Tangents as the file supplies them (glTF TANGENT: xyz, w = bitangent sign), one per
     /// vertex; empty when absent (MikkTSpace ones are generated at upload where needed).
     pub tangents: Vec<[f32; 4]>,
+}
+
+/// The bounding sphere (centre of the box, farthest vertex) the renderer culls a mesh with;
+/// the mesh cache stores it for meshes it keeps compact ([`meshes::Compact`]).
+pub(crate) fn bounding_sphere(vertices: &[Vertex]) -> (Vec3, f32) {
+    let mut b = Bounds::empty();
+    for v in vertices {
+        b.include(v.position.into());
+    }
+    let center = b.center();
+    let radius = vertices
+        .iter()
+        .map(|v| (Vec3::from(v.position) - center).length())
+        .fold(0.0f32, f32::max);
+    (center, radius)
 }
 
 /// The shadow-terminator lift of a mesh: a quarter of its mean edge length (f64, local
@@ -203,7 +220,8 @@ impl std::fmt::Display for Warning {
 #[derive(Clone, Debug)]
 pub struct Scene {
     pub name: String,
-    pub meshes: Vec<Mesh>,
+    /// Here, or (after a mesh cache hit) partly still in the entry until first used.
+    pub meshes: Meshes,
     pub materials: Vec<Material>,
     /// Bounds in local (re-centred) coordinates.
     pub bounds: Bounds,
@@ -338,7 +356,7 @@ impl Scene {
         }
         Scene {
             name: name.into(),
-            meshes,
+            meshes: meshes.into(),
             materials,
             bounds,
             origin: DVec3::ZERO,
@@ -350,11 +368,12 @@ impl Scene {
         }
     }
 
+    /// Counted without reading meshes still in a cache entry.
     pub fn triangle_count(&self) -> usize {
-        self.meshes.iter().map(Mesh::triangle_count).sum()
+        self.meshes.counts().0
     }
     pub fn vertex_count(&self) -> usize {
-        self.meshes.iter().map(|m| m.vertices.len()).sum()
+        self.meshes.counts().1
     }
     /// Converts a point in file coordinates to local coordinates, in f64 before rounding.
     pub fn to_local(&self, p: DVec3) -> Vec3 {

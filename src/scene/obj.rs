@@ -519,7 +519,7 @@ fn load_with(
     }
     Ok(Scene {
         name: Scene::name_of(path),
-        meshes,
+        meshes: meshes.into(),
         materials,
         bounds,
         origin,

@@ -26,6 +26,8 @@ pub(crate) enum Stage {
 pub struct LoadProfile {
     pub(crate) bytes: u64,
     pub(crate) cached: bool,
+    /// With `cached`: the bytes of the entry read at load (payload; the header apart).
+    pub entry_bytes: u64,
     pub(crate) read_ms: f64,
     pub(crate) repair_ms: f64,
     pub(crate) parse_ms: f64,
@@ -117,6 +119,11 @@ pub(crate) fn mark(stage: Stage) {
 /// Sets the input size once it is known (after reading).
 pub(crate) fn set_bytes(bytes: u64) {
     REC.with_borrow_mut(|r| r.current.bytes = bytes);
+}
+
+/// The bytes of the mesh cache entry a hit read (its header and first section).
+pub(crate) fn set_entry_bytes(bytes: u64) {
+    REC.with_borrow_mut(|r| r.current.entry_bytes = bytes);
 }
 
 /// Time spent inside a stage nested in another (normals inside meshes, textures inside

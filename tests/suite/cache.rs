@@ -515,3 +515,69 @@ fn miss_and_hit_equal_uncached(
         assert_eq!(d.max, 0, "{name} {what}: {} pixels differ", d.over);
     }
 }
+
+/// A large mesh's entry: its first section holds the whole levels compact, the rest the
+/// full arrays. A flipped byte in the first is a miss; one in the rest is found when the
+/// meshes are first used, and the model is read again (the same meshes): never a wrong one.
+#[test]
+fn a_flipped_byte_in_either_section_never_gives_a_wrong_mesh() {
+    use glview::scene::clusters;
+    let dir = common::out_dir("cache_sections");
+    let own = dir.join("entries");
+    let _ = std::fs::remove_dir_all(&own);
+    let model = dir.join("sphere.obj");
+    std::fs::write(&model, crate::culling::sphere_obj(129, 256, false)).unwrap();
+    let off = LoadOptions::default();
+    let mut fresh = load(&model, &off).unwrap();
+    let prepared = clusters::prepare(&mut fresh);
+    let tex = TextureOptions::default();
+    cache::put_in(&own, 1 << 30, &model, None, tex, (&fresh, &prepared)).unwrap();
+    let path = std::fs::read_dir(&own)
+        .unwrap()
+        .flatten()
+        .next()
+        .unwrap()
+        .path();
+    let good = std::fs::read(&path).unwrap();
+    let header = 12 + u64::from_le_bytes(good[4..12].try_into().unwrap()) as usize;
+    let same = |hit: &glview::scene::Scene| {
+        hit.meshes.len() == fresh.meshes.len()
+            && hit
+                .meshes
+                .iter()
+                .zip(fresh.meshes.iter())
+                .all(|(a, b)| a.vertices == b.vertices && a.indices == b.indices)
+    };
+
+    let (hit, _) = cache::get_in(&own, &model, None, tex).expect("a hit");
+    assert!(
+        !hit.meshes.is_read(),
+        "the full arrays were read at the hit"
+    );
+    assert!(same(&hit));
+    assert!(
+        hit.meshes.bytes_read_later() > 0,
+        "the rest came from the entry"
+    );
+
+    let mut first = good.clone();
+    first[header + 5] ^= 1;
+    std::fs::write(&path, &first).unwrap();
+    assert!(
+        cache::get_in(&own, &model, None, tex).is_none(),
+        "first section"
+    );
+
+    let mut rest = good.clone();
+    let last = rest.len() - 3;
+    rest[last] ^= 1;
+    std::fs::write(&path, &rest).unwrap();
+    let (hit, _) = cache::get_in(&own, &model, None, tex).expect("the first section is sound");
+    assert!(same(&hit), "a corrupt rest gave other meshes");
+    assert_eq!(
+        hit.meshes.bytes_read_later(),
+        0,
+        "the model, not the entry, was read"
+    );
+    std::fs::remove_dir_all(&own).unwrap();
+}

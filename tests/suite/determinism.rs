@@ -260,7 +260,9 @@ fn levels_are_the_same_however_built() {
         (&fresh, &prepared),
     )
     .unwrap();
-    let (hit, from_entry) = cache::get_in(&own, Path::new(&model), None, tex).expect("a hit");
+    let (hit, mut from_entry) = cache::get_in(&own, Path::new(&model), None, tex).expect("a hit");
+    // Meshes the entry's first section holds compact bring their levels with their arrays.
+    hit.meshes.complete(&mut from_entry);
     let hit_indices: Vec<Vec<u32>> = hit.meshes.iter().map(|m| m.indices.clone()).collect();
     assert!(hit_indices == indices, "the entry's indices differ");
     assert!(from_entry == built, "the entry's clusters or levels differ");
@@ -273,5 +275,91 @@ fn levels_are_the_same_however_built() {
     assert!(
         rebuilt == from_entry,
         "levels rebuilt from the hit's mesh differ"
+    );
+}
+
+/// `--stats`' last line of `glview ARGS` with `cache` as the mesh cache's folder.
+fn stats_of(args: &[&str], cache: &Path) -> serde_json::Value {
+    let o = run(args, &[("GLVIEW_CACHE_DIR", cache.to_str().unwrap())]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let line = out
+        .lines()
+        .rfind(|l| l.starts_with('{'))
+        .expect("a --stats line");
+    serde_json::from_str(line).unwrap()
+}
+
+/// A warm first view of a model above the threshold reads and uploads only the entry's
+/// first section (the whole-mesh levels it draws, compact) and draws the cold picture; a
+/// later view of the same kept scene that needs every triangle (`--lod off`, a batch's
+/// second job) reads the rest then and draws what `--no-cache --lod off` draws. Without
+/// shadows: this small sphere's 2048² shadow map needs finer levels than the whole ones
+/// (then the first view reads everything, as the shadowed views of the other tests do).
+#[test]
+fn a_warm_first_view_reads_only_the_levels_it_draws() {
+    let dir = out_dir("determinism_compact");
+    let model = sphere(&dir, ABOVE);
+    let cache = empty(&dir, "cache");
+    let cold = cli(&dir, "cold", &model, &["--no-shadows"], &cache, "2");
+    let entry: u64 = std::fs::read_dir(&cache)
+        .unwrap()
+        .flatten()
+        .map(|e| e.metadata().unwrap().len())
+        .sum();
+    let warm = dir.join("warm.png");
+    let out = warm.to_str().unwrap();
+    let words = [&model, "--size", SIZE, "--no-shadows", "-o", out, "--stats"];
+    let s = stats_of(&words, &cache);
+    let read = s["profile"]["load"]["entry_bytes"].as_u64().unwrap();
+    let uploaded = s["mesh_bytes_uploaded"].as_u64().unwrap();
+    assert!(s["profile"]["load"]["cached"].as_bool().unwrap(), "{s}");
+    // The whole levels are a small part of the mesh; the full arrays are most of the entry.
+    assert!(read > 0 && read * 4 < entry, "read {read} of {entry} bytes");
+    assert!(uploaded * 4 < entry, "uploaded {uploaded} of {entry} bytes");
+    assert_eq!(s["meshes_completed"], 0, "{s}");
+    assert_eq!(s["mesh_bytes_read_later"], 0, "{s}");
+    assert_all_equal(
+        &dir,
+        &[
+            ("cold".into(), cold),
+            ("warm".into(), Rgba::load_png(&warm).unwrap()),
+        ],
+    );
+
+    // One process: a compact first view, then one needing every triangle.
+    let (first, second) = (dir.join("job1.png"), dir.join("job2.png"));
+    let jobs = format!(
+        "'{model}' --size {SIZE} --no-shadows -o '{}'\n\
+         '{model}' --size {SIZE} --no-shadows --lod off --stats -o '{}'\n",
+        first.display(),
+        second.display()
+    );
+    let file = dir.join("jobs.txt");
+    std::fs::write(&file, jobs).unwrap();
+    let s = stats_of(&["batch", file.to_str().unwrap()], &cache);
+    assert_eq!(
+        s["profile"]["scene_uploads"], 0,
+        "the second job's scene is the kept one"
+    );
+    assert_eq!(s["meshes_completed"], 1, "{s}");
+    assert!(s["mesh_bytes_read_later"].as_u64().unwrap() > read, "{s}");
+    let off = cli(
+        &dir,
+        "off",
+        &model,
+        &["--lod", "off", "--no-cache"],
+        &cache,
+        "2",
+    );
+    assert_all_equal(
+        &dir,
+        &[
+            ("cold --lod off".into(), off),
+            (
+                "batch job 2, --lod off".into(),
+                Rgba::load_png(&second).unwrap(),
+            ),
+        ],
     );
 }
