@@ -21,6 +21,7 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_mesh_quantization",
     "KHR_materials_emissive_strength",
     "EXT_meshopt_compression",
+    "KHR_draco_mesh_compression",
     "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_materials_clearcoat",
@@ -51,7 +52,12 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let buffers = super::gltf_buffers::buffers(&doc, blob, dir, opts.textures.allow_outside_paths)
         .map_err(bad)?;
     let views = super::gltf_buffers::decoded_views(&doc, &buffers).map_err(bad)?;
-    let buffers = accessor::Buffers { buffers, views };
+    let draco = super::gltf_draco::decode_all(&doc, &buffers).map_err(bad)?;
+    let buffers = accessor::Buffers {
+        buffers,
+        views,
+        draco,
+    };
     let dependencies = super::gltf_buffers::external_files(&doc, dir, opts.textures);
 
     let images = decode_images(&doc, &buffers.buffers, path, opts, &mut warnings);
@@ -186,9 +192,35 @@ fn parse_document(
     }
     // Checked above; the crate's validator refuses any it does not know itself.
     json.extensions_required.clear();
-    let doc =
-        gltf::Document::from_json(json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-    Ok((doc, parsed.blob))
+    validate(&json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
+    Ok((
+        gltf::Document::from_json_without_validation(json),
+        parsed.blob,
+    ))
+}
+
+/// The crate's validation (every index in range: its accessors would panic otherwise), less
+/// one rule it adds to the specification: an accessor without a `bufferView` is valid (zeros,
+/// which sparse values or an extension such as KHR_draco_mesh_compression replace), where
+/// the crate demands one unless the accessor is sparse.
+fn validate(json: &gltf::json::Root) -> std::result::Result<(), gltf::Error> {
+    use gltf::json::validation::{Error as E, Validate};
+    let mut errors = Vec::new();
+    json.validate(json, gltf::json::Path::new, &mut |path, error| {
+        let path = path();
+        let p = path.as_str();
+        let view_missing = matches!(error, E::Missing)
+            && p.starts_with("accessors[")
+            && p.ends_with("].bufferView");
+        if !view_missing {
+            errors.push((path, error));
+        }
+    });
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(gltf::Error::Validation(errors))
+    }
 }
 
 /// `asset.minVersion` ("major.minor"): a file that needs a later glTF than 2.0 is refused, as

@@ -13,6 +13,7 @@ pub mod generate;
 pub(crate) mod gltf;
 pub(crate) mod gltf_accessor;
 pub(crate) mod gltf_buffers;
+pub(crate) mod gltf_draco;
 pub(crate) mod gltf_graph;
 pub(crate) mod gltf_khr;
 pub(crate) mod gltf_material;

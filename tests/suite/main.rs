@@ -21,6 +21,7 @@ mod fast_parse;
 mod fuzz_format_regressions;
 mod fuzz_regressions;
 mod gltf_alpha;
+mod gltf_draco;
 mod gltf_draw;
 mod gltf_extensions;
 mod gltf_khr;
