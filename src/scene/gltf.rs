@@ -22,6 +22,7 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "EXT_meshopt_compression",
     "KHR_draco_mesh_compression",
+    "EXT_texture_webp",
     "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_materials_clearcoat",
@@ -192,11 +193,33 @@ fn parse_document(
     }
     // Checked above; the crate's validator refuses any it does not know itself.
     json.extensions_required.clear();
+    prefer_extension_sources(&mut json);
     validate(&json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
     Ok((
         gltf::Document::from_json_without_validation(json),
         parsed.blob,
     ))
+}
+
+/// Texture extensions naming an image format glview decodes, in the order it prefers them.
+const IMAGE_EXTENSIONS: &[&str] = &["EXT_texture_webp"];
+
+/// A texture's image from the first extension in [`IMAGE_EXTENSIONS`] it has, in place of its
+/// own `source`, as the extensions ask of a reader that supports them (the own `source` is
+/// the fallback for readers that do not, and may be absent when the extension is required).
+/// An extension `source` that names no image is ignored: the texture's own is used.
+fn prefer_extension_sources(json: &mut gltf::json::Root) {
+    let images = json.images.len();
+    for t in &mut json.textures {
+        let others = t.extensions.as_ref().map(|e| &e.others);
+        let source = IMAGE_EXTENSIONS.iter().find_map(|x| {
+            let i = others?.get(*x)?.get("source")?.as_u64()?;
+            u32::try_from(i).ok().filter(|&i| (i as usize) < images)
+        });
+        if let Some(i) = source {
+            t.source = gltf::json::Index::new(i);
+        }
+    }
 }
 
 /// The crate's validation (every index in range: its accessors would panic otherwise), less

@@ -29,6 +29,7 @@ mod gltf_khr_maps;
 mod gltf_khr_transmission;
 mod gltf_materials;
 mod gltf_sidedness;
+mod gltf_webp;
 mod gpu_vs_reference;
 mod grid;
 mod hostile_formats;
