@@ -23,6 +23,7 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "EXT_meshopt_compression",
     "KHR_draco_mesh_compression",
     "EXT_texture_webp",
+    "KHR_texture_basisu",
     "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_materials_clearcoat",
@@ -202,7 +203,7 @@ fn parse_document(
 }
 
 /// Texture extensions naming an image format glview decodes, in the order it prefers them.
-const IMAGE_EXTENSIONS: &[&str] = &["EXT_texture_webp"];
+const IMAGE_EXTENSIONS: &[&str] = &["KHR_texture_basisu", "EXT_texture_webp"];
 
 /// A texture's image from the first extension in [`IMAGE_EXTENSIONS`] it has, in place of its
 /// own `source`, as the extensions ask of a reader that supports them (the own `source` is

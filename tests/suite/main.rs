@@ -27,6 +27,7 @@ mod gltf_extensions;
 mod gltf_khr;
 mod gltf_khr_maps;
 mod gltf_khr_transmission;
+mod gltf_ktx2;
 mod gltf_materials;
 mod gltf_sidedness;
 mod gltf_webp;
