@@ -24,6 +24,7 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_draco_mesh_compression",
     "EXT_texture_webp",
     "KHR_texture_basisu",
+    "EXT_mesh_gpu_instancing",
     "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_materials_clearcoat",
@@ -83,6 +84,8 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         .or_else(|| doc.scenes().next())
         .ok_or_else(|| bad("no scene in the file".into()))?;
     let instances = super::gltf_graph::instances(&doc, &scene).map_err(bad)?;
+    let (instances, maps) =
+        super::gltf_instancing::expand(&doc, instances, &buffers).map_err(bad)?;
     check_instanced_total(&instances).map_err(bad)?;
     let mut read = Primitives::default();
     for (node, mesh, world) in &instances {
@@ -129,7 +132,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         dependencies,
         warnings,
         wire,
-        maps: Vec::new(),
+        maps,
     })
 }
 

@@ -15,6 +15,7 @@ pub(crate) mod gltf_accessor;
 pub(crate) mod gltf_buffers;
 pub(crate) mod gltf_draco;
 pub(crate) mod gltf_graph;
+pub(crate) mod gltf_instancing;
 pub(crate) mod gltf_khr;
 pub(crate) mod gltf_material;
 pub(crate) mod gltf_meshopt;

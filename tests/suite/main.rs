@@ -24,6 +24,7 @@ mod gltf_alpha;
 mod gltf_draco;
 mod gltf_draw;
 mod gltf_extensions;
+mod gltf_instancing;
 mod gltf_khr;
 mod gltf_khr_maps;
 mod gltf_khr_transmission;
