@@ -92,21 +92,22 @@ fn primitive(
     if let Some(t) = targets.iter().find(|t| filled_by.contains_key(t)) {
         return Err(format!("accessor {t} is filled by two Draco streams"));
     }
-    let mesh = decode(bytes, *budget)?;
-    let mut used = 0u64;
-    match (p.mode(), p.indices()) {
-        (gltf::mesh::Mode::Triangles, Some(acc)) => {
-            let packed = indices(&mesh, &acc)?;
-            used += packed.len() as u64;
-            out.insert(acc.index(), packed);
-        }
-        (gltf::mesh::Mode::Points, None) => {}
+    let index_acc = match (p.mode(), p.indices()) {
+        (gltf::mesh::Mode::Triangles, Some(acc)) => Some(acc),
+        (gltf::mesh::Mode::Points, None) => None,
         (m, _) => {
             return Err(format!(
                 "mode {m:?} with{} indices cannot hold a Draco mesh",
                 if p.indices().is_some() { "" } else { "out" }
             ))
         }
+    };
+    let mesh = decode(bytes, *budget)?;
+    let mut used = 0u64;
+    if let Some(acc) = index_acc {
+        let packed = indices(&mesh, &acc)?;
+        used += packed.len() as u64;
+        out.insert(acc.index(), packed);
     }
     for (semantic, acc) in p.attributes() {
         let name = semantic.to_string();

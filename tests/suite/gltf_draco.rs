@@ -151,7 +151,8 @@ fn hostile_draco_streams_are_one_line_errors() {
     }
     assert!(refused > 0);
     // Counts that lie, and a view beyond its buffer.
-    let cases: [(&str, &dyn Fn(String) -> String, &str); 3] = [
+    type Edit<'a> = &'a dyn Fn(String) -> String;
+    let cases: [(&str, Edit, &str); 3] = [
         (
             "count",
             &|s| s.replacen("\"count\": 24", "\"count\": 25", 1),

@@ -142,7 +142,8 @@ fn hostile_instancing_is_a_one_line_error() {
     )
     .unwrap();
     let attrs = "/nodes/0/extensions/EXT_mesh_gpu_instancing/attributes";
-    let cases: [(&str, &dyn Fn(&mut Value), &str); 4] = [
+    type Edit<'a> = &'a dyn Fn(&mut Value);
+    let cases: [(&str, Edit, &str); 4] = [
         (
             "dangling",
             &|d| d.pointer_mut(attrs).unwrap()["SCALE"] = json!(99),
