@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Seeds the stl, ply and gltf fuzz targets (corpus/{stl,ply,gltf}/) at run time: small
 generated STL and PLY files in every encoding the loaders read, and the glTF sample models
-of ../shared/gltf-samples up to 64 KiB plus a one-triangle glTF with its buffer as a data: URI.
+of ../shared/gltf-samples up to 64 KiB plus a one-triangle glTF with its buffer as a data: URI,
+and the Draco samples of tests/data/khronos/draco as GLBs.
 Usage: fuzz/seed_formats.py [SHARED_DIR]"""
 import base64, json, os, struct, sys
 
@@ -55,4 +56,19 @@ out("gltf", "tri.gltf", json.dumps({
     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
                    "min": [0, 0, 0], "max": [1, 1, 0]},
                   {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}]}).encode())
+# The Draco samples of tests/data (KHR_draco_mesh_compression), each made one GLB with its
+# buffer as the binary chunk, so the target reaches the Draco decoder with a valid stream.
+def glb(doc, binary):
+    doc["buffers"][0].pop("uri", None)
+    binary += b"\0" * (-len(binary) % 4)
+    j = json.dumps(doc).encode()
+    j += b" " * (-len(j) % 4)
+    chunks = struct.pack("<I4s", len(j), b"JSON") + j + struct.pack("<I4s", len(binary), b"BIN\0") + binary
+    return b"glTF" + struct.pack("<II", 2, 12 + len(chunks)) + chunks
+draco = os.path.join(here, "..", "tests", "data", "khronos", "draco")
+for model in ("Box", "Duck", "Avocado", "RiggedSimple"):
+    d = os.path.join(draco, model)
+    gltf = json.load(open(os.path.join(d, model + ".gltf")))
+    binary = open(os.path.join(d, gltf["buffers"][0]["uri"]), "rb").read()
+    out("gltf", model + "-draco.glb", glb(gltf, binary))
 print("seed_formats.py: corpus/stl, corpus/ply, corpus/gltf written")

@@ -21,6 +21,10 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_mesh_quantization",
     "KHR_materials_emissive_strength",
     "EXT_meshopt_compression",
+    "KHR_draco_mesh_compression",
+    "EXT_texture_webp",
+    "KHR_texture_basisu",
+    "EXT_mesh_gpu_instancing",
     "KHR_materials_unlit",
     "KHR_texture_transform",
     "KHR_materials_clearcoat",
@@ -51,7 +55,12 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let buffers = super::gltf_buffers::buffers(&doc, blob, dir, opts.textures.allow_outside_paths)
         .map_err(bad)?;
     let views = super::gltf_buffers::decoded_views(&doc, &buffers).map_err(bad)?;
-    let buffers = accessor::Buffers { buffers, views };
+    let draco = super::gltf_draco::decode_all(&doc, &buffers).map_err(bad)?;
+    let buffers = accessor::Buffers {
+        buffers,
+        views,
+        draco,
+    };
     let dependencies = super::gltf_buffers::external_files(&doc, dir, opts.textures);
 
     let images = decode_images(&doc, &buffers.buffers, path, opts, &mut warnings);
@@ -75,6 +84,8 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         .or_else(|| doc.scenes().next())
         .ok_or_else(|| bad("no scene in the file".into()))?;
     let instances = super::gltf_graph::instances(&doc, &scene).map_err(bad)?;
+    let (instances, maps) =
+        super::gltf_instancing::expand(&doc, instances, &buffers).map_err(bad)?;
     check_instanced_total(&instances).map_err(bad)?;
     let mut read = Primitives::default();
     for (node, mesh, world) in &instances {
@@ -121,7 +132,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         dependencies,
         warnings,
         wire,
-        maps: Vec::new(),
+        maps,
     })
 }
 
@@ -186,9 +197,57 @@ fn parse_document(
     }
     // Checked above; the crate's validator refuses any it does not know itself.
     json.extensions_required.clear();
-    let doc =
-        gltf::Document::from_json(json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-    Ok((doc, parsed.blob))
+    prefer_extension_sources(&mut json);
+    validate(&json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
+    Ok((
+        gltf::Document::from_json_without_validation(json),
+        parsed.blob,
+    ))
+}
+
+/// Texture extensions naming an image format glview decodes, in the order it prefers them.
+const IMAGE_EXTENSIONS: &[&str] = &["KHR_texture_basisu", "EXT_texture_webp"];
+
+/// A texture's image from the first extension in [`IMAGE_EXTENSIONS`] it has, in place of its
+/// own `source`, as the extensions ask of a reader that supports them (the own `source` is
+/// the fallback for readers that do not, and may be absent when the extension is required).
+/// An extension `source` that names no image is ignored: the texture's own is used.
+fn prefer_extension_sources(json: &mut gltf::json::Root) {
+    let images = json.images.len();
+    for t in &mut json.textures {
+        let others = t.extensions.as_ref().map(|e| &e.others);
+        let source = IMAGE_EXTENSIONS.iter().find_map(|x| {
+            let i = others?.get(*x)?.get("source")?.as_u64()?;
+            u32::try_from(i).ok().filter(|&i| (i as usize) < images)
+        });
+        if let Some(i) = source {
+            t.source = gltf::json::Index::new(i);
+        }
+    }
+}
+
+/// The crate's validation (every index in range: its accessors would panic otherwise), less
+/// one rule it adds to the specification: an accessor without a `bufferView` is valid (zeros,
+/// which sparse values or an extension such as KHR_draco_mesh_compression replace), where
+/// the crate demands one unless the accessor is sparse.
+fn validate(json: &gltf::json::Root) -> std::result::Result<(), gltf::Error> {
+    use gltf::json::validation::{Error as E, Validate};
+    let mut errors = Vec::new();
+    json.validate(json, gltf::json::Path::new, &mut |path, error| {
+        let path = path();
+        let p = path.as_str();
+        let view_missing = matches!(error, E::Missing)
+            && p.starts_with("accessors[")
+            && p.ends_with("].bufferView");
+        if !view_missing {
+            errors.push((path, error));
+        }
+    });
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(gltf::Error::Validation(errors))
+    }
 }
 
 /// `asset.minVersion` ("major.minor"): a file that needs a later glTF than 2.0 is refused, as

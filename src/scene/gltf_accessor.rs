@@ -9,11 +9,14 @@ use gltf::accessor::{DataType, Dimensions};
 /// 16 M vertices already take ~1 GB through the loading pipeline.
 pub(crate) const MAX_ELEMENTS: usize = 1 << 24;
 
-/// The bytes of each buffer, as resolved (exactly `byteLength` long), and of each buffer view
-/// that `EXT_meshopt_compression` decoded (which then replaces the view's own bytes).
+/// The bytes of each buffer, as resolved (exactly `byteLength` long), of each buffer view
+/// that `EXT_meshopt_compression` decoded (which then replaces the view's own bytes), and of
+/// each accessor that a `KHR_draco_mesh_compression` stream filled (tightly packed, in place
+/// of any view the accessor names).
 pub(crate) struct Buffers {
     pub(crate) buffers: Vec<Vec<u8>>,
     pub(crate) views: Vec<Option<Vec<u8>>>,
+    pub(crate) draco: super::gltf_draco::Decoded,
 }
 
 fn view_bytes<'a>(view: &gltf::buffer::View, buffers: &'a Buffers) -> Result<&'a [u8], String> {
@@ -107,7 +110,12 @@ pub(crate) fn read_f32(
             *o = component(&row[c * csize..], t, norm);
         }
     };
-    if let Some(view) = acc.view() {
+    if let Some(d) = buffers.draco.get(&i) {
+        // Packed by the Draco reader to exactly `count` rows of `esize` bytes.
+        read_rows(d, esize, &mut |k, row| {
+            fill(&mut out[k * dims..k * dims + dims], row)
+        });
+    } else if let Some(view) = acc.view() {
         let stride = view.stride().unwrap_or(esize).max(esize);
         let data = strided(
             view_bytes(&view, buffers)?,

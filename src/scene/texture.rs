@@ -118,7 +118,39 @@ pub(crate) fn decode_bytes(
     })
 }
 
+/// Largest KTX2 file read whole (it cannot be transcoded from a stream).
+const MAX_KTX2_BYTES: u64 = 256 << 20;
+
+/// A KTX2 file's bytes, or None if `src` is not one.
+fn ktx2_bytes(src: Source<'_>) -> Result<Option<std::borrow::Cow<'_, [u8]>>, String> {
+    use std::io::Read;
+    match src {
+        Source::Mem(b) => Ok(super::texture_ktx2::is_ktx2(b).then_some(b.into())),
+        Source::File(p) => {
+            let mut head = Vec::new();
+            src.open()?
+                .take(12)
+                .read_to_end(&mut head)
+                .map_err(|e| e.to_string())?;
+            if !super::texture_ktx2::is_ktx2(&head) {
+                return Ok(None);
+            }
+            let mut all = Vec::new();
+            std::fs::File::open(p)
+                .and_then(|f| f.take(MAX_KTX2_BYTES + 1).read_to_end(&mut all))
+                .map_err(|e| e.to_string())?;
+            if all.len() as u64 > MAX_KTX2_BYTES {
+                return Err(format!("KTX2 file over {} MiB", MAX_KTX2_BYTES >> 20));
+            }
+            Ok(Some(all.into()))
+        }
+    }
+}
+
 fn decode_from(src: Source, opts: TextureOptions) -> Result<(u32, u32, Vec<u8>), String> {
+    if let Some(bytes) = ktx2_bytes(src)? {
+        return super::texture_ktx2::decode(&bytes, max_side(opts));
+    }
     let (format, w, h) = header(src)?;
     let max = max_side(opts);
     let pixels = u64::from(w) * u64::from(h);

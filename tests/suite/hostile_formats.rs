@@ -205,11 +205,23 @@ fn size_and_content_cases(sub: &Path) -> Vec<(PathBuf, &'static str)> {
             tri_gltf(sub, "required.gltf", &|s| {
                 s.replace(
                     "\"scene\": 0",
-                    "\"extensionsUsed\": [\"KHR_draco_mesh_compression\"], \
-                     \"extensionsRequired\": [\"KHR_draco_mesh_compression\"], \"scene\": 0",
+                    "\"extensionsUsed\": [\"EXT_not_an_extension\"], \
+                     \"extensionsRequired\": [\"EXT_not_an_extension\"], \"scene\": 0",
                 )
             }),
-            "requires glTF extension KHR_draco_mesh_compression, which glview does not support",
+            "requires glTF extension EXT_not_an_extension, which glview does not support",
+        ),
+        // The triangle's own float bytes given as a Draco stream (issue 37), as points.
+        (
+            tri_gltf(sub, "draco.gltf", &|s| {
+                s.replace(
+                    "{\"attributes\": {\"POSITION\": 0}}",
+                    "{\"attributes\": {\"POSITION\": 0}, \"mode\": 0, \"extensions\": \
+                     {\"KHR_draco_mesh_compression\": {\"bufferView\": 0, \
+                     \"attributes\": {\"POSITION\": 0}}}}",
+                )
+            }),
+            "mesh 0 primitive 0: KHR_draco_mesh_compression: cannot decode",
         ),
         // One mesh instanced by 200,000 nodes, its accessor claiming 100 vertices: 20 M.
         (
