@@ -209,7 +209,9 @@ fn instancing_is_the_same_on_every_context() {
     )
     .unwrap();
     // ES 3.0 is left out for CI time: the expansion happens in the loader, before any context.
-    let contexts: [(&str, &[(&str, &str)], &[&str]); 2] = [
+    // (name, environment, extra arguments)
+    type Context<'a> = (&'a str, &'a [(&'a str, &'a str)], &'a [&'a str]);
+    let contexts: [Context; 2] = [
         ("gl21", GL21, &[]),
         ("osmesa_nofbo", GL21_NO_FBO, &["--backend", "osmesa"]),
     ];
