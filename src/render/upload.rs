@@ -65,10 +65,19 @@ impl DrawMesh {
         !self.translucent && self.primitive == Primitive::Triangles
     }
 
-    /// Draws all of mesh `i`'s own triangles.
+    /// Draws all of mesh `i` (its triangles, lines or points).
     pub(crate) fn draw(&self, scene: &SceneGpu, i: usize) -> Result<()> {
-        let n = self.triangles as u32 * 3;
-        self.draw_ranges(scene, i, &[(0, n)])
+        match &self.mesh {
+            // Its own count and primitive: lines and points have no triangles to count.
+            Resident::Full(m) => {
+                m.draw();
+                Ok(())
+            }
+            Resident::Compact { .. } => {
+                let n = self.triangles as u32 * 3;
+                self.draw_ranges(scene, i, &[(0, n)])
+            }
+        }
     }
 
     /// Draws the index ranges (first index, count) of mesh `i` (its triangles, then its
