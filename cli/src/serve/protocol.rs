@@ -102,6 +102,12 @@ pub enum Event {
         still: bool,
         bytes: Result<tungstenite::Bytes, String>,
     },
+    /// From a loading worker: load `load`'s scene, for pictures of `options`, ready to upload.
+    Loaded {
+        load: u64,
+        options: Box<glview::Options>,
+        prepared: Box<glview::session::Prepared>,
+    },
 }
 
 /// An `error` message's text.
