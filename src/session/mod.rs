@@ -295,11 +295,6 @@ impl Prepared {
             loaded: load(args),
         }
     }
-
-    /// The load's error, if it failed (the session would return it from `adopt`).
-    pub fn error(&self) -> Option<&crate::Error> {
-        self.loaded.0.as_ref().err()
-    }
 }
 
 /// Whether pictures of `a` and `b` draw the same scene (same model file, unchanged, and

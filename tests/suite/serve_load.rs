@@ -428,3 +428,28 @@ fn a_model_loads_while_the_others_are_drawn() {
         "p95 {p95:.1} ms while big.obj loaded ({load:.0} ms)"
     );
 }
+
+/// A model that fails to load on the worker is its viewer's error, naming the model and not
+/// where the server keeps it; the viewer goes on with another model, and another viewer's
+/// frames never stopped.
+#[test]
+fn a_failed_load_is_the_viewers_error() {
+    let dir = crate::common::out_dir("serve_failed_load");
+    std::fs::write(dir.join("a.obj"), super::culling::sphere_obj(9, 16, false)).unwrap();
+    std::fs::write(dir.join("bad.glb"), "not a glb at all").unwrap();
+    let server = Server::start(&[dir.to_str().unwrap(), "--size", "64x48"]);
+    let mut other = server.viewer("");
+    other.still(None);
+    let mut c = server.viewer("");
+    c.still(None);
+    c.send(json!({"type": "model", "name": "bad.glb", "seq": 1}));
+    let e = c.text("error");
+    let m = e["message"].as_str().unwrap();
+    assert!(m.contains("bad.glb") && m.contains("glTF"), "{e}");
+    assert!(!m.contains(dir.to_str().unwrap()), "{e}");
+    other.send(json!({"type": "key", "key": "Right", "seq": 1}));
+    other.still(Some(1));
+    c.send(json!({"type": "model", "name": "a.obj", "seq": 2}));
+    let (h, _, _) = c.still(Some(2));
+    assert_eq!(h["model"], "a.obj", "{h}");
+}

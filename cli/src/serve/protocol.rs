@@ -102,11 +102,12 @@ pub enum Event {
         still: bool,
         bytes: Result<tungstenite::Bytes, String>,
     },
-    /// From a loading worker: load `load`'s scene, for pictures of `options`, ready to upload.
+    /// From a loading worker: load `load`'s scene, for pictures of `options`, ready to upload
+    /// (or the loader's panic).
     Loaded {
         load: u64,
         options: Box<glview::Options>,
-        prepared: Box<glview::session::Prepared>,
+        prepared: Result<Box<glview::session::Prepared>, String>,
     },
 }
 

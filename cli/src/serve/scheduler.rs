@@ -275,7 +275,7 @@ impl Scheduler {
                 load,
                 options,
                 prepared,
-            } => self.loaded(load, &options, *prepared),
+            } => self.loaded(load, &options, prepared),
             Event::Wake { id } => {
                 let msgs = match self.viewers.get(&id) {
                     Some(v) => v.inbox.take(),

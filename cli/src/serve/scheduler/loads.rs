@@ -30,7 +30,11 @@ impl Scheduler {
         let worker = std::thread::Builder::new()
             .name("glview-load".into())
             .spawn(move || {
-                let prepared = Box::new(Prepared::load(&options));
+                // A panic must still answer: its viewers would wait for ever, and its
+                // slot of MAX_LOADS stay taken.
+                let load_it = std::panic::AssertUnwindSafe(|| Box::new(Prepared::load(&options)));
+                let prepared = std::panic::catch_unwind(load_it)
+                    .map_err(|_| "the model loader failed (a bug: please report it)".to_string());
                 let _ = events.send(Event::Loaded {
                     load,
                     options: Box::new(options),
@@ -54,15 +58,15 @@ impl Scheduler {
     /// A worker's load done: uploaded, and every waiting viewer tries again (those of this
     /// scene draw it; those of a scene still loading wait again; those held back by
     /// [`MAX_LOADS`] start theirs). A failed load is its viewers' error.
-    pub(super) fn loaded(&mut self, load: u64, options: &Options, prepared: Prepared) {
+    pub(super) fn loaded(
+        &mut self,
+        load: u64,
+        options: &Options,
+        prepared: Result<Box<Prepared>, String>,
+    ) {
         self.loads.remove(&load);
-        let adopted = match prepared.error() {
-            Some(e) => Err(e.to_string()),
-            None => self
-                .session
-                .adopt(options, prepared)
-                .map_err(|e| e.to_string()),
-        };
+        let adopted =
+            prepared.and_then(|p| self.session.adopt(options, *p).map_err(|e| e.to_string()));
         let failed = adopted.err().map(|e| self.models.scrub(&e));
         for v in self.viewers.values_mut().filter(|v| v.loading) {
             v.loading = false;
