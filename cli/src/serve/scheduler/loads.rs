@@ -32,7 +32,13 @@ impl Scheduler {
             .spawn(move || {
                 // A panic must still answer: its viewers would wait for ever, and its
                 // slot of MAX_LOADS stay taken.
-                let load_it = std::panic::AssertUnwindSafe(|| Box::new(Prepared::load(&options)));
+                let load_it = std::panic::AssertUnwindSafe(|| {
+                    let load = || Box::new(Prepared::load(&options));
+                    match loader_pool() {
+                        Some(pool) => pool.install(load),
+                        None => load(),
+                    }
+                });
                 let prepared = std::panic::catch_unwind(load_it)
                     .map_err(|_| "the model loader failed (a bug: please report it)".to_string());
                 let _ = events.send(Event::Loaded {
@@ -78,4 +84,16 @@ impl Scheduler {
             }
         }
     }
+}
+
+/// The pool a load's parallel parts (parse, normals, clusters, levels) run in: half the
+/// cores, so the render thread and the encoders keep the others (rayon's global pool would
+/// take them all: a viewer's p95 reached 88-120 ms during a load on 2 busy cores).
+fn loader_pool() -> Option<rayon::ThreadPool> {
+    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+    rayon::ThreadPoolBuilder::new()
+        .num_threads((cores / 2).max(1))
+        .thread_name(|i| format!("glview-load-{i}"))
+        .build()
+        .ok()
 }
