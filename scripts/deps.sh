@@ -14,7 +14,8 @@ case "${1:-}" in
   # npm installs the export test's pinned SCORM runtime (a node from elsewhere, e.g.
   # NodeSource's, which bundles npm, is used as it is: Debian's npm package would conflict).
   --browser)
-    pkgs=(chromium nginx libxml2-utils) # xmllint: the SCORM manifest against ADL's schemas
+    # firefox-esr: the serve page's smoke test over WebDriver BiDi (test_serve_firefox.py).
+    pkgs=(chromium firefox-esr nginx libxml2-utils) # xmllint: the SCORM manifest against ADL's schemas
     command -v npm >/dev/null || pkgs+=(nodejs npm)
     ;;
 esac

@@ -13,8 +13,9 @@ if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
 # Pinned: a Debian Chromium upgrade can break a Playwright release, so a known pair is logged.
-"$venv/bin/pip" install --quiet playwright==1.65.2 pillow pytest
-echo "scripts/test_browser.sh: $(/usr/bin/chromium --version 2>/dev/null), playwright $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("playwright"))')"
+# websockets speaks WebDriver BiDi to Firefox ESR (test_serve_firefox.py: no geckodriver).
+"$venv/bin/pip" install --quiet playwright==1.65.2 websockets==17.4 pillow pytest
+echo "scripts/test_browser.sh: $(/usr/bin/chromium --version 2>/dev/null), $(/usr/bin/firefox-esr --version 2>/dev/null), playwright $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("playwright"))')"
 
 # The SCORM 1.2 runtime the export page's package is run in (python/tests_browser/scorm:
 # scorm-again, pinned with its integrity hash in package-lock.json), copied out of the

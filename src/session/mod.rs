@@ -232,10 +232,75 @@ impl Session {
         draw(&kept.hl, &mut renderer)
     }
 
+    /// Whether a picture of `args` finds its scene uploaded (drawing it loads nothing).
+    pub fn has_scene(&self, args: &Options) -> bool {
+        let stamp = crate::repro::stamp(args);
+        self.kept.as_ref().is_some_and(|c| {
+            c.request == (args.context.backend, args.context.gl)
+                && c.renderers
+                    .iter()
+                    .any(|(k, _)| k.matches(args, None, &stamp))
+        })
+    }
+
+    /// Uploads a scene loaded off this thread ([`Prepared::load`]) for pictures of `args`:
+    /// the GL half of a load, so a server's render thread spends only the upload on it.
+    /// The least recently drawn of the kept scenes goes first, as for a load here.
+    pub fn adopt(&mut self, args: &Options, prepared: Prepared) -> Result<()> {
+        let Prepared { key, loaded } = prepared;
+        let (scene, clusters) = loaded.0?;
+        let request = (args.context.backend, args.context.gl);
+        if self.kept.as_ref().is_none_or(|c| c.request != request) {
+            let mut profile = Profile::default();
+            context(
+                args,
+                args.picture.size,
+                msaa(args),
+                &mut self.kept,
+                &mut profile,
+            )?;
+        }
+        let kept = self.kept.as_mut().expect("context made above");
+        // Another viewer's load of the same scene may have landed first: keep that one.
+        kept.renderers.retain(|(k, _)| *k != key);
+        let excess = (kept.renderers.len() + 1).saturating_sub(self.keep);
+        kept.renderers.drain(..excess.min(kept.renderers.len()));
+        let mut r = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;
+        r.share_environments(kept.envs.clone());
+        kept.renderers.push((key, r));
+        Ok(())
+    }
+
     /// Drops the renderer and the context now (the session makes a new one if used again).
     pub fn close(&mut self) {
         self.kept = None;
     }
+}
+
+/// A scene loaded and prepared without GL (parsed, x-ray applied, large meshes' clusters
+/// made), on any thread, for a [`Session`] to upload ([`Session::adopt`]): a server loads a
+/// viewer's model on a worker while its render thread keeps drawing the others.
+pub struct Prepared {
+    key: SceneKey,
+    loaded: Loaded,
+}
+
+impl Prepared {
+    /// Loads the scene of `args` on the calling thread. The model file is stat'ed first, so
+    /// a file rewritten during the load is seen as another scene and loaded again.
+    pub fn load(args: &Options) -> Prepared {
+        let key = SceneKey::new(args, None, crate::repro::stamp(args));
+        Prepared {
+            key,
+            loaded: load(args),
+        }
+    }
+}
+
+/// Whether pictures of `a` and `b` draw the same scene (same model file, unchanged, and
+/// load options): a server loads it once for both.
+pub fn same_scene(a: &Options, b: &Options) -> bool {
+    SceneKey::new(a, None, crate::repro::stamp(a)).matches(b, None, &crate::repro::stamp(b))
 }
 
 /// Loads the scene of `args` (on whatever thread calls it) with its time and the loader's

@@ -95,3 +95,27 @@ fn scenes_of_a_context_share_their_environments() {
     let (_, p) = draw(&mut s, &options(&sphere_uniform));
     assert_eq!((p.scene_uploads, p.environments_made), (0, 0));
 }
+
+/// A scene loaded on another thread (`Prepared::load`, as the server's loading workers do)
+/// and adopted by a session draws exactly the bytes a session loading it itself draws, and
+/// the picture uploads nothing more; a failed load is `adopt`'s error, naming the file.
+#[test]
+fn a_scene_loaded_off_thread_draws_as_one_loaded_here() {
+    use glview::session::{same_scene, Prepared};
+    common::at_repo();
+    let o = options(&["models/sphere.obj"]);
+    let (here, _) = draw(&mut Session::new(), &o);
+    let mut s = Session::open(&o).expect("a headless context");
+    assert!(!s.has_scene(&o));
+    let prepared = std::thread::scope(|t| t.spawn(|| Prepared::load(&o)).join().unwrap());
+    s.adopt(&o, prepared).expect("adopted");
+    assert!(s.has_scene(&o));
+    let (adopted, p) = draw(&mut s, &o);
+    assert_eq!(p.scene_uploads, 0);
+    assert!(adopted == here, "the adopted scene drew other pixels");
+    let missing = options(&["models/no-such-model.obj"]);
+    assert!(!same_scene(&o, &missing) && same_scene(&o, &o.clone()));
+    let e = s.adopt(&missing, Prepared::load(&missing)).unwrap_err();
+    assert!(e.to_string().contains("no-such-model.obj"), "{e}");
+    assert!(s.has_scene(&o), "a failed load keeps the scenes there");
+}

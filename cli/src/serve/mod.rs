@@ -166,7 +166,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         fixed_size,
         max_size: base.picture.size,
     };
-    scheduler::Scheduler::new(session, base, models, config, presenter_online, events).run(&rx);
+    scheduler::Scheduler::new(session, base, models, config, presenter_online, events)?.run(&rx);
     Ok(())
 }
 

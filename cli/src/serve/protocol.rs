@@ -102,6 +102,13 @@ pub enum Event {
         still: bool,
         bytes: Result<tungstenite::Bytes, String>,
     },
+    /// From a loading worker: load `load`'s scene, for pictures of `options`, ready to upload
+    /// (or the loader's panic).
+    Loaded {
+        load: u64,
+        options: Box<glview::Options>,
+        prepared: Result<Box<glview::session::Prepared>, String>,
+    },
 }
 
 /// An `error` message's text.

@@ -2,7 +2,10 @@
 //! least render time first. Inputs (taken from each viewer's bounded inbox) only change a
 //! view (the latest wins); a view is drawn when it changed and its last frame was
 //! acknowledged: small and JPEG while input arrives, full-size PNG once it stops, encoded on
-//! a worker. A presenter's frames go to every follower.
+//! a worker. A presenter's frames go to every follower. A model not yet uploaded is loaded
+//! on a worker ([`loads`]) while the others are drawn.
+mod loads;
+
 use super::models::Models;
 use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
 use super::queues::{Inbox, Outbox};
@@ -65,6 +68,8 @@ struct Viewer {
     served_at: Option<Instant>,
     /// Its frame is being encoded on a worker: the next one waits.
     encoding: bool,
+    /// Its scene is being loaded on a worker (or waits for a worker): it waits.
+    loading: bool,
 }
 
 impl Viewer {
@@ -113,8 +118,15 @@ pub struct Scheduler {
     next_frame: u64,
     presenter: Option<u64>,
     presenter_online: Arc<std::sync::atomic::AtomicBool>,
-    /// The encoders' way back (`Event::Encoded`).
+    /// The encoders' and loaders' way back (`Event::Encoded`, `Event::Loaded`).
     events: Sender<Event>,
+    /// The scenes being loaded on workers, by load number.
+    loads: BTreeMap<u64, Options>,
+    next_load: u64,
+    /// The encoders: a pool of their own, because a model's load fills rayon's global pool
+    /// (its parse, normals and clusters are parallel) and an encode queued behind it held
+    /// every other viewer's frame back by ~100 ms (measured).
+    encoders: rayon::ThreadPool,
 }
 
 impl Scheduler {
@@ -125,8 +137,14 @@ impl Scheduler {
         config: Config,
         presenter_online: Arc<std::sync::atomic::AtomicBool>,
         events: Sender<Event>,
-    ) -> Scheduler {
-        Scheduler {
+    ) -> glview::Result<Scheduler> {
+        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+        let encoders = rayon::ThreadPoolBuilder::new()
+            .num_threads(cores.clamp(1, 4))
+            .thread_name(|i| format!("glview-encode-{i}"))
+            .build()
+            .map_err(|e| glview::Error::Unsupported(format!("cannot start the encoders: {e}")))?;
+        Ok(Scheduler {
             session,
             base,
             models,
@@ -138,7 +156,10 @@ impl Scheduler {
             presenter: None,
             presenter_online,
             events,
-        }
+            loads: BTreeMap::new(),
+            next_load: 1,
+            encoders,
+        })
     }
 
     /// Serves for the life of the process.
@@ -176,7 +197,7 @@ impl Scheduler {
 
     /// When `v` wants a frame next (None: it waits for an ack, input, or its presenter).
     fn due_at(&self, id: u64, v: &Viewer) -> Option<Instant> {
-        if v.in_flight.is_some() || v.encoding || !self.draws_own(id) {
+        if v.in_flight.is_some() || v.encoding || v.loading || !self.draws_own(id) {
             return None;
         }
         let at = if v.dirty {
@@ -250,6 +271,11 @@ impl Scheduler {
                 still,
                 bytes,
             } => self.encoded(id, frame, still, bytes),
+            Event::Loaded {
+                load,
+                options,
+                prepared,
+            } => self.loaded(load, &options, prepared),
             Event::Wake { id } => {
                 let msgs = match self.viewers.get(&id) {
                     Some(v) => v.inbox.take(),
@@ -306,6 +332,7 @@ impl Scheduler {
             not_before: Instant::now(),
             served_at: None,
             encoding: false,
+            loading: false,
         };
         self.viewers.insert(id, v);
         if presenter {
@@ -485,10 +512,18 @@ impl Scheduler {
         } else {
             Kind::Still
         };
+        // Inputs are applied with the scene, and the frame drawn of it: both wait for it.
+        if self.load_first(id, kind) {
+            return;
+        }
         if let Err(e) = self.apply_pending(id, kind) {
             let v = self.viewers.get_mut(&id).expect("served");
             v.error(&self.models.scrub(&e));
             (v.dirty, v.still_owed) = (false, false);
+            return;
+        }
+        // A key may have changed the load options (x-ray, flat): another scene.
+        if self.load_first(id, kind) {
             return;
         }
         let v = &self.viewers[&id];
@@ -524,7 +559,7 @@ impl Scheduler {
         v.encoding = true;
         let events = self.events.clone();
         let still = kind == Kind::Still;
-        rayon::spawn(move || {
+        self.encoders.spawn(move || {
             let bytes = encode(drawn)
                 .map(|(header, image)| frame_bytes(&header, &image).into())
                 .map_err(|e| e.to_string());
