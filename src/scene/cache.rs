@@ -83,7 +83,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// (issue 31): entries of 9 hold such clouds without them.
 /// 11: the glTF PBR extensions (issue 32): `Material::khr` and its nine texture slots.
 /// 12: level of detail (issue 30): clusters' groups and levels, levels' indices at the end.
-const FORMAT: u32 = 12;
+/// 13: KHR_materials_iridescence (issue 37): `Khr::iridescence` and two more slots.
+const FORMAT: u32 = 13;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -173,7 +174,7 @@ struct WireMeta {
 /// A material's texture slots as indices into the header's texture table, in the order of
 /// [`Material::slots_mut`].
 type SlotRefs = [Option<usize>; SLOTS];
-const SLOTS: usize = 16;
+const SLOTS: usize = 18;
 
 #[derive(Serialize, Deserialize)]
 struct Header {

@@ -25,6 +25,7 @@ mod gltf_alpha;
 mod gltf_draw;
 mod gltf_extensions;
 mod gltf_khr;
+mod gltf_khr_iridescence;
 mod gltf_khr_maps;
 mod gltf_khr_transmission;
 mod gltf_materials;
