@@ -7,7 +7,9 @@
 // * specular colour, 1) * weight and f90 = weight for the dielectric; KHR_SHEEN adds a
 // Charlie lobe and scales what lies under it by 1 - max(sheen colour) * E_sheen(N.V);
 // KHR_CLEARCOAT adds a GGX lobe of F0 0.04 on its own normal and roughness and scales what
-// lies under it by 1 - clearcoat * F_cc(N_cc.V).
+// lies under it by 1 - clearcoat * F_cc(N_cc.V); KHR_IRIDESCENCE mixes the base's reflection
+// Fresnel with a thin film's at N.V by the iridescence factor (the diffuse with the film's
+// reflectance at normal incidence in place of f0).
 IN vec3 vEyePos;
 #ifdef LOG_DEPTH
 #include "logdepth.glsl"
@@ -26,6 +28,9 @@ uniform vec3 uLightColor[NUM_LIGHTS];
 #include "shadow.glsl"
 #endif
 #include "ibl.glsl"
+#ifdef KHR_IRIDESCENCE
+#include "iridescence.glsl"
+#endif
 #include "output.glsl"
 
 uniform vec3 uBaseColor;
@@ -58,8 +63,8 @@ IN vec4 vColor;
 // 1 clearcoat roughness, 2 clearcoat normal, 3 sheen colour, 4 sheen roughness, 5 specular,
 // 6 specular colour, 7 transmission, 8 thickness; each with its UV set and transform like
 // the core slots.
-uniform mat3 uKhrXf[9];
-uniform float uKhrSet[9];
+uniform mat3 uKhrXf[11];
+uniform float uKhrSet[11];
 #define KHR_UV(i) ((uKhrXf[i] * vec3(uKhrSet[i] > 0.5 ? GLVIEW_UV1 : vUv, 1.0)).xy)
 #endif
 #ifdef KHR_SPECULAR
@@ -100,6 +105,18 @@ uniform sampler2D uThicknessMap;       // g
 #define GLVIEW_TEX2D_LOD(s, uv, l) textureLod(s, uv, l)
 #else
 #define GLVIEW_TEX2D_LOD(s, uv, l) texture2D(s, uv, l)
+#endif
+#endif
+#ifdef KHR_IRIDESCENCE
+uniform float uIridescence;
+uniform float uTermIridescence;        // the --terms layer (0 or 1)
+uniform float uIridescenceIor;
+uniform vec2 uIridescenceThickness;    // minimum, maximum (nm)
+#ifdef HAS_IRIDESCENCE_MAP
+uniform sampler2D uIridescenceMap;     // r
+#endif
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+uniform sampler2D uIridescenceThicknessMap;   // g
 #endif
 #endif
 #ifdef KHR_CLEARCOAT
@@ -159,6 +176,10 @@ struct PbrSurface {
 #ifdef KHR_SPECULAR
     vec3 f90;
 #endif
+#ifdef KHR_IRIDESCENCE
+    float irid;       // the film's weight
+    vec3 iridF;       // the film's Fresnel at N.V
+#endif
 };
 
 // The base colour, metallic, roughness, occlusion and emission: the factors times their
@@ -207,6 +228,28 @@ PbrSurface pbrMaterial() {
     return s;
 }
 
+#ifdef KHR_IRIDESCENCE
+// KHR_materials_iridescence: the film's weight and its Fresnel at N.V over the base's k_s;
+// the diffuse takes what the film reflects at normal incidence in place of f0 (mixed by the
+// weight), as glview's k_d takes f0 and not the Fresnel at the view's angle.
+void pbrFilm(inout PbrSurface s, float f0max) {
+    s.irid = uIridescence * uTermIridescence;
+#ifdef HAS_IRIDESCENCE_MAP
+    s.irid *= TEX2D(uIridescenceMap, KHR_UV(9)).r;
+#endif
+    float d = uIridescenceThickness.y;
+#ifdef HAS_IRIDESCENCE_THICKNESS_MAP
+    d = mix(uIridescenceThickness.x, d, TEX2D(uIridescenceThicknessMap, KHR_UV(10)).g);
+#endif
+    // A film of no thickness is none (as the Sample Viewer: the formula would tint).
+    if (d <= 0.0) s.irid = 0.0;
+    s.iridF = glviewIridescence(uIridescenceIor, s.nv, d, s.ks);
+    vec3 i0 = glviewIridescence(uIridescenceIor, 1.0, d, s.ks);
+    float f0 = mix(f0max, max(max(i0.r, i0.g), i0.b), s.irid);
+    s.kd = s.albedo * (1.0 - f0) * (1.0 - s.metallic);
+}
+#endif
+
 // The view direction and the base layer's diffuse and specular colours (KHR_SPECULAR: its
 // dielectric F0 and F90).
 void pbrView(inout PbrSurface s) {
@@ -222,12 +265,17 @@ void pbrView(inout PbrSurface s) {
     specW *= TEX2D(uSpecularMap, KHR_UV(5)).a;
 #endif
     f0d = min(f0d, vec3(1.0)) * specW;
-    s.kd = s.albedo * (1.0 - max(max(f0d.r, f0d.g), f0d.b)) * (1.0 - s.metallic);
+    float f0max = max(max(f0d.r, f0d.g), f0d.b);
+    s.kd = s.albedo * (1.0 - f0max) * (1.0 - s.metallic);
     s.ks = mix(f0d, s.albedo, s.metallic);
     s.f90 = vec3(mix(specW, 1.0, s.metallic));
 #else
+    float f0max = 0.04;
     s.kd = s.albedo * (1.0 - 0.04) * (1.0 - s.metallic);
     s.ks = mix(vec3(0.04), s.albedo, s.metallic);
+#endif
+#ifdef KHR_IRIDESCENCE
+    pbrFilm(s, f0max);
 #endif
 }
 
@@ -260,6 +308,10 @@ vec3 pbrIbl(PbrSurface s) {
     r = normalize(mix(r, s.n, a * a));
 #endif
     vec3 spec = pbrSplitSum(s, bf);
+#ifdef KHR_IRIDESCENCE
+    // The film's Fresnel is the same for every direction of the lobe: it scales A + B.
+    spec = mix(spec, s.iridF * (bf.x + bf.y), s.irid);
+#endif
 #ifdef MULTISCATTER
     // Energy lost to single scattering is added back (Fdez-Aguera 2019).
     spec *= 1.0 + s.ks * (1.0 / max(bf.x + bf.y, 1e-4) - 1.0);
@@ -462,6 +514,9 @@ void pbrAddDirectLight(vec3 l, float shadow, vec3 lightColor, PbrSurface s,
     if (nl > 0.0) {
         vec3 h = glviewSafeNormalize(l + s.v);
         vec3 f = pbrFresnel(s, dot(s.v, h));
+#ifdef KHR_IRIDESCENCE
+        f = mix(f, s.iridF, s.irid);
+#endif
         vec3 fs = glviewD_GGX(max(dot(s.n, h), 0.0), s.rough) * glviewG_Smith(s.nv, nl, s.rough)
             * f / (4.0 * s.nv * nl);
         color += shadow * lightColor * (uTermsA.x * s.kd + uTermsA.y * GLVIEW_PI * fs) * nl;

@@ -494,10 +494,11 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
         on(p.emissive)
     ));
     lines.push(format!(
-        "glTF layers: clearcoat {} sheen {} transmission {}",
+        "glTF layers: clearcoat {} sheen {} transmission {} iridescence {}",
         on(p.clearcoat),
         on(p.sheen),
-        on(p.transmission)
+        on(p.transmission),
+        on(p.iridescence)
     ));
     lines.push(String::new());
     lines.extend(keys::help_text().lines().map(str::to_string));

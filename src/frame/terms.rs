@@ -123,11 +123,12 @@ pub struct PbrTerms {
     pub emissive: bool,
     /// The material's normal map (both tiers); off: the interpolated normal.
     pub normal_map: bool,
-    /// The glTF extensions' layers (KHR_materials_clearcoat, _sheen, _transmission): off,
-    /// the material is drawn without the layer.
+    /// The glTF extensions' layers (KHR_materials_clearcoat, _sheen, _transmission,
+    /// _iridescence): off, the material is drawn without the layer.
     pub clearcoat: bool,
     pub sheen: bool,
     pub transmission: bool,
+    pub iridescence: bool,
 }
 
 impl Default for PbrTerms {
@@ -138,11 +139,13 @@ impl Default for PbrTerms {
 
 impl PbrTerms {
     /// The switch the PBR tier's key `1`–`9`, `0` (index 0–9) toggles: the terms in their
-    /// written order, the normal map skipped (it has no key).
+    /// written order, the normal map skipped (it has no key); the ten keys end at
+    /// transmission, so iridescence is `--terms` only.
     pub(crate) fn key_switch(&mut self, i: u8) -> Option<&mut bool> {
         self.named()
             .into_iter()
             .filter(|(n, _)| *n != "normal-map")
+            .take(10)
             .nth(usize::from(i))
             .map(|(_, b)| b)
     }
@@ -161,6 +164,7 @@ impl Switches for PbrTerms {
         clearcoat: true,
         sheen: true,
         transmission: true,
+        iridescence: true,
     };
     const NONE: PbrTerms = PbrTerms {
         direct_diffuse: false,
@@ -174,6 +178,7 @@ impl Switches for PbrTerms {
         clearcoat: false,
         sheen: false,
         transmission: false,
+        iridescence: false,
     };
     fn named(&mut self) -> Vec<(&'static str, &mut bool)> {
         vec![
@@ -188,6 +193,7 @@ impl Switches for PbrTerms {
             ("clearcoat", &mut self.clearcoat),
             ("sheen", &mut self.sheen),
             ("transmission", &mut self.transmission),
+            ("iridescence", &mut self.iridescence),
         ]
     }
 }

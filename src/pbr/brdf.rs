@@ -112,18 +112,32 @@ pub(crate) struct Surface {
     pub(crate) f90: f64,
     /// KHR_materials_transmission's share of the diffuse term that becomes transmission.
     pub(crate) transmission: f64,
+    /// KHR_materials_iridescence's thin film (None: none, or the `--terms` layer off).
+    pub(crate) film: Option<Film>,
+}
+
+/// A thin film over the base (KHR_materials_iridescence at one point).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Film {
+    pub(crate) factor: f64,
+    pub(crate) ior: f64,
+    /// Nanometres.
+    pub(crate) thickness: f64,
 }
 
 impl Surface {
     /// The core model's dielectric: F0 0.04, F90 1.
     pub(crate) const CORE_F0: (DVec3, f64) = (DVec3::splat(super::F0), 1.0);
 
-    /// k_d = albedo·(1 − max(f0))·(1 − metallic)·(1 − transmission)
+    /// k_d = albedo·(1 − max(f0))·(1 − metallic)·(1 − transmission); under a film, f0 is
+    /// mix(f0, film's reflectance at normal incidence, factor).
     pub(crate) fn kd(&self) -> DVec3 {
-        self.albedo
-            * (1.0 - self.f0.max_element())
-            * (1.0 - self.metallic)
-            * (1.0 - self.transmission)
+        let mut f0 = self.f0.max_element();
+        if let Some(film) = self.film {
+            let i = super::iridescence::fresnel(film.ior, 1.0, film.thickness, self.ks());
+            f0 += (i.max_element() - f0) * film.factor;
+        }
+        self.albedo * (1.0 - f0) * (1.0 - self.metallic) * (1.0 - self.transmission)
     }
     /// k_s = mix(f0, albedo, metallic)
     pub(crate) fn ks(&self) -> DVec3 {
@@ -132,6 +146,20 @@ impl Surface {
     /// F90 = mix(f90, 1, metallic)
     pub(crate) fn f90(&self) -> f64 {
         self.f90 + (1.0 - self.f90) * self.metallic
+    }
+
+    /// The reflection's Fresnel at V·H `v_dot_h`, viewed at N·V `n_dot_v`: Schlick's from k_s
+    /// to F90; under a film, mixed with the film's (at N·V, the same for every half vector,
+    /// as the Sample Viewer) by its factor.
+    pub(crate) fn fresnel(&self, n_dot_v: f64, v_dot_h: f64) -> DVec3 {
+        let f = f_schlick90(self.ks(), self.f90(), v_dot_h);
+        match self.film {
+            Some(film) => {
+                let i = super::iridescence::fresnel(film.ior, n_dot_v, film.thickness, self.ks());
+                f.lerp(i, film.factor)
+            }
+            None => f,
+        }
     }
 
     /// Direct light of unit colour from direction `l`: (k_d + π·f_spec)·N·L. A light's colour
@@ -145,7 +173,7 @@ impl Surface {
         let h = (l + v).normalize_or_zero();
         let spec = d_ggx(n.dot(h).max(0.0), self.roughness)
             * g_smith(n_dot_v, n_dot_l, self.roughness)
-            * f_schlick90(self.ks(), self.f90(), v.dot(h).max(0.0))
+            * self.fresnel(n_dot_v, v.dot(h).max(0.0))
             / (4.0 * n_dot_v * n_dot_l);
         (self.kd() + PI * spec) * n_dot_l
     }
@@ -174,7 +202,6 @@ impl Surface {
         radiance: &dyn Fn(DVec3) -> DVec3,
     ) -> DVec3 {
         let n_dot_v = n.dot(v).max(1e-4);
-        let (ks, f90) = (self.ks(), self.f90());
         let mut spec = DVec3::ZERO;
         for i in 0..samples {
             let (u1, u2) = hammersley(i, samples);
@@ -185,7 +212,7 @@ impl Surface {
                 let (n_dot_h, v_dot_h) = (n.dot(h).max(1e-8), v.dot(h).max(0.0));
                 // f·cos/pdf with pdf = D·(N·H)/(4·V·H)
                 let w = g_smith(n_dot_v, n_dot_l, self.roughness) * v_dot_h / (n_dot_h * n_dot_v);
-                spec += radiance(l) * f_schlick90(ks, f90, v_dot_h) * w;
+                spec += radiance(l) * self.fresnel(n_dot_v, v_dot_h) * w;
             }
         }
         spec / f64::from(samples.max(1))

@@ -8,6 +8,7 @@
 pub(crate) mod brdf;
 pub(crate) mod cache;
 pub mod env;
+pub(crate) mod iridescence;
 pub mod precompute;
 pub(crate) mod sheen;
 pub(crate) mod views;

@@ -33,6 +33,29 @@ pub(crate) fn dielectric(m: &Material, c: &Corners) -> (DVec3, f64) {
     (f0.min(DVec3::ONE) * w, w)
 }
 
+/// KHR_materials_iridescence's film at a hit (None without it, or with the `--terms` layer
+/// off): the factor times the texture's red (0 where the film is 0 nm thick), the thickness
+/// from the minimum to the maximum by the thickness texture's green (the maximum without it).
+pub(crate) fn film(m: &Material, c: &Corners, on: bool) -> Option<crate::pbr::brdf::Film> {
+    let i = m.khr.iridescence.filter(|_| on)?;
+    let mut factor = f64::from(i.factor);
+    if let Some(t) = texel(m, Slot::Iridescence, c, false) {
+        factor *= t.x;
+    }
+    let (lo, hi) = (f64::from(i.thickness_min), f64::from(i.thickness_max));
+    let thickness =
+        texel(m, Slot::IridescenceThickness, c, false).map_or(hi, |t| lo + (hi - lo) * t.y);
+    // A film of no thickness is none (as the Sample Viewer: the formula would tint).
+    if thickness <= 0.0 {
+        factor = 0.0;
+    }
+    Some(crate::pbr::brdf::Film {
+        factor,
+        ior: f64::from(i.ior),
+        thickness,
+    })
+}
+
 /// The layers over the core model at one hit.
 #[derive(Default)]
 pub(crate) struct Layers {
@@ -157,6 +180,7 @@ impl Layers {
                 f0: DVec3::splat(crate::pbr::F0),
                 f90: 1.0,
                 transmission: 0.0,
+                film: None,
             };
             let mut f = DVec3::ZERO;
             if ibl {

@@ -73,6 +73,7 @@ pub(crate) fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams
         f0,
         f90,
         transmission: 0.0,
+        film: super::layers::film(m, c, l.pbr_terms.iridescence),
     }
 }
 

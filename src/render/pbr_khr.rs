@@ -1,5 +1,6 @@
 //! The glTF PBR extensions in the PBR tier (issue 32): which of them a material's program
-//! computes (`KHR_CLEARCOAT`, `KHR_SHEEN`, `KHR_SPECULAR`, `KHR_TRANSMISSION`, `KHR_VOLUME`:
+//! computes (`KHR_CLEARCOAT`, `KHR_SHEEN`, `KHR_SPECULAR`, `KHR_TRANSMISSION`, `KHR_VOLUME`,
+//! `KHR_IRIDESCENCE`:
 //! permutations, so a material without an extension runs the core program unchanged), their
 //! textures' units and their uniforms, and the copy of the opaque frame transmission reads
 //! (`copy_frame`). The formulas are in `pbr.frag` and docs/gltf/extensions.md.
@@ -26,6 +27,12 @@ const MAPS: [(&str, &str, &str); COUNT] = [
     ("HAS_SPECULAR_COLOR_MAP", "spc", "uSpecularColorMap"),
     ("HAS_TRANSMISSION_MAP", "trm", "uTransmissionMap"),
     ("HAS_THICKNESS_MAP", "thm", "uThicknessMap"),
+    ("HAS_IRIDESCENCE_MAP", "irm", "uIridescenceMap"),
+    (
+        "HAS_IRIDESCENCE_THICKNESS_MAP",
+        "irt",
+        "uIridescenceThicknessMap",
+    ),
 ];
 
 /// Which extensions and maps a program computes.
@@ -38,6 +45,8 @@ pub(crate) struct KhrFlags {
     pub(crate) transmission: bool,
     /// Refraction through the volume and Beer–Lambert attenuation (with transmission).
     pub(crate) volume: bool,
+    /// KHR_materials_iridescence's thin film over the base.
+    pub(crate) iridescence: bool,
     /// Per slot of [`SLOTS`]: the map is read.
     pub(crate) maps: [bool; COUNT],
 }
@@ -50,6 +59,7 @@ impl KhrFlags {
         specular: true,
         transmission: true,
         volume: true,
+        iridescence: true,
         maps: [true; COUNT],
     };
 
@@ -60,6 +70,7 @@ impl KhrFlags {
             .switch("KHR_SPECULAR", "spec", self.specular)
             .switch("KHR_TRANSMISSION", "trans", self.transmission)
             .switch("KHR_VOLUME", "vol", self.volume)
+            .switch("KHR_IRIDESCENCE", "irid", self.iridescence)
             .switch("HAS_KHR_MAPS", "khrm", self.maps.iter().any(|m| *m));
         for (on, (define, short, _)) in self.maps.iter().zip(MAPS) {
             key = key.switch(define, short, *on);
@@ -109,6 +120,7 @@ pub(crate) fn flags(
         specular: k.has_f0(),
         transmission,
         volume: transmission && k.volume.is_some(),
+        iridescence: k.iridescence.is_some(),
         maps: [false; COUNT],
     };
     let used = [
@@ -121,6 +133,8 @@ pub(crate) fn flags(
         f.specular,
         f.transmission,
         f.volume,
+        f.iridescence,
+        f.iridescence,
     ];
     for (i, on) in f.maps.iter_mut().enumerate() {
         *on = has_uv && used[i] && textures[i].is_some();
@@ -140,14 +154,19 @@ pub(crate) fn flags(
 
 /// The sampler units of a program's extension maps and the frame's copy (set once per
 /// program); `levels`: the copy's mip levels (0: none, read sharp).
-pub(crate) fn program_uniforms(p: &Program, terms: (bool, bool, bool), levels: f32) {
+/// `terms`: the clearcoat, sheen, transmission and iridescence layers.
+pub(crate) fn program_uniforms(p: &Program, terms: [bool; 4], levels: f32) {
     for (i, (_, _, name)) in MAPS.iter().enumerate() {
         p.set_i32(name, (KHR_FIRST_UNIT + i as u32) as i32);
     }
     p.set_i32("uTransmissionFrame", FRAME_UNIT as i32);
     p.set_f32("uFrameLevels", levels);
     let on = |b: bool| if b { 1.0 } else { 0.0 };
-    p.set_vec3("uTermsC", Vec3::new(on(terms.0), on(terms.1), on(terms.2)));
+    p.set_vec3(
+        "uTermsC",
+        Vec3::new(on(terms[0]), on(terms[1]), on(terms[2])),
+    );
+    p.set_f32("uTermIridescence", on(terms[3]));
 }
 
 /// A material's extension uniforms, and its maps bound to their units; returns the number of
@@ -192,6 +211,14 @@ pub(crate) fn material(
             v.attenuation_distance.unwrap_or(0.0),
         );
     }
+    if let (true, Some(i)) = (f.iridescence, k.iridescence) {
+        p.set_f32("uIridescence", i.factor);
+        p.set_f32("uIridescenceIor", i.ior);
+        p.set_vec2(
+            "uIridescenceThickness",
+            glam::Vec2::new(i.thickness_min, i.thickness_max),
+        );
+    }
     let mut bound = 0;
     if f.maps.iter().any(|m| *m) {
         for (i, slot) in SLOTS.iter().enumerate() {
@@ -225,7 +252,7 @@ pub(crate) fn frame_allows(cx: &super::FrameCx) -> bool {
     } else if super::background::masked(cx) {
         Some("with --translucency nearest-masked")
     } else if FRAME_UNIT >= cx.gpu.caps.max_texture_units {
-        Some("with fewer than 30 texture units")
+        Some("with fewer than 32 texture units")
     } else {
         None
     };

@@ -19,8 +19,8 @@
 //! | 11-18     | pbr                  | the specular cubes, one per roughness level; levels   |
 //! |           |                      | past the driver's count are dropped (`max_levels`)    |
 //! | 19        | translucent, grid    | the RGBM frame's copy blended over in the shader      |
-//! | 20-28     | pbr_khr              | the KHR extension maps (clearcoat, sheen, ...)        |
-//! | 29        | pbr_khr              | the opaque frame's copy transmission reads            |
+//! | 20-30     | pbr_khr              | the KHR extension maps (clearcoat, sheen, ...)        |
+//! | 31        | pbr_khr              | the opaque frame's copy transmission reads            |
 //!
 //! Full-screen passes (post, aa, overlay, ibl_gpu, the shadow map view) draw one quad with
 //! their own program and bind their inputs from unit 0 up; they share no program with the

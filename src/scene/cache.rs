@@ -97,7 +97,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 12: level of detail (issue 30): clusters' groups and levels, levels' indices at the end.
 /// 13: two sections (issue 41): a first view's (large meshes' whole levels compact), then
 /// the rest, each with its own hash.
-const FORMAT: u32 = 13;
+/// 14: KHR_materials_iridescence (issue 37): `Khr::iridescence` and two more slots.
+const FORMAT: u32 = 14;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -187,7 +188,7 @@ struct WireMeta {
 /// A material's texture slots as indices into the header's texture table, in the order of
 /// [`Material::slots_mut`].
 type SlotRefs = [Option<usize>; SLOTS];
-const SLOTS: usize = 16;
+const SLOTS: usize = 18;
 
 #[derive(Serialize, Deserialize)]
 struct Header {

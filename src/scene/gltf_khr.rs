@@ -3,7 +3,7 @@
 //! [`super::material_khr::Khr`]. Texture infos are resolved like the core slots (sampler,
 //! UV set, KHR_texture_transform); a malformed value is the extension's default, as a
 //! missing one is, with a warning ([`problems`]).
-use super::material_khr::{Clearcoat, Khr, Sheen, Specular, Volume};
+use super::material_khr::{Clearcoat, Iridescence, Khr, Sheen, Specular, Volume};
 use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TexTransform};
 use serde_json::Value;
@@ -55,7 +55,7 @@ pub(crate) fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Op
 }
 
 /// The material extensions read from raw JSON (here and in `gltf_specgloss`).
-const EXTENSIONS: [&str; 7] = [
+const EXTENSIONS: [&str; 8] = [
     "KHR_materials_clearcoat",
     "KHR_materials_sheen",
     "KHR_materials_specular",
@@ -63,6 +63,7 @@ const EXTENSIONS: [&str; 7] = [
     "KHR_materials_transmission",
     "KHR_materials_volume",
     "KHR_materials_pbrSpecularGlossiness",
+    "KHR_materials_iridescence",
 ];
 
 /// The images the extensions' texture infos of material `m` name (decoded with the core
@@ -92,8 +93,9 @@ pub(crate) fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize
 /// What the reader will not take in material `m`'s extensions, one line each: the reader
 /// uses the default for a malformed value as for a missing one, and these lines say so.
 /// By the extensions' naming: a `…Texture` is a texture info whose index names a texture,
-/// a `…Factor`, `ior`, `attenuationColor` and `attenuationDistance` are a finite number or
-/// an array of them (their lengths and ranges are the reader's to keep).
+/// a `…Factor`, `…Ior`, `…Minimum`, `…Maximum`, `ior`, `attenuationColor` and
+/// `attenuationDistance` are a finite number or an array of them (their lengths and ranges
+/// are the reader's to keep).
 pub(crate) fn problems(doc: &gltf::Document, m: &gltf::Material) -> Vec<String> {
     let finite = |v: &Value| v.as_f64().is_some_and(f64::is_finite);
     let textures = doc.textures().count();
@@ -109,7 +111,9 @@ pub(crate) fn problems(doc: &gltf::Document, m: &gltf::Material) -> Vec<String> 
                     Some(i) => Some(format!("names texture {i}, which does not exist")),
                     None => Some("has no texture index".to_string()),
                 }
-            } else if key.ends_with("Factor")
+            } else if ["Factor", "Ior", "Minimum", "Maximum"]
+                .iter()
+                .any(|s| key.ends_with(s))
                 || ["ior", "attenuationColor", "attenuationDistance"].contains(&key.as_str())
             {
                 let ok = finite(v) || v.as_array().is_some_and(|a| a.iter().all(finite));
@@ -204,6 +208,17 @@ pub(crate) fn read(
         });
         tex(e, "thicknessTexture", Slot::Thickness, lin, &mut k);
     }
+    if let Some(e) = m.extension_value("KHR_materials_iridescence") {
+        k.iridescence = Some(iridescence(e));
+        tex(e, "iridescenceTexture", Slot::Iridescence, lin, &mut k);
+        tex(
+            e,
+            "iridescenceThicknessTexture",
+            Slot::IridescenceThickness,
+            lin,
+            &mut k,
+        );
+    }
     if let Some(e) = m.extension_value("KHR_materials_ior") {
         // At least 1, or exactly 0 (the specification's F0 = 1, for converted
         // specular-glossiness materials); anything else is the default.
@@ -211,4 +226,20 @@ pub(crate) fn read(
         k.ior = Some(if ior >= 1.0 || ior == 0.0 { ior } else { 1.5 });
     }
     k
+}
+
+/// KHR_materials_iridescence's factors. A film ior below 1 (no physical thin film) and
+/// negative thicknesses are read as the defaults, as the specification's ranges say.
+fn iridescence(e: &Value) -> Iridescence {
+    let d = Iridescence::default();
+    let ior = num(e, "iridescenceIor", d.ior);
+    let nm = |key, default| Some(num(e, key, default)).filter(|t| *t >= 0.0);
+    Iridescence {
+        factor: num(e, "iridescenceFactor", d.factor).clamp(0.0, 1.0),
+        ior: if ior >= 1.0 { ior } else { d.ior },
+        thickness_min: nm("iridescenceThicknessMinimum", d.thickness_min)
+            .unwrap_or(d.thickness_min),
+        thickness_max: nm("iridescenceThicknessMaximum", d.thickness_max)
+            .unwrap_or(d.thickness_max),
+    }
 }

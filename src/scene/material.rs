@@ -308,8 +308,8 @@ impl Material {
     }
 
     /// Every texture slot in one fixed order (the mesh cache's slot table follows it).
-    pub(crate) fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 16] {
-        let [a, b, c, d, e, f, g, h, i] = &mut self.khr.maps;
+    pub(crate) fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 18] {
+        let [a, b, c, d, e, f, g, h, i, j, k] = &mut self.khr.maps;
         [
             &mut self.base_color_texture,
             &mut self.normal_texture,
@@ -327,12 +327,14 @@ impl Material {
             g,
             h,
             i,
+            j,
+            k,
         ]
     }
 
     /// As [`Material::slots_mut`], read only.
-    pub(crate) fn slots(&self) -> [&Option<TextureSlot>; 16] {
-        let [a, b, c, d, e, f, g, h, i] = &self.khr.maps;
+    pub(crate) fn slots(&self) -> [&Option<TextureSlot>; 18] {
+        let [a, b, c, d, e, f, g, h, i, j, k] = &self.khr.maps;
         [
             &self.base_color_texture,
             &self.normal_texture,
@@ -350,6 +352,8 @@ impl Material {
             g,
             h,
             i,
+            j,
+            k,
         ]
     }
 

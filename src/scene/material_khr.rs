@@ -7,7 +7,8 @@
 //! F0 is ((ior − 1)/(ior + 1))² · specularColor, clamped to 1, and the specular factor
 //! weights the dielectric Fresnel (f0 and f90 alike); the clearcoat is a GGX lobe of F0 0.04
 //! over the base, which it attenuates by 1 − clearcoat·F_cc; the sheen is a Charlie lobe over
-//! the base, which it attenuates by 1 − max(sheenColor)·E_sheen.
+//! the base, which it attenuates by 1 − max(sheenColor)·E_sheen. KHR_materials_iridescence
+//! replaces the base's Fresnel by a thin film's (Belcour & Barla 2017) weighted by its factor.
 use super::texture_slot::{Slot, TextureSlot};
 use serde::{Deserialize, Serialize};
 
@@ -56,8 +57,32 @@ pub struct Volume {
     pub attenuation_distance: Option<f32>,
 }
 
+/// KHR_materials_iridescence (textures [`Slot::Iridescence`], red channel: the factor;
+/// [`Slot::IridescenceThickness`], green: the thickness from `thickness_min` to
+/// `thickness_max`; without it the thickness is `thickness_max`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Iridescence {
+    pub factor: f32,
+    /// The film's index of refraction.
+    pub ior: f32,
+    /// In nanometres.
+    pub thickness_min: f32,
+    pub thickness_max: f32,
+}
+
+impl Default for Iridescence {
+    fn default() -> Self {
+        Iridescence {
+            factor: 0.0,
+            ior: 1.3,
+            thickness_min: 100.0,
+            thickness_max: 400.0,
+        }
+    }
+}
+
 /// The number of extension slots.
-pub const COUNT: usize = 9;
+pub const COUNT: usize = 11;
 
 /// The extension slots in the order of [`Khr::maps`] (and of the mesh cache's table).
 pub const SLOTS: [Slot; COUNT] = [
@@ -70,6 +95,8 @@ pub const SLOTS: [Slot; COUNT] = [
     Slot::SpecularColor,
     Slot::Transmission,
     Slot::Thickness,
+    Slot::Iridescence,
+    Slot::IridescenceThickness,
 ];
 
 /// The extensions of one material. Serialised in the mesh cache with the material.
@@ -85,6 +112,8 @@ pub struct Khr {
     pub transmission: Option<f32>,
     #[serde(default)]
     pub volume: Option<Volume>,
+    #[serde(default)]
+    pub iridescence: Option<Iridescence>,
     /// The extensions' texture slots, in the order of [`SLOTS`].
     pub maps: [Option<TextureSlot>; COUNT],
     /// Converted from KHR_materials_pbrSpecularGlossiness (`super::gltf_specgloss`).

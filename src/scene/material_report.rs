@@ -66,6 +66,13 @@ fn khr_lines(k: &super::material_khr::Khr) -> Vec<String> {
                 .map_or("infinite".to_string(), |d| d.to_string())
         ));
     }
+    if let Some(i) = k.iridescence {
+        out.push(format!(
+            "KHR_materials_iridescence: iridescenceFactor {}, iridescenceIor {}, \
+             iridescenceThicknessMinimum {} nm, iridescenceThicknessMaximum {} nm",
+            i.factor, i.ior, i.thickness_min, i.thickness_max
+        ));
+    }
     if let Some(i) = k.ior {
         out.push(format!(
             "KHR_materials_ior: ior {i} (dielectric F0 {:.4})",

@@ -71,6 +71,8 @@ pub enum Slot {
     SpecularColor,
     Transmission,
     Thickness,
+    Iridescence,
+    IridescenceThickness,
 }
 
 impl Slot {
@@ -90,6 +92,8 @@ impl Slot {
             Slot::SpecularColor => "specularColorTexture",
             Slot::Transmission => "transmissionTexture",
             Slot::Thickness => "thicknessTexture",
+            Slot::Iridescence => "iridescenceTexture",
+            Slot::IridescenceThickness => "iridescenceThicknessTexture",
         }
     }
 }

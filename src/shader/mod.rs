@@ -48,6 +48,10 @@ pub(crate) const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/include/brdf.glsl"),
     ),
     (
+        "iridescence.glsl",
+        include_str!("../../shaders_gl/include/iridescence.glsl"),
+    ),
+    (
         "ibl.glsl",
         include_str!("../../shaders_gl/include/ibl.glsl"),
     ),

@@ -624,6 +624,11 @@ fn malformed_extension_values_render_with_a_warning() {
             r#""KHR_materials_volume": {"thicknessTexture": {"texCoord": 0}}"#,
             "KHR_materials_volume.thicknessTexture has no texture index",
         ),
+        (
+            "iridescence-thickness",
+            r#""KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceThicknessMaximum": "thick"}"#,
+            "KHR_materials_iridescence.iridescenceThicknessMaximum is \"thick\", not a finite number",
+        ),
     ];
     for (name, ext, expect) in cases {
         let material = format!(r#""materials": [{{"name": "m", "extensions": {{{ext}}}}}]"#);

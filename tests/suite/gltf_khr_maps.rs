@@ -10,7 +10,8 @@ use std::sync::Arc;
 
 /// The extensions' texture slots: a one-texel texture of value t with factor 1 draws as the
 /// factor t without a texture (sampler, UV set, colour space: the clearcoat's and specular's
-/// data linear, the sheen's and specular's colours sRGB), on GL 3.3 and GL 2.1.
+/// data linear, the sheen's and specular's colours sRGB, the iridescence's data linear), on
+/// GL 3.3 and GL 2.1.
 #[test]
 fn an_extension_texture_of_one_value_equals_its_factor() {
     let dir = out_dir("gltf-khr-textures");
@@ -58,6 +59,19 @@ fn an_extension_texture_of_one_value_equals_its_factor() {
                 r#""KHR_materials_specular": {{"specularFactor": 0.4,
                    "specularColorFactor": [{}, {g}, {b}]}}"#,
                 srgb(153)
+            ),
+        ),
+        (
+            // The factor's red, the thickness's green (linear) from the minimum to the maximum.
+            "iridescence",
+            r#""KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceTexture": {"index": 0},
+               "iridescenceThicknessMinimum": 100, "iridescenceThicknessMaximum": 500,
+               "iridescenceThicknessTexture": {"index": 0}}"#
+                .to_string(),
+            format!(
+                r#""KHR_materials_iridescence": {{"iridescenceFactor": 0.6,
+                   "iridescenceThicknessMaximum": {}}}"#,
+                100.0 + 400.0 * 188.0 / 255.0
             ),
         ),
     ];
@@ -136,7 +150,9 @@ fn the_mesh_cache_keeps_the_extensions_and_their_textures() {
            "sheenRoughnessFactor": 1, "sheenRoughnessTexture": {"index": 0}},
          "KHR_materials_specular": {"specularTexture": {"index": 0},
            "specularColorTexture": {"index": 0}},
-         "KHR_materials_ior": {"ior": 1.6}"#;
+         "KHR_materials_ior": {"ior": 1.6},
+         "KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceTexture": {"index": 0},
+           "iridescenceThicknessTexture": {"index": 0}}"#;
     let m = format!(
         r#"{{"pbrMetallicRoughness": {{"baseColorFactor": [0.8, 0.25, 0.1, 1],
         "metallicFactor": 0, "roughnessFactor": 0.45}},
@@ -175,6 +191,10 @@ fn the_mesh_cache_keeps_the_extensions_and_their_textures() {
     assert!(
         bytes.windows(9).any(|w| w == b"clearcoat"),
         "the entry has no clearcoat"
+    );
+    assert!(
+        bytes.windows(13).any(|w| w == b"thickness_max"),
+        "the entry has no iridescence film"
     );
 }
 
