@@ -21,7 +21,6 @@ import pytest
 from PIL import Image
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
-CHROMIUM = "/usr/bin/chromium"
 FLAGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
          "--disable-component-update", "--disable-sync", "--no-first-run"]
 YAWS, PITCHES, SIZE = 8, 3, (96, 72)
@@ -42,20 +41,6 @@ def lesson(tmp_path_factory):
     html = page.read_text(encoding="utf-8")
     m = re.search(r'<script type="application/json" id="glview-data">(.*?)</script>', html, re.S)
     return {"page": page, "package": package, "data": json.loads(m.group(1))}
-
-
-@pytest.fixture(scope="module")
-def browser():
-    if not os.path.exists(CHROMIUM):
-        if os.environ.get("CI") == "true":
-            pytest.fail(f"{CHROMIUM} is missing (scripts/test_browser.sh installs it)")
-        pytest.skip(f"{CHROMIUM} is missing (scripts/test_browser.sh installs it)")
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=FLAGS)
-        yield b
-        b.close()
 
 
 def offline_context(browser, allow):

@@ -22,7 +22,7 @@ import pytest
 from PIL import Image
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
-CHROMIUM = "/usr/bin/chromium"
+from conftest import CHROMIUM  # noqa: F401 (test_serve_proxy imports it from here)
 SIZE = (320, 240)
 FLAGS = ["--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
          "--disable-background-networking", "--disable-component-update", "--disable-sync",
@@ -102,21 +102,6 @@ def server(glview_bin):
     s = Server(glview_bin, "--size", f"{SIZE[0]}x{SIZE[1]}")
     yield s
     s.stop()
-
-
-@pytest.fixture(scope="module")
-def browser():
-    if not os.path.exists(CHROMIUM):
-        # In CI a missing browser is a broken setup, never a reason to pass.
-        if os.environ.get("CI") == "true":
-            pytest.fail(f"{CHROMIUM} is missing (scripts/test_browser.sh installs it)")
-        pytest.skip(f"{CHROMIUM} is missing (scripts/test_browser.sh installs it)")
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, headless=True, args=FLAGS)
-        yield b
-        b.close()
 
 
 def open_page(browser, url):

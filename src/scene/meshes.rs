@@ -3,7 +3,7 @@
 //! only a compact copy of those levels (their vertices and remapped indices: a few MB of an
 //! 85 MB entry) and leaves the full arrays, and the groups' levels, in the entry's second
 //! section (see [`super::cache`]). The renderer draws a first view from the compact copies
-//! ([`Meshes::first_view`], which never reads); anything else that touches the meshes (the
+//! (`Meshes::first_view`, which never reads); anything else that touches the meshes (the
 //! `Deref` to `Vec<Mesh>`: a CPU user, a draw that needs more than a whole level, a clone)
 //! reads them then, once. So a `Meshes` is never read empty: either its meshes are here, or
 //! they are read before the first look. That read is checked against the section's own hash;
@@ -19,7 +19,7 @@ pub struct Meshes {
     full: OnceLock<Full>,
     /// Until `full` is filled: how to read it.
     rest: Mutex<Option<Box<dyn Rest>>>,
-    /// Per mesh, what a first view draws ([`Meshes::first_view`]); empty when all were here.
+    /// Per mesh, what a first view draws (`Meshes::first_view`); empty when all were here.
     first: Vec<First>,
 }
 
