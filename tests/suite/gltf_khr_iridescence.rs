@@ -4,10 +4,7 @@
 //! switched off by `--terms`, draws the core model, on every context; `--check` names it.
 //! Helpers in `gltf_khr.rs`.
 use crate::common::*;
-use crate::gltf_khr::{material, max_diff, shot, sphere, view, CONTEXTS, N};
-use glview::pbr::env::Environment;
-use glview::reference::{render_env_with_info, PbrEnv};
-use std::sync::Arc;
+use crate::gltf_khr::{gpu_matches_the_reference, material, max_diff, shot, sphere, CONTEXTS};
 
 /// The brief's film: factor 1, 400 nm (the default maximum), ior 1.3.
 const FILM: &str = r#""KHR_materials_iridescence": {"iridescenceFactor": 1,
@@ -25,46 +22,22 @@ fn iridescence_gpu_equals_the_reference() {
         ("dielectric", [0.6, 0.1, 0.1], 0.0, 0.5),
         ("metal", [1.0, 0.78, 0.34], 1.0, 0.2),
     ];
-    let env = Environment::uniform([0.5; 3]);
     let furnace = ["--env-color", "0.5,0.5,0.5", "--tonemap", "none"];
     for (name, base, metal, rough) in cases {
         let model = sphere(&dir, name, &material(base, metal, rough, FILM));
-        let args = view(&model, &furnace);
-        let all: Vec<&str> = args.iter().map(String::as_str).collect();
-        let (settings, scene) = settings_for(&all);
-        let pe = PbrEnv {
-            env: Arc::new(env.clone()),
-            samples: 1024,
-        };
-        let (truth, info) = render_env_with_info(&scene, &settings, Some(&pe), N, N);
-        let hit: Vec<bool> = info.iter().map(|i| i.hit()).collect();
-        for (ctx, extra) in [
+        let contexts = [
             (&CONTEXTS[0], &[][..]),
             (&CONTEXTS[1], &[][..]),
             (&CONTEXTS[2], &["--ibl-encoding", "rgbm"][..]),
             (&CONTEXTS[3], &["--ibl-encoding", "rgbm"][..]),
-        ] {
-            let label = format!("{name}-{}", ctx.0);
-            let img = shot(&dir, &label, &model, &[&furnace[..], extra].concat(), ctx);
-            let (mut sum, mut max, mut n) = (0.0f64, 0u8, 0usize);
-            for (i, _) in hit.iter().enumerate().filter(|(_, h)| **h) {
-                for c in 0..3 {
-                    let d = img.data[4 * i + c].abs_diff(truth.data[4 * i + c]);
-                    sum += f64::from(d);
-                    max = max.max(d);
-                }
-                n += 3;
-            }
-            let mean = sum / n as f64;
-            eprintln!("iridescence {label}: mean {mean:.3}/255, max {max}/255");
-            if max > 3 {
-                write_diff(&dir, &label, &img, &truth);
-            }
-            assert!(
-                mean <= 0.5 && max <= 3,
-                "{label}: mean {mean:.3}, max {max}"
-            );
-        }
+        ];
+        gpu_matches_the_reference(
+            &dir,
+            &format!("iridescence-{name}"),
+            &model,
+            &furnace,
+            &contexts,
+        );
     }
 }
 
