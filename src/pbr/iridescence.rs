@@ -5,6 +5,7 @@
 //! Khronos Sample Viewer evaluates it: Schlick's Fresnel at both interfaces, the base's ior
 //! from its F0, the spectral integral as the first two orders of the Airy sum against
 //! Gaussian fits of the CIE XYZ sensitivities, converted to linear Rec. 709).
+use super::brdf::f_schlick;
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -18,10 +19,6 @@ fn ior_to_f0(n_t: DVec3, n_i: f64) -> DVec3 {
 fn f0_to_ior(f0: DVec3) -> DVec3 {
     let s = f0.clamp(DVec3::ZERO, DVec3::splat(0.9999)).powf(0.5);
     (DVec3::ONE + s) / (DVec3::ONE - s)
-}
-
-fn schlick(f0: DVec3, cos: f64) -> DVec3 {
-    f0 + (DVec3::ONE - f0) * (1.0 - cos).clamp(0.0, 1.0).powi(5)
 }
 
 /// The film's spectral response to optical path difference `opd` (nm) with phase shift
@@ -56,13 +53,13 @@ pub(crate) fn fresnel(film_ior: f64, cos1: f64, d: f64, base_f0: DVec3) -> DVec3
     }
     let cos2 = cos2_sq.sqrt();
     // Air to film.
-    let r12 = schlick(ior_to_f0(DVec3::splat(n2), 1.0), cos1).x;
+    let r12 = f_schlick(ior_to_f0(DVec3::splat(n2), 1.0), cos1).x;
     let t121 = 1.0 - r12;
     let phi12 = if n2 < 1.0 { PI } else { 0.0 };
     let phi21 = PI - phi12;
     // Film to base.
     let base_ior = f0_to_ior(base_f0);
-    let r23 = schlick(ior_to_f0(base_ior, n2), cos2);
+    let r23 = f_schlick(ior_to_f0(base_ior, n2), cos2);
     let phi23 = DVec3::new(
         if base_ior.x < n2 { PI } else { 0.0 },
         if base_ior.y < n2 { PI } else { 0.0 },

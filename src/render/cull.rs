@@ -12,6 +12,7 @@ use super::FrameCx;
 use super::Lod;
 use crate::gpu::state::{Blend, Cull, RenderState};
 use crate::options::LodMode;
+use crate::scene::meshes::FirstView;
 use crate::Result;
 
 /// Draws mesh `i` with `state`, whole or by its visible clusters.
@@ -120,9 +121,11 @@ pub(crate) fn build_levels(
             continue;
         }
         let t = std::time::Instant::now();
-        // A mesh without levels came whole (a compact one brings its levels): this reads
-        // nothing.
-        let m = &scene.scene.meshes[i];
+        // A mesh without levels came whole (a compact one brings its levels): looked up
+        // without reading the other meshes' rest.
+        let Some(FirstView::Whole(m)) = scene.scene.meshes.first_view(i) else {
+            continue;
+        };
         let mut levels = crate::scene::clusters::levels_of(m, c);
         dm.set_levels(&m.indices, &levels.indices)?;
         let Some(c) = &mut dm.clusters else { continue };

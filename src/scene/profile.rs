@@ -27,7 +27,7 @@ pub struct LoadProfile {
     pub(crate) bytes: u64,
     pub(crate) cached: bool,
     /// With `cached`: the bytes of the entry read at load (payload; the header apart).
-    pub entry_bytes: u64,
+    pub(crate) entry_bytes: u64,
     pub(crate) read_ms: f64,
     pub(crate) repair_ms: f64,
     pub(crate) parse_ms: f64,

@@ -261,8 +261,11 @@ impl Session {
             )?;
         }
         let kept = self.kept.as_mut().expect("context made above");
-        // Another viewer's load of the same scene may have landed first: keep that one.
-        kept.renderers.retain(|(k, _)| *k != key);
+        // Another viewer's load of the same scene may have landed first: keep that one
+        // rather than upload the same scene again.
+        if kept.renderers.iter().any(|(k, _)| *k == key) {
+            return Ok(());
+        }
         let excess = (kept.renderers.len() + 1).saturating_sub(self.keep);
         kept.renderers.drain(..excess.min(kept.renderers.len()));
         let mut r = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;

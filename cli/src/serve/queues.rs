@@ -149,16 +149,12 @@ impl Outbox {
                 "a client took no frames while {} bytes waited: closed",
                 s.bytes
             );
-            s.closed = true;
-            s.msgs.clear();
-            s.bytes = 0;
             drop(s);
-            self.ready.notify_one();
+            self.close();
             return false;
-        } else {
-            s.bytes += n;
-            s.msgs.push_back(m);
         }
+        s.bytes += n;
+        s.msgs.push_back(m);
         drop(s);
         self.ready.notify_one();
         true
