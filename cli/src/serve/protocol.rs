@@ -78,9 +78,9 @@ pub enum Outgoing {
     Close(u16, String),
 }
 
-/// To the render thread, from the connections and the encoders: a bounded stream (one
-/// `Wake` per viewer until the render thread takes its inbox; a join and a leave per viewer;
-/// one `Encoded` per viewer at a time).
+/// To the scheduler, from the connections, the render threads and the encoders: a bounded
+/// stream (one `Wake` per viewer until the scheduler takes its inbox; a join and a leave
+/// per viewer; one `Drawn` and one `Encoded` per viewer at a time).
 pub enum Event {
     Join {
         id: u64,
@@ -108,6 +108,15 @@ pub enum Event {
         load: u64,
         options: Box<glview::Options>,
         prepared: Result<Box<glview::session::Prepared>, String>,
+    },
+    /// From a render thread: a viewer's job done, its view given back.
+    Drawn(Box<super::pool::Done>),
+    /// From render thread `thread`: load `load`'s scene uploaded (or why not, scrubbed).
+    Adopted {
+        load: u64,
+        thread: usize,
+        options: Box<glview::Options>,
+        failed: Option<String>,
     },
 }
 
