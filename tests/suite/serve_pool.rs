@@ -1,6 +1,7 @@
 //! `glview serve`'s render threads and the class's limits (issue 40): a still drawn on
 //! either thread is the command line's picture; one address cannot take every viewer's
-//! place; on an unspecified bind address only this machine's names are answered.
+//! place; on an unspecified bind address only this machine's names are answered; a
+//! link's camera is absolute.
 use super::common;
 use super::serve::{assert_same, cli_png, SIZE};
 use super::serve_client::{decode_png, Got, Server};
@@ -113,4 +114,39 @@ fn an_unspecified_address_answers_only_this_machines_names() {
         assert_eq!(status, 421, "{bad}: {body}");
         assert!(!body.contains("models\""), "{body}");
     }
+}
+
+/// A link's camera is absolute: `{"type":"camera"}` draws `glview -o --yaw --pitch
+/// --distance`'s picture, and the camera a frame's header carries (what "Copy link"
+/// writes), sent by another viewer, draws the first viewer's still again.
+#[test]
+fn a_links_camera_is_absolute() {
+    let server = Server::start(&["--size", SIZE]);
+    let mut a = server.viewer("");
+    a.still(None);
+    a.send(json!({"type": "camera", "yaw": 70, "pitch": -10, "distance": 5, "seq": 1}));
+    let (h, png, _) = a.still(Some(1));
+    assert_eq!(h["camera"]["yaw"], 70.0);
+    let want = cli_png(
+        "link-camera",
+        &["--yaw", "70", "--pitch", "-10", "--distance", "5"],
+    );
+    assert_same("link-camera", &decode_png(&png), &want);
+    // A dragged and zoomed view, carried over by its header's camera.
+    a.send(json!({"type": "drag", "dx": 37, "dy": -11, "seq": 2}));
+    a.send(json!({"type": "wheel", "notches": 2, "seq": 3}));
+    let (h, png, _) = a.still(Some(3));
+    let mut cam = h["camera"].clone();
+    cam["type"] = json!("camera");
+    cam["seq"] = json!(1);
+    let mut b = server.viewer("");
+    b.still(None);
+    b.send(cam);
+    let (hb, png_b, _) = b.still(Some(1));
+    assert_eq!(hb["camera"], h["camera"]);
+    assert_same("link-carried", &decode_png(&png_b), &decode_png(&png));
+    // Out of range is the client's error, not a view.
+    b.send(json!({"type": "camera", "yaw": 0, "pitch": 0, "fov": 200}));
+    let e = b.text("error");
+    assert!(e["message"].as_str().unwrap().contains("fov"), "{e}");
 }

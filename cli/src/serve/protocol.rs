@@ -12,14 +12,44 @@ pub const MAX_SIZE: u32 = 4096;
 #[derive(Debug, PartialEq, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum ClientMsg {
-    Key { key: String, seq: Option<u64> },
-    Drag { dx: f32, dy: f32, seq: Option<u64> },
-    Wheel { notches: f32, seq: Option<u64> },
-    Ack { frame: u64 },
-    Model { name: String, seq: Option<u64> },
-    Size { width: u32, height: u32 },
+    Key {
+        key: String,
+        seq: Option<u64>,
+    },
+    Drag {
+        dx: f32,
+        dy: f32,
+        seq: Option<u64>,
+    },
+    Wheel {
+        notches: f32,
+        seq: Option<u64>,
+    },
+    Ack {
+        frame: u64,
+    },
+    Model {
+        name: String,
+        seq: Option<u64>,
+    },
+    Size {
+        width: u32,
+        height: u32,
+    },
+    /// The camera absolutely (a shared link's view): `glview --yaw --pitch [--distance]
+    /// [--target] [--fov]`; what is not given fits or takes the default.
+    Camera {
+        yaw: f32,
+        pitch: f32,
+        distance: Option<f32>,
+        target: Option<[f64; 3]>,
+        fov: Option<f32>,
+        seq: Option<u64>,
+    },
     Still,
-    Follow { on: bool },
+    Follow {
+        on: bool,
+    },
     Ping,
 }
 
@@ -44,6 +74,26 @@ impl ClientMsg {
                 finite(*dy, "dy")?;
             }
             ClientMsg::Wheel { notches, .. } => finite(*notches, "notches")?,
+            ClientMsg::Camera {
+                yaw,
+                pitch,
+                distance,
+                target,
+                fov,
+                ..
+            } => {
+                finite(*yaw, "yaw")?;
+                finite(*pitch, "pitch")?;
+                if distance.is_some_and(|d| !(d > 0.0 && d <= 1e5)) {
+                    return Err("bad message: distance must be in (0, 100000]".into());
+                }
+                if target.is_some_and(|t| t.iter().any(|v| !(v.is_finite() && v.abs() <= 1e9))) {
+                    return Err("bad message: target must be 3 numbers within ±1e9".into());
+                }
+                if fov.is_some_and(|f| !(f > 0.0 && f < 180.0)) {
+                    return Err("bad message: fov must be between 0 and 180".into());
+                }
+            }
             ClientMsg::Size { width, height }
                 if !(16..=MAX_SIZE).contains(width) || !(16..=MAX_SIZE).contains(height) =>
             {
@@ -62,6 +112,7 @@ impl ClientMsg {
             ClientMsg::Key { seq, .. }
             | ClientMsg::Drag { seq, .. }
             | ClientMsg::Wheel { seq, .. }
+            | ClientMsg::Camera { seq, .. }
             | ClientMsg::Model { seq, .. } => *seq,
             _ => None,
         }

@@ -75,13 +75,22 @@ impl Scheduler {
                 }
             }
         }
-        let woken = std::mem::take(&mut v.woken);
         match need {
             Some(o) => self.load(d.id, d.thread, *o),
             None => self.charge_frame(d.id, d.cost),
         }
-        if woken {
-            self.wake(d.id);
+        // The thread's viewers' messages that waited for the job.
+        let woken: Vec<u64> = self
+            .viewers
+            .iter_mut()
+            .filter(|(_, v)| v.thread == d.thread && v.woken)
+            .map(|(id, v)| {
+                v.woken = false;
+                *id
+            })
+            .collect();
+        for id in woken {
+            self.wake(id);
         }
     }
 
