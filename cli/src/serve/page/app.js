@@ -244,7 +244,9 @@ function viewLink() {
   if (h && h.model) q.set('model', h.model);
   const c = h && h.camera;
   if (c) {
-    const r = (v) => String(Math.round(v * 1e4) / 1e4);
+    // The header's numbers as they are: the shortest text that reads back as the same
+    // number, so the link's view is the same view to the bit.
+    const r = (v) => String(v);
     q.set('yaw', r(c.yaw));
     q.set('pitch', r(c.pitch));
     if (c.distance !== null) q.set('distance', r(c.distance));
