@@ -201,6 +201,10 @@ mod tests {
             r#"{"type":"drag","dx":1e30,"dy":0}"#,
             r#"{"type":"size","width":100000,"height":10}"#,
             r#"{"type":"model","name":"x","path":"/etc/passwd"}"#,
+            r#"{"type":"camera","yaw":0,"pitch":0,"fov":200}"#,
+            r#"{"type":"camera","yaw":0,"pitch":0,"distance":-1}"#,
+            r#"{"type":"camera","yaw":0,"pitch":0,"target":[0,1e300,0]}"#,
+            r#"{"type":"camera","yaw":1e9,"pitch":0}"#,
             r#"{"type":"launch"}"#,
             r#"[1,2]"#,
         ] {

@@ -394,9 +394,14 @@ impl Scheduler {
         if self.presenter == Some(id) {
             self.presenter = None;
             // Followers go on from where the class was.
-            for f in self.viewers.values_mut().filter(|f| f.following) {
+            let mut followers = Vec::new();
+            for (fid, f) in self.viewers.iter_mut().filter(|(_, f)| f.following) {
                 f.view = v.view.clone();
                 f.changed();
+                followers.push(*fid);
+            }
+            for fid in followers {
+                self.place_again(fid);
             }
             self.set_presenter_online(false);
         }
@@ -412,7 +417,28 @@ impl Scheduler {
         }
     }
 
+    /// A message of `id`'s; a view now of another model (picked, or the class's taken on
+    /// leaving it) moves to the thread that has that model, or the least loaded one.
     fn input(&mut self, id: u64, msg: ClientMsg) {
+        let before = self.viewers[&id].view.options().load.model.clone();
+        self.apply_input(id, msg);
+        if self
+            .viewers
+            .get(&id)
+            .is_some_and(|v| v.view.options().load.model != before)
+        {
+            self.place_again(id);
+        }
+    }
+
+    /// `id` to the thread [`Scheduler::place`] picks for its model now.
+    fn place_again(&mut self, id: u64) {
+        let model = self.viewers[&id].view.options().load.model.clone();
+        let thread = self.place(model.as_deref(), Some(id));
+        self.viewers.get_mut(&id).expect("present").thread = thread;
+    }
+
+    fn apply_input(&mut self, id: u64, msg: ClientMsg) {
         let presenter_view = self
             .presenter
             .filter(|&p| p != id)
@@ -507,11 +533,8 @@ impl Scheduler {
                 Ok(path) => {
                     v.leave_class(presenter_view.as_ref());
                     v.pending.clear();
-                    v.view.set_model(path.clone());
+                    v.view.set_model(path);
                     v.changed();
-                    // To the thread that has this model, or the least loaded one.
-                    let thread = self.place(path.as_deref(), Some(id));
-                    self.viewers.get_mut(&id).expect("present").thread = thread;
                 }
                 Err(e) => v.error(&e),
             },
