@@ -107,7 +107,13 @@ impl Pool {
                         }
                     }
                     let _ = ready_tx.send(Ok(session.fixed_size()));
-                    serve(t, session, &rx, &shared);
+                    let run = std::panic::AssertUnwindSafe(|| serve(t, session, &rx, &shared));
+                    if std::panic::catch_unwind(run).is_err() {
+                        // As when the one GL thread was the main thread: the server ends,
+                        // rather than keep viewers waiting for a thread that is gone.
+                        log::error!("render thread {t} failed (a bug: please report it)");
+                        std::process::exit(70);
+                    }
                 })
                 .map_err(|e| {
                     glview::Error::Unsupported(format!("cannot start a render thread: {e}"))
