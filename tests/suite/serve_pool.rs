@@ -9,7 +9,8 @@ use serde_json::json;
 use std::time::{Duration, Instant};
 
 /// Two viewers on two models with `--render-threads 2` are drawn on the two threads, and
-/// each still equals `glview MODEL -o` pixel for pixel.
+/// each still equals `glview MODEL -o` pixel for pixel; a viewer who picks a model moves
+/// to the thread that has it.
 #[test]
 fn stills_equal_the_command_line_on_every_render_thread() {
     let dir = common::out_dir("serve-pool");
@@ -39,6 +40,15 @@ fn stills_equal_the_command_line_on_every_render_thread() {
     let sphere_path = dir.join("sphere.obj");
     let want_b = cli_png("pool-sphere", &[sphere_path.to_str().unwrap()]);
     assert_same("pool-sphere", &decode_png(&png_b), &want_b);
+    // A third viewer (on the first thread: the second has its share) who picks the sphere
+    // moves to the thread that has it, and draws the same picture there.
+    let mut c = server.viewer("");
+    let (hc, _, _) = c.still(None);
+    assert_eq!(hc["thread"], ha["thread"], "{hc}");
+    c.send(json!({"type": "model", "name": "sphere.obj", "seq": 1}));
+    let (hc, png_c, _) = c.still(Some(1));
+    assert_eq!(hc["thread"], hb["thread"], "{hc}");
+    assert_same("pool-sphere-moved", &decode_png(&png_c), &want_b);
     // The first viewer's next still, after a turn, still comes from its thread and equals
     // the command line's.
     a.send(json!({"type": "key", "key": "Right", "seq": 2}));
