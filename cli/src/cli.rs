@@ -259,6 +259,15 @@ pub struct ServeCommand {
     /// the frame. The server prints an iframe snippet.
     #[arg(long = "embed-origin")]
     pub embed_origin: Vec<String>,
+    /// Render threads, each with its own context and scenes; a model's viewers are kept on
+    /// one while it has no more than its share (default: a quarter of the cores, 1 to 4:
+    /// the network, the encoders and the loads share them, and llvmpipe spreads each frame
+    /// over every core already). docs/serve.md.
+    #[arg(long)]
+    pub render_threads: Option<usize>,
+    /// Viewers at once from one address (one student's script cannot take every place).
+    #[arg(long, default_value_t = 8)]
+    pub max_viewers_per_address: usize,
     #[command(flatten)]
     pub opts: PictureArgs,
 }

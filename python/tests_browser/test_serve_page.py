@@ -521,3 +521,37 @@ def test_a_link_opens_a_model_and_a_view(browser, glview_bin, tmp_path):
         page.context.close()
     finally:
         s.stop()
+
+
+def test_copy_link_opens_the_same_view(browser, server):
+    """"Copy link" writes the model, the camera absolutely and the state keys (never the
+    presenter's key): a fresh page opened with that link draws the same still, byte for byte."""
+    page = open_page(browser, server.url)
+    try:
+        wait_still(page)
+        box = page.locator("#view").bounding_box()
+        x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x + 45, y - 15, steps=5)
+        page.mouse.up()
+        page.mouse.wheel(0, -240)
+        page.keyboard.press("s")  # shadows off: a state key
+        page.wait_for_timeout(100)  # the last animation frame's remainder
+        h = wait_still(page, page.evaluate("window.glview.sent"))
+        want = last_still(page)
+        link = page.evaluate("window.glview.viewLink()")
+        assert "yaw=" in link and "distance=" in link and "keys=S" in link, link
+        assert "present" not in link, link
+        other = open_page(browser, link)
+        try:
+            h2 = wait_still(other, 2)  # the link's camera, then its key
+            assert h2["camera"] == h["camera"] and h2["shadows"] is False, (h2, h)
+            assert pixels(last_still(other)).tobytes() == pixels(want).tobytes(), link
+            assert not other.errors, other.errors
+        finally:
+            other.context.close()
+        assert not page.errors, page.errors
+    finally:
+        page.context.close()
+

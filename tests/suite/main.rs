@@ -57,6 +57,7 @@ mod serve;
 mod serve_audit;
 mod serve_client;
 mod serve_load;
+mod serve_pool;
 mod shaders;
 mod shadows;
 mod stats;

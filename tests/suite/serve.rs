@@ -5,10 +5,10 @@ use glview::image_out::Rgba;
 use serde_json::json;
 use std::time::{Duration, Instant};
 
-const SIZE: &str = "160x120";
+pub(crate) const SIZE: &str = "160x120";
 
 /// The command line's picture with these options, at SIZE.
-fn cli_png(name: &str, args: &[&str]) -> Rgba {
+pub(crate) fn cli_png(name: &str, args: &[&str]) -> Rgba {
     let dir = common::out_dir("serve");
     let path = dir.join(format!("{name}.png"));
     let mut all = vec!["-o", path.to_str().unwrap(), "--size", SIZE];
@@ -18,7 +18,7 @@ fn cli_png(name: &str, args: &[&str]) -> Rgba {
     Rgba::load_png(&path).unwrap()
 }
 
-fn assert_same(name: &str, got: &Rgba, want: &Rgba) {
+pub(crate) fn assert_same(name: &str, got: &Rgba, want: &Rgba) {
     if got.data != want.data {
         let dir = common::out_dir("serve");
         got.save_png(&dir.join(format!("{name}-served.png")), &[])

@@ -18,7 +18,8 @@ pub struct Server {
 }
 
 impl Server {
-    /// `glview serve ARGS --bind 127.0.0.1:0`, started and its addresses read.
+    /// `glview serve ARGS --bind 127.0.0.1:0` (unless ARGS bind elsewhere), started and its
+    /// addresses read.
     pub fn start(args: &[&str]) -> Server {
         Self::start_with_env(args, &[])
     }
@@ -30,7 +31,11 @@ impl Server {
         let bin = std::env::var("GLVIEW_SERVE_BIN").unwrap_or_else(|_| common::bin().into());
         let mut child = Command::new(bin)
             .arg("serve")
-            .args(["--bind", "127.0.0.1:0"])
+            .args(if args.contains(&"--bind") {
+                &[][..]
+            } else {
+                &["--bind", "127.0.0.1:0"][..]
+            })
             .args(args)
             .envs(env.iter().copied())
             .stdout(Stdio::piped())

@@ -28,10 +28,11 @@ pub struct Shared {
     pub size: (u32, u32),
     pub max_viewers: usize,
     pub idle_timeout: Duration,
-    /// The `Host` values this server answers to (None: any, on an unspecified bind address
-    /// without `--public-url`, where the token is the guard).
-    pub hosts: Option<Vec<String>>,
+    /// The `Host` values this server answers to.
+    pub hosts: super::hosts::Hosts,
     pub max_per_address: usize,
+    /// Viewers at once from one address.
+    pub max_viewers_per_address: usize,
     /// The page's `Content-Security-Policy: frame-ancestors` sources.
     pub frame_ancestors: String,
     /// The cookie's `SameSite` (and `Secure`) attributes.
@@ -41,6 +42,15 @@ pub struct Shared {
     pub next_id: AtomicU64,
     pub presenter_online: Arc<AtomicBool>,
     per_address: Mutex<HashMap<IpAddr, usize>>,
+    viewers_per_address: Mutex<HashMap<IpAddr, usize>>,
+}
+
+/// The counts `glview serve` limits.
+pub struct Limits {
+    pub max_viewers: usize,
+    pub max_per_address: usize,
+    pub max_viewers_per_address: usize,
+    pub idle_timeout: Duration,
 }
 
 impl Shared {
@@ -50,8 +60,8 @@ impl Shared {
         presenter_key: String,
         models: (Vec<String>, String),
         size: (u32, u32),
-        limits: (usize, usize, Duration),
-        hosts: Option<Vec<String>>,
+        limits: Limits,
+        hosts: super::hosts::Hosts,
         events: std::sync::mpsc::Sender<Event>,
         presenter_online: Arc<AtomicBool>,
     ) -> Shared {
@@ -61,9 +71,10 @@ impl Shared {
             models: models.0,
             first_model: models.1,
             size,
-            max_viewers: limits.0,
-            max_per_address: limits.1,
-            idle_timeout: limits.2,
+            max_viewers: limits.max_viewers,
+            max_per_address: limits.max_per_address,
+            max_viewers_per_address: limits.max_viewers_per_address,
+            idle_timeout: limits.idle_timeout,
             hosts,
             frame_ancestors: "'self'".into(),
             cookie_site: "SameSite=Strict",
@@ -72,39 +83,58 @@ impl Shared {
             next_id: AtomicU64::new(1),
             presenter_online,
             per_address: Mutex::new(HashMap::new()),
+            viewers_per_address: Mutex::new(HashMap::new()),
         }
     }
 }
 
-/// One connection's place in its address's count, given back when dropped (the upgraded
-/// socket holds it for its life).
+/// One connection's (or viewer's) place in its address's count, given back when dropped
+/// (the upgraded socket holds its connection's for its life).
 pub struct Slot {
     shared: Arc<Shared>,
     ip: IpAddr,
+    viewer: bool,
 }
 
 impl Slot {
     fn take(shared: &Arc<Shared>, ip: IpAddr) -> Option<Slot> {
-        let mut m = shared.per_address.lock().unwrap_or_else(|e| e.into_inner());
+        Slot::counted(shared, ip, false)
+    }
+
+    /// A viewer's place in its address's count of viewers (None: it has its
+    /// `--max-viewers-per-address`).
+    pub fn viewer(&self) -> Option<Slot> {
+        Slot::counted(&self.shared, self.ip, true)
+    }
+
+    fn counted(shared: &Arc<Shared>, ip: IpAddr, viewer: bool) -> Option<Slot> {
+        let (map, max) = if viewer {
+            (&shared.viewers_per_address, shared.max_viewers_per_address)
+        } else {
+            (&shared.per_address, shared.max_per_address)
+        };
+        let mut m = map.lock().unwrap_or_else(|e| e.into_inner());
         let n = m.entry(ip).or_insert(0);
-        if *n >= shared.max_per_address {
+        if *n >= max {
             return None;
         }
         *n += 1;
         Some(Slot {
             shared: shared.clone(),
             ip,
+            viewer,
         })
     }
 }
 
 impl Drop for Slot {
     fn drop(&mut self) {
-        let mut m = self
-            .shared
-            .per_address
-            .lock()
-            .unwrap_or_else(|e| e.into_inner());
+        let map = if self.viewer {
+            &self.shared.viewers_per_address
+        } else {
+            &self.shared.per_address
+        };
+        let mut m = map.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(n) = m.get_mut(&self.ip) {
             *n -= 1;
             if *n == 0 {
@@ -159,15 +189,10 @@ fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) 
     if r.method != "GET" {
         return http::text(405, "only GET is served");
     }
-    if let Some(hosts) = &shared.hosts {
-        let host = r.header("host").unwrap_or("").to_ascii_lowercase();
-        if !hosts.contains(&host) {
-            log::info!("{}: 421 Host {}", r.describe(), http::clip(&host));
-            return http::text(
-                421,
-                "this server does not answer to that host name (--public-url names one)",
-            );
-        }
+    let host = r.header("host").unwrap_or("");
+    if !shared.hosts.allows(host) {
+        log::info!("{}: 421 Host {}", r.describe(), http::clip(host));
+        return http::text(421, shared.hosts.refusal());
     }
     if let Err((status, why)) = authorized(&r, shared) {
         log::info!("{}: {status} {why}", r.describe());
@@ -264,7 +289,8 @@ fn upgrade(
     let shared = shared.clone();
     tokio::spawn(async move {
         if let Ok(upgraded) = on_upgrade.await {
-            super::socket::viewer(TokioIo::new(upgraded), shared, presenter).await;
+            let place = slot.viewer();
+            super::socket::viewer(TokioIo::new(upgraded), shared, presenter, place).await;
         }
         drop(slot);
     });

@@ -1,11 +1,13 @@
 //! `glview serve PATH`: one process renders for every browser that opens its address. The
-//! main thread holds the one GL context and draws every viewer's view in turn
-//! ([`scheduler`]); connections are tasks on a small tokio runtime ([`conn`], [`socket`]),
-//! talking to the render thread through bounded queues ([`queues`]); what crosses the
-//! socket is in [`protocol`] and docs/serve.md.
+//! main thread schedules every viewer's frames ([`scheduler`]) on a pool of render threads,
+//! each with a GL context and scenes of its own ([`pool`]); connections are tasks on a
+//! small tokio runtime ([`conn`], [`socket`]), talking to the scheduler through bounded
+//! queues ([`queues`]); what crosses the socket is in [`protocol`] and docs/serve.md.
 mod conn;
+mod hosts;
 mod http;
 mod models;
+mod pool;
 mod protocol;
 mod queues;
 mod render;
@@ -13,7 +15,6 @@ mod scheduler;
 mod socket;
 
 use crate::cli::ServeCommand;
-use glview::session::Session;
 use glview::{Error, Result};
 use std::net::{SocketAddr, TcpListener, ToSocketAddrs};
 use std::sync::atomic::AtomicBool;
@@ -22,6 +23,18 @@ use std::time::Duration;
 
 /// A `--token` shorter than this could be guessed.
 const MIN_TOKEN: usize = 16;
+/// Each render thread holds a context and its own copy of its scenes.
+const MAX_RENDER_THREADS: usize = 64;
+
+/// `--render-threads` when not given: a quarter of the cores, 1 to 4. llvmpipe already
+/// spreads each frame over every core, and the network (2 threads), the encoders (up to 4)
+/// and the loads (half the cores) need theirs; on a GPU the threads overlap one frame's
+/// CPU work and read-back with another's drawing, and more than 4 only add copies of the
+/// scenes.
+fn default_render_threads() -> usize {
+    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+    (cores / 4).clamp(1, 4)
+}
 
 fn check(cmd: &ServeCommand, addr: &SocketAddr) -> Result<()> {
     if cmd.no_token && !addr.ip().is_loopback() {
@@ -51,10 +64,24 @@ fn check(cmd: &ServeCommand, addr: &SocketAddr) -> Result<()> {
     if !(1..=100).contains(&cmd.drag_quality) {
         return Err(Error::Usage("--drag-quality must be 1 to 100".into()));
     }
-    if cmd.max_viewers == 0 || cmd.idle_timeout == 0 || cmd.max_per_address == 0 {
+    if cmd.max_viewers == 0
+        || cmd.idle_timeout == 0
+        || cmd.max_per_address == 0
+        || cmd.max_viewers_per_address == 0
+    {
         return Err(Error::Usage(
-            "--max-viewers, --max-per-address and --idle-timeout must be at least 1".into(),
+            "--max-viewers, --max-per-address, --max-viewers-per-address and --idle-timeout \
+             must be at least 1"
+                .into(),
         ));
+    }
+    if cmd
+        .render_threads
+        .is_some_and(|n| !(1..=MAX_RENDER_THREADS).contains(&n))
+    {
+        return Err(Error::Usage(format!(
+            "--render-threads must be 1 to {MAX_RENDER_THREADS}"
+        )));
     }
     Ok(())
 }
@@ -84,22 +111,24 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
     let local = listener
         .local_addr()
         .map_err(|e| Error::Usage(e.to_string()))?;
-    // The context is made now: a machine without one fails here, not at the first viewer.
+    let models = Arc::new(models);
+    // The contexts are made now: a machine without one fails here, not at the first viewer.
     let mut first = base.clone();
     first.load.model = models.first().1.map(Into::into);
-    let mut session = Session::open(&first)?;
-    session.keep_scenes(cmd.keep_scenes);
-    // The first model is loaded before anyone asks (a broken one is the viewers' error).
-    if let Err(e) = session.scene(&first) {
-        log::warn!("{}: {e}", models.first().0);
-    }
+    let (events, rx) = std::sync::mpsc::channel();
+    let threads = cmd.render_threads.unwrap_or_else(default_render_threads);
+    let pool_shared = Arc::new(pool::Shared {
+        models: models.clone(),
+        encoders: Arc::new(encoders()?),
+        events: events.clone(),
+    });
+    let (pool, fixed_size) = pool::Pool::start(threads, &first, cmd.keep_scenes, &pool_shared)?;
     let token = if cmd.no_token {
         None
     } else {
         Some(cmd.token.clone().unwrap_or_else(http::random_token))
     };
     let presenter_key = http::random_token();
-    let (events, rx) = std::sync::mpsc::channel();
     let presenter_online = Arc::new(AtomicBool::new(false));
     let public = public_authority(cmd.public_url.as_deref())?;
     let mut shared = conn::Shared::new(
@@ -107,12 +136,13 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         presenter_key.clone(),
         (models.names(), models.first().0.to_string()),
         base.picture.size,
-        (
-            cmd.max_viewers,
-            cmd.max_per_address,
-            Duration::from_secs(cmd.idle_timeout),
-        ),
-        hosts(&local, public.as_deref()),
+        conn::Limits {
+            max_viewers: cmd.max_viewers,
+            max_per_address: cmd.max_per_address,
+            max_viewers_per_address: cmd.max_viewers_per_address,
+            idle_timeout: Duration::from_secs(cmd.idle_timeout),
+        },
+        hosts::Hosts::new(&local, public.as_deref()),
         events.clone(),
         presenter_online.clone(),
     );
@@ -146,16 +176,17 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         );
     }
     println!(
-        "glview serve: {} model(s), views {w}x{h}, at most {} viewers",
+        "glview serve: {} model(s), views {w}x{h}, at most {} viewers ({} per address), \
+         {threads} render thread(s)",
         models.names().len(),
-        cmd.max_viewers
+        cmd.max_viewers,
+        cmd.max_viewers_per_address
     );
     use std::io::Write;
     let _ = std::io::stdout().flush();
     start_network(listener, shared)?;
     // An OSMesa context keeps the size it was made with (a new size is a new context and
     // every scene loaded again): its views keep one size, previews included.
-    let fixed_size = session.fixed_size();
     if fixed_size {
         log::warn!("OSMesa: previews are full size and views keep the size --size gives");
     }
@@ -166,8 +197,20 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         fixed_size,
         max_size: base.picture.size,
     };
-    scheduler::Scheduler::new(session, base, models, config, presenter_online, events)?.run(&rx);
+    scheduler::Scheduler::new(pool, base, models, config, presenter_online, events).run(&rx);
     Ok(())
+}
+
+/// The encoders: a pool of their own, because a model's load fills rayon's global pool
+/// (its parse, normals and clusters are parallel) and an encode queued behind it held
+/// every other viewer's frame back by ~100 ms (measured).
+fn encoders() -> Result<rayon::ThreadPool> {
+    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(cores.clamp(1, 4))
+        .thread_name(|i| format!("glview-encode-{i}"))
+        .build()
+        .map_err(|e| Error::Unsupported(format!("cannot start the encoders: {e}")))
 }
 
 /// The connections' runtime on two threads of its own (the render thread stays this one).
@@ -253,25 +296,4 @@ fn public_authority(url: Option<&str>) -> Result<Option<String>> {
         return Err(Error::Usage(format!("--public-url {url}: no host in it")));
     }
     Ok(Some(authority.to_ascii_lowercase()))
-}
-
-/// The `Host` values this server answers to: its bind address (and `localhost` on a loopback
-/// one) and `--public-url`'s; None (any) on an unspecified address without `--public-url`,
-/// where the names machines use for it are not known.
-fn hosts(local: &SocketAddr, public: Option<&str>) -> Option<Vec<String>> {
-    let port = local.port();
-    let mut list: Vec<String> = public.into_iter().map(str::to_string).collect();
-    let ip = local.ip();
-    if ip.is_unspecified() {
-        return (!list.is_empty()).then_some(list);
-    }
-    list.push(local.to_string());
-    if ip.is_loopback() {
-        list.extend([
-            format!("localhost:{port}"),
-            format!("127.0.0.1:{port}"),
-            format!("[::1]:{port}"),
-        ]);
-    }
-    Some(list)
 }

@@ -12,14 +12,44 @@ pub const MAX_SIZE: u32 = 4096;
 #[derive(Debug, PartialEq, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum ClientMsg {
-    Key { key: String, seq: Option<u64> },
-    Drag { dx: f32, dy: f32, seq: Option<u64> },
-    Wheel { notches: f32, seq: Option<u64> },
-    Ack { frame: u64 },
-    Model { name: String, seq: Option<u64> },
-    Size { width: u32, height: u32 },
+    Key {
+        key: String,
+        seq: Option<u64>,
+    },
+    Drag {
+        dx: f32,
+        dy: f32,
+        seq: Option<u64>,
+    },
+    Wheel {
+        notches: f32,
+        seq: Option<u64>,
+    },
+    Ack {
+        frame: u64,
+    },
+    Model {
+        name: String,
+        seq: Option<u64>,
+    },
+    Size {
+        width: u32,
+        height: u32,
+    },
+    /// The camera absolutely (a shared link's view): `glview --yaw --pitch [--distance]
+    /// [--target] [--fov]`; what is not given fits or takes the default.
+    Camera {
+        yaw: f32,
+        pitch: f32,
+        distance: Option<f32>,
+        target: Option<[f64; 3]>,
+        fov: Option<f32>,
+        seq: Option<u64>,
+    },
     Still,
-    Follow { on: bool },
+    Follow {
+        on: bool,
+    },
     Ping,
 }
 
@@ -44,6 +74,26 @@ impl ClientMsg {
                 finite(*dy, "dy")?;
             }
             ClientMsg::Wheel { notches, .. } => finite(*notches, "notches")?,
+            ClientMsg::Camera {
+                yaw,
+                pitch,
+                distance,
+                target,
+                fov,
+                ..
+            } => {
+                finite(*yaw, "yaw")?;
+                finite(*pitch, "pitch")?;
+                if distance.is_some_and(|d| !(d > 0.0 && d <= 1e5)) {
+                    return Err("bad message: distance must be in (0, 100000]".into());
+                }
+                if target.is_some_and(|t| t.iter().any(|v| !(v.is_finite() && v.abs() <= 1e9))) {
+                    return Err("bad message: target must be 3 numbers within ±1e9".into());
+                }
+                if fov.is_some_and(|f| !(f > 0.0 && f < 180.0)) {
+                    return Err("bad message: fov must be between 0 and 180".into());
+                }
+            }
             ClientMsg::Size { width, height }
                 if !(16..=MAX_SIZE).contains(width) || !(16..=MAX_SIZE).contains(height) =>
             {
@@ -62,6 +112,7 @@ impl ClientMsg {
             ClientMsg::Key { seq, .. }
             | ClientMsg::Drag { seq, .. }
             | ClientMsg::Wheel { seq, .. }
+            | ClientMsg::Camera { seq, .. }
             | ClientMsg::Model { seq, .. } => *seq,
             _ => None,
         }
@@ -78,9 +129,9 @@ pub enum Outgoing {
     Close(u16, String),
 }
 
-/// To the render thread, from the connections and the encoders: a bounded stream (one
-/// `Wake` per viewer until the render thread takes its inbox; a join and a leave per viewer;
-/// one `Encoded` per viewer at a time).
+/// To the scheduler, from the connections, the render threads and the encoders: a bounded
+/// stream (one `Wake` per viewer until the scheduler takes its inbox; a join and a leave
+/// per viewer; one `Drawn` and one `Encoded` per viewer at a time).
 pub enum Event {
     Join {
         id: u64,
@@ -108,6 +159,15 @@ pub enum Event {
         load: u64,
         options: Box<glview::Options>,
         prepared: Result<Box<glview::session::Prepared>, String>,
+    },
+    /// From a render thread: a viewer's job done, its view given back.
+    Drawn(Box<super::pool::Done>),
+    /// From render thread `thread`: load `load`'s scene uploaded (or why not, scrubbed).
+    Adopted {
+        load: u64,
+        thread: usize,
+        options: Box<glview::Options>,
+        failed: Option<String>,
     },
 }
 
@@ -141,6 +201,10 @@ mod tests {
             r#"{"type":"drag","dx":1e30,"dy":0}"#,
             r#"{"type":"size","width":100000,"height":10}"#,
             r#"{"type":"model","name":"x","path":"/etc/passwd"}"#,
+            r#"{"type":"camera","yaw":0,"pitch":0,"fov":200}"#,
+            r#"{"type":"camera","yaw":0,"pitch":0,"distance":-1}"#,
+            r#"{"type":"camera","yaw":0,"pitch":0,"target":[0,1e300,0]}"#,
+            r#"{"type":"camera","yaw":1e9,"pitch":0}"#,
             r#"{"type":"launch"}"#,
             r#"[1,2]"#,
         ] {

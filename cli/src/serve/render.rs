@@ -110,6 +110,9 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
         },
         "diff": diff,
         "command": command,
+        // The camera absolutely, as `--yaw --pitch [--distance] [--target] --fov` take it:
+        // what a shared link carries (distance and target none: fitted).
+        "camera": camera_json(&p.view.options().camera),
     });
     Ok(Drawn {
         header,
@@ -138,4 +141,15 @@ pub fn encode(d: Drawn) -> glview::Result<(serde_json::Value, Vec<u8>)> {
 
 fn round(v: f64) -> f64 {
     (v * 10.0).round() / 10.0
+}
+
+/// A view's camera as a link carries it.
+fn camera_json(c: &glview::options::Camera) -> serde_json::Value {
+    serde_json::json!({
+        "yaw": c.yaw,
+        "pitch": c.pitch,
+        "distance": c.distance,
+        "target": c.target,
+        "fov": c.fov,
+    })
 }

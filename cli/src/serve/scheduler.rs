@@ -1,18 +1,25 @@
-//! The GL thread: every viewer's view, drawn through one [`Session`], the viewer charged
-//! least render time first. Inputs (taken from each viewer's bounded inbox) only change a
-//! view (the latest wins); a view is drawn when it changed and its last frame was
-//! acknowledged: small and JPEG while input arrives, full-size PNG once it stops, encoded on
-//! a worker. A presenter's frames go to every follower. A model not yet uploaded is loaded
-//! on a worker ([`loads`]) while the others are drawn.
+//! The scheduler: every viewer's state, and whose view each render thread ([`pool`]) draws
+//! next: of a thread's viewers, the one charged least render time. Inputs (taken from each
+//! viewer's bounded inbox) only change a view (the latest wins); a view is drawn when it
+//! changed and its last frame was acknowledged: small and JPEG while input arrives,
+//! full-size PNG once it stops, encoded on a worker. A presenter's frames go to every
+//! follower. Viewers of one model are kept on one thread while it has no more than its
+//! share of viewers ([`jobs`]); a model not yet uploaded on a thread is loaded on a worker
+//! ([`loads`]) while the others are drawn.
+//!
+//! [`pool`]: super::pool
+mod jobs;
 mod loads;
 
 use super::models::Models;
-use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
+use super::pool::Pool;
+use super::protocol::{error_json, ClientMsg, Event, Outgoing};
 use super::queues::{Inbox, Outbox};
-use super::render::{draw, encode, options_for, Kind, Picture};
-use glview::keys::{self, Effect};
+use super::render::{options_for, Kind};
+use glview::keys;
 use glview::options::Options;
-use glview::session::{Session, View};
+use glview::session::View;
+use serde_json::json;
 use std::collections::BTreeMap;
 use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender};
 use std::sync::Arc;
@@ -70,6 +77,13 @@ struct Viewer {
     encoding: bool,
     /// Its scene is being loaded on a worker (or waits for a worker): it waits.
     loading: bool,
+    /// The render thread that draws it.
+    thread: usize,
+    /// A render thread has its view (the one here is stale): its inbox waits until the
+    /// view comes back.
+    rendering: bool,
+    /// Its inbox had messages while its render thread drew.
+    woken: bool,
 }
 
 impl Viewer {
@@ -104,69 +118,66 @@ impl Viewer {
     }
 }
 
-pub struct Scheduler {
-    session: Session,
-    base: Options,
-    models: Models,
-    config: Config,
-    viewers: BTreeMap<u64, Viewer>,
-    /// The viewer served last: the next turn starts after it.
+/// A render thread's turns.
+#[derive(Default)]
+struct Turns {
+    /// It draws a job now.
+    busy: bool,
+    /// The viewer it served last: the next turn starts after it.
     last_served: u64,
     /// The charge of the viewer served last: no viewer's counts for less (an idle viewer
     /// does not bank time to spend in a burst).
     vclock: Duration,
+}
+
+pub struct Scheduler {
+    pool: Pool,
+    base: Options,
+    models: Arc<Models>,
+    config: Config,
+    viewers: BTreeMap<u64, Viewer>,
+    /// Per render thread.
+    turns: Vec<Turns>,
     next_frame: u64,
     presenter: Option<u64>,
     presenter_online: Arc<std::sync::atomic::AtomicBool>,
-    /// The encoders' and loaders' way back (`Event::Encoded`, `Event::Loaded`).
+    /// The loaders' way back (`Event::Loaded`).
     events: Sender<Event>,
-    /// The scenes being loaded on workers, by load number.
-    loads: BTreeMap<u64, Options>,
+    /// The scenes being loaded on workers, by load number, and the thread each is for.
+    loads: BTreeMap<u64, (Options, usize)>,
     next_load: u64,
-    /// The encoders: a pool of their own, because a model's load fills rayon's global pool
-    /// (its parse, normals and clusters are parallel) and an encode queued behind it held
-    /// every other viewer's frame back by ~100 ms (measured).
-    encoders: rayon::ThreadPool,
 }
 
 impl Scheduler {
     pub fn new(
-        session: Session,
+        pool: Pool,
         base: Options,
-        models: Models,
+        models: Arc<Models>,
         config: Config,
         presenter_online: Arc<std::sync::atomic::AtomicBool>,
         events: Sender<Event>,
-    ) -> glview::Result<Scheduler> {
-        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
-        let encoders = rayon::ThreadPoolBuilder::new()
-            .num_threads(cores.clamp(1, 4))
-            .thread_name(|i| format!("glview-encode-{i}"))
-            .build()
-            .map_err(|e| glview::Error::Unsupported(format!("cannot start the encoders: {e}")))?;
-        Ok(Scheduler {
-            session,
+    ) -> Scheduler {
+        Scheduler {
+            turns: (0..pool.len()).map(|_| Turns::default()).collect(),
+            pool,
             base,
             models,
             config,
             viewers: BTreeMap::new(),
-            last_served: 0,
-            vclock: Duration::ZERO,
             next_frame: 1,
             presenter: None,
             presenter_online,
             events,
             loads: BTreeMap::new(),
             next_load: 1,
-            encoders,
-        })
+        }
     }
 
     /// Serves for the life of the process.
     pub fn run(&mut self, events: &Receiver<Event>) {
         loop {
             let now = Instant::now();
-            let wait = if self.ready(now).is_some() {
+            let wait = if self.idle_threads().any(|t| self.ready(now, t).is_some()) {
                 Duration::ZERO
             } else {
                 self.next_deadline(now)
@@ -180,13 +191,19 @@ impl Scheduler {
             while let Ok(e) = events.try_recv() {
                 self.event(e);
             }
-            if let Some(id) = self.ready(Instant::now()) {
-                self.last_served = id;
-                let t = Instant::now();
-                self.serve(id);
-                self.charge_frame(id, t.elapsed());
+            let idle: Vec<usize> = self.idle_threads().collect();
+            for t in idle {
+                if let Some(id) = self.ready(Instant::now(), t) {
+                    self.turns[t].last_served = id;
+                    self.dispatch(id, t);
+                }
             }
         }
+    }
+
+    /// The render threads without a job.
+    fn idle_threads(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..self.turns.len()).filter(|&t| !self.turns[t].busy)
     }
 
     /// Whether `id` draws its own view (not a follower of an online presenter).
@@ -197,7 +214,7 @@ impl Scheduler {
 
     /// When `v` wants a frame next (None: it waits for an ack, input, or its presenter).
     fn due_at(&self, id: u64, v: &Viewer) -> Option<Instant> {
-        if v.in_flight.is_some() || v.encoding || v.loading || !self.draws_own(id) {
+        if v.in_flight.is_some() || v.encoding || v.loading || v.rendering || !self.draws_own(id) {
             return None;
         }
         let at = if v.dirty {
@@ -212,25 +229,29 @@ impl Scheduler {
 
     /// A viewer's charge as the turns count it.
     fn charge(&self, v: &Viewer) -> Duration {
-        v.used.max(self.vclock)
+        v.used.max(self.turns[v.thread].vclock)
     }
 
-    /// The next viewer to draw: of those due, the least charged with render time; among
-    /// equals, in turn after the last one served.
-    fn ready(&self, now: Instant) -> Option<u64> {
-        let after = self.viewers.range(self.last_served + 1..);
-        let before = self.viewers.range(..=self.last_served);
+    /// The next viewer render thread `thread` draws: of its viewers due, the least charged
+    /// with render time; among equals, in turn after the last one served.
+    fn ready(&self, now: Instant, thread: usize) -> Option<u64> {
+        let last = self.turns[thread].last_served;
+        let after = self.viewers.range(last + 1..);
+        let before = self.viewers.range(..=last);
         after
             .chain(before)
+            .filter(|(_, v)| v.thread == thread)
             .filter(|(id, v)| self.due_at(**id, v).is_some_and(|t| t <= now))
             .min_by_key(|(_, v)| self.charge(v))
             .map(|(id, _)| *id)
     }
 
-    /// How long nothing is due: until the nearest owed still or held-back frame (or a while).
+    /// How long nothing is due: until the nearest owed still or held-back frame of an idle
+    /// thread's viewer (or a while: a busy thread's job ends with an event).
     fn next_deadline(&self, now: Instant) -> Duration {
         self.viewers
             .iter()
+            .filter(|(_, v)| !self.turns[v.thread].busy)
             .filter_map(|(id, v)| self.due_at(*id, v))
             .map(|t| t.saturating_duration_since(now))
             .min()
@@ -238,16 +259,18 @@ impl Scheduler {
     }
 
     /// Charges `id` with a frame that took `cost`: an expensive one holds it back while
-    /// another viewer is active.
+    /// another viewer of its thread is active.
     fn charge_frame(&mut self, id: u64, cost: Duration) {
         let now = Instant::now();
+        let thread = self.viewers[&id].thread;
         let others = self.viewers.iter().any(|(other, v)| {
             *other != id
+                && v.thread == thread
                 && (v.served_at.is_some_and(|t| now - t < ACTIVE)
                     || self.due_at(*other, v).is_some())
         });
         let start = self.charge(&self.viewers[&id]);
-        self.vclock = start;
+        self.turns[thread].vclock = start;
         let v = self.viewers.get_mut(&id).expect("served");
         v.used = start + cost;
         v.served_at = Some(now);
@@ -275,16 +298,31 @@ impl Scheduler {
                 load,
                 options,
                 prepared,
-            } => self.loaded(load, &options, prepared),
-            Event::Wake { id } => {
-                let msgs = match self.viewers.get(&id) {
-                    Some(v) => v.inbox.take(),
-                    None => return,
-                };
-                for msg in msgs {
-                    self.input(id, msg);
-                }
-            }
+            } => self.loaded(load, options, prepared),
+            Event::Adopted {
+                load,
+                thread,
+                options,
+                failed,
+            } => self.adopted(load, thread, &options, failed),
+            Event::Drawn(done) => self.done(*done),
+            Event::Wake { id } => self.wake(id),
+        }
+    }
+
+    /// Takes `id`'s inbox, unless its render thread draws (then when the job ends): as when
+    /// one thread both drew and read the inboxes between frames, a viewer's messages are
+    /// taken in one batch a frame (its inbox wakes the scheduler once a batch), not one by
+    /// one (30 viewers dragging at 60 inputs/s would wake it 1,800 times a second).
+    fn wake(&mut self, id: u64) {
+        let busy = |v: &Viewer, turns: &[Turns]| v.rendering || turns[v.thread].busy;
+        let msgs = match self.viewers.get_mut(&id) {
+            Some(v) if busy(v, &self.turns) => return v.woken = true,
+            Some(v) => v.inbox.take(),
+            None => return,
+        };
+        for msg in msgs {
+            self.input(id, msg);
         }
     }
 
@@ -312,6 +350,7 @@ impl Scheduler {
             "keys": keys::remote_table(),
         });
         out.push(Outgoing::Text(hello.to_string()));
+        let thread = self.place(options.load.model.as_deref(), None);
         let v = Viewer {
             out,
             inbox,
@@ -328,18 +367,24 @@ impl Scheduler {
             owed: None,
             last_frame: None,
             last_was_still: false,
-            used: self.vclock,
+            used: self.turns[thread].vclock,
             not_before: Instant::now(),
             served_at: None,
             encoding: false,
             loading: false,
+            thread,
+            rendering: false,
+            woken: false,
         };
         self.viewers.insert(id, v);
         if presenter {
             self.presenter = Some(id);
             self.set_presenter_online(true);
         }
-        log::info!("viewer {id} joined ({} now)", self.viewers.len());
+        log::info!(
+            "viewer {id} joined ({} now), render thread {thread}",
+            self.viewers.len()
+        );
     }
 
     fn leave(&mut self, id: u64) {
@@ -349,9 +394,14 @@ impl Scheduler {
         if self.presenter == Some(id) {
             self.presenter = None;
             // Followers go on from where the class was.
-            for f in self.viewers.values_mut().filter(|f| f.following) {
+            let mut followers = Vec::new();
+            for (fid, f) in self.viewers.iter_mut().filter(|(_, f)| f.following) {
                 f.view = v.view.clone();
                 f.changed();
+                followers.push(*fid);
+            }
+            for fid in followers {
+                self.place_again(fid);
             }
             self.set_presenter_online(false);
         }
@@ -367,7 +417,28 @@ impl Scheduler {
         }
     }
 
+    /// A message of `id`'s; a view now of another model (picked, or the class's taken on
+    /// leaving it) moves to the thread that has that model, or the least loaded one.
     fn input(&mut self, id: u64, msg: ClientMsg) {
+        let before = self.viewers[&id].view.options().load.model.clone();
+        self.apply_input(id, msg);
+        if self
+            .viewers
+            .get(&id)
+            .is_some_and(|v| v.view.options().load.model != before)
+        {
+            self.place_again(id);
+        }
+    }
+
+    /// `id` to the thread [`Scheduler::place`] picks for its model now.
+    fn place_again(&mut self, id: u64) {
+        let model = self.viewers[&id].view.options().load.model.clone();
+        let thread = self.place(model.as_deref(), Some(id));
+        self.viewers.get_mut(&id).expect("present").thread = thread;
+    }
+
+    fn apply_input(&mut self, id: u64, msg: ClientMsg) {
         let presenter_view = self
             .presenter
             .filter(|&p| p != id)
@@ -439,6 +510,25 @@ impl Scheduler {
                 v.view.resize((width, height));
                 v.changed();
             }
+            ClientMsg::Camera {
+                yaw,
+                pitch,
+                distance,
+                target,
+                fov,
+                ..
+            } => {
+                v.leave_class(presenter_view.as_ref());
+                let cam = json!({"yaw": yaw, "pitch": pitch, "distance": distance,
+                    "target": target, "fov": fov.unwrap_or(self.base.camera.fov)});
+                match set_camera(&v.view, cam) {
+                    Some(view) => {
+                        v.view = view;
+                        v.changed();
+                    }
+                    None => v.error("the camera cannot be set on this view"),
+                }
+            }
             ClientMsg::Model { name, .. } => match self.models.open(&name) {
                 Ok(path) => {
                     v.leave_class(presenter_view.as_ref());
@@ -459,117 +549,6 @@ impl Scheduler {
             }
             ClientMsg::Ping => {}
         }
-    }
-
-    /// Applies the viewer's waiting inputs with its scene; the error is the client's.
-    /// The scene is looked up with the options of the frame about to be drawn (`kind`), so
-    /// the target is not re-sized for the lookup and again for the frame.
-    fn apply_pending(&mut self, id: u64, kind: Kind) -> Result<(), String> {
-        let v = self.viewers.get_mut(&id).expect("served");
-        if v.pending.is_empty() {
-            return Ok(());
-        }
-        let pending = std::mem::take(&mut v.pending);
-        let scene = self
-            .session
-            .scene(&options_for(&v.view, kind))
-            .map_err(|e| e.to_string())?;
-        for m in pending {
-            let r = match m {
-                ClientMsg::Key { key, .. } => match keys::action_for(&key) {
-                    Some(a) => match v.view.act(a, scene) {
-                        Ok(Effect::Screenshot) => {
-                            v.last_input = Instant::now() - self.config.still_delay;
-                            Ok(())
-                        }
-                        other => other.map(|_| ()),
-                    },
-                    None => Err(glview::Error::Usage(format!(
-                        "unknown key {:?} (the window's keys: glview --help)",
-                        super::http::clip(&key)
-                    ))),
-                },
-                ClientMsg::Drag { dx, dy, .. } => v.view.drag(dx, dy, scene),
-                ClientMsg::Wheel { notches, .. } => v.view.wheel(notches, scene),
-                _ => Ok(()),
-            };
-            if let Err(e) = r {
-                v.error(&self.models.scrub(&e.to_string()));
-            }
-        }
-        Ok(())
-    }
-
-    /// Draws `id`'s view (a preview or the still) and sends it, to its followers too when
-    /// it is the presenter.
-    fn serve(&mut self, id: u64) {
-        let v = &self.viewers[&id];
-        let kind = if v.dirty && !v.fresh {
-            Kind::Preview {
-                scale: self.config.drag_scale,
-                quality: self.config.drag_quality,
-            }
-        } else {
-            Kind::Still
-        };
-        // Inputs are applied with the scene, and the frame drawn of it: both wait for it.
-        if self.load_first(id, kind) {
-            return;
-        }
-        if let Err(e) = self.apply_pending(id, kind) {
-            let v = self.viewers.get_mut(&id).expect("served");
-            v.error(&self.models.scrub(&e));
-            (v.dirty, v.still_owed) = (false, false);
-            return;
-        }
-        // A key may have changed the load options (x-ray, flat): another scene.
-        if self.load_first(id, kind) {
-            return;
-        }
-        let v = &self.viewers[&id];
-        let picture = Picture {
-            view: &v.view,
-            models: &self.models,
-            kind,
-        };
-        let frame = self.next_frame;
-        let drawn = draw(&mut self.session, &picture).map(|mut d| {
-            d.header["frame"] = frame.into();
-            d.header["seq"] = v.seq.into();
-            d.header["presenter"] = v.presenter.into();
-            d
-        });
-        let v = self.viewers.get_mut(&id).expect("served");
-        v.dirty = false;
-        v.fresh = false;
-        if kind == Kind::Still {
-            v.still_owed = false;
-        }
-        let drawn = match drawn {
-            Ok(d) => d,
-            Err(e) => {
-                v.error(&self.models.scrub(&e.to_string()));
-                v.still_owed = false;
-                return;
-            }
-        };
-        self.next_frame += 1;
-        // Encoding takes a worker, not the render thread; the viewer waits for it as for an
-        // ack (one frame of a viewer at a time, in order).
-        v.encoding = true;
-        let events = self.events.clone();
-        let still = kind == Kind::Still;
-        self.encoders.spawn(move || {
-            let bytes = encode(drawn)
-                .map(|(header, image)| frame_bytes(&header, &image).into())
-                .map_err(|e| e.to_string());
-            let _ = events.send(Event::Encoded {
-                id,
-                frame,
-                still,
-                bytes,
-            });
-        });
     }
 
     /// A frame encoded: sent to its viewer, and to the followers when it is the presenter.
@@ -597,4 +576,19 @@ impl Scheduler {
             }
         }
     }
+}
+
+/// `view` with its camera's angles, distance, target and field of view set (the rest of
+/// the view, its state and its home, as they were). Through the view's JSON form, which is
+/// its options': no second way into them.
+fn set_camera(view: &View, cam: serde_json::Value) -> Option<View> {
+    let mut v = serde_json::to_value(view).ok()?;
+    let c = v.get_mut("options")?.get_mut("camera")?.as_object_mut()?;
+    for (k, val) in cam.as_object()? {
+        if !c.contains_key(k) {
+            return None;
+        }
+        c.insert(k.clone(), val.clone());
+    }
+    serde_json::from_value(v).ok()
 }

@@ -56,8 +56,29 @@ impl Bucket {
 }
 
 /// A viewer's life on the upgraded connection.
-pub async fn viewer(io: TokioIo<Upgraded>, shared: Arc<Shared>, presenter: bool) {
+pub async fn viewer(
+    io: TokioIo<Upgraded>,
+    shared: Arc<Shared>,
+    presenter: bool,
+    place: Option<super::conn::Slot>,
+) {
     let mut ws = WebSocketStream::from_raw_socket(io, Role::Server, Some(ws_config())).await;
+    if place.is_none() {
+        // One address (one student's script) may not take every place in the class.
+        let msg = format!(
+            "this address has {} viewers open already (the server's \
+             --max-viewers-per-address): close one first",
+            shared.max_viewers_per_address
+        );
+        refuse(
+            &mut ws,
+            &msg,
+            CloseCode::Policy,
+            "too many viewers from this address",
+        )
+        .await;
+        return;
+    }
     // The viewer count is taken before the viewer exists, so two at once cannot both pass.
     let count = shared.viewers.fetch_add(1, Ordering::SeqCst) + 1;
     if count > shared.max_viewers {
@@ -66,15 +87,7 @@ pub async fn viewer(io: TokioIo<Upgraded>, shared: Arc<Shared>, presenter: bool)
             "the server is full ({} viewers): try again later",
             shared.max_viewers
         );
-        let _ = timeout(SEND_DEADLINE, async {
-            ws.send(Message::text(error_json(&msg, true))).await?;
-            ws.close(Some(CloseFrame {
-                code: CloseCode::Again,
-                reason: "server full".into(),
-            }))
-            .await
-        })
-        .await;
+        refuse(&mut ws, &msg, CloseCode::Again, "server full").await;
         return;
     }
     let id = shared.next_id.fetch_add(1, Ordering::SeqCst);
@@ -99,6 +112,19 @@ pub async fn viewer(io: TokioIo<Upgraded>, shared: Arc<Shared>, presenter: bool)
         let _ = shared.events.send(Event::Leave { id });
     }
     shared.viewers.fetch_sub(1, Ordering::SeqCst);
+}
+
+/// Tells the client why it has no viewer, and closes.
+async fn refuse(ws: &mut Ws, msg: &str, code: CloseCode, reason: &'static str) {
+    let _ = timeout(SEND_DEADLINE, async {
+        ws.send(Message::text(error_json(msg, true))).await?;
+        ws.close(Some(CloseFrame {
+            code,
+            reason: reason.into(),
+        }))
+        .await
+    })
+    .await;
 }
 
 /// Reads messages until the client closes, goes silent for the idle timeout, sends

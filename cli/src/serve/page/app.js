@@ -198,9 +198,15 @@ async function onFrame(buf) {
 // ---- the model picker, buttons and follow box ----
 
 // A link may carry a model and a view, so a course page opens the model where the lesson
-// needs it: `?model=sub/part.glb&keys=Right,Right,Up,P,P,B` (keys of the window's table:
-// camera steps, tier, toggles). Sent once, as the user's own input would be.
+// needs it: `?model=sub/part.glb&yaw=40&pitch=20&distance=3.5&target=0,0.2,0&fov=45&keys=P,P,B`
+// (the camera absolutely, as `glview --yaw --pitch --distance --target --fov` take it: no
+// distance or target is the fitted view; keys of the window's table: tier, toggles, or
+// camera steps). Sent once, as the user's own input would be.
 let linkOpened = false;
+// The state keys (not camera ones) this page sent, in order: what "Copy link" carries.
+const stateKeys = [];
+const CAMERA_KEYS = new Set(['LEFT', 'RIGHT', 'UP', 'DOWN', 'PLUS', '+', 'PAGEUP', 'MINUS', '-',
+  'PAGEDOWN', 'R', 'HOME', 'F']);
 function openLink(m) {
   if (linkOpened) return;
   linkOpened = true;
@@ -209,12 +215,58 @@ function openLink(m) {
     $('model').value = model;
     sendInput({ type: 'model', name: model });
   }
+  const num = (k) => (params.has(k) && isFinite(Number(params.get(k))) ? Number(params.get(k)) : null);
+  if (num('yaw') !== null && num('pitch') !== null) {
+    const cam = { type: 'camera', yaw: num('yaw'), pitch: num('pitch') };
+    if (num('distance') !== null) cam.distance = num('distance');
+    if (num('fov') !== null) cam.fov = num('fov');
+    const t = (params.get('target') || '').split(',').map(Number);
+    if (t.length === 3 && t.every(isFinite)) cam.target = t;
+    sendInput(cam);
+  }
   const keys = (params.get('keys') || '').split(',').filter(Boolean).slice(0, 64);
   for (const k of keys) {
     const name = serverKeys.get(k.trim().toUpperCase());
-    if (name) sendInput({ type: 'key', key: name });
+    if (name) {
+      if (!CAMERA_KEYS.has(name.toUpperCase())) stateKeys.push(name);
+      sendInput({ type: 'key', key: name });
+    }
   }
 }
+
+// This view as a link: the model, the camera of the frame on screen absolutely, and the
+// state keys sent here (at most 64); the class's token when this page was opened with it,
+// never the presenter's key.
+function viewLink() {
+  const h = window.glview.last;
+  const q = new URLSearchParams();
+  if (params.get('token')) q.set('token', params.get('token'));
+  if (h && h.model) q.set('model', h.model);
+  const c = h && h.camera;
+  if (c) {
+    // The header's numbers as they are: the shortest text that reads back as the same
+    // number, so the link's view is the same view to the bit.
+    const r = (v) => String(v);
+    q.set('yaw', r(c.yaw));
+    q.set('pitch', r(c.pitch));
+    if (c.distance !== null) q.set('distance', r(c.distance));
+    if (c.target) q.set('target', c.target.map(r).join(','));
+    q.set('fov', r(c.fov));
+  }
+  if (stateKeys.length) q.set('keys', stateKeys.slice(-64).join(','));
+  return location.origin + location.pathname + '?' + q;
+}
+window.glview.viewLink = viewLink;
+
+$('link').addEventListener('click', async () => {
+  const link = viewLink();
+  try {
+    await navigator.clipboard.writeText(link);
+    status('link copied');
+  } catch (err) {
+    window.prompt('the link to this view:', link);
+  }
+});
 
 function fillModels(models, current) {
   const sel = $('model');
@@ -276,6 +328,7 @@ const serverKeys = new Map(); // upper-cased key name -> the table's spelling
 
 function key(name) {
   leaveFollow();
+  if (!CAMERA_KEYS.has(name.toUpperCase())) stateKeys.push(name);
   sendInput({ type: 'key', key: name });
 }
 

@@ -1,27 +1,28 @@
-//! Models loaded off the render thread: a viewer whose scene is not uploaded waits while a
-//! worker thread parses and prepares it ([`Prepared::load`], no GL); the render thread
-//! draws everyone else meanwhile and spends only the upload on it ([`Session::adopt`]).
-//! Viewers of one scene share its load; at most [`MAX_LOADS`] run at once (each holds a
-//! whole model in memory), later ones wait for a free worker.
-use super::{Event, Kind, Options, Scheduler};
+//! Models loaded off the render threads: a viewer whose scene is not uploaded on its
+//! thread waits while a worker thread parses and prepares it ([`Prepared::load`], no GL);
+//! the render threads draw everyone else meanwhile and the viewer's spends only the upload
+//! on it ([`Session::adopt`](glview::session::Session::adopt)). Viewers of one scene on one
+//! thread share its load; at most [`MAX_LOADS`] run at once (each holds a whole model in
+//! memory), later ones wait for a free worker.
+use super::{Event, Options, Scheduler};
+use crate::serve::pool::Work;
 use glview::session::{same_scene, Prepared};
 
 /// Loads at once: more would only share the same cores and hold more models in memory.
 const MAX_LOADS: usize = 2;
 
 impl Scheduler {
-    /// Whether `id`'s frame of `kind` must wait for its scene (then a load is started or
-    /// joined, and the viewer waits for it).
-    pub(super) fn load_first(&mut self, id: u64, kind: Kind) -> bool {
-        let o = super::options_for(&self.viewers[&id].view, kind);
-        if self.session.has_scene(&o) {
-            return false;
-        }
+    /// `id`'s frame needs the scene of `o` on render thread `thread`: a load is started
+    /// or joined, and the viewer waits for it.
+    pub(super) fn load(&mut self, id: u64, thread: usize, o: Options) {
         let v = self.viewers.get_mut(&id).expect("served");
         v.loading = true;
-        let joined = self.loads.values().any(|l| same_scene(l, &o));
+        let joined = self
+            .loads
+            .values()
+            .any(|(l, t)| *t == thread && same_scene(l, &o));
         if joined || self.loads.len() >= MAX_LOADS {
-            return true;
+            return;
         }
         let load = self.next_load;
         self.next_load += 1;
@@ -49,7 +50,7 @@ impl Scheduler {
             });
         match worker {
             Ok(_) => {
-                self.loads.insert(load, o);
+                self.loads.insert(load, (o, thread));
             }
             Err(e) => {
                 log::warn!("cannot start a loading thread: {e}");
@@ -58,26 +59,45 @@ impl Scheduler {
                 (v.dirty, v.still_owed) = (false, false);
             }
         }
-        true
     }
 
-    /// A worker's load done: uploaded, and every waiting viewer tries again (those of this
-    /// scene draw it; those of a scene still loading wait again; those held back by
-    /// [`MAX_LOADS`] start theirs). A failed load is its viewers' error.
+    /// A worker's load done: to its render thread to upload (the load stays counted until
+    /// then, so its viewers do not start it again).
     pub(super) fn loaded(
         &mut self,
         load: u64,
-        options: &Options,
+        options: Box<Options>,
         prepared: Result<Box<Prepared>, String>,
     ) {
+        let Some((_, thread)) = self.loads.get(&load) else {
+            return;
+        };
+        let work = Work::Adopt {
+            load,
+            options,
+            prepared,
+        };
+        if !self.pool.send(*thread, work) {
+            log::error!("render thread {thread} is gone");
+        }
+    }
+
+    /// A load uploaded on `thread` (or failed): every waiting viewer tries again (those of
+    /// this scene draw it; those of a scene still loading wait again; those held back by
+    /// [`MAX_LOADS`] start theirs). A failed load is its viewers' error.
+    pub(super) fn adopted(
+        &mut self,
+        load: u64,
+        thread: usize,
+        options: &Options,
+        failed: Option<String>,
+    ) {
         self.loads.remove(&load);
-        let adopted =
-            prepared.and_then(|p| self.session.adopt(options, *p).map_err(|e| e.to_string()));
-        let failed = adopted.err().map(|e| self.models.scrub(&e));
         for v in self.viewers.values_mut().filter(|v| v.loading) {
             v.loading = false;
-            let o = super::options_for(&v.view, Kind::Still);
-            if let Some(e) = failed.as_deref().filter(|_| same_scene(&o, options)) {
+            let o = super::options_for(&v.view, super::Kind::Still);
+            let mine = v.thread == thread && same_scene(&o, options);
+            if let Some(e) = failed.as_deref().filter(|_| mine) {
                 v.error(e);
                 v.pending.clear();
                 (v.dirty, v.still_owed) = (false, false);

@@ -3,6 +3,8 @@
 //! figures are frames a second per viewer and in all, the latency from an input to the
 //! first frame that shows it, bytes a frame, and where a frame's time goes (the server's
 //! own timings in each frame's header). Teacher mode: one presenter drags, 30 followers.
+//! Render-thread scaling: 30 viewers on 1 and 2 `--render-threads`, the server's CPU time
+//! a frame, and the rate those costs give a 16-core server ([`scaling`]).
 use glview::{Error, Result};
 use serde_json::{json, Value};
 use std::io::{BufRead, BufReader};
@@ -39,6 +41,9 @@ fn start(model: &Path, size: &str, tier: &str, extra: &[&str], jpeg: &str) -> Re
             "127.0.0.1:0",
             "--no-token",
             "--max-viewers",
+            "64",
+            // Every simulated viewer is on 127.0.0.1.
+            "--max-viewers-per-address",
             "64",
         ])
         .arg(model)
@@ -311,5 +316,73 @@ pub fn run_serve(models_dir: &Path, seconds: f64, size: &str) -> Result<()> {
         })
         .collect();
     println!("{}", Value::Array(json));
+    scaling(&bunny, size, run)
+}
+
+/// The server's CPU time so far (user + system), from /proc.
+fn cpu_ms(pid: u32) -> f64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+    // Fields after the command's closing parenthesis, from the state (field 3): utime and
+    // stime are fields 14 and 15.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let field = |i: usize| f.get(i).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    // SAFETY: sysconf reads a constant.
+    let hz = unsafe { libc::sysconf(libc::_SC_CLK_TCK) }.max(1) as f64;
+    (field(11) + field(12)) * 1e3 / hz
+}
+
+/// Render-thread scaling: 30 Phong viewers dragging with 1 and 2 render threads (their
+/// clients on the same cores: a server with the clients elsewhere has these cores to
+/// itself), then the rate a 16-core server would give from the measured costs.
+fn scaling(model: &Path, size: &str, run: Duration) -> Result<()> {
+    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let mut rows = Vec::new();
+    for threads in [1, 2] {
+        let n = threads.to_string();
+        let server = start(model, size, "phong", &["--render-threads", &n], "auto")?;
+        let pid = server.child.id();
+        let cpu = cpu_ms(pid);
+        let row = scenario(
+            &server,
+            &format!("{threads} render thread(s)"),
+            30,
+            false,
+            run,
+        );
+        let frames = row.total_fps * run.as_secs_f64();
+        let cpu_per_frame = (cpu_ms(pid) - cpu) / frames.max(1.0);
+        eprintln!("bench serve: {threads} render thread(s) done");
+        rows.push((threads, row, cpu_per_frame));
+    }
+    println!(
+        "\nrender threads, 30 viewers dragging, phong, {size}, on this machine's {cores} cores \
+         (the 30 simulated clients run on the same cores as the server):\n"
+    );
+    println!("| render threads | frames/s in all | per viewer (min / mean) | server ms a frame: render / read / encode (median) | server CPU ms a frame |");
+    println!("|---|---|---|---|---|");
+    for (t, r, cpu) in &rows {
+        println!(
+            "| {t} | {:.1} | {:.1} / {:.1} | {:.1} / {:.1} / {:.1} | {cpu:.1} |",
+            r.total_fps, r.min_fps, r.mean_fps, r.server_ms[0], r.server_ms[1], r.server_ms[2]
+        );
+    }
+    // The model: a frame holds one render thread for render + read, an encoder for
+    // encode, and costs the server `cpu` ms of CPU in all; the rate is the least of what
+    // the render threads, the encoders and the cores allow.
+    let (_, one, cpu) = &rows[0];
+    let (threads16, encoders16, cores16) = (4.0, 4.0, 16.0);
+    let by_threads = threads16 * 1e3 / (one.server_ms[0] + one.server_ms[1]).max(0.1);
+    let by_encode = encoders16 * 1e3 / one.server_ms[2].max(0.01);
+    let by_cores = cores16 * 1e3 / cpu.max(0.1);
+    let total = by_threads.min(by_encode).min(by_cores);
+    println!(
+        "\n16-core lab server (extrapolated from the 1-thread row: frames/s = min(threads × \
+         1000 / (render + read ms), encoders × 1000 / encode ms, cores × 1000 / server CPU ms \
+         a frame); its default 4 render threads and 4 encoders, the clients elsewhere): \
+         render threads {by_threads:.0}, encoders {by_encode:.0}, cores {by_cores:.0} → \
+         ≈ {total:.0} frames/s in all, {:.1} a viewer for 30 viewers",
+        total / 30.0
+    );
     Ok(())
 }
