@@ -60,7 +60,7 @@ fn anisotropy_off_equals_the_isotropic_material_on_every_context() {
     let r90 = sphere(
         &dir,
         "r90",
-        &material(base, metal, rough, &aniso(1.5707963)),
+        &material(base, metal, rough, &aniso(std::f64::consts::FRAC_PI_2)),
     );
     let off = "direct-diffuse,direct-specular,ibl-diffuse,ibl-specular,ao,shadows,emissive,\
                normal-map,clearcoat,sheen,transmission,iridescence";
