@@ -9,7 +9,9 @@
 // KHR_CLEARCOAT adds a GGX lobe of F0 0.04 on its own normal and roughness and scales what
 // lies under it by 1 - clearcoat * F_cc(N_cc.V); KHR_IRIDESCENCE mixes the base's reflection
 // Fresnel with a thin film's at N.V by the iridescence factor (the diffuse with the film's
-// reflectance at normal incidence in place of f0).
+// reflectance at normal incidence in place of f0); KHR_ANISOTROPY stretches the base's GGX
+// lobe along a tangent-space direction (the Sample Viewer's anisotropic D and V, and its
+// bent normal for the environment's lobe).
 IN vec3 vEyePos;
 #ifdef LOG_DEPTH
 #include "logdepth.glsl"
@@ -17,7 +19,7 @@ IN vec3 vEyePos;
 IN vec2 vUv;
 IN vec3 vNormal;
 #include "material.glsl"
-#if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP)
+#if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP) || defined(KHR_ANISOTROPY)
 #include "normalmap.glsl"
 #endif
 #if NUM_LIGHTS > 0
@@ -30,6 +32,9 @@ uniform vec3 uLightColor[NUM_LIGHTS];
 #include "ibl.glsl"
 #ifdef KHR_IRIDESCENCE
 #include "iridescence.glsl"
+#endif
+#ifdef KHR_ANISOTROPY
+#include "anisotropy.glsl"
 #endif
 #include "output.glsl"
 
@@ -61,10 +66,10 @@ IN vec4 vColor;
 #ifdef HAS_KHR_MAPS
 // The extensions' texture slots (src/scene/material_khr.rs SLOTS order): 0 clearcoat,
 // 1 clearcoat roughness, 2 clearcoat normal, 3 sheen colour, 4 sheen roughness, 5 specular,
-// 6 specular colour, 7 transmission, 8 thickness; each with its UV set and transform like
-// the core slots.
-uniform mat3 uKhrXf[11];
-uniform float uKhrSet[11];
+// 6 specular colour, 7 transmission, 8 thickness, 9 iridescence, 10 iridescence thickness,
+// 11 anisotropy; each with its UV set and transform like the core slots.
+uniform mat3 uKhrXf[12];
+uniform float uKhrSet[12];
 #define KHR_UV(i) ((uKhrXf[i] * vec3(uKhrSet[i] > 0.5 ? GLVIEW_UV1 : vUv, 1.0)).xy)
 #endif
 #ifdef KHR_SPECULAR
@@ -117,6 +122,13 @@ uniform sampler2D uIridescenceMap;     // r
 #endif
 #ifdef HAS_IRIDESCENCE_THICKNESS_MAP
 uniform sampler2D uIridescenceThicknessMap;   // g
+#endif
+#endif
+#ifdef KHR_ANISOTROPY
+uniform vec3 uAnisotropy;              // cos(rotation), sin(rotation), strength
+uniform float uTermAnisotropy;         // the --terms layer (0 or 1)
+#ifdef HAS_ANISOTROPY_MAP
+uniform sampler2D uAnisotropyMap;      // rg: direction in [-1, 1] as [0, 1]; b: strength
 #endif
 #endif
 #ifdef KHR_CLEARCOAT
@@ -179,6 +191,11 @@ struct PbrSurface {
 #ifdef KHR_IRIDESCENCE
     float irid;       // the film's weight
     vec3 iridF;       // the film's Fresnel at N.V
+#endif
+#ifdef KHR_ANISOTROPY
+    float aniso;      // the strength (0: the layer off)
+    vec3 anisoT;      // the direction the lobe stretches along (eye space)
+    vec3 anisoB;      // cross(geomN, anisoT)
 #endif
 };
 
@@ -250,6 +267,35 @@ void pbrFilm(inout PbrSurface s, float f0max) {
 }
 #endif
 
+#ifdef KHR_ANISOTROPY
+// KHR_materials_anisotropy (the Sample Viewer's getAnisotropyInfo): the texture's direction
+// (or the tangent's) turned by the rotation, in the tangent frame of the geometry's normal;
+// the strength is the factor times the texture's blue.
+void pbrAnisotropy(inout PbrSurface s) {
+    vec2 dir = vec2(1.0, 0.0);
+    float strength = uAnisotropy.z * uTermAnisotropy;
+#ifdef HAS_ANISOTROPY_MAP
+    vec3 a = TEX2D(uAnisotropyMap, KHR_UV(11)).rgb;
+    dir = a.rg * 2.0 - 1.0;
+    strength *= a.b;
+#endif
+    dir = mat2(uAnisotropy.x, uAnisotropy.y, -uAnisotropy.y, uAnisotropy.x) * dir;
+    float dl = length(dir);
+    dir = dl > 0.0 ? dir / dl : vec2(1.0, 0.0);
+    // The tangent frame as glviewTangentToEye builds it (flipped on back faces).
+    float side = gl_FrontFacing ? 1.0 : -1.0;
+    vec3 tv = vTangent.xyz * side;
+    vec3 t = tv - s.geomN * dot(s.geomN, tv);
+    float tl = length(t);
+    if (tl <= 0.0) strength = 0.0;
+    t = tl > 0.0 ? t / tl : vec3(1.0, 0.0, 0.0);
+    vec3 b = cross(s.geomN, t) * (vTangent.w < 0.0 ? -side : side);
+    s.anisoT = t * dir.x + b * dir.y;
+    s.anisoB = cross(s.geomN, s.anisoT);
+    s.aniso = clamp(strength, 0.0, 1.0);
+}
+#endif
+
 // The view direction and the base layer's diffuse and specular colours (KHR_SPECULAR: its
 // dielectric F0 and F90).
 void pbrView(inout PbrSurface s) {
@@ -277,6 +323,9 @@ void pbrView(inout PbrSurface s) {
 #ifdef KHR_IRIDESCENCE
     pbrFilm(s, f0max);
 #endif
+#ifdef KHR_ANISOTROPY
+    pbrAnisotropy(s);
+#endif
 }
 
 // The base layer's Fresnel at the angle whose cosine is vh.
@@ -302,6 +351,11 @@ vec3 pbrSplitSum(PbrSurface s, vec2 bf) {
 vec3 pbrIbl(PbrSurface s) {
     vec2 bf = glviewBrdf(s.nv, s.rough);
     vec3 r = reflect(-s.v, s.n);
+#ifdef KHR_ANISOTROPY
+    // The Sample Viewer's getIBLRadianceAnisotropy: the isotropic lobe about the bent normal.
+    if (s.aniso > 0.0)
+        r = reflect(-s.v, glviewAnisoBentNormal(s.n, s.v, s.anisoB, s.aniso, s.rough));
+#endif
 #ifdef DOMINANT_DIRECTION
     // Filament's dominant direction: rough lobes lean towards the normal.
     float a = s.rough * s.rough;
@@ -519,6 +573,11 @@ void pbrAddDirectLight(vec3 l, float shadow, vec3 lightColor, PbrSurface s,
 #endif
         vec3 fs = glviewD_GGX(max(dot(s.n, h), 0.0), s.rough) * glviewG_Smith(s.nv, nl, s.rough)
             * f / (4.0 * s.nv * nl);
+#ifdef KHR_ANISOTROPY
+        // The Sample Viewer's BRDF_specularGGXAnisotropy (its V holds the 1 / (4 N.L N.V)).
+        if (s.aniso > 0.0)
+            fs = glviewSpecAniso(s.n, s.nv, s.v, l, h, s.anisoT, s.anisoB, s.rough, s.aniso) * f;
+#endif
         color += shadow * lightColor * (uTermsA.x * s.kd + uTermsA.y * GLVIEW_PI * fs) * nl;
     }
 }

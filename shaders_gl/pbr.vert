@@ -6,7 +6,7 @@ IN vec2 aUv;
 IN vec4 aColor;     // per-vertex colour, sRGB like a base-colour map; alpha (1 if not given)
 OUT vec4 vColor;
 #endif
-#if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP)
+#if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP) || defined(KHR_ANISOTROPY)
 IN vec4 aTangent;
 #endif
 #ifdef HAS_UV1
@@ -27,7 +27,7 @@ OUT float vClipW;   // for the logarithmic depth written per fragment
 #endif
 OUT vec2 vUv;
 OUT vec3 vNormal;
-#if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP)
+#if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP) || defined(KHR_ANISOTROPY)
 OUT vec4 vTangent;
 #endif
 
@@ -42,7 +42,7 @@ void main() {
     vColor = aColor;
 #endif
     vNormal = uNormalMatrix * aNormal;
-#if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP)
+#if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP) || defined(KHR_ANISOTROPY)
     vTangent = vec4(uNormalMatrix * aTangent.xyz, aTangent.w);
 #endif
     gl_Position = uProjection * eye;

@@ -494,11 +494,12 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
         on(p.emissive)
     ));
     lines.push(format!(
-        "glTF layers: clearcoat {} sheen {} transmission {} iridescence {}",
+        "glTF layers: clearcoat {} sheen {} transmission {} iridescence {} anisotropy {}",
         on(p.clearcoat),
         on(p.sheen),
         on(p.transmission),
-        on(p.iridescence)
+        on(p.iridescence),
+        on(p.anisotropy)
     ));
     lines.push(String::new());
     lines.extend(keys::help_text().lines().map(str::to_string));

@@ -124,11 +124,13 @@ pub struct PbrTerms {
     /// The material's normal map (both tiers); off: the interpolated normal.
     pub normal_map: bool,
     /// The glTF extensions' layers (KHR_materials_clearcoat, _sheen, _transmission,
-    /// _iridescence): off, the material is drawn without the layer.
+    /// _iridescence, _anisotropy): off, the material is drawn without the layer (without
+    /// anisotropy: the isotropic lobe).
     pub clearcoat: bool,
     pub sheen: bool,
     pub transmission: bool,
     pub iridescence: bool,
+    pub anisotropy: bool,
 }
 
 impl Default for PbrTerms {
@@ -140,7 +142,7 @@ impl Default for PbrTerms {
 impl PbrTerms {
     /// The switch the PBR tier's key `1`–`9`, `0` (index 0–9) toggles: the terms in their
     /// written order, the normal map skipped (it has no key); the ten keys end at
-    /// transmission, so iridescence is `--terms` only.
+    /// transmission, so iridescence and anisotropy are `--terms` only.
     pub(crate) fn key_switch(&mut self, i: u8) -> Option<&mut bool> {
         self.named()
             .into_iter()
@@ -165,6 +167,7 @@ impl Switches for PbrTerms {
         sheen: true,
         transmission: true,
         iridescence: true,
+        anisotropy: true,
     };
     const NONE: PbrTerms = PbrTerms {
         direct_diffuse: false,
@@ -179,6 +182,7 @@ impl Switches for PbrTerms {
         sheen: false,
         transmission: false,
         iridescence: false,
+        anisotropy: false,
     };
     fn named(&mut self) -> Vec<(&'static str, &mut bool)> {
         vec![
@@ -194,6 +198,7 @@ impl Switches for PbrTerms {
             ("sheen", &mut self.sheen),
             ("transmission", &mut self.transmission),
             ("iridescence", &mut self.iridescence),
+            ("anisotropy", &mut self.anisotropy),
         ]
     }
 }

@@ -155,8 +155,8 @@ declare_options! {
         shading: Shading = Shading::Phong, "shading" value;
         /// Terms to draw, comma-separated from direct-diffuse, direct-specular,
         /// ibl-diffuse, ibl-specular, ao, shadows, emissive, normal-map (also the legacy
-        /// tier's), and the glTF layers clearcoat, sheen, transmission, iridescence; `all`
-        /// (default) or `none`.
+        /// tier's), and the glTF layers clearcoat, sheen, transmission, iridescence,
+        /// anisotropy; `all` (default) or `none`.
         terms: PbrTerms = PbrTerms::default(), "terms" value;
         /// Legacy tier: terms to draw, comma-separated from ambient, diffuse, specular;
         /// `all` (default) or `none` (keys 1, 2, 3 in the legacy tier).

@@ -114,6 +114,9 @@ pub(crate) struct Surface {
     pub(crate) transmission: f64,
     /// KHR_materials_iridescence's thin film (None: none, or the `--terms` layer off).
     pub(crate) film: Option<Film>,
+    /// KHR_materials_anisotropy's stretched lobe (None: none, strength 0, or the `--terms`
+    /// layer off: the isotropic lobe).
+    pub(crate) aniso: Option<super::anisotropy::Aniso>,
 }
 
 /// A thin film over the base (KHR_materials_iridescence at one point).
@@ -171,10 +174,15 @@ impl Surface {
         }
         let n_dot_v = n.dot(v).max(1e-4);
         let h = (l + v).normalize_or_zero();
-        let spec = d_ggx(n.dot(h).max(0.0), self.roughness)
-            * g_smith(n_dot_v, n_dot_l, self.roughness)
-            * self.fresnel(n_dot_v, v.dot(h).max(0.0))
-            / (4.0 * n_dot_v * n_dot_l);
+        let lobe = match self.aniso {
+            // The Sample Viewer's D·V, whose V holds the 1/(4·N·L·N·V).
+            Some(a) => a.spec(n, n_dot_v, v, l, h, self.roughness),
+            None => {
+                d_ggx(n.dot(h).max(0.0), self.roughness) * g_smith(n_dot_v, n_dot_l, self.roughness)
+                    / (4.0 * n_dot_v * n_dot_l)
+            }
+        };
+        let spec = lobe * self.fresnel(n_dot_v, v.dot(h).max(0.0));
         (self.kd() + PI * spec) * n_dot_l
     }
 
@@ -193,7 +201,10 @@ impl Surface {
     }
 
     /// The specular image-based light ∫ L·f_spec·cos dω by Monte Carlo with GGX-sampled half
-    /// vectors (the truth the split sum approximates).
+    /// vectors (the truth the split sum approximates). Under anisotropy, the Sample Viewer's
+    /// approximation that `pbr.frag` draws: the isotropic lobe turned from the mirror
+    /// direction about `n` to the one about the bent normal (the environment is read through
+    /// that rotation); docs/gltf/extensions.md measures it against the stretched lobe.
     pub(crate) fn mc_specular(
         &self,
         n: DVec3,
@@ -201,6 +212,19 @@ impl Surface {
         samples: u32,
         radiance: &dyn Fn(DVec3) -> DVec3,
     ) -> DVec3 {
+        if let Some(a) = self.aniso {
+            let r0 = (2.0 * n.dot(v) * n - v).normalize_or_zero();
+            let bent = a.bent_normal(n, v, self.roughness);
+            let r1 = (2.0 * bent.dot(v) * bent - v).normalize_or_zero();
+            if r0 != DVec3::ZERO && r1 != DVec3::ZERO {
+                let q = glam::DQuat::from_rotation_arc(r0, r1);
+                let iso = Surface {
+                    aniso: None,
+                    ..*self
+                };
+                return iso.mc_specular(n, v, samples, &|d| radiance(q * d));
+            }
+        }
         let n_dot_v = n.dot(v).max(1e-4);
         let mut spec = DVec3::ZERO;
         for i in 0..samples {

@@ -5,6 +5,7 @@
 //! k_d = albedo·(1 − f0)·(1 − metallic), k_s = mix(f0, albedo, metallic), f0 = 0.04;
 //! E_d: irradiance cube; E_s: one prefiltered cube per roughness level, linear between levels;
 //! BF: the BRDF lookup table (GGX, α = r², Smith–Schlick G with k = r²/2).
+pub(crate) mod anisotropy;
 pub(crate) mod brdf;
 pub(crate) mod cache;
 pub mod env;

@@ -56,6 +56,43 @@ pub(crate) fn film(m: &Material, c: &Corners, on: bool) -> Option<crate::pbr::br
     })
 }
 
+/// KHR_materials_anisotropy's lobe at a hit (None without it, with the `--terms` layer off,
+/// at strength 0, or without a tangent frame), as `pbrAnisotropy` finds it: the texture's
+/// direction (red, green) or the tangent's, turned by the rotation, in the frame of the
+/// interpolated tangent Gram-Schmidt against `ng` (the interpolated normal on the viewer's
+/// side), bitangent ng × t · w, both flipped on back faces; b = ng × t; the strength is the
+/// factor times the texture's blue.
+pub(crate) fn anisotropy(
+    m: &Material,
+    c: &Corners,
+    ng: DVec3,
+    front: bool,
+    on: bool,
+) -> Option<crate::pbr::anisotropy::Aniso> {
+    let a = m.khr.anisotropy.filter(|_| on)?;
+    let tan = c.tangent()?;
+    let mut strength = f64::from(a.strength);
+    let mut dir = glam::DVec2::X;
+    if let Some(t) = texel(m, Slot::Anisotropy, c, false) {
+        dir = glam::DVec2::new(t.x, t.y) * 2.0 - glam::DVec2::ONE;
+        strength *= t.z;
+    }
+    let (sin, cos) = f64::from(a.rotation).sin_cos();
+    let dir = glam::DVec2::new(cos * dir.x - sin * dir.y, sin * dir.x + cos * dir.y);
+    let dir = dir.try_normalize().unwrap_or(glam::DVec2::X);
+    let side = if front { 1.0 } else { -1.0 };
+    let tv = tan.truncate() * side;
+    let t = (tv - ng * ng.dot(tv)).try_normalize()?;
+    let b = ng.cross(t) * if tan.w < 0.0 { -side } else { side };
+    let at = t * dir.x + b * dir.y;
+    let strength = strength.clamp(0.0, 1.0);
+    (strength > 0.0).then(|| crate::pbr::anisotropy::Aniso {
+        strength,
+        t: at,
+        b: ng.cross(at),
+    })
+}
+
 /// The layers over the core model at one hit.
 #[derive(Default)]
 pub(crate) struct Layers {
@@ -181,6 +218,7 @@ impl Layers {
                 f90: 1.0,
                 transmission: 0.0,
                 film: None,
+                aniso: None,
             };
             let mut f = DVec3::ZERO;
             if ibl {

@@ -74,6 +74,8 @@ pub(crate) fn surface(m: &Material, base: DVec3, c: &Corners, l: &LightingParams
         f90,
         transmission: 0.0,
         film: super::layers::film(m, c, l.pbr_terms.iridescence),
+        // Set where the normal is known (`super::surface`).
+        aniso: None,
     }
 }
 

@@ -88,6 +88,8 @@ pub(crate) fn shade_hit(ctx: &Context, hit: &Hit, dir: DVec3, vis: &mut Vec<f64>
         let mut s = super::pbr::surface(material, base, &corners, &ctx.settings.lighting);
         s.albedo *= vc.map(crate::pbr::srgb_decode);
         let n = mapped(ns);
+        let on = ctx.settings.lighting.pbr_terms.anisotropy;
+        s.aniso = super::layers::anisotropy(material, &corners, ns, front, on);
         let layers = super::layers::Layers::new(ctx, material, &corners, (p, ns, n), front);
         super::pbr::shade(ctx, &s, &layers, p, n, vis)
     } else {

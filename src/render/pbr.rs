@@ -360,7 +360,13 @@ impl super::tier::Tier for PbrTier {
         );
         super::pbr_khr::program_uniforms(
             program,
-            [t.clearcoat, t.sheen, t.transmission, t.iridescence],
+            [
+                t.clearcoat,
+                t.sheen,
+                t.transmission,
+                t.iridescence,
+                t.anisotropy,
+            ],
             self.frame_levels.unwrap_or(0.0),
         );
     }

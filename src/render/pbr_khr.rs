@@ -1,11 +1,10 @@
 //! The glTF PBR extensions in the PBR tier (issue 32): which of them a material's program
 //! computes (`KHR_CLEARCOAT`, `KHR_SHEEN`, `KHR_SPECULAR`, `KHR_TRANSMISSION`, `KHR_VOLUME`,
-//! `KHR_IRIDESCENCE`:
-//! permutations, so a material without an extension runs the core program unchanged), their
+//! `KHR_IRIDESCENCE`, `KHR_ANISOTROPY`: permutations, so a material without an extension runs the core program unchanged), their
 //! textures' units and their uniforms, and the copy of the opaque frame transmission reads
 //! (`copy_frame`). The formulas are in `pbr.frag` and docs/gltf/extensions.md.
 use super::textures::TextureTable;
-use super::units::{FRAME_UNIT, KHR_FIRST_UNIT};
+use super::units::{khr_units, FRAME_UNIT};
 use crate::gpu::program::Program;
 use crate::gpu::GpuRef;
 use crate::scene::material_khr::{COUNT, SLOTS};
@@ -33,6 +32,7 @@ const MAPS: [(&str, &str, &str); COUNT] = [
         "irt",
         "uIridescenceThicknessMap",
     ),
+    ("HAS_ANISOTROPY_MAP", "anm", "uAnisotropyMap"),
 ];
 
 /// Which extensions and maps a program computes.
@@ -47,6 +47,8 @@ pub(crate) struct KhrFlags {
     pub(crate) volume: bool,
     /// KHR_materials_iridescence's thin film over the base.
     pub(crate) iridescence: bool,
+    /// KHR_materials_anisotropy's stretched lobe (needs a tangent frame).
+    pub(crate) anisotropy: bool,
     /// Per slot of [`SLOTS`]: the map is read.
     pub(crate) maps: [bool; COUNT],
 }
@@ -60,6 +62,7 @@ impl KhrFlags {
         transmission: true,
         volume: true,
         iridescence: true,
+        anisotropy: true,
         maps: [true; COUNT],
     };
 
@@ -71,6 +74,7 @@ impl KhrFlags {
             .switch("KHR_TRANSMISSION", "trans", self.transmission)
             .switch("KHR_VOLUME", "vol", self.volume)
             .switch("KHR_IRIDESCENCE", "irid", self.iridescence)
+            .switch("KHR_ANISOTROPY", "aniso", self.anisotropy)
             .switch("HAS_KHR_MAPS", "khrm", self.maps.iter().any(|m| *m));
         for (on, (define, short, _)) in self.maps.iter().zip(MAPS) {
             key = key.switch(define, short, *on);
@@ -99,10 +103,12 @@ pub(crate) fn textures(
 }
 
 static UNITS_WARNED: AtomicBool = AtomicBool::new(false);
+static NO_TANGENTS_WARNED: AtomicBool = AtomicBool::new(false);
 
-/// The program flags of material `m` drawn with `textures`: the extensions it uses, and the
-/// maps that have UVs, tangents (the coat's normal map) and a texture unit (from
-/// [`KHR_FIRST_UNIT`]; a map past the driver's last unit is left out, said once).
+/// The program flags of material `m` drawn with `textures`: the extensions it uses
+/// (anisotropy where the mesh has a tangent frame, else isotropic, said once), and the maps
+/// that have UVs, tangents (the coat's normal map) and a texture unit ([`khr_units`]; the
+/// maps past the driver's last unit are left out, least needed first, said once).
 /// `transmission`: the opaque frame's copy is there to read (the mesh is drawn after it).
 pub(crate) fn flags(
     m: &Material,
@@ -121,8 +127,16 @@ pub(crate) fn flags(
         transmission,
         volume: transmission && k.volume.is_some(),
         iridescence: k.iridescence.is_some(),
+        anisotropy: k.anisotropy.is_some() && has_tangents,
         maps: [false; COUNT],
     };
+    if k.anisotropy.is_some() && !has_tangents && !NO_TANGENTS_WARNED.swap(true, Ordering::Relaxed)
+    {
+        log::warn!(
+            "KHR_materials_anisotropy is drawn isotropic on a mesh without texture coordinates \
+             (its direction is given in the tangent frame they define)"
+        );
+    }
     let used = [
         f.clearcoat,
         f.clearcoat,
@@ -135,30 +149,31 @@ pub(crate) fn flags(
         f.volume,
         f.iridescence,
         f.iridescence,
+        f.anisotropy,
     ];
+    let mut wanted = [false; COUNT];
+    for (i, w) in wanted.iter_mut().enumerate() {
+        *w = has_uv && used[i] && textures[i].is_some();
+    }
+    let got = khr_units(&wanted, units);
     for (i, on) in f.maps.iter_mut().enumerate() {
-        *on = has_uv && used[i] && textures[i].is_some();
-        if *on && KHR_FIRST_UNIT + i as u32 >= units {
-            *on = false;
-            if !UNITS_WARNED.swap(true, Ordering::Relaxed) {
-                log::warn!(
-                    "the driver has {units} texture units: glTF extension maps past unit {} \
-                     are drawn with their factors alone",
-                    units.saturating_sub(1)
-                );
-            }
+        *on = got[i].is_some();
+        if wanted[i] && !*on && !UNITS_WARNED.swap(true, Ordering::Relaxed) {
+            log::warn!(
+                "the driver has {units} texture units: glTF extension maps that do not fit \
+                 past unit {} are drawn with their factors alone (the first left out: {})",
+                FRAME_UNIT,
+                SLOTS[i].gltf_name()
+            );
         }
     }
     f
 }
 
-/// The sampler units of a program's extension maps and the frame's copy (set once per
-/// program); `levels`: the copy's mip levels (0: none, read sharp).
-/// `terms`: the clearcoat, sheen, transmission and iridescence layers.
-pub(crate) fn program_uniforms(p: &Program, terms: [bool; 4], levels: f32) {
-    for (i, (_, _, name)) in MAPS.iter().enumerate() {
-        p.set_i32(name, (KHR_FIRST_UNIT + i as u32) as i32);
-    }
+/// The sampler unit of the frame's copy (set once per program); `levels`: the copy's mip
+/// levels (0: none, read sharp). `terms`: the clearcoat, sheen, transmission, iridescence
+/// and anisotropy layers.
+pub(crate) fn program_uniforms(p: &Program, terms: [bool; 5], levels: f32) {
     p.set_i32("uTransmissionFrame", FRAME_UNIT as i32);
     p.set_f32("uFrameLevels", levels);
     let on = |b: bool| if b { 1.0 } else { 0.0 };
@@ -167,6 +182,7 @@ pub(crate) fn program_uniforms(p: &Program, terms: [bool; 4], levels: f32) {
         Vec3::new(on(terms[0]), on(terms[1]), on(terms[2])),
     );
     p.set_f32("uTermIridescence", on(terms[3]));
+    p.set_f32("uTermAnisotropy", on(terms[4]));
 }
 
 /// A material's extension uniforms, and its maps bound to their units; returns the number of
@@ -219,6 +235,10 @@ pub(crate) fn material(
             glam::Vec2::new(i.thickness_min, i.thickness_max),
         );
     }
+    if let (true, Some(a)) = (f.anisotropy, k.anisotropy) {
+        let (sin, cos) = a.rotation.sin_cos();
+        p.set_vec3("uAnisotropy", Vec3::new(cos, sin, a.strength));
+    }
     let mut bound = 0;
     if f.maps.iter().any(|m| *m) {
         for (i, slot) in SLOTS.iter().enumerate() {
@@ -230,9 +250,12 @@ pub(crate) fn material(
             let set = if set == 1 && has_uv1 { 1.0 } else { 0.0 };
             p.set_f32(&format!("uKhrSet[{i}]"), set);
         }
-        for (i, on) in f.maps.iter().enumerate() {
-            if let (true, Some(t)) = (on, textures[i]) {
-                table.texture(t).bind(KHR_FIRST_UNIT + i as u32);
+        // The maps the flags kept all fit: their units are the packed ones `flags` found.
+        let units = khr_units(&f.maps, u32::MAX);
+        for (i, (_, _, name)) in MAPS.iter().enumerate() {
+            if let (Some(unit), Some(t)) = (units[i], textures[i]) {
+                p.set_i32(name, unit as i32);
+                table.texture(t).bind(unit);
                 bound += 1;
             }
         }
@@ -252,7 +275,7 @@ pub(crate) fn frame_allows(cx: &super::FrameCx) -> bool {
     } else if super::background::masked(cx) {
         Some("with --translucency nearest-masked")
     } else if FRAME_UNIT >= cx.gpu.caps.max_texture_units {
-        Some("with fewer than 32 texture units")
+        Some("with fewer than 21 texture units")
     } else {
         None
     };

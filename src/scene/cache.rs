@@ -98,7 +98,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 13: two sections (issue 41): a first view's (large meshes' whole levels compact), then
 /// the rest, each with its own hash.
 /// 14: KHR_materials_iridescence (issue 37): `Khr::iridescence` and two more slots.
-const FORMAT: u32 = 14;
+/// 15: KHR_materials_anisotropy (issue 37): `Khr::anisotropy` and one more slot.
+const FORMAT: u32 = 15;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -188,7 +189,7 @@ struct WireMeta {
 /// A material's texture slots as indices into the header's texture table, in the order of
 /// [`Material::slots_mut`].
 type SlotRefs = [Option<usize>; SLOTS];
-const SLOTS: usize = 18;
+const SLOTS: usize = 19;
 
 #[derive(Serialize, Deserialize)]
 struct Header {

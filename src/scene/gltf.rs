@@ -35,6 +35,7 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_volume",
     "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_iridescence",
+    "KHR_materials_anisotropy",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.

@@ -3,7 +3,7 @@
 //! [`super::material_khr::Khr`]. Texture infos are resolved like the core slots (sampler,
 //! UV set, KHR_texture_transform); a malformed value is the extension's default, as a
 //! missing one is, with a warning ([`problems`]).
-use super::material_khr::{Clearcoat, Iridescence, Khr, Sheen, Specular, Volume};
+use super::material_khr::{Anisotropy, Clearcoat, Iridescence, Khr, Sheen, Specular, Volume};
 use super::material_report::SlotFacts;
 use super::texture_slot::{ColorSpace, Slot, TexTransform};
 use serde_json::Value;
@@ -55,7 +55,7 @@ pub(crate) fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Op
 }
 
 /// The material extensions read from raw JSON (here and in `gltf_specgloss`).
-const EXTENSIONS: [&str; 8] = [
+const EXTENSIONS: [&str; 9] = [
     "KHR_materials_clearcoat",
     "KHR_materials_sheen",
     "KHR_materials_specular",
@@ -64,6 +64,7 @@ const EXTENSIONS: [&str; 8] = [
     "KHR_materials_volume",
     "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_iridescence",
+    "KHR_materials_anisotropy",
 ];
 
 /// The images the extensions' texture infos of material `m` name (decoded with the core
@@ -93,8 +94,8 @@ pub(crate) fn used_images(doc: &gltf::Document, m: &gltf::Material) -> Vec<usize
 /// What the reader will not take in material `m`'s extensions, one line each: the reader
 /// uses the default for a malformed value as for a missing one, and these lines say so.
 /// By the extensions' naming: a `…Texture` is a texture info whose index names a texture,
-/// a `…Factor`, `…Ior`, `…Minimum`, `…Maximum`, `ior`, `attenuationColor` and
-/// `attenuationDistance` are a finite number or an array of them (their lengths and ranges
+/// a `…Factor`, `…Ior`, `…Minimum`, `…Maximum`, `…Strength`, `…Rotation`, `ior`,
+/// `attenuationColor` and `attenuationDistance` are a finite number or an array of them (their lengths and ranges
 /// are the reader's to keep).
 pub(crate) fn problems(doc: &gltf::Document, m: &gltf::Material) -> Vec<String> {
     let finite = |v: &Value| v.as_f64().is_some_and(f64::is_finite);
@@ -111,9 +112,11 @@ pub(crate) fn problems(doc: &gltf::Document, m: &gltf::Material) -> Vec<String> 
                     Some(i) => Some(format!("names texture {i}, which does not exist")),
                     None => Some("has no texture index".to_string()),
                 }
-            } else if ["Factor", "Ior", "Minimum", "Maximum"]
-                .iter()
-                .any(|s| key.ends_with(s))
+            } else if [
+                "Factor", "Ior", "Minimum", "Maximum", "Strength", "Rotation",
+            ]
+            .iter()
+            .any(|s| key.ends_with(s))
                 || ["ior", "attenuationColor", "attenuationDistance"].contains(&key.as_str())
             {
                 let ok = finite(v) || v.as_array().is_some_and(|a| a.iter().all(finite));
@@ -218,6 +221,13 @@ pub(crate) fn read(
             lin,
             &mut k,
         );
+    }
+    if let Some(e) = m.extension_value("KHR_materials_anisotropy") {
+        k.anisotropy = Some(Anisotropy {
+            strength: num(e, "anisotropyStrength", 0.0).clamp(0.0, 1.0),
+            rotation: num(e, "anisotropyRotation", 0.0),
+        });
+        tex(e, "anisotropyTexture", Slot::Anisotropy, lin, &mut k);
     }
     if let Some(e) = m.extension_value("KHR_materials_ior") {
         // At least 1, or exactly 0 (the specification's F0 = 1, for converted

@@ -308,8 +308,8 @@ impl Material {
     }
 
     /// Every texture slot in one fixed order (the mesh cache's slot table follows it).
-    pub(crate) fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 18] {
-        let [a, b, c, d, e, f, g, h, i, j, k] = &mut self.khr.maps;
+    pub(crate) fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 19] {
+        let [a, b, c, d, e, f, g, h, i, j, k, l] = &mut self.khr.maps;
         [
             &mut self.base_color_texture,
             &mut self.normal_texture,
@@ -329,12 +329,13 @@ impl Material {
             i,
             j,
             k,
+            l,
         ]
     }
 
     /// As [`Material::slots_mut`], read only.
-    pub(crate) fn slots(&self) -> [&Option<TextureSlot>; 18] {
-        let [a, b, c, d, e, f, g, h, i, j, k] = &self.khr.maps;
+    pub(crate) fn slots(&self) -> [&Option<TextureSlot>; 19] {
+        let [a, b, c, d, e, f, g, h, i, j, k, l] = &self.khr.maps;
         [
             &self.base_color_texture,
             &self.normal_texture,
@@ -354,12 +355,16 @@ impl Material {
             i,
             j,
             k,
+            l,
         ]
     }
 
-    /// Whether a tangent frame is read: the normal map, or the clearcoat's.
+    /// Whether a tangent frame is read: the normal map, the clearcoat's, or
+    /// KHR_materials_anisotropy (its direction is given in tangent space).
     pub(crate) fn needs_tangents(&self) -> bool {
-        self.normal_texture.is_some() || self.khr.slot(Slot::ClearcoatNormal).is_some()
+        self.normal_texture.is_some()
+            || self.khr.slot(Slot::ClearcoatNormal).is_some()
+            || self.khr.anisotropy.is_some()
     }
 
     /// Whether the occlusion, roughness and metallic maps are an MTL's single-channel images,

@@ -9,6 +9,7 @@
 //! over the base, which it attenuates by 1 − clearcoat·F_cc; the sheen is a Charlie lobe over
 //! the base, which it attenuates by 1 − max(sheenColor)·E_sheen. KHR_materials_iridescence
 //! replaces the base's Fresnel by a thin film's (Belcour & Barla 2017) weighted by its factor.
+//! KHR_materials_anisotropy stretches the base's GGX lobe along a direction in tangent space.
 use super::texture_slot::{Slot, TextureSlot};
 use serde::{Deserialize, Serialize};
 
@@ -81,8 +82,19 @@ impl Default for Iridescence {
     }
 }
 
+/// KHR_materials_anisotropy (texture [`Slot::Anisotropy`]: red and green the direction in
+/// tangent space, mapped from [0, 1] to [-1, 1]; blue multiplies the strength; without it
+/// the direction is the tangent's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Anisotropy {
+    /// In [0, 1]: how much rougher the lobe is along the direction than across it.
+    pub strength: f32,
+    /// Radians, counter-clockwise from the tangent towards the bitangent.
+    pub rotation: f32,
+}
+
 /// The number of extension slots.
-pub const COUNT: usize = 11;
+pub const COUNT: usize = 12;
 
 /// The extension slots in the order of [`Khr::maps`] (and of the mesh cache's table).
 pub const SLOTS: [Slot; COUNT] = [
@@ -97,6 +109,7 @@ pub const SLOTS: [Slot; COUNT] = [
     Slot::Thickness,
     Slot::Iridescence,
     Slot::IridescenceThickness,
+    Slot::Anisotropy,
 ];
 
 /// The extensions of one material. Serialised in the mesh cache with the material.
@@ -114,6 +127,8 @@ pub struct Khr {
     pub volume: Option<Volume>,
     #[serde(default)]
     pub iridescence: Option<Iridescence>,
+    #[serde(default)]
+    pub anisotropy: Option<Anisotropy>,
     /// The extensions' texture slots, in the order of [`SLOTS`].
     pub maps: [Option<TextureSlot>; COUNT],
     /// Converted from KHR_materials_pbrSpecularGlossiness (`super::gltf_specgloss`).

@@ -73,6 +73,12 @@ fn khr_lines(k: &super::material_khr::Khr) -> Vec<String> {
             i.factor, i.ior, i.thickness_min, i.thickness_max
         ));
     }
+    if let Some(a) = k.anisotropy {
+        out.push(format!(
+            "KHR_materials_anisotropy: anisotropyStrength {}, anisotropyRotation {} rad",
+            a.strength, a.rotation
+        ));
+    }
     if let Some(i) = k.ior {
         out.push(format!(
             "KHR_materials_ior: ior {i} (dielectric F0 {:.4})",

@@ -73,6 +73,7 @@ pub enum Slot {
     Thickness,
     Iridescence,
     IridescenceThickness,
+    Anisotropy,
 }
 
 impl Slot {
@@ -94,6 +95,7 @@ impl Slot {
             Slot::Thickness => "thicknessTexture",
             Slot::Iridescence => "iridescenceTexture",
             Slot::IridescenceThickness => "iridescenceThicknessTexture",
+            Slot::Anisotropy => "anisotropyTexture",
         }
     }
 }

@@ -52,6 +52,10 @@ pub(crate) const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/include/iridescence.glsl"),
     ),
     (
+        "anisotropy.glsl",
+        include_str!("../../shaders_gl/include/anisotropy.glsl"),
+    ),
+    (
         "ibl.glsl",
         include_str!("../../shaders_gl/include/ibl.glsl"),
     ),

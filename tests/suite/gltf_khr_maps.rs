@@ -10,8 +10,8 @@ use std::sync::Arc;
 
 /// The extensions' texture slots: a one-texel texture of value t with factor 1 draws as the
 /// factor t without a texture (sampler, UV set, colour space: the clearcoat's and specular's
-/// data linear, the sheen's and specular's colours sRGB, the iridescence's data linear), on
-/// GL 3.3 and GL 2.1.
+/// data linear, the sheen's and specular's colours sRGB, the iridescence's and anisotropy's
+/// data linear), on GL 3.3 and GL 2.1.
 #[test]
 fn an_extension_texture_of_one_value_equals_its_factor() {
     let dir = out_dir("gltf-khr-textures");
@@ -72,6 +72,20 @@ fn an_extension_texture_of_one_value_equals_its_factor() {
                 r#""KHR_materials_iridescence": {{"iridescenceFactor": 0.6,
                    "iridescenceThicknessMaximum": {}}}"#,
                 100.0 + 400.0 * 188.0 / 255.0
+            ),
+        ),
+        (
+            // The direction's red and green mapped to [-1, 1] (linear), the strength's blue:
+            // as the rotation atan2(g, r) and the strength times blue.
+            "anisotropy",
+            r#""KHR_materials_anisotropy": {"anisotropyStrength": 1,
+               "anisotropyTexture": {"index": 0}}"#
+                .to_string(),
+            format!(
+                r#""KHR_materials_anisotropy": {{"anisotropyStrength": {},
+                   "anisotropyRotation": {}}}"#,
+                60.0 / 255.0,
+                (188.0f64 / 255.0 * 2.0 - 1.0).atan2(153.0 / 255.0 * 2.0 - 1.0)
             ),
         ),
     ];
@@ -152,7 +166,9 @@ fn the_mesh_cache_keeps_the_extensions_and_their_textures() {
            "specularColorTexture": {"index": 0}},
          "KHR_materials_ior": {"ior": 1.6},
          "KHR_materials_iridescence": {"iridescenceFactor": 1, "iridescenceTexture": {"index": 0},
-           "iridescenceThicknessTexture": {"index": 0}}"#;
+           "iridescenceThicknessTexture": {"index": 0}},
+         "KHR_materials_anisotropy": {"anisotropyStrength": 0.7, "anisotropyRotation": 0.3,
+           "anisotropyTexture": {"index": 0}}"#;
     let m = format!(
         r#"{{"pbrMetallicRoughness": {{"baseColorFactor": [0.8, 0.25, 0.1, 1],
         "metallicFactor": 0, "roughnessFactor": 0.45}},
@@ -195,6 +211,10 @@ fn the_mesh_cache_keeps_the_extensions_and_their_textures() {
     assert!(
         bytes.windows(13).any(|w| w == b"thickness_max"),
         "the entry has no iridescence film"
+    );
+    assert!(
+        bytes.windows(14).any(|w| w == b"\"anisotropy\":{"),
+        "the entry has no anisotropy"
     );
 }
 

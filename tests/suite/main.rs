@@ -27,6 +27,7 @@ mod gltf_draw;
 mod gltf_extensions;
 mod gltf_instancing;
 mod gltf_khr;
+mod gltf_khr_anisotropy;
 mod gltf_khr_iridescence;
 mod gltf_khr_maps;
 mod gltf_khr_transmission;
