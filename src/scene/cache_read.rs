@@ -89,7 +89,7 @@ pub(super) fn decode(
         warnings: header.warnings,
         wire,
         maps: header.maps,
-        instancing: Vec::new(),
+        instancing: header.instancing,
     };
     Some((scene, clusters))
 }

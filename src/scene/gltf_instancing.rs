@@ -91,7 +91,7 @@ fn transforms(
 
 /// One instanced node of a scene: its instances are scene meshes `first + k * per_instance`
 /// up to `per_instance` more (instance `k`'s copy of each triangle primitive, in order).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Instancing {
     /// The glTF node and the mesh it instances.
     pub node: usize,

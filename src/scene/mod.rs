@@ -242,8 +242,7 @@ pub struct Scene {
     /// For `--check`: every texture statement of the MTL and what happens to it.
     pub(crate) maps: Vec<String>,
     /// glTF `EXT_mesh_gpu_instancing` nodes, whose instances `meshes` holds written out
-    /// ([`Instancing`]); empty for other formats and after a mesh cache hit (the entry keeps
-    /// the copies only, which draw the same picture).
+    /// ([`Instancing`]); empty for other formats. The mesh cache keeps it.
     pub instancing: Vec<Instancing>,
 }
 

@@ -303,3 +303,35 @@ fn generated_instances_match_their_nodes_on_every_context() {
         }
     }
 }
+
+/// The mesh cache keeps the instanced nodes: a hit draws instanced like the miss and an
+/// uncached load, the same picture. (The file is padded with JSON whitespace past the
+/// cache's minimum size.)
+#[test]
+fn instanced_draws_survive_the_mesh_cache() {
+    let dir = out_dir("gltf-instancing-cache");
+    let entries = dir.join("entries");
+    let _ = std::fs::remove_dir_all(&entries);
+    let env = [("GLVIEW_CACHE_DIR", entries.to_str().unwrap())];
+    let g = glview::scene::generate::instanced_gltf(64);
+    std::fs::write(dir.join(g.uri), &g.bin).unwrap();
+    let model = dir.join("padded.gltf");
+    let min = glview::scene::cache::MIN_SIZE as usize;
+    std::fs::write(&model, format!("{}{}", g.instanced, " ".repeat(min))).unwrap();
+    let shot = |name: &str, extra: &[&str]| {
+        let args: Vec<&str> = ["--gl", "core"].iter().chain(extra).copied().collect();
+        shot_stats(&dir, name, &model, &env, &args)
+    };
+    let (fresh, sf) = shot("fresh", &["--no-cache"]);
+    let (miss, sm) = shot("miss", &[]);
+    assert_eq!(std::fs::read_dir(&entries).unwrap().count(), 1, "one entry");
+    let (hit, sh) = shot("hit", &[]);
+    for (what, img, s) in [("miss", &miss, &sm), ("hit", &hit, &sh)] {
+        assert_eq!(diff(&fresh, img, 0).max, 0, "{what}: pictures differ");
+        for k in ["draw_calls", "triangles", "mesh_bytes_uploaded"] {
+            assert_eq!(s[k], sf[k], "{what}: {k}");
+        }
+    }
+    // Drawn instanced: one cube's buffers and 64 matrices.
+    assert_eq!(sf["mesh_bytes_uploaded"], 24 * 32 + 36 * 2 + 64 * 64);
+}
