@@ -222,9 +222,9 @@ impl SceneGpu {
         let mut meshes = Vec::with_capacity(scene.meshes.count());
         let mut uploaded = 0;
         let plan = super::instancing::plan(gpu, &scene);
-        for i in 0..scene.meshes.count() {
+        for (i, role) in plan.iter().enumerate() {
             let c = clusters.next().flatten();
-            let (dm, bytes) = match &plan[i] {
+            let (dm, bytes) = match role {
                 Role::Own => draw_mesh(gpu, &scene, i, c)?,
                 Role::Absorbed => (absorbed(), 0),
                 Role::Head(copies) => super::instancing::head(gpu, &scene, i, copies)?,

@@ -228,3 +228,72 @@ pub(crate) fn expand<'a>(
     }
     Ok((out, lines, runs))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{record, Run};
+    use crate::scene::UpAxis;
+    use glam::{DMat4, DVec3};
+
+    fn run(worlds: Vec<DMat4>) -> Run {
+        Run {
+            node: 0,
+            mesh: 0,
+            entry: 0,
+            worlds,
+        }
+    }
+
+    /// Instance k's relative matrix takes the first copy's local points (up axis turned,
+    /// origin taken off) to where the loader puts instance k's.
+    #[test]
+    fn relative_matrices_move_the_first_copy_onto_each_instance() {
+        let worlds = vec![
+            DMat4::from_scale_rotation_translation(
+                DVec3::new(1.0, 2.0, 0.5),
+                glam::DQuat::from_rotation_y(0.3),
+                DVec3::new(5.0, 0.0, -1.0),
+            ),
+            DMat4::from_scale_rotation_translation(
+                DVec3::new(0.7, 1.0, 1.5),
+                glam::DQuat::from_rotation_x(1.1),
+                DVec3::new(-2.0, 3.0, 4.0),
+            ),
+        ];
+        let (up, origin) = (UpAxis::PosZ, DVec3::new(10.0, -4.0, 2.0));
+        let meshes = vec![vec![3], vec![4]];
+        let r = record(&run(worlds.clone()), &meshes, up, origin);
+        assert!(r.shareable() && (r.first, r.per_instance) == (3, 1));
+        let local = |w: &DMat4, p: DVec3| up.rotate(w.transform_point3(p)) - origin;
+        let p = DVec3::new(0.25, -0.5, 1.0);
+        let moved = r.relative[1].transform_point3(local(&worlds[0], p).as_vec3());
+        let want = local(&worlds[1], p).as_vec3();
+        assert!(moved.distance(want) < 1e-5, "{moved} vs {want}");
+        assert!(r.relative[0].abs_diff_eq(glam::Mat4::IDENTITY, 1e-6));
+    }
+
+    /// Copies that cannot share one mesh are recorded but not shareable: one instance
+    /// mirrored unlike the first (its winding was flipped at load), a zero scale, or copies
+    /// not where the layout says.
+    #[test]
+    fn unshareable_copies_are_drawn_as_written_out() {
+        let mirrored = DMat4::from_scale(DVec3::new(-1.0, 1.0, 1.0));
+        let flat = DMat4::from_scale(DVec3::new(1.0, 0.0, 1.0));
+        let (up, o) = (UpAxis::PosY, DVec3::ZERO);
+        let laid = vec![vec![0], vec![1]];
+        for (worlds, meshes) in [
+            (vec![DMat4::IDENTITY, mirrored], laid.clone()),
+            (vec![DMat4::IDENTITY, flat], laid),
+            (
+                vec![DMat4::IDENTITY, DMat4::IDENTITY],
+                vec![vec![0], vec![2]],
+            ),
+        ] {
+            let r = record(&run(worlds), &meshes, up, o);
+            assert_eq!(r.count, 2);
+            assert!(!r.shareable(), "{r:?}");
+        }
+        let both = record(&run(vec![mirrored, mirrored]), &[vec![0], vec![1]], up, o);
+        assert!(both.shareable());
+    }
+}
