@@ -197,12 +197,14 @@ impl GpuMesh {
         self.draw_ranges_of(ranges, None);
     }
 
-    /// Draws the whole mesh once per instance of `instances` (one instanced draw call).
-    pub(crate) fn draw_instanced(&self, instances: &Instances) {
-        self.draw_ranges_of(&[(0, self.whole_count as u32)], Some(instances));
+    /// Draws the whole mesh once per instance of `instances` (`which` of them; None: all),
+    /// in one instanced draw call.
+    pub(crate) fn draw_instanced(&self, instances: &Instances, which: Option<&[u32]>) {
+        let n = instances.hold(&self.gpu.gl, which);
+        self.draw_ranges_of(&[(0, self.whole_count as u32)], Some((instances, n)));
     }
 
-    fn draw_ranges_of(&self, ranges: &[(u32, u32)], instances: Option<&Instances>) {
+    fn draw_ranges_of(&self, ranges: &[(u32, u32)], instances: Option<(&Instances, i32)>) {
         let gl = &self.gpu.gl;
         let size = if self.index_type == glow::UNSIGNED_SHORT {
             2
@@ -223,19 +225,19 @@ impl GpuMesh {
                     self.ibo.bind();
                 }
             }
-            if let Some(inst) = instances {
+            if let Some((inst, _)) = instances {
                 inst.bind(gl);
             }
             for &(first, count) in ranges {
                 debug_assert!(first + count <= self.index_count as u32);
                 let offset = (first * size) as i32;
                 match instances {
-                    Some(inst) => gl.draw_elements_instanced(
+                    Some((_, n)) => gl.draw_elements_instanced(
                         self.mode,
                         count as i32,
                         self.index_type,
                         offset,
-                        inst.count,
+                        n,
                     ),
                     None => gl.draw_elements(self.mode, count as i32, self.index_type, offset),
                 }

@@ -5,15 +5,34 @@
 //! material (translucent meshes are sorted back to front one by one, which one instanced draw
 //! cannot be) and for nodes whose copies cannot share a mesh. What the two paths share: the
 //! scene (every copy, for bounds, the reference, `--check`, edges and picking), the programs
-//! (one `INSTANCED` define in the vertex stage) and the passes; what differs: the GPU holds
-//! one copy plus 64 bytes an instance instead of every copy, and the instanced mesh is culled
-//! as a whole (its bounds are every copy's) with no cluster culling inside it.
+//! (one `INSTANCED` define in the vertex stage), the passes and the frustum culling (instance
+//! by instance, by each copy's sphere, as the copies are: a view sends only the instances it
+//! may see); what differs: the GPU holds one copy plus 64 bytes an instance instead of every
+//! copy, and there is no cluster culling inside an instance.
 use super::upload::{whole_draw_mesh, Copies, DrawMesh, Role};
 use crate::gpu::instances::Instances;
 use crate::gpu::GpuRef;
+use crate::scene::clusters::ClusterView;
 use crate::scene::Scene;
 use crate::Result;
 use glam::Vec3;
+
+/// An instanced mesh's matrices on the GPU and each instance's bounding sphere (local
+/// coordinates), by which a view culls instance by instance as it would the copies.
+pub(crate) struct InstancedDraw {
+    pub(crate) gpu: Instances,
+    pub(crate) spheres: Vec<(Vec3, f32)>,
+}
+
+/// The instances of `draw` whose spheres touch `view`'s frustum, in order.
+pub(crate) fn visible(draw: &InstancedDraw, view: &ClusterView) -> Vec<u32> {
+    (0..draw.spheres.len() as u32)
+        .filter(|&k| {
+            let (c, r) = draw.spheres[k as usize];
+            !view.outside(c, r)
+        })
+        .collect()
+}
 
 /// Each scene mesh's role on the GPU.
 pub(crate) fn plan(gpu: &GpuRef, scene: &Scene) -> Vec<Role> {
@@ -72,7 +91,10 @@ pub(crate) fn head(
     dm.radius = radius;
     dm.triangles *= copies.meshes.len() as u64;
     let extra = instances.bytes();
-    dm.instances = Some(instances);
+    dm.instances = Some(InstancedDraw {
+        gpu: instances,
+        spheres,
+    });
     Ok((dm, bytes + extra))
 }
 

@@ -5,7 +5,6 @@
 //! `EXT_mesh_gpu_instancing` node ([`crate::scene::Instancing`]) become one mesh (the first
 //! copy, its bounds those of every copy) drawn once per instance with a matrix each; the
 //! other copies keep their draw-mesh slot, with no buffers, and are never drawn.
-use crate::gpu::instances::Instances;
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
@@ -39,7 +38,7 @@ pub(crate) struct DrawMesh {
     /// skipping what a pass cannot see pays ([`crate::scene::clusters`]).
     pub(crate) clusters: Option<Clusters>,
     /// Drawn once per instance (`INSTANCED` programs); `triangles` counts every instance's.
-    pub(crate) instances: Option<Instances>,
+    pub(crate) instances: Option<super::instancing::InstancedDraw>,
 }
 
 /// A mesh's buffers on the GPU.
@@ -73,6 +72,16 @@ impl DrawMesh {
         !self.translucent && self.primitive == Primitive::Triangles && !self.absorbed()
     }
 
+    /// Draws instances `which` of an instanced mesh (a whole mesh: instanced ones never come
+    /// compact).
+    pub(crate) fn draw_instances(&self, which: &[u32]) {
+        if let (Resident::Full(m), Some(inst)) = (&self.mesh, &self.instances) {
+            // All of them is the buffer as uploaded: nothing to rewrite.
+            let all = which.len() == inst.spheres.len();
+            m.draw_instanced(&inst.gpu, (!all).then_some(which));
+        }
+    }
+
     /// Drawn by another draw mesh, as one of its instances: never drawn itself.
     pub(crate) fn absorbed(&self) -> bool {
         matches!(self.mesh, Resident::Absorbed)
@@ -84,7 +93,7 @@ impl DrawMesh {
             // Its own count and primitive: lines and points have no triangles to count.
             Resident::Full(m) => {
                 match &self.instances {
-                    Some(inst) => m.draw_instanced(inst),
+                    Some(inst) => m.draw_instanced(&inst.gpu, None),
                     None => m.draw(),
                 }
                 Ok(())

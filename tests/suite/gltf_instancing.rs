@@ -241,6 +241,7 @@ fn instancing_is_the_same_on_every_context() {
 /// the instances written out as nodes, on every context: GL 3.3 core and ES 3.0 draw it
 /// instanced (fewer draw calls, one cube's buffers plus 64 bytes an instance uploaded), GL 2.1
 /// and OSMesa draw the copies (the same draws as the twin, the same picture byte for byte).
+/// Close up, the instanced draw sends only the instances in view, the twin's triangles.
 /// Instanced pictures differ from the twin's only by f32 rounding: the copies' vertices are
 /// made in f64 at load, the instanced ones by a f32 matrix on the GPU.
 #[test]
@@ -297,6 +298,13 @@ fn generated_instances_match_their_nodes_on_every_context() {
                 "{name}: {} pixels differ by more than 1",
                 d1.over
             );
+            // Close up, most instances are off screen: culled one by one like the copies,
+            // so the triangles sent are the twin's.
+            let near: Vec<&str> = args.iter().copied().chain(["--distance", "3"]).collect();
+            let (_, na) = shot_stats(&dir, &format!("{name}-near-inst"), &inst, env, &near);
+            let (_, nb) = shot_stats(&dir, &format!("{name}-near-twin"), &twin, env, &near);
+            assert_eq!(na["triangles"], nb["triangles"], "{name}: culled triangles");
+            assert!(na["triangles"].as_u64() < sa["triangles"].as_u64(), "{na}");
         } else {
             assert_eq!((calls(&sa), bytes(&sa)), (calls(&sb), bytes(&sb)), "{name}");
             assert_eq!(d.max, 0, "{name}: the copies must draw the twin's picture");
