@@ -2,6 +2,7 @@
 // buffers. gl_Position is computed exactly as in lit.vert, so the same pixels are covered.
 IN vec3 aPosition;
 IN vec3 aNormal;
+#include "instance.glsl"
 
 uniform mat4 uModelView;
 uniform mat4 uProjection;
@@ -11,8 +12,8 @@ OUT vec3 vEyePos;
 OUT vec3 vNormal;
 
 void main() {
-    vec4 eye = uModelView * vec4(aPosition, 1.0);
+    vec4 eye = uModelView * vec4(instancePoint(aPosition), 1.0);
     vEyePos = eye.xyz;
-    vNormal = uNormalMatrix * aNormal;
+    vNormal = uNormalMatrix * instanceNormal(aNormal);
     gl_Position = uProjection * eye;
 }

@@ -3,6 +3,7 @@
 IN vec3 aPosition;
 IN vec3 aNormal;
 IN vec2 aUv;
+#include "instance.glsl"
 #ifdef HAS_COLOR
 IN vec4 aColor;     // per-vertex colour: multiplies Ka and Kd like a texture; alpha
 OUT vec4 vColor;    // (1 if not given) multiplies the base colour's alpha
@@ -39,7 +40,7 @@ OUT vec4 vFactors[NUM_LIGHTS];   // xy: front face, zw: back face
 #endif
 
 void main() {
-    vec4 eye = uModelView * vec4(aPosition, 1.0);
+    vec4 eye = uModelView * vec4(instancePoint(aPosition), 1.0);
     vEyePos = eye.xyz;
 #if defined(HAS_TEXTURE) || defined(HAS_EMISSIVE_MAP) || defined(HAS_NORMAL_MAP)
     vUv = aUv;
@@ -48,12 +49,12 @@ void main() {
     vUv1 = aUv1;
 #endif
 #ifdef HAS_NORMAL_MAP
-    vTangent = vec4(uNormalMatrix * aTangent.xyz, aTangent.w);
+    vTangent = vec4(uNormalMatrix * instanceDirection(aTangent.xyz), aTangent.w);
 #endif
 #ifdef HAS_COLOR
     vColor = aColor;
 #endif
-    vec3 n = uNormalMatrix * aNormal;
+    vec3 n = uNormalMatrix * instanceNormal(aNormal);
 #ifdef GOURAUD
 #if NUM_LIGHTS > 0
     n = safeNormalize(n);

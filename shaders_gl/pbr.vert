@@ -2,6 +2,7 @@
 IN vec3 aPosition;
 IN vec3 aNormal;
 IN vec2 aUv;
+#include "instance.glsl"
 #ifdef HAS_COLOR
 IN vec4 aColor;     // per-vertex colour, sRGB like a base-colour map; alpha (1 if not given)
 OUT vec4 vColor;
@@ -32,7 +33,7 @@ OUT vec4 vTangent;
 #endif
 
 void main() {
-    vec4 eye = uModelView * vec4(aPosition, 1.0);
+    vec4 eye = uModelView * vec4(instancePoint(aPosition), 1.0);
     vEyePos = eye.xyz;
     vUv = aUv;
 #ifdef HAS_UV1
@@ -41,9 +42,9 @@ void main() {
 #ifdef HAS_COLOR
     vColor = aColor;
 #endif
-    vNormal = uNormalMatrix * aNormal;
+    vNormal = uNormalMatrix * instanceNormal(aNormal);
 #if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP) || defined(KHR_ANISOTROPY)
-    vTangent = vec4(uNormalMatrix * aTangent.xyz, aTangent.w);
+    vTangent = vec4(uNormalMatrix * instanceDirection(aTangent.xyz), aTangent.w);
 #endif
     gl_Position = uProjection * eye;
 #ifdef POINTS

@@ -11,12 +11,17 @@ pub(crate) struct Buffer {
 
 impl Buffer {
     pub(crate) fn new_static(gpu: &GpuRef, target: u32, data: &[u8]) -> Result<Buffer> {
+        Self::new_with(gpu, target, data, glow::STATIC_DRAW)
+    }
+
+    /// As [`Buffer::new_static`] with a usage hint (`DYNAMIC_DRAW` for data rewritten often).
+    pub(crate) fn new_with(gpu: &GpuRef, target: u32, data: &[u8], usage: u32) -> Result<Buffer> {
         // SAFETY: a fresh buffer is bound and filled with a slice that lives for the call.
         unsafe {
             let raw = gpu.gl.create_buffer().map_err(Error::Unsupported)?;
             gpu.created();
             gpu.gl.bind_buffer(target, Some(raw));
-            gpu.gl.buffer_data_u8_slice(target, data, glow::STATIC_DRAW);
+            gpu.gl.buffer_data_u8_slice(target, data, usage);
             gpu.gl.bind_buffer(target, None);
             Ok(Buffer {
                 gpu: gpu.clone(),

@@ -44,6 +44,9 @@ pub struct Caps {
     pub(crate) float_textures: bool,
     pub(crate) texture_lod: bool,
     pub(crate) uint_indices: bool,
+    /// Instanced arrays and draws (`glVertexAttribDivisor`, `glDrawElementsInstanced`: GL 3.3,
+    /// ES 3.0): `EXT_mesh_gpu_instancing` nodes drawn as instances of one uploaded mesh.
+    pub(crate) instancing: bool,
     /// `samplerCubeShadow` lookups (GLSL 1.30+ / ES 3.00; not in GLSL 1.20).
     pub(crate) cube_shadow: bool,
     pub generate_mipmap: bool,
@@ -178,6 +181,7 @@ impl Caps {
                     || glsl >= (1, 30)
                     || has(&["GL_ARB_shader_texture_lod", "GL_EXT_shader_texture_lod"]),
                 uint_indices: !embedded || es3 || has(&["GL_OES_element_index_uint"]),
+                instancing: es3 || desktop_at_least(3, 3),
                 cube_shadow: es3 || (!embedded && glsl >= (1, 30)),
                 generate_mipmap: fbo,
                 timer_query: desktop_at_least(3, 3) || has(&["GL_ARB_timer_query"]),
@@ -218,7 +222,7 @@ impl Caps {
             "GL_VERSION: {}\nGLSL: {} (dialect {})\nrenderer: {} ({})\nprofile: {}\n\
              framebuffer objects: {}\nvertex array objects: {}\ndepth textures: {}\n\
              shadow compare: {}\nfloat textures: {}\nexplicit-LOD lookups: {}\n\
-             32-bit indices: {}\ncube shadow lookups: {}\ntimer queries: {}\n\
+             32-bit indices: {}\ninstanced arrays: {}\ncube shadow lookups: {}\ntimer queries: {}\n\
              max texture size: {}\ntexture units: {}\n16-bit float textures: {}\n\
              RG textures: {}\nsRGB textures: {}\nseamless cube maps: {}\n\
              depth+stencil: {}\nfloat render targets: {}\nmax samples (MSAA): {}\n\
@@ -244,6 +248,7 @@ impl Caps {
             yes(self.float_textures),
             yes(self.texture_lod),
             yes(self.uint_indices),
+            yes(self.instancing),
             yes(self.cube_shadow),
             yes(self.timer_query),
             self.max_texture_size,

@@ -1,6 +1,7 @@
 //! A mesh in static GPU buffers, drawn through a vertex array object where the driver has
 //! one, or with per-draw attribute binding on GL 2.1 drivers without VAOs.
 use super::buffer::Buffer;
+use super::instances::Instances;
 use super::GpuRef;
 use crate::scene::Vertex;
 use crate::{Error, Result};
@@ -193,6 +194,17 @@ impl GpuMesh {
     /// Draws the index ranges (first index, count), one draw call each, with the attribute
     /// set-up done once. Ranges must lie within the index buffer.
     pub(crate) fn draw_ranges(&self, ranges: &[(u32, u32)]) {
+        self.draw_ranges_of(ranges, None);
+    }
+
+    /// Draws the whole mesh once per instance of `instances` (`which` of them; None: all),
+    /// in one instanced draw call.
+    pub(crate) fn draw_instanced(&self, instances: &Instances, which: Option<&[u32]>) {
+        let n = instances.hold(&self.gpu.gl, which);
+        self.draw_ranges_of(&[(0, self.whole_count as u32)], Some((instances, n)));
+    }
+
+    fn draw_ranges_of(&self, ranges: &[(u32, u32)], instances: Option<(&Instances, i32)>) {
         let gl = &self.gpu.gl;
         let size = if self.index_type == glow::UNSIGNED_SHORT {
             2
@@ -213,14 +225,25 @@ impl GpuMesh {
                     self.ibo.bind();
                 }
             }
+            if let Some((inst, _)) = instances {
+                inst.bind(gl);
+            }
             for &(first, count) in ranges {
                 debug_assert!(first + count <= self.index_count as u32);
-                gl.draw_elements(
-                    self.mode,
-                    count as i32,
-                    self.index_type,
-                    (first * size) as i32,
-                );
+                let offset = (first * size) as i32;
+                match instances {
+                    Some((_, n)) => gl.draw_elements_instanced(
+                        self.mode,
+                        count as i32,
+                        self.index_type,
+                        offset,
+                        n,
+                    ),
+                    None => gl.draw_elements(self.mode, count as i32, self.index_type, offset),
+                }
+            }
+            if instances.is_some() {
+                Instances::unbind(gl);
             }
             if self.vao.is_some() {
                 gl.bind_vertex_array(None);

@@ -5,6 +5,7 @@
 pub(crate) mod buffer;
 pub(crate) mod caps;
 pub(crate) mod framebuffer;
+pub(crate) mod instances;
 pub(crate) mod mesh;
 pub(crate) mod mipmaps;
 pub mod program;

@@ -7,13 +7,18 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Attribute locations, bound before linking so every program shares one vertex layout.
-pub(crate) const ATTRIBUTES: [(u32, &str); 6] = [
+pub(crate) const ATTRIBUTES: [(u32, &str); 10] = [
     (0, "aPosition"),
     (1, "aNormal"),
     (2, "aUv"),
     (3, "aTangent"),
     (4, "aColor"),
     (5, "aUv1"),
+    // The instance matrix's columns (`instance.glsl`, super::instances).
+    (6, "aInstance0"),
+    (7, "aInstance1"),
+    (8, "aInstance2"),
+    (9, "aInstance3"),
 ];
 
 pub struct Program {

@@ -113,13 +113,25 @@ impl Renderer {
         let pixels = u64::from(width) * u64::from(height);
         super::cull::build_levels(&mut self.scene, self.lod, self.cull_clusters, pixels)?;
         let program = self.programs.borrow_mut().get(&key())?;
+        // Instanced meshes draw with the INSTANCED variant; every instance carries the
+        // instanced mesh's id.
+        let instanced = match self.scene.meshes.iter().any(|m| m.instances.is_some()) {
+            true => Some(self.programs.borrow_mut().get(&key().switch(
+                "INSTANCED",
+                "inst",
+                true,
+            ))?),
+            false => None,
+        };
         let view = s.camera.view();
         let aspect = width as f32 / height.max(1) as f32;
         let proj = s.camera.projection(&self.scene.scene.bounds, aspect);
-        program.bind();
-        program.set_mat4("uModelView", &view);
-        program.set_mat4("uProjection", &proj);
-        program.set_mat3("uNormalMatrix", &Mat3::from_mat4(view));
+        for p in std::iter::once(&program).chain(&instanced) {
+            p.bind();
+            p.set_mat4("uModelView", &view);
+            p.set_mat4("uProjection", &proj);
+            p.set_mat3("uNormalMatrix", &Mat3::from_mat4(view));
+        }
         // The same levels of detail as the picture's lit pass, so ids and depth cover exactly
         // what it drew.
         let lod_view = crate::scene::clusters::ClusterView::new(proj * view).with_lod(
@@ -137,10 +149,15 @@ impl Renderer {
             gpu.viewport(0, 0, width, height);
             gpu.apply(&RenderState::default());
             gpu.clear_rgba(Some([-1.0, -1.0, -1.0, 0.0]));
-            program.set_f32("uMode", mode);
             for (i, dm) in self.scene.meshes.iter().enumerate() {
                 if dm.primitive == Primitive::Triangles {
-                    program.set_vec2("uIds", glam::Vec2::new(i as f32, dm.material as f32));
+                    let p = match (&dm.instances, &instanced) {
+                        (Some(_), Some(p)) => p,
+                        _ => &program,
+                    };
+                    p.bind();
+                    p.set_f32("uMode", mode);
+                    p.set_vec2("uIds", glam::Vec2::new(i as f32, dm.material as f32));
                     let lod =
                         super::cull::uses_lod(self.lod, self.cull_clusters, dm.triangles, pixels);
                     match &dm.clusters {

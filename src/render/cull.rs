@@ -30,6 +30,19 @@ pub(crate) fn draw(cx: &mut FrameCx, i: usize, state: &RenderState) -> Result<()
         ..*state
     };
     let state = &sided;
+    if let (Some(inst), Some(view)) = (&dm.instances, cx.cull) {
+        // Instance by instance, as the written-out copies would be culled.
+        let which = super::instancing::visible(inst, &view);
+        if which.is_empty() {
+            return Ok(());
+        }
+        cx.gpu.apply(state);
+        dm.draw_instances(&which);
+        cx.stats.draw_calls += 1;
+        let each = dm.triangles / inst.spheres.len().max(1) as u64;
+        cx.stats.triangles += each * which.len() as u64;
+        return Ok(());
+    }
     let (Some(clusters), Some(view), true) = (&dm.clusters, cx.cull, cx.cull_clusters) else {
         cx.gpu.apply(state);
         dm.draw(cx.scene, i)?;

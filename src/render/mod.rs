@@ -15,6 +15,7 @@ pub(crate) mod grid;
 pub mod guides;
 pub(crate) mod ibl;
 pub mod ibl_gpu;
+mod instancing;
 pub(crate) mod lit;
 pub(crate) mod overlay;
 pub(crate) mod pbr;
@@ -60,7 +61,7 @@ pub struct FrameStats {
     /// The shading tier that drew the scene: `legacy` or `pbr`.
     pub(crate) tier: String,
     pub shadow: String,
-    pub(crate) draw_calls: u32,
+    pub draw_calls: u32,
     pub triangles: u64,
     pub programs: Vec<String>,
     pub(crate) textures_bound: u32,

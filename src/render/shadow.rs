@@ -111,10 +111,11 @@ fn is_masked(cx: &FrameCx, i: usize) -> bool {
 /// The depth program for mesh `i`: MASK materials discard their cut-out texels as the lit
 /// passes do, so what is not drawn casts no shadow.
 fn mask_key(cx: &FrameCx, i: usize, textured: bool) -> ProgramKey {
+    let m = &cx.scene.meshes[i];
+    let depth_key = || depth_key().switch("INSTANCED", "inst", m.instances.is_some());
     if !is_masked(cx, i) {
         return depth_key();
     }
-    let m = &cx.scene.meshes[i];
     let model = &cx.scene.scene.materials[m.material];
     let key =
         depth_key()

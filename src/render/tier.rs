@@ -133,7 +133,8 @@ pub(crate) fn draw_meshes<T: Tier>(
             prepared.textured,
             m.has_colors,
         )
-        .switch("POINTS", "pts", m.points);
+        .switch("POINTS", "pts", m.points)
+        .switch("INSTANCED", "inst", dm.instances.is_some());
         // (A material that is unlit already has the define.)
         let key = if m.unlit_points && !mat.unlit {
             key.switch("UNLIT", "unlit", true)

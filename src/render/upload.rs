@@ -1,7 +1,10 @@
 //! The scene in GPU buffers: one static mesh per scene mesh (with a tangent stream where its
 //! material has a normal map, a second UV set where the file has one) and per-mesh bounds for
 //! culling. Shared by every pass; textures are made on first use by the tier that reads them
-//! (`textures.rs`).
+//! (`textures.rs`). Where the context has instanced arrays, the written-out copies of an
+//! `EXT_mesh_gpu_instancing` node ([`crate::scene::Instancing`]) become one mesh (the first
+//! copy, its bounds those of every copy) drawn once per instance with a matrix each; the
+//! other copies keep their draw-mesh slot, with no buffers, and are never drawn.
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
@@ -34,6 +37,8 @@ pub(crate) struct DrawMesh {
     /// Runs of triangles with bounds and normal cones, for meshes large enough that
     /// skipping what a pass cannot see pays ([`crate::scene::clusters`]).
     pub(crate) clusters: Option<Clusters>,
+    /// Drawn once per instance (`INSTANCED` programs); `triangles` counts every instance's.
+    pub(crate) instances: Option<super::instancing::InstancedDraw>,
 }
 
 /// A mesh's buffers on the GPU.
@@ -48,6 +53,8 @@ enum Resident {
         first: u32,
         full: std::cell::OnceCell<GpuMesh>,
     },
+    /// A copy of an instanced mesh that another draw mesh draws as one of its instances.
+    Absorbed,
 }
 
 impl DrawMesh {
@@ -56,13 +63,28 @@ impl DrawMesh {
     pub(crate) fn set_levels(&mut self, indices: &[u32], levels: &[u32]) -> Result<()> {
         match &mut self.mesh {
             Resident::Full(m) => m.set_levels(indices, levels),
-            Resident::Compact { .. } => Ok(()),
+            Resident::Compact { .. } | Resident::Absorbed => Ok(()),
         }
     }
 
     /// Translucent meshes, lines and points cast no shadow.
     pub(crate) fn casts_shadow(&self) -> bool {
-        !self.translucent && self.primitive == Primitive::Triangles
+        !self.translucent && self.primitive == Primitive::Triangles && !self.absorbed()
+    }
+
+    /// Draws instances `which` of an instanced mesh (a whole mesh: instanced ones never come
+    /// compact).
+    pub(crate) fn draw_instances(&self, which: &[u32]) {
+        if let (Resident::Full(m), Some(inst)) = (&self.mesh, &self.instances) {
+            // All of them is the buffer as uploaded: nothing to rewrite.
+            let all = which.len() == inst.spheres.len();
+            m.draw_instanced(&inst.gpu, (!all).then_some(which));
+        }
+    }
+
+    /// Drawn by another draw mesh, as one of its instances: never drawn itself.
+    pub(crate) fn absorbed(&self) -> bool {
+        matches!(self.mesh, Resident::Absorbed)
     }
 
     /// Draws all of mesh `i` (its triangles, lines or points).
@@ -70,9 +92,13 @@ impl DrawMesh {
         match &self.mesh {
             // Its own count and primitive: lines and points have no triangles to count.
             Resident::Full(m) => {
-                m.draw();
+                match &self.instances {
+                    Some(inst) => m.draw_instanced(&inst.gpu, None),
+                    None => m.draw(),
+                }
                 Ok(())
             }
+            Resident::Absorbed => Ok(()),
             Resident::Compact { .. } => {
                 let n = self.triangles as u32 * 3;
                 self.draw_ranges(scene, i, &[(0, n)])
@@ -94,6 +120,7 @@ impl DrawMesh {
                 m.draw_ranges(ranges);
                 return Ok(());
             }
+            Resident::Absorbed => return Ok(()),
             Resident::Compact {
                 levels,
                 first,
@@ -203,8 +230,14 @@ impl SceneGpu {
         }
         let mut meshes = Vec::with_capacity(scene.meshes.count());
         let mut uploaded = 0;
-        for i in 0..scene.meshes.count() {
-            let (dm, bytes) = draw_mesh(gpu, &scene, i, clusters.next().flatten())?;
+        let plan = super::instancing::plan(gpu, &scene);
+        for (i, role) in plan.iter().enumerate() {
+            let c = clusters.next().flatten();
+            let (dm, bytes) = match role {
+                Role::Own => draw_mesh(gpu, &scene, i, c)?,
+                Role::Absorbed => (absorbed(), 0),
+                Role::Head(copies) => super::instancing::head(gpu, &scene, i, copies)?,
+            };
             uploaded += bytes;
             meshes.push(dm);
         }
@@ -231,8 +264,16 @@ impl SceneGpu {
     pub(crate) fn visible(&self, view_proj: &glam::Mat4) -> Vec<usize> {
         let view = crate::scene::clusters::ClusterView::new(*view_proj);
         (0..self.meshes.len())
-            .filter(|&i| !view.outside(self.meshes[i].center, self.meshes[i].radius))
+            .filter(|&i| {
+                let m = &self.meshes[i];
+                !m.absorbed() && !view.outside(m.center, m.radius)
+            })
             .collect()
+    }
+
+    /// Draw meshes that are drawn (every one but the copies drawn as instances).
+    pub(crate) fn drawn_count(&self) -> usize {
+        self.meshes.iter().filter(|m| !m.absorbed()).count()
     }
 }
 
@@ -296,12 +337,50 @@ fn draw_mesh(
         has_normals: true,
         terminator_lift: compact.terminator_lift,
         clusters,
+        instances: None,
     };
     Ok((dm, bytes))
 }
 
+/// What a scene mesh is on the GPU ([`super::instancing::plan`]).
+pub(crate) enum Role {
+    /// Its own draw mesh.
+    Own,
+    /// Drawn as one instance of another ([`Resident::Absorbed`]).
+    Absorbed,
+    /// The first copy of an instanced mesh, drawn once per matrix (instance `k`'s local
+    /// coordinates from this copy's), and the scene meshes of every copy (for the bounds).
+    Head(Copies),
+}
+
+/// An instanced mesh's copies: the relative matrices and the scene meshes, in instance order.
+pub(crate) struct Copies {
+    pub(crate) matrices: Vec<glam::Mat4>,
+    pub(crate) meshes: Vec<usize>,
+}
+
+fn absorbed() -> DrawMesh {
+    DrawMesh {
+        mesh: Resident::Absorbed,
+        material: 0,
+        center: Vec3::ZERO,
+        radius: 0.0,
+        triangles: 0,
+        translucent: false,
+        has_uv: false,
+        has_tangents: false,
+        has_uv1: false,
+        has_colors: false,
+        primitive: Primitive::Triangles,
+        has_normals: true,
+        terminator_lift: 0.0,
+        clusters: None,
+        instances: None,
+    }
+}
+
 /// As [`draw_mesh`] for a mesh uploaded whole (read now if it is still in a cache entry).
-fn whole_draw_mesh(
+pub(crate) fn whole_draw_mesh(
     gpu: &GpuRef,
     scene: &Scene,
     i: usize,
@@ -341,6 +420,7 @@ fn whole_draw_mesh(
         has_normals: true,
         terminator_lift: crate::scene::terminator_lift(m) as f32,
         clusters,
+        instances: None,
     };
     Ok((dm, bytes))
 }
@@ -500,6 +580,7 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
             has_normals: primitive == Primitive::Lines || has_normals,
             terminator_lift: 0.0,
             clusters: None,
+            instances: None,
         });
     }
     Ok(out)

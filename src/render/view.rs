@@ -148,7 +148,7 @@ impl View {
     pub(crate) fn draw_order(&self, cx: &mut FrameCx) -> (Vec<usize>, usize) {
         let meshes = &cx.scene.meshes;
         let visible = cx.scene.visible(&(self.proj * self.view));
-        cx.stats.culled = (meshes.len() - visible.len()) as u32;
+        cx.stats.culled = (cx.scene.drawn_count() - visible.len()) as u32;
         let mut order: Vec<usize> = visible
             .iter()
             .copied()

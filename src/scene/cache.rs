@@ -99,7 +99,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// the rest, each with its own hash.
 /// 14: KHR_materials_iridescence (issue 37): `Khr::iridescence` and two more slots.
 /// 15: KHR_materials_anisotropy (issue 37): `Khr::anisotropy` and one more slot.
-const FORMAT: u32 = 15;
+/// 16: EXT_mesh_gpu_instancing drawn instanced (issue 37): the scene's `instancing`.
+const FORMAT: u32 = 16;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -211,6 +212,8 @@ struct Header {
     wire: WireMeta,
     /// `--check`'s texture statements.
     maps: Vec<String>,
+    /// The instanced nodes, so a hit draws them instanced as a miss does.
+    instancing: Vec<super::Instancing>,
     bounds: Bounds,
     origin: [f64; 3],
     file_bounds: [[f64; 3]; 2],
@@ -442,6 +445,7 @@ pub fn put_in(
             normals: w.normals.len(),
         },
         maps: scene.maps.clone(),
+        instancing: scene.instancing.clone(),
         bounds: scene.bounds,
         origin: scene.origin.to_array(),
         file_bounds: [

@@ -89,6 +89,7 @@ pub(super) fn decode(
         warnings: header.warnings,
         wire,
         maps: header.maps,
+        instancing: header.instancing,
     };
     Some((scene, clusters))
 }

@@ -86,16 +86,20 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         .or_else(|| doc.scenes().next())
         .ok_or_else(|| bad("no scene in the file".into()))?;
     let instances = super::gltf_graph::instances(&doc, &scene).map_err(bad)?;
-    let (instances, maps) =
+    let (instances, maps, runs) =
         super::gltf_instancing::expand(&doc, instances, &buffers).map_err(bad)?;
     check_instanced_total(&instances).map_err(bad)?;
     let mut read = Primitives::default();
+    // Where each entry's primitives start in `read.prims`, for the instanced nodes' record.
+    let mut prim_start = Vec::with_capacity(instances.len() + 1);
     for (node, mesh, world) in &instances {
+        prim_start.push(read.prims.len());
         let instance = Instance::new(*node, *world, opts.up, &buffers, path);
         instance
             .read_mesh(mesh, &mut read, &mut warnings)
             .map_err(bad)?;
     }
+    prim_start.push(read.prims.len());
     let (lo, hi, origin) = super::extent_and_origin(
         read.prims
             .iter()
@@ -105,10 +109,14 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     );
     let mut bounds = Bounds::empty();
     let mut meshes = Vec::new();
+    // The scene mesh each primitive became (None: too few indices).
+    let mut mesh_of = Vec::with_capacity(read.prims.len());
     for p in read.prims {
         if p.indices.len() < 3 {
+            mesh_of.push(None);
             continue;
         }
+        mesh_of.push(Some(meshes.len()));
         let mesh = p.into_mesh(origin, default_index, opts);
         for v in &mesh.vertices {
             bounds.include(v.position.into());
@@ -124,6 +132,14 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     if meshes.is_empty() && wire.is_empty() {
         return Err(bad("no triangles in the file".into()));
     }
+    let entry_meshes: Vec<Vec<usize>> = prim_start
+        .windows(2)
+        .map(|w| mesh_of[w[0]..w[1]].iter().flatten().copied().collect())
+        .collect();
+    let instancing = runs
+        .iter()
+        .map(|r| super::gltf_instancing::record(r, &entry_meshes, opts.up, origin))
+        .collect();
     Ok(Scene {
         name: Scene::name_of(path),
         meshes: meshes.into(),
@@ -135,6 +151,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         warnings,
         wire,
         maps,
+        instancing,
     })
 }
 

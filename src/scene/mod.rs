@@ -51,6 +51,7 @@ pub(crate) mod uri;
 pub(crate) mod xray;
 
 use glam::{DVec3, Vec3};
+pub use gltf_instancing::Instancing;
 pub use load::{load, load_prepared, LoadOptions, ProgressFn};
 pub use material::{Material, Texture};
 pub use meshes::Meshes;
@@ -240,6 +241,9 @@ pub struct Scene {
     pub wire: Wire,
     /// For `--check`: every texture statement of the MTL and what happens to it.
     pub(crate) maps: Vec<String>,
+    /// glTF `EXT_mesh_gpu_instancing` nodes, whose instances `meshes` holds written out
+    /// ([`Instancing`]); empty for other formats. The mesh cache keeps it.
+    pub instancing: Vec<Instancing>,
 }
 
 /// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
@@ -368,6 +372,7 @@ impl Scene {
             warnings: Vec::new(),
             wire: Wire::default(),
             maps: Vec::new(),
+            instancing: Vec::new(),
         }
     }
 

@@ -20,6 +20,10 @@ pub(crate) const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/show_depth.frag"),
     ),
     (
+        "instance.glsl",
+        include_str!("../../shaders_gl/include/instance.glsl"),
+    ),
+    (
         "lighting.glsl",
         include_str!("../../shaders_gl/include/lighting.glsl"),
     ),

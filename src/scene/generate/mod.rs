@@ -10,6 +10,7 @@
 //! are walked with the solid on their left so that the right-hand normal points outward.
 
 mod glass_holder;
+mod instanced;
 mod math;
 mod path;
 mod shapes;
@@ -17,6 +18,8 @@ mod simple;
 #[cfg(test)]
 mod tests;
 mod writer;
+
+pub use instanced::{instanced_gltf, InstancedGltf};
 
 /// First line of every generated file. It still names the single file this module once was:
 /// the text is part of every committed model's bytes, so renaming it means regenerating them.
