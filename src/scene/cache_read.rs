@@ -89,6 +89,7 @@ pub(super) fn decode(
         warnings: header.warnings,
         wire,
         maps: header.maps,
+        views: header.views,
     };
     Some((scene, clusters))
 }

@@ -95,9 +95,29 @@ impl View {
             Action::Camera(m) => self.camera(m, scene)?,
             Action::Reset => self.options.camera = self.home.clone(),
             Action::Fit => {
+                self.options.camera = super::file_camera::resolve(&self.options, scene)?;
                 let c = &mut self.options.camera;
                 c.target = None;
                 c.distance = None;
+            }
+            Action::CycleCamera => {
+                let n = scene.views.cameras.len();
+                let c = &mut self.options.camera;
+                let now = c.view.as_deref().and_then(|q| {
+                    let names: Vec<&str> = scene
+                        .views
+                        .cameras
+                        .iter()
+                        .map(|c| c.name.as_str())
+                        .collect();
+                    crate::scene::views::pick("camera", &names, q).ok()
+                });
+                c.view = next(now, n).map(|i| i.to_string());
+            }
+            Action::CycleVariant => {
+                let n = scene.views.variants.len();
+                let v = &mut self.options.load.variant;
+                *v = next(scene.views.variant, n).map(|i| i.to_string());
             }
             Action::ToggleCompare => self.compare = !self.compare,
             a => return Ok(keys::apply(a, &mut self.options)),
@@ -123,6 +143,8 @@ impl View {
     /// view stays fitted: `glview --yaw 40` is the picture after two presses of Right).
     fn camera(&mut self, m: CameraMove, scene: &Scene) -> Result<()> {
         self.settle_keys(scene)?;
+        // A file's camera becomes the options it stands for: orbiting starts from it.
+        self.options.camera = super::file_camera::resolve(&self.options, scene)?;
         let (s, _) = frame_settings(&self.picture(), scene)?;
         let mut cam = s.camera;
         cam.apply(m);
@@ -134,6 +156,16 @@ impl View {
             c.ortho = cam.ortho_height.map(Ortho::Height);
         }
         Ok(())
+    }
+}
+
+/// The next of `n` choices after `now` (None: the default before the first and after the
+/// last); None when there are none.
+fn next(now: Option<usize>, n: usize) -> Option<usize> {
+    match now {
+        None if n > 0 => Some(0),
+        Some(i) if i + 1 < n => Some(i + 1),
+        _ => None,
     }
 }
 
