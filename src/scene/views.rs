@@ -91,7 +91,8 @@ impl Views {
     }
 
     /// `--check` lines: one per camera, the scenes and the variants (none for a file that
-    /// has none of them).
+    /// has none of them). The loader adds them to the scene's `--check` lines after the
+    /// instance counts; the file's lights (KHR_lights_punctual) add theirs beside them.
     pub(crate) fn check_lines(&self) -> Vec<String> {
         let mut out = Vec::new();
         for (i, c) in self.cameras.iter().enumerate() {

@@ -276,6 +276,48 @@ mod tests {
         assert_eq!(back, v);
     }
 
+    /// K cycles the file's cameras and back to the orbit; V the variants (from the one the
+    /// scene was loaded with) and back to the file's own materials.
+    #[test]
+    fn k_and_v_cycle_the_files_cameras_and_variants() {
+        use crate::scene::views::{FileCamera, Projection};
+        let (mut v, mut scene) = view();
+        let camera = FileCamera {
+            name: "c".into(),
+            node_name: None,
+            eye: [0.0, 0.0, 5.0],
+            forward: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+            projection: Projection::Perspective {
+                yfov: 0.7,
+                aspect_ratio: None,
+                znear: 0.1,
+                zfar: None,
+            },
+        };
+        scene.views.cameras = vec![camera.clone(), camera];
+        let mut seen = Vec::new();
+        for _ in 0..3 {
+            key(&mut v, &scene, "K");
+            seen.push(v.options().camera.view.clone());
+        }
+        assert_eq!(seen, [Some("0".into()), Some("1".into()), None]);
+        scene.views.variants = vec!["a".into(), "b".into()];
+        let mut seen = Vec::new();
+        for now in [None, Some(0), Some(1)] {
+            scene.views.variant = now;
+            key(&mut v, &scene, "V");
+            seen.push(v.options().load.variant.clone());
+        }
+        assert_eq!(seen, [Some("0".into()), Some("1".into()), None]);
+        // Orbiting from a file camera leaves its options, not the camera.
+        key(&mut v, &scene, "K");
+        key(&mut v, &scene, "Left");
+        let c = &v.options().camera;
+        assert!(c.view.is_none() && c.distance.is_some() && c.near == Some(0.1));
+        assert!((c.yaw - -5.0).abs() < 1e-4 && c.pitch.abs() < 1e-4, "{c:?}");
+    }
+
     #[test]
     fn compare_halves_the_picture() {
         let (mut v, scene) = view();
