@@ -109,8 +109,14 @@ impl Views {
                 }
             };
             let e = c.eye;
+            let roll = roll_deg(DVec3::from(c.forward), DVec3::from(c.up));
+            let roll = if roll > 0.01 {
+                format!(", rolled {roll:.2}° (shown upright)")
+            } else {
+                String::new()
+            };
             out.push(format!(
-                "camera {i} {:?}: {what}, eye {:.4},{:.4},{:.4} (--camera {i})",
+                "camera {i} {:?}: {what}, eye {:.4},{:.4},{:.4}{roll} (--camera {i})",
                 c.name, e[0], e[1], e[2]
             ));
         }
@@ -147,12 +153,28 @@ fn list(names: &[String]) -> String {
 
 /// The orbit camera's angles looking along `forward` (unit): yaw and pitch in degrees, as
 /// [`crate::camera::OrbitCamera`] places its eye at target + distance · (cos p sin y, sin p,
-/// cos p cos y), so its view direction is minus that.
-pub(crate) fn yaw_pitch(forward: DVec3) -> (f32, f32) {
+/// cos p cos y), so its view direction is minus that. Looking straight down or up the
+/// direction has no yaw: it is taken from `up`, whose horizontal part is the orbit's
+/// −sin p · (sin y, cos y), so a plan view keeps the file's orientation.
+pub(crate) fn yaw_pitch(forward: DVec3, up: DVec3) -> (f32, f32) {
     let d = -forward.normalize_or(DVec3::NEG_Z);
-    let pitch = d.y.clamp(-1.0, 1.0).asin().to_degrees();
-    let yaw = d.x.atan2(d.z).to_degrees();
-    (yaw as f32, pitch as f32)
+    let pitch = d.y.clamp(-1.0, 1.0).asin();
+    let yaw = if d.x.hypot(d.z) > 1e-9 {
+        d.x.atan2(d.z)
+    } else {
+        let s = -pitch.sin().signum();
+        (s * up.x).atan2(s * up.z)
+    };
+    (yaw.to_degrees() as f32, pitch.to_degrees() as f32)
+}
+
+/// How far (degrees) the file camera's `up` turns about its view from the orbit camera's
+/// at the same angles: the roll an orbit view cannot show.
+pub(crate) fn roll_deg(forward: DVec3, up: DVec3) -> f64 {
+    let (y, p) = yaw_pitch(forward, up);
+    let (y, p) = (f64::from(y).to_radians(), f64::from(p).to_radians());
+    let orbit_up = DVec3::new(-p.sin() * y.sin(), p.cos(), -p.sin() * y.cos());
+    orbit_up.angle_between(up.normalize_or_zero()).to_degrees()
 }
 
 /// The distance from `eye` along `forward` to the point nearest `centre` on the view
@@ -196,9 +218,23 @@ mod tests {
         ] {
             let (yr, pr) = (y.to_radians(), p.to_radians());
             let dir = DVec3::new(pr.cos() * yr.sin(), pr.sin(), pr.cos() * yr.cos());
-            let (yaw, pitch) = yaw_pitch(-dir);
+            let up = DVec3::new(-pr.sin() * yr.sin(), pr.cos(), -pr.sin() * yr.cos());
+            let (yaw, pitch) = yaw_pitch(-dir, up);
             assert!((f64::from(yaw) - y).abs() < 1e-4, "{y} {p}: {yaw}");
             assert!((f64::from(pitch) - p).abs() < 1e-4, "{y} {p}: {pitch}");
+            assert!(roll_deg(-dir, up) < 1e-3);
         }
+    }
+
+    /// Straight down or up, the yaw comes from the camera's up: a plan view whose top is
+    /// +X (or -X from below) stays so, with no roll.
+    #[test]
+    fn plan_views_take_their_yaw_from_up() {
+        for (forward, up) in [(DVec3::NEG_Y, DVec3::X), (DVec3::Y, DVec3::NEG_X)] {
+            assert!(roll_deg(forward, up) < 1e-3, "{forward} {up}");
+        }
+        // A camera rolled 30° about its view direction reports it.
+        let r = roll_deg(DVec3::NEG_Z, DVec3::new(0.5, 3f64.sqrt() / 2.0, 0.0));
+        assert!((r - 30.0).abs() < 1e-3, "{r}");
     }
 }

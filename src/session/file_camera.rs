@@ -8,7 +8,7 @@
 //! stretches the picture to it; glview never stretches nor letterboxes). An orthographic
 //! camera keeps its height 2·ymag the same way. zfar is not used: the far plane is fitted
 //! to the model like every view's. The orbit camera has no roll: a file camera's roll
-//! about its view direction is dropped (the picture stays upright).
+//! about its view direction is dropped (the picture stays upright; `--check` says so).
 use crate::error::{Error, Result};
 use crate::options::{Camera, Options, Ortho};
 use crate::scene::views::{pivot_distance, yaw_pitch, Projection};
@@ -37,7 +37,7 @@ pub(crate) fn resolve(args: &Options, scene: &Scene) -> Result<Camera> {
         scene.to_local(centre),
         scene.bounds.radius(),
     );
-    (c.yaw, c.pitch) = yaw_pitch(forward);
+    (c.yaw, c.pitch) = yaw_pitch(forward, DVec3::from_array(cam.up));
     c.distance = Some(d);
     c.target = Some((eye + forward * f64::from(d)).to_array());
     match cam.projection {
