@@ -337,3 +337,64 @@ fn check_lists_cameras_scenes_and_variants() {
         assert!(out.contains(want), "{want}\n{out}");
     }
 }
+
+/// The mesh cache keeps the file's lists: on a hit `--check` lists the same cameras, scenes
+/// and variants and `--camera` draws the same picture; `--variant` and `--scene` bypass the
+/// entry (it holds the default scene and materials) and draw what an uncached load draws.
+#[test]
+fn cached_files_keep_their_cameras_and_bypass_for_choices() {
+    let dir = out_dir("gltf-views-cache");
+    let entries = dir.join("entries");
+    let _ = std::fs::remove_dir_all(&entries);
+    let env = [("GLVIEW_CACHE_DIR", entries.to_str().unwrap())];
+    // Padded past cache::MIN_SIZE with bytes no accessor reads.
+    let mut doc = document(0, true);
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let data = uri.split(',').nth(1).unwrap();
+    let pad = (glview::scene::cache::MIN_SIZE as usize / 3 + 1) * 4;
+    doc["buffers"][0]["uri"] = json!(format!(
+        "data:application/octet-stream;base64,{data}{}",
+        "A".repeat(pad)
+    ));
+    doc["buffers"][0]["byteLength"] = json!((data.len() + pad) / 4 * 3);
+    let model = write(&dir, "big.gltf", &doc);
+    let m = model.to_str().unwrap();
+    let check = |extra: &[&str]| {
+        let o = run(&[&[m, "--check"], extra].concat(), &env);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let out = String::from_utf8_lossy(&o.stdout).into_owned();
+        let (load, rest): (Vec<&str>, Vec<&str>) =
+            out.lines().partition(|l| l.starts_with("load: "));
+        (load.join("\n"), rest.join("\n"))
+    };
+    let (_, uncached) = check(&["--no-cache"]);
+    check(&[]);
+    let (load, cached) = check(&[]);
+    assert!(load.contains("(mesh cache)"), "not a hit: {load}");
+    assert_eq!(uncached, cached, "--check from the entry");
+    assert!(cached.contains(r#"camera 1 "Plan""#), "{cached}");
+    for args in [
+        &["--camera", "Front"][..],
+        &["--variant", "Blue"],
+        &["--scene", "1"],
+    ] {
+        let shot = |name: &str, extra: &[&str]| {
+            let out = dir.join(format!("{name}.png"));
+            let all = [
+                &[m, "--size", "64x48", "-o", out.to_str().unwrap()],
+                args,
+                extra,
+            ]
+            .concat();
+            let o = run(&all, &env);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            glview::image_out::Rgba::load_png(&out).unwrap()
+        };
+        let (a, b) = (shot("cached", &[]), shot("uncached", &["--no-cache"]));
+        assert_eq!(
+            diff(&a, &b, 0).max,
+            0,
+            "{args:?}: cached and uncached differ"
+        );
+    }
+}
