@@ -398,3 +398,39 @@ fn cached_files_keep_their_cameras_and_bypass_for_choices() {
         );
     }
 }
+
+/// A camera no projection can be made of (zero field of view, non-finite near plane, zero
+/// magnification) is left out with a warning naming it; the file still loads and the
+/// variant mappings that name no material fall back to the default one.
+#[test]
+fn unusable_cameras_and_mappings_are_warnings() {
+    let dir = out_dir("gltf-views-hostile");
+    let mut doc = document(0, true);
+    doc["cameras"][0]["perspective"]["yfov"] = json!(0.0);
+    doc["cameras"][1]["orthographic"]["ymag"] = json!(0.0);
+    doc["meshes"][0]["primitives"][0]["extensions"]["KHR_materials_variants"]["mappings"][0]
+        ["material"] = json!(99);
+    let model = write(&dir, "hostile.gltf", &doc);
+    let opts = glview::scene::LoadOptions {
+        variant: Some("Red".into()),
+        ..Default::default()
+    };
+    let scene = glview::scene::load(&model, &opts).unwrap();
+    assert!(scene.views.cameras.is_empty());
+    let w: Vec<String> = scene.warnings.iter().map(|w| w.message.clone()).collect();
+    assert!(
+        w.iter()
+            .any(|m| m.contains("camera 0 (node 2): yfov 0 is not a positive number")),
+        "{w:?}"
+    );
+    assert!(
+        w.iter().any(|m| m.contains("camera 1 (node 3): ymag 0")),
+        "{w:?}"
+    );
+    let m = scene.meshes.iter().next().unwrap().material;
+    assert_eq!(
+        m,
+        scene.materials.len() - 1,
+        "material 99 is the default one"
+    );
+}
