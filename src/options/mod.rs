@@ -95,6 +95,12 @@ declare_options! {
         /// Make these materials or objects/groups translucent (opacity 0.3 unless
         /// --opacity), to look at what is inside; repeatable or comma-separated.
         xray: Vec<String> = Vec::new(), "xray" list;
+        /// glTF: draw this scene of the file, by index or name (default: the file's default
+        /// scene). `--check` lists the scenes.
+        scene: Option<String> = None, "scene" maybe;
+        /// glTF KHR_materials_variants: draw this material variant, by index or name
+        /// (default: the file's own materials; key V cycles). `--check` lists the variants.
+        variant: Option<String> = None, "variant" maybe;
     }
     /// Where the camera is and what it sees.
     camera: Camera {
@@ -114,6 +120,12 @@ declare_options! {
         ortho: Option<Ortho> = None, "ortho" optional, check = ortho;
         /// A fixed near plane (default: fitted to the model's bounds).
         near: Option<f32> = None, "near" maybe, check = positive_or_none;
+        /// glTF: look through the file's camera, by index or name (camera or node): its
+        /// place, direction and field of view (perspective: yfov kept, the picture's aspect
+        /// used; orthographic: the height 2·ymag) set yaw, pitch, distance, target, fov,
+        /// near and ortho, which are ignored with it; orbiting starts from there (key K
+        /// cycles the cameras). `--check` lists them.
+        view: Option<String> = None, "camera" maybe;
         /// Key presses to replay before rendering, e.g. "Left Left Up" (the window's
         /// mapping).
         keys: Option<String> = None, "keys" maybe, check = keys;

@@ -90,6 +90,7 @@ pub(super) fn decode(
         wire,
         maps: header.maps,
         instancing: header.instancing,
+        views: header.views,
     };
     Some((scene, clusters))
 }

@@ -248,6 +248,7 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         wire: Wire::default(),
         maps: Vec::new(),
         instancing: Vec::new(),
+        views: Default::default(),
     })
 }
 
@@ -314,5 +315,6 @@ fn cloud(
         wire,
         maps: Vec::new(),
         instancing: Vec::new(),
+        views: Default::default(),
     }
 }

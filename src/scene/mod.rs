@@ -13,6 +13,7 @@ pub mod generate;
 pub(crate) mod gltf;
 pub(crate) mod gltf_accessor;
 pub(crate) mod gltf_buffers;
+pub(crate) mod gltf_cameras;
 pub(crate) mod gltf_draco;
 pub(crate) mod gltf_graph;
 pub(crate) mod gltf_instancing;
@@ -21,7 +22,9 @@ pub(crate) mod gltf_material;
 pub(crate) mod gltf_meshopt;
 pub(crate) mod gltf_modes;
 pub(crate) mod gltf_primitive;
+pub(crate) mod gltf_scenes;
 pub(crate) mod gltf_specgloss;
+pub(crate) mod gltf_variants;
 pub mod load;
 pub(crate) mod lod;
 pub mod material;
@@ -48,6 +51,7 @@ pub mod texture_slot;
 pub(crate) mod tokens;
 pub(crate) mod triangulate;
 pub(crate) mod uri;
+pub mod views;
 pub(crate) mod xray;
 
 use glam::{DVec3, Vec3};
@@ -244,6 +248,8 @@ pub struct Scene {
     /// glTF `EXT_mesh_gpu_instancing` nodes, whose instances `meshes` holds written out
     /// ([`Instancing`]); empty for other formats. The mesh cache keeps it.
     pub instancing: Vec<Instancing>,
+    /// The file's cameras, scenes and material variants (glTF's; empty for other formats).
+    pub views: views::Views,
 }
 
 /// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
@@ -373,6 +379,7 @@ impl Scene {
             wire: Wire::default(),
             maps: Vec::new(),
             instancing: Vec::new(),
+            views: Default::default(),
         }
     }
 

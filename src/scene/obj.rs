@@ -529,6 +529,7 @@ fn load_with(
         wire,
         maps,
         instancing: Vec::new(),
+        views: Default::default(),
     })
 }
 

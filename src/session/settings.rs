@@ -144,6 +144,8 @@ pub fn load_options(args: &Options, progress: Option<ProgressFn>) -> LoadOptions
         },
         up: args.load.up,
         texture: args.load.texture.clone(),
+        scene: args.load.scene.clone(),
+        variant: args.load.variant.clone(),
     }
 }
 
@@ -171,7 +173,7 @@ impl FrameSettings {
 fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
     let (w, h) = args.picture.size;
     let aspect = w as f32 / h as f32;
-    let cam = &args.camera;
+    let cam = &super::file_camera::resolve(args, scene)?;
     let mut camera = OrbitCamera::fit(&scene.bounds, cam.fov, aspect);
     camera.yaw_deg = cam.yaw;
     camera.pitch_deg = cam.pitch;

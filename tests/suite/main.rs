@@ -34,6 +34,7 @@ mod gltf_khr_transmission;
 mod gltf_ktx2;
 mod gltf_materials;
 mod gltf_sidedness;
+mod gltf_views;
 mod gltf_webp;
 mod gpu_vs_reference;
 mod grid;
