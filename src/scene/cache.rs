@@ -98,7 +98,7 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 13: two sections (issue 41): a first view's (large meshes' whole levels compact), then
 /// the rest, each with its own hash.
 /// 14: KHR_materials_iridescence (issue 37): `Khr::iridescence` and two more slots.
-const FORMAT: u32 = 14;
+const FORMAT: u32 = 15;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -210,6 +210,8 @@ struct Header {
     wire: WireMeta,
     /// `--check`'s texture statements.
     maps: Vec<String>,
+    /// The file's lights (glTF KHR_lights_punctual).
+    lights: Vec<crate::light::FileLight>,
     bounds: Bounds,
     origin: [f64; 3],
     file_bounds: [[f64; 3]; 2],
@@ -441,6 +443,7 @@ pub fn put_in(
             normals: w.normals.len(),
         },
         maps: scene.maps.clone(),
+        lights: scene.lights.clone(),
         bounds: scene.bounds,
         origin: scene.origin.to_array(),
         file_bounds: [

@@ -89,6 +89,7 @@ pub(super) fn decode(
         warnings: header.warnings,
         wire,
         maps: header.maps,
+        lights: header.lights,
     };
     Some((scene, clusters))
 }

@@ -247,6 +247,7 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         warnings,
         wire: Wire::default(),
         maps: Vec::new(),
+        lights: Vec::new(),
     })
 }
 
@@ -312,5 +313,6 @@ fn cloud(
         warnings: Vec::new(),
         wire,
         maps: Vec::new(),
+        lights: Vec::new(),
     }
 }

@@ -35,6 +35,7 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_volume",
     "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_iridescence",
+    "KHR_lights_punctual",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
@@ -102,6 +103,8 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
             .chain(&read.wire_pts)
             .copied(),
     );
+    let lights =
+        super::gltf_lights::read_into(&doc, &scene, (opts.up, origin), path, &mut warnings);
     let mut bounds = Bounds::empty();
     let mut meshes = Vec::new();
     for p in read.prims {
@@ -134,6 +137,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         warnings,
         wire,
         maps,
+        lights,
     })
 }
 

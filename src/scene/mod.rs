@@ -17,6 +17,7 @@ pub(crate) mod gltf_draco;
 pub(crate) mod gltf_graph;
 pub(crate) mod gltf_instancing;
 pub(crate) mod gltf_khr;
+pub(crate) mod gltf_lights;
 pub(crate) mod gltf_material;
 pub(crate) mod gltf_meshopt;
 pub(crate) mod gltf_modes;
@@ -240,6 +241,9 @@ pub struct Scene {
     pub wire: Wire,
     /// For `--check`: every texture statement of the MTL and what happens to it.
     pub(crate) maps: Vec<String>,
+    /// The lights the file places (glTF KHR_lights_punctual), in file coordinates; they
+    /// replace the default light kit ([`crate::light::LightOpt::File`]).
+    pub lights: Vec<crate::light::FileLight>,
 }
 
 /// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
@@ -368,6 +372,7 @@ impl Scene {
             warnings: Vec::new(),
             wire: Wire::default(),
             maps: Vec::new(),
+            lights: Vec::new(),
         }
     }
 

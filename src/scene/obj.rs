@@ -528,6 +528,7 @@ fn load_with(
         warnings,
         wire,
         maps,
+        lights: Vec::new(),
     })
 }
 
