@@ -189,6 +189,30 @@ pub struct FileLight {
     pub range: Option<f32>,
 }
 
+/// The legacy tier's exposure for a file's lights: the factor on their colours that makes the
+/// brightest give the kit's key light ([`KIT_KEY`]) at the model's centre (a point or spot
+/// light as if at least `radius` away, its range and cone aside; a directional light its
+/// colour). The tier has no exposure or tone mapping, and a file's photometric values
+/// (LightsPunctualLamp's 180 cd lamps 1.5 m away: colour 25) would clip the model to white;
+/// the lights keep their ratios and falloff. 1 when no light gives any.
+pub fn legacy_scale(lights: &[FileLight], centre: DVec3, radius: f64) -> f32 {
+    let brightest = lights
+        .iter()
+        .map(|l| {
+            let c = f64::from(l.to_local(centre).color.max_element());
+            match l.kind {
+                FileLightKind::Directional => c,
+                _ => c / (l.position - centre).length_squared().max(radius * radius),
+            }
+        })
+        .fold(0.0f64, f64::max);
+    if brightest > 0.0 && brightest.is_finite() {
+        (f64::from(KIT_KEY) / brightest) as f32
+    } else {
+        1.0
+    }
+}
+
 /// A file light's kind; a spot's cone angles in radians, 0 ≤ inner ≤ outer ≤ π/2.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum FileLightKind {
@@ -369,6 +393,32 @@ mod tests {
         assert!(LightSpec::parse("spot:0,0,0").is_err());
         assert!(LightSpec::parse("point:1,2").is_err());
         assert!(LightSpec::parse("point:1,nan,2").is_err());
+    }
+
+    /// The legacy tier's exposure: the brightest light gives the key light's colour at the
+    /// centre (a point light as if at least `radius` away).
+    #[test]
+    fn legacy_scale_exposes_the_brightest_light_as_the_key() {
+        let light = |kind, intensity, position| FileLight {
+            name: String::new(),
+            node: 0,
+            kind,
+            position,
+            direction: DVec3::NEG_Y,
+            color: [1.0, 0.5, 0.5],
+            intensity,
+            range: None,
+        };
+        let pi = std::f64::consts::PI;
+        let sun = light(FileLightKind::Directional, 3.0, DVec3::ZERO);
+        let near = light(FileLightKind::Point, 40.0, DVec3::X);
+        let far = light(FileLightKind::Point, 40.0, DVec3::X * 4.0);
+        let k = |ls: &[FileLight]| f64::from(legacy_scale(ls, DVec3::ZERO, 2.0));
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-5 * b;
+        assert!(close(k(std::slice::from_ref(&sun)), 0.75 * pi / 3.0));
+        assert!(close(k(&[sun.clone(), near]), 0.75 * pi / 10.0));
+        assert!(close(k(&[sun, far]), 0.75 * pi / 3.0));
+        assert_eq!(k(&[light(FileLightKind::Point, 0.0, DVec3::ZERO)]), 1.0);
     }
 
     /// The specification's range window and spot cone, at points where they are known.

@@ -340,8 +340,22 @@ fn lights(args: &Options, scene: &Scene) -> Result<(Vec<crate::light::Light>, Op
         )));
     }
     if wants_file {
-        // The file's lights replace the kit, headlight included; each may cast a shadow.
-        let lights = scene.lights.iter().map(|l| l.to_local(scene.origin));
+        // The file's lights replace the kit, headlight included; each may cast a shadow. The
+        // PBR tier takes them as the specification says, the legacy tier exposed
+        // (docs/gltf/lights.md).
+        let scale = match args.render.shading {
+            crate::frame::Shading::Pbr => 1.0,
+            _ => {
+                let (lo, hi) = scene.file_bounds;
+                let centre = scene.origin + scene.bounds.center().as_dvec3();
+                crate::light::legacy_scale(&scene.lights, centre, 0.5 * (hi - lo).length())
+            }
+        };
+        let lights = scene.lights.iter().map(|l| {
+            let mut light = l.to_local(scene.origin);
+            light.color *= scale;
+            light
+        });
         return Ok((lights.collect(), None, false));
     }
     let mut specs = Vec::new();
