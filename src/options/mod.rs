@@ -134,7 +134,9 @@ declare_options! {
     light: Light {
         /// A light: point:X,Y,Z (file coordinates), dir:X,Y,Z (direction it travels), head (a
         /// headlight that follows the camera) or none. Repeat for several lights (at most
-        /// 4). Default: a kit of key light (casts the shadow), fill light and headlight.
+        /// 4). kit: the default kit of key light (casts the shadow), fill light and
+        /// headlight; file: the model's own lights (glTF KHR_lights_punctual, each casting a
+        /// shadow; docs/gltf/lights.md). Default: file when the model has lights, else kit.
         lights: Vec<LightOpt> = Vec::new(), "light" repeat;
         /// Light colour R,G,B in 0..1; repeat to colour lights in order (the last one
         /// repeats).
@@ -148,8 +150,8 @@ declare_options! {
     shadow: Shadow {
         /// Shadow mapping; `--no-shadows` turns it off.
         enabled: bool = true, "no-shadows" noflag;
-        /// How many lights, in order, cast shadows (default: all given lights; the key light
-        /// of the default kit).
+        /// How many lights, in order, cast shadows (default: all given lights, or all the
+        /// file's own; the key light of the default kit).
         lights: Option<u8> = None, "shadow-lights" maybe;
         /// Shadow map size in texels (clamped to the driver's maximum). Default from the
         /// bench.
@@ -412,6 +414,14 @@ impl Options {
                 "light",
                 "none means no lights; it cannot be combined with other --light options",
             ));
+        }
+        for (word, opt) in [("kit", LightOpt::Kit), ("file", LightOpt::File)] {
+            if lights.len() > 1 && lights.contains(&opt) {
+                return Err(OptionError::new(
+                    "light",
+                    format!("{word} cannot be combined with other --light options"),
+                ));
+            }
         }
         let placed = lights.iter().filter(|l| l.spec().is_some()).count();
         let head = lights.contains(&LightOpt::Head);

@@ -101,7 +101,8 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 15: KHR_materials_anisotropy (issue 37): `Khr::anisotropy` and one more slot.
 /// 16: EXT_mesh_gpu_instancing drawn instanced (issue 37): the scene's `instancing`.
 /// 17: glTF cameras, scenes and material variants (issue 37): the scene's `views`.
-const FORMAT: u32 = 17;
+/// 18: KHR_lights_punctual (issue 37): the scene's `lights`.
+const FORMAT: u32 = 18;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -217,6 +218,8 @@ struct Header {
     instancing: Vec<super::Instancing>,
     /// The file's cameras, scenes and variants (`--camera` on a hit needs them).
     views: super::views::Views,
+    /// The file's lights (glTF KHR_lights_punctual).
+    lights: Vec<crate::light::FileLight>,
     bounds: Bounds,
     origin: [f64; 3],
     file_bounds: [[f64; 3]; 2],
@@ -450,6 +453,7 @@ pub fn put_in(
         maps: scene.maps.clone(),
         instancing: scene.instancing.clone(),
         views: scene.views.clone(),
+        lights: scene.lights.clone(),
         bounds: scene.bounds,
         origin: scene.origin.to_array(),
         file_bounds: [

@@ -91,6 +91,7 @@ pub(super) fn decode(
         maps: header.maps,
         instancing: header.instancing,
         views: header.views,
+        lights: header.lights,
     };
     Some((scene, clusters))
 }

@@ -249,6 +249,7 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         maps: Vec::new(),
         instancing: Vec::new(),
         views: Default::default(),
+        lights: Vec::new(),
     })
 }
 
@@ -316,5 +317,6 @@ fn cloud(
         maps: Vec::new(),
         instancing: Vec::new(),
         views: Default::default(),
+        lights: Vec::new(),
     }
 }

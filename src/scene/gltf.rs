@@ -37,6 +37,7 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_iridescence",
     "KHR_materials_anisotropy",
     "KHR_materials_variants",
+    "KHR_lights_punctual",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
@@ -115,6 +116,8 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
             .chain(&read.wire_pts)
             .copied(),
     );
+    let lights =
+        super::gltf_lights::read_into(&doc, &scene, (opts.up, origin), path, &mut warnings);
     let mut bounds = Bounds::empty();
     let mut meshes = Vec::new();
     // The scene mesh each primitive became (None: too few indices).
@@ -161,6 +164,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         maps,
         instancing,
         views,
+        lights,
     })
 }
 

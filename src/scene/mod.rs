@@ -18,6 +18,7 @@ pub(crate) mod gltf_draco;
 pub(crate) mod gltf_graph;
 pub(crate) mod gltf_instancing;
 pub(crate) mod gltf_khr;
+pub(crate) mod gltf_lights;
 pub(crate) mod gltf_material;
 pub(crate) mod gltf_meshopt;
 pub(crate) mod gltf_modes;
@@ -250,6 +251,9 @@ pub struct Scene {
     pub instancing: Vec<Instancing>,
     /// The file's cameras, scenes and material variants (glTF's; empty for other formats).
     pub views: views::Views,
+    /// The lights the file places (glTF KHR_lights_punctual), in file coordinates; they
+    /// replace the default light kit ([`crate::light::LightOpt::File`]).
+    pub lights: Vec<crate::light::FileLight>,
 }
 
 /// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
@@ -380,6 +384,7 @@ impl Scene {
             maps: Vec::new(),
             instancing: Vec::new(),
             views: Default::default(),
+            lights: Vec::new(),
         }
     }
 

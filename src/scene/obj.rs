@@ -530,6 +530,7 @@ fn load_with(
         maps,
         instancing: Vec::new(),
         views: Default::default(),
+        lights: Vec::new(),
     })
 }
 

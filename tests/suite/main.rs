@@ -32,6 +32,7 @@ mod gltf_khr_iridescence;
 mod gltf_khr_maps;
 mod gltf_khr_transmission;
 mod gltf_ktx2;
+mod gltf_lights;
 mod gltf_materials;
 mod gltf_sidedness;
 mod gltf_views;
