@@ -25,6 +25,9 @@ vec3 safeNormalize(vec3 n) {
 }
 #else
 #include "lighting.glsl"
+#ifdef FALLOFF
+#include "falloff.glsl"
+#endif
 #endif
 uniform vec3 uLightDiffuse[NUM_LIGHTS];    // Kd * light colour (0 with the diffuse term off)
 uniform vec3 uLightSpecular[NUM_LIGHTS];   // Ks * light colour (0 with the specular term off)
@@ -115,6 +118,9 @@ void main() {
 #endif
 #else
         vec2 f = lightFactors(toLight(uLightPos[i], vEyePos), n, v);
+#ifdef FALLOFF
+        f *= glviewFalloff(i, vEyePos);   // Gouraud's factors have it per vertex
+#endif
 #endif
         color += vis[i] * (uLightDiffuse[i] * tex * f.x + uLightSpecular[i] * f.y);
     }

@@ -35,7 +35,10 @@ OUT vec3 vNormal;   // also used by Gouraud: the shadow lookup is offset along i
 #ifdef GOURAUD
 #if NUM_LIGHTS > 0
 #include "lighting.glsl"
-OUT vec4 vFactors[NUM_LIGHTS];   // xy: front face, zw: back face
+#ifdef FALLOFF
+#include "falloff.glsl"
+#endif
+OUT vec4 vFactors[NUM_LIGHTS];   // xy: front face, zw: back face (times the falloff)
 #endif
 #endif
 
@@ -62,6 +65,9 @@ void main() {
     for (int i = 0; i < NUM_LIGHTS; ++i) {
         vec3 l = toLight(uLightPos[i], eye.xyz);
         vFactors[i] = vec4(lightFactors(l, n, v), lightFactors(l, -n, v));
+#ifdef FALLOFF
+        vFactors[i] *= glviewFalloff(i, eye.xyz);
+#endif
     }
 #endif
 #endif

@@ -25,6 +25,9 @@ IN vec3 vNormal;
 #if NUM_LIGHTS > 0
 uniform vec4 uLightPos[NUM_LIGHTS];   // w = 0: unit direction towards the light; w = 1: position
 uniform vec3 uLightColor[NUM_LIGHTS];
+#ifdef FALLOFF
+#include "falloff.glsl"
+#endif
 #endif
 #if NUM_SHADOWS > 0
 #include "shadow.glsl"
@@ -654,8 +657,14 @@ void main() {
     for (int i = 0; i < NUM_LIGHTS; ++i) {
         vec3 l = pbrToLight(i);
         float shadow = mix(1.0, vis[i], uTermsB.y);
+#ifdef FALLOFF
+        float fall = glviewFalloff(i, vEyePos);
+        shadow *= fall;
+#else
+        float fall = 1.0;
+#endif
 #ifdef KHR_TRANSMISSION
-        color += pbrTransmittedLight(i, l, s, t);
+        color += fall * pbrTransmittedLight(i, l, s, t);
 #endif
         pbrAddDirectLight(l, shadow, uLightColor[i], s, color);
 #ifdef KHR_SHEEN

@@ -301,18 +301,16 @@ mod tests {
             min: Vec3::new(-1.0, 0.0, -1.0),
             max: Vec3::new(1.0, 2.0, 1.0),
         };
-        let sun = crate::light::Light {
-            kind: crate::light::LightKind::Directional(Vec3::new(1.0, -1.0, 0.0)),
-            color: Vec3::ONE,
-        };
+        let sun = crate::light::Light::new(
+            crate::light::LightKind::Directional(Vec3::new(1.0, -1.0, 0.0)),
+            Vec3::ONE,
+        );
         let s = shadow_bounds(&b, &[sun]);
         // The top corners' shadow lies 2 further along +x.
         assert_eq!(s.max.x, 3.0);
         assert_eq!((s.min, s.max.y, s.max.z), (b.min, b.max.y, b.max.z));
-        let below = crate::light::Light {
-            kind: crate::light::LightKind::Directional(Vec3::Y),
-            color: Vec3::ONE,
-        };
+        let below =
+            crate::light::Light::new(crate::light::LightKind::Directional(Vec3::Y), Vec3::ONE);
         assert_eq!(shadow_bounds(&b, &[below]), b);
     }
 

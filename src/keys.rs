@@ -29,6 +29,11 @@ pub enum Action {
     ToggleAxes,
     /// Translucent opacity down / up by 0.1 (`[`, `]`).
     Opacity(i8),
+    /// Look through the file's next camera (`--camera`), after the last back to the orbit.
+    CycleCamera,
+    /// Draw the file's next material variant (`--variant`), after the last its own
+    /// materials: a load option, so the scene is loaded again.
+    CycleVariant,
     Screenshot,
     Help,
     Quit,
@@ -136,6 +141,16 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     ),
     (&["X"], Action::ToggleAxes, "axes triad on/off"),
     (
+        &["K"],
+        Action::CycleCamera,
+        "glTF: look through the file's next camera (then back to the orbit)",
+    ),
+    (
+        &["V"],
+        Action::CycleVariant,
+        "glTF: the next material variant (then the file's own materials)",
+    ),
+    (
         &["F12"],
         Action::Screenshot,
         "save a screenshot (PNG of the window's framebuffer)",
@@ -175,12 +190,18 @@ pub fn action_for(name: &str) -> Option<Action> {
         .map(|(_, a, _)| *a)
 }
 
-/// Parses `--keys "Left Left Up"`.
+/// Parses `--keys "Left Left Up"`. `V` is refused: it changes what is loaded, and `--keys`
+/// is replayed on a scene already loaded (`--variant` says it instead).
 pub(crate) fn parse_keys(s: &str) -> Result<Vec<Action>, String> {
     s.split_whitespace()
-        .map(|k| {
-            action_for(k)
-                .ok_or_else(|| format!("unknown key {k:?} in --keys (see the key table in --help)"))
+        .map(|k| match action_for(k) {
+            Some(Action::CycleVariant) => Err(format!(
+                "key {k:?} in --keys changes the loaded material variant: use --variant"
+            )),
+            Some(a) => Ok(a),
+            None => Err(format!(
+                "unknown key {k:?} in --keys (see the key table in --help)"
+            )),
         })
         .collect()
 }
@@ -214,7 +235,11 @@ pub enum Effect {
 /// ([`crate::session::View`]); they return [`Effect::Camera`] untouched.
 pub fn apply(action: Action, o: &mut Options) -> Effect {
     match action {
-        Action::Camera(_) | Action::Reset | Action::Fit => return Effect::Camera,
+        Action::Camera(_)
+        | Action::Reset
+        | Action::Fit
+        | Action::CycleCamera
+        | Action::CycleVariant => return Effect::Camera,
         Action::ToggleShadows => o.shadow.enabled = !o.shadow.enabled,
         Action::ToggleGouraud => {
             o.render.shading = match o.render.shading {

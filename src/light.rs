@@ -12,7 +12,112 @@ pub enum LightKind {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Light {
     pub kind: LightKind,
+    /// The colour at full strength: glview's own lights give it as typed; a file's light
+    /// (KHR_lights_punctual) gives colour × intensity / π ([`crate::scene::gltf_lights`]).
     pub color: Vec3,
+    /// How the light weakens with distance and off its axis: none for glview's own lights.
+    pub falloff: Falloff,
+}
+
+impl Light {
+    /// A light that does not weaken (glview's own: `--light`, the kit, the headlight).
+    pub fn new(kind: LightKind, color: Vec3) -> Light {
+        Light {
+            kind,
+            color,
+            falloff: Falloff::NONE,
+        }
+    }
+
+    /// The colour arriving at `p` (local coordinates): [`Light::color`] times
+    /// [`Light::falloff_at`] there.
+    pub fn color_at(&self, p: DVec3) -> DVec3 {
+        self.color.as_dvec3() * self.falloff_at(p)
+    }
+
+    /// The falloff at `p` (local coordinates), in f64: the reference renderer's copy of
+    /// falloff.glsl's `glviewFalloff`; 1 for a directional light.
+    pub fn falloff_at(&self, p: DVec3) -> f64 {
+        match self.kind {
+            LightKind::Point(q) => self.falloff.at(q.as_dvec3() - p),
+            LightKind::Directional(_) => 1.0,
+        }
+    }
+}
+
+/// KHR_lights_punctual's attenuation of a point or spot light, the specification's formulas
+/// (the Sample Viewer's `getRangeAttenuation` and the spec's informative spot formula):
+/// `window / d²` with `window = clamp(1 − (d/range)⁴, 0, 1)` (1 without a range), times
+/// `clamp(cos θ · scale + offset, 0, 1)²` off the spot's axis. A spot is a point light with
+/// a cone: its shadow map is a point light's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Falloff {
+    /// 1/range² (0: no range, the light reaches everywhere).
+    pub inv_range2: f32,
+    /// Divide by the squared distance (photometric lights); glview's own lights do not.
+    pub inverse_square: bool,
+    /// The spot's cone, None for a point light.
+    pub spot: Option<Spot>,
+}
+
+/// A spot light's cone: the unit direction it shines in (local coordinates) and the
+/// specification's `lightAngleScale` / `lightAngleOffset`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spot {
+    pub dir: Vec3,
+    pub scale: f32,
+    pub offset: f32,
+}
+
+impl Spot {
+    /// The cone between `inner` and `outer` (radians, 0 ≤ inner < outer ≤ π/2, as the
+    /// loader made them), as the specification's informative formula spells it.
+    pub fn new(dir: Vec3, inner: f32, outer: f32) -> Spot {
+        let scale = 1.0 / (inner.cos() - outer.cos()).max(0.001);
+        Spot {
+            dir,
+            scale,
+            offset: -outer.cos() * scale,
+        }
+    }
+}
+
+/// The squared distance below which a light is taken to be this far: the inverse square
+/// stays finite at the light itself.
+pub const MIN_DISTANCE2: f64 = 1e-8;
+
+impl Falloff {
+    pub const NONE: Falloff = Falloff {
+        inv_range2: 0.0,
+        inverse_square: false,
+        spot: None,
+    };
+
+    /// The factor at offset `to_light` (from the lit point to the light). f32 inputs read
+    /// in f64, the same steps as `glviewFalloff` in falloff.glsl.
+    pub fn at(&self, to_light: DVec3) -> f64 {
+        if *self == Falloff::NONE {
+            return 1.0;
+        }
+        let d2 = to_light.length_squared();
+        let r = d2 * f64::from(self.inv_range2);
+        let window = (1.0 - r * r).clamp(0.0, 1.0);
+        let inv = if self.inverse_square {
+            1.0 / d2.max(MIN_DISTANCE2)
+        } else {
+            1.0
+        };
+        let spot = self.spot.map_or(1.0, |s| {
+            let cd = if d2 > 0.0 {
+                s.dir.as_dvec3().dot(-to_light) / d2.sqrt()
+            } else {
+                1.0
+            };
+            let a = (cd * f64::from(s.scale) + f64::from(s.offset)).clamp(0.0, 1.0);
+            a * a
+        });
+        window * inv * spot
+    }
 }
 
 /// The default kit (no `--light`): key (casts the shadow), fill and headlight colours.
@@ -36,7 +141,7 @@ impl LightSpec {
     /// [`LightOpt`]'s parser, so the messages are one.
     pub fn parse(s: &str) -> Result<Option<LightSpec>, String> {
         match s.parse::<LightOpt>()? {
-            LightOpt::Head => Err(format!(
+            LightOpt::Head | LightOpt::Kit | LightOpt::File => Err(format!(
                 "light {s:?}: expected point:X,Y,Z, dir:X,Y,Z or none"
             )),
             light => Ok(light.spec()),
@@ -59,19 +164,147 @@ impl LightSpec {
             LightSpec::Point(p) => LightKind::Point((p - origin).as_vec3()),
             LightSpec::Directional(d) => LightKind::Directional(d.as_vec3().normalize()),
         };
-        Light { kind, color }
+        Light::new(kind, color)
     }
 }
 
-/// A `--light` value as given: a light, the camera's headlight, or no lights at all. A
-/// direction is kept as typed (made unit when the frame's lights are made), so the option
-/// writes back exactly as it was read.
+/// A light a model file brings (glTF KHR_lights_punctual), in the file's coordinates (f64,
+/// the up axis already turned, like the geometry), as the file states it: intensity in
+/// candela (point, spot) or lux (directional).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct FileLight {
+    /// The light's name in the file, or `light N`.
+    pub name: String,
+    /// The node that places it.
+    pub node: usize,
+    pub kind: FileLightKind,
+    /// World position (unused by a directional light).
+    pub position: DVec3,
+    /// Unit direction the light shines in (its node's −Z; unused by a point light).
+    pub direction: DVec3,
+    /// Linear RGB in 0..1.
+    pub color: [f32; 3],
+    pub intensity: f32,
+    /// Where a point or spot light's reach ends; None: everywhere (inverse square only).
+    pub range: Option<f32>,
+}
+
+/// The legacy tier's exposure for a file's lights: the factor on their colours that makes the
+/// brightest give the kit's key light ([`KIT_KEY`]) at the model's centre (a point or spot
+/// light as if at least `radius` away, its range and cone aside; a directional light its
+/// colour). The tier has no exposure or tone mapping, and a file's photometric values
+/// (LightsPunctualLamp's 180 cd lamps 1.5 m away: colour 25) would clip the model to white;
+/// the lights keep their ratios and falloff. 1 when no light gives any.
+pub fn legacy_scale(lights: &[FileLight], centre: DVec3, radius: f64) -> f32 {
+    let brightest = lights
+        .iter()
+        .map(|l| {
+            let c = f64::from(l.to_local(centre).color.max_element());
+            match l.kind {
+                FileLightKind::Directional => c,
+                _ => c / (l.position - centre).length_squared().max(radius * radius),
+            }
+        })
+        .fold(0.0f64, f64::max);
+    if brightest > 0.0 && brightest.is_finite() {
+        (f64::from(KIT_KEY) / brightest) as f32
+    } else {
+        1.0
+    }
+}
+
+/// A file light's kind; a spot's cone angles in radians, 0 ≤ inner ≤ outer ≤ π/2.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum FileLightKind {
+    Directional,
+    Point,
+    Spot { inner: f32, outer: f32 },
+}
+
+impl FileLight {
+    /// The frame's light: colour × intensity / π in both tiers (docs/gltf/lights.md): glview's
+    /// lights give the diffuse term `Kd · colour · N·L`, the specification's `Kd/π · E · N·L`
+    /// for an illuminance E, so a file light of E lux (or candela at 1 unit) equals a glview
+    /// light of colour E/π, and the PBR tier follows the specification exactly.
+    pub fn to_local(&self, origin: DVec3) -> Light {
+        let color = Vec3::from(self.color) * (self.intensity / std::f32::consts::PI);
+        let falloff = |spot| Falloff {
+            inv_range2: self.range.map_or(0.0, |r| 1.0 / (r * r)),
+            inverse_square: true,
+            spot,
+        };
+        let at = (self.position - origin).as_vec3();
+        let dir = self.direction.as_vec3().normalize_or_zero();
+        match self.kind {
+            FileLightKind::Directional => Light::new(LightKind::Directional(dir), color),
+            FileLightKind::Point => Light {
+                kind: LightKind::Point(at),
+                color,
+                falloff: falloff(None),
+            },
+            FileLightKind::Spot { inner, outer } => Light {
+                kind: LightKind::Point(at),
+                color,
+                falloff: falloff(Some(Spot::new(dir, inner, outer))),
+            },
+        }
+    }
+
+    /// One line for `--check`: `spot "Lamp" (node 3): 40 cd, colour 1,0.9,0.8, range 5, cone 10°-30°, at X,Y,Z, towards X,Y,Z`.
+    pub fn describe(&self) -> String {
+        let c = self.color;
+        let mut s = match self.kind {
+            FileLightKind::Directional => format!(
+                "directional {:?} (node {}): {} lux",
+                self.name, self.node, self.intensity
+            ),
+            FileLightKind::Point | FileLightKind::Spot { .. } => format!(
+                "{} {:?} (node {}): {} cd",
+                if self.kind == FileLightKind::Point {
+                    "point"
+                } else {
+                    "spot"
+                },
+                self.name,
+                self.node,
+                self.intensity
+            ),
+        };
+        s += &format!(", colour {},{},{}", c[0], c[1], c[2]);
+        if let (Some(r), false) = (self.range, self.kind == FileLightKind::Directional) {
+            s += &format!(", range {r}");
+        }
+        if let FileLightKind::Spot { inner, outer } = self.kind {
+            s += &format!(
+                ", cone {:.4}°-{:.4}°",
+                inner.to_degrees(),
+                outer.to_degrees()
+            );
+        }
+        let (p, d) = (self.position, self.direction);
+        if self.kind != FileLightKind::Directional {
+            s += &format!(", at {},{},{}", p.x, p.y, p.z);
+        }
+        if self.kind != FileLightKind::Point {
+            s += &format!(", towards {:.4},{:.4},{:.4}", d.x, d.y, d.z);
+        }
+        s
+    }
+}
+
+/// A `--light` value as given: a light, the camera's headlight, no lights at all, the
+/// default kit or the model file's own lights. A direction is kept as typed (made unit when
+/// the frame's lights are made), so the option writes back exactly as it was read.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightOpt {
     Point(DVec3),
     Dir(DVec3),
     Head,
     None,
+    /// The default kit, even when the file has lights.
+    Kit,
+    /// The file's lights (glTF KHR_lights_punctual): the default when it has some.
+    File,
 }
 
 impl std::str::FromStr for LightOpt {
@@ -80,11 +313,13 @@ impl std::str::FromStr for LightOpt {
         match s {
             "head" => return Ok(LightOpt::Head),
             "none" => return Ok(LightOpt::None),
+            "kit" => return Ok(LightOpt::Kit),
+            "file" => return Ok(LightOpt::File),
             _ => {}
         }
-        let (kind, rest) = s
-            .split_once(':')
-            .ok_or_else(|| format!("light {s:?}: expected point:X,Y,Z, dir:X,Y,Z or none"))?;
+        let (kind, rest) = s.split_once(':').ok_or_else(|| {
+            format!("light {s:?}: expected point:X,Y,Z, dir:X,Y,Z, head, none, kit or file")
+        })?;
         let v = parse_vec3(rest).map_err(|e| format!("light {s:?}: {e}"))?;
         match kind {
             "point" => Ok(LightOpt::Point(v)),
@@ -102,20 +337,22 @@ impl std::fmt::Display for LightOpt {
             LightOpt::Dir(d) => write!(f, "dir:{},{},{}", d.x, d.y, d.z),
             LightOpt::Head => f.write_str("head"),
             LightOpt::None => f.write_str("none"),
+            LightOpt::Kit => f.write_str("kit"),
+            LightOpt::File => f.write_str("file"),
         }
     }
 }
 
-crate::word_value!(LightOpt, "point:X,Y,Z, dir:X,Y,Z, head or none");
+crate::word_value!(LightOpt, "point:X,Y,Z, dir:X,Y,Z, head, none, kit or file");
 
 impl LightOpt {
-    /// The light this value places, if it is one (not `head` or `none`): a direction is
+    /// The light this value places, if it is one (not `head`, `none`, `kit` or `file`): a direction is
     /// made unit here, in f64, as the command line always did.
     pub fn spec(self) -> Option<LightSpec> {
         match self {
             LightOpt::Point(p) => Some(LightSpec::Point(p)),
             LightOpt::Dir(d) => Some(LightSpec::Directional(d.normalize())),
-            LightOpt::Head | LightOpt::None => None,
+            LightOpt::Head | LightOpt::None | LightOpt::Kit | LightOpt::File => None,
         }
     }
 }
@@ -156,5 +393,62 @@ mod tests {
         assert!(LightSpec::parse("spot:0,0,0").is_err());
         assert!(LightSpec::parse("point:1,2").is_err());
         assert!(LightSpec::parse("point:1,nan,2").is_err());
+    }
+
+    /// The legacy tier's exposure: the brightest light gives the key light's colour at the
+    /// centre (a point light as if at least `radius` away).
+    #[test]
+    fn legacy_scale_exposes_the_brightest_light_as_the_key() {
+        let light = |kind, intensity, position| FileLight {
+            name: String::new(),
+            node: 0,
+            kind,
+            position,
+            direction: DVec3::NEG_Y,
+            color: [1.0, 0.5, 0.5],
+            intensity,
+            range: None,
+        };
+        let pi = std::f64::consts::PI;
+        let sun = light(FileLightKind::Directional, 3.0, DVec3::ZERO);
+        let near = light(FileLightKind::Point, 40.0, DVec3::X);
+        let far = light(FileLightKind::Point, 40.0, DVec3::X * 4.0);
+        let k = |ls: &[FileLight]| f64::from(legacy_scale(ls, DVec3::ZERO, 2.0));
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-5 * b;
+        assert!(close(k(std::slice::from_ref(&sun)), 0.75 * pi / 3.0));
+        assert!(close(k(&[sun.clone(), near]), 0.75 * pi / 10.0));
+        assert!(close(k(&[sun, far]), 0.75 * pi / 3.0));
+        assert_eq!(k(&[light(FileLightKind::Point, 0.0, DVec3::ZERO)]), 1.0);
+    }
+
+    /// The specification's range window and spot cone, at points where they are known.
+    #[test]
+    fn falloff_is_the_specification_formula() {
+        let f = Falloff {
+            inv_range2: 0.25,
+            inverse_square: true,
+            spot: None,
+        };
+        assert_eq!(f.at(DVec3::X), 1.0 - 0.5f64.powi(4));
+        assert_eq!(f.at(DVec3::X * 0.5), (1.0 - 0.25f64.powi(4)) / 0.25);
+        assert_eq!(f.at(DVec3::Y * 2.0), 0.0);
+        assert_eq!(f.at(DVec3::Y * 3.0), 0.0);
+        assert!(f.at(DVec3::ZERO).is_finite());
+        assert_eq!(Falloff::NONE.at(DVec3::X * 7.0), 1.0);
+        let (inner, outer) = (0.2f32, 0.6f32);
+        let spot = Falloff {
+            inv_range2: 0.0,
+            inverse_square: false,
+            spot: Some(Spot::new(Vec3::NEG_Y, inner, outer)),
+        };
+        // From the lit point to a light above it, at angle `a` off the spot's axis.
+        let at = |a: f64| spot.at(DVec3::new(-a.sin(), a.cos(), 0.0));
+        assert!((at(0.0) - 1.0).abs() < 1e-6);
+        assert!((at(0.19) - 1.0).abs() < 1e-6);
+        let (ci, co) = (f64::from(inner).cos(), f64::from(outer).cos());
+        let want = ((0.4f64.cos() - co) / (ci - co)).powi(2);
+        assert!((at(0.4) - want).abs() < 1e-5, "{} {want}", at(0.4));
+        assert_eq!(at(0.61), 0.0);
+        assert_eq!(at(2.0), 0.0);
     }
 }

@@ -77,7 +77,7 @@ pub fn shade(
     let v = (eye - p).normalize_or_zero();
     for (i, light) in lights.iter().enumerate() {
         let l = to_light(light, p);
-        let lc = light.color.as_dvec3();
+        let lc = light.color_at(p);
         let n_dot_l = n.dot(l);
         let vis = visibility.get(i).copied().unwrap_or(1.0);
         let diffuse = if params.wrap {
@@ -108,10 +108,7 @@ mod tests {
     use glam::Vec3;
 
     fn white_light_above() -> Light {
-        Light {
-            kind: LightKind::Directional(Vec3::NEG_Y),
-            color: Vec3::ONE,
-        }
+        Light::new(LightKind::Directional(Vec3::NEG_Y), Vec3::ONE)
     }
 
     #[test]

@@ -178,8 +178,25 @@ impl App<'_> {
             (None, None) => return Effect::Redraw,
         };
         let compare = self.view.compare();
-        let changed = change(&mut self.view, scene)
-            .and_then(|e| Ok((e, session::frame_settings(self.view.options(), scene)?.0)));
+        let load = self.view.options().load.clone();
+        let effect = match change(&mut self.view, scene) {
+            Ok(e) => e,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return Effect::Redraw;
+            }
+        };
+        if self.view.options().load != load {
+            if let Err(e) = self.reload() {
+                eprintln!("error: {e}");
+            }
+        }
+        let scene = match (&self.live, &self.scene) {
+            (Some(live), _) => live.renderer.scene(),
+            (None, Some(scene)) => scene,
+            (None, None) => return Effect::Redraw,
+        };
+        let changed = session::frame_settings(self.view.options(), scene).map(|s| (effect, s.0));
         let (effect, settings) = match changed {
             Ok(x) => x,
             Err(e) => {
@@ -197,6 +214,25 @@ impl App<'_> {
             self.request_redraw();
         }
         effect
+    }
+
+    /// A load option changed (`V`, the material variant): the scene is loaded again and
+    /// replaces the uploaded one (the renderer keeps its switches).
+    fn reload(&mut self) -> Result<()> {
+        let (scene, prepared) = session::load_scene_prepared(self.view.options())?;
+        let Some(live) = &mut self.live else {
+            (self.scene, self.prepared) = (Some(scene), prepared);
+            return Ok(());
+        };
+        let mut renderer = match prepared {
+            Some(clusters) => Renderer::prepared(&live.gpu, scene, clusters)?,
+            None => Renderer::new(&live.gpu, scene)?,
+        };
+        renderer.time_post = live.renderer.time_post;
+        renderer.cull_clusters = live.renderer.cull_clusters;
+        renderer.lod = live.renderer.lod;
+        live.renderer = renderer;
+        Ok(())
     }
 
     fn act(&mut self, event_loop: &ActiveEventLoop, action: Action) {
@@ -425,6 +461,8 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyE => "E",
         KeyCode::KeyZ => "Z",
         KeyCode::KeyX => "X",
+        KeyCode::KeyK => "K",
+        KeyCode::KeyV => "V",
         _ => return None,
     })
 }
@@ -622,6 +660,8 @@ mod tests {
                     KeyCode::KeyE,
                     KeyCode::KeyZ,
                     KeyCode::KeyX,
+                    KeyCode::KeyK,
+                    KeyCode::KeyV,
                 ]
                 .iter()
                 .any(|c| physical_name(*c) == Some(n));

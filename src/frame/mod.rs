@@ -313,10 +313,10 @@ pub(crate) fn resolve(s: &FrameSettings) -> std::borrow::Cow<'_, FrameSettings> 
         Some(color) => {
             let mut r = s.clone();
             let forward = (s.camera.target - s.camera.eye()).normalize_or(glam::Vec3::NEG_Z);
-            r.lights.push(crate::light::Light {
-                kind: crate::light::LightKind::Directional(forward),
+            r.lights.push(crate::light::Light::new(
+                crate::light::LightKind::Directional(forward),
                 color,
-            });
+            ));
             r.lighting.headlight = None;
             std::borrow::Cow::Owned(r)
         }

@@ -95,6 +95,12 @@ declare_options! {
         /// Make these materials or objects/groups translucent (opacity 0.3 unless
         /// --opacity), to look at what is inside; repeatable or comma-separated.
         xray: Vec<String> = Vec::new(), "xray" list;
+        /// glTF: draw this scene of the file, by index or name (default: the file's default
+        /// scene). `--check` lists the scenes.
+        scene: Option<String> = None, "scene" maybe;
+        /// glTF KHR_materials_variants: draw this material variant, by index or name
+        /// (default: the file's own materials; key V cycles). `--check` lists the variants.
+        variant: Option<String> = None, "variant" maybe;
     }
     /// Where the camera is and what it sees.
     camera: Camera {
@@ -114,6 +120,12 @@ declare_options! {
         ortho: Option<Ortho> = None, "ortho" optional, check = ortho;
         /// A fixed near plane (default: fitted to the model's bounds).
         near: Option<f32> = None, "near" maybe, check = positive_or_none;
+        /// glTF: look through the file's camera, by index or name (camera or node): its
+        /// place, direction and field of view (perspective: yfov kept, the picture's aspect
+        /// used; orthographic: the height 2·ymag) set yaw, pitch, distance, target, fov,
+        /// near and ortho, which are ignored with it; orbiting starts from there (key K
+        /// cycles the cameras). `--check` lists them.
+        view: Option<String> = None, "camera" maybe;
         /// Key presses to replay before rendering, e.g. "Left Left Up" (the window's
         /// mapping).
         keys: Option<String> = None, "keys" maybe, check = keys;
@@ -122,7 +134,9 @@ declare_options! {
     light: Light {
         /// A light: point:X,Y,Z (file coordinates), dir:X,Y,Z (direction it travels), head (a
         /// headlight that follows the camera) or none. Repeat for several lights (at most
-        /// 4). Default: a kit of key light (casts the shadow), fill light and headlight.
+        /// 4). kit: the default kit of key light (casts the shadow), fill light and
+        /// headlight; file: the model's own lights (glTF KHR_lights_punctual, each casting a
+        /// shadow; docs/gltf/lights.md). Default: file when the model has lights, else kit.
         lights: Vec<LightOpt> = Vec::new(), "light" repeat;
         /// Light colour R,G,B in 0..1; repeat to colour lights in order (the last one
         /// repeats).
@@ -136,8 +150,8 @@ declare_options! {
     shadow: Shadow {
         /// Shadow mapping; `--no-shadows` turns it off.
         enabled: bool = true, "no-shadows" noflag;
-        /// How many lights, in order, cast shadows (default: all given lights; the key light
-        /// of the default kit).
+        /// How many lights, in order, cast shadows (default: all given lights, or all the
+        /// file's own; the key light of the default kit).
         lights: Option<u8> = None, "shadow-lights" maybe;
         /// Shadow map size in texels (clamped to the driver's maximum). Default from the
         /// bench.
@@ -400,6 +414,14 @@ impl Options {
                 "light",
                 "none means no lights; it cannot be combined with other --light options",
             ));
+        }
+        for (word, opt) in [("kit", LightOpt::Kit), ("file", LightOpt::File)] {
+            if lights.len() > 1 && lights.contains(&opt) {
+                return Err(OptionError::new(
+                    "light",
+                    format!("{word} cannot be combined with other --light options"),
+                ));
+            }
         }
         let placed = lights.iter().filter(|l| l.spec().is_some()).count();
         let head = lights.contains(&LightOpt::Head);

@@ -26,6 +26,10 @@ const MODEL_AND_CAMERA: &[&str] = &[
     "--single-sided",
     "--xray",
     "a,b",
+    "--scene",
+    "Slab",
+    "--variant",
+    "1",
     "--yaw",
     "-10.5",
     "--pitch",
@@ -40,6 +44,8 @@ const MODEL_AND_CAMERA: &[&str] = &[
     "2",
     "--near",
     "0.01",
+    "--camera",
+    "Front",
     "--keys",
     "Left S",
 ];
@@ -278,6 +284,17 @@ fn errors_name_the_option_and_the_value() {
     );
     let e = Options::from_words(["--light", "none", "--light", "head"]).unwrap_err();
     assert!(e.to_string().contains("cannot be combined"), "{e}");
+    for words in [
+        ["--light", "kit", "--light", "head"],
+        ["--light", "file", "--light", "dir:0,-1,0"],
+    ] {
+        let e = Options::from_words(words).unwrap_err();
+        assert!(e.to_string().contains("cannot be combined"), "{e}");
+    }
+    let o = Options::from_words(["--light", "kit"]).unwrap();
+    assert_eq!(o.light.lights, [crate::light::LightOpt::Kit]);
+    let o = Options::from_words(["--light", "file"]).unwrap();
+    assert_eq!(o.light.lights, [crate::light::LightOpt::File]);
     let e = Options::from_words(["--pcf", "3"]).unwrap_err();
     assert!(
         e.to_string().contains("PCF taps must be 1, 4, 9 or 16"),

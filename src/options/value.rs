@@ -73,6 +73,14 @@ impl OptionValue for String {
     fn parse_word(s: &str) -> Result<Self, String> {
         Ok(s.to_string())
     }
+    /// A whole number is its digits: `camera=1` is `--camera 1` (an index).
+    fn from_json(v: &Value) -> Result<Self, String> {
+        match v {
+            Value::String(s) => Ok(s.clone()),
+            Value::Number(n) if n.is_u64() => Ok(n.to_string()),
+            other => Err(format!("expected {}, got {}", Self::EXPECTED, shown(other))),
+        }
+    }
     fn to_word(&self) -> String {
         self.clone()
     }

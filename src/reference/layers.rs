@@ -186,10 +186,7 @@ impl Layers {
                 } else {
                     1.0
                 };
-                (
-                    crate::shading::to_light(light, p),
-                    light.color.as_dvec3() * seen,
-                )
+                (crate::shading::to_light(light, p), light.color_at(p) * seen)
             })
             .collect();
         let ibl = ctx.env.is_some() && terms.ibl_specular;

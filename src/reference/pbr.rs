@@ -100,7 +100,7 @@ pub(crate) fn shade(
         let v = (ctx.view.eye - p).normalize_or_zero();
         let n_dot_v = n.dot(v).max(1e-4);
         super::transmission::passed(&s, n_dot_v, t.factor, t.light, ctx.pbr_samples)
-            + super::transmission::punctual(ctx, &s, &t, n, v)
+            + super::transmission::punctual(ctx, &s, &t, (p, n), v)
     });
     let c = shade_linear(ctx, &s, p, n, vis) + transmitted.unwrap_or(DVec3::ZERO);
     let c = layers.over(ctx, s.ao, c, p, n, vis);
@@ -143,7 +143,7 @@ fn shade_linear(ctx: &Context, s: &Surface, p: DVec3, n: DVec3, vis: &[f64]) -> 
         if terms.direct_specular {
             f += s.direct(n, v, l) - s.kd() * n.dot(l).max(0.0);
         }
-        c += visible * light.color.as_dvec3() * f;
+        c += visible * light.color_at(p) * f;
     }
     c
 }

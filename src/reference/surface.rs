@@ -251,8 +251,10 @@ fn gouraud(
             let v = (eye - pos[k]).normalize_or_zero();
             let l = to_light(light, pos[k]);
             let (d, sp) = light_factors(l, n, v, f64::from(ph.shininess), s.lighting.wrap);
-            fd += w[k] * d;
-            fs += w[k] * sp;
+            // lit.vert's factors carry the falloff per vertex.
+            let fall = light.falloff_at(pos[k]);
+            fd += w[k] * d * fall;
+            fs += w[k] * sp * fall;
         }
         let lc = light.color.as_dvec3();
         let mut lit = DVec3::ZERO;

@@ -98,7 +98,14 @@ pub(crate) fn at_hit(ctx: &Context, m: &Material, c: &Corners, p: DVec3, n: DVec
 /// The lights through the surface (`pbr.frag`'s punctual BTDF, the Sample Viewer's): each
 /// light's direction from the exit point mirrored to the viewer's side, a GGX lobe of the
 /// roughness scaled by the ior, (1 − F)·albedo, no cosine, no shadow.
-pub(crate) fn punctual(ctx: &Context, s: &Surface, t: &Transmit, n: DVec3, v: DVec3) -> DVec3 {
+/// A file light's falloff is taken at `p`, where the light arrives, as the GPU does.
+pub(crate) fn punctual(
+    ctx: &Context,
+    s: &Surface,
+    t: &Transmit,
+    (p, n): (DVec3, DVec3),
+    v: DVec3,
+) -> DVec3 {
     use crate::pbr::brdf::{d_ggx, f_schlick90, g_smith};
     if !ctx.settings.lighting.pbr_terms.direct_diffuse {
         return DVec3::ZERO;
@@ -117,7 +124,7 @@ pub(crate) fn punctual(ctx: &Context, s: &Surface, t: &Transmit, n: DVec3, v: DV
             * d_ggx(n.dot(h).max(0.0), rough)
             * g_smith(n_dot_v, n_dot_l, rough)
             / (4.0 * n_dot_v * n_dot_l);
-        sum += light.color.as_dvec3() * std::f64::consts::PI * bt * t.attenuation;
+        sum += light.color_at(p) * std::f64::consts::PI * bt * t.attenuation;
     }
     t.factor * (1.0 - s.metallic) * sum
 }

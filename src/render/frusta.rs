@@ -149,10 +149,7 @@ mod tests {
             Vec3::X,
             Vec3::new(0.0, 1.0, 0.0),
         ] {
-            let l = Light {
-                kind: LightKind::Directional(dir),
-                color: Vec3::ONE,
-            };
+            let l = Light::new(LightKind::Directional(dir), Vec3::ONE);
             let (m, kind) = light_view_proj(&l, &bounds()).unwrap();
             assert_eq!(kind, ShadowProjection::Ortho);
             assert!(m.is_finite(), "{dir}");
@@ -168,20 +165,14 @@ mod tests {
 
     #[test]
     fn point_light_outside_sees_the_whole_scene() {
-        let l = Light {
-            kind: LightKind::Point(Vec3::new(4.0, 8.0, 3.0)),
-            color: Vec3::ONE,
-        };
+        let l = Light::new(LightKind::Point(Vec3::new(4.0, 8.0, 3.0)), Vec3::ONE);
         let (m, kind) = light_view_proj(&l, &bounds()).unwrap();
         assert_eq!(kind, ShadowProjection::Perspective);
         for c in bounds().corners() {
             assert!(inside_clip(m, c), "{c}");
         }
         // Straight above: the up vector must not be parallel to the view direction.
-        let above = Light {
-            kind: LightKind::Point(Vec3::new(0.0, 20.0, 0.0)),
-            color: Vec3::ONE,
-        };
+        let above = Light::new(LightKind::Point(Vec3::new(0.0, 20.0, 0.0)), Vec3::ONE);
         assert!(light_view_proj(&above, &bounds()).unwrap().0.is_finite());
     }
 
@@ -203,10 +194,7 @@ mod tests {
 
     #[test]
     fn point_light_inside_has_no_single_frustum() {
-        let l = Light {
-            kind: LightKind::Point(Vec3::new(0.0, 1.0, 0.0)),
-            color: Vec3::ONE,
-        };
+        let l = Light::new(LightKind::Point(Vec3::new(0.0, 1.0, 0.0)), Vec3::ONE);
         assert!(light_view_proj(&l, &bounds()).is_none());
         assert!(point_inside(&l, &bounds()));
     }
@@ -216,10 +204,7 @@ mod tests {
         let b = bounds();
         let (c, r) = (b.center(), b.radius());
         let dir = Vec3::new(0.6, 0.7, 0.4).normalize();
-        let light = |k: f32| Light {
-            kind: LightKind::Point(c + dir * r * k),
-            color: Vec3::ONE,
-        };
+        let light = |k: f32| Light::new(LightKind::Point(c + dir * r * k), Vec3::ONE);
         // Just outside the sphere a single frustum would need more than 180°.
         for k in [1.0002, 1.01, 1.05, 1.099] {
             assert!(light_view_proj(&light(k), &b).is_none(), "{k}");

@@ -112,7 +112,8 @@ impl super::tier::Tier for LegacyTier {
             m.has_colors,
         )
         .switch("HAS_NORMAL_MAP", "nrm", normal.is_some())
-        .switch("HAS_EMISSIVE_MAP", "emi", emissive.is_some());
+        .switch("HAS_EMISSIVE_MAP", "emi", emissive.is_some())
+        .switch("FALLOFF", "fall", v.falloff);
         // Single-sided opaque draws cull back faces (cull.rs): no fragment needs the flip.
         let front_only = !mat.double_sided && !m.translucent;
         Ok(Prepared {

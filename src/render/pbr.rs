@@ -104,7 +104,9 @@ pub(crate) fn all_keys(lights: u8, shadows: u8, pcf: u8, cube_mask: u8) -> Vec<P
     };
     vec![
         program_key(lights, shadows, pcf, cube_mask, Maps::default(), plain),
-        KhrFlags::ALL.key(program_key(lights, shadows, pcf, cube_mask, all, every)),
+        KhrFlags::ALL
+            .key(program_key(lights, shadows, pcf, cube_mask, all, every))
+            .switch("FALLOFF", "fall", true),
     ]
 }
 
@@ -316,7 +318,8 @@ impl super::tier::Tier for PbrTier {
                 maps,
                 self.opts,
             ))
-            .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code());
+            .mask("SHOW_ATTRIBUTE", "show", s.lighting.attribute_view.code())
+            .switch("FALLOFF", "fall", v.falloff);
         Ok(Prepared {
             key,
             textured: maps.albedo,

@@ -36,7 +36,8 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
                         )
                         .switch("POINT_LIGHTS", "pt", textured)
                         .switch("WRAP", "wrap", textured)
-                        .switch("FRONT_ONLY", "front", textured),
+                        .switch("FRONT_ONLY", "front", textured)
+                        .switch("FALLOFF", "fall", textured),
                     );
                 }
             }

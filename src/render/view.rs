@@ -6,11 +6,11 @@ use super::frusta::ShadowProjection;
 use super::units::SHADOW_UNIT;
 use super::FrameCx;
 use crate::gpu::program::Program;
-use crate::light::LightKind;
+use crate::light::{Falloff, LightKind};
 use crate::scene::clusters::ClusterView;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
-use glam::{Mat3, Mat4, Vec2, Vec4};
+use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 
 /// The light and shadow flags both lit tiers share (labels `l{n},s{n},pcf{n}[,cube{mask}]`).
 pub(crate) fn shadow_flags(
@@ -51,6 +51,9 @@ pub(crate) struct View {
     pub(crate) lights: u8,
     pub(crate) shadows: u8,
     pub(crate) cube_mask: u8,
+    /// Some light weakens with distance or off a cone (a file's light): the lit programs
+    /// have FALLOFF (falloff.glsl); frames of glview's own lights keep their programs.
+    pub(crate) falloff: bool,
 }
 
 /// Shadow lookup parameters, per light; matrices as (uniform array index, matrix).
@@ -112,6 +115,7 @@ impl View {
             lights: s.lights.len() as u8,
             shadows: maps.len() as u8,
             cube_mask,
+            falloff: s.lights.iter().any(|l| l.falloff != Falloff::NONE),
         }
     }
 
@@ -129,6 +133,11 @@ impl View {
         for (i, (pos, l)) in self.light_pos.iter().zip(&s.lights).enumerate() {
             p.set_vec4(&format!("uLightPos[{i}]"), *pos);
             p.set_vec3(&format!("uLightColor[{i}]"), l.color);
+            if self.falloff {
+                let (f, spot) = falloff_uniforms(&l.falloff, &self.view);
+                p.set_vec4(&format!("uLightFalloff[{i}]"), f);
+                p.set_vec3(&format!("uLightSpotDir[{i}]"), spot);
+            }
         }
         let sh = &self.shadow;
         for (i, m) in &sh.matrices {
@@ -166,6 +175,21 @@ impl View {
         order.extend(translucent.iter().map(|&(_, i)| i));
         (order, first)
     }
+}
+
+/// falloff.glsl's uniforms of one light: (1/range², inverse square, spot scale, spot offset)
+/// and the spot's eye-space direction; (0, 0, 0, 1) and 0 leave a light as it is.
+fn falloff_uniforms(f: &Falloff, view: &Mat4) -> (Vec4, Vec3) {
+    let (scale, offset, dir) = match f.spot {
+        Some(s) => (
+            s.scale,
+            s.offset,
+            view.transform_vector3(s.dir).normalize_or_zero(),
+        ),
+        None => (0.0, 1.0, Vec3::ZERO),
+    };
+    let inv = if f.inverse_square { 1.0 } else { 0.0 };
+    (Vec4::new(f.inv_range2, inv, scale, offset), dir)
 }
 
 /// The legacy tier's base colour texture of `material` (display values, not sRGB-decoded),

@@ -100,7 +100,9 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 14: KHR_materials_iridescence (issue 37): `Khr::iridescence` and two more slots.
 /// 15: KHR_materials_anisotropy (issue 37): `Khr::anisotropy` and one more slot.
 /// 16: EXT_mesh_gpu_instancing drawn instanced (issue 37): the scene's `instancing`.
-const FORMAT: u32 = 16;
+/// 17: glTF cameras, scenes and material variants (issue 37): the scene's `views`.
+/// 18: KHR_lights_punctual (issue 37): the scene's `lights`.
+const FORMAT: u32 = 18;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);
@@ -214,6 +216,10 @@ struct Header {
     maps: Vec<String>,
     /// The instanced nodes, so a hit draws them instanced as a miss does.
     instancing: Vec<super::Instancing>,
+    /// The file's cameras, scenes and variants (`--camera` on a hit needs them).
+    views: super::views::Views,
+    /// The file's lights (glTF KHR_lights_punctual).
+    lights: Vec<crate::light::FileLight>,
     bounds: Bounds,
     origin: [f64; 3],
     file_bounds: [[f64; 3]; 2],
@@ -446,6 +452,8 @@ pub fn put_in(
         },
         maps: scene.maps.clone(),
         instancing: scene.instancing.clone(),
+        views: scene.views.clone(),
+        lights: scene.lights.clone(),
         bounds: scene.bounds,
         origin: scene.origin.to_array(),
         file_bounds: [

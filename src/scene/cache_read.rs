@@ -90,6 +90,8 @@ pub(super) fn decode(
         wire,
         maps: header.maps,
         instancing: header.instancing,
+        views: header.views,
+        lights: header.lights,
     };
     Some((scene, clusters))
 }

@@ -248,6 +248,8 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         wire: Wire::default(),
         maps: Vec::new(),
         instancing: Vec::new(),
+        views: Default::default(),
+        lights: Vec::new(),
     })
 }
 
@@ -314,5 +316,7 @@ fn cloud(
         wire,
         maps: Vec::new(),
         instancing: Vec::new(),
+        views: Default::default(),
+        lights: Vec::new(),
     }
 }

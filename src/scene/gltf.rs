@@ -36,6 +36,8 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_pbrSpecularGlossiness",
     "KHR_materials_iridescence",
     "KHR_materials_anisotropy",
+    "KHR_materials_variants",
+    "KHR_lights_punctual",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
@@ -81,20 +83,27 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let default_index = materials.len();
     materials.push(super::Material::default());
 
-    let scene = doc
-        .default_scene()
-        .or_else(|| doc.scenes().next())
-        .ok_or_else(|| bad("no scene in the file".into()))?;
-    let instances = super::gltf_graph::instances(&doc, &scene).map_err(bad)?;
-    let (instances, maps, runs) =
+    let (scene, mut views) = super::gltf_scenes::choose(&doc, opts).map_err(bad)?;
+    let nodes = super::gltf_graph::nodes(&doc, &scene).map_err(bad)?;
+    let mut camera_problems = Vec::new();
+    views.cameras = super::gltf_cameras::cameras(&doc, &nodes, opts.up, &mut camera_problems);
+    warnings.extend(camera_problems.into_iter().map(|message| Warning {
+        file: path.to_path_buf(),
+        line: None,
+        message,
+    }));
+    let instances = super::gltf_graph::instances(&doc, &nodes);
+    let (instances, mut maps, runs) =
         super::gltf_instancing::expand(&doc, instances, &buffers).map_err(bad)?;
+    maps.extend(views.check_lines());
     check_instanced_total(&instances).map_err(bad)?;
     let mut read = Primitives::default();
     // Where each entry's primitives start in `read.prims`, for the instanced nodes' record.
     let mut prim_start = Vec::with_capacity(instances.len() + 1);
     for (node, mesh, world) in &instances {
         prim_start.push(read.prims.len());
-        let instance = Instance::new(*node, *world, opts.up, &buffers, path);
+        let instance =
+            Instance::new(*node, *world, opts.up, &buffers, path).with_variant(views.variant);
         instance
             .read_mesh(mesh, &mut read, &mut warnings)
             .map_err(bad)?;
@@ -107,6 +116,8 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
             .chain(&read.wire_pts)
             .copied(),
     );
+    let lights =
+        super::gltf_lights::read_into(&doc, &scene, (opts.up, origin), path, &mut warnings);
     let mut bounds = Bounds::empty();
     let mut meshes = Vec::new();
     // The scene mesh each primitive became (None: too few indices).
@@ -152,6 +163,8 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         wire,
         maps,
         instancing,
+        views,
+        lights,
     })
 }
 

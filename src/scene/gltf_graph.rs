@@ -10,12 +10,24 @@ pub(crate) const MAX_DEPTH: usize = 1 << 16;
 const UNSEEN: usize = usize::MAX;
 const ROOT: usize = usize::MAX - 1;
 
-/// Every mesh instance of `scene` as (node index, mesh, world transform), each node visited
-/// once.
+/// The mesh instances among `nodes` (from [`nodes`]) as (node index, mesh, world transform).
 pub(crate) fn instances<'a>(
     doc: &'a gltf::Document,
+    nodes: &[(usize, DMat4)],
+) -> Vec<(usize, gltf::Mesh<'a>, DMat4)> {
+    let all: Vec<gltf::Node<'a>> = doc.nodes().collect();
+    nodes
+        .iter()
+        .filter_map(|&(i, world)| Some((i, all.get(i)?.mesh()?, world)))
+        .collect()
+}
+
+/// Every node of `scene` as (node index, world transform), each visited once (meshes,
+/// cameras and lights are read from the same walk).
+pub(crate) fn nodes<'a>(
+    doc: &'a gltf::Document,
     scene: &gltf::Scene<'a>,
-) -> Result<Vec<(usize, gltf::Mesh<'a>, DMat4)>, String> {
+) -> Result<Vec<(usize, DMat4)>, String> {
     let nodes: Vec<gltf::Node<'a>> = doc.nodes().collect();
     let mut parent = vec![UNSEEN; nodes.len()];
     let mut stack: Vec<(usize, DMat4, usize)> = Vec::new();
@@ -43,9 +55,7 @@ pub(crate) fn instances<'a>(
         let node = &nodes[i];
         let local = Mat4::from_cols_array_2d(&node.transform().matrix()).as_dmat4();
         let world = up * local;
-        if let Some(mesh) = node.mesh() {
-            out.push((i, mesh, world));
-        }
+        out.push((i, world));
         for c in node.children() {
             let ci = c.index();
             if parent[ci] != UNSEEN {

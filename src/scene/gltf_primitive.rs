@@ -83,6 +83,8 @@ pub(crate) struct Instance<'a> {
     /// A negative determinant: the winding and the bitangent sign flip.
     mirrored: bool,
     up: UpAxis,
+    /// The `KHR_materials_variants` variant drawn, if one was chosen.
+    variant: Option<usize>,
     buffers: &'a accessor::Buffers,
     /// The glTF file, named by warnings.
     path: &'a Path,
@@ -104,9 +106,15 @@ impl<'a> Instance<'a> {
             normal_ok: normal_m.is_finite(),
             mirrored: world.determinant() < 0.0,
             up,
+            variant: None,
             buffers,
             path,
         }
+    }
+
+    /// The same instance, its primitives taking `variant`'s materials where they map it.
+    pub(crate) fn with_variant(self, variant: Option<usize>) -> Self {
+        Instance { variant, ..self }
     }
 
     fn warn(&self, warnings: &mut Vec<Warning>, message: String) {
@@ -174,7 +182,10 @@ impl<'a> Instance<'a> {
                 colors,
                 alphas,
                 indices,
-                material: p.material().index(),
+                material: self
+                    .variant
+                    .and_then(|v| super::gltf_variants::material(&p, v))
+                    .or(p.material().index()),
                 name: mesh.name().unwrap_or("mesh").to_string(),
             });
         }

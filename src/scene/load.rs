@@ -27,15 +27,24 @@ pub struct LoadOptions {
     pub up: UpAxis,
     /// A base-colour texture for meshes without a material of their own (`--texture`).
     pub texture: Option<std::path::PathBuf>,
+    /// The glTF scene to draw (`--scene N|NAME`; default: the file's default scene).
+    pub scene: Option<String>,
+    /// The `KHR_materials_variants` variant to draw (`--variant N|NAME`).
+    pub variant: Option<String>,
 }
 
 impl LoadOptions {
     /// Whether these options give the scene the mesh cache stores (it keys on the file only).
+    /// A chosen scene or variant is not it: the entry holds the default scene with its
+    /// default materials, and those choices load the file (variant files are small; a
+    /// cache of every scene and every variant's materials would multiply the entry).
     pub(crate) fn cacheable(&self) -> bool {
         !self.honor_transparency
             && self.creases == Creases::default()
             && self.up == UpAxis::PosY
             && self.texture.is_none()
+            && self.scene.is_none()
+            && self.variant.is_none()
     }
 }
 

@@ -13,15 +13,19 @@ pub mod generate;
 pub(crate) mod gltf;
 pub(crate) mod gltf_accessor;
 pub(crate) mod gltf_buffers;
+pub(crate) mod gltf_cameras;
 pub(crate) mod gltf_draco;
 pub(crate) mod gltf_graph;
 pub(crate) mod gltf_instancing;
 pub(crate) mod gltf_khr;
+pub(crate) mod gltf_lights;
 pub(crate) mod gltf_material;
 pub(crate) mod gltf_meshopt;
 pub(crate) mod gltf_modes;
 pub(crate) mod gltf_primitive;
+pub(crate) mod gltf_scenes;
 pub(crate) mod gltf_specgloss;
+pub(crate) mod gltf_variants;
 pub mod load;
 pub(crate) mod lod;
 pub mod material;
@@ -48,6 +52,7 @@ pub mod texture_slot;
 pub(crate) mod tokens;
 pub(crate) mod triangulate;
 pub(crate) mod uri;
+pub mod views;
 pub(crate) mod xray;
 
 use glam::{DVec3, Vec3};
@@ -244,6 +249,11 @@ pub struct Scene {
     /// glTF `EXT_mesh_gpu_instancing` nodes, whose instances `meshes` holds written out
     /// ([`Instancing`]); empty for other formats. The mesh cache keeps it.
     pub instancing: Vec<Instancing>,
+    /// The file's cameras, scenes and material variants (glTF's; empty for other formats).
+    pub views: views::Views,
+    /// The lights the file places (glTF KHR_lights_punctual), in file coordinates; they
+    /// replace the default light kit ([`crate::light::LightOpt::File`]).
+    pub lights: Vec<crate::light::FileLight>,
 }
 
 /// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
@@ -373,6 +383,8 @@ impl Scene {
             wire: Wire::default(),
             maps: Vec::new(),
             instancing: Vec::new(),
+            views: Default::default(),
+            lights: Vec::new(),
         }
     }
 

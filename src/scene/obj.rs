@@ -529,6 +529,8 @@ fn load_with(
         wire,
         maps,
         instancing: Vec::new(),
+        views: Default::default(),
+        lights: Vec::new(),
     })
 }
 

@@ -83,6 +83,10 @@ fn summary(r: &mut String, s: &Scene) -> usize {
     for m in &s.maps {
         let _ = writeln!(r, "{m}");
     }
+    // The file's lights, which replace the default kit (`--light kit` restores it).
+    for l in &s.lights {
+        let _ = writeln!(r, "light: {}", l.describe());
+    }
     coloured
 }
 

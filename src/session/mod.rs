@@ -14,6 +14,7 @@
 //! session.write(&o, std::path::Path::new("builtin-60.png"))?;
 //! # Ok::<(), glview::Error>(())
 //! ```
+mod file_camera;
 pub(crate) mod modes;
 mod profile;
 pub(crate) mod settings;

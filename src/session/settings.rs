@@ -144,6 +144,8 @@ pub fn load_options(args: &Options, progress: Option<ProgressFn>) -> LoadOptions
         },
         up: args.load.up,
         texture: args.load.texture.clone(),
+        scene: args.load.scene.clone(),
+        variant: args.load.variant.clone(),
     }
 }
 
@@ -171,7 +173,7 @@ impl FrameSettings {
 fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
     let (w, h) = args.picture.size;
     let aspect = w as f32 / h as f32;
-    let cam = &args.camera;
+    let cam = &super::file_camera::resolve(args, scene)?;
     let mut camera = OrbitCamera::fit(&scene.bounds, cam.fov, aspect);
     camera.yaw_deg = cam.yaw;
     camera.pitch_deg = cam.pitch;
@@ -189,7 +191,7 @@ fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
         }
         None => {}
     }
-    let (lights, headlight, kit) = lights(args, scene);
+    let (lights, headlight, kit) = lights(args, scene)?;
     let pbr = PbrParams::from(args);
     let post = &args.post;
     let point_px = point_size(args, scene, &camera, h);
@@ -309,9 +311,11 @@ fn edges(args: &Options) -> crate::frame::Edges {
 }
 
 /// The frame's lights in the scene's coordinates, the headlight's colour, and whether they
-/// are the default kit (no `--light`): a key light that casts the shadow, a fill from the
-/// other side and a headlight, so every side of a model is readable from any orbit.
-fn lights(args: &Options, scene: &Scene) -> (Vec<crate::light::Light>, Option<Vec3>, bool) {
+/// are the default kit (no `--light` and no lights in the file, or `--light kit`): a key
+/// light that casts the shadow, a fill from the other side and a headlight, so every side of
+/// a model is readable from any orbit. A file's own lights replace the kit (`--light file`,
+/// the default when it has some).
+fn lights(args: &Options, scene: &Scene) -> Result<(Vec<crate::light::Light>, Option<Vec3>, bool)> {
     let given = &args.light.lights;
     let mut colors: Vec<Vec3> = args
         .light
@@ -326,6 +330,36 @@ fn lights(args: &Options, scene: &Scene) -> (Vec<crate::light::Light>, Option<Ve
             .copied()
             .unwrap_or(Vec3::ONE)
     };
+    let wants_file = match given[..] {
+        [] => !scene.lights.is_empty(),
+        [LightOpt::File] => true,
+        _ => false,
+    };
+    if wants_file && scene.lights.is_empty() {
+        return Err(Error::Usage(format!(
+            "--light file: {} has no lights (glTF KHR_lights_punctual)",
+            scene.name
+        )));
+    }
+    if wants_file {
+        // The file's lights replace the kit, headlight included; each may cast a shadow. The
+        // PBR tier takes them as the specification says, the legacy tier exposed
+        // (docs/gltf/lights.md).
+        let scale = match args.render.shading {
+            crate::frame::Shading::Pbr => 1.0,
+            _ => {
+                let (lo, hi) = scene.file_bounds;
+                let centre = scene.origin + scene.bounds.center().as_dvec3();
+                crate::light::legacy_scale(&scene.lights, centre, 0.5 * (hi - lo).length())
+            }
+        };
+        let lights = scene.lights.iter().map(|l| {
+            let mut light = l.to_local(scene.origin);
+            light.color *= scale;
+            light
+        });
+        return Ok((lights.collect(), None, false));
+    }
     let mut specs = Vec::new();
     let mut headlight = None;
     for l in given {
@@ -335,7 +369,7 @@ fn lights(args: &Options, scene: &Scene) -> (Vec<crate::light::Light>, Option<Ve
             specs.push(spec);
         }
     }
-    let kit = given.is_empty();
+    let kit = given.is_empty() || given[..] == [LightOpt::Kit];
     if kit {
         specs.push(LightSpec::default_light());
         specs.push(LightSpec::fill_light());
@@ -352,7 +386,7 @@ fn lights(args: &Options, scene: &Scene) -> (Vec<crate::light::Light>, Option<Ve
         .enumerate()
         .map(|(i, spec)| spec.to_local(scene.origin, pick(&colors, i)))
         .collect();
-    (lights, headlight, kit)
+    Ok((lights, headlight, kit))
 }
 
 /// Where the PBR tier's environment comes from, and how its maps are made.

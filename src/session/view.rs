@@ -95,9 +95,29 @@ impl View {
             Action::Camera(m) => self.camera(m, scene)?,
             Action::Reset => self.options.camera = self.home.clone(),
             Action::Fit => {
+                self.options.camera = super::file_camera::resolve(&self.options, scene)?;
                 let c = &mut self.options.camera;
                 c.target = None;
                 c.distance = None;
+            }
+            Action::CycleCamera => {
+                let n = scene.views.cameras.len();
+                let c = &mut self.options.camera;
+                let now = c.view.as_deref().and_then(|q| {
+                    let names: Vec<&str> = scene
+                        .views
+                        .cameras
+                        .iter()
+                        .map(|c| c.name.as_str())
+                        .collect();
+                    crate::scene::views::pick("camera", &names, q).ok()
+                });
+                c.view = next(now, n).map(|i| i.to_string());
+            }
+            Action::CycleVariant => {
+                let n = scene.views.variants.len();
+                let v = &mut self.options.load.variant;
+                *v = next(scene.views.variant, n).map(|i| i.to_string());
             }
             Action::ToggleCompare => self.compare = !self.compare,
             a => return Ok(keys::apply(a, &mut self.options)),
@@ -123,6 +143,8 @@ impl View {
     /// view stays fitted: `glview --yaw 40` is the picture after two presses of Right).
     fn camera(&mut self, m: CameraMove, scene: &Scene) -> Result<()> {
         self.settle_keys(scene)?;
+        // A file's camera becomes the options it stands for: orbiting starts from it.
+        self.options.camera = super::file_camera::resolve(&self.options, scene)?;
         let (s, _) = frame_settings(&self.picture(), scene)?;
         let mut cam = s.camera;
         cam.apply(m);
@@ -134,6 +156,16 @@ impl View {
             c.ortho = cam.ortho_height.map(Ortho::Height);
         }
         Ok(())
+    }
+}
+
+/// The next of `n` choices after `now` (None: the default before the first and after the
+/// last); None when there are none.
+fn next(now: Option<usize>, n: usize) -> Option<usize> {
+    match now {
+        None if n > 0 => Some(0),
+        Some(i) if i + 1 < n => Some(i + 1),
+        _ => None,
     }
 }
 
@@ -242,6 +274,48 @@ mod tests {
         let json = serde_json::to_string(&v).unwrap();
         let back: View = serde_json::from_str(&json).unwrap();
         assert_eq!(back, v);
+    }
+
+    /// K cycles the file's cameras and back to the orbit; V the variants (from the one the
+    /// scene was loaded with) and back to the file's own materials.
+    #[test]
+    fn k_and_v_cycle_the_files_cameras_and_variants() {
+        use crate::scene::views::{FileCamera, Projection};
+        let (mut v, mut scene) = view();
+        let camera = FileCamera {
+            name: "c".into(),
+            node_name: None,
+            eye: [0.0, 0.0, 5.0],
+            forward: [0.0, 0.0, -1.0],
+            up: [0.0, 1.0, 0.0],
+            projection: Projection::Perspective {
+                yfov: 0.7,
+                aspect_ratio: None,
+                znear: 0.1,
+                zfar: None,
+            },
+        };
+        scene.views.cameras = vec![camera.clone(), camera];
+        let mut seen = Vec::new();
+        for _ in 0..3 {
+            key(&mut v, &scene, "K");
+            seen.push(v.options().camera.view.clone());
+        }
+        assert_eq!(seen, [Some("0".into()), Some("1".into()), None]);
+        scene.views.variants = vec!["a".into(), "b".into()];
+        let mut seen = Vec::new();
+        for now in [None, Some(0), Some(1)] {
+            scene.views.variant = now;
+            key(&mut v, &scene, "V");
+            seen.push(v.options().load.variant.clone());
+        }
+        assert_eq!(seen, [Some("0".into()), Some("1".into()), None]);
+        // Orbiting from a file camera leaves its options, not the camera.
+        key(&mut v, &scene, "K");
+        key(&mut v, &scene, "Left");
+        let c = &v.options().camera;
+        assert!(c.view.is_none() && c.distance.is_some() && c.near == Some(0.1));
+        assert!((c.yaw - -5.0).abs() < 1e-4 && c.pitch.abs() < 1e-4, "{c:?}");
     }
 
     #[test]

@@ -28,6 +28,10 @@ pub(crate) const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/include/lighting.glsl"),
     ),
     (
+        "falloff.glsl",
+        include_str!("../../shaders_gl/include/falloff.glsl"),
+    ),
+    (
         "shadow.glsl",
         include_str!("../../shaders_gl/include/shadow.glsl"),
     ),

@@ -140,17 +140,14 @@ fn settings(sc: &Scene, yaw: f32, pitch: f32, lights: Vec<Light>, aspect: f32) -
 }
 
 fn point(x: f32, y: f32, z: f32) -> Light {
-    Light {
-        kind: LightKind::Point(Vec3::new(x, y, z)),
-        color: Vec3::splat(0.7),
-    }
+    Light::new(LightKind::Point(Vec3::new(x, y, z)), Vec3::splat(0.7))
 }
 
 fn directional(x: f32, y: f32, z: f32) -> Light {
-    Light {
-        kind: LightKind::Directional(Vec3::new(x, y, z).normalize()),
-        color: Vec3::splat(0.6),
-    }
+    Light::new(
+        LightKind::Directional(Vec3::new(x, y, z).normalize()),
+        Vec3::splat(0.6),
+    )
 }
 
 /// Pixel-centre rays computed independently of the renderer: from the f32 matrices the GPU
