@@ -9,13 +9,28 @@
 //! by instance, by each copy's sphere, as the copies are: a view sends only the instances it
 //! may see); what differs: the GPU holds one copy plus 64 bytes an instance instead of every
 //! copy, and there is no cluster culling inside an instance.
-use super::upload::{whole_draw_mesh, Copies, DrawMesh, Role};
 use crate::gpu::instances::Instances;
 use crate::gpu::GpuRef;
 use crate::scene::clusters::ClusterView;
 use crate::scene::Scene;
-use crate::Result;
 use glam::Vec3;
+
+/// What a scene mesh is on the GPU ([`plan`]).
+pub(crate) enum Role {
+    /// Its own draw mesh.
+    Own,
+    /// Drawn as one instance of another (`Resident::Absorbed` in upload.rs).
+    Absorbed,
+    /// The first copy of an instanced mesh, drawn once per matrix (instance `k`'s local
+    /// coordinates from this copy's), and the scene meshes of every copy (for the bounds).
+    Head(Copies),
+}
+
+/// An instanced mesh's copies: the relative matrices and the scene meshes, in instance order.
+pub(crate) struct Copies {
+    pub(crate) matrices: Vec<glam::Mat4>,
+    pub(crate) meshes: Vec<usize>,
+}
 
 /// An instanced mesh's matrices on the GPU and each instance's bounding sphere (local
 /// coordinates), by which a view culls instance by instance as it would the copies.
@@ -69,33 +84,16 @@ pub(crate) fn plan(gpu: &GpuRef, scene: &Scene) -> Vec<Role> {
     roles
 }
 
-/// Uploads scene mesh `i`, the first of `copies`, to be drawn once per instance; returns it
-/// and the bytes uploaded (one copy and the matrices).
-pub(crate) fn head(
-    gpu: &GpuRef,
-    scene: &Scene,
-    i: usize,
-    copies: &Copies,
-) -> Result<(DrawMesh, u64)> {
-    // Clusters would cull one copy's triangles by that copy's bounds: the instanced draw is
-    // culled whole instead.
-    let (mut dm, bytes) = whole_draw_mesh(gpu, scene, i, None)?;
-    let instances = Instances::new(gpu, &copies.matrices)?;
+/// Each copy's bounding sphere (local coordinates, instance order) and one sphere holding
+/// them all, for the instanced draw's culling.
+pub(crate) fn spheres(scene: &Scene, copies: &Copies) -> (Vec<(Vec3, f32)>, (Vec3, f32)) {
     let spheres: Vec<(Vec3, f32)> = copies
         .meshes
         .iter()
         .map(|&c| crate::scene::bounding_sphere(&scene.meshes[c].vertices))
         .collect();
-    let (center, radius) = enclosing(&spheres);
-    dm.center = center;
-    dm.radius = radius;
-    dm.triangles *= copies.meshes.len() as u64;
-    let extra = instances.bytes();
-    dm.instances = Some(InstancedDraw {
-        gpu: instances,
-        spheres,
-    });
-    Ok((dm, bytes + extra))
+    let all = enclosing(&spheres);
+    (spheres, all)
 }
 
 /// A sphere holding every sphere (centre of their box, farthest reach from it).

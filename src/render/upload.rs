@@ -5,6 +5,7 @@
 //! `EXT_mesh_gpu_instancing` node ([`crate::scene::Instancing`]) become one mesh (the first
 //! copy, its bounds those of every copy) drawn once per instance with a matrix each; the
 //! other copies keep their draw-mesh slot, with no buffers, and are never drawn.
+use super::instancing::{Copies, Role};
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
@@ -236,7 +237,7 @@ impl SceneGpu {
             let (dm, bytes) = match role {
                 Role::Own => draw_mesh(gpu, &scene, i, c)?,
                 Role::Absorbed => (absorbed(), 0),
-                Role::Head(copies) => super::instancing::head(gpu, &scene, i, copies)?,
+                Role::Head(copies) => instanced_head(gpu, &scene, i, copies)?,
             };
             uploaded += bytes;
             meshes.push(dm);
@@ -342,21 +343,28 @@ fn draw_mesh(
     Ok((dm, bytes))
 }
 
-/// What a scene mesh is on the GPU ([`super::instancing::plan`]).
-pub(crate) enum Role {
-    /// Its own draw mesh.
-    Own,
-    /// Drawn as one instance of another ([`Resident::Absorbed`]).
-    Absorbed,
-    /// The first copy of an instanced mesh, drawn once per matrix (instance `k`'s local
-    /// coordinates from this copy's), and the scene meshes of every copy (for the bounds).
-    Head(Copies),
-}
-
-/// An instanced mesh's copies: the relative matrices and the scene meshes, in instance order.
-pub(crate) struct Copies {
-    pub(crate) matrices: Vec<glam::Mat4>,
-    pub(crate) meshes: Vec<usize>,
+/// Uploads scene mesh `i`, the first of `copies`, to be drawn once per instance; returns it
+/// and the bytes uploaded (one copy and the matrices).
+fn instanced_head(
+    gpu: &GpuRef,
+    scene: &Scene,
+    i: usize,
+    copies: &Copies,
+) -> Result<(DrawMesh, u64)> {
+    // Clusters would cull one copy's triangles by that copy's bounds: the instanced draw is
+    // culled whole instead.
+    let (mut dm, bytes) = whole_draw_mesh(gpu, scene, i, None)?;
+    let instances = crate::gpu::instances::Instances::new(gpu, &copies.matrices)?;
+    let (spheres, (center, radius)) = super::instancing::spheres(scene, copies);
+    dm.center = center;
+    dm.radius = radius;
+    dm.triangles *= copies.meshes.len() as u64;
+    let extra = instances.bytes();
+    dm.instances = Some(super::instancing::InstancedDraw {
+        gpu: instances,
+        spheres,
+    });
+    Ok((dm, bytes + extra))
 }
 
 fn absorbed() -> DrawMesh {
