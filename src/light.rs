@@ -13,7 +13,7 @@ pub enum LightKind {
 pub struct Light {
     pub kind: LightKind,
     /// The colour at full strength: glview's own lights give it as typed; a file's light
-    /// (KHR_lights_punctual) gives colour × intensity / π ([`crate::scene::gltf_lights`]).
+    /// (KHR_lights_punctual) gives colour × intensity / π (`scene::gltf_lights`).
     pub color: Vec3,
     /// How the light weakens with distance and off its axis: none for glview's own lights.
     pub falloff: Falloff,
@@ -190,7 +190,7 @@ pub struct FileLight {
 }
 
 /// The legacy tier's exposure for a file's lights: the factor on their colours that makes the
-/// brightest give the kit's key light ([`KIT_KEY`]) at the model's centre (a point or spot
+/// brightest give the kit's key light (`KIT_KEY`) at the model's centre (a point or spot
 /// light as if at least `radius` away, its range and cone aside; a directional light its
 /// colour). The tier has no exposure or tone mapping, and a file's photometric values
 /// (LightsPunctualLamp's 180 cd lamps 1.5 m away: colour 25) would clip the model to white;
