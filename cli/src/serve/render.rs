@@ -50,6 +50,7 @@ pub struct Drawn {
 pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
     let o = options_for(p.view, p.kind);
     let view = p.view.options().picture.size;
+    let views = views_json(session, &o)?;
     let t = Instant::now();
     let mut profile = Profile::default();
     let still = p.kind == Kind::Still;
@@ -113,6 +114,7 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
         // The camera absolutely, as `--yaw --pitch [--distance] [--target] --fov` take it:
         // what a shared link carries (distance and target none: fitted).
         "camera": camera_json(&p.view.options().camera),
+        "views": views,
     });
     Ok(Drawn {
         header,
@@ -152,4 +154,29 @@ fn camera_json(c: &glview::options::Camera) -> serde_json::Value {
         "target": c.target,
         "fov": c.fov,
     })
+}
+
+/// How many of a list's names the page is told, and how many characters of each: the names
+/// are the file author's, so a frame's header stays small whatever the file holds (K and V
+/// still reach every camera and variant).
+const MAX_NAMES: usize = 64;
+const MAX_NAME_CHARS: usize = 80;
+
+/// What the page's camera and variant pickers offer and show: the file's camera and variant
+/// names (never a path) and the ones this picture is drawn with (none: the orbit camera, the
+/// file's own materials). JSON escapes them; the page sets them as text, never as markup.
+fn views_json(session: &mut Session, o: &glview::Options) -> glview::Result<serde_json::Value> {
+    let views = &session.scene(o)?.views;
+    let names = |list: &mut dyn Iterator<Item = &str>| -> Vec<String> {
+        list.take(MAX_NAMES)
+            .map(|n| n.chars().take(MAX_NAME_CHARS).collect())
+            .collect()
+    };
+    let camera = o.camera.view.as_deref();
+    Ok(serde_json::json!({
+        "cameras": names(&mut views.cameras.iter().map(|c| c.name.as_str())),
+        "camera": camera.and_then(|q| views.camera_index(q).ok()),
+        "variants": names(&mut views.variants.iter().map(String::as_str)),
+        "variant": views.variant,
+    }))
 }

@@ -191,6 +191,8 @@ async function onFrame(buf) {
   }
   // A follower's model is the presenter's: the picker shows the one on screen.
   if (h.model && $('model').value !== h.model) $('model').value = h.model;
+  // A frame older than this page's last input must not undo a choice just made.
+  if (fromPresenter(h) || shownSeq >= seq) showViews(h.views);
   showOverlay(h, bytes.length);
   showDiff(h);
 }
@@ -277,6 +279,38 @@ $('model').addEventListener('change', (e) => {
   sendInput({ type: 'model', name: e.target.value });
   e.target.blur(); // so the keys go to the view again
 });
+
+// ---- the file's cameras and material variants (K and V cycle them) ----
+// The header's `views` lists their names; a picker shows only when the file has some.
+// Choosing sends the index, which the server applies as K and V apply theirs; the first
+// option (value '') is the orbit camera / the file's own materials.
+
+function fillPicker(sel, names, none, current) {
+  const key = JSON.stringify(names);
+  if (sel.dataset.names !== key) {
+    sel.dataset.names = key;
+    // As text (new Option), never as markup: the names are the file author's.
+    sel.replaceChildren(new Option(none, ''), ...names.map((n, i) => new Option(n, String(i))));
+  }
+  sel.hidden = names.length === 0;
+  const v = current === null || current === undefined ? '' : String(current);
+  if (sel.value !== v) sel.value = v;
+}
+
+function showViews(v) {
+  if (!v) return;
+  fillPicker($('camera'), v.cameras, 'orbit camera', v.camera);
+  fillPicker($('variant'), v.variants, 'own materials', v.variant);
+}
+
+for (const what of ['camera', 'variant']) {
+  $(what).addEventListener('change', (e) => {
+    leaveFollow();
+    const index = e.target.value === '' ? null : Number(e.target.value);
+    sendInput({ type: 'pick', what, index });
+    e.target.blur(); // so the keys go to the view again
+  });
+}
 
 // Whether a frame is the presenter's, shown on this follower's page (the server sends the
 // presenter's frames, header and all, to every follower).
