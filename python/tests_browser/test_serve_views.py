@@ -136,6 +136,16 @@ def test_pickers_draw_what_the_command_line_draws(page, views_server, glview_bin
         assert a.size == b.size == (w, hh)
         assert a.tobytes() == b.tobytes(), f"the still ({h['command']}) differs from glview -o {' '.join(args)}"
     assert h["views"] == {"cameras": CAMERAS, "camera": 1, "variants": VARIANTS, "variant": 1}
+    # The view's link carries both choices: opened, it draws the same still.
+    link = page.evaluate("window.glview.viewLink()")
+    assert "camera=1" in link and "variant=1" in link and "keys=" not in link, link
+    other = open_page(page.context.browser, link)
+    try:
+        wait_still(other, other.evaluate("window.glview.sent"))
+        assert last_still(other) == png
+        assert other.locator("#camera").input_value() == other.locator("#variant").input_value() == "1"
+    finally:
+        other.context.close()
     # A choice the file lacks is a one-line error naming what it has; the view stays.
     page.evaluate("window.glview.send({type: 'pick', what: 'camera', index: 7, seq: 1000})")
     page.wait_for_function("document.getElementById('status').textContent.includes('no camera')")

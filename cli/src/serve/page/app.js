@@ -200,15 +200,17 @@ async function onFrame(buf) {
 // ---- the model picker, buttons and follow box ----
 
 // A link may carry a model and a view, so a course page opens the model where the lesson
-// needs it: `?model=sub/part.glb&yaw=40&pitch=20&distance=3.5&target=0,0.2,0&fov=45&keys=P,P,B`
+// needs it: `?model=sub/part.glb&yaw=40&pitch=20&distance=3.5&target=0,0.2,0&fov=45&camera=1&variant=0&keys=P,P,B`
 // (the camera absolutely, as `glview --yaw --pitch --distance --target --fov` take it: no
 // distance or target is the fitted view; keys of the window's table: tier, toggles, or
 // camera steps). Sent once, as the user's own input would be.
 let linkOpened = false;
 // The state keys (not camera ones) this page sent, in order: what "Copy link" carries.
 const stateKeys = [];
+// Not carried as keys: the camera ones (the link has the camera absolutely), and K and V (it
+// has the file's camera and variant as `camera` and `variant`, whichever way they were chosen).
 const CAMERA_KEYS = new Set(['LEFT', 'RIGHT', 'UP', 'DOWN', 'PLUS', '+', 'PAGEUP', 'MINUS', '-',
-  'PAGEDOWN', 'R', 'HOME', 'F']);
+  'PAGEDOWN', 'R', 'HOME', 'F', 'K', 'V']);
 function openLink(m) {
   if (linkOpened) return;
   linkOpened = true;
@@ -225,6 +227,11 @@ function openLink(m) {
     const t = (params.get('target') || '').split(',').map(Number);
     if (t.length === 3 && t.every(isFinite)) cam.target = t;
     sendInput(cam);
+  }
+  // The file's camera and variant by index, as the pickers send them.
+  for (const what of ['camera', 'variant']) {
+    const i = params.get(what);
+    if (i !== null && /^\d{1,4}$/.test(i)) sendInput({ type: 'pick', what, index: Number(i) });
   }
   const keys = (params.get('keys') || '').split(',').filter(Boolean).slice(0, 64);
   for (const k of keys) {
@@ -255,6 +262,9 @@ function viewLink() {
     if (c.target) q.set('target', c.target.map(r).join(','));
     q.set('fov', r(c.fov));
   }
+  const v = h && h.views;
+  if (v && typeof v.camera === 'number') q.set('camera', String(v.camera));
+  if (v && typeof v.variant === 'number') q.set('variant', String(v.variant));
   if (stateKeys.length) q.set('keys', stateKeys.slice(-64).join(','));
   return location.origin + location.pathname + '?' + q;
 }
