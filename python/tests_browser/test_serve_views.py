@@ -15,7 +15,10 @@ from test_serve_page import (  # noqa: F401 (FLAGS: the browser fixture reads it
     FLAGS, SIZE, Server, glview_bin, last_still, open_page, pixels, wait_still)
 
 CAMERAS = ["Front", "Side"]
-VARIANTS = ["Red", "Blue"]
+# The second variant's name is markup: the picker must show it as text (the names are the
+# file author's).
+BLUE = '<b>Blue</b> & "sky"'
+VARIANTS = ["Red", BLUE]
 
 
 def box_gltf() -> dict:
@@ -124,7 +127,7 @@ def test_pickers_draw_what_the_command_line_draws(page, views_server, glview_bin
         assert page.locator("#" + sel).is_visible()
         assert page.locator(f"#{sel} option").all_inner_texts() == labels
     args = []
-    for pick, flag in ((("variant", "Blue"), "--variant"), (("camera", "Side"), "--camera")):
+    for pick, flag in ((("variant", BLUE), "--variant"), (("camera", "Side"), "--camera")):
         h, png = still_after(page, pick=pick)
         args += [flag, pick[1]]
         out = tmp_path / "out.png"
