@@ -80,12 +80,17 @@ pub fn pick(kind: &str, names: &[&str], query: &str) -> Result<usize, String> {
 impl Views {
     /// The camera `query` (index, camera name or node name) selects.
     pub fn camera(&self, query: &str) -> Result<&FileCamera, String> {
+        self.camera_index(query).map(|i| &self.cameras[i])
+    }
+
+    /// The index of the camera `query` (index, camera name or node name) selects.
+    pub fn camera_index(&self, query: &str) -> Result<usize, String> {
         let names: Vec<&str> = self.cameras.iter().map(|c| c.name.as_str()).collect();
         let by_node = self.cameras.iter().position(|c| {
             c.node_name.as_deref() == Some(query.trim()) && !names.contains(&query.trim())
         });
         match (pick("camera", &names, query), by_node) {
-            (Ok(i), _) | (Err(_), Some(i)) => Ok(&self.cameras[i]),
+            (Ok(i), _) | (Err(_), Some(i)) => Ok(i),
             (Err(e), None) => Err(e),
         }
     }

@@ -101,28 +101,48 @@ impl View {
                 c.distance = None;
             }
             Action::CycleCamera => {
-                let n = scene.views.cameras.len();
-                let c = &mut self.options.camera;
-                let now = c.view.as_deref().and_then(|q| {
-                    let names: Vec<&str> = scene
-                        .views
-                        .cameras
-                        .iter()
-                        .map(|c| c.name.as_str())
-                        .collect();
-                    crate::scene::views::pick("camera", &names, q).ok()
-                });
-                c.view = next(now, n).map(|i| i.to_string());
+                let now = (self.options.camera.view.as_deref())
+                    .and_then(|q| scene.views.camera_index(q).ok());
+                self.pick_camera(next(now, scene.views.cameras.len()), scene)?;
             }
             Action::CycleVariant => {
                 let n = scene.views.variants.len();
-                let v = &mut self.options.load.variant;
-                *v = next(scene.views.variant, n).map(|i| i.to_string());
+                self.pick_variant(next(scene.views.variant, n), scene)?;
             }
             Action::ToggleCompare => self.compare = !self.compare,
             a => return Ok(keys::apply(a, &mut self.options)),
         }
         Ok(Effect::Redraw)
+    }
+
+    /// Looks through the file's camera `index` (`--camera index`; None: the orbit camera
+    /// where it is). What `K` does for the next one and the server's camera picker for any.
+    pub fn pick_camera(&mut self, index: Option<usize>, scene: &Scene) -> Result<()> {
+        self.settle_keys(scene)?;
+        if let Some(i) = index {
+            let names: Vec<&str> = scene
+                .views
+                .cameras
+                .iter()
+                .map(|c| c.name.as_str())
+                .collect();
+            picked("camera", &names, i)?;
+        }
+        self.options.camera.view = index.map(|i| i.to_string());
+        Ok(())
+    }
+
+    /// Draws the file's material variant `index` (`--variant index`; None: the file's own
+    /// materials): a load option, so the scene is loaded again. What `V` does for the next
+    /// one and the server's variant picker for any.
+    pub fn pick_variant(&mut self, index: Option<usize>, scene: &Scene) -> Result<()> {
+        self.settle_keys(scene)?;
+        if let Some(i) = index {
+            let names: Vec<&str> = scene.views.variants.iter().map(String::as_str).collect();
+            picked("variant", &names, i)?;
+        }
+        self.options.load.variant = index.map(|i| i.to_string());
+        Ok(())
     }
 
     /// A drag of `dx`, `dy` pixels, as the window turns it (dragging right turns the model
@@ -157,6 +177,13 @@ impl View {
         }
         Ok(())
     }
+}
+
+/// `index` checked against the file's `names` (the error lists them, as `--camera` does).
+fn picked(kind: &str, names: &[&str], index: usize) -> Result<()> {
+    crate::scene::views::pick(kind, names, &index.to_string())
+        .map(|_| ())
+        .map_err(crate::Error::Usage)
 }
 
 /// The next of `n` choices after `now` (None: the default before the first and after the
@@ -310,6 +337,20 @@ mod tests {
             seen.push(v.options().load.variant.clone());
         }
         assert_eq!(seen, [Some("0".into()), Some("1".into()), None]);
+        // A picker's choice is the options K and V lead to; a choice the file lacks is an
+        // error listing what it has, and the view stays.
+        let (mut p, _) = view();
+        p.pick_camera(Some(1), &scene).unwrap();
+        p.pick_variant(Some(1), &scene).unwrap();
+        assert_eq!(p.options().camera.view.as_deref(), Some("1"));
+        assert_eq!(p.options().load.variant.as_deref(), Some("1"));
+        let e = p.pick_variant(Some(2), &scene).unwrap_err().to_string();
+        assert!(
+            e.contains("no variant \"2\"") && e.contains("1 \"b\""),
+            "{e}"
+        );
+        assert!(p.pick_camera(Some(2), &scene).is_err());
+        assert_eq!(p.options().load.variant.as_deref(), Some("1"));
         // Orbiting from a file camera leaves its options, not the camera.
         key(&mut v, &scene, "K");
         key(&mut v, &scene, "Left");

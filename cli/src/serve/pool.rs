@@ -6,7 +6,7 @@
 //! view back ([`Event::Drawn`]). A scene it does not hold is the scheduler's to load
 //! ([`Outcome::NeedScene`]), on a worker, then uploaded here ([`Work::Adopt`]).
 use super::models::Models;
-use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing};
+use super::protocol::{error_json, frame_bytes, ClientMsg, Event, Outgoing, Pickable};
 use super::queues::Outbox;
 use super::render::{draw, encode, options_for, Kind, Picture};
 use glview::keys::{self, Effect};
@@ -231,6 +231,11 @@ fn apply(
             },
             ClientMsg::Drag { dx, dy, .. } => v.drag(dx, dy, scene),
             ClientMsg::Wheel { notches, .. } => v.wheel(notches, scene),
+            // The pickers' choices go the way K's and V's do: into the view's options.
+            ClientMsg::Pick { what, index, .. } => match what {
+                Pickable::Camera => v.pick_camera(index, scene),
+                Pickable::Variant => v.pick_variant(index, scene),
+            },
             _ => Ok(()),
         };
         if let Err(e) = r {

@@ -46,11 +46,26 @@ pub enum ClientMsg {
         fov: Option<f32>,
         seq: Option<u64>,
     },
+    /// The page's camera or variant picker: look through the file's camera `index` or draw
+    /// its variant `index` (none: the orbit camera, the file's own materials), as K and V do.
+    Pick {
+        what: Pickable,
+        index: Option<usize>,
+        seq: Option<u64>,
+    },
     Still,
     Follow {
         on: bool,
     },
     Ping,
+}
+
+/// What the page's pickers choose among: the file's cameras or its material variants.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Pickable {
+    Camera,
+    Variant,
 }
 
 impl ClientMsg {
@@ -113,6 +128,7 @@ impl ClientMsg {
             | ClientMsg::Drag { seq, .. }
             | ClientMsg::Wheel { seq, .. }
             | ClientMsg::Camera { seq, .. }
+            | ClientMsg::Pick { seq, .. }
             | ClientMsg::Model { seq, .. } => *seq,
             _ => None,
         }
@@ -196,6 +212,14 @@ mod tests {
             ClientMsg::parse(r#"{"type":"key","key":"Right","seq":3}"#),
             Ok(ClientMsg::Key { seq: Some(3), .. })
         ));
+        assert!(matches!(
+            ClientMsg::parse(r#"{"type":"pick","what":"variant","index":null,"seq":4}"#),
+            Ok(ClientMsg::Pick {
+                what: Pickable::Variant,
+                index: None,
+                seq: Some(4)
+            })
+        ));
         for bad in [
             "not json",
             r#"{"type":"drag","dx":1e30,"dy":0}"#,
@@ -206,6 +230,9 @@ mod tests {
             r#"{"type":"camera","yaw":0,"pitch":0,"target":[0,1e300,0]}"#,
             r#"{"type":"camera","yaw":1e9,"pitch":0}"#,
             r#"{"type":"launch"}"#,
+            r#"{"type":"pick","what":"scene","index":0}"#,
+            r#"{"type":"pick","what":"camera","index":-1}"#,
+            r#"{"type":"pick","what":"variant","index":1,"name":"/etc/passwd"}"#,
             r#"[1,2]"#,
         ] {
             let e = ClientMsg::parse(bad).unwrap_err();

@@ -50,6 +50,7 @@ pub struct Drawn {
 pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
     let o = options_for(p.view, p.kind);
     let view = p.view.options().picture.size;
+    let views = views_json(session, &o)?;
     let t = Instant::now();
     let mut profile = Profile::default();
     let still = p.kind == Kind::Still;
@@ -113,6 +114,7 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
         // The camera absolutely, as `--yaw --pitch [--distance] [--target] --fov` take it:
         // what a shared link carries (distance and target none: fitted).
         "camera": camera_json(&p.view.options().camera),
+        "views": views,
     });
     Ok(Drawn {
         header,
@@ -152,4 +154,68 @@ fn camera_json(c: &glview::options::Camera) -> serde_json::Value {
         "target": c.target,
         "fov": c.fov,
     })
+}
+
+/// How many of a list's names the page is told, and how many characters of each: the names
+/// are the file author's, so a frame's header stays small whatever the file holds (K and V
+/// still reach every camera and variant).
+const MAX_NAMES: usize = 64;
+const MAX_NAME_CHARS: usize = 80;
+
+/// What the page's camera and variant pickers offer and show: the file's camera and variant
+/// names (never a path) and the ones this picture is drawn with (none: the orbit camera, the
+/// file's own materials). JSON escapes them; the page sets them as text, never as markup.
+fn views_json(session: &mut Session, o: &glview::Options) -> glview::Result<serde_json::Value> {
+    let views = &session.scene(o)?.views;
+    Ok(views_of(views, o.camera.view.as_deref()))
+}
+
+/// [`views_json`] of the scene's `views`, looked at through `--camera` `camera`.
+fn views_of(views: &glview::scene::views::Views, camera: Option<&str>) -> serde_json::Value {
+    let names = |list: &mut dyn Iterator<Item = &str>| -> Vec<String> {
+        list.take(MAX_NAMES)
+            .map(|n| n.chars().take(MAX_NAME_CHARS).collect())
+            .collect()
+    };
+    serde_json::json!({
+        "cameras": names(&mut views.cameras.iter().map(|c| c.name.as_str())),
+        "camera": camera.and_then(|q| views.camera_index(q).ok()),
+        "variants": names(&mut views.variants.iter().map(String::as_str)),
+        "variant": views.variant,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file's names reach the page bounded: 64 of each list, 80 characters (not bytes) of
+    /// each; the indices are the drawn ones whatever the bound.
+    #[test]
+    fn views_are_bounded() {
+        let mut views = glview::scene::views::Views {
+            variants: (0..100)
+                .map(|i| format!("{i}{}", "é".repeat(200)))
+                .collect(),
+            variant: Some(99),
+            ..Default::default()
+        };
+        let v = views_of(&views, None);
+        let names = v["variants"].as_array().unwrap();
+        assert_eq!(names.len(), MAX_NAMES);
+        assert!(names
+            .iter()
+            .all(|n| n.as_str().unwrap().chars().count() == MAX_NAME_CHARS));
+        assert_eq!(
+            (v["variant"].as_u64(), v["camera"].as_u64()),
+            (Some(99), None)
+        );
+        assert_eq!(v["cameras"], serde_json::json!([]));
+        views.variants.clear();
+        views.variant = None;
+        assert_eq!(
+            views_of(&views, Some("0"))["camera"],
+            serde_json::Value::Null
+        );
+    }
 }

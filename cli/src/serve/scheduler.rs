@@ -538,7 +538,10 @@ impl Scheduler {
                 }
                 Err(e) => v.error(&e),
             },
-            m @ (ClientMsg::Key { .. } | ClientMsg::Drag { .. } | ClientMsg::Wheel { .. }) => {
+            m @ (ClientMsg::Key { .. }
+            | ClientMsg::Drag { .. }
+            | ClientMsg::Wheel { .. }
+            | ClientMsg::Pick { .. }) => {
                 v.leave_class(presenter_view.as_ref());
                 if v.pending.len() >= MAX_PENDING {
                     v.error("too many inputs waiting for the model to load: dropped");

@@ -191,6 +191,8 @@ async function onFrame(buf) {
   }
   // A follower's model is the presenter's: the picker shows the one on screen.
   if (h.model && $('model').value !== h.model) $('model').value = h.model;
+  // A frame older than this page's last input must not undo a choice just made.
+  if (fromPresenter(h) || shownSeq >= seq) showViews(h.views);
   showOverlay(h, bytes.length);
   showDiff(h);
 }
@@ -198,15 +200,17 @@ async function onFrame(buf) {
 // ---- the model picker, buttons and follow box ----
 
 // A link may carry a model and a view, so a course page opens the model where the lesson
-// needs it: `?model=sub/part.glb&yaw=40&pitch=20&distance=3.5&target=0,0.2,0&fov=45&keys=P,P,B`
+// needs it: `?model=sub/part.glb&yaw=40&pitch=20&distance=3.5&target=0,0.2,0&fov=45&camera=1&variant=0&keys=P,P,B`
 // (the camera absolutely, as `glview --yaw --pitch --distance --target --fov` take it: no
 // distance or target is the fitted view; keys of the window's table: tier, toggles, or
 // camera steps). Sent once, as the user's own input would be.
 let linkOpened = false;
 // The state keys (not camera ones) this page sent, in order: what "Copy link" carries.
 const stateKeys = [];
+// Not carried as keys: the camera ones (the link has the camera absolutely), and K and V (it
+// has the file's camera and variant as `camera` and `variant`, whichever way they were chosen).
 const CAMERA_KEYS = new Set(['LEFT', 'RIGHT', 'UP', 'DOWN', 'PLUS', '+', 'PAGEUP', 'MINUS', '-',
-  'PAGEDOWN', 'R', 'HOME', 'F']);
+  'PAGEDOWN', 'R', 'HOME', 'F', 'K', 'V']);
 function openLink(m) {
   if (linkOpened) return;
   linkOpened = true;
@@ -223,6 +227,11 @@ function openLink(m) {
     const t = (params.get('target') || '').split(',').map(Number);
     if (t.length === 3 && t.every(isFinite)) cam.target = t;
     sendInput(cam);
+  }
+  // The file's camera and variant by index, as the pickers send them.
+  for (const what of ['camera', 'variant']) {
+    const i = params.get(what);
+    if (i !== null && /^\d{1,4}$/.test(i)) sendInput({ type: 'pick', what, index: Number(i) });
   }
   const keys = (params.get('keys') || '').split(',').filter(Boolean).slice(0, 64);
   for (const k of keys) {
@@ -253,6 +262,9 @@ function viewLink() {
     if (c.target) q.set('target', c.target.map(r).join(','));
     q.set('fov', r(c.fov));
   }
+  const v = h && h.views;
+  if (v && typeof v.camera === 'number') q.set('camera', String(v.camera));
+  if (v && typeof v.variant === 'number') q.set('variant', String(v.variant));
   if (stateKeys.length) q.set('keys', stateKeys.slice(-64).join(','));
   return location.origin + location.pathname + '?' + q;
 }
@@ -277,6 +289,38 @@ $('model').addEventListener('change', (e) => {
   sendInput({ type: 'model', name: e.target.value });
   e.target.blur(); // so the keys go to the view again
 });
+
+// ---- the file's cameras and material variants (K and V cycle them) ----
+// The header's `views` lists their names; a picker shows only when the file has some.
+// Choosing sends the index, which the server applies as K and V apply theirs; the first
+// option (value '') is the orbit camera / the file's own materials.
+
+function fillPicker(sel, names, none, current) {
+  const key = JSON.stringify(names);
+  if (sel.dataset.names !== key) {
+    sel.dataset.names = key;
+    // As text (new Option), never as markup: the names are the file author's.
+    sel.replaceChildren(new Option(none, ''), ...names.map((n, i) => new Option(n, String(i))));
+  }
+  sel.hidden = names.length === 0;
+  const v = current === null || current === undefined ? '' : String(current);
+  if (sel.value !== v) sel.value = v;
+}
+
+function showViews(v) {
+  if (!v) return;
+  fillPicker($('camera'), v.cameras, 'orbit camera', v.camera);
+  fillPicker($('variant'), v.variants, 'own materials', v.variant);
+}
+
+for (const what of ['camera', 'variant']) {
+  $(what).addEventListener('change', (e) => {
+    leaveFollow();
+    const index = e.target.value === '' ? null : Number(e.target.value);
+    sendInput({ type: 'pick', what, index });
+    e.target.blur(); // so the keys go to the view again
+  });
+}
 
 // Whether a frame is the presenter's, shown on this follower's page (the server sends the
 // presenter's frames, header and all, to every follower).
