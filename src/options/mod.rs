@@ -99,7 +99,8 @@ declare_options! {
         /// scene). `--check` lists the scenes.
         scene: Option<String> = None, "scene" maybe;
         /// glTF KHR_materials_variants: draw this material variant, by index or name
-        /// (default: the file's own materials; key V cycles). `--check` lists the variants.
+        /// (default: the file's own materials; key V cycles, as does the serve page's variant
+        /// picker). `--check` lists the variants.
         variant: Option<String> = None, "variant" maybe;
     }
     /// Where the camera is and what it sees.
@@ -124,7 +125,7 @@ declare_options! {
         /// place, direction and field of view (perspective: yfov kept, the picture's aspect
         /// used; orthographic: the height 2·ymag) set yaw, pitch, distance, target, fov,
         /// near and ortho, which are ignored with it; orbiting starts from there (key K
-        /// cycles the cameras). `--check` lists them.
+        /// cycles the cameras, as does the serve page's camera picker). `--check` lists them.
         view: Option<String> = None, "camera" maybe;
         /// Key presses to replay before rendering, e.g. "Left Left Up" (the window's
         /// mapping).
