@@ -33,6 +33,16 @@ lib_deps() {
   echo "glview library: $(cargo tree -p glview -e normal --prefix none | sort -u | wc -l) crates, none of clap/winit/indicatif/plotters/shlex"
 }
 step "library dependencies" lib_deps
+# The Python and browser steps' downloads (system packages, the venv's pinned packages, the
+# SCORM runtime and schemas: scripts/prepare_tests.sh) run in the background beside the Rust
+# build and tests, whose cores they barely use; the Python step waits for them.
+prep_log=$(mktemp)
+(
+  t0=$(date +%s)
+  bash scripts/prepare_tests.sh
+  echo "scripts/test.sh: step 'prepare' (in the background) $(($(date +%s) - t0)) s"
+) >"$prep_log" 2>&1 &
+prep_pid=$!
 # Clippy runs inside the test build instead of as `cargo clippy` before it: clippy-driver as
 # the workspace wrapper lints every target `cargo clippy --all-targets` lints (lib, bins, tests,
 # their test builds; the crate has no examples or benches) while compiling them for real, so the
@@ -67,6 +77,11 @@ doc_pid=$!
 # The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells
 # equal, different and failed renders apart.
 step "pictures checker self-test" bash scripts/pictures_unchanged.sh --self-test --after-bin target/debug/glview
+prep_rc=0
+wait "$prep_pid" || prep_rc=$?
+cat "$prep_log"
+rm -f "$prep_log"
+[ "$prep_rc" -eq 0 ] || { echo "error: scripts/prepare_tests.sh failed (above)" >&2; exit "$prep_rc"; }
 step python bash scripts/test_python.sh
 # The page of `glview serve` in Debian's Chromium, driven by a pinned Playwright.
 step browser bash scripts/test_browser.sh

