@@ -1,5 +1,6 @@
-"""A glTF file's cameras, scenes and material variants as keywords (`camera=`, `scene=`,
-`variant=`), against the command line's pictures and the options they stand for."""
+"""A glTF file's cameras, scenes, material variants and lights as keywords (`camera=`,
+`scene=`, `variant=`, `light="kit"|"file"`), against the command line's pictures and the
+options they stand for."""
 import base64
 import json
 import struct
@@ -101,3 +102,34 @@ def test_unknown_names_raise_listing_the_file(tmp_path):
         glview.render(model, size=(32, 32), variant="Green")
     with pytest.raises(Exception, match=r'no camera "Side": the file has 0 "Front"'):
         glview.render(model, size=(32, 32), camera="Side")
+
+
+def _with_point_light(path, model):
+    """The box file with a KHR_lights_punctual point light (40 cd, warm) beside the box."""
+    doc = json.loads(model.read_text())
+    doc["extensionsUsed"].append("KHR_lights_punctual")
+    doc["extensions"]["KHR_lights_punctual"] = {"lights": [
+        {"type": "point", "intensity": 40.0, "color": [1.0, 0.8, 0.6]}]}
+    doc["nodes"].append({"name": "lamp", "extensions": {"KHR_lights_punctual": {"light": 0}},
+                         "translation": [CENTRE[0] + 1.5, CENTRE[1] + 1.0, CENTRE[2] + 1.5]})
+    doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def test_light_keyword_chooses_the_files_lights_or_the_kit(tmp_path, cli):
+    plain = _box_gltf(tmp_path / "box.gltf")
+    lit = _with_point_light(tmp_path / "lamp.gltf", plain)
+    for shading in ("phong", "pbr"):
+        own = glview.render(lit, size=(64, 48), shading=shading)
+        kit = glview.render(lit, size=(64, 48), shading=shading, light="kit")
+        # The kit on the lamp file is the file without lights; its own light is not the kit.
+        assert np.array_equal(kit.color, glview.render(plain, size=(64, 48), shading=shading).color)
+        assert not np.array_equal(own.color, kit.color), shading
+        assert np.array_equal(own.color, glview.render(lit, size=(64, 48), shading=shading,
+                                                       light="file").color)
+        out = tmp_path / f"cli-{shading}.png"
+        cli(lit, "--size", "64x48", "--shading", shading, "-o", out)
+        assert np.array_equal(own.color, decode_png(str(out)))
+    with pytest.raises(Exception, match="light"):
+        glview.render(plain, size=(32, 32), light="file")
