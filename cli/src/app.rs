@@ -186,11 +186,14 @@ impl App<'_> {
                 return Effect::Redraw;
             }
         };
-        if self.view.options().load != load {
-            if let Err(e) = self.reload() {
+        // A new scene (`V`) is drawn even when the frame settings stay the same.
+        let reloaded = self.view.options().load != load && {
+            let done = self.reload();
+            if let Err(e) = &done {
                 eprintln!("error: {e}");
             }
-        }
+            done.is_ok()
+        };
         let scene = match (&self.live, &self.scene) {
             (Some(live), _) => live.renderer.scene(),
             (None, Some(scene)) => scene,
@@ -204,6 +207,9 @@ impl App<'_> {
                 return Effect::Redraw;
             }
         };
+        if reloaded {
+            self.request_redraw();
+        }
         if settings != self.settings || compare != self.view.compare() {
             let retitle =
                 settings.shading != self.settings.shading || compare != self.view.compare();
