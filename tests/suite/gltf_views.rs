@@ -123,7 +123,7 @@ fn write(dir: &Path, name: &str, doc: &Value) -> PathBuf {
     p
 }
 
-fn views_file(dir: &Path) -> PathBuf {
+pub(crate) fn views_file(dir: &Path) -> PathBuf {
     write(dir, "views.gltf", &document(0, true))
 }
 

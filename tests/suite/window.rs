@@ -167,6 +167,47 @@ fn arrow_keys_match_headless_render() {
     quit(&mut v, &x, "Escape");
 }
 
+/// K and V in the window: a glTF file with two cameras and two variants; K looks through
+/// its first camera, V draws its first variant (a reload of the scene), and the window then
+/// shows what `--camera 0 --variant 0` renders headless, to the arrow-key test's tolerance
+/// (the same llvmpipe, shaders and grid; a wrong camera or variant differs by far more).
+#[test]
+fn k_and_v_look_through_the_files_camera_and_variant() {
+    let Some((_lock, x)) = setup() else { return };
+    let dir = fresh_dir("window_views");
+    let model = crate::gltf_views::views_file(&dir);
+    let model = model.to_str().unwrap();
+    let (mut v, _win) = open(&x, &dir, &[model]);
+    key_to_frame(&x, &mut v, "k");
+    key_to_frame(&x, &mut v, "v");
+    // The variant reloads the scene: let any frames of the reload pass before the screenshot.
+    v.drain_for(Duration::from_millis(500));
+    let shot = screenshot(&x, &mut v);
+    let mut headless = VIEW.to_vec();
+    headless.extend_from_slice(&[model, "--camera", "0", "--variant", "0"]);
+    let reference = render(&dir, "headless-camera-variant", &headless, &[]);
+    let mut plain = VIEW.to_vec();
+    plain.push(model);
+    let before = render(&dir, "headless-orbit", &plain, &[]);
+    let shot_rgb = with_alpha_of(&shot, &reference);
+    assert_close(
+        &dir,
+        "window-vs-headless",
+        &shot_rgb,
+        &reference,
+        0,
+        320 * 240 / 1000,
+        2,
+    );
+    let moved = diff(&shot, &before, 2);
+    assert!(
+        moved.max > 20,
+        "K and V did not change the view (max diff {} from the orbit view)",
+        moved.max
+    );
+    quit(&mut v, &x, "Escape");
+}
+
 /// No input for three seconds: no frames and (almost) no CPU.
 #[test]
 fn idle_window_draws_nothing_and_sleeps() {
