@@ -117,7 +117,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
             .copied(),
     );
     let lights =
-        super::gltf_lights::read_into(&doc, &scene, (opts.up, origin), path, &mut warnings);
+        super::gltf_lights::read_into(&doc, &nodes, (opts.up, origin), path, &mut warnings);
     let mut bounds = Bounds::empty();
     let mut meshes = Vec::new();
     // The scene mesh each primitive became (None: too few indices).

@@ -9,7 +9,7 @@
 //! centre are kept, and the others named in a warning.
 use super::UpAxis;
 use crate::light::{FileLight, FileLightKind, MAX_LIGHTS};
-use glam::{DMat4, DVec3, Mat4};
+use glam::{DMat4, DVec3};
 use serde_json::Value;
 
 const EXT: &str = "KHR_lights_punctual";
@@ -17,13 +17,13 @@ const EXT: &str = "KHR_lights_punctual";
 /// [`read`] for the loader: the warnings as the file's.
 pub(crate) fn read_into(
     doc: &gltf::Document,
-    scene: &gltf::Scene,
+    nodes: &[(usize, DMat4)],
     (up, centre): (UpAxis, DVec3),
     path: &std::path::Path,
     warnings: &mut Vec<super::Warning>,
 ) -> Vec<FileLight> {
     let mut notes = Vec::new();
-    let lights = read(doc, scene, up, centre, &mut notes);
+    let lights = read(doc, nodes, up, centre, &mut notes);
     warnings.extend(notes.into_iter().map(|message| super::Warning {
         file: path.to_path_buf(),
         line: None,
@@ -32,12 +32,12 @@ pub(crate) fn read_into(
     lights
 }
 
-/// The lights of `scene` in file coordinates (the up axis turned), at most [`MAX_LIGHTS`],
-/// brightest at `centre` first; problems as warning messages. The node graph must already be
-/// known to be a forest (`gltf_graph::instances` refuses cycles and shared children).
+/// The lights of the scene's `nodes` (`gltf_graph::nodes`: index and world transform, the
+/// walk the meshes and cameras are read from) in file coordinates (the up axis turned), at
+/// most [`MAX_LIGHTS`], brightest at `centre` first; problems as warning messages.
 pub(crate) fn read(
     doc: &gltf::Document,
-    scene: &gltf::Scene,
+    nodes: &[(usize, DMat4)],
     up: UpAxis,
     centre: DVec3,
     warnings: &mut Vec<String>,
@@ -46,12 +46,16 @@ pub(crate) fn read(
         return Vec::new();
     };
     let defs = defs.as_array().map_or(&[][..], Vec::as_slice);
+    let all: Vec<gltf::Node> = doc.nodes().collect();
     let mut out = Vec::new();
-    for (node, world) in placed(scene) {
-        let Some(index) = node.extension_value(EXT).and_then(|v| v.get("light")) else {
+    for &(n, world) in nodes {
+        let Some(index) = all
+            .get(n)
+            .and_then(|node| node.extension_value(EXT))
+            .and_then(|v| v.get("light"))
+        else {
             continue;
         };
-        let n = node.index();
         let def = index
             .as_u64()
             .and_then(|i| defs.get(usize::try_from(i).ok()?));
@@ -70,19 +74,6 @@ pub(crate) fn read(
     // In node order (the walk's is a stack's): the order `--check` lists and shadows take.
     out.sort_by_key(|l| l.node);
     keep_brightest(out, centre, warnings)
-}
-
-/// Every node of `scene` with its world transform (f64), walked without recursion.
-fn placed<'a>(scene: &gltf::Scene<'a>) -> Vec<(gltf::Node<'a>, DMat4)> {
-    let mut out = Vec::new();
-    let mut stack: Vec<(gltf::Node<'a>, DMat4)> =
-        scene.nodes().map(|n| (n, DMat4::IDENTITY)).collect();
-    while let Some((node, up)) = stack.pop() {
-        let world = up * Mat4::from_cols_array_2d(&node.transform().matrix()).as_dmat4();
-        stack.extend(node.children().map(|c| (c, world)));
-        out.push((node, world));
-    }
-    out
 }
 
 /// One light definition placed by `world`.
