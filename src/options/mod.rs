@@ -320,6 +320,25 @@ declare_options! {
         /// milliseconds.
         stats: bool = false, "stats" flag;
     }
+    /// glTF animations, and animated pictures (`-o` with .gif, .webp or .apng).
+    motion: Motion {
+        /// glTF: the animation to pose or play, by index or name (default: the first, when
+        /// --time or an animated output asks for one). `--check` lists them.
+        animation: Option<String> = None, "animation" maybe;
+        /// glTF: draw the moment this many seconds into the animation (each channel holds
+        /// its first key before it and its last key after it, as glTF defines). Without it
+        /// the static pose is drawn: the nodes' own transforms, skins posed by them and the
+        /// meshes' own morph weights.
+        time: Option<f32> = None, "time" maybe, check = non_negative_time;
+        /// Animated output: frames per second (frame k shows time k/fps).
+        fps: f32 = 15.0, "fps" value, check = in_range(1.0, 60.0);
+        /// Animated output: length in seconds (default: the animation's duration, or 4 s
+        /// for a turntable).
+        duration: Option<f32> = None, "duration" maybe, check = duration;
+        /// Animated output: the camera turns once around the model over the duration (for
+        /// a model without an animation, or with one).
+        turntable: bool = false, "turntable" flag;
+    }
     /// Which OpenGL context draws.
     context: Context {
         /// Which OpenGL context to create. `2.1` asks for a GL 2.1 compatibility context and
@@ -391,6 +410,26 @@ fn size(v: &(u32, u32)) -> Result<(), String> {
 fn non_negative(v: &Option<[f32; 3]>) -> Result<(), String> {
     match v {
         Some(c) if c.iter().any(|x| *x < 0.0) => Err("must not be negative".into()),
+        _ => Ok(()),
+    }
+}
+
+fn non_negative_time(v: &Option<f32>) -> Result<(), String> {
+    match v {
+        Some(t) if !(t.is_finite() && *t >= 0.0) => Err(format!(
+            "{t} must be a finite number of seconds, at least 0"
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// An animated picture's length: positive, and at most ten minutes (its frames are rendered
+/// and held for encoding).
+fn duration(v: &Option<f32>) -> Result<(), String> {
+    match v {
+        Some(d) if !(d.is_finite() && *d > 0.0 && *d <= 600.0) => Err(format!(
+            "{d} is out of range: a duration is more than 0 and at most 600 seconds"
+        )),
         _ => Ok(()),
     }
 }

@@ -92,6 +92,7 @@ pub(super) fn decode(
         instancing: header.instancing,
         views: header.views,
         lights: header.lights,
+        motion: None,
     };
     Some((scene, clusters))
 }

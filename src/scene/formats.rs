@@ -250,6 +250,7 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         instancing: Vec::new(),
         views: Default::default(),
         lights: Vec::new(),
+        motion: None,
     })
 }
 
@@ -318,5 +319,6 @@ fn cloud(
         instancing: Vec::new(),
         views: Default::default(),
         lights: Vec::new(),
+        motion: None,
     }
 }

@@ -165,6 +165,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         instancing,
         views,
         lights,
+        motion: None,
     })
 }
 

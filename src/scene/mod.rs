@@ -32,6 +32,7 @@ pub mod material;
 pub mod material_khr;
 pub(crate) mod material_report;
 pub mod meshes;
+pub mod motion;
 pub(crate) mod mtl;
 pub(crate) mod mtl_mapping;
 pub mod normals;
@@ -254,6 +255,9 @@ pub struct Scene {
     /// The lights the file places (glTF KHR_lights_punctual), in file coordinates; they
     /// replace the default light kit ([`crate::light::LightOpt::File`]).
     pub lights: Vec<crate::light::FileLight>,
+    /// glTF skins, morph targets and animations (None: nothing moves); shared by the
+    /// scene's clones, which pose their own meshes.
+    pub motion: Option<std::sync::Arc<motion::Rig>>,
 }
 
 /// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
@@ -385,6 +389,7 @@ impl Scene {
             instancing: Vec::new(),
             views: Default::default(),
             lights: Vec::new(),
+            motion: None,
         }
     }
 

@@ -531,6 +531,7 @@ fn load_with(
         instancing: Vec::new(),
         views: Default::default(),
         lights: Vec::new(),
+        motion: None,
     })
 }
 
