@@ -28,6 +28,16 @@ pub struct AnimationInfo {
 #[derive(Debug, Default)]
 pub struct Rig {
     animations: Vec<AnimationInfo>,
+    /// The scene meshes a pose rewrites (sorted).
+    meshes: Vec<usize>,
+}
+
+impl Rig {
+    /// The indices of the scene meshes a pose rewrites: they have no clusters (their
+    /// triangles move) and are uploaded again after each pose.
+    pub fn meshes(&self) -> &[usize] {
+        &self.meshes
+    }
 }
 
 impl Scene {
