@@ -34,6 +34,12 @@ pub enum Action {
     /// Draw the file's next material variant (`--variant`), after the last its own
     /// materials: a load option, so the scene is loaded again.
     CycleVariant,
+    /// glTF: play / pause the animation (`Space`; from the static pose it starts at time 0).
+    PlayPause,
+    /// glTF: one frame (1/`--fps` s) forward (+1) or back (−1), paused (`.`, `,`).
+    Step(i8),
+    /// glTF: the file's next animation, from its time 0 (`A`).
+    CycleAnimation,
     Screenshot,
     Help,
     Quit,
@@ -151,6 +157,22 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
         "glTF: the next material variant (then the file's own materials)",
     ),
     (
+        &["Space"],
+        Action::PlayPause,
+        "glTF: play / pause the animation",
+    ),
+    (
+        &["."],
+        Action::Step(1),
+        "glTF: one frame (1/--fps s) forward, paused",
+    ),
+    (&[","], Action::Step(-1), "glTF: one frame back, paused"),
+    (
+        &["A"],
+        Action::CycleAnimation,
+        "glTF: the file's next animation, from its start",
+    ),
+    (
         &["F12"],
         Action::Screenshot,
         "save a screenshot (PNG of the window's framebuffer)",
@@ -231,15 +253,19 @@ pub enum Effect {
 /// Applies a key's action to the options it stands for (the typed groups: shading, shadow,
 /// light, render, post), so every front end keeps one model of a view's state: the options
 /// a picture is drawn from. Camera actions ([`Action::Camera`], [`Action::Reset`],
-/// [`Action::Fit`]) need the scene and the view's home and are the caller's
-/// ([`crate::session::View`]); they return [`Effect::Camera`] untouched.
+/// [`Action::Fit`]), the file's cameras and variants and the animation keys need the scene
+/// and the view's home and are the caller's ([`crate::session::View`]); they return
+/// [`Effect::Camera`] untouched.
 pub fn apply(action: Action, o: &mut Options) -> Effect {
     match action {
         Action::Camera(_)
         | Action::Reset
         | Action::Fit
         | Action::CycleCamera
-        | Action::CycleVariant => return Effect::Camera,
+        | Action::CycleVariant
+        | Action::PlayPause
+        | Action::Step(_)
+        | Action::CycleAnimation => return Effect::Camera,
         Action::ToggleShadows => o.shadow.enabled = !o.shadow.enabled,
         Action::ToggleGouraud => {
             o.render.shading = match o.render.shading {

@@ -429,6 +429,7 @@ fn key_name(event: &KeyEvent) -> Option<String> {
             NamedKey::Escape => "Escape",
             NamedKey::F1 => "F1",
             NamedKey::F12 => "F12",
+            NamedKey::Space => "Space",
             _ => return None,
         })
     };
@@ -469,6 +470,7 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyX => "X",
         KeyCode::KeyK => "K",
         KeyCode::KeyV => "V",
+        KeyCode::KeyA => "A",
         _ => return None,
     })
 }
@@ -668,6 +670,7 @@ mod tests {
                     KeyCode::KeyX,
                     KeyCode::KeyK,
                     KeyCode::KeyV,
+                    KeyCode::KeyA,
                 ]
                 .iter()
                 .any(|c| physical_name(*c) == Some(n));

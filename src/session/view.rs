@@ -3,6 +3,8 @@
 //! `glview -o` with those options, so a still equals the command line's picture and its
 //! PNG text reproduces it. The one model of a view's state; it round-trips through JSON.
 //! No GL.
+mod play;
+
 use super::settings::frame_settings;
 use crate::camera::{CameraMove, ZOOM_STEP};
 use crate::error::Result;
@@ -20,6 +22,10 @@ pub struct View {
     home: Camera,
     /// Phong | PBR side by side, each pane half the view's width.
     compare: bool,
+    /// The animation's time runs (`Space`): the moment drawn is still the options' `--time`
+    /// ([`View::advance`] moves it).
+    #[serde(default)]
+    playing: bool,
 }
 
 impl View {
@@ -31,6 +37,7 @@ impl View {
             home,
             options,
             compare: false,
+            playing: false,
         }
     }
 
@@ -81,10 +88,12 @@ impl View {
         self.options.picture.size = size;
     }
 
-    /// Another model in the same view: the camera goes home, the state stays.
+    /// Another model in the same view: the camera goes home, the state stays but the
+    /// moment (its animations are not the new model's: the static pose).
     pub fn set_model(&mut self, model: Option<std::path::PathBuf>) {
         self.options.load.model = model;
         self.options.camera = self.home.clone();
+        self.stop();
     }
 
     /// Applies a key's action; `scene` is the model's (for zoom and fit). Returns what the
@@ -110,6 +119,9 @@ impl View {
                 self.pick_variant(next(scene.views.variant, n), scene)?;
             }
             Action::ToggleCompare => self.compare = !self.compare,
+            Action::PlayPause => self.play_pause(scene.animations())?,
+            Action::Step(n) => self.step(i32::from(n), scene.animations())?,
+            Action::CycleAnimation => self.next_animation(scene.animations())?,
             a => return Ok(keys::apply(a, &mut self.options)),
         }
         Ok(Effect::Redraw)
