@@ -1,7 +1,10 @@
 //! The interactive window loop: winit events → the [`View`] (the options the keys and drags
 //! change, as the server's viewers hold them) → a redraw only when the frame settings derived
 //! from it, the window size or the OS (expose) asks for one. Between events the loop sleeps
-//! (`ControlFlow::Wait`), so an idle viewer draws nothing and uses no CPU.
+//! (`ControlFlow::Wait`), so an idle viewer draws nothing and uses no CPU; a playing
+//! animation ([`play`]) wakes it for each frame.
+mod play;
+
 use crate::cli::Args;
 use crate::window::WindowContext;
 use glview::frame::{FrameSettings, Shading};
@@ -55,6 +58,7 @@ pub fn run_window(args: &Args) -> Result<()> {
         screenshot: false,
         overlay: false,
         last_ms: 0.0,
+        clock: None,
         error: None,
     };
     event_loop
@@ -96,6 +100,8 @@ struct App<'a> {
     overlay: bool,
     /// The last frame's time, for the overlay.
     last_ms: f64,
+    /// While playing: when the view's time last moved on.
+    clock: Option<std::time::Instant>,
     error: Option<Error>,
 }
 
@@ -179,6 +185,7 @@ impl App<'_> {
         };
         let compare = self.view.compare();
         let load = self.view.options().load.clone();
+        let motion = (self.view.options().motion.clone(), self.view.playing());
         let effect = match change(&mut self.view, scene) {
             Ok(e) => e,
             Err(e) => {
@@ -207,7 +214,9 @@ impl App<'_> {
                 return Effect::Redraw;
             }
         };
-        if reloaded {
+        // The moment is drawn even when the frame settings stay the same (the label shows
+        // the play state too).
+        if reloaded || motion != (self.view.options().motion.clone(), self.view.playing()) {
             self.request_redraw();
         }
         if settings != self.settings || compare != self.view.compare() {
@@ -298,14 +307,16 @@ impl App<'_> {
         live.aa.present(&mut live.renderer, &window)?;
         let target = window;
         self.last_ms = stats.ms;
+        let moment = play::label(&self.view, live.renderer.scene());
         if self.overlay {
-            let text = overlay_text(
+            let mut lines = overlay_lines(
                 &self.settings,
-                live.renderer.scene(),
+                &live.renderer.scene().name,
                 self.view.compare(),
                 stats.ms,
             );
-            live.renderer.draw_overlay(&text, &target)?;
+            lines.splice(1..1, moment.clone());
+            live.renderer.draw_overlay(&text_image(&lines), &target)?;
         }
         if std::mem::take(&mut self.screenshot) {
             let img = WindowContext::read_back_buffer(&live.gpu, w, h);
@@ -325,6 +336,10 @@ impl App<'_> {
                 Ok(p) => println!("screenshot: {}", p.display()),
                 Err(e) => eprintln!("error: screenshot not saved: {e}"),
             }
+        }
+        // After the screenshot: a window's still is the picture of its options.
+        if let (false, Some(m)) = (self.overlay, moment) {
+            live.renderer.draw_overlay(&text_image(&[m]), &target)?;
         }
         live.window.swap_buffers()?;
         if self.args.picture.stats {
@@ -407,6 +422,10 @@ impl ApplicationHandler for App<'_> {
         }
     }
 
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        self.play(event_loop);
+    }
+
     fn exiting(&mut self, _event_loop: &ActiveEventLoop) {
         // The display connection closes when `run_app` returns: GL objects, the context and
         // the window must go while it is still open.
@@ -475,17 +494,14 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
     })
 }
 
-/// `DIR/glview-0001.png`, `-0002`, ...: the first name not taken. The file is created here
-/// (create_new), so two viewers saving at once never write the same file.
-/// The overlay picture: model, tier, active toggles, frame time, then the key table.
-fn overlay_text(
-    s: &FrameSettings,
-    scene: &Scene,
-    compare: bool,
-    ms: f64,
-) -> glview::image_out::Rgba {
+/// The overlay's picture of `lines` (model, tier, toggles, frame time, the key table; or
+/// the moment's label), light text on a translucent black box.
+fn text_image(lines: &[String]) -> glview::image_out::Rgba {
     use glview::compare::canvas;
-    let lines = overlay_lines(s, &scene.name, compare, ms);
+    let lines: Vec<String> = lines
+        .iter()
+        .map(|l| l.chars().map(canvas::substitute).collect())
+        .collect();
     let width = lines.iter().map(|l| l.chars().count()).max().unwrap_or(1) as u32 * 8 + 8;
     let mut img = canvas::blank(width, lines.len() as u32 * 10 + 8, [0, 0, 0]);
     for p in img.data.chunks_exact_mut(4) {
@@ -559,6 +575,8 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
         .collect()
 }
 
+/// `DIR/glview-0001.png`, `-0002`, ...: the first name not taken. The file is created here
+/// (create_new), so two viewers saving at once never write the same file.
 fn next_screenshot_path(dir: &Path) -> Result<PathBuf> {
     for n in 1..=999_999u32 {
         let path = dir.join(format!("glview-{n:04}.png"));
