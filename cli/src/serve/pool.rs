@@ -27,6 +27,9 @@ pub struct Job {
     pub seq: Option<u64>,
     pub presenter: bool,
     pub out: Arc<Outbox>,
+    /// Seconds the wall clock moved since the view's time last did (a playing view's
+    /// frame; 0 otherwise).
+    pub advance: f64,
 }
 
 /// What a render thread is asked to do.
@@ -210,7 +213,7 @@ fn apply(
     models: &Models,
     screenshot: &mut bool,
 ) -> Result<(), String> {
-    if job.pending.is_empty() {
+    if job.pending.is_empty() && job.advance == 0.0 {
         return Ok(());
     }
     let pending = std::mem::take(&mut job.pending);
@@ -218,6 +221,11 @@ fn apply(
         .scene(&options_for(&job.view, job.kind))
         .map_err(|e| models.scrub(&e.to_string()))?;
     let v = &mut job.view;
+    // The clock first: a pause or a time set in this batch wins over it.
+    if let Err(e) = v.advance(job.advance, scene.animations()) {
+        job.out
+            .push(Outgoing::Text(error_json(&models.scrub(&e.to_string()), false)));
+    }
     for m in pending {
         let r = match m {
             ClientMsg::Key { key, .. } => match keys::action_for(&key) {
@@ -236,6 +244,10 @@ fn apply(
                 Pickable::Camera => v.pick_camera(index, scene),
                 Pickable::Variant => v.pick_variant(index, scene),
             },
+            ClientMsg::Play { on, .. } => v.set_playing(on, scene.animations()),
+            ClientMsg::Time {
+                seconds, animation, ..
+            } => v.set_moment(animation, seconds, scene.animations()),
             _ => Ok(()),
         };
         if let Err(e) = r {

@@ -53,6 +53,19 @@ pub enum ClientMsg {
         index: Option<usize>,
         seq: Option<u64>,
     },
+    /// Play (from the time shown; 0 from the static pose) or pause the view's glTF animation,
+    /// as Space does.
+    Play {
+        on: bool,
+        seq: Option<u64>,
+    },
+    /// Show animation `animation` (none: the one shown) at `seconds` (wrapped into its
+    /// duration), playing or not as before: the page's time slider and animation picker.
+    Time {
+        seconds: f32,
+        animation: Option<usize>,
+        seq: Option<u64>,
+    },
     Still,
     Follow {
         on: bool,
@@ -89,6 +102,9 @@ impl ClientMsg {
                 finite(*dy, "dy")?;
             }
             ClientMsg::Wheel { notches, .. } => finite(*notches, "notches")?,
+            ClientMsg::Time { seconds, .. } if !(*seconds >= 0.0 && *seconds <= 1e5) => {
+                return Err("bad message: seconds must be a number from 0 to 100000".into())
+            }
             ClientMsg::Camera {
                 yaw,
                 pitch,
@@ -129,6 +145,8 @@ impl ClientMsg {
             | ClientMsg::Wheel { seq, .. }
             | ClientMsg::Camera { seq, .. }
             | ClientMsg::Pick { seq, .. }
+            | ClientMsg::Play { seq, .. }
+            | ClientMsg::Time { seq, .. }
             | ClientMsg::Model { seq, .. } => *seq,
             _ => None,
         }
@@ -213,6 +231,14 @@ mod tests {
             Ok(ClientMsg::Key { seq: Some(3), .. })
         ));
         assert!(matches!(
+            ClientMsg::parse(r#"{"type":"time","seconds":0.5,"animation":1,"seq":5}"#),
+            Ok(ClientMsg::Time {
+                animation: Some(1),
+                seq: Some(5),
+                ..
+            })
+        ));
+        assert!(matches!(
             ClientMsg::parse(r#"{"type":"pick","what":"variant","index":null,"seq":4}"#),
             Ok(ClientMsg::Pick {
                 what: Pickable::Variant,
@@ -233,6 +259,12 @@ mod tests {
             r#"{"type":"pick","what":"scene","index":0}"#,
             r#"{"type":"pick","what":"camera","index":-1}"#,
             r#"{"type":"pick","what":"variant","index":1,"name":"/etc/passwd"}"#,
+            r#"{"type":"time","seconds":-1}"#,
+            r#"{"type":"time","seconds":1e39}"#,
+            r#"{"type":"time","seconds":NaN}"#,
+            r#"{"type":"time","seconds":"1"}"#,
+            r#"{"type":"time","seconds":1,"animation":-1}"#,
+            r#"{"type":"play","on":1}"#,
             r#"[1,2]"#,
         ] {
             let e = ClientMsg::parse(bad).unwrap_err();

@@ -51,6 +51,7 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
     let o = options_for(p.view, p.kind);
     let view = p.view.options().picture.size;
     let views = views_json(session, &o)?;
+    let motion = motion_json(p.view, session.scene(&o)?.animations());
     let t = Instant::now();
     let mut profile = Profile::default();
     let still = p.kind == Kind::Still;
@@ -115,6 +116,7 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
         // what a shared link carries (distance and target none: fitted).
         "camera": camera_json(&p.view.options().camera),
         "views": views,
+        "motion": motion,
     });
     Ok(Drawn {
         header,
@@ -182,6 +184,28 @@ fn views_of(views: &glview::scene::views::Views, camera: Option<&str>) -> serde_
         "camera": camera.and_then(|q| views.camera_index(q).ok()),
         "variants": names(&mut views.variants.iter().map(String::as_str)),
         "variant": views.variant,
+    })
+}
+
+/// What the page's play controls show: the file's animations (bounded as the views' names
+/// are), the one shown or played, its time (null: the static pose) and whether it plays.
+fn motion_json(view: &View, all: &[glview::scene::motion::AnimationInfo]) -> serde_json::Value {
+    let animations: Vec<_> = all
+        .iter()
+        .take(MAX_NAMES)
+        .map(|a| {
+            serde_json::json!({
+                "name": a.name.chars().take(MAX_NAME_CHARS).collect::<String>(),
+                "duration": a.duration,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "animations": animations,
+        "animation": view.animation_index(all).ok(),
+        "time": view.options().motion.time,
+        "playing": view.playing(),
+        "fps": view.options().motion.fps,
     })
 }
 

@@ -84,6 +84,8 @@ struct Viewer {
     rendering: bool,
     /// Its inbox had messages while its render thread drew.
     woken: bool,
+    /// While its view plays: when its time last moved on (None: at its next frame).
+    played_at: Option<Instant>,
 }
 
 impl Viewer {
@@ -219,6 +221,12 @@ impl Scheduler {
         }
         let at = if v.dirty {
             v.not_before
+        } else if v.view.playing() {
+            // A playing view's next frame, at most `--fps` a second (and after the last
+            // one is acknowledged: the page's pace bounds it too).
+            let fps = f64::from(v.view.options().motion.fps.max(1.0));
+            let next = v.played_at.map(|t| t + Duration::from_secs_f64(1.0 / fps));
+            v.not_before.max(next.unwrap_or(v.not_before))
         } else if v.still_owed {
             v.not_before.max(v.last_input + self.config.still_delay)
         } else {
@@ -375,6 +383,7 @@ impl Scheduler {
             thread,
             rendering: false,
             woken: false,
+            played_at: None,
         };
         self.viewers.insert(id, v);
         if presenter {
@@ -541,7 +550,9 @@ impl Scheduler {
             m @ (ClientMsg::Key { .. }
             | ClientMsg::Drag { .. }
             | ClientMsg::Wheel { .. }
-            | ClientMsg::Pick { .. }) => {
+            | ClientMsg::Pick { .. }
+            | ClientMsg::Play { .. }
+            | ClientMsg::Time { .. }) => {
                 v.leave_class(presenter_view.as_ref());
                 if v.pending.len() >= MAX_PENDING {
                     v.error("too many inputs waiting for the model to load: dropped");

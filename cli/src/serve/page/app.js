@@ -192,7 +192,10 @@ async function onFrame(buf) {
   // A follower's model is the presenter's: the picker shows the one on screen.
   if (h.model && $('model').value !== h.model) $('model').value = h.model;
   // A frame older than this page's last input must not undo a choice just made.
-  if (fromPresenter(h) || shownSeq >= seq) showViews(h.views);
+  if (fromPresenter(h) || shownSeq >= seq) {
+    showViews(h.views);
+    showMotion(h.motion);
+  }
   showOverlay(h, bytes.length);
   showDiff(h);
 }
@@ -209,8 +212,9 @@ let linkOpened = false;
 const stateKeys = [];
 // Not carried as keys: the camera ones (the link has the camera absolutely), and K and V (it
 // has the file's camera and variant as `camera` and `variant`, whichever way they were chosen).
+// Nor the animation keys: the link has the moment as `animation` and `time` (paused).
 const CAMERA_KEYS = new Set(['LEFT', 'RIGHT', 'UP', 'DOWN', 'PLUS', '+', 'PAGEUP', 'MINUS', '-',
-  'PAGEDOWN', 'R', 'HOME', 'F', 'K', 'V']);
+  'PAGEDOWN', 'R', 'HOME', 'F', 'K', 'V', 'SPACE', '.', ',', 'A']);
 function openLink(m) {
   if (linkOpened) return;
   linkOpened = true;
@@ -232,6 +236,12 @@ function openLink(m) {
   for (const what of ['camera', 'variant']) {
     const i = params.get(what);
     if (i !== null && /^\d{1,4}$/.test(i)) sendInput({ type: 'pick', what, index: Number(i) });
+  }
+  const time = num('time');
+  if (time !== null && time >= 0) {
+    const msg = { type: 'time', seconds: time };
+    if (/^\d{1,4}$/.test(params.get('animation') || '')) msg.animation = Number(params.get('animation'));
+    sendInput(msg);
   }
   const keys = (params.get('keys') || '').split(',').filter(Boolean).slice(0, 64);
   for (const k of keys) {
@@ -265,6 +275,11 @@ function viewLink() {
   const v = h && h.views;
   if (v && typeof v.camera === 'number') q.set('camera', String(v.camera));
   if (v && typeof v.variant === 'number') q.set('variant', String(v.variant));
+  const m = h && h.motion;
+  if (m && m.time !== null && m.animation !== null) {
+    q.set('animation', String(m.animation));
+    q.set('time', String(m.time));
+  }
   if (stateKeys.length) q.set('keys', stateKeys.slice(-64).join(','));
   return location.origin + location.pathname + '?' + q;
 }
@@ -322,6 +337,56 @@ for (const what of ['camera', 'variant']) {
   });
 }
 
+// ---- the file's animations (Space, '.', ',' and A of the key table) ----
+// The header's `motion` lists them with the one shown, its time (null: the static pose) and
+// whether it plays; the controls show only when the file has some.
+
+let motionNow = null;
+let scrubbing = false;
+
+function showMotion(m) {
+  motionNow = m || null;
+  const box = $('motion');
+  box.hidden = !m || m.animations.length === 0;
+  if (box.hidden) return;
+  const sel = $('animation');
+  const names = m.animations.map((a, i) => a.name || 'animation ' + i);
+  const key = JSON.stringify(names);
+  if (sel.dataset.names !== key) {
+    sel.dataset.names = key;
+    // As text (new Option), never as markup: the names are the file author's.
+    sel.replaceChildren(...names.map((n, i) => new Option(n, String(i))));
+  }
+  sel.hidden = names.length < 2;
+  if (m.animation !== null && sel.value !== String(m.animation)) sel.value = String(m.animation);
+  const a = m.animations[m.animation] || m.animations[0];
+  $('play').textContent = m.playing ? 'Pause' : 'Play';
+  const slider = $('time');
+  slider.max = String(a.duration > 0 ? a.duration : 0);
+  if (!scrubbing) slider.value = String(m.time === null ? 0 : m.time);
+  $('clock').textContent = m.time === null ? 'static pose'
+    : m.time.toFixed(2) + ' / ' + a.duration.toFixed(2) + ' s';
+}
+
+$('play').addEventListener('click', (e) => {
+  leaveFollow();
+  sendInput({ type: 'play', on: !(motionNow && motionNow.playing) });
+  e.target.blur(); // so Space goes to the view again, not to the button
+});
+$('step-back').addEventListener('click', (e) => { key(','); e.target.blur(); });
+$('step-fwd').addEventListener('click', (e) => { key('.'); e.target.blur(); });
+$('time').addEventListener('input', (e) => {
+  scrubbing = true;
+  leaveFollow();
+  sendInput({ type: 'time', seconds: Number(e.target.value) });
+});
+$('time').addEventListener('change', (e) => { scrubbing = false; e.target.blur(); });
+$('animation').addEventListener('change', (e) => {
+  leaveFollow();
+  sendInput({ type: 'time', seconds: 0, animation: Number(e.target.value) });
+  e.target.blur();
+});
+
 // Whether a frame is the presenter's, shown on this follower's page (the server sends the
 // presenter's frames, header and all, to every follower).
 function fromPresenter(h) {
@@ -367,6 +432,7 @@ function leaveFollow() {
 // are comes from the server (its hello message carries the table: one list of keys).
 const KEY_NAMES = {
   ArrowLeft: 'Left', ArrowRight: 'Right', ArrowUp: 'Up', ArrowDown: 'Down', '=': 'Plus',
+  ' ': 'Space',
 };
 const serverKeys = new Map(); // upper-cased key name -> the table's spelling
 
@@ -380,6 +446,7 @@ document.addEventListener('keydown', (e) => {
   // Leave the browser's own shortcuts (Ctrl+R, Ctrl+-) and the picker's keys alone.
   if (e.ctrlKey || e.metaKey || e.altKey) return;
   if (e.target instanceof HTMLSelectElement) return;
+  if (e.target instanceof HTMLInputElement && e.target.type === 'range') return;
   const name = serverKeys.get((KEY_NAMES[e.key] || e.key).toUpperCase());
   if (e.key === 'h' || e.key === 'H') {
     overlayOn = !overlayOn; // local only: the server's picture has no overlay
@@ -482,7 +549,9 @@ function showOverlay(h, nbytes) {
     'frame     ' + ms(t.draw) + ' draw (' + ms(t.render) + ' render, ' + ms(t.read) + ' read) + ' + ms(t.encode) + ' encode ms',
     'round     ' + (roundTrip === null ? '–' : roundTrip.toFixed(0) + ' ms (input to drawn)'),
     'image     ' + kind + ' ' + size + ', ' + (nbytes / 1024).toFixed(1) + ' KiB',
-  ].join('\n');
+  ].concat(h.motion && h.motion.time !== null
+    ? ['time      ' + h.motion.time.toFixed(3) + ' s, animation ' + h.motion.animation + (h.motion.playing ? ', playing' : ', paused')]
+    : []).join('\n');
 }
 
 // The compare still's difference of Phong and PBR over the model's pixels.

@@ -14,6 +14,15 @@ impl Scheduler {
         self.next_frame += 1;
         let (drag_scale, drag_quality) = (self.config.drag_scale, self.config.drag_quality);
         let v = self.viewers.get_mut(&id).expect("ready");
+        // A playing view moves on by the time since its last frame; its frames are
+        // previews, and the still follows once it pauses.
+        let mut advance = 0.0;
+        if v.view.playing() {
+            let now = Instant::now();
+            advance = v.played_at.map_or(0.0, |t| (now - t).as_secs_f64());
+            v.played_at = Some(now);
+            v.changed();
+        }
         let kind = if v.dirty && !v.fresh {
             Kind::Preview {
                 scale: drag_scale,
@@ -31,6 +40,7 @@ impl Scheduler {
             seq: v.seq,
             presenter: v.presenter,
             out: v.out.clone(),
+            advance,
         };
         (v.rendering, v.encoding) = (true, true);
         self.turns[thread].busy = true;
@@ -49,6 +59,12 @@ impl Scheduler {
         };
         v.rendering = false;
         v.view = *d.view;
+        // Started playing in this job: its time moves on from now.
+        if v.view.playing() {
+            v.played_at.get_or_insert_with(Instant::now);
+        } else {
+            v.played_at = None;
+        }
         // Inputs that came during the job follow those it did not apply.
         let later = std::mem::replace(&mut v.pending, d.pending);
         v.pending.extend(later);
