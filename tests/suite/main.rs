@@ -46,6 +46,7 @@ mod lod;
 mod models_committed;
 mod parity;
 mod pbr;
+mod play;
 mod png_words;
 mod points;
 mod points_shadow;

@@ -208,6 +208,56 @@ fn k_and_v_look_through_the_files_camera_and_variant() {
     quit(&mut v, &x, "Escape");
 }
 
+/// A glTF animation in the window: three presses of `.` show what `--time 3/15` renders
+/// headless (to the K/V test's tolerance); Space plays (frames come with no input) and
+/// Space again pauses: then not one frame is drawn, and the still is `glview -o` of the
+/// moment its PNG text holds (the label is drawn after the screenshot's read-back).
+#[test]
+fn play_keys_step_play_and_pause() {
+    let Some((_lock, x)) = setup() else { return };
+    let dir = fresh_dir("window_play");
+    let model = crate::play::animated_file(&dir);
+    let model = model.to_str().unwrap();
+    let (mut v, _win) = open(&x, &dir, &[model]);
+    for _ in 0..3 {
+        key_to_frame(&x, &mut v, "period");
+    }
+    let shot = screenshot(&x, &mut v);
+    let t = format!("{}", 3.0f32 / 15.0);
+    fn at<'a>(model: &'a str, t: &'a str) -> Vec<&'a str> {
+        let mut a = VIEW.to_vec();
+        a.extend_from_slice(&[model, "--time", t]);
+        a
+    }
+    let reference = render(&dir, "headless-steps", &at(model, &t), &[]);
+    let tolerance = 320 * 240 / 1000;
+    let shot_rgb = with_alpha_of(&shot, &reference);
+    assert_close(&dir, "steps", &shot_rgb, &reference, 0, tolerance, 2);
+    let mut plain = VIEW.to_vec();
+    plain.push(model);
+    let before = render(&dir, "headless-static", &plain, &[]);
+    let moved = diff(&shot, &before, 2);
+    assert!(moved.max > 20, "3 steps did not move the box ({})", moved.max);
+    let count = |lines: Vec<String>| lines.iter().filter(|l| l.starts_with('{')).count();
+    x.xdotool(&["key", "space"]).expect("xdotool key space");
+    let playing = count(v.drain_for(Duration::from_millis(700)));
+    x.xdotool(&["key", "space"]).expect("xdotool key space");
+    v.drain_for(Duration::from_millis(300));
+    let paused = count(v.drain_for(Duration::from_secs(1)));
+    eprintln!("window: {playing} frames in 0.7 s playing, {paused} in 1 s paused");
+    assert!(playing >= 5, "{playing} frames in 0.7 s of playing");
+    assert_eq!(paused, 0, "frames drawn while paused");
+    let (shot, path) = screenshot_file(&x, &mut v);
+    let o = glview::repro::options_of_png(&path).expect("the screenshot's options");
+    let t = o.motion.time.expect("a moment");
+    assert!(t > 0.25, "the clock did not move the time: {t}");
+    let t = t.to_string();
+    let reference = render(&dir, "headless-paused", &at(model, &t), &[]);
+    let shot_rgb = with_alpha_of(&shot, &reference);
+    assert_close(&dir, "paused", &shot_rgb, &reference, 0, tolerance, 2);
+    quit(&mut v, &x, "Escape");
+}
+
 /// No input for three seconds: no frames and (almost) no CPU.
 #[test]
 fn idle_window_draws_nothing_and_sleeps() {
