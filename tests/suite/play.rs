@@ -21,16 +21,38 @@ pub(crate) fn animated_file(dir: &Path) -> PathBuf {
     let s = std::f32::consts::FRAC_PI_8.sin();
     let floats: Vec<f32> = [
         vec![0.0, 1.0, 2.0],
-        vec![c[0], c[1], c[2], c[0] + 0.5, c[1], c[2], c[0] + 1.0, c[1], c[2]],
+        vec![
+            c[0],
+            c[1],
+            c[2],
+            c[0] + 0.5,
+            c[1],
+            c[2],
+            c[0] + 1.0,
+            c[1],
+            c[2],
+        ],
         vec![0.0, 1.0],
-        vec![0.0, 0.0, 0.0, 1.0, 0.0, s, 0.0, std::f32::consts::FRAC_PI_8.cos()],
+        vec![
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            s,
+            0.0,
+            std::f32::consts::FRAC_PI_8.cos(),
+        ],
     ]
     .concat();
     let bin: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
     let buffer = doc["buffers"].as_array().unwrap().len();
     let views = doc["bufferViews"].as_array().unwrap().len();
     let acc = doc["accessors"].as_array().unwrap().len();
-    doc["buffers"].as_array_mut().unwrap().push(json!({"byteLength": bin.len(),
+    doc["buffers"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"byteLength": bin.len(),
         "uri": format!("data:application/octet-stream;base64,{}", b64(&bin))}));
     doc["bufferViews"]
         .as_array_mut()
@@ -107,14 +129,22 @@ fn served_moments_are_the_command_lines() {
     c.send(json!({"type": "time", "seconds": 0.5, "seq": 1}));
     let (h, png, _) = c.still(Some(1));
     assert!(h["command"].as_str().unwrap().contains("--time 0.5"), "{h}");
-    assert_same("t05", &decode_png(&png), &cli_png("t05", &[&model, "--time", "0.5"]));
+    assert_same(
+        "t05",
+        &decode_png(&png),
+        &cli_png("t05", &[&model, "--time", "0.5"]),
+    );
     for seq in 2..=4 {
         c.send(json!({"type": "key", "key": ".", "seq": seq}));
     }
     let (h, png, _) = c.still(Some(4));
     let t = format!("{}", 10.0f32 / 15.0);
     assert_eq!(time(&h), Some(f64::from(10.0f32 / 15.0)), "{h}");
-    assert_same("steps", &decode_png(&png), &cli_png("steps", &[&model, "--time", &t]));
+    assert_same(
+        "steps",
+        &decode_png(&png),
+        &cli_png("steps", &[&model, "--time", &t]),
+    );
     c.send(json!({"type": "time", "seconds": 0.25, "animation": 1, "seq": 5}));
     let (_, png, _) = c.still(Some(5));
     let want = cli_png("turn", &[&model, "--animation", "1", "--time", "0.25"]);
@@ -153,7 +183,10 @@ fn play_advances_at_fps_and_pause_draws_nothing() {
         .filter(|h| h["seq"].as_u64() >= Some(1))
         .filter_map(time)
         .collect();
-    eprintln!("playing at --fps 10 for {window:?}: {} frames, times {times:?}", times.len());
+    eprintln!(
+        "playing at --fps 10 for {window:?}: {} frames, times {times:?}",
+        times.len()
+    );
     assert!(times.len() >= 3, "{times:?}");
     assert!(times.len() <= 14, "more than --fps frames: {times:?}");
     for w in times.windows(2) {
@@ -163,7 +196,11 @@ fn play_advances_at_fps_and_pause_draws_nothing() {
     let (h, png, _) = c.still(Some(2));
     assert_eq!(h["motion"]["playing"], false);
     let t = format!("{}", time(&h).unwrap() as f32);
-    assert_same("paused", &decode_png(&png), &cli_png("paused", &[&model, "--time", &t]));
+    assert_same(
+        "paused",
+        &decode_png(&png),
+        &cli_png("paused", &[&model, "--time", &t]),
+    );
     let before = server.cpu_ticks();
     let idle = frames_for(&mut c, Duration::from_secs(1), usize::MAX);
     assert_eq!(idle.len(), 0, "frames drawn while paused: {idle:?}");
@@ -198,7 +235,11 @@ fn a_follower_gets_the_presenters_time() {
         let h = followed.next().unwrap_or_else(|| f.frame(true).0);
         assert_eq!(h["presenter"], true, "{h}");
         // Frames from before the play (the one sent on following) are not among these.
-        if let Some(same) = played.iter().chain([&hp]).find(|p| p["frame"] == h["frame"]) {
+        if let Some(same) = played
+            .iter()
+            .chain([&hp])
+            .find(|p| p["frame"] == h["frame"])
+        {
             assert_eq!(time(same), time(&h));
             seen.extend(time(&h));
         }
@@ -210,7 +251,11 @@ fn a_follower_gets_the_presenters_time() {
     assert!(seen.len() >= 2, "the follower saw no time move: {seen:?}");
     f.send(json!({"type": "play", "on": true, "seq": 1}));
     let own = frames_for(&mut f, Duration::from_millis(400), 3);
-    let t = own.iter().filter_map(time).last().expect("its own frames");
+    let t = own
+        .iter()
+        .filter_map(time)
+        .next_back()
+        .expect("its own frames");
     assert!(
         own.iter().all(|h| h["presenter"] == false) && t >= time(&hp).unwrap(),
         "{own:?}"

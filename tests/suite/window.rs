@@ -237,7 +237,11 @@ fn play_keys_step_play_and_pause() {
     plain.push(model);
     let before = render(&dir, "headless-static", &plain, &[]);
     let moved = diff(&shot, &before, 2);
-    assert!(moved.max > 20, "3 steps did not move the box ({})", moved.max);
+    assert!(
+        moved.max > 20,
+        "3 steps did not move the box ({})",
+        moved.max
+    );
     let count = |lines: Vec<String>| lines.iter().filter(|l| l.starts_with('{')).count();
     x.xdotool(&["key", "space"]).expect("xdotool key space");
     let playing = count(v.drain_for(Duration::from_millis(700)));

@@ -223,8 +223,10 @@ fn apply(
     let v = &mut job.view;
     // The clock first: a pause or a time set in this batch wins over it.
     if let Err(e) = v.advance(job.advance, scene.animations()) {
-        job.out
-            .push(Outgoing::Text(error_json(&models.scrub(&e.to_string()), false)));
+        job.out.push(Outgoing::Text(error_json(
+            &models.scrub(&e.to_string()),
+            false,
+        )));
     }
     for m in pending {
         let r = match m {

@@ -143,7 +143,8 @@ fn wrap(t: f32, duration: f64) -> f32 {
 }
 
 fn wrap_f64(t: f64, duration: f64) -> f32 {
-    if !(duration > 0.0) || !t.is_finite() {
+    // NaN durations count as zero-length.
+    if duration.is_nan() || duration <= 0.0 || !t.is_finite() {
         return 0.0;
     }
     let w = t.rem_euclid(duration) as f32;
@@ -245,7 +246,12 @@ mod tests {
         v.set_moment(Some(1), 2.5, &all).unwrap();
         let good = v.clone();
         assert_eq!(v.options().motion.time, Some(2.5));
-        for (a, t) in [(Some(2), 1.0), (None, -1.0), (None, f32::NAN), (None, f32::INFINITY)] {
+        for (a, t) in [
+            (Some(2), 1.0),
+            (None, -1.0),
+            (None, f32::NAN),
+            (None, f32::INFINITY),
+        ] {
             let e = v.set_moment(a, t, &all).unwrap_err().to_string();
             assert!(!e.contains('\n'), "{e}");
             assert_eq!(v, good);
