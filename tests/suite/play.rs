@@ -261,3 +261,58 @@ fn a_follower_gets_the_presenters_time() {
         "{own:?}"
     );
 }
+
+/// `--keys` replays the play keys headless, where there is no clock: Space is the moment
+/// shown (time 0 from the static pose), `.` steps are `--time k/fps`, `A` is the next
+/// animation at 0; pixel for pixel. On a file without animations Space is a one-line error.
+#[test]
+fn play_keys_replayed_headless_are_moments() {
+    let dir = common::out_dir("play-keys");
+    let model = animated_file(&dir);
+    let model = model.to_str().unwrap();
+    let shot = |name: &str, extra: &[&str]| {
+        let mut a = vec![model, "--size", "64x48"];
+        a.extend_from_slice(extra);
+        common::render(&dir, name, &a, &[])
+    };
+    let still = shot("static", &[]);
+    for (name, keys, moment) in [
+        ("space", "Space", &["--time", "0"][..]),
+        ("steps", ". . .", &["--time", "0.2"][..]),
+        (
+            "space-steps",
+            ". . . Space , Space",
+            &["--time", "0.13333334"][..],
+        ),
+        ("next", "A", &["--animation", "1", "--time", "0"][..]),
+    ] {
+        let replayed = shot(&format!("keys-{name}"), &["--keys", keys]);
+        let want = shot(&format!("time-{name}"), moment);
+        assert!(
+            replayed.data == want.data,
+            "--keys {keys:?} is not {moment:?}"
+        );
+        if name == "steps" {
+            let d = common::diff(&replayed, &still, 2);
+            assert!(d.max > 20, "three steps did not move the box ({})", d.max);
+        }
+    }
+    let out = dir.join("static-model.png");
+    let o = common::run(
+        &[
+            "--size",
+            "64x48",
+            "--keys",
+            "Space",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    assert!(err.contains("no animations"), "{err}");
+}
