@@ -1,11 +1,12 @@
 //! The scheduler: every viewer's state, and whose view each render thread ([`pool`]) draws
 //! next: of a thread's viewers, the one charged least render time. Inputs (taken from each
 //! viewer's bounded inbox) only change a view (the latest wins); a view is drawn when it
-//! changed and its last frame was acknowledged: small and JPEG while input arrives,
-//! full-size PNG once it stops, encoded on a worker. A presenter's frames go to every
-//! follower. Viewers of one model are kept on one thread while it has no more than its
-//! share of viewers ([`jobs`]); a model not yet uploaded on a thread is loaded on a worker
-//! ([`loads`]) while the others are drawn.
+//! changed, or at most `--fps` times a second while its animation plays (its time moved on
+//! by the wall clock on the render thread), and its last frame was acknowledged: small and
+//! JPEG while input arrives or it plays, full-size PNG once it stops, encoded on a worker.
+//! A presenter's frames go to every follower. Viewers of one model are kept on one thread
+//! while it has no more than its share of viewers ([`jobs`]); a model not yet uploaded on a
+//! thread is loaded on a worker ([`loads`]) while the others are drawn.
 //!
 //! [`pool`]: super::pool
 mod jobs;
