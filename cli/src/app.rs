@@ -273,8 +273,9 @@ impl App<'_> {
         let Some(action) = key_name(event).and_then(|n| keys::action_for(&n)) else {
             return;
         };
-        // Held keys repeat camera moves (smooth turning) but not toggles or screenshots.
-        if event.repeat && !matches!(action, Action::Camera(_)) {
+        // Held keys repeat camera moves (smooth turning) and frame steps (scrubbing), but
+        // not toggles or screenshots.
+        if event.repeat && !matches!(action, Action::Camera(_) | Action::Step(_)) {
             return;
         }
         self.act(event_loop, action);

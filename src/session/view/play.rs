@@ -42,6 +42,12 @@ impl View {
         })
     }
 
+    /// Stops the clock, the moment stays (a frame that failed to draw is not drawn again and
+    /// again at the frame rate).
+    pub fn pause(&mut self) {
+        self.playing = false;
+    }
+
     /// Space: plays from the time shown (from 0 when the static pose is shown), or pauses.
     pub fn play_pause(&mut self, all: &[AnimationInfo]) -> Result<()> {
         let on = !self.playing;

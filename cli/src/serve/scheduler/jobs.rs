@@ -59,12 +59,6 @@ impl Scheduler {
         };
         v.rendering = false;
         v.view = *d.view;
-        // Started playing in this job: its time moves on from now.
-        if v.view.playing() {
-            v.played_at.get_or_insert_with(Instant::now);
-        } else {
-            v.played_at = None;
-        }
         // Inputs that came during the job follow those it did not apply.
         let later = std::mem::replace(&mut v.pending, d.pending);
         v.pending.extend(later);
@@ -85,11 +79,19 @@ impl Scheduler {
             }
             Outcome::Failed { drawn } => {
                 v.encoding = false;
+                // The viewer was told once; a playing view would fail at every frame.
+                v.view.pause();
                 (v.dirty, v.still_owed) = (false, false);
                 if drawn {
                     v.fresh = false;
                 }
             }
+        }
+        // Started playing in this job: its time moves on from now.
+        if v.view.playing() {
+            v.played_at.get_or_insert_with(Instant::now);
+        } else {
+            v.played_at = None;
         }
         match need {
             Some(o) => self.load(d.id, d.thread, *o),
