@@ -158,7 +158,7 @@ impl DrawMesh {
 pub(crate) struct SceneGpu {
     pub(crate) scene: Scene,
     pub(crate) meshes: Vec<DrawMesh>,
-    gpu: GpuRef,
+    pub(crate) gpu: GpuRef,
     /// Bytes of vertex and index data uploaded so far (`--stats`).
     pub(crate) uploaded: std::cell::Cell<u64>,
     /// Meshes uploaded whole after a first view drew their compact copies.
@@ -233,7 +233,11 @@ impl SceneGpu {
         let mut uploaded = 0;
         let plan = super::instancing::plan(gpu, &scene);
         for (i, role) in plan.iter().enumerate() {
-            let c = clusters.next().flatten();
+            // Whoever prepared them (a mesh cache entry too), a posed mesh has none.
+            let c = clusters
+                .next()
+                .flatten()
+                .filter(|_| !super::posed::posed_by_rig(&scene, i));
             let (dm, bytes) = match role {
                 Role::Own => draw_mesh(gpu, &scene, i, c)?,
                 Role::Absorbed => (absorbed(), 0),
@@ -345,7 +349,7 @@ fn draw_mesh(
 
 /// Uploads scene mesh `i`, the first of `copies`, to be drawn once per instance; returns it
 /// and the bytes uploaded (one copy and the matrices).
-fn instanced_head(
+pub(crate) fn instanced_head(
     gpu: &GpuRef,
     scene: &Scene,
     i: usize,

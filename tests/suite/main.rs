@@ -44,6 +44,7 @@ mod lighting;
 mod loading;
 mod lod;
 mod models_committed;
+mod motion_render;
 mod parity;
 mod pbr;
 mod png_words;
