@@ -54,7 +54,7 @@ fn scene_with_a_large_mesh() -> (glview::render::FrameSettings, Scene) {
     let mut meshes = builtin.meshes.to_vec();
     let size = |s: &Scene| (s.bounds.max - s.bounds.min).length();
     let r = size(&builtin) / size(&sphere);
-    for mut m in sphere.meshes.to_vec() {
+    for mut m in sphere.meshes.iter().cloned() {
         m.material += materials.len();
         for v in &mut m.vertices {
             v.position = v.position.map(|c| 0.4 * r * c);

@@ -80,7 +80,10 @@ pub struct BenchArgs {
     pub motion: bool,
     /// With --motion: the animated model (default: the committed RiggedSimple;
     /// docs/benchmarks.md uses Khronos' CesiumMan).
-    #[arg(long, default_value = "tests/data/khronos/motion/RiggedSimple/RiggedSimple.glb")]
+    #[arg(
+        long,
+        default_value = "tests/data/khronos/motion/RiggedSimple/RiggedSimple.glb"
+    )]
     pub motion_model: PathBuf,
     /// With --pbr: Monte Carlo samples per lobe of the reference.
     #[arg(long, default_value_t = 16384)]

@@ -81,9 +81,9 @@ pub fn run_motion(model: &Path, size: (u32, u32)) -> Result<()> {
         "bytes uploaded",
         "vs still",
     ]);
-    let name = model.file_stem().map_or_else(String::new, |n| {
-        n.to_string_lossy().into_owned()
-    });
+    let name = model
+        .file_stem()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
     table.row(vec![
         format!("{name}, still"),
         num(base, 2),
@@ -107,7 +107,11 @@ pub fn run_motion(model: &Path, size: (u32, u32)) -> Result<()> {
     println!(
         "ratio playing/still {:.2} (target <= 1.3): {}",
         played / base,
-        if played / base <= 1.3 { "met" } else { "NOT met" }
+        if played / base <= 1.3 {
+            "met"
+        } else {
+            "NOT met"
+        }
     );
     Ok(())
 }
