@@ -6,7 +6,7 @@
 //! vertices. The meshes a rig poses never get clusters ([`crate::scene::clusters::prepare`]
 //! skips them): their triangles move every frame, and a cluster's bounds would not.
 use super::instancing::Role;
-use super::upload::{instanced_head, whole_draw_mesh, SceneGpu};
+use super::upload::{instanced_head, whole_draw_mesh_into, SceneGpu};
 use super::Renderer;
 use crate::scene::clusters::{Clusters, MIN_TRIANGLES};
 use crate::scene::motion::Moment;
@@ -124,7 +124,10 @@ fn refresh_one(scene: &mut SceneGpu, i: usize, role: Option<&Role>) -> Result<()
             } else {
                 None
             };
-            whole_draw_mesh(&scene.gpu, &scene.scene, i, clusters)?
+            // Its buffers are rewritten in place where the sizes allow (a pose of a mesh
+            // whose vertex count stays): no GL objects made and deleted per frame.
+            let old = std::mem::replace(&mut scene.meshes[i], super::upload::absorbed());
+            whole_draw_mesh_into(&scene.gpu, &scene.scene, i, clusters, Some(old))?
         }
     };
     scene.meshes[i] = dm;
