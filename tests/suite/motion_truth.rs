@@ -24,8 +24,8 @@ fn errors(a: &Rgba, b: &Rgba) -> (f64, usize) {
     (d.mean, d.over)
 }
 
-/// The GPU at 1.25 s on GL 3.3, ES 3.0, GL 2.1 (Mesa pretending to be a GL 2.1 driver) and
-/// OSMesa equals the reference renderer at 1.25 s within the tolerance of
+/// The GPU at 1.25 s on GL 3.3, ES 3.0, GL 2.1 (Mesa pretending to be a GL 2.1 driver, with
+/// and without VAOs and FBOs) and OSMesa equals the reference renderer at 1.25 s within the tolerance of
 /// `gpu_vs_reference::without_shadows_the_gpu_is_the_formula`'s (mean < 0.05/255; silhouette
 /// pixels where coverage differs: at most 0.1 % here, the picture being small); and that
 /// moment is not the static pose (the bend shows) in either renderer.
@@ -43,11 +43,17 @@ fn a_moment_on_every_context_is_the_reference_posed() {
         moved > 200,
         "the moment is not the static pose: {moved} pixels moved"
     );
-    let contexts: [(&str, &[&str], &[(&str, &str)]); 4] = [
+    let contexts: [Context; 5] = [
         ("gl33", &["--gl", "core"], &[]),
         ("es3", &["--gl", "es3"], &[]),
         ("gl21", &["--gl", "2.1"], GL21),
         ("osmesa", &["--backend", "osmesa"], &[]),
+        // A GL 2.1 driver without VAOs or FBOs: attributes bound per draw.
+        (
+            "osmesa-gl21-bare",
+            &["--backend", "osmesa", "--gl", "2.1"],
+            GL21_NO_FBO,
+        ),
     ];
     for (name, extra, env) in contexts {
         let mut w = words(Some("1.25"));
@@ -65,6 +71,13 @@ fn a_moment_on_every_context_is_the_reference_posed() {
         }
     }
 }
+
+/// A context's name, its options and its environment.
+type Context = (
+    &'static str,
+    &'static [&'static str],
+    &'static [(&'static str, &'static str)],
+);
 
 fn pixels(img: &Rgba) -> usize {
     (img.width * img.height) as usize
