@@ -84,7 +84,8 @@ fn pixels(img: &Rgba) -> usize {
 }
 
 /// `--time` twice gives the same bytes: two fresh runs of the binary, and a kept session
-/// drawing 1.25 s, then 0.5 s, then 1.25 s again (a renderer posed away and back).
+/// drawing 1.25 s, then 0.5 s, then 1.25 s again (a renderer posed away and back), then no
+/// `--time` (the static pose restored).
 #[test]
 fn the_same_time_twice_gives_the_same_bytes() {
     let dir = out_dir("motion_truth");
@@ -102,18 +103,32 @@ fn the_same_time_twice_gives_the_same_bytes() {
     assert_eq!(files[0], files[1], "two runs at --time 1.25");
     let first = Rgba::load_png(&dir.join("twice-a.png")).unwrap();
     let mut session = glview::session::Session::new();
-    let mut draw = |t: &'static str| {
-        let o = glview::Options::from_words(words(Some(t))).unwrap();
+    let mut draw = |t: Option<&'static str>| {
+        let o = glview::Options::from_words(words(t)).unwrap();
         let mut profile = Default::default();
         let d = session.draw(&o, None, Default::default(), &mut profile);
         (d.unwrap().image, profile)
     };
-    let (a, pa) = draw("1.25");
-    let (b, _) = draw("0.5");
-    let (c, pc) = draw("1.25");
+    let (a, pa) = draw(Some("1.25"));
+    let (b, _) = draw(Some("0.5"));
+    let (c, pc) = draw(Some("1.25"));
+    // Back to the static pose: the picture of a session that never posed.
+    let (d, _) = draw(None);
+    let still = run_still(&dir);
+    assert_eq!(d.data, still.data, "the static pose after a moment");
     assert_eq!(a.data, first.data, "the session's picture is the binary's");
     assert_eq!(a.data, c.data, "posed away and back");
     assert_ne!(a.data, b.data, "another moment");
     assert_eq!((pa.scene_uploads, pc.scene_uploads), (1, 0), "loaded once");
     assert!(pc.pose.is_some_and(|p| p.meshes > 0), "posed again: {pc:?}");
+}
+
+/// The static pose drawn by the binary (a process that never posed).
+fn run_still(dir: &std::path::Path) -> Rgba {
+    let out = dir.join("still.png");
+    let mut w = words(None);
+    w.extend(["-o", out.to_str().unwrap()]);
+    let o = run(&w, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    Rgba::load_png(&out).unwrap()
 }
