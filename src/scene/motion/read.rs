@@ -14,7 +14,10 @@ use gltf::animation::{Interpolation, Property};
 /// over nine hours at 30 per second).
 pub(crate) const MAX_KEYS: usize = 1 << 20;
 /// Floats of all the samplers kept (64 MB): later animations are dropped with a warning.
+/// Each channel also counts [`CHANNEL_COST`], so a file of millions of one-key channels is
+/// bounded too.
 pub(crate) const MAX_ANIMATION_FLOATS: usize = 1 << 24;
+const CHANNEL_COST: usize = 32;
 /// Joints of one skin.
 pub(crate) const MAX_JOINTS: usize = 1 << 16;
 
@@ -138,7 +141,8 @@ fn channel(
         return Err(format!("{m} output values for {n} keys"));
     }
     let floats = m.saturating_mul(output.dimensions().multiplicity());
-    if floats.saturating_add(n) > *budget {
+    let cost = floats.saturating_add(n).saturating_add(CHANNEL_COST);
+    if cost > *budget {
         return Err(format!(
             "the file's animations hold more than {MAX_ANIMATION_FLOATS} values"
         ));
@@ -159,7 +163,7 @@ fn channel(
     if values.iter().any(|v| !v.is_finite()) {
         return Err("an output value is not finite".into());
     }
-    *budget -= floats + n;
+    *budget -= cost;
     Ok(Keys {
         width: if rotation || width == 3 {
             width
