@@ -35,8 +35,14 @@ impl Renderer {
             return Ok(());
         }
         let t = Instant::now();
+        let bounds = self.scene.scene.bounds;
         let changed = self.scene.scene.pose(moment)?;
         let pose_ms = ms(t);
+        // The shadow maps are fitted to the scene's bounds, which a pose may change (the
+        // animation's framing) even where no mesh moved.
+        if self.scene.scene.bounds != bounds {
+            self.res.shadow.invalidate();
+        }
         // A failed upload leaves the scene posed but the GPU not: the next call poses again.
         self.posed = None;
         let before = self.scene.uploaded.get();
