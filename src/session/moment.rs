@@ -11,6 +11,11 @@ use crate::scene::Scene;
 /// `--animation` or `--time` on a scene without animations, or an animation it does not
 /// have, is an [`Error::Usage`] naming the model and listing its animations.
 pub fn moment(args: &Options, scene: &Scene) -> Result<Option<Moment>> {
+    // `--keys` may hold the play keys (Space, `.`, `,`, `A`): the moment is the one they
+    // lead to (the settled options have no keys left, so this recurses once).
+    if args.camera.keys.is_some() {
+        return moment(&super::View::settled(args, scene)?, scene);
+    }
     let m = &args.motion;
     if m.time.is_none() && m.animation.is_none() {
         return Ok(None);
