@@ -41,6 +41,9 @@ pub fn run_window(args: &Args) -> Result<()> {
     // entry): a window rebuilds nothing (the levels of the 2M-triangle sphere cost 1.6 s).
     // Clusters without levels get them from the renderer before a frame would draw them.
     let (scene, prepared) = session::load_scene_prepared(args)?;
+    // `--time` or `--animation` the file cannot show is the command's one error, not a
+    // window that opens to print it.
+    session::moment(args, &scene)?;
     let settings = session::frame_settings(args, &scene)?.0;
     let event_loop = EventLoop::new()
         .map_err(|e| Error::Context(format!("window: cannot connect to the display: {e}")))?;
@@ -136,6 +139,12 @@ impl App<'_> {
         };
         live.window.window.request_redraw();
         self.live = Some(live);
+        // The first frame shows `--time`'s moment, framed by its animation's bounds.
+        self.pose()?;
+        let scene = self.live.as_ref().map(|l| l.renderer.scene());
+        if let Some(scene) = scene {
+            self.settings = session::frame_settings(self.view.options(), scene)?.0;
+        }
         // The window manager may not give the size asked for: frames are of the window's.
         let size = (self.size.width, self.size.height);
         if size.0 > 0 && size.1 > 0 {
@@ -201,6 +210,12 @@ impl App<'_> {
             }
             done.is_ok()
         };
+        // Posed before the settings are derived: the camera fits the animation's bounds.
+        if let Err(e) = self.pose() {
+            eprintln!("error: {e}");
+            // Once: a playing view would fail again at every frame.
+            self.view.pause();
+        }
         let scene = match (&self.live, &self.scene) {
             (Some(live), _) => live.renderer.scene(),
             (None, Some(scene)) => scene,
@@ -229,6 +244,16 @@ impl App<'_> {
             self.request_redraw();
         }
         effect
+    }
+
+    /// Poses the uploaded scene at the view's moment (`--animation`, `--time`; nothing when
+    /// it is posed there already).
+    fn pose(&mut self) -> Result<()> {
+        let Some(live) = &mut self.live else {
+            return Ok(());
+        };
+        let at = session::moment(self.view.options(), live.renderer.scene())?;
+        live.renderer.pose(at)
     }
 
     /// A load option changed (`V`, the material variant): the scene is loaded again and
