@@ -516,6 +516,8 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyK => "K",
         KeyCode::KeyV => "V",
         KeyCode::KeyA => "A",
+        KeyCode::Period => ".",
+        KeyCode::Comma => ",",
         _ => return None,
     })
 }
