@@ -2,6 +2,7 @@
 //! against error for every quality knob (error = distance from the CPU reference render);
 //! `load` measures parse, upload, time to first PNG and peak memory against f3d. Both print a
 //! table and write CSV/JSON (and a plot) into `docs/bench/` by default.
+pub mod animated;
 pub mod child;
 pub mod f3d;
 pub mod frame;
@@ -73,6 +74,14 @@ pub struct BenchArgs {
     /// With --serve: the view size.
     #[arg(long, default_value = "800x600")]
     pub serve_size: String,
+    /// Measure animated pictures: the encoding time of a 3-second turntable (45 frames of
+    /// 640x480) as GIF, APNG and WebP beside the time to draw its frames (--model: another
+    /// model than the built-in scene).
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
+    pub animated: bool,
+    /// With --animated: the model to turn (default: the built-in scene).
+    #[arg(long)]
+    pub animated_model: Option<PathBuf>,
     /// With --pbr: Monte Carlo samples per lobe of the reference.
     #[arg(long, default_value_t = 16384)]
     pub pbr_samples: u32,
@@ -86,6 +95,9 @@ pub struct BenchArgs {
 pub fn run(args: &BenchArgs) -> glview::Result<()> {
     if args.post {
         return post::run_post();
+    }
+    if args.animated {
+        return animated::run_animated(args.animated_model.as_deref());
     }
     if args.serve {
         return serve::run_serve(
