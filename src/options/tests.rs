@@ -178,6 +178,15 @@ const POST_AND_OUTPUT: &[&str] = &[
     "2.1",
     "--backend",
     "egl",
+    "--animation",
+    "Walk",
+    "--time",
+    "1.25",
+    "--fps",
+    "24",
+    "--duration",
+    "3",
+    "--turntable",
 ];
 
 /// One non-default value for every option, set through its words: each spec's setter is

@@ -102,7 +102,9 @@ const MAGIC: &[u8; 4] = b"GLVC";
 /// 16: EXT_mesh_gpu_instancing drawn instanced (issue 37): the scene's `instancing`.
 /// 17: glTF cameras, scenes and material variants (issue 37): the scene's `views`.
 /// 18: KHR_lights_punctual (issue 37): the scene's `lights`.
-const FORMAT: u32 = 18;
+/// 19: glTF skins, morph targets and animations (issue 39): scenes that move are not cached (no
+///    entry holds a rig), and older entries of such files drew them unposed.
+const FORMAT: u32 = 19;
 /// The default bound on the cache folder's total size.
 pub(crate) const DEFAULT_MAX_BYTES: u64 = 1 << 30;
 static MAX_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_BYTES);

@@ -92,6 +92,8 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         line: None,
         message,
     }));
+    let mut warn = |message| warnings.push(Warning::of(path, message));
+    let plan = super::motion::Plan::read(&doc, &nodes, &buffers, &mut warn);
     let instances = super::gltf_graph::instances(&doc, &nodes);
     let (instances, mut maps, runs) =
         super::gltf_instancing::expand(&doc, instances, &buffers).map_err(bad)?;
@@ -102,8 +104,14 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let mut prim_start = Vec::with_capacity(instances.len() + 1);
     for (node, mesh, world) in &instances {
         prim_start.push(read.prims.len());
-        let instance =
-            Instance::new(*node, *world, opts.up, &buffers, path).with_variant(views.variant);
+        let skin = doc
+            .nodes()
+            .nth(*node)
+            .and_then(|n| n.skin())
+            .map(|s| s.index());
+        let instance = Instance::new(*node, *world, opts.up, &buffers, path)
+            .with_variant(views.variant)
+            .with_moving(plan.moving(*node, skin, mesh.index()));
         instance
             .read_mesh(mesh, &mut read, &mut warnings)
             .map_err(bad)?;
@@ -118,26 +126,15 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     );
     let lights =
         super::gltf_lights::read_into(&doc, &nodes, (opts.up, origin), path, &mut warnings);
-    let mut bounds = Bounds::empty();
-    let mut meshes = Vec::new();
-    // The scene mesh each primitive became (None: too few indices).
-    let mut mesh_of = Vec::with_capacity(read.prims.len());
-    for p in read.prims {
-        if p.indices.len() < 3 {
-            mesh_of.push(None);
-            continue;
-        }
-        mesh_of.push(Some(meshes.len()));
-        let mesh = p.into_mesh(origin, default_index, opts);
-        for v in &mesh.vertices {
-            bounds.include(v.position.into());
-        }
-        meshes.push(mesh);
-    }
+    let sources = std::mem::take(&mut read.sources);
+    let (meshes, mut bounds, mesh_of, parts) =
+        build_meshes(read.prims, sources, (origin, default_index), opts);
     let mut wire = read.wire;
+    let mut wire_bounds = Bounds::empty();
     for q in &read.wire_pts {
         let l = (*q - origin).as_vec3();
         bounds.include(l);
+        wire_bounds.include(l);
         wire.positions.push(l.into());
     }
     if meshes.is_empty() && wire.is_empty() {
@@ -151,6 +148,17 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         .iter()
         .map(|r| super::gltf_instancing::record(r, &entry_meshes, opts.up, origin))
         .collect();
+    let motion = (!plan.is_empty()).then(|| {
+        let built = super::motion::rig::Built {
+            origin,
+            default_material: default_index,
+            opts,
+            path,
+        };
+        let rig = super::motion::Rig::new(plan, parts, &meshes, wire_bounds, built);
+        maps.extend(rig.check_lines());
+        Arc::new(rig)
+    });
     Ok(Scene {
         name: Scene::name_of(path),
         meshes: meshes.into(),
@@ -165,8 +173,55 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         instancing,
         views,
         lights,
-        motion: None,
+        motion,
     })
+}
+
+/// The triangle primitives made meshes re-centred on `origin` (None where a primitive has
+/// too few indices), their bounds, and the moving ones' parts.
+#[allow(clippy::type_complexity)]
+fn build_meshes(
+    prims: Vec<super::gltf_primitive::Prim>,
+    sources: Vec<(usize, super::motion::pose::Source, usize, Option<usize>)>,
+    (origin, default_index): (glam::DVec3, usize),
+    opts: &LoadOptions,
+) -> (
+    Vec<super::Mesh>,
+    Bounds,
+    Vec<Option<usize>>,
+    Vec<super::motion::Part>,
+) {
+    let mut bounds = Bounds::empty();
+    let mut meshes = Vec::new();
+    // The scene mesh each primitive became (None: too few indices).
+    let mut mesh_of = Vec::with_capacity(prims.len());
+    let mut sources = sources.into_iter().peekable();
+    let mut parts = Vec::new();
+    for (pi, p) in prims.into_iter().enumerate() {
+        if p.indices.len() < 3 {
+            mesh_of.push(None);
+            continue;
+        }
+        while sources.peek().is_some_and(|s| s.0 < pi) {
+            sources.next();
+        }
+        if let Some((_, src, node, skin)) = sources.next_if(|s| s.0 == pi) {
+            parts.push(super::motion::Part {
+                mesh: meshes.len(),
+                node,
+                skin,
+                src,
+                prim: p.clone(),
+            });
+        }
+        mesh_of.push(Some(meshes.len()));
+        let mesh = p.into_mesh(origin, default_index, opts);
+        for v in &mesh.vertices {
+            bounds.include(v.position.into());
+        }
+        meshes.push(mesh);
+    }
+    (meshes, bounds, mesh_of, parts)
 }
 
 /// The parsed document and the GLB's binary chunk, after the checks the `gltf` crate skips or

@@ -4,6 +4,8 @@
 //! lines and points set aside for [`Wire`]; then each triangle primitive made a [`Mesh`]
 //! once the scene's origin is known.
 use super::gltf_accessor as accessor;
+use super::motion::pose::{Deform, Placed, Source};
+use super::motion::Moving;
 use super::LoadOptions;
 use super::{Mesh, UpAxis, Vertex, Warning, Wire};
 use glam::{DMat3, DMat4, DVec3};
@@ -13,6 +15,7 @@ use std::path::Path;
 
 /// A triangle primitive as read: world coordinates (f64, not yet re-centred) and its
 /// attributes, each None if absent or unusable.
+#[derive(Clone, Debug)]
 pub(crate) struct Prim {
     pub(crate) positions: Vec<DVec3>,
     normals: Option<Vec<DVec3>>,
@@ -36,6 +39,8 @@ pub(crate) struct Primitives {
     pub(crate) wire: Wire,
     /// Some wire primitive had no normals: the points are drawn unlit.
     wire_unlit: bool,
+    /// The moving primitives' sources: (index in `prims`, source, node, applied skin).
+    pub(crate) sources: Vec<(usize, Source, usize, Option<usize>)>,
 }
 
 impl Primitives {
@@ -85,6 +90,8 @@ pub(crate) struct Instance<'a> {
     up: UpAxis,
     /// The `KHR_materials_variants` variant drawn, if one was chosen.
     variant: Option<usize>,
+    /// How the node's mesh moves (skin, morph targets, animation), if it does.
+    moving: Option<Moving<'a>>,
     buffers: &'a accessor::Buffers,
     /// The glTF file, named by warnings.
     path: &'a Path,
@@ -107,6 +114,7 @@ impl<'a> Instance<'a> {
             mirrored: world.determinant() < 0.0,
             up,
             variant: None,
+            moving: None,
             buffers,
             path,
         }
@@ -115,6 +123,12 @@ impl<'a> Instance<'a> {
     /// The same instance, its primitives taking `variant`'s materials where they map it.
     pub(crate) fn with_variant(self, variant: Option<usize>) -> Self {
         Instance { variant, ..self }
+    }
+
+    /// The same instance, its primitives read as moving ones (posed now in the static
+    /// pose, their sources kept for other poses).
+    pub(crate) fn with_moving(self, moving: Option<Moving<'a>>) -> Self {
+        Instance { moving, ..self }
     }
 
     fn warn(&self, warnings: &mut Vec<Warning>, message: String) {
@@ -168,10 +182,16 @@ impl<'a> Instance<'a> {
                     .extend(segments.iter().map(|s| [base + s[0], base + s[1]]));
                 continue;
             }
-            let normals = self.normals(&p, &where_, warnings)?;
+            let (positions, normals, tangents) = match self.moving {
+                Some(m) => self.posed(&p, m, &where_(), out, warnings)?,
+                None => (
+                    positions,
+                    self.normals(&p, &where_, warnings)?,
+                    self.tangents(&p, &where_, warnings)?,
+                ),
+            };
             let uvs = self.uv_set(&p, 0, warnings)?;
             let uv1 = self.uv_set(&p, 1, warnings)?;
-            let tangents = self.tangents(&p, &where_, warnings)?;
             let (colors, alphas) = self.colors(&p)?;
             out.prims.push(Prim {
                 positions,
@@ -190,6 +210,36 @@ impl<'a> Instance<'a> {
             });
         }
         Ok(())
+    }
+
+    /// A moving primitive's attributes in the static pose (skinned by its skin's joints or
+    /// carried by the node, morphed by the static weights); its source is recorded in `out`
+    /// for the next `prims` entry.
+    fn posed(
+        &self,
+        p: &gltf::Primitive,
+        m: Moving,
+        label: &str,
+        out: &mut Primitives,
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Placed, String> {
+        let mut warn = |message| self.warn(warnings, message);
+        let src = super::motion::source::read(
+            p,
+            self.buffers,
+            m.skin.map(|s| s.1.len()),
+            label,
+            &mut warn,
+        )?;
+        let deform = match m.skin {
+            Some((_, joints)) if !src.sets.is_empty() => Deform::Skin(joints),
+            _ => Deform::Node(self.world),
+        };
+        let placed = src.place(&deform, m.weights, self.up, false);
+        check_range(&placed.0).map_err(|e| format!("{label}: node {}: {e}", self.node))?;
+        let skin = m.skin.map(|s| s.0).filter(|_| !src.sets.is_empty());
+        out.sources.push((out.prims.len(), src, self.node, skin));
+        Ok(placed)
     }
 
     /// The POSITION accessor's points in world coordinates; an error if one is not finite, or
@@ -354,7 +404,35 @@ impl<'a> Instance<'a> {
     }
 }
 
+/// An error if a placed position is not finite or beyond f32 (it would become infinite when
+/// rounded after re-centring).
+pub(crate) fn check_range(positions: &[DVec3]) -> Result<(), String> {
+    if positions
+        .iter()
+        .any(|q| !q.is_finite() || q.abs().max_element() > f64::from(f32::MAX))
+    {
+        return Err("the pose places positions beyond 32-bit float range".into());
+    }
+    Ok(())
+}
+
 impl Prim {
+    /// The same primitive with other positions, normals and tangents (a pose's).
+    pub(crate) fn with_geometry(&self, (positions, normals, tangents): Placed) -> Prim {
+        Prim {
+            positions,
+            normals,
+            tangents,
+            uvs: self.uvs.clone(),
+            uv1: self.uv1.clone(),
+            colors: self.colors.clone(),
+            alphas: self.alphas.clone(),
+            indices: self.indices.clone(),
+            material: self.material,
+            name: self.name.clone(),
+        }
+    }
+
     /// The mesh, re-centred on `origin`: attributes of another length than the positions are
     /// dropped, a material index past the file's materials becomes `default_material`, and
     /// normals are generated where the file gave none.

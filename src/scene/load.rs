@@ -93,7 +93,8 @@ pub fn load_prepared(
     let mut scene = load_uncached(path, opts, &mut content)?;
     // The entry holds everything a format gives (colours, both UV sets, tangents, lines,
     // points, decoded textures), so every format is cached.
-    if !(cached && super::cache::worth_an_entry(size, &scene)) {
+    // A scene that moves is not cached: the entry holds meshes, not the rig that poses them.
+    if !(cached && scene.motion.is_none() && super::cache::worth_an_entry(size, &scene)) {
         return Ok((scene, None));
     }
     // The levels of detail are built here, once, for the entry and for this picture alike

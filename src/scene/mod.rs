@@ -215,6 +215,17 @@ pub struct Warning {
     pub message: String,
 }
 
+impl Warning {
+    /// A warning about the whole file (no line).
+    pub(crate) fn of(file: &std::path::Path, message: String) -> Warning {
+        Warning {
+            file: file.to_path_buf(),
+            line: None,
+            message,
+        }
+    }
+}
+
 impl std::fmt::Display for Warning {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}", self.file.display())?;

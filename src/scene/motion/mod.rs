@@ -3,7 +3,22 @@
 //! own path with other node transforms and morph weights: the still at a moment, a frame of
 //! an animated picture and a frame played in the window are made by the same code, so they
 //! are the same picture. No GL.
-use super::Scene;
+//!
+//! Reading and checking: `read` (animations, skins) and `source` (a moving primitive's
+//! streams); sampling a channel: `sample`; node transforms and vertices: `pose`.
+pub(crate) mod pose;
+pub(crate) mod read;
+pub(crate) mod rig;
+pub(crate) mod sample;
+pub(crate) mod source;
+#[cfg(test)]
+mod tests;
+
+pub(crate) use rig::{Moving, Part, Plan};
+
+use super::{Bounds, Scene};
+use crate::error::Result;
+use std::sync::OnceLock;
 
 /// A moment of one of the file's animations.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,12 +39,34 @@ pub struct AnimationInfo {
     pub channels: usize,
 }
 
+/// What a channel moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Path {
+    Translation,
+    Rotation,
+    Scale,
+    Weights,
+}
+
 /// The file's skins, morph targets and animations, and the meshes they pose.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct Rig {
     animations: Vec<AnimationInfo>,
     /// The scene meshes a pose rewrites (sorted).
     meshes: Vec<usize>,
+    plan: Plan,
+    parts: Vec<Part>,
+    /// What the loader re-centred and built the meshes with.
+    origin: glam::DVec3,
+    up: super::UpAxis,
+    default_material: usize,
+    creases: super::normals::Creases,
+    path: std::path::PathBuf,
+    /// Bounds of the static pose (the loaded scene's), and of what never moves.
+    static_bounds: Bounds,
+    still_bounds: Bounds,
+    /// Per animation: the bounds of every moment of it (sampled), computed on first use.
+    framing: Vec<OnceLock<Bounds>>,
 }
 
 impl Rig {
@@ -37,6 +74,18 @@ impl Rig {
     /// triangles move) and are uploaded again after each pose.
     pub fn meshes(&self) -> &[usize] {
         &self.meshes
+    }
+
+    /// `--check`'s lines: skins (joints), morph targets and animations (channels, duration).
+    pub(crate) fn check_lines(&self) -> Vec<String> {
+        let mut out = self.plan.check_lines();
+        for (i, a) in self.animations.iter().enumerate() {
+            out.push(format!(
+                "animation {i} \"{}\": {} channels, {:.3} s",
+                a.name, a.channels, a.duration
+            ));
+        }
+        out
     }
 }
 
@@ -48,9 +97,35 @@ impl Scene {
 
     /// Poses the meshes at `moment` (None: the static pose, as loaded) and returns the
     /// indices of the meshes whose vertices were rewritten (their vertex count may change:
-    /// generated normals are generated again). Without a rig nothing changes.
-    pub fn pose(&mut self, moment: Option<Moment>) -> crate::error::Result<Vec<usize>> {
-        let _ = moment;
-        Ok(Vec::new())
+    /// generated normals are generated again). The bounds become the animation's framing
+    /// bounds (the same for every moment of it: a camera fitted to them does not follow
+    /// the motion), or the static pose's. Without a rig nothing changes.
+    pub fn pose(&mut self, moment: Option<Moment>) -> Result<Vec<usize>> {
+        let Some(rig) = self.motion.clone() else {
+            return Ok(Vec::new());
+        };
+        if let Some(m) = moment {
+            if m.animation >= rig.animations.len() || !m.seconds.is_finite() {
+                return Err(crate::Error::model(
+                    &rig.path,
+                    None,
+                    format!(
+                        "no moment {:.3} s of animation {} (the file has {})",
+                        m.seconds,
+                        m.animation,
+                        rig.animations.len()
+                    ),
+                ));
+            }
+        }
+        let meshes = rig.posed_meshes(moment)?;
+        for (i, mesh) in rig.meshes.iter().zip(meshes) {
+            self.meshes[*i] = mesh;
+        }
+        self.bounds = match moment {
+            None => rig.static_bounds,
+            Some(m) => rig.framing(m.animation),
+        };
+        Ok(rig.meshes.clone())
     }
 }

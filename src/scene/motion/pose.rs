@@ -1,0 +1,229 @@
+//! Posing on the CPU: node transforms at a moment (the file's own, or an animation's
+//! sampled translation, rotation and scale), then each moving primitive's vertices morphed
+//! (position, normal and tangent deltas times the weights) and carried to the scene by its
+//! node's transform or, skinned, by the weighted sum of its joints' matrices. The static
+//! pose of an unskinned primitive uses the loader's own formulas (`gltf_primitive`), so a
+//! file's still does not move by a rounding when its meshes become posable.
+use super::read::{Animation, Skin};
+use super::Path;
+use crate::scene::UpAxis;
+use glam::{DMat3, DMat4, DVec3, Mat4, Quat, Vec3};
+
+/// A node's translation, rotation (x, y, z, w) and scale.
+pub(crate) type Trs = ([f32; 3], [f32; 4], [f32; 3]);
+/// One JOINTS_n set with its WEIGHTS_n.
+pub(crate) type JointSet = (Vec<[u16; 4]>, Vec<[f32; 4]>);
+
+/// The drawn scene's nodes: the walk's order (parents first), each node's parent, its own
+/// transform as the file gives it, and the morph weights its mesh takes without an
+/// animation (the node's `weights`, else the mesh's, else zeros).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Graph {
+    pub(crate) order: Vec<usize>,
+    pub(crate) parent: Vec<Option<usize>>,
+    pub(crate) local: Vec<DMat4>,
+    pub(crate) rest: Vec<Trs>,
+    pub(crate) weights: Vec<Vec<f32>>,
+}
+
+/// Node transforms and morph weights of one moment.
+pub(crate) struct Posed {
+    pub(crate) world: Vec<DMat4>,
+    /// Per node: the animated weights, where a channel sets them.
+    pub(crate) weights: Vec<Option<Vec<f32>>>,
+}
+
+impl Graph {
+    /// The world transforms (by node index; identity for nodes outside the scene) with
+    /// `anim`'s channels sampled at its time: a node no channel moves keeps the file's own
+    /// matrix, so the static pose is the loader's to the bit.
+    pub(crate) fn pose(&self, anim: Option<(&Animation, f64)>) -> Posed {
+        let n = self.local.len();
+        let mut local = self.local.clone();
+        let mut weights = vec![None; n];
+        if let Some((a, t)) = anim {
+            let mut trs: Vec<Option<Trs>> = vec![None; n];
+            for c in &a.channels {
+                let v = c.keys.sample(t);
+                if c.path == Path::Weights {
+                    weights[c.node] = Some(v);
+                    continue;
+                }
+                let e = trs[c.node].get_or_insert(self.rest[c.node]);
+                match c.path {
+                    Path::Translation => e.0 = [v[0], v[1], v[2]],
+                    Path::Rotation => e.1 = [v[0], v[1], v[2], v[3]],
+                    Path::Scale => e.2 = [v[0], v[1], v[2]],
+                    Path::Weights => {}
+                }
+            }
+            for (i, e) in trs.into_iter().enumerate() {
+                if let Some((t, r, s)) = e {
+                    local[i] = Mat4::from_scale_rotation_translation(
+                        Vec3::from(s),
+                        Quat::from_array(r),
+                        Vec3::from(t),
+                    )
+                    .as_dmat4();
+                }
+            }
+        }
+        let mut world = vec![DMat4::IDENTITY; n];
+        for &i in &self.order {
+            let up = self.parent[i].map_or(DMat4::IDENTITY, |p| world[p]);
+            world[i] = up * local[i];
+        }
+        Posed { world, weights }
+    }
+}
+
+/// One morph target's deltas (each None where the target does not move that attribute).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Target {
+    pub(crate) positions: Option<Vec<f32>>,
+    pub(crate) normals: Option<Vec<f32>>,
+    pub(crate) tangents: Option<Vec<f32>>,
+}
+
+/// A moving primitive's vertex data as the file gives it, in the mesh's own space.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Source {
+    pub(crate) positions: Vec<f32>,
+    pub(crate) normals: Option<Vec<f32>>,
+    pub(crate) tangents: Option<Vec<f32>>,
+    pub(crate) targets: Vec<Target>,
+    /// JOINTS_n and WEIGHTS_n sets (indices checked against the skin's joints).
+    pub(crate) sets: Vec<JointSet>,
+}
+
+/// What carries a primitive into the scene.
+pub(crate) enum Deform<'a> {
+    /// Its node's world transform.
+    Node(DMat4),
+    /// Its skin's joint matrices (joint world × inverse bind).
+    Skin(&'a [DMat4]),
+}
+
+/// Positions, normals and tangents placed in the scene's (up-rotated, not re-centred) space.
+pub(crate) type Placed = (Vec<DVec3>, Option<Vec<DVec3>>, Option<Vec<[f32; 4]>>);
+
+/// The joint matrices of `skin` in the pose `world`.
+pub(crate) fn joint_matrices(skin: &Skin, world: &[DMat4]) -> Vec<DMat4> {
+    skin.joints
+        .iter()
+        .zip(&skin.inverse_bind)
+        .map(|(&j, ib)| world[j] * *ib)
+        .collect()
+}
+
+impl Source {
+    fn count(&self) -> usize {
+        self.positions.len() / 3
+    }
+
+    /// The morphed attribute `get` of vertex i (`width` floats: 3, or 4 for tangents whose
+    /// fourth, the handedness, no target moves).
+    fn morphed(
+        &self,
+        base: &[f32],
+        width: usize,
+        get: fn(&Target) -> Option<&Vec<f32>>,
+        weights: &[f32],
+        i: usize,
+    ) -> DVec3 {
+        let b = &base[i * width..];
+        let mut v = Vec3::new(b[0], b[1], b[2]).as_dvec3();
+        for (t, &w) in self.targets.iter().zip(weights) {
+            if w == 0.0 {
+                continue;
+            }
+            if let Some(d) = get(t) {
+                let d = &d[i * 3..];
+                v += f64::from(w) * Vec3::new(d[0], d[1], d[2]).as_dvec3();
+            }
+        }
+        v
+    }
+
+    /// The skinning matrix of vertex i: its joints' matrices weighted (every set).
+    fn skin_matrix(&self, joints: &[DMat4], i: usize) -> DMat4 {
+        let mut m = DMat4::ZERO;
+        for (js, ws) in &self.sets {
+            for k in 0..4 {
+                let w = ws[i][k];
+                if w != 0.0 {
+                    m += joints[usize::from(js[i][k])] * f64::from(w);
+                }
+            }
+        }
+        m
+    }
+
+    /// The vertices placed by `deform` with `weights` (the morph targets'), turned to the up
+    /// axis; normals and tangents skipped when `positions_only` (bounds of a pose).
+    pub(crate) fn place(
+        &self,
+        deform: &Deform,
+        weights: &[f32],
+        up: UpAxis,
+        positions_only: bool,
+    ) -> Placed {
+        let n = self.count();
+        let matrix = |i: usize| match deform {
+            Deform::Node(m) => *m,
+            Deform::Skin(j) => self.skin_matrix(j, i),
+        };
+        let positions = (0..n)
+            .map(|i| {
+                let p = self.morphed(&self.positions, 3, |t| t.positions.as_ref(), weights, i);
+                up.rotate(matrix(i).transform_point3(p))
+            })
+            .collect();
+        if positions_only {
+            return (positions, None, None);
+        }
+        let normals = self.normals.as_ref().and_then(|base| {
+            let node_m = match deform {
+                Deform::Node(m) => Some(DMat3::from_mat4(*m).inverse().transpose()),
+                Deform::Skin(_) => None,
+            };
+            // A node without a normal matrix (a zero scale): normals are generated, as the
+            // loader does; a skinned vertex whose matrix is singular gets an unusable normal
+            // that the mesh's repair replaces.
+            if node_m.is_some_and(|m| !m.is_finite()) {
+                return None;
+            }
+            Some(
+                (0..n)
+                    .map(|i| {
+                        let v = self.morphed(base, 3, |t| t.normals.as_ref(), weights, i);
+                        let m = node_m
+                            .unwrap_or_else(|| DMat3::from_mat4(matrix(i)).inverse().transpose());
+                        up.rotate(m * v)
+                    })
+                    .collect(),
+            )
+        });
+        let node_singular = match deform {
+            Deform::Node(m) => !DMat3::from_mat4(*m).inverse().is_finite(),
+            Deform::Skin(_) => false,
+        };
+        let tangents = self
+            .tangents
+            .as_ref()
+            .filter(|_| !node_singular)
+            .map(|base| {
+                (0..n)
+                    .map(|i| {
+                        let v = self.morphed(base, 4, |t| t.tangents.as_ref(), weights, i);
+                        let m3 = DMat3::from_mat4(matrix(i));
+                        let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
+                        let t = up.rotate(m3 * v).normalize_or_zero().as_vec3();
+                        let w = if base[i * 4 + 3] < 0.0 { -flip } else { flip };
+                        [t.x, t.y, t.z, w as f32]
+                    })
+                    .collect()
+            });
+        (positions, normals, tangents)
+    }
+}

@@ -1,0 +1,238 @@
+//! Reading a glTF file's animations and skins, every size bounded before it is read and
+//! every value checked: a sampler whose keys are not finite or not increasing, or whose
+//! output does not match its input, is dropped with a warning (the model still loads, in
+//! its static pose); a skin whose joints lie outside the scene or whose inverse bind
+//! matrices are not invertible is not applied, with a warning.
+use super::sample::{Interp, Keys};
+use super::{AnimationInfo, Path};
+use crate::scene::gltf_accessor::{self as accessor, Buffers};
+use glam::{DMat4, Mat4};
+use gltf::accessor::Dimensions as D;
+use gltf::animation::{Interpolation, Property};
+
+/// Keys of one sampler beyond this are refused before they are read (a million keys is
+/// over nine hours at 30 per second).
+pub(crate) const MAX_KEYS: usize = 1 << 20;
+/// Floats of all the samplers kept (64 MB): later animations are dropped with a warning.
+pub(crate) const MAX_ANIMATION_FLOATS: usize = 1 << 24;
+/// Joints of one skin.
+pub(crate) const MAX_JOINTS: usize = 1 << 16;
+
+/// One channel: a node's translation, rotation, scale or morph weights over time.
+#[derive(Clone, Debug)]
+pub(crate) struct Channel {
+    pub(crate) node: usize,
+    pub(crate) path: Path,
+    pub(crate) keys: Keys,
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct Animation {
+    pub(crate) info: AnimationInfo,
+    pub(crate) channels: Vec<Channel>,
+}
+
+/// A skin glview applies: world transforms of `joints` times `inverse_bind` make the
+/// joint matrices (the skinned node's own transform is ignored, as glTF asks).
+#[derive(Clone, Debug)]
+pub(crate) struct Skin {
+    pub(crate) joints: Vec<usize>,
+    pub(crate) inverse_bind: Vec<DMat4>,
+}
+
+/// Every animation of the file, each with the channels that can be played. `in_scene`
+/// marks the nodes of the drawn scene (channels of other nodes are dropped silently: a file
+/// with several scenes animates them all).
+pub(crate) fn animations(
+    doc: &gltf::Document,
+    buffers: &Buffers,
+    in_scene: &[bool],
+    warn: &mut dyn FnMut(String),
+) -> Vec<Animation> {
+    let mut budget = MAX_ANIMATION_FLOATS;
+    let mut out = Vec::new();
+    for a in doc.animations() {
+        let label = match a.name() {
+            Some(n) => format!("animation {} \"{n}\"", a.index()),
+            None => format!("animation {}", a.index()),
+        };
+        let mut channels = Vec::new();
+        for (ci, c) in a.channels().enumerate() {
+            let node = c.target().node().index();
+            if !in_scene.get(node).copied().unwrap_or(false) {
+                continue;
+            }
+            match channel(&c, buffers, &mut budget) {
+                Ok(keys) => channels.push(Channel {
+                    node,
+                    path: match c.target().property() {
+                        Property::Translation => Path::Translation,
+                        Property::Rotation => Path::Rotation,
+                        Property::Scale => Path::Scale,
+                        Property::MorphTargetWeights => Path::Weights,
+                    },
+                    keys,
+                }),
+                Err(e) => warn(format!(
+                    "{label} channel {ci}: {e}; the channel is not played"
+                )),
+            }
+        }
+        let duration = channels.iter().map(|c| c.keys.end()).fold(0.0f32, f32::max);
+        out.push(Animation {
+            info: AnimationInfo {
+                name: a
+                    .name()
+                    .map_or_else(|| format!("animation {}", a.index()), str::to_string),
+                duration: f64::from(duration),
+                channels: channels.len(),
+            },
+            channels,
+        });
+    }
+    out
+}
+
+/// One channel's keys, checked: the input is finite, strictly increasing scalar seconds;
+/// the output has one value (three for CUBICSPLINE) per key of the property's width.
+fn channel(
+    c: &gltf::animation::Channel,
+    buffers: &Buffers,
+    budget: &mut usize,
+) -> Result<Keys, String> {
+    let s = c.sampler();
+    let (input, output) = (s.input(), s.output());
+    let n = input.count();
+    if n == 0 {
+        return Err("the sampler has no keys".into());
+    }
+    if n > MAX_KEYS {
+        return Err(format!(
+            "{n} keys, more than glview reads ({MAX_KEYS}); refused before reading them"
+        ));
+    }
+    let interp = match s.interpolation() {
+        Interpolation::Step => Interp::Step,
+        Interpolation::Linear => Interp::Linear,
+        Interpolation::CubicSpline => Interp::Cubic,
+    };
+    let per = if interp == Interp::Cubic { 3 } else { 1 };
+    let m = output.count();
+    if m == 0 || m % (n * per) != 0 {
+        return Err(format!(
+            "{m} output values for {n} keys{}",
+            if per == 3 {
+                " (CUBICSPLINE needs three per key)"
+            } else {
+                ""
+            }
+        ));
+    }
+    let (rotation, dims): (bool, &[D]) = match c.target().property() {
+        Property::Translation | Property::Scale => (false, &[D::Vec3]),
+        Property::Rotation => (true, &[D::Vec4]),
+        Property::MorphTargetWeights => (false, &[D::Scalar]),
+    };
+    let weights = c.target().property() == Property::MorphTargetWeights;
+    if !weights && m != n * per {
+        return Err(format!("{m} output values for {n} keys"));
+    }
+    let floats = m.saturating_mul(output.dimensions().multiplicity());
+    if floats.saturating_add(n) > *budget {
+        return Err(format!(
+            "the file's animations hold more than {MAX_ANIMATION_FLOATS} values"
+        ));
+    }
+    let (_, times) = accessor::read_f32(&input, buffers, &[D::Scalar])?;
+    if let Some(k) = times.iter().position(|t| !t.is_finite()) {
+        return Err(format!("key {k}'s time is not finite"));
+    }
+    if let Some(k) = times.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(format!(
+            "key times are not increasing ({} then {} at key {})",
+            times[k],
+            times[k + 1],
+            k + 1
+        ));
+    }
+    let (width, values) = accessor::read_f32(&output, buffers, dims)?;
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err("an output value is not finite".into());
+    }
+    *budget -= floats + n;
+    Ok(Keys {
+        width: if rotation || width == 3 {
+            width
+        } else {
+            m / (n * per)
+        },
+        times,
+        values,
+        interp,
+        rotation,
+    })
+}
+
+/// Every skin of the file; None for a skin that cannot be applied (with a warning).
+pub(crate) fn skins(
+    doc: &gltf::Document,
+    buffers: &Buffers,
+    in_scene: &[bool],
+    warn: &mut dyn FnMut(String),
+) -> Vec<Option<Skin>> {
+    doc.skins()
+        .map(|s| {
+            skin(&s, buffers, in_scene)
+                .map_err(|e| warn(format!("skin {}: {e}; drawn unskinned", s.index())))
+                .ok()
+        })
+        .collect()
+}
+
+fn skin(s: &gltf::Skin, buffers: &Buffers, in_scene: &[bool]) -> Result<Skin, String> {
+    let joints: Vec<usize> = s.joints().map(|j| j.index()).collect();
+    if joints.is_empty() || joints.len() > MAX_JOINTS {
+        return Err(format!(
+            "{} joints (glview applies 1 to {MAX_JOINTS})",
+            joints.len()
+        ));
+    }
+    if let Some(j) = joints
+        .iter()
+        .find(|&&j| !in_scene.get(j).copied().unwrap_or(false))
+    {
+        return Err(format!("joint node {j} is not in the drawn scene"));
+    }
+    let inverse_bind = match s.inverse_bind_matrices() {
+        None => vec![DMat4::IDENTITY; joints.len()],
+        Some(a) => {
+            if a.count() < joints.len() || a.count() > MAX_JOINTS {
+                return Err(format!(
+                    "{} inverse bind matrices for {} joints",
+                    a.count(),
+                    joints.len()
+                ));
+            }
+            let (_, v) = accessor::read_f32(&a, buffers, &[D::Mat4])?;
+            let m: Vec<DMat4> = v
+                .chunks_exact(16)
+                .take(joints.len())
+                .map(|c| Mat4::from_cols_slice(c).as_dmat4())
+                .collect();
+            // A zero scale is as singular as a NaN: nothing it binds can be posed.
+            if let Some(k) = m
+                .iter()
+                .position(|m| m.determinant() == 0.0 || !m.inverse().is_finite())
+            {
+                return Err(format!(
+                    "the inverse bind matrix of joint {k} is not invertible"
+                ));
+            }
+            m
+        }
+    };
+    Ok(Skin {
+        joints,
+        inverse_bind,
+    })
+}

@@ -1,0 +1,323 @@
+//! The loader's side of motion: which nodes' meshes move ([`Plan`], read before the meshes),
+//! the moving primitives' sources ([`Part`]), and the [`Rig`] built from them once the
+//! scene's origin is known, which poses them again at any moment.
+use super::pose::{joint_matrices, Deform, Graph, Posed, Source};
+use super::read::{Animation, Skin};
+use super::{Moment, Rig};
+use crate::error::{Error, Result};
+use crate::scene::gltf_primitive::Prim;
+use crate::scene::{Bounds, LoadOptions, Mesh};
+use glam::DMat4;
+use std::sync::OnceLock;
+
+/// Samples of an animation whose poses bound its framing: evenly spaced moments, and key
+/// times up to this many more.
+const FRAMING_SAMPLES: usize = 64;
+const FRAMING_KEYS: usize = 256;
+
+/// What the loader needs to know before it reads the meshes: the node graph, the usable
+/// skins, the playable animations, and which nodes an animation moves.
+#[derive(Debug, Default)]
+pub(crate) struct Plan {
+    graph: Graph,
+    skins: Vec<Option<Skin>>,
+    animations: Vec<Animation>,
+    /// By node: a channel moves it or one of its ancestors.
+    moved: Vec<bool>,
+    /// By node: it uses EXT_mesh_gpu_instancing (its instances are not posed).
+    instanced: Vec<bool>,
+    /// The static pose, and each usable skin's joint matrices in it.
+    rest: Option<Posed>,
+    rest_joints: Vec<Vec<DMat4>>,
+    /// Per mesh: its primitives' morph target count (most of them).
+    targets: Vec<usize>,
+}
+
+/// How one node's mesh is read when it moves: its skin's static joint matrices and the
+/// morph weights of the static pose.
+#[derive(Clone, Copy)]
+pub(crate) struct Moving<'a> {
+    pub(crate) skin: Option<(usize, &'a [DMat4])>,
+    pub(crate) weights: &'a [f32],
+}
+
+/// A moving primitive: the scene mesh it became, its node and skin, its source data and
+/// the primitive as read (for the streams that do not move).
+#[derive(Debug)]
+pub(crate) struct Part {
+    pub(crate) mesh: usize,
+    pub(crate) node: usize,
+    pub(crate) skin: Option<usize>,
+    pub(crate) src: Source,
+    pub(crate) prim: Prim,
+}
+
+impl std::fmt::Debug for Posed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Posed({} nodes)", self.world.len())
+    }
+}
+
+impl Plan {
+    /// Reads the graph of the drawn scene (`nodes`: the walk's order), the skins and the
+    /// animations; problems are warnings.
+    pub(crate) fn read(
+        doc: &gltf::Document,
+        nodes: &[(usize, DMat4)],
+        buffers: &crate::scene::gltf_accessor::Buffers,
+        warn: &mut dyn FnMut(String),
+    ) -> Plan {
+        let count = doc.nodes().len();
+        let mut graph = Graph {
+            order: nodes.iter().map(|n| n.0).collect(),
+            parent: vec![None; count],
+            local: vec![DMat4::IDENTITY; count],
+            rest: vec![([0.0; 3], [0.0, 0.0, 0.0, 1.0], [1.0; 3]); count],
+            weights: vec![Vec::new(); count],
+        };
+        let mut in_scene = vec![false; count];
+        let mut instanced = vec![false; count];
+        let all: Vec<gltf::Node> = doc.nodes().collect();
+        for &(i, _) in nodes {
+            let n = &all[i];
+            in_scene[i] = true;
+            instanced[i] = n.extension_value("EXT_mesh_gpu_instancing").is_some();
+            graph.local[i] = glam::Mat4::from_cols_array_2d(&n.transform().matrix()).as_dmat4();
+            graph.rest[i] = n.transform().decomposed();
+            graph.weights[i] = n
+                .weights()
+                .or_else(|| n.mesh().and_then(|m| m.weights()))
+                .map(<[f32]>::to_vec)
+                .unwrap_or_default();
+            for c in n.children() {
+                graph.parent[c.index()] = Some(i);
+            }
+        }
+        let animations = super::read::animations(doc, buffers, &in_scene, warn);
+        let skins = super::read::skins(doc, buffers, &in_scene, warn);
+        let mut moved = vec![false; count];
+        for c in animations.iter().flat_map(|a| &a.channels) {
+            moved[c.node] = true;
+        }
+        for &i in &graph.order {
+            if graph.parent[i].is_some_and(|p| moved[p]) {
+                moved[i] = true;
+            }
+        }
+        let targets = doc
+            .meshes()
+            .map(|m| {
+                m.primitives()
+                    .map(|p| p.morph_targets().len())
+                    .max()
+                    .unwrap_or(0)
+            })
+            .collect();
+        let mut plan = Plan {
+            graph,
+            skins,
+            animations,
+            moved,
+            instanced,
+            rest: None,
+            rest_joints: Vec::new(),
+            targets,
+        };
+        let rest = plan.graph.pose(None);
+        plan.rest_joints = plan
+            .skins
+            .iter()
+            .map(|s| {
+                s.as_ref()
+                    .map_or(Vec::new(), |s| joint_matrices(s, &rest.world))
+            })
+            .collect();
+        plan.rest = Some(rest);
+        plan
+    }
+
+    /// How `node`'s `mesh` moves, or None if nothing ever moves it: no usable skin, no
+    /// morph targets, and no animation moving it (an instanced node is never posed).
+    pub(crate) fn moving(
+        &self,
+        node: usize,
+        skin: Option<usize>,
+        mesh: usize,
+    ) -> Option<Moving<'_>> {
+        if self.instanced.get(node).copied().unwrap_or(true) {
+            return None;
+        }
+        let skin = skin
+            .filter(|&s| self.skins.get(s).is_some_and(Option::is_some))
+            .map(|s| (s, self.rest_joints[s].as_slice()));
+        let morphs = self.targets.get(mesh).copied().unwrap_or(0) > 0;
+        let animated = self.moved[node]
+            || skin.is_some_and(|(s, _)| {
+                self.skins[s]
+                    .as_ref()
+                    .is_some_and(|k| k.joints.iter().any(|&j| self.moved[j]))
+            });
+        (skin.is_some() || morphs || animated).then_some(Moving {
+            skin,
+            weights: &self.graph.weights[node],
+        })
+    }
+
+    /// `--check`'s lines for the skins and morph targets.
+    pub(crate) fn check_lines(&self) -> Vec<String> {
+        let mut out: Vec<String> = self
+            .skins
+            .iter()
+            .enumerate()
+            .map(|(i, s)| match s {
+                Some(s) => format!("skin {i}: {} joints", s.joints.len()),
+                None => format!("skin {i}: not applied (see the warnings)"),
+            })
+            .collect();
+        for (m, &t) in self.targets.iter().enumerate().filter(|(_, &t)| t > 0) {
+            out.push(format!("mesh {m}: {t} morph targets"));
+        }
+        out
+    }
+
+    /// Whether anything in the file can move or be posed.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.animations.is_empty() && self.skins.is_empty() && self.targets.iter().all(|&t| t == 0)
+    }
+}
+
+/// What the loader built the meshes with, for posing them again.
+pub(crate) struct Built<'a> {
+    pub(crate) origin: glam::DVec3,
+    pub(crate) default_material: usize,
+    pub(crate) opts: &'a LoadOptions,
+    pub(crate) path: &'a std::path::Path,
+}
+
+impl Rig {
+    /// The rig of a loaded scene: `parts` are its moving primitives, `meshes` all its
+    /// meshes in the static pose and `wire` bounds what lines and points hold.
+    pub(crate) fn new(
+        plan: Plan,
+        parts: Vec<Part>,
+        meshes: &[Mesh],
+        wire: Bounds,
+        b: Built,
+    ) -> Rig {
+        let moving: Vec<usize> = parts.iter().map(|p| p.mesh).collect();
+        let mut still_bounds = wire;
+        let mut static_bounds = wire;
+        for (i, m) in meshes.iter().enumerate() {
+            for v in &m.vertices {
+                static_bounds.include(v.position.into());
+                if !moving.contains(&i) {
+                    still_bounds.include(v.position.into());
+                }
+            }
+        }
+        Rig {
+            animations: plan.animations.iter().map(|a| a.info.clone()).collect(),
+            framing: plan.animations.iter().map(|_| OnceLock::new()).collect(),
+            meshes: moving,
+            plan,
+            parts,
+            origin: b.origin,
+            up: b.opts.up,
+            default_material: b.default_material,
+            creases: b.opts.creases,
+            path: b.path.to_path_buf(),
+            static_bounds,
+            still_bounds,
+        }
+    }
+
+    /// The node transforms of `moment` (None: the static pose).
+    fn posed(&self, moment: Option<Moment>) -> Posed {
+        self.plan
+            .graph
+            .pose(moment.map(|m| (&self.plan.animations[m.animation], m.seconds)))
+    }
+
+    /// Each part's vertices placed in `posed` (`positions_only`: for bounds).
+    fn place_all(&self, posed: &Posed, positions_only: bool) -> Vec<super::pose::Placed> {
+        let joints: Vec<Vec<DMat4>> = self
+            .plan
+            .skins
+            .iter()
+            .map(|s| {
+                s.as_ref()
+                    .map_or(Vec::new(), |s| joint_matrices(s, &posed.world))
+            })
+            .collect();
+        self.parts
+            .iter()
+            .map(|p| {
+                let deform = match p.skin {
+                    Some(s) if !p.src.sets.is_empty() => Deform::Skin(&joints[s]),
+                    _ => Deform::Node(posed.world[p.node]),
+                };
+                let weights = posed.weights[p.node]
+                    .as_deref()
+                    .unwrap_or(&self.plan.graph.weights[p.node]);
+                p.src.place(&deform, weights, self.up, positions_only)
+            })
+            .collect()
+    }
+
+    /// The moving meshes at `moment`, built as the loader builds them.
+    pub(crate) fn posed_meshes(&self, moment: Option<Moment>) -> Result<Vec<Mesh>> {
+        let posed = self.posed(moment);
+        let opts = LoadOptions {
+            creases: self.creases,
+            ..LoadOptions::default()
+        };
+        self.place_all(&posed, false)
+            .into_iter()
+            .zip(&self.parts)
+            .map(|(placed, p)| {
+                crate::scene::gltf_primitive::check_range(&placed.0)
+                    .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", p.node)))?;
+                Ok(p.prim.with_geometry(placed).into_mesh(
+                    self.origin,
+                    self.default_material,
+                    &opts,
+                ))
+            })
+            .collect()
+    }
+
+    /// The bounds of every moment of `animation`: its poses at evenly spaced moments and at
+    /// its key times (at most [`FRAMING_SAMPLES`] + [`FRAMING_KEYS`] poses), with what
+    /// never moves.
+    pub(crate) fn framing(&self, animation: usize) -> Bounds {
+        *self.framing[animation].get_or_init(|| {
+            let a = &self.plan.animations[animation];
+            let d = a.info.duration;
+            let mut times: Vec<f64> = (0..=FRAMING_SAMPLES)
+                .map(|k| d * k as f64 / FRAMING_SAMPLES as f64)
+                .collect();
+            let mut keys: Vec<f64> = a
+                .channels
+                .iter()
+                .flat_map(|c| c.keys.times.iter().map(|&t| f64::from(t)))
+                .collect();
+            keys.sort_by(f64::total_cmp);
+            keys.dedup();
+            let step = keys.len().div_ceil(FRAMING_KEYS).max(1);
+            times.extend(keys.iter().step_by(step));
+            let mut b = self.still_bounds;
+            for t in times {
+                let posed = self.posed(Some(Moment {
+                    animation,
+                    seconds: t,
+                }));
+                for (positions, _, _) in self.place_all(&posed, true) {
+                    for q in positions {
+                        b.include((q - self.origin).as_vec3());
+                    }
+                }
+            }
+            b
+        })
+    }
+}

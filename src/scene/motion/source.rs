@@ -1,0 +1,164 @@
+//! A moving primitive's vertex data read as the file gives it (mesh space): positions,
+//! normals, tangents, morph targets' deltas and the JOINTS_n/WEIGHTS_n sets, each checked:
+//! a non-finite normal or tangent is dropped (generated instead) as the static loader does,
+//! a morph target of the wrong size or with non-finite deltas moves nothing, and joint
+//! indices past the skin's joints make the primitive unskinned — each with a warning.
+use super::pose::{JointSet, Source, Target};
+use crate::scene::gltf_accessor::{self as accessor, Buffers};
+use gltf::accessor::Dimensions as D;
+use gltf::mesh::Semantic;
+
+/// Morph targets × vertices of one primitive beyond this are not read (4 M deltas of each
+/// attribute, 48 MB each).
+pub(crate) const MAX_MORPH: usize = 1 << 22;
+
+/// Reads `p`'s streams; `joints` is the applied skin's joint count (None: no skin).
+/// Positions that are not finite are an error (as for every primitive).
+pub(crate) fn read(
+    p: &gltf::Primitive,
+    buffers: &Buffers,
+    joints: Option<usize>,
+    label: &str,
+    warn: &mut dyn FnMut(String),
+) -> Result<Source, String> {
+    let pos = p
+        .get(&Semantic::Positions)
+        .ok_or_else(|| format!("{label}: no POSITION"))?;
+    let (_, positions) = accessor::read_f32(&pos, buffers, &[D::Vec3])?;
+    if let Some(k) = positions.iter().position(|x| !x.is_finite()) {
+        return Err(format!(
+            "accessor {} (POSITION of {label}): element {} is not finite",
+            pos.index(),
+            k / 3
+        ));
+    }
+    let n = positions.len() / 3;
+    let mut finite =
+        |sem: Semantic, width: usize, what: &str| -> Result<Option<Vec<f32>>, String> {
+            let Some(a) = p.get(&sem) else {
+                return Ok(None);
+            };
+            let dims = if width == 4 { D::Vec4 } else { D::Vec3 };
+            let (_, v) = accessor::read_f32(&a, buffers, &[dims])?;
+            if v.len() != n * width || v.iter().any(|x| !x.is_finite()) {
+                warn(format!(
+                    "accessor {} ({what} of {label}): not finite or not one per vertex; {what}s \
+                 generated",
+                    a.index()
+                ));
+                return Ok(None);
+            }
+            Ok(Some(v))
+        };
+    let normals = finite(Semantic::Normals, 3, "NORMAL")?;
+    let tangents = finite(Semantic::Tangents, 4, "TANGENT")?;
+    let targets = targets(p, buffers, n, label, warn)?;
+    let sets = match joints {
+        Some(j) => skin_sets(p, buffers, (n, j), label, warn)?,
+        None => Vec::new(),
+    };
+    Ok(Source {
+        positions,
+        normals,
+        tangents,
+        targets,
+        sets,
+    })
+}
+
+/// The morph targets' deltas; a target that cannot be used stays in its place (the
+/// weights are matched by position) and moves nothing.
+fn targets(
+    p: &gltf::Primitive,
+    buffers: &Buffers,
+    n: usize,
+    label: &str,
+    warn: &mut dyn FnMut(String),
+) -> Result<Vec<Target>, String> {
+    let count = p.morph_targets().len();
+    if count.saturating_mul(n) > MAX_MORPH {
+        warn(format!(
+            "{label}: {count} morph targets of {n} vertices, more than glview reads \
+             ({MAX_MORPH} deltas); not morphed"
+        ));
+        return Ok(Vec::new());
+    }
+    let mut out = Vec::with_capacity(count);
+    for (ti, t) in p.morph_targets().enumerate() {
+        let mut read = |a: Option<gltf::Accessor>| -> Result<Option<Vec<f32>>, String> {
+            let Some(a) = a else { return Ok(None) };
+            let (_, v) = accessor::read_f32(&a, buffers, &[D::Vec3])?;
+            if v.len() != n * 3 || v.iter().any(|x| !x.is_finite()) {
+                warn(format!(
+                    "{label}: morph target {ti}'s accessor {} is not finite or not one per \
+                     vertex; it moves nothing",
+                    a.index()
+                ));
+                return Ok(None);
+            }
+            Ok(Some(v))
+        };
+        out.push(Target {
+            positions: read(t.positions())?,
+            normals: read(t.normals())?,
+            tangents: read(t.tangents())?,
+        });
+    }
+    Ok(out)
+}
+
+/// JOINTS_n with WEIGHTS_n for every n the primitive has; empty (drawn unskinned, with a
+/// warning) if a weighted joint index is past the skin's `joints`, or a set is malformed.
+fn skin_sets(
+    p: &gltf::Primitive,
+    buffers: &Buffers,
+    (n, joints): (usize, usize),
+    label: &str,
+    warn: &mut dyn FnMut(String),
+) -> Result<Vec<JointSet>, String> {
+    let mut sets = Vec::new();
+    for set in 0.. {
+        let (Some(ja), Some(wa)) = (
+            p.get(&Semantic::Joints(set)),
+            p.get(&Semantic::Weights(set)),
+        ) else {
+            break;
+        };
+        let (_, j) = accessor::read_f32(&ja, buffers, &[D::Vec4])?;
+        let (_, w) = accessor::read_f32(&wa, buffers, &[D::Vec4])?;
+        if j.len() != n * 4 || w.len() != n * 4 || w.iter().any(|x| !x.is_finite()) {
+            warn(format!(
+                "{label}: JOINTS_{set}/WEIGHTS_{set} are not one finite VEC4 per vertex; \
+                 drawn unskinned"
+            ));
+            return Ok(Vec::new());
+        }
+        let bad = j
+            .iter()
+            .zip(&w)
+            .position(|(&j, &w)| w != 0.0 && !(j >= 0.0 && (j as usize) < joints));
+        if let Some(k) = bad {
+            warn(format!(
+                "{label}: vertex {} names joint {} of a skin with {joints} joints; drawn \
+                 unskinned",
+                k / 4,
+                j[k]
+            ));
+            return Ok(Vec::new());
+        }
+        let js = j
+            .chunks_exact(4)
+            .zip(w.chunks_exact(4))
+            .map(|(j, w)| {
+                // An unweighted slot may name any joint: it is read as joint 0, unused.
+                std::array::from_fn(|k| if w[k] == 0.0 { 0 } else { j[k] as u16 })
+            })
+            .collect();
+        let ws = w
+            .chunks_exact(4)
+            .map(|w| [w[0], w[1], w[2], w[3]])
+            .collect();
+        sets.push((js, ws));
+    }
+    Ok(sets)
+}

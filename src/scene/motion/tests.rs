@@ -1,0 +1,376 @@
+//! Posing tests (no GL) on generated files: a skin whose nodes pose it away from its bind
+//! pose, morph weights from the mesh, the node and an animation, the framing bounds, and
+//! hostile files (each a warning naming the problem, never a panic, bounded memory).
+use super::Moment;
+use crate::scene::load::load_bytes;
+use crate::scene::{LoadOptions, Scene};
+use glam::Vec3;
+use std::path::Path;
+
+/// A GLB under construction: one binary buffer, views and accessors appended.
+#[derive(Default)]
+pub(crate) struct Glb {
+    bin: Vec<u8>,
+    views: Vec<String>,
+    accessors: Vec<String>,
+}
+
+impl Glb {
+    fn view(&mut self, bytes: &[u8]) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        self.views.push(format!(
+            r#"{{"buffer":0,"byteOffset":{},"byteLength":{}}}"#,
+            self.bin.len(),
+            bytes.len()
+        ));
+        self.bin.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    /// A float accessor of `kind` (SCALAR, VEC3, VEC4, MAT4); `count` may claim more
+    /// elements than the data holds (a hostile file).
+    pub(crate) fn floats(&mut self, data: &[f32], kind: &str, count: usize) -> usize {
+        let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_le_bytes()).collect();
+        let v = self.view(&bytes);
+        let minmax = if kind == "VEC3" && data.iter().all(|x| x.is_finite()) {
+            let col = |c: usize, f: fn(f32, f32) -> f32| {
+                data.iter().skip(c).step_by(3).copied().fold(data[c], f)
+            };
+            format!(
+                r#","min":[{},{},{}],"max":[{},{},{}]"#,
+                col(0, f32::min),
+                col(1, f32::min),
+                col(2, f32::min),
+                col(0, f32::max),
+                col(1, f32::max),
+                col(2, f32::max)
+            )
+        } else {
+            String::new()
+        };
+        self.accessors.push(format!(
+            r#"{{"bufferView":{v},"componentType":5126,"count":{count},"type":"{kind}"{minmax}}}"#
+        ));
+        self.accessors.len() - 1
+    }
+
+    pub(crate) fn u16s(&mut self, data: &[u16], kind: &str) -> usize {
+        let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_le_bytes()).collect();
+        let v = self.view(&bytes);
+        let per = if kind == "VEC4" { 4 } else { 1 };
+        self.accessors.push(format!(
+            r#"{{"bufferView":{v},"componentType":5123,"count":{},"type":"{kind}"}}"#,
+            data.len() / per
+        ));
+        self.accessors.len() - 1
+    }
+
+    /// The GLB of `rest` (the JSON's other members, without braces) and the data.
+    pub(crate) fn bytes(&self, rest: &str) -> Vec<u8> {
+        let mut bin = self.bin.clone();
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        let mut json = format!(
+            r#"{{"asset":{{"version":"2.0"}},"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{}],{rest}}}"#,
+            bin.len(),
+            self.views.join(","),
+            self.accessors.join(",")
+        )
+        .into_bytes();
+        while !json.len().is_multiple_of(4) {
+            json.push(b' ');
+        }
+        let total = 12 + 8 + json.len() + 8 + bin.len();
+        let mut out = Vec::new();
+        out.extend_from_slice(b"glTF");
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(total as u32).to_le_bytes());
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend_from_slice(&json);
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+        out
+    }
+}
+
+pub(crate) fn load(bytes: &[u8]) -> Scene {
+    load_bytes(Path::new("motion.glb"), bytes, &LoadOptions::default()).expect("loads")
+}
+
+/// Vertex i of mesh m in the file's coordinates (re-centring undone).
+fn at(s: &Scene, m: usize, i: usize) -> Vec3 {
+    Vec3::from(s.meshes[m].vertices[i].position) + s.origin.as_vec3()
+}
+
+fn normal(s: &Scene, m: usize, i: usize) -> Vec3 {
+    Vec3::from(s.meshes[m].vertices[i].normal)
+}
+
+fn near(a: Vec3, b: Vec3) {
+    assert!((a - b).length() < 1e-5, "{a} != {b}");
+}
+
+const TRIANGLE: [f32; 9] = [0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 1.0, 0.0, 0.0];
+
+/// A triangle skinned to two joints: joint 1 sits 1 up the Y axis and its node turns it 90°
+/// about Z — a pose away from the bind pose the inverse bind matrices describe (joint 1 at
+/// (0, 1, 0), unturned). The skinned node's own translation (100, 0, 0) must be ignored.
+fn skinned(joints: &[u16], inverse_bind: &[f32]) -> Vec<u8> {
+    let mut g = Glb::default();
+    let pos = g.floats(&TRIANGLE, "VEC3", 3);
+    let nrm = g.floats(&[1.0, 0.0, 0.0].repeat(3), "VEC3", 3);
+    let j = g.u16s(joints, "VEC4");
+    let w = g.floats(
+        &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0],
+        "VEC4",
+        3,
+    );
+    let ibm = g.floats(inverse_bind, "MAT4", 2);
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    g.bytes(&format!(
+        r#""scene":0,"scenes":[{{"nodes":[0,1]}}],
+"nodes":[{{"mesh":0,"skin":0,"translation":[100,0,0]}},{{"children":[2]}},
+{{"translation":[0,1,0],"rotation":[0,0,{s},{s}]}}],
+"skins":[{{"joints":[1,2],"inverseBindMatrices":{ibm}}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{pos},"NORMAL":{nrm},"JOINTS_0":{j},"WEIGHTS_0":{w}}}}}]}}]"#
+    ))
+}
+
+const IDENTITY_AND_DOWN_1: [f32; 32] = [
+    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, //
+    1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 1.0,
+];
+const JOINTS: [u16; 12] = [0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0];
+
+#[test]
+fn a_skin_is_posed_by_its_joints_not_its_bind_pose_or_its_node() {
+    let s = load(&skinned(&JOINTS, &IDENTITY_AND_DOWN_1));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    // J1 = T(0,1,0)·Rz(90°)·T(0,−1,0): (0,2,0) → (−1,1,0); (1,0,0) → (1,2,0), weighted
+    // half with joint 0 (identity): (1,1,0).
+    near(at(&s, 0, 0), Vec3::ZERO);
+    near(at(&s, 0, 1), Vec3::new(-1.0, 1.0, 0.0));
+    near(at(&s, 0, 2), Vec3::new(1.0, 1.0, 0.0));
+    // Normals are skinned too: turned 90° with joint 1, 45° under the half-and-half matrix.
+    near(normal(&s, 0, 0), Vec3::X);
+    near(normal(&s, 0, 1), Vec3::Y);
+    near(normal(&s, 0, 2), Vec3::new(1.0, 1.0, 0.0).normalize());
+    assert!(
+        s.maps.iter().any(|l| l == "skin 0: 2 joints"),
+        "{:?}",
+        s.maps
+    );
+}
+
+#[test]
+fn a_skin_with_joints_out_of_range_or_a_singular_bind_matrix_is_drawn_unskinned() {
+    let mut bad = JOINTS;
+    bad[4] = 7;
+    let s = load(&skinned(&bad, &IDENTITY_AND_DOWN_1));
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.message.contains("names joint 7")),
+        "{:?}",
+        s.warnings
+    );
+    // Unskinned: the node's transform carries it (translation 100 along X).
+    near(at(&s, 0, 1), Vec3::new(100.0, 2.0, 0.0));
+    let mut singular = IDENTITY_AND_DOWN_1;
+    singular[16..32].fill(0.0);
+    let s = load(&skinned(&JOINTS, &singular));
+    assert!(
+        s.warnings.iter().any(|w| w
+            .message
+            .contains("skin 0: the inverse bind matrix of joint 1 is not invertible")),
+        "{:?}",
+        s.warnings
+    );
+    near(at(&s, 0, 1), Vec3::new(100.0, 2.0, 0.0));
+}
+
+/// A triangle with two morph targets (target 0 lifts every vertex 2 along Z, target 1 moves
+/// it 4 along X), `mesh_weights` and `node_weights` as given, and an animation of the
+/// weights (LINEAR, keys at 0 and 2 s: [0, 0] then [1, 0.5]) and of the node's translation
+/// (STEP: (0,0,0) then (0,10,0) from 1 s).
+fn morphed(mesh_weights: &str, node_weights: &str) -> Vec<u8> {
+    let mut g = Glb::default();
+    let pos = g.floats(&TRIANGLE, "VEC3", 3);
+    let up = g.floats(&[0.0, 0.0, 2.0].repeat(3), "VEC3", 3);
+    let side = g.floats(&[4.0, 0.0, 0.0].repeat(3), "VEC3", 3);
+    let t = g.floats(&[0.0, 2.0], "SCALAR", 2);
+    let wv = g.floats(&[0.0, 0.0, 1.0, 0.5], "SCALAR", 4);
+    let st = g.floats(&[0.0, 1.0], "SCALAR", 2);
+    let tv = g.floats(&[0.0, 0.0, 0.0, 0.0, 10.0, 0.0], "VEC3", 2);
+    g.bytes(&format!(
+        r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0{node_weights}}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{pos}}},
+"targets":[{{"POSITION":{up}}},{{"POSITION":{side}}}]}}]{mesh_weights}}}],
+"animations":[{{"name":"Wave","channels":[{{"sampler":0,"target":{{"node":0,"path":"weights"}}}},
+{{"sampler":1,"target":{{"node":0,"path":"translation"}}}}],
+"samplers":[{{"input":{t},"output":{wv}}},{{"input":{st},"output":{tv},"interpolation":"STEP"}}]}}]"#
+    ))
+}
+
+#[test]
+fn morph_weights_come_from_the_node_else_the_mesh() {
+    let s = load(&morphed(r#","weights":[0.25,0]"#, ""));
+    near(at(&s, 0, 1), Vec3::new(0.0, 2.0, 0.5));
+    let s = load(&morphed(
+        r#","weights":[0.25,0]"#,
+        r#","weights":[0.75,0.5]"#,
+    ));
+    near(at(&s, 0, 1), Vec3::new(2.0, 2.0, 1.5));
+    assert!(s.maps.iter().any(|l| l == "mesh 0: 2 morph targets"));
+    assert!(s
+        .maps
+        .iter()
+        .any(|l| l == "animation 0 \"Wave\": 2 channels, 2.000 s"));
+}
+
+#[test]
+fn an_animation_poses_weights_and_nodes_at_any_moment_and_the_static_pose_returns() {
+    let mut s = load(&morphed("", ""));
+    let rest: Vec<_> = s.meshes[0].vertices.clone();
+    let rest_bounds = s.bounds;
+    // At 0.5 s the weights are a quarter of the way: [0.25, 0.125]; the STEP translation
+    // still holds its first key.
+    let changed = s
+        .pose(Some(Moment {
+            animation: 0,
+            seconds: 0.5,
+        }))
+        .unwrap();
+    assert_eq!(changed, vec![0]);
+    near(at(&s, 0, 1), Vec3::new(0.5, 2.0, 0.5));
+    let framing = s.bounds;
+    // At 1.5 s: [0.75, 0.375] and the node has stepped up 10.
+    s.pose(Some(Moment {
+        animation: 0,
+        seconds: 1.5,
+    }))
+    .unwrap();
+    near(at(&s, 0, 1), Vec3::new(1.5, 12.0, 1.5));
+    // Past the end: the last keys, held.
+    s.pose(Some(Moment {
+        animation: 0,
+        seconds: 9.0,
+    }))
+    .unwrap();
+    near(at(&s, 0, 1), Vec3::new(2.0, 12.0, 2.0));
+    // The framing bounds are the animation's, whatever the moment, and hold every pose.
+    assert_eq!(s.bounds, framing);
+    assert!(framing.max.y - framing.min.y >= 12.0 - 1e-4);
+    s.pose(None).unwrap();
+    assert_eq!(s.meshes[0].vertices, rest);
+    assert_eq!(s.bounds, rest_bounds);
+    assert!(s
+        .pose(Some(Moment {
+            animation: 1,
+            seconds: 0.0
+        }))
+        .is_err());
+}
+
+#[test]
+fn the_same_moment_gives_the_same_vertices() {
+    let mut a = load(&skinned(&JOINTS, &IDENTITY_AND_DOWN_1));
+    let mut b = a.clone();
+    let m = Some(Moment {
+        animation: 0,
+        seconds: 0.3,
+    });
+    // No animation in this file: a moment of it is refused, the static pose is kept.
+    assert!(a.pose(m).is_err());
+    a.pose(None).unwrap();
+    b.pose(None).unwrap();
+    assert_eq!(a.meshes[0].vertices, b.meshes[0].vertices);
+}
+
+/// A one-triangle file whose animation 0 has one translation channel with the given input
+/// accessor (time data and claimed count) and output data.
+fn one_channel(times: &[f32], count: usize, values: &[f32], interp: &str) -> Scene {
+    let mut g = Glb::default();
+    let pos = g.floats(&TRIANGLE, "VEC3", 3);
+    let t = g.floats(times, "SCALAR", count);
+    let v = g.floats(values, "VEC3", values.len() / 3);
+    load(&g.bytes(&format!(
+        r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{pos}}}}}]}}],
+"animations":[{{"channels":[{{"sampler":0,"target":{{"node":0,"path":"translation"}}}}],
+"samplers":[{{"input":{t},"output":{v},"interpolation":"{interp}"}}]}}]"#
+    )))
+}
+
+#[test]
+fn hostile_samplers_are_dropped_with_a_warning() {
+    let warned = |s: &Scene, what: &str| {
+        assert!(
+            s.warnings
+                .iter()
+                .any(|w| w.message.contains(what) && w.message.contains("animation 0 channel 0")),
+            "no warning with {what:?}: {:?}",
+            s.warnings
+        );
+        assert_eq!(s.animations()[0].channels, 0);
+    };
+    let six = [0.0; 6];
+    warned(
+        &one_channel(&[0.0, f32::NAN], 2, &six, "LINEAR"),
+        "not finite",
+    );
+    warned(
+        &one_channel(&[1.0, 0.5], 2, &six, "LINEAR"),
+        "not increasing",
+    );
+    warned(
+        &one_channel(&[0.0, 1.0], 2, &[0.0; 9], "LINEAR"),
+        "3 output values for 2 keys",
+    );
+    warned(
+        &one_channel(&[0.0, 1.0], 2, &six, "CUBICSPLINE"),
+        "three per key",
+    );
+    warned(
+        &one_channel(
+            &[0.0, 1.0],
+            2,
+            &[0.0, f32::INFINITY, 0.0, 0.0, 0.0, 0.0],
+            "STEP",
+        ),
+        "not finite",
+    );
+    // Ten million keys claimed over eight bytes: refused before anything is allocated.
+    warned(
+        &one_channel(&[0.0, 1.0], 10_000_000, &six, "LINEAR"),
+        "10000000 keys",
+    );
+}
+
+#[test]
+fn a_joint_outside_the_drawn_scene_leaves_the_skin_unapplied() {
+    let mut g = Glb::default();
+    let pos = g.floats(&TRIANGLE, "VEC3", 3);
+    let j = g.u16s(&[0; 12], "VEC4");
+    let w = g.floats(&[1.0, 0.0, 0.0, 0.0].repeat(3), "VEC4", 3);
+    // Node 1 is a joint but no scene lists it (nor does any node): its transform is not
+    // defined in the drawn scene.
+    let s = load(&g.bytes(&format!(
+        r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0,"skin":0}},{{"translation":[5,0,0]}}],
+"skins":[{{"joints":[1]}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{pos},"JOINTS_0":{j},"WEIGHTS_0":{w}}}}}]}}]"#
+    )));
+    assert!(
+        s.warnings.iter().any(|w| w
+            .message
+            .contains("skin 0: joint node 1 is not in the drawn scene")),
+        "{:?}",
+        s.warnings
+    );
+    near(at(&s, 0, 1), Vec3::new(0.0, 2.0, 0.0));
+}
