@@ -40,7 +40,17 @@ impl Plan {
         if let Some(f) = AnimFormat::of(path) {
             f.check_fps(m.fps).map_err(err)?;
         }
-        let animation = played(args, scene)?;
+        // A turntable at `--time` turns around that moment, frozen; an animation plays from
+        // its start, so `--time` alone would be ignored: refused instead.
+        let animation = match (m.time, m.turntable) {
+            (Some(_), true) => None,
+            (Some(t), false) => {
+                return Err(err(format!(
+                    "--time {t}: an animated picture plays the animation from 0 s; drop --time, or add --turntable to turn around that moment"
+                )))
+            }
+            (None, _) => played(args, scene)?,
+        };
         let seconds = match (m.duration, animation) {
             (Some(d), _) => f64::from(d),
             (None, Some(a)) if scene.animations()[a].duration > 0.0 => {

@@ -241,6 +241,7 @@ fn bad_values_are_one_line_errors() {
             "50 frames per second",
         ),
         (&["-o", &out("turn.png"), "--turntable"], "animated picture"),
+        (&["-o", &out("at.gif"), "--time", "1"], "--turntable"),
     ];
     for (args, says) in cases {
         let o = run(args, &[]);
