@@ -135,3 +135,48 @@ fn vp8l(frame: &Rgba, alpha: &mut bool) -> Result<Vec<u8>, String> {
         _ => Err("image-webp wrote no VP8L chunk".into()),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::{encode, AnimFormat};
+    use crate::image_out::Rgba;
+
+    fn frame(k: u8, alpha: u8) -> Rgba {
+        let data = (0..5 * 3u32)
+            .flat_map(|i| [i as u8 * 10, k * 40, 200 - i as u8, alpha])
+            .collect();
+        Rgba {
+            width: 5,
+            height: 3,
+            data,
+        }
+    }
+
+    /// Odd sizes (padded chunks), opaque and translucent frames: `image-webp`'s decoder
+    /// reads the file back frame for frame, the alpha flag set only where a frame has alpha,
+    /// and the durations are the rounded ms of 1/fps adding up (24 fps: 42, 41, 42).
+    #[test]
+    fn frames_read_back() {
+        for alpha in [255u8, 128] {
+            let frames: Vec<Rgba> = (0..3).map(|k| frame(k, alpha)).collect();
+            let bytes = encode(AnimFormat::Webp, &frames, 24.0).unwrap();
+            assert_eq!(bytes[20] & super::ALPHA != 0, alpha != 255);
+            let mut d = image_webp::WebPDecoder::new(std::io::Cursor::new(bytes)).unwrap();
+            assert!(d.is_animated());
+            assert_eq!((d.dimensions(), d.num_frames()), ((5, 3), 3));
+            assert_eq!(d.loop_duration(), 125);
+            let channels = if d.has_alpha() { 4 } else { 3 };
+            for (k, f) in frames.iter().enumerate() {
+                let mut buf = vec![0; 5 * 3 * channels];
+                let ms = d.read_frame(&mut buf).unwrap();
+                assert_eq!(ms, [42, 41, 42][k]);
+                let want: Vec<u8> = f
+                    .data
+                    .chunks_exact(4)
+                    .flat_map(|p| p[..channels].to_vec())
+                    .collect();
+                assert_eq!(buf, want, "alpha {alpha}, frame {k}");
+            }
+        }
+    }
+}
