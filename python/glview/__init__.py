@@ -208,6 +208,10 @@ class Renderer:
             r.load("bunny.obj")
             pictures = [r.render(yaw=y) for y in range(0, 360, 15)]
 
+    A glTF animation plays the same way: ``[r.render(time=k / 15) for k in range(45)]`` (and
+    ``animation=`` by index or name) loads and uploads the model once, and each moment uploads
+    again only the meshes its pose moved.
+
     Options given here are the defaults of every :meth:`render`. A renderer draws one picture
     at a time: a call from a second thread while it draws raises :class:`BusyError`."""
 

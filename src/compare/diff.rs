@@ -191,7 +191,8 @@ pub fn diff_tiers(args: &crate::options::Options, tiers_arg: &str) -> Result<Tie
             "--diff takes exactly two tiers, e.g. phong,pbr".into(),
         ));
     }
-    let (scene, clusters) = crate::session::load_scene_prepared(args)?;
+    let (mut scene, clusters) = crate::session::load_scene_prepared(args)?;
+    crate::session::pose_scene(args, &mut scene)?;
     let mut panes = super::render_panes_with(args, scene, clusters, &tiers, true)?;
     let covered = union(&panes.coverage[0], &panes.coverage[1]);
     let (b, a) = (panes.images.pop(), panes.images.pop());

@@ -291,7 +291,8 @@ pub fn compare_image(
     tiers_arg: &str,
 ) -> Result<(Rgba, crate::image_out::PngText)> {
     let tiers = parse_tiers(tiers_arg, "--compare")?;
-    let (scene, clusters) = crate::session::load_scene_prepared(args)?;
+    let (mut scene, clusters) = crate::session::load_scene_prepared(args)?;
+    crate::session::pose_scene(args, &mut scene)?;
     let name = scene.name.clone();
     let panes = render_panes(args, scene, clusters, &tiers)?;
     let (w, h) = args.picture.size;

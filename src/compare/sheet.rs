@@ -59,7 +59,8 @@ pub fn sheet_image(
     args.picture.size = cmd.size;
     let tiers = super::parse_tiers(&cmd.tiers, "--tiers")?;
     let views = angles(cmd, args.camera.pitch)?;
-    let (scene, clusters) = crate::session::load_scene_prepared(&args)?;
+    let (mut scene, clusters) = crate::session::load_scene_prepared(&args)?;
+    crate::session::pose_scene(&args, &mut scene)?;
     let (base, _) = crate::session::frame_settings(&args, &scene)?;
     let (w, h) = args.picture.size;
     let (cols, rows) = (views.len() as u32, tiers.len() as u32);

@@ -56,6 +56,17 @@ impl Buffer {
         }
     }
 
+    /// Rewrites the buffer's bytes from the start with `data`, no longer than the buffer
+    /// (a posed mesh's new vertices: the same objects, no new VAO to record).
+    pub(crate) fn rewrite(&self, data: &[u8]) {
+        // SAFETY: our live buffer is bound and written within the size the caller checked.
+        unsafe {
+            self.gpu.gl.bind_buffer(self.target, Some(self.raw));
+            self.gpu.gl.buffer_sub_data_u8_slice(self.target, 0, data);
+            self.gpu.gl.bind_buffer(self.target, None);
+        }
+    }
+
     pub(crate) fn bind(&self) {
         // SAFETY: raw is a live buffer of this context.
         unsafe { self.gpu.gl.bind_buffer(self.target, Some(self.raw)) }

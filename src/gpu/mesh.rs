@@ -26,6 +26,8 @@ pub(crate) struct GpuMesh {
     pub(crate) index_count: i32,
     /// The indices [`GpuMesh::draw`] draws: the first ones, when levels of detail follow.
     pub(crate) whole_count: i32,
+    /// Bytes of the vertex array and of each optional stream (0: none), as made.
+    bytes: [usize; 4],
 }
 
 /// Attribute location of the optional tangent stream.
@@ -164,7 +166,47 @@ impl GpuMesh {
             },
             index_count: (indices.len() + levels.len()) as i32,
             whole_count: indices.len() as i32,
+            bytes: stream_bytes(vertices, streams),
         })
+    }
+
+    /// Rewrites the mesh's buffers in place with `vertices`, `indices` and `streams` when
+    /// they have the sizes, streams and index type it was made with and it has no levels
+    /// after its indices; returns whether it did (else the caller makes a new mesh).
+    pub(crate) fn rewrite(&self, vertices: &[Vertex], indices: &[u32], streams: Streams) -> bool {
+        let index_type = if vertices.len() <= u16::MAX as usize + 1 {
+            glow::UNSIGNED_SHORT
+        } else {
+            glow::UNSIGNED_INT
+        };
+        let color_size = if streams.colors_rgba.is_some() { 4 } else { 3 };
+        let same = stream_bytes(vertices, streams) == self.bytes
+            && index_type == self.index_type
+            && indices.len() as i32 == self.whole_count
+            && self.whole_count == self.index_count
+            && (self.colors.is_none() || color_size == self.color_size);
+        if !same {
+            return false;
+        }
+        self.vbo.rewrite(bytemuck::cast_slice(vertices));
+        let b = |x: Option<&[u8]>, buf: &Option<Buffer>| {
+            if let (Some(x), Some(buf)) = (x, buf) {
+                buf.rewrite(x);
+            }
+        };
+        b(streams.tangents.map(bytemuck::cast_slice), &self.tangents);
+        match streams.colors_rgba {
+            Some(c) => b(Some(bytemuck::cast_slice(c)), &self.colors),
+            None => b(streams.colors.map(bytemuck::cast_slice), &self.colors),
+        }
+        b(streams.uv1.map(bytemuck::cast_slice), &self.uv1);
+        if index_type == glow::UNSIGNED_SHORT {
+            let small: Vec<u16> = indices.iter().map(|&i| i as u16).collect();
+            self.ibo.rewrite(bytemuck::cast_slice(&small));
+        } else {
+            self.ibo.rewrite(bytemuck::cast_slice(indices));
+        }
+        true
     }
 
     /// Replaces the levels of detail after the mesh's own `indices` (the ones it was made
@@ -253,6 +295,20 @@ impl GpuMesh {
 }
 
 /// An element buffer of `indices` then `levels`, as `index_type` (16- or 32-bit).
+/// Bytes of the vertex array and of the tangent, colour and second-UV streams (0: none).
+fn stream_bytes(vertices: &[Vertex], s: Streams) -> [usize; 4] {
+    let colors = match s.colors_rgba {
+        Some(c) => std::mem::size_of_val(c),
+        None => s.colors.map_or(0, std::mem::size_of_val),
+    };
+    [
+        std::mem::size_of_val(vertices),
+        s.tangents.map_or(0, std::mem::size_of_val),
+        colors,
+        s.uv1.map_or(0, std::mem::size_of_val),
+    ]
+}
+
 fn index_buffer(gpu: &GpuRef, index_type: u32, indices: &[u32], levels: &[u32]) -> Result<Buffer> {
     if index_type == glow::UNSIGNED_SHORT {
         let small: Vec<u16> = indices.iter().chain(levels).map(|&i| i as u16).collect();

@@ -21,6 +21,7 @@ pub(crate) mod overlay;
 pub(crate) mod pbr;
 pub(crate) mod pbr_khr;
 mod plan;
+mod posed;
 pub mod post;
 pub mod programs;
 pub(crate) mod shadow;
@@ -38,6 +39,7 @@ use crate::gpu::GpuRef;
 use crate::scene::{Scene, Vertex};
 use crate::shader::cache::{ProgramCache, ProgramKey, SharedPrograms};
 use crate::Result;
+pub use posed::PoseCost;
 use serde::Serialize;
 use std::time::Instant;
 pub(crate) use upload::SceneGpu;
@@ -294,6 +296,10 @@ pub struct Renderer {
     pub cull_clusters: bool,
     /// Level of detail of large meshes (`--lod`, `--lod-error`).
     pub lod: Lod,
+    /// The moment the scene's meshes are posed at (None: as loaded, the static pose).
+    posed: Option<crate::scene::motion::Moment>,
+    /// What the last [`Renderer::pose`] that changed something cost.
+    pose_cost: PoseCost,
 }
 
 /// Which meshes draw coarser levels, and the error bound in pixels (0: none).
@@ -336,6 +342,8 @@ impl Renderer {
             time_post: false,
             cull_clusters: true,
             lod: Lod::default(),
+            posed: None,
+            pose_cost: PoseCost::default(),
         })
     }
 

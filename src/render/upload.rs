@@ -158,7 +158,7 @@ impl DrawMesh {
 pub(crate) struct SceneGpu {
     pub(crate) scene: Scene,
     pub(crate) meshes: Vec<DrawMesh>,
-    gpu: GpuRef,
+    pub(crate) gpu: GpuRef,
     /// Bytes of vertex and index data uploaded so far (`--stats`).
     pub(crate) uploaded: std::cell::Cell<u64>,
     /// Meshes uploaded whole after a first view drew their compact copies.
@@ -233,7 +233,11 @@ impl SceneGpu {
         let mut uploaded = 0;
         let plan = super::instancing::plan(gpu, &scene);
         for (i, role) in plan.iter().enumerate() {
-            let c = clusters.next().flatten();
+            // Whoever prepared them (a mesh cache entry too), a posed mesh has none.
+            let c = clusters
+                .next()
+                .flatten()
+                .filter(|_| !super::posed::posed_by_rig(&scene, i));
             let (dm, bytes) = match role {
                 Role::Own => draw_mesh(gpu, &scene, i, c)?,
                 Role::Absorbed => (absorbed(), 0),
@@ -345,7 +349,7 @@ fn draw_mesh(
 
 /// Uploads scene mesh `i`, the first of `copies`, to be drawn once per instance; returns it
 /// and the bytes uploaded (one copy and the matrices).
-fn instanced_head(
+pub(crate) fn instanced_head(
     gpu: &GpuRef,
     scene: &Scene,
     i: usize,
@@ -367,7 +371,7 @@ fn instanced_head(
     Ok((dm, bytes + extra))
 }
 
-fn absorbed() -> DrawMesh {
+pub(crate) fn absorbed() -> DrawMesh {
     DrawMesh {
         mesh: Resident::Absorbed,
         material: 0,
@@ -392,8 +396,24 @@ pub(crate) fn whole_draw_mesh(
     gpu: &GpuRef,
     scene: &Scene,
     i: usize,
-    mut clusters: Option<Clusters>,
+    clusters: Option<Clusters>,
 ) -> Result<(DrawMesh, u64)> {
+    whole_draw_mesh_into(gpu, scene, i, clusters, None)
+}
+
+/// As [`whole_draw_mesh`], into `old`'s buffers where they fit ([`GpuMesh::rewrite`]): a
+/// mesh posed anew keeps its GL objects.
+pub(crate) fn whole_draw_mesh_into(
+    gpu: &GpuRef,
+    scene: &Scene,
+    i: usize,
+    mut clusters: Option<Clusters>,
+    old: Option<DrawMesh>,
+) -> Result<(DrawMesh, u64)> {
+    let old = old.and_then(|d| match d.mesh {
+        Resident::Full(g) if d.instances.is_none() => Some(g),
+        _ => None,
+    });
     use crate::scene::meshes::FirstView;
     let m = match scene.meshes.first_view(i) {
         Some(FirstView::Whole(m)) => m,
@@ -407,7 +427,7 @@ pub(crate) fn whole_draw_mesh(
         Some(c) => &c.lod.indices[..],
         None => &[][..],
     };
-    let (mesh, has, bytes) = upload_mesh(gpu, m, mat, levels)?;
+    let (mesh, has, bytes) = upload_mesh_into(gpu, m, mat, levels, old)?;
     // The levels' indices now live on the GPU only.
     if let Some(c) = &mut clusters {
         c.lod.indices = Vec::new();
@@ -498,6 +518,18 @@ fn upload_mesh(
     mat: &crate::scene::Material,
     levels: &[u32],
 ) -> Result<(GpuMesh, Has, u64)> {
+    upload_mesh_into(gpu, m, mat, levels, None)
+}
+
+/// As [`upload_mesh`], into `old`'s buffers when they fit (a posed mesh: same sizes, no
+/// levels), else into new ones.
+fn upload_mesh_into(
+    gpu: &GpuRef,
+    m: &crate::scene::Mesh,
+    mat: &crate::scene::Material,
+    levels: &[u32],
+    old: Option<GpuMesh>,
+) -> Result<(GpuMesh, Has, u64)> {
     // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
     let tangents = (m.has_uv && mat.needs_tangents()).then(|| {
         if m.tangents.len() == m.vertices.len() {
@@ -513,14 +545,17 @@ fn upload_mesh(
         colors_rgba: rgba.as_deref(),
         uv1,
     };
-    let mesh = GpuMesh::with_levels(
-        gpu,
-        &m.vertices,
-        &m.indices,
-        levels,
-        streams,
-        Primitive::Triangles,
-    )?;
+    let mesh = match old {
+        Some(g) if levels.is_empty() && g.rewrite(&m.vertices, &m.indices, streams) => g,
+        _ => GpuMesh::with_levels(
+            gpu,
+            &m.vertices,
+            &m.indices,
+            levels,
+            streams,
+            Primitive::Triangles,
+        )?,
+    };
     let has = Has {
         tangents: tangents.is_some(),
         uv1: uv1.is_some(),

@@ -66,11 +66,20 @@ pub fn levels_of(m: &super::Mesh, clusters: &Clusters) -> Lod {
 }
 
 fn prepare_with(scene: &mut super::Scene, lod: bool) -> Vec<Option<Clusters>> {
+    // The meshes a rig poses move their triangles at every pose: clusters made here would
+    // bound where they were (the renderer draws them whole; render/posed.rs).
+    let posed = scene
+        .motion
+        .as_ref()
+        .map(|r| r.meshes().to_vec())
+        .unwrap_or_default();
     scene
         .meshes
         .iter_mut()
-        .map(|m| {
-            (m.triangle_count() >= MIN_TRIANGLES).then(|| {
+        .enumerate()
+        .map(|(i, m)| {
+            let large = m.triangle_count() >= MIN_TRIANGLES;
+            (large && posed.binary_search(&i).is_err()).then(|| {
                 reorder(&m.vertices, &mut m.indices);
                 let mut c = Clusters::build(&m.vertices, &m.indices);
                 if lod {

@@ -17,6 +17,7 @@
 pub(crate) mod animated;
 mod file_camera;
 pub(crate) mod modes;
+mod moment;
 mod profile;
 pub(crate) mod settings;
 pub(crate) mod text;
@@ -24,6 +25,7 @@ pub(crate) mod view;
 
 pub use animated::{turntable_yaw, AnimTimes};
 pub use modes::{compile_shaders, print_info, render_headless, render_reference};
+pub use moment::{moment, pose_scene};
 pub use profile::Profile;
 pub(crate) use settings::{env_request, reference_env};
 pub use settings::{
@@ -233,6 +235,7 @@ impl Session {
         let mut renderer = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;
         renderer.share_environments(kept.envs.clone());
         renderer.set_environment(env_request(args)?);
+        posed(args, &mut renderer, &mut Profile::default())?;
         draw(&kept.hl, &mut renderer)
     }
 
@@ -562,7 +565,22 @@ fn prepare<'k>(
     // and maps another scene of this context made are shared.
     let r = &mut kept.renderers.last_mut().expect("found or made above").1;
     r.set_environment(env_request(args)?);
+    // Posed before anything reads the scene's bounds (the frame settings fit the camera to
+    // the posed model); a kept renderer at the same moment does nothing here.
+    posed(args, r, profile)?;
     Ok(kept)
+}
+
+/// Poses `r`'s scene at the moment `args` asks ([`moment`]) and records its cost when
+/// something moved.
+fn posed(args: &Options, r: &mut Renderer, profile: &mut Profile) -> Result<()> {
+    let at = moment(args, r.scene())?;
+    let before = r.posed();
+    r.pose(at)?;
+    if before != at {
+        profile.pose = Some(r.pose_cost());
+    }
+    Ok(())
 }
 
 /// The target's depth is the picture's when the frame's passes drew straight into it at

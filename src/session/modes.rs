@@ -49,7 +49,9 @@ pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
             args.picture.size.0, args.picture.size.1
         )));
     }
-    let scene = load_scene(args)?;
+    let mut scene = load_scene(args)?;
+    // Posed as the GPU path poses it, before the camera is fitted to its bounds.
+    super::pose_scene(args, &mut scene)?;
     let shown = super::View::settled(args, &scene)?;
     let settings = crate::frame::FrameSettings::new(&shown, &scene)?;
     let (w, h) = args.picture.size;

@@ -21,6 +21,9 @@ pub struct Profile {
     /// Scenes uploaded for this picture (0 when a kept one drew it: a change of camera,
     /// tier, exposure, bloom or terms uploads nothing).
     pub scene_uploads: u32,
+    /// `--time`: the scene posed for this picture and its posed meshes uploaded again
+    /// (None when it already stood at that moment, or nothing moves).
+    pub pose: Option<crate::render::PoseCost>,
     /// Environment maps made (read or computed, and uploaded) for this picture: 0 when the
     /// context already had them, whichever of its scenes made them.
     pub environments_made: u64,

@@ -46,6 +46,8 @@ mod lighting;
 mod loading;
 mod lod;
 mod models_committed;
+mod motion_render;
+mod motion_truth;
 mod parity;
 mod pbr;
 mod png_words;

@@ -12,6 +12,7 @@ pub mod knobs;
 pub mod load;
 pub mod load_report;
 pub mod lod;
+pub mod motion;
 pub use glview::metrics;
 pub mod pbr;
 pub mod plot;
@@ -82,6 +83,13 @@ pub struct BenchArgs {
     /// With --animated: the model to turn (default: the built-in scene).
     #[arg(long)]
     pub animated_model: Option<PathBuf>,
+    /// Measure playing an animation: the frame time of a skinned figure at 1024x768 posed
+    /// anew each frame (pose and upload apart) against the same model standing still.
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
+    pub motion: bool,
+    /// With --motion: the animated model (default: Khronos' CesiumMan, committed).
+    #[arg(long, default_value = "tests/data/khronos/motion/CesiumMan.glb")]
+    pub motion_model: PathBuf,
     /// With --pbr: Monte Carlo samples per lobe of the reference.
     #[arg(long, default_value_t = 16384)]
     pub pbr_samples: u32,
@@ -105,6 +113,9 @@ pub fn run(args: &BenchArgs) -> glview::Result<()> {
             args.serve_seconds,
             &args.serve_size,
         );
+    }
+    if args.motion {
+        return motion::run_motion(&args.motion_model, (1024, 768));
     }
     if args.khr {
         return khr::run_khr();

@@ -1,0 +1,153 @@
+//! `glview bench --motion`: what playing an animation costs a frame. A skinned figure
+//! (by default Khronos' CesiumMan, committed under tests/data/khronos/motion/) at 1024×768 posed anew every frame — the
+//! CPU pose ([`glview::scene::Scene::pose`]), the posed meshes uploaded again
+//! ([`Renderer::pose`]) and the frame — against the same model standing still at one moment
+//! (the frame alone); the target is a ratio of at most 1.3. A moving model also
+//! makes the frame draw its shadow maps again, which a still one reuses: so the still model
+//! is also timed with its maps redrawn each frame, and everything again without shadows.
+//! Frames are measured in interleaved rounds after a warm-up; medians are reported.
+use super::table::{num, Table};
+use glview::options::Options;
+use glview::render::{FrameSettings, Renderer};
+use glview::scene::motion::Moment;
+use glview::scene::Scene;
+use glview::Result;
+use std::path::Path;
+
+/// Frames per round and row, and rounds.
+const FRAMES: usize = 6;
+const ROUNDS: usize = 10;
+
+pub fn run_motion(model: &Path, size: (u32, u32)) -> Result<()> {
+    let mut o = Options::default();
+    o.picture.size = size;
+    o.load.model = Some(model.to_path_buf());
+    let mut scene = glview::session::load_scene(&o)?;
+    let Some(duration) = scene.animations().first().map(|a| a.duration) else {
+        return Err(glview::Error::Usage(format!(
+            "bench --motion: {} has no animation to play",
+            model.display()
+        )));
+    };
+    // The camera frames the animation's bounds (the same at every moment of it).
+    scene.pose(Some(at(0, duration)))?;
+    let hl = super::open_headless(
+        "motion",
+        size,
+        &format!(
+            "{}: median of {} frames, posed anew each frame vs standing",
+            model.display(),
+            FRAMES * ROUNDS
+        ),
+    )?;
+    let mut table = Table::new(&[
+        "model",
+        "shadows",
+        "frame ms (median)",
+        "pose ms",
+        "upload ms",
+        "meshes posed",
+        "bytes uploaded",
+        "vs still",
+    ]);
+    let name = model
+        .file_stem()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let mut ratios = Vec::new();
+    for shadows in [true, false] {
+        o.shadow.enabled = shadows;
+        let (s, _) = glview::session::frame_settings(&o, &scene)?;
+        let t = measure(&hl, &scene, &s, duration)?;
+        let on = if shadows { "on" } else { "off" };
+        let row = |what: &str, ms: f64, pose: &[String]| {
+            let mut r = vec![format!("{name}, {what}"), on.into(), num(ms, 2)];
+            r.extend_from_slice(pose);
+            r.push(format!("{:.2}x", ms / t.still));
+            r
+        };
+        let none = ["-".into(), "-".into(), "0".into(), "0".into()];
+        table.row(row("still", t.still, &none));
+        if shadows {
+            table.row(row("still, shadow maps redrawn", t.redrawn, &none));
+        }
+        let c = t.cost;
+        let posed = [
+            num(t.pose, 2),
+            num(t.upload, 2),
+            c.meshes.to_string(),
+            c.bytes.to_string(),
+        ];
+        table.row(row("playing", t.playing, &posed));
+        ratios.push((on, t.playing / t.still));
+    }
+    println!("{}", table.render());
+    for (on, r) in ratios {
+        let verdict = if r <= 1.3 { "met" } else { "NOT met" };
+        println!("shadows {on}: playing/still {r:.2} (target <= 1.3): {verdict}");
+    }
+    Ok(())
+}
+
+/// Moment `k` of animation 0 at 30 frames a second, wrapping: every frame another moment.
+fn at(k: usize, duration: f64) -> Moment {
+    Moment {
+        animation: 0,
+        seconds: (k as f64 / 30.0) % duration.max(1e-3),
+    }
+}
+
+/// Median frame times of one setting, and the pose's own cost.
+struct Times {
+    still: f64,
+    redrawn: f64,
+    playing: f64,
+    pose: f64,
+    upload: f64,
+    cost: glview::render::PoseCost,
+}
+
+/// The still model's frames (maps reused, and redrawn), and the playing one's (pose, upload
+/// and frame), interleaved round by round so the machine's bursts spread over all three.
+fn measure(
+    hl: &glview::headless::Headless,
+    scene: &Scene,
+    s: &FrameSettings,
+    duration: f64,
+) -> Result<Times> {
+    let mut still = Renderer::new(&hl.gpu, scene.clone())?;
+    still.pose(Some(at(0, duration)))?;
+    let mut playing = Renderer::new(&hl.gpu, scene.clone())?;
+    // Warm-up: programs compiled, shadow maps and textures made.
+    still.render(s, &hl.target())?;
+    playing.pose(Some(at(1, duration)))?;
+    playing.render(s, &hl.target())?;
+    let mut ms: [Vec<f64>; 5] = Default::default();
+    let mut k = 2;
+    for _ in 0..ROUNDS {
+        for _ in 0..FRAMES {
+            ms[0].push(still.render(s, &hl.target())?.ms);
+        }
+        for _ in 0..FRAMES {
+            still.invalidate_shadows();
+            ms[1].push(still.render(s, &hl.target())?.ms);
+        }
+        for _ in 0..FRAMES {
+            playing.pose(Some(at(k, duration)))?;
+            k += 1;
+            let cost = playing.pose_cost();
+            let frame = playing.render(s, &hl.target())?.ms;
+            ms[2].push(cost.pose_ms + cost.upload_ms + frame);
+            ms[3].push(cost.pose_ms);
+            ms[4].push(cost.upload_ms);
+        }
+    }
+    let m = |v: &[f64]| super::median(v);
+    Ok(Times {
+        still: m(&ms[0]),
+        redrawn: m(&ms[1]),
+        playing: m(&ms[2]),
+        pose: m(&ms[3]),
+        upload: m(&ms[4]),
+        cost: playing.pose_cost(),
+    })
+}

@@ -1,0 +1,168 @@
+//! A scene whose meshes move: the renderer poses its scene at a moment ([`Scene::pose`],
+//! on the CPU) and uploads again only the meshes the pose rewrote, with what depends on
+//! their triangles made anew (bounding spheres, clusters, terminator lift, tangents) and
+//! the passes' geometry caches dropped (shadow maps, edge lines). A pose draws what a fresh
+//! renderer of the posed scene draws, byte for byte: the same upload code runs on the same
+//! vertices. The meshes a rig poses never get clusters ([`crate::scene::clusters::prepare`]
+//! skips them): their triangles move every frame, and a cluster's bounds would not.
+use super::instancing::Role;
+use super::upload::{instanced_head, whole_draw_mesh_into, SceneGpu};
+use super::Renderer;
+use crate::scene::clusters::{Clusters, MIN_TRIANGLES};
+use crate::scene::motion::Moment;
+use crate::scene::Scene;
+use crate::Result;
+use std::time::Instant;
+
+/// What the last pose that changed the scene cost: the CPU pose ([`Scene::pose`]) and the
+/// upload of the meshes it rewrote, apart (`glview bench --motion` prints both).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PoseCost {
+    pub pose_ms: f64,
+    pub upload_ms: f64,
+    /// Meshes uploaded again.
+    pub meshes: usize,
+    /// Bytes of vertex and index data uploaded again.
+    pub bytes: u64,
+}
+
+impl Renderer {
+    /// Poses the scene at `moment` (None: the static pose) and uploads the meshes the pose
+    /// rewrote; nothing when the scene is already at that moment (a kept renderer drawing
+    /// the same moment again costs nothing).
+    pub fn pose(&mut self, moment: Option<Moment>) -> Result<()> {
+        if self.posed == moment {
+            return Ok(());
+        }
+        let t = Instant::now();
+        let bounds = self.scene.scene.bounds;
+        let changed = self.scene.scene.pose(moment)?;
+        let pose_ms = ms(t);
+        // The shadow maps are fitted to the scene's bounds, which a pose may change (the
+        // animation's framing) even where no mesh moved.
+        if self.scene.scene.bounds != bounds {
+            self.res.shadow.invalidate();
+        }
+        // A failed upload leaves the scene posed but the GPU not: the next call poses again.
+        self.posed = None;
+        let before = self.scene.uploaded.get();
+        let t = Instant::now();
+        self.refresh_meshes(&changed)?;
+        self.gpu.finish();
+        self.pose_cost = PoseCost {
+            pose_ms,
+            upload_ms: ms(t),
+            meshes: changed.len(),
+            bytes: self.scene.uploaded.get() - before,
+        };
+        self.posed = moment;
+        Ok(())
+    }
+
+    /// The moment the scene is posed at (None: the static pose).
+    pub fn posed(&self) -> Option<Moment> {
+        self.posed
+    }
+
+    /// What the last pose that changed something cost.
+    pub fn pose_cost(&self) -> PoseCost {
+        self.pose_cost
+    }
+
+    /// The scene, to change its meshes' vertices in place; [`Renderer::refresh_meshes`]
+    /// then uploads the ones changed (nothing is drawn from the change before that).
+    pub fn scene_mut(&mut self) -> &mut Scene {
+        &mut self.scene.scene
+    }
+
+    /// Uploads scene meshes `meshes` again after their vertices (and possibly their count
+    /// and indices) changed: their buffers, bounding spheres and clusters are made anew as
+    /// a fresh renderer makes them, and the shadow maps and edge lines are made again at
+    /// the next frame. A copy drawn as an instance of another mesh refreshes that mesh.
+    pub fn refresh_meshes(&mut self, meshes: &[usize]) -> Result<()> {
+        if meshes.is_empty() {
+            return Ok(());
+        }
+        let n = self.scene.scene.meshes.count();
+        if let Some(&bad) = meshes.iter().find(|&&i| i >= n) {
+            return Err(crate::Error::Unsupported(format!(
+                "mesh {bad}: no such mesh to upload again (the scene has {n})"
+            )));
+        }
+        let roles = (!self.scene.scene.instancing.is_empty())
+            .then(|| super::instancing::plan(&self.gpu, &self.scene.scene));
+        let mut todo: Vec<usize> = meshes
+            .iter()
+            .map(|&i| head_of(roles.as_deref(), i))
+            .collect();
+        todo.sort_unstable();
+        todo.dedup();
+        for i in todo {
+            let role = roles.as_ref().map(|r| &r[i]);
+            refresh_one(&mut self.scene, i, role)?;
+        }
+        self.gpu.check_error("refresh meshes")?;
+        self.res.shadow.invalidate();
+        // Edge lines are made from the triangles on the first frame that asks.
+        self.res.edges = Default::default();
+        Ok(())
+    }
+}
+
+/// The draw mesh that draws scene mesh `i`: its own, or the head of its instances.
+fn head_of(roles: Option<&[Role]>, i: usize) -> usize {
+    let Some(roles) = roles else { return i };
+    roles
+        .iter()
+        .position(|r| matches!(r, Role::Head(c) if c.meshes.contains(&i)))
+        .unwrap_or(i)
+}
+
+/// Uploads draw mesh `i` again (its role as [`super::instancing::plan`] gives it; None:
+/// its own), with clusters made anew where it had some and is not posed by the rig.
+fn refresh_one(scene: &mut SceneGpu, i: usize, role: Option<&Role>) -> Result<()> {
+    let (dm, bytes) = match role {
+        Some(Role::Absorbed) => return Ok(()),
+        Some(Role::Head(copies)) => instanced_head(&scene.gpu, &scene.scene, i, copies)?,
+        Some(Role::Own) | None => {
+            let clusters = if scene.meshes[i].clusters.is_some() {
+                clusters_again(&mut scene.scene, i)
+            } else {
+                None
+            };
+            // Its buffers are rewritten in place where the sizes allow (a pose of a mesh
+            // whose vertex count stays): no GL objects made and deleted per frame.
+            let old = std::mem::replace(&mut scene.meshes[i], super::upload::absorbed());
+            whole_draw_mesh_into(&scene.gpu, &scene.scene, i, clusters, Some(old))?
+        }
+    };
+    scene.meshes[i] = dm;
+    scene.uploaded.set(scene.uploaded.get() + bytes);
+    Ok(())
+}
+
+/// Mesh `i`'s clusters for its new vertices, as [`crate::scene::clusters::prepare`] makes
+/// them (reordered, without levels: a picture that draws levels builds them first); None
+/// for a mesh the rig poses or one now too small.
+fn clusters_again(scene: &mut Scene, i: usize) -> Option<Clusters> {
+    if posed_by_rig(scene, i) {
+        return None;
+    }
+    let m = &mut scene.meshes[i];
+    (m.triangle_count() >= MIN_TRIANGLES).then(|| {
+        crate::scene::clusters::reorder(&m.vertices, &mut m.indices);
+        Clusters::build(&m.vertices, &m.indices)
+    })
+}
+
+/// Whether the scene's rig rewrites mesh `i` at each pose.
+pub(crate) fn posed_by_rig(scene: &Scene, i: usize) -> bool {
+    scene
+        .motion
+        .as_ref()
+        .is_some_and(|r| r.meshes().binary_search(&i).is_ok())
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}

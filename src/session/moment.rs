@@ -1,0 +1,150 @@
+//! Which moment of the file's animations a picture shows (`--animation`, `--time`): resolved
+//! against the loaded scene, so a name or index the file does not have is a one-line error
+//! listing what it has, before anything is drawn. No GL.
+use crate::error::{Error, Result};
+use crate::options::Options;
+use crate::scene::motion::{AnimationInfo, Moment};
+use crate::scene::Scene;
+
+/// The moment `args` asks of `scene`: None without `--time` (the static pose, every picture
+/// as before), else `--animation` (by index, then by name; default the first) at `--time`.
+/// `--animation` or `--time` on a scene without animations, or an animation it does not
+/// have, is an [`Error::Usage`] naming the model and listing its animations.
+pub fn moment(args: &Options, scene: &Scene) -> Result<Option<Moment>> {
+    let m = &args.motion;
+    if m.time.is_none() && m.animation.is_none() {
+        return Ok(None);
+    }
+    let all = scene.animations();
+    let asked = match (&m.animation, m.time) {
+        (Some(a), _) => format!("--animation {a}"),
+        (None, t) => format!("--time {}", t.unwrap_or_default()),
+    };
+    if all.is_empty() {
+        return Err(Error::Usage(format!(
+            "{asked}: {} has no animations",
+            model_name(args, scene)
+        )));
+    }
+    let animation = match &m.animation {
+        None => 0,
+        Some(a) => find(all, a).ok_or_else(|| {
+            Error::Usage(format!(
+                "{asked}: {} has no such animation; it has {}",
+                model_name(args, scene),
+                listing(all)
+            ))
+        })?,
+    };
+    // `--animation` alone names what an animated output plays; a still stays static.
+    Ok(m.time.map(|t| Moment {
+        animation,
+        seconds: f64::from(t),
+    }))
+}
+
+/// Poses a scene loaded without a renderer (the reference renderer's, a comparison's or a
+/// sheet's) at the moment `args` asks, as the session poses a renderer's, before anything
+/// reads its bounds.
+pub fn pose_scene(args: &Options, scene: &mut Scene) -> Result<()> {
+    let at = moment(args, scene)?;
+    if at.is_some() {
+        scene.pose(at)?;
+    }
+    Ok(())
+}
+
+/// The index of the animation `asked` names: an index in range, else an exact name.
+fn find(all: &[AnimationInfo], asked: &str) -> Option<usize> {
+    match asked.trim().parse::<usize>() {
+        Ok(i) if i < all.len() => Some(i),
+        _ => all.iter().position(|a| a.name == asked),
+    }
+}
+
+/// `2 animations: 0 "Walk" (2.00 s), 1 (unnamed, 1.00 s)`.
+fn listing(all: &[AnimationInfo]) -> String {
+    let each: Vec<String> = all
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            if a.name.is_empty() {
+                format!("{i} (unnamed, {:.2} s)", a.duration)
+            } else {
+                format!("{i} {:?} ({:.2} s)", a.name, a.duration)
+            }
+        })
+        .collect();
+    let n = all.len();
+    let s = if n == 1 { "" } else { "s" };
+    format!("{n} animation{s}: {}", each.join(", "))
+}
+
+/// The model's file as the user named it, else the scene's name (the built-in scene, a
+/// caller's arrays).
+fn model_name(args: &Options, scene: &Scene) -> String {
+    args.load
+        .model
+        .as_ref()
+        .map_or_else(|| scene.name.clone(), |p| p.display().to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn infos(names: &[&str]) -> Vec<AnimationInfo> {
+        names
+            .iter()
+            .map(|n| AnimationInfo {
+                name: (*n).into(),
+                duration: 1.5,
+                channels: 2,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn an_index_in_range_wins_then_an_exact_name() {
+        let all = infos(&["Walk", "1", "Run"]);
+        assert_eq!(find(&all, "2"), Some(2));
+        assert_eq!(find(&all, "Run"), Some(2));
+        assert_eq!(find(&all, "run"), None);
+        assert_eq!(find(&all, "3"), None);
+        assert_eq!(find(&all, "1"), Some(1));
+    }
+
+    #[test]
+    fn the_listing_names_every_animation_by_index_and_name() {
+        let all = infos(&["Walk", ""]);
+        assert_eq!(
+            listing(&all),
+            "2 animations: 0 \"Walk\" (1.50 s), 1 (unnamed, 1.50 s)"
+        );
+    }
+
+    #[test]
+    fn without_time_or_animation_the_static_pose() -> Result<()> {
+        let scene = Scene::from_meshes("s", Vec::new(), Vec::new());
+        assert_eq!(moment(&Options::default(), &scene)?, None);
+        Ok(())
+    }
+
+    #[test]
+    fn time_or_animation_on_a_still_model_says_it_has_none() {
+        let scene = Scene::from_meshes("still", Vec::new(), Vec::new());
+        let mut o = Options::default();
+        o.motion.time = Some(0.5);
+        let e = moment(&o, &scene).expect_err("no animations");
+        assert_eq!(
+            e.to_string(),
+            "invalid option: --time 0.5: still has no animations"
+        );
+        o.motion.time = None;
+        o.motion.animation = Some("Walk".into());
+        let e = moment(&o, &scene).expect_err("no animations");
+        assert!(e
+            .to_string()
+            .contains("--animation Walk: still has no animations"));
+    }
+}

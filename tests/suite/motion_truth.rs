@@ -1,0 +1,134 @@
+//! A moment of a Khronos sample with a skin and an animation (RiggedSimple, committed under
+//! tests/data/khronos/motion/ with its licence), drawn by every context glview has, held to
+//! the CPU reference renderer posing the same scene (issue #39, "Truth and measurement"),
+//! and the same `--time` giving the same bytes, from a fresh session and a kept one.
+use super::common::*;
+use glview::image_out::Rgba;
+
+const MODEL: &str = "tests/data/khronos/motion/RiggedSimple.glb";
+const SIZE: &str = "160x120";
+
+/// The words of a picture of MODEL at `time` (None: the static pose), shadows off: the
+/// GPU against the reference's formula, as `gpu_vs_reference::without_shadows_*`.
+fn words(time: Option<&'static str>) -> Vec<&'static str> {
+    let mut w = vec![MODEL, "--size", SIZE, "--no-shadows", "--yaw", "30"];
+    if let Some(t) = time {
+        w.extend(["--time", t]);
+    }
+    w
+}
+
+/// Mean max-channel error (/255) and pixels off by more than 8/255.
+fn errors(a: &Rgba, b: &Rgba) -> (f64, usize) {
+    let d = diff(a, b, 8);
+    (d.mean, d.over)
+}
+
+/// The GPU at 1.25 s on GL 3.3, ES 3.0, GL 2.1 (Mesa pretending to be a GL 2.1 driver, with
+/// and without VAOs and FBOs) and OSMesa equals the reference renderer at 1.25 s within the tolerance of
+/// `gpu_vs_reference::without_shadows_the_gpu_is_the_formula`'s (mean < 0.05/255; silhouette
+/// pixels where coverage differs: at most 0.1 % here, the picture being small); and that
+/// moment is not the static pose (the bend shows) in either renderer.
+#[test]
+fn a_moment_on_every_context_is_the_reference_posed() {
+    let dir = out_dir("motion_truth");
+    let mut reference = words(Some("1.25"));
+    reference.push("--reference");
+    let want = render(&dir, "reference", &reference, &[]);
+    let mut still = words(None);
+    still.push("--reference");
+    let rest = render(&dir, "reference-static", &still, &[]);
+    let (_, moved) = errors(&want, &rest);
+    assert!(
+        moved > 200,
+        "the moment is not the static pose: {moved} pixels moved"
+    );
+    let contexts: [Context; 5] = [
+        ("gl33", &["--gl", "core"], &[]),
+        ("es3", &["--gl", "es3"], &[]),
+        ("gl21", &["--gl", "2.1"], GL21),
+        ("osmesa", &["--backend", "osmesa"], &[]),
+        // A GL 2.1 driver without VAOs or FBOs: attributes bound per draw.
+        (
+            "osmesa-gl21-bare",
+            &["--backend", "osmesa", "--gl", "2.1"],
+            GL21_NO_FBO,
+        ),
+    ];
+    for (name, extra, env) in contexts {
+        let mut w = words(Some("1.25"));
+        w.extend_from_slice(extra);
+        let got = render(&dir, name, &w, env);
+        check_frame(&got, name);
+        let (mean, over) = errors(&got, &want);
+        eprintln!("{name}: mean {mean:.4}/255, {over} pixels > 8/255");
+        if mean >= 0.05 || over * 1000 > pixels(&got) {
+            let p = write_diff(&dir, name, &got, &want);
+            panic!(
+                "{name}: mean {mean:.4}, {over} pixels > 8/255: {}",
+                p.display()
+            );
+        }
+    }
+}
+
+/// A context's name, its options and its environment.
+type Context = (
+    &'static str,
+    &'static [&'static str],
+    &'static [(&'static str, &'static str)],
+);
+
+fn pixels(img: &Rgba) -> usize {
+    (img.width * img.height) as usize
+}
+
+/// `--time` twice gives the same bytes: two fresh runs of the binary, and a kept session
+/// drawing 1.25 s, then 0.5 s, then 1.25 s again (a renderer posed away and back), then no
+/// `--time` (the static pose restored).
+#[test]
+fn the_same_time_twice_gives_the_same_bytes() {
+    let dir = out_dir("motion_truth");
+    let files: Vec<Vec<u8>> = ["twice-a", "twice-b"]
+        .iter()
+        .map(|name| {
+            let out = dir.join(format!("{name}.png"));
+            let mut w = words(Some("1.25"));
+            w.extend(["-o", out.to_str().unwrap()]);
+            let o = run(&w, &[]);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            std::fs::read(&out).unwrap()
+        })
+        .collect();
+    assert_eq!(files[0], files[1], "two runs at --time 1.25");
+    let first = Rgba::load_png(&dir.join("twice-a.png")).unwrap();
+    let mut session = glview::session::Session::new();
+    let mut draw = |t: Option<&'static str>| {
+        let o = glview::Options::from_words(words(t)).unwrap();
+        let mut profile = Default::default();
+        let d = session.draw(&o, None, Default::default(), &mut profile);
+        (d.unwrap().image, profile)
+    };
+    let (a, pa) = draw(Some("1.25"));
+    let (b, _) = draw(Some("0.5"));
+    let (c, pc) = draw(Some("1.25"));
+    // Back to the static pose: the picture of a session that never posed.
+    let (d, _) = draw(None);
+    let still = run_still(&dir);
+    assert_eq!(d.data, still.data, "the static pose after a moment");
+    assert_eq!(a.data, first.data, "the session's picture is the binary's");
+    assert_eq!(a.data, c.data, "posed away and back");
+    assert_ne!(a.data, b.data, "another moment");
+    assert_eq!((pa.scene_uploads, pc.scene_uploads), (1, 0), "loaded once");
+    assert!(pc.pose.is_some_and(|p| p.meshes > 0), "posed again: {pc:?}");
+}
+
+/// The static pose drawn by the binary (a process that never posed).
+fn run_still(dir: &std::path::Path) -> Rgba {
+    let out = dir.join("still.png");
+    let mut w = words(None);
+    w.extend(["-o", out.to_str().unwrap()]);
+    let o = run(&w, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    Rgba::load_png(&out).unwrap()
+}
