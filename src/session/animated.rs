@@ -105,29 +105,15 @@ pub fn turntable_yaw(yaw: f32, k: u32, n: u32) -> f32 {
 }
 
 /// The animation an animated picture of `args` plays: `--animation` (by index or name),
-/// else the file's first, else none.
+/// else the file's first, else none. Resolved by [`super::moment`] (as a still's moment is,
+/// same errors) at time 0.
 fn played(args: &Options, scene: &Scene) -> Result<Option<usize>> {
-    let all = scene.animations();
-    let Some(want) = &args.motion.animation else {
-        return Ok((!all.is_empty()).then_some(0));
-    };
-    let found = want
-        .parse::<usize>()
-        .ok()
-        .filter(|&i| i < all.len())
-        .or_else(|| all.iter().position(|a| &a.name == want));
-    found.map(Some).ok_or_else(|| {
-        Error::Usage(format!(
-            "--animation {want}: {} has {} animation(s){}",
-            model_name(args),
-            all.len(),
-            if all.is_empty() {
-                ""
-            } else {
-                " (--check lists them)"
-            }
-        ))
-    })
+    if scene.animations().is_empty() && args.motion.animation.is_none() {
+        return Ok(None);
+    }
+    let mut at = args.clone();
+    at.motion.time = Some(0.0);
+    Ok(super::moment(&at, scene)?.map(|m| m.animation))
 }
 
 fn model_name(args: &Options) -> String {

@@ -13,6 +13,8 @@ const YAW: f32 = 30.0;
 const FPS: f32 = 15.0;
 const DURATION: &str = "0.4";
 const FRAMES: u32 = 6;
+/// Khronos's BoxAnimated (node translation and rotation), committed with its licence.
+const BOX: &str = "tests/data/khronos/motion/BoxAnimated.glb";
 
 fn dir() -> PathBuf {
     out_dir("animated_out")
@@ -241,7 +243,10 @@ fn bad_values_are_one_line_errors() {
             "50 frames per second",
         ),
         (&["-o", &out("turn.png"), "--turntable"], "animated picture"),
-        (&["-o", &out("at.gif"), "--time", "1"], "--turntable"),
+        (
+            &["-o", &out("at.gif"), BOX, "--time", "1"],
+            "add --turntable",
+        ),
     ];
     for (args, says) in cases {
         let o = run(args, &[]);
@@ -254,4 +259,55 @@ fn bad_values_are_one_line_errors() {
         );
         assert!(!Path::new(args[1]).exists(), "{args:?} left {}", args[1]);
     }
+}
+
+/// The truth on Khronos's BoxAnimated (node translation and rotation, committed
+/// with its licence under tests/data/khronos/motion/): frame k of the animated picture is,
+/// byte for byte, the still `--time t` with t = k/fps. The frames move (else the test
+/// would pass on a renderer that ignored the time).
+#[test]
+fn a_moment_is_its_frame() {
+    let model = repo().join(BOX);
+    let model = model.to_str().unwrap();
+    let out = dir().join("box.apng");
+    let args = [
+        model,
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        SIZE,
+        "--duration",
+        "1.2",
+    ];
+    match fixture::render(&args) {
+        Some(Ok(())) => {}
+        other => panic!("glview {args:?}: {other:?}"),
+    }
+    let file = std::io::BufReader::new(std::fs::File::open(&out).unwrap());
+    let mut reader = png::Decoder::new(file).read_info().unwrap();
+    assert_eq!(reader.info().animation_control.unwrap().num_frames, 18);
+    let mut frames = Vec::new();
+    for _ in 0..18 {
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        buf.truncate(info.buffer_size());
+        frames.push(buf);
+    }
+    let mut looked = Vec::new();
+    for k in [0u32, 7, 17] {
+        let t = (k as f32 / FPS).to_string();
+        let still = render(
+            &dir(),
+            &format!("box-{k}"),
+            &[model, "--size", SIZE, "--time", &t],
+            &[],
+        );
+        assert!(
+            still.data == frames[k as usize],
+            "frame {k} is not the still --time {t}"
+        );
+        looked.push(still);
+    }
+    assert_ne!(looked[0], looked[1], "the box moves");
+    sheet(&looked, "box-moments.png");
 }
