@@ -1,5 +1,6 @@
-//! `glview bench --animated`: what a 3-second animated picture costs. The frames (a
-//! turntable of `--model`, default the built-in scene, 45 frames at 15 fps, 640×480) are
+//! `glview bench --animated`: what a 3-second animated picture costs. The frames (45 at
+//! 15 fps, 640×480: a turntable of the built-in scene, or `--animated-model`'s first
+//! animation, a turntable where it has none) are
 //! drawn once in one session, as `-o out.gif` draws them; then each encoder (GIF, APNG,
 //! WebP) encodes the same frames three times and the median is printed beside the time the
 //! frames took to draw and the file's size.
@@ -23,7 +24,7 @@ pub fn run_animated(model: Option<&std::path::Path>) -> Result<()> {
     let n = SECONDS * FPS as u32;
     let (frames, draw_ms) = draw(&args, n)?;
     println!(
-        "glview bench --animated: {} turntable, {n} frames ({SECONDS} s at {FPS} fps) of {}x{}; \
+        "glview bench --animated: {}, {n} frames ({SECONDS} s at {FPS} fps) of {}x{}; \
          frames drawn in {draw_ms:.0} ms ({:.1} ms each); encoding: median of {ROUNDS}",
         model.map_or("built-in scene".into(), |p| p.display().to_string()),
         SIZE.0,
@@ -56,16 +57,22 @@ pub fn run_animated(model: Option<&std::path::Path>) -> Result<()> {
     Ok(())
 }
 
-/// The turntable's frames, drawn as an animated picture's are, and the time they took
-/// (loading and the first frame's compiles excluded: one frame is drawn first).
+/// The frames, drawn as an animated picture's are (the model's first animation from 0 s when
+/// it has one, else a turntable), and the time they took (loading and the first frame's
+/// compiles excluded: one frame is drawn first).
 fn draw(args: &Options, n: u32) -> Result<(Vec<Rgba>, f64)> {
     let mut session = Session::new();
+    let plays = !session.scene(args)?.animations().is_empty();
     session.draw(args, None, Default::default(), &mut Profile::default())?;
     let t = Instant::now();
     let mut frames = Vec::with_capacity(n as usize);
     for k in 0..n {
         let mut o = args.clone();
-        o.camera.yaw = glview::session::turntable_yaw(args.camera.yaw, k, n);
+        if plays {
+            o.motion.time = Some(k as f32 / FPS);
+        } else {
+            o.camera.yaw = glview::session::turntable_yaw(args.camera.yaw, k, n);
+        }
         let drawn = session.draw(&o, None, Default::default(), &mut Profile::default())?;
         frames.push(drawn.image);
     }

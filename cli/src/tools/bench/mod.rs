@@ -75,12 +75,12 @@ pub struct BenchArgs {
     /// With --serve: the view size.
     #[arg(long, default_value = "800x600")]
     pub serve_size: String,
-    /// Measure animated pictures: the encoding time of a 3-second turntable (45 frames of
-    /// 640x480) as GIF, APNG and WebP beside the time to draw its frames (--model: another
-    /// model than the built-in scene).
+    /// Measure animated pictures: the encoding time of a 3-second animated picture (45 frames
+    /// of 640x480: a turntable of the built-in scene, or --animated-model's animation) as GIF,
+    /// APNG and WebP beside the time to draw its frames.
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
     pub animated: bool,
-    /// With --animated: the model to turn (default: the built-in scene).
+    /// With --animated: a model whose first animation plays (a turntable without one).
     #[arg(long)]
     pub animated_model: Option<PathBuf>,
     /// Measure playing an animation: the frame time of a skinned figure at 1024x768 posed
