@@ -62,7 +62,8 @@ impl Rgba {
             }
             None => Err(Error::Image {
                 path: path.into(),
-                message: "output must end in .png, .jpg or .jpeg".into(),
+                message: "output must end in .png, .jpg or .jpeg (animated: .gif, .apng, .webp)"
+                    .into(),
             }),
         }
     }

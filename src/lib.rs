@@ -6,6 +6,7 @@
 //! `shader`, `gpu`} → `platform`. Only `gpu` and `platform` contain `unsafe`.
 #![deny(unsafe_code)]
 
+pub mod anim_out;
 pub mod camera;
 pub mod compare;
 pub mod error;

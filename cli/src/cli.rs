@@ -13,7 +13,8 @@ pub struct Args {
     #[command(subcommand)]
     pub command: Option<Command>,
     /// Render headless into this PNG (or .jpg/.jpeg: JPEG, without the PNG's text chunks)
-    /// instead of opening a window.
+    /// instead of opening a window; .gif, .apng or .webp: an animated picture of the
+    /// animation or of --turntable (docs/animated.md).
     #[arg(short, long, value_parser = parse_output)]
     pub output: Option<PathBuf>,
     /// Side by side: render these tiers (phong, gouraud, pbr, reference, reference-pbr) next to
@@ -342,13 +343,18 @@ impl SheetCommand {
     }
 }
 
-/// Output files are PNG or JPEG, decided by the extension; anything else is refused before
-/// rendering rather than written as PNG bytes under a misleading name.
+/// Output files are PNG or JPEG stills, or GIF, APNG or WebP animated pictures, decided by
+/// the extension; anything else is refused before rendering rather than written as PNG
+/// bytes under a misleading name.
 fn parse_output(s: &str) -> Result<PathBuf, String> {
     let p = PathBuf::from(s);
-    match glview::image_out::OutputFormat::of(&p) {
-        Some(_) => Ok(p),
-        None => Err(format!("{s}: output must end in .png, .jpg or .jpeg")),
+    let still = glview::image_out::OutputFormat::of(&p).is_some();
+    if still || glview::anim_out::AnimFormat::of(&p).is_some() {
+        Ok(p)
+    } else {
+        Err(format!(
+            "{s}: output must end in .png, .jpg or .jpeg (animated: .gif, .apng or .webp)"
+        ))
     }
 }
 

@@ -330,13 +330,13 @@ declare_options! {
         /// the static pose is drawn: the nodes' own transforms, skins posed by them and the
         /// meshes' own morph weights.
         time: Option<f32> = None, "time" maybe, check = non_negative_time;
-        /// Animated output: frames per second (frame k shows time k/fps).
+        /// Animated output: frames per second (frame k shows time k/fps; a GIF at most 50).
         fps: f32 = 15.0, "fps" value, check = in_range(1.0, 60.0);
         /// Animated output: length in seconds (default: the animation's duration, or 4 s
-        /// for a turntable).
+        /// for a turntable); at most 3,600 frames.
         duration: Option<f32> = None, "duration" maybe, check = duration;
         /// Animated output: the camera turns once around the model over the duration (for
-        /// a model without an animation, or with one).
+        /// a model without an animation, or with one; with --time, around that moment).
         turntable: bool = false, "turntable" flag;
     }
     /// Which OpenGL context draws.

@@ -14,6 +14,7 @@
 //! session.write(&o, std::path::Path::new("builtin-60.png"))?;
 //! # Ok::<(), glview::Error>(())
 //! ```
+pub(crate) mod animated;
 mod file_camera;
 pub(crate) mod modes;
 mod moment;
@@ -22,6 +23,7 @@ pub(crate) mod settings;
 pub(crate) mod text;
 pub(crate) mod view;
 
+pub use animated::{turntable_yaw, AnimTimes};
 pub use modes::{compile_shaders, print_info, render_headless, render_reference};
 pub use moment::{moment, pose_scene};
 pub use profile::Profile;
@@ -192,8 +194,9 @@ impl Session {
         f(hl, renderer)
     }
 
-    /// Renders the model of `args` into `path` (PNG or JPEG; `--frames` times, the last
-    /// one written; `--stats` printed).
+    /// Renders the model of `args` into `path`: a still (PNG or JPEG; `--frames` times, the
+    /// last one written; `--stats` printed) or, for .gif, .apng and .webp, an animated
+    /// picture (docs/animated.md).
     pub fn write(&mut self, args: &Options, path: &Path) -> Result<()> {
         write(args, path, self.keep, &mut self.kept)
     }
@@ -369,6 +372,16 @@ impl Drawn {
 /// [`Session::write`]: `kept` is reused when it was made for the same backend and GL request
 /// (its target is resized), else replaced.
 fn write(args: &Options, path: &Path, keep: usize, kept: &mut Option<KeptContext>) -> Result<()> {
+    if let Some(format) = crate::anim_out::AnimFormat::of(path) {
+        return animated::write(args, path, format, keep, kept);
+    }
+    if args.motion.turntable {
+        return Err(crate::Error::Image {
+            path: path.into(),
+            message: "--turntable makes an animated picture: -o ends in .gif, .apng or .webp"
+                .into(),
+        });
+    }
     let start = Instant::now();
     if let Some(img) = modes::map_view(args)? {
         return img.save_png(path, &text::map_view_text(args));

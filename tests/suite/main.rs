@@ -3,6 +3,7 @@
 //! program cache for every render that needs no special environment. `tests/leaks.rs` stays
 //! a separate binary because it judges its own process's resident memory.
 mod analytic;
+mod animated_out;
 mod antialiasing;
 mod api;
 mod asset_generator;

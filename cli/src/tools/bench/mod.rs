@@ -2,6 +2,7 @@
 //! against error for every quality knob (error = distance from the CPU reference render);
 //! `load` measures parse, upload, time to first PNG and peak memory against f3d. Both print a
 //! table and write CSV/JSON (and a plot) into `docs/bench/` by default.
+pub mod animated;
 pub mod child;
 pub mod f3d;
 pub mod frame;
@@ -74,6 +75,14 @@ pub struct BenchArgs {
     /// With --serve: the view size.
     #[arg(long, default_value = "800x600")]
     pub serve_size: String,
+    /// Measure animated pictures: the encoding time of a 3-second animated picture (45 frames
+    /// of 640x480: a turntable of the built-in scene, or --animated-model's animation) as GIF,
+    /// APNG and WebP beside the time to draw its frames.
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
+    pub animated: bool,
+    /// With --animated: a model whose first animation plays (a turntable without one).
+    #[arg(long)]
+    pub animated_model: Option<PathBuf>,
     /// Measure playing an animation: the frame time of a skinned figure at 1024x768 posed
     /// anew each frame (pose and upload apart) against the same model standing still.
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
@@ -94,6 +103,9 @@ pub struct BenchArgs {
 pub fn run(args: &BenchArgs) -> glview::Result<()> {
     if args.post {
         return post::run_post();
+    }
+    if args.animated {
+        return animated::run_animated(args.animated_model.as_deref());
     }
     if args.serve {
         return serve::run_serve(
