@@ -151,8 +151,22 @@ impl Renderer {
             gpu.clear_rgba(Some([-1.0, -1.0, -1.0, 0.0]));
             for (i, dm) in self.scene.meshes.iter().enumerate() {
                 if dm.primitive == Primitive::Triangles {
-                    let p = match (&dm.instances, &instanced) {
-                        (Some(_), Some(p)) => p,
+                    let skinned = match dm.skin {
+                        Some(_) => {
+                            let k = super::skinning::key(key(), dm);
+                            let p = self.programs.borrow_mut().get(&k)?;
+                            p.bind();
+                            p.set_mat4("uModelView", &view);
+                            p.set_mat4("uProjection", &proj);
+                            p.set_mat3("uNormalMatrix", &Mat3::from_mat4(view));
+                            super::skinning::set_joints(&p, &self.scene, dm);
+                            Some(p)
+                        }
+                        None => None,
+                    };
+                    let p = match (&dm.instances, &instanced, &skinned) {
+                        (_, _, Some(p)) => p,
+                        (Some(_), Some(p), _) => p,
                         _ => &program,
                     };
                     p.bind();

@@ -24,6 +24,8 @@ pub struct PoseCost {
     pub meshes: usize,
     /// Bytes of vertex and index data uploaded again.
     pub bytes: u64,
+    /// Meshes skinned on the GPU (their joint matrices set, nothing uploaded).
+    pub skinned: usize,
 }
 
 impl Renderer {
@@ -35,7 +37,24 @@ impl Renderer {
             return Ok(());
         }
         let t = Instant::now();
-        let changed = self.scene.scene.pose(moment)?;
+        let gpu = std::mem::take(&mut self.scene.skins.meshes);
+        let changed = self.scene.scene.pose_except(moment, &gpu);
+        self.scene.skins.meshes = gpu;
+        let changed = changed?;
+        if !self.scene.skins.meshes.is_empty() {
+            let joints = self
+                .scene
+                .scene
+                .motion
+                .as_ref()
+                .map(|r| r.gpu_joints(moment))
+                .unwrap_or_default();
+            let bounds = moment.map(|_| self.scene.scene.bounds);
+            self.scene.pose_skins(moment, joints, bounds.as_ref());
+            // The light views see them move; `--edges` lines are posed on the CPU.
+            self.res.shadow.invalidate();
+            self.res.edges = Default::default();
+        }
         let pose_ms = ms(t);
         // A failed upload leaves the scene posed but the GPU not: the next call poses again.
         self.posed = None;
@@ -48,6 +67,7 @@ impl Renderer {
             upload_ms: ms(t),
             meshes: changed.len(),
             bytes: self.scene.uploaded.get() - before,
+            skinned: self.scene.skins.meshes.len(),
         };
         self.posed = moment;
         Ok(())

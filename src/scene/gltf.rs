@@ -174,6 +174,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         views,
         lights,
         motion,
+        posed: None,
     })
 }
 
