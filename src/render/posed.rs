@@ -5,6 +5,8 @@
 //! renderer of the posed scene draws, byte for byte: the same upload code runs on the same
 //! vertices. The meshes a rig poses never get clusters ([`crate::scene::clusters::prepare`]
 //! skips them): their triangles move every frame, and a cluster's bounds would not.
+//! Meshes skinned on the GPU ([`super::skinning`]) are not posed on the CPU or uploaded: a
+//! pose sets their skins' joint matrices and bounds them by the animation's framing bounds.
 use super::instancing::Role;
 use super::upload::{instanced_head, whole_draw_mesh_into, SceneGpu};
 use super::Renderer;
