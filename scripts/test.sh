@@ -35,7 +35,7 @@ lib_deps() {
 step "library dependencies" lib_deps
 # The Python and browser steps' downloads (system packages, the venv's pinned packages, the
 # SCORM runtime and schemas: scripts/prepare_tests.sh) run in the background beside the Rust
-# build and tests, whose cores they barely use; the Python step waits for them.
+# build, whose cores they barely use; the test step waits for them.
 prep_log=$(mktemp)
 (
   t0=$(date +%s)
@@ -62,6 +62,13 @@ clippy_driver=$(rustup which clippy-driver 2>/dev/null || command -v clippy-driv
 export RUSTC_WORKSPACE_WRAPPER=$clippy_driver
 export CLIPPY_ARGS="-D__CLIPPY_HACKERY__warnings__CLIPPY_HACKERY__"
 step "build + clippy -D warnings" cargo build --workspace --all-targets --quiet
+# The downloads are waited for here (long done: they take ~25 s, the build ~5 min): the
+# three.js poses test (tests/suite/gltf_motion_threejs.rs) runs node with its pinned three.js.
+prep_rc=0
+wait "$prep_pid" || prep_rc=$?
+cat "$prep_log"
+rm -f "$prep_log"
+[ "$prep_rc" -eq 0 ] || { echo "error: scripts/prepare_tests.sh failed (above)" >&2; exit "$prep_rc"; }
 step test cargo test --workspace --no-fail-fast 2>&1
 # The library's docs build without a warning (broken links, bad code blocks); its examples
 # ran as doctests above. In the background, beside the Python and browser steps (which wait
@@ -77,11 +84,6 @@ doc_pid=$!
 # The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells
 # equal, different and failed renders apart.
 step "pictures checker self-test" bash scripts/pictures_unchanged.sh --self-test --after-bin target/debug/glview
-prep_rc=0
-wait "$prep_pid" || prep_rc=$?
-cat "$prep_log"
-rm -f "$prep_log"
-[ "$prep_rc" -eq 0 ] || { echo "error: scripts/prepare_tests.sh failed (above)" >&2; exit "$prep_rc"; }
 step python bash scripts/test_python.sh
 # The page of `glview serve` in Debian's Chromium, driven by a pinned Playwright.
 step browser bash scripts/test_browser.sh

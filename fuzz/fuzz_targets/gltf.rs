@@ -6,5 +6,17 @@
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = glview_fuzz::run_format(glview_fuzz::gltf_name(data), data);
+    let Ok(mut scene) = glview_fuzz::run_format(glview_fuzz::gltf_name(data), data) else {
+        return;
+    };
+    // Every animation posed at two moments (its middle and past its end), then the static
+    // pose again: a pose is an error naming the file, or a scene that keeps the invariants.
+    for animation in 0..scene.animations().len().min(4) {
+        let d = scene.animations()[animation].duration;
+        for seconds in [d * 0.5, d + 1.0] {
+            let moment = glview::scene::motion::Moment { animation, seconds };
+            glview_fuzz::check_pose(&mut scene, Some(moment));
+        }
+    }
+    glview_fuzz::check_pose(&mut scene, None);
 });

@@ -238,6 +238,13 @@ fn check_outcome(path: &std::path::Path, out: &Result<Scene, glview::Error>) {
     }
 }
 
+/// Poses `scene` at `moment` and checks the outcome as a load's: the scene's invariants, or
+/// a one-line error naming the file.
+pub fn check_pose(scene: &mut Scene, moment: Option<glview::scene::motion::Moment>) {
+    let out = scene.pose(moment).map(|_| scene.clone());
+    check_outcome(&format_path("fuzz.gltf").with_file_name(""), &out);
+}
+
 /// Where a fuzzed STL, PLY or glTF file "lives": the same empty folder as the OBJ, so URIs
 /// resolve to nothing inside it and everything outside is refused by the loader's rule.
 pub fn format_path(name: &str) -> std::path::PathBuf {

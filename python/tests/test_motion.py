@@ -18,7 +18,7 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 
 @pytest.fixture(scope="session")
 def rigged():
-    return REPO / "tests" / "data" / "khronos" / "motion" / "RiggedSimple" / "RiggedSimple.glb"
+    return REPO / "tests" / "data" / "khronos" / "motion" / "RiggedSimple.glb"
 
 
 def test_time_and_animation_keywords_are_the_cli_options(tmp_path, rigged, cli):

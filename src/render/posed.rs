@@ -39,6 +39,7 @@ impl Renderer {
             return Ok(());
         }
         let t = Instant::now();
+        let bounds = self.scene.scene.bounds;
         let gpu = std::mem::take(&mut self.scene.skins.meshes);
         let changed = self.scene.scene.pose_except(moment, &gpu);
         self.scene.skins.meshes = gpu;
@@ -58,6 +59,11 @@ impl Renderer {
             self.res.edges = Default::default();
         }
         let pose_ms = ms(t);
+        // The shadow maps are fitted to the scene's bounds, which a pose may change (the
+        // animation's framing) even where no mesh moved.
+        if self.scene.scene.bounds != bounds {
+            self.res.shadow.invalidate();
+        }
         // A failed upload leaves the scene posed but the GPU not: the next call poses again.
         self.posed = None;
         let before = self.scene.uploaded.get();

@@ -227,7 +227,7 @@ impl<'a> Instance<'a> {
         let src = super::motion::source::read(
             p,
             self.buffers,
-            m.skin.map(|s| s.1.len()),
+            (m.skin.map(|s| s.1.len()), m.morph_budget),
             label,
             &mut warn,
         )?;

@@ -34,6 +34,7 @@ mod gltf_khr_transmission;
 mod gltf_ktx2;
 mod gltf_lights;
 mod gltf_materials;
+mod gltf_motion_threejs;
 mod gltf_sidedness;
 mod gltf_views;
 mod gltf_webp;

@@ -5,7 +5,7 @@
 use super::common::*;
 use glview::image_out::Rgba;
 
-const MODEL: &str = "tests/data/khronos/motion/RiggedSimple/RiggedSimple.glb";
+const MODEL: &str = "tests/data/khronos/motion/RiggedSimple.glb";
 const SIZE: &str = "160x120";
 
 /// The words of a picture of MODEL at `time` (None: the static pose), shadows off: the

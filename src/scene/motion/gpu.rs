@@ -185,7 +185,7 @@ mod tests {
 
     fn rigged_simple() -> Scene {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data/khronos/motion/RiggedSimple/RiggedSimple.glb");
+            .join("tests/data/khronos/motion/RiggedSimple.glb");
         crate::scene::load::load_bytes(
             &path,
             &std::fs::read(&path).expect("committed sample"),

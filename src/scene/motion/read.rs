@@ -9,12 +9,16 @@ use crate::scene::gltf_accessor::{self as accessor, Buffers};
 use glam::{DMat4, Mat4};
 use gltf::accessor::Dimensions as D;
 use gltf::animation::{Interpolation, Property};
+use gltf::json::validation::Checked;
 
 /// Keys of one sampler beyond this are refused before they are read (a million keys is
 /// over nine hours at 30 per second).
 pub(crate) const MAX_KEYS: usize = 1 << 20;
 /// Floats of all the samplers kept (64 MB): later animations are dropped with a warning.
+/// Each channel also counts [`CHANNEL_COST`], so a file of millions of one-key channels is
+/// bounded too.
 pub(crate) const MAX_ANIMATION_FLOATS: usize = 1 << 24;
+const CHANNEL_COST: usize = 32;
 /// Joints of one skin.
 pub(crate) const MAX_JOINTS: usize = 1 << 16;
 
@@ -62,10 +66,11 @@ pub(crate) fn animations(
             if !in_scene.get(node).copied().unwrap_or(false) {
                 continue;
             }
-            match channel(&c, buffers, &mut budget) {
-                Ok(keys) => channels.push(Channel {
+            let json = &doc.as_json().animations[a.index()];
+            match channel((&c, json), buffers, &mut budget) {
+                Ok((property, keys)) => channels.push(Channel {
                     node,
-                    path: match c.target().property() {
+                    path: match property {
                         Property::Translation => Path::Translation,
                         Property::Rotation => Path::Rotation,
                         Property::Scale => Path::Scale,
@@ -96,11 +101,24 @@ pub(crate) fn animations(
 /// One channel's keys, checked: the input is finite, strictly increasing scalar seconds;
 /// the output has one value (three for CUBICSPLINE) per key of the property's width.
 fn channel(
-    c: &gltf::animation::Channel,
+    (c, json): (&gltf::animation::Channel, &gltf::json::Animation),
     buffers: &Buffers,
     budget: &mut usize,
-) -> Result<Keys, String> {
+) -> Result<(Property, Keys), String> {
     let s = c.sampler();
+    // Read from the JSON: the crate's accessors unwrap these and panic on a word glTF does
+    // not define (found by the gltf fuzz target).
+    let raw = json
+        .channels
+        .get(c.index())
+        .map(|c| (c.target.path, c.sampler.value()));
+    let Some((Checked::Valid(property), sampler)) = raw else {
+        return Err("its target path is not translation, rotation, scale or weights".into());
+    };
+    let interpolation = json.samplers.get(sampler).map(|s| s.interpolation);
+    let Some(Checked::Valid(interpolation)) = interpolation else {
+        return Err("its interpolation is not STEP, LINEAR or CUBICSPLINE".into());
+    };
     let (input, output) = (s.input(), s.output());
     let n = input.count();
     if n == 0 {
@@ -111,7 +129,7 @@ fn channel(
             "{n} keys, more than glview reads ({MAX_KEYS}); refused before reading them"
         ));
     }
-    let interp = match s.interpolation() {
+    let interp = match interpolation {
         Interpolation::Step => Interp::Step,
         Interpolation::Linear => Interp::Linear,
         Interpolation::CubicSpline => Interp::Cubic,
@@ -128,17 +146,18 @@ fn channel(
             }
         ));
     }
-    let (rotation, dims): (bool, &[D]) = match c.target().property() {
+    let (rotation, dims): (bool, &[D]) = match property {
         Property::Translation | Property::Scale => (false, &[D::Vec3]),
         Property::Rotation => (true, &[D::Vec4]),
         Property::MorphTargetWeights => (false, &[D::Scalar]),
     };
-    let weights = c.target().property() == Property::MorphTargetWeights;
+    let weights = property == Property::MorphTargetWeights;
     if !weights && m != n * per {
         return Err(format!("{m} output values for {n} keys"));
     }
     let floats = m.saturating_mul(output.dimensions().multiplicity());
-    if floats.saturating_add(n) > *budget {
+    let cost = floats.saturating_add(n).saturating_add(CHANNEL_COST);
+    if cost > *budget {
         return Err(format!(
             "the file's animations hold more than {MAX_ANIMATION_FLOATS} values"
         ));
@@ -159,8 +178,8 @@ fn channel(
     if values.iter().any(|v| !v.is_finite()) {
         return Err("an output value is not finite".into());
     }
-    *budget -= floats + n;
-    Ok(Keys {
+    *budget -= cost;
+    let keys = Keys {
         width: if rotation || width == 3 {
             width
         } else {
@@ -170,7 +189,8 @@ fn channel(
         values,
         interp,
         rotation,
-    })
+    };
+    Ok((property, keys))
 }
 
 /// Every skin of the file; None for a skin that cannot be applied (with a warning).

@@ -8,12 +8,15 @@ use crate::error::{Error, Result};
 use crate::scene::gltf_primitive::Prim;
 use crate::scene::{Bounds, LoadOptions, Mesh};
 use glam::DMat4;
+use std::sync::atomic::AtomicUsize;
 use std::sync::OnceLock;
 
 /// Samples of an animation whose poses bound its framing: evenly spaced moments, and key
-/// times up to this many more.
+/// times up to this many more; fewer for meshes so large that the poses would take more
+/// than [`FRAMING_WORK`] vertices (about a second).
 const FRAMING_SAMPLES: usize = 64;
 const FRAMING_KEYS: usize = 256;
+const FRAMING_WORK: usize = 1 << 26;
 
 /// What the loader needs to know before it reads the meshes: the node graph, the usable
 /// skins, the playable animations, and which nodes an animation moves.
@@ -31,6 +34,8 @@ pub(crate) struct Plan {
     rest_joints: Vec<Vec<DMat4>>,
     /// Per mesh: its primitives' morph target count (most of them).
     targets: Vec<usize>,
+    /// Morph deltas (targets × vertices) the file's primitives may still read.
+    morph_budget: AtomicUsize,
 }
 
 /// How one node's mesh is read when it moves: its skin's static joint matrices and the
@@ -39,6 +44,8 @@ pub(crate) struct Plan {
 pub(crate) struct Moving<'a> {
     pub(crate) skin: Option<(usize, &'a [DMat4])>,
     pub(crate) weights: &'a [f32],
+    /// The file's morph budget, shared by its primitives.
+    pub(crate) morph_budget: &'a AtomicUsize,
 }
 
 /// A moving primitive: the scene mesh it became, its node and skin, its source data and
@@ -122,6 +129,7 @@ impl Plan {
             rest: None,
             rest_joints: Vec::new(),
             targets,
+            morph_budget: AtomicUsize::new(super::source::MAX_MORPH),
         };
         let rest = plan.graph.pose(None);
         plan.rest_joints = plan
@@ -160,6 +168,7 @@ impl Plan {
         (skin.is_some() || morphs || animated).then_some(Moving {
             skin,
             weights: &self.graph.weights[node],
+            morph_budget: &self.morph_budget,
         })
     }
 
@@ -210,7 +219,7 @@ impl Rig {
         for (i, m) in meshes.iter().enumerate() {
             for v in &m.vertices {
                 static_bounds.include(v.position.into());
-                if !moving.contains(&i) {
+                if moving.binary_search(&i).is_err() {
                     still_bounds.include(v.position.into());
                 }
             }
@@ -312,8 +321,11 @@ impl Rig {
         *self.framing[animation].get_or_init(|| {
             let a = &self.plan.animations[animation];
             let d = a.info.duration;
-            let mut times: Vec<f64> = (0..=FRAMING_SAMPLES)
-                .map(|k| d * k as f64 / FRAMING_SAMPLES as f64)
+            let vertices: usize = self.parts.iter().map(|p| p.src.positions.len() / 3).sum();
+            let affordable = (FRAMING_WORK / vertices.max(1)).max(2);
+            let samples = FRAMING_SAMPLES.min(affordable);
+            let mut times: Vec<f64> = (0..=samples)
+                .map(|k| d * k as f64 / samples as f64)
                 .collect();
             let mut keys: Vec<f64> = a
                 .channels
@@ -322,8 +334,9 @@ impl Rig {
                 .collect();
             keys.sort_by(f64::total_cmp);
             keys.dedup();
-            let step = keys.len().div_ceil(FRAMING_KEYS).max(1);
-            times.extend(keys.iter().step_by(step));
+            let keys_kept = FRAMING_KEYS.min(affordable.saturating_sub(samples));
+            let step = keys.len().div_ceil(keys_kept.max(1)).max(1);
+            times.extend(keys.iter().step_by(step).take(keys_kept));
             let mut b = self.still_bounds;
             for t in times {
                 let posed = self.posed(Some(Moment {

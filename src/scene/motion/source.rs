@@ -7,17 +7,18 @@ use super::pose::{JointSet, Source, Target};
 use crate::scene::gltf_accessor::{self as accessor, Buffers};
 use gltf::accessor::Dimensions as D;
 use gltf::mesh::Semantic;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Morph targets × vertices of one primitive beyond this are not read (4 M deltas of each
-/// attribute, 48 MB each).
-pub(crate) const MAX_MORPH: usize = 1 << 22;
+/// Morph targets × vertices of the whole file beyond this are not read (8 M deltas of each
+/// attribute, 96 MB each): a primitive that would pass it is not morphed.
+pub(crate) const MAX_MORPH: usize = 1 << 23;
 
 /// Reads `p`'s streams; `joints` is the applied skin's joint count (None: no skin).
 /// Positions that are not finite are an error (as for every primitive).
 pub(crate) fn read(
     p: &gltf::Primitive,
     buffers: &Buffers,
-    joints: Option<usize>,
+    (joints, morph_budget): (Option<usize>, &AtomicUsize),
     label: &str,
     warn: &mut dyn FnMut(String),
 ) -> Result<Source, String> {
@@ -52,7 +53,7 @@ pub(crate) fn read(
         };
     let normals = finite(Semantic::Normals, 3, "NORMAL")?;
     let tangents = finite(Semantic::Tangents, 4, "TANGENT")?;
-    let targets = targets(p, buffers, n, label, warn)?;
+    let targets = targets(p, buffers, (n, morph_budget), label, warn)?;
     let sets = match joints {
         Some(j) => skin_sets(p, buffers, (n, j), label, warn)?,
         None => Vec::new(),
@@ -71,15 +72,22 @@ pub(crate) fn read(
 fn targets(
     p: &gltf::Primitive,
     buffers: &Buffers,
-    n: usize,
+    (n, budget): (usize, &AtomicUsize),
     label: &str,
     warn: &mut dyn FnMut(String),
 ) -> Result<Vec<Target>, String> {
     let count = p.morph_targets().len();
-    if count.saturating_mul(n) > MAX_MORPH {
+    let deltas = count.saturating_mul(n);
+    if deltas > 0
+        && budget
+            .fetch_update(Ordering::Relaxed, Ordering::Relaxed, |left| {
+                left.checked_sub(deltas)
+            })
+            .is_err()
+    {
         warn(format!(
-            "{label}: {count} morph targets of {n} vertices, more than glview reads \
-             ({MAX_MORPH} deltas); not morphed"
+            "{label}: {count} morph targets of {n} vertices pass the file's {MAX_MORPH} \
+             morph deltas; not morphed"
         ));
         return Ok(Vec::new());
     }

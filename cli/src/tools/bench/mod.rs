@@ -78,12 +78,8 @@ pub struct BenchArgs {
     /// anew each frame (pose and upload apart) against the same model standing still.
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
     pub motion: bool,
-    /// With --motion: the animated model (default: the committed RiggedSimple;
-    /// docs/benchmarks.md uses Khronos' CesiumMan).
-    #[arg(
-        long,
-        default_value = "tests/data/khronos/motion/RiggedSimple/RiggedSimple.glb"
-    )]
+    /// With --motion: the animated model (default: Khronos' CesiumMan, committed).
+    #[arg(long, default_value = "tests/data/khronos/motion/CesiumMan.glb")]
     pub motion_model: PathBuf,
     /// With --pbr: Monte Carlo samples per lobe of the reference.
     #[arg(long, default_value_t = 16384)]

@@ -1,5 +1,5 @@
 //! `glview bench --motion`: what playing an animation costs a frame. A skinned figure
-//! (docs/benchmarks.md uses Khronos' CesiumMan) at 1024×768 posed anew every frame — the
+//! (by default Khronos' CesiumMan, committed under tests/data/khronos/motion/) at 1024×768 posed anew every frame — the
 //! CPU pose ([`glview::scene::Scene::pose`]), the posed meshes uploaded again
 //! ([`Renderer::pose`]) and the frame — against the same model standing still at one moment
 //! (the frame alone); the target is a ratio of at most 1.3. A moving model also
