@@ -59,8 +59,11 @@ pub(crate) struct Streams<'a> {
     pub(crate) colors_rgba: Option<&'a [[f32; 4]]>,
     pub(crate) uv1: Option<&'a [[f32; 2]]>,
     /// Joint indices (as floats) and weights of a mesh skinned on the GPU.
-    pub(crate) skin: Option<(&'a [[f32; 4]], &'a [[f32; 4]])>,
+    pub(crate) skin: Option<SkinStreams<'a>>,
 }
+
+/// A skinned mesh's joint indices (as floats) and weights, one of each per vertex.
+pub(crate) type SkinStreams<'a> = (&'a [[f32; 4]], &'a [[f32; 4]]);
 
 fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&Buffer>); 5]) {
     let stride = std::mem::size_of::<Vertex>() as i32;

@@ -547,7 +547,7 @@ pub(crate) fn upload_mesh_into(
     mat: &crate::scene::Material,
     levels: &[u32],
     old: Option<GpuMesh>,
-    skin: Option<(&[[f32; 4]], &[[f32; 4]])>,
+    skin: Option<crate::gpu::mesh::SkinStreams>,
 ) -> Result<(GpuMesh, Has, u64)> {
     // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
     let tangents = (m.has_uv && mat.needs_tangents()).then(|| {

@@ -125,12 +125,10 @@ impl Rig {
                 morphs,
                 budget,
             )
-            .and_then(|()| {
-                if shared || !same {
-                    Err(CpuBecause::Shape)
-                } else {
-                    Ok(())
-                }
+            .and(if shared || !same {
+                Err(CpuBecause::Shape)
+            } else {
+                Ok(())
             });
             let (Ok(()), Some(skin), Some(joints), Some(normals)) =
                 (verdict, p.skin, joints, &p.src.normals)
