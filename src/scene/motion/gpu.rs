@@ -229,6 +229,46 @@ mod tests {
         }
     }
 
+    /// The conservative bound of a GPU-skinned mesh (the sphere around the animation's
+    /// framing bounds, which the renderer culls it by) holds every vertex of CesiumMan at 21
+    /// moments of its walk; how much larger it is than each moment's own sphere is printed.
+    #[test]
+    fn the_framing_sphere_holds_every_moment() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/khronos/motion/CesiumMan.glb");
+        let bytes = std::fs::read(&path).expect("committed sample");
+        let mut scene =
+            crate::scene::load::load_bytes(&path, &bytes, &LoadOptions::default()).expect("loads");
+        let rig = scene.motion.clone().expect("a rig");
+        let (gpu, _) = rig.gpu_skinned(&scene, 64);
+        let mesh = gpu.first().expect("skinned on the GPU").mesh;
+        let duration = scene.animations()[0].duration;
+        let mut worst = 0.0f32;
+        for k in 0..=20 {
+            let seconds = duration * f64::from(k) / 20.0;
+            scene
+                .pose(Some(Moment {
+                    animation: 0,
+                    seconds,
+                }))
+                .expect("poses");
+            let b = scene.bounds;
+            let (center, radius) = (b.center(), (b.max - b.min).length() * 0.5);
+            let v = &scene.meshes[mesh].vertices;
+            let far = v
+                .iter()
+                .map(|v| (glam::Vec3::from(v.position) - center).length())
+                .fold(0.0f32, f32::max);
+            assert!(
+                far <= radius * (1.0 + 1e-6),
+                "{seconds} s: {far} > {radius}"
+            );
+            let own = crate::scene::bounding_sphere(v).1;
+            worst = worst.max(radius / own);
+        }
+        eprintln!("framing sphere / the moment's own sphere: at most {worst:.3}");
+    }
+
     /// A skin over the budget (a fake one, below RiggedSimple's two joints) stays on the
     /// CPU, and `pose_except` leaves the GPU's meshes as they were.
     #[test]
