@@ -150,3 +150,50 @@ fn run_still(dir: &std::path::Path) -> Rgba {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     Rgba::load_png(&out).unwrap()
 }
+
+/// Skinned on the GPU, the passes beyond the legacy lit one: the PBR tier over its shadow
+/// map (the depth program's `SKINNED` variant) and the shadow map itself
+/// (`--show shadow-map`, which shows the bend: not the static pose's map) are the CPU path's
+/// byte for byte (measured: identical).
+#[test]
+fn shadows_and_pbr_skinned_on_the_gpu_are_the_cpu_paths() {
+    let dir = out_dir("motion_truth");
+    let base = [
+        MODEL,
+        "--size",
+        "64x48",
+        "--yaw",
+        "30",
+        "--shadow-size",
+        "256",
+    ];
+    for (name, view) in [
+        ("pbr-shadows", ["--shading", "pbr"]),
+        ("shadow-map", ["--show", "shadow-map"]),
+    ] {
+        let mut w = base.to_vec();
+        w.extend(view);
+        let mut at = w.clone();
+        at.extend(["--time", "1.25"]);
+        let gpu = render(&dir, name, &at, &[]);
+        assert!(!gpu.is_uniform(), "{name}: blank");
+        let cpu = render(
+            &dir,
+            &format!("{name}-cpu"),
+            &at,
+            &[("GLVIEW_SKINNING", "cpu")],
+        );
+        assert!(
+            gpu.data == cpu.data,
+            "{name}: skinned on the GPU is not the CPU path's picture: {}",
+            write_diff(&dir, name, &gpu, &cpu).display()
+        );
+        if name == "shadow-map" {
+            let still = render(&dir, &format!("{name}-static"), &w, &[]);
+            assert!(
+                gpu.data != still.data,
+                "the shadow map does not show the pose"
+            );
+        }
+    }
+}
