@@ -111,6 +111,9 @@ impl Renderer {
                 "mesh {bad}: no such mesh to upload again (the scene has {n})"
             )));
         }
+        // A mesh skinned on the GPU whose vertices the caller rewrote draws them: it leaves
+        // the GPU path (a later pose poses it on the CPU).
+        self.scene.skins.meshes.retain(|i| !meshes.contains(i));
         let roles = (!self.scene.scene.instancing.is_empty())
             .then(|| super::instancing::plan(&self.gpu, &self.scene.scene));
         let mut todo: Vec<usize> = meshes

@@ -41,14 +41,10 @@ pub(crate) fn allowed() -> bool {
 }
 
 /// Which of `scene`'s meshes are skinned on the GPU with this context's budget (the static
-/// pose's joint matrices), and their streams in mesh order.
-pub(crate) fn plan(
-    gpu: &GpuRef,
-    scene: &Scene,
-    allowed: bool,
-) -> (GpuSkins, std::vec::IntoIter<GpuSkinned>) {
+/// pose's joint matrices), and their streams sorted by mesh.
+pub(crate) fn plan(gpu: &GpuRef, scene: &Scene, allowed: bool) -> (GpuSkins, Vec<GpuSkinned>) {
     let Some(rig) = scene.motion.as_ref().filter(|_| allowed) else {
-        return (GpuSkins::default(), Vec::new().into_iter());
+        return (GpuSkins::default(), Vec::new());
     };
     let budget = joint_budget(gpu.caps.max_vertex_uniform_components);
     let (mut skinned, cpu) = rig.gpu_skinned(scene, budget);
@@ -67,7 +63,7 @@ pub(crate) fn plan(
         joints: rig.gpu_joints(scene.posed),
         moment: scene.posed,
     };
-    (skins, skinned.into_iter())
+    (skins, skinned)
 }
 
 /// Uploads scene mesh `s.mesh` in bind space with its joints and weights: the scene mesh's

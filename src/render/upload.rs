@@ -238,7 +238,11 @@ impl SceneGpu {
         let mut meshes = Vec::with_capacity(scene.meshes.count());
         let mut uploaded = 0;
         let plan = super::instancing::plan(gpu, &scene);
-        let (skins, mut skinned) = super::skinning::plan(gpu, &scene, gpu_skinning);
+        let (mut skins, skinned) = super::skinning::plan(gpu, &scene, gpu_skinning);
+        // (An instanced node is never posed: a skinned mesh draws as its own.)
+        skins
+            .meshes
+            .retain(|&i| matches!(plan.get(i), Some(Role::Own)));
         for (i, role) in plan.iter().enumerate() {
             // Whoever prepared them (a mesh cache entry too), a posed mesh has none.
             let c = clusters
@@ -247,10 +251,10 @@ impl SceneGpu {
                 .filter(|_| !super::posed::posed_by_rig(&scene, i));
             let (dm, bytes) = match role {
                 Role::Own if skins.meshes.binary_search(&i).is_ok() => {
-                    let s = skinned.next().ok_or_else(|| {
-                        crate::Error::Unsupported(format!("mesh {i}: no skinned streams"))
-                    })?;
-                    super::skinning::upload(gpu, &scene, &s)?
+                    match skinned.binary_search_by_key(&i, |s| s.mesh) {
+                        Ok(k) => super::skinning::upload(gpu, &scene, &skinned[k])?,
+                        Err(_) => draw_mesh(gpu, &scene, i, c)?,
+                    }
                 }
                 Role::Own => draw_mesh(gpu, &scene, i, c)?,
                 Role::Absorbed => (absorbed(), 0),
