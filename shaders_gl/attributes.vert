@@ -3,6 +3,7 @@
 IN vec3 aPosition;
 IN vec3 aNormal;
 #include "instance.glsl"
+#include "skin.glsl"
 
 uniform mat4 uModelView;
 uniform mat4 uProjection;
@@ -12,8 +13,8 @@ OUT vec3 vEyePos;
 OUT vec3 vNormal;
 
 void main() {
-    vec4 eye = uModelView * vec4(instancePoint(aPosition), 1.0);
+    vec4 eye = uModelView * vec4(instancePoint(skinPoint(aPosition)), 1.0);
     vEyePos = eye.xyz;
-    vNormal = uNormalMatrix * instanceNormal(aNormal);
+    vNormal = uNormalMatrix * instanceNormal(skinNormal(aNormal));
     gl_Position = uProjection * eye;
 }

@@ -1,6 +1,7 @@
 // Shadow pass: depth from the light only; MASK materials also pass their UVs for the cutout.
 IN vec3 aPosition;
 #include "instance.glsl"
+#include "skin.glsl"
 uniform mat4 uLightMvp;
 #ifdef ALPHA_MASK
 IN vec2 aUv;
@@ -25,5 +26,5 @@ void main() {
     vAlpha = aColor.a;
 #endif
 #endif
-    gl_Position = uLightMvp * vec4(instancePoint(aPosition), 1.0);
+    gl_Position = uLightMvp * vec4(instancePoint(skinPoint(aPosition)), 1.0);
 }

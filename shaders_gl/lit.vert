@@ -4,6 +4,7 @@ IN vec3 aPosition;
 IN vec3 aNormal;
 IN vec2 aUv;
 #include "instance.glsl"
+#include "skin.glsl"
 #ifdef HAS_COLOR
 IN vec4 aColor;     // per-vertex colour: multiplies Ka and Kd like a texture; alpha
 OUT vec4 vColor;    // (1 if not given) multiplies the base colour's alpha
@@ -43,7 +44,7 @@ OUT vec4 vFactors[NUM_LIGHTS];   // xy: front face, zw: back face (times the fal
 #endif
 
 void main() {
-    vec4 eye = uModelView * vec4(instancePoint(aPosition), 1.0);
+    vec4 eye = uModelView * vec4(instancePoint(skinPoint(aPosition)), 1.0);
     vEyePos = eye.xyz;
 #if defined(HAS_TEXTURE) || defined(HAS_EMISSIVE_MAP) || defined(HAS_NORMAL_MAP)
     vUv = aUv;
@@ -52,12 +53,12 @@ void main() {
     vUv1 = aUv1;
 #endif
 #ifdef HAS_NORMAL_MAP
-    vTangent = vec4(uNormalMatrix * instanceDirection(aTangent.xyz), aTangent.w);
+    vTangent = vec4(uNormalMatrix * instanceDirection(skinDirection(aTangent.xyz)), skinHanded(aTangent.w));
 #endif
 #ifdef HAS_COLOR
     vColor = aColor;
 #endif
-    vec3 n = uNormalMatrix * instanceNormal(aNormal);
+    vec3 n = uNormalMatrix * instanceNormal(skinNormal(aNormal));
 #ifdef GOURAUD
 #if NUM_LIGHTS > 0
     n = safeNormalize(n);

@@ -3,6 +3,7 @@ IN vec3 aPosition;
 IN vec3 aNormal;
 IN vec2 aUv;
 #include "instance.glsl"
+#include "skin.glsl"
 #ifdef HAS_COLOR
 IN vec4 aColor;     // per-vertex colour, sRGB like a base-colour map; alpha (1 if not given)
 OUT vec4 vColor;
@@ -33,7 +34,7 @@ OUT vec4 vTangent;
 #endif
 
 void main() {
-    vec4 eye = uModelView * vec4(instancePoint(aPosition), 1.0);
+    vec4 eye = uModelView * vec4(instancePoint(skinPoint(aPosition)), 1.0);
     vEyePos = eye.xyz;
     vUv = aUv;
 #ifdef HAS_UV1
@@ -42,9 +43,9 @@ void main() {
 #ifdef HAS_COLOR
     vColor = aColor;
 #endif
-    vNormal = uNormalMatrix * instanceNormal(aNormal);
+    vNormal = uNormalMatrix * instanceNormal(skinNormal(aNormal));
 #if defined(HAS_NORMAL_MAP) || defined(HAS_CC_NORMAL_MAP) || defined(KHR_ANISOTROPY)
-    vTangent = vec4(uNormalMatrix * instanceDirection(aTangent.xyz), aTangent.w);
+    vTangent = vec4(uNormalMatrix * instanceDirection(skinDirection(aTangent.xyz)), skinHanded(aTangent.w));
 #endif
     gl_Position = uProjection * eye;
 #ifdef POINTS

@@ -19,6 +19,8 @@ pub(crate) struct GpuMesh {
     color_size: i32,
     /// Second UV set, attribute 5.
     uv1: Option<Buffer>,
+    /// A skinned mesh's joint indices and weights, attributes 10 and 11.
+    skin: Option<(Buffer, Buffer)>,
     vao: Option<glow::VertexArray>,
     index_type: u32,
     /// GL_TRIANGLES, GL_LINES or GL_POINTS.
@@ -36,6 +38,9 @@ pub(crate) const TANGENT_ATTRIBUTE: u32 = 3;
 pub(crate) const COLOR_ATTRIBUTE: u32 = 4;
 /// Attribute location of the optional second UV set.
 pub(crate) const UV1_ATTRIBUTE: u32 = 5;
+/// Attribute locations of a skinned mesh's joints and weights (`skin.glsl`).
+pub(crate) const JOINTS_ATTRIBUTE: u32 = 10;
+pub(crate) const WEIGHTS_ATTRIBUTE: u32 = 11;
 
 /// What the indices of a mesh describe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -53,9 +58,14 @@ pub(crate) struct Streams<'a> {
     /// Colours with alpha, used instead of `colors` when given.
     pub(crate) colors_rgba: Option<&'a [[f32; 4]]>,
     pub(crate) uv1: Option<&'a [[f32; 2]]>,
+    /// Joint indices (as floats) and weights of a mesh skinned on the GPU.
+    pub(crate) skin: Option<SkinStreams<'a>>,
 }
 
-fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&Buffer>); 3]) {
+/// A skinned mesh's joint indices (as floats) and weights, one of each per vertex.
+pub(crate) type SkinStreams<'a> = (&'a [[f32; 4]], &'a [[f32; 4]]);
+
+fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&Buffer>); 5]) {
     let stride = std::mem::size_of::<Vertex>() as i32;
     // SAFETY: offsets match the #[repr(C)] Vertex layout; extra streams are tightly packed
     // float vectors of the given size.
@@ -122,6 +132,13 @@ impl GpuMesh {
             (None, c) => (stream(c.map(bytemuck::cast_slice))?, 3),
         };
         let uv1 = stream(streams.uv1.map(bytemuck::cast_slice))?;
+        let skin = match streams.skin {
+            Some((j, w)) => Some((
+                Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(j))?,
+                Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(w))?,
+            )),
+            None => None,
+        };
         let vbo = Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(vertices))?;
         // 16-bit indices where they suffice: half the memory, and the only kind ES 2 had.
         let index_type = if vertices.len() <= u16::MAX as usize + 1 {
@@ -141,7 +158,11 @@ impl GpuMesh {
                 let vao = gpu.gl.create_vertex_array().map_err(Error::Unsupported)?;
                 gpu.created();
                 gpu.gl.bind_vertex_array(Some(vao));
-                set_attributes(&gpu.gl, &vbo, extra(&tangents, (&colors, color_size), &uv1));
+                set_attributes(
+                    &gpu.gl,
+                    &vbo,
+                    extra(&tangents, (&colors, color_size), &uv1, &skin),
+                );
                 ibo.bind();
                 gpu.gl.bind_vertex_array(None);
                 Some(vao)
@@ -157,6 +178,7 @@ impl GpuMesh {
             colors,
             color_size,
             uv1,
+            skin,
             vao,
             index_type,
             mode: match primitive {
@@ -262,7 +284,12 @@ impl GpuMesh {
                     set_attributes(
                         gl,
                         &self.vbo,
-                        extra(&self.tangents, (&self.colors, self.color_size), &self.uv1),
+                        extra(
+                            &self.tangents,
+                            (&self.colors, self.color_size),
+                            &self.uv1,
+                            &self.skin,
+                        ),
                     );
                     self.ibo.bind();
                 }
@@ -330,11 +357,14 @@ fn extra<'a>(
     tangents: &'a Option<Buffer>,
     (colors, color_size): (&'a Option<Buffer>, i32),
     uv1: &'a Option<Buffer>,
-) -> [(u32, i32, Option<&'a Buffer>); 3] {
+    skin: &'a Option<(Buffer, Buffer)>,
+) -> [(u32, i32, Option<&'a Buffer>); 5] {
     [
         (TANGENT_ATTRIBUTE, 4, tangents.as_ref()),
         (COLOR_ATTRIBUTE, color_size, colors.as_ref()),
         (UV1_ATTRIBUTE, 2, uv1.as_ref()),
+        (JOINTS_ATTRIBUTE, 4, skin.as_ref().map(|s| &s.0)),
+        (WEIGHTS_ATTRIBUTE, 4, skin.as_ref().map(|s| &s.1)),
     ]
 }
 

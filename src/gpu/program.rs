@@ -7,7 +7,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Attribute locations, bound before linking so every program shares one vertex layout.
-pub(crate) const ATTRIBUTES: [(u32, &str); 10] = [
+pub(crate) const ATTRIBUTES: [(u32, &str); 12] = [
     (0, "aPosition"),
     (1, "aNormal"),
     (2, "aUv"),
@@ -19,6 +19,9 @@ pub(crate) const ATTRIBUTES: [(u32, &str); 10] = [
     (7, "aInstance1"),
     (8, "aInstance2"),
     (9, "aInstance3"),
+    // A skinned mesh's joints and weights (`skin.glsl`, super::mesh::Streams::skin).
+    (10, "aJoints"),
+    (11, "aWeights"),
 ];
 
 pub struct Program {
@@ -122,6 +125,20 @@ impl Program {
                 self.gpu
                     .gl
                     .uniform_matrix_4_f32_slice(Some(&l), false, &m.to_cols_array())
+            }
+        }
+    }
+
+    /// Sets the array `name` from its first element on (a skin's joint matrices).
+    pub(crate) fn set_mat4_array(&self, name: &str, ms: &[glam::Mat4]) {
+        if let (Some(l), false) = (self.location(name), ms.is_empty()) {
+            let flat: Vec<f32> = ms.iter().flat_map(glam::Mat4::to_cols_array).collect();
+            // SAFETY: the program is bound by the caller; 16 floats per matrix, no more
+            // matrices than the array declares (the key's SKIN_JOINTS is the skin's count).
+            unsafe {
+                self.gpu
+                    .gl
+                    .uniform_matrix_4_f32_slice(Some(&l), false, &flat)
             }
         }
     }

@@ -64,6 +64,29 @@ pub(crate) fn key() -> ProgramKey {
 }
 
 impl Renderer {
+    /// The attribute program of a mesh skinned on the GPU (its `SKINNED` variant) with the
+    /// view set and its joints; None for any other mesh.
+    fn skinned_program(
+        &self,
+        dm: &super::upload::DrawMesh,
+        view: &glam::Mat4,
+        proj: &glam::Mat4,
+    ) -> Result<Option<std::rc::Rc<crate::gpu::program::Program>>> {
+        if dm.skin.is_none() {
+            return Ok(None);
+        }
+        let p = self
+            .programs
+            .borrow_mut()
+            .get(&super::skinning::key(key(), dm))?;
+        p.bind();
+        p.set_mat4("uModelView", view);
+        p.set_mat4("uProjection", proj);
+        p.set_mat3("uNormalMatrix", &Mat3::from_mat4(*view));
+        super::skinning::set_joints(&p, &self.scene, dm);
+        Ok(Some(p))
+    }
+
     /// Draws the attribute buffers of the frame `s` at `width`×`height`, then binds
     /// `target` again (frames expect their target bound: a deleted framebuffer leaves the
     /// context's default one, which a surfaceless EGL context does not have).
@@ -151,8 +174,10 @@ impl Renderer {
             gpu.clear_rgba(Some([-1.0, -1.0, -1.0, 0.0]));
             for (i, dm) in self.scene.meshes.iter().enumerate() {
                 if dm.primitive == Primitive::Triangles {
-                    let p = match (&dm.instances, &instanced) {
-                        (Some(_), Some(p)) => p,
+                    let skinned = self.skinned_program(dm, &view, &proj)?;
+                    let p = match (&dm.instances, &instanced, &skinned) {
+                        (_, _, Some(p)) => p,
+                        (Some(_), Some(p), _) => p,
                         _ => &program,
                     };
                     p.bind();

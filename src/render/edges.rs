@@ -54,7 +54,11 @@ impl EdgeState {
         }
         self.meshes.clear();
         self.segments = 0;
-        for m in &cx.scene.scene.meshes {
+        // Meshes skinned on the GPU hold the static pose: their lines are made from a CPU
+        // pose of the moment drawn.
+        let posed = cx.scene.cpu_posed_skins()?;
+        for (i, m) in (&cx.scene.scene.meshes).into_iter().enumerate() {
+            let m = posed.iter().find(|p| p.0 == i).map_or(m, |p| &p.1);
             // The barycentric soup counts its edges itself: no second weld through extract.
             let (vertices, indices, primitive, segments) = if geometry == Geometry::Barycentric {
                 let (v, i, n) = soup(m, set);

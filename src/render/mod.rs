@@ -25,6 +25,7 @@ mod posed;
 pub mod post;
 pub mod programs;
 pub(crate) mod shadow;
+mod skinning;
 mod slots;
 mod textures;
 mod tier;
@@ -331,7 +332,26 @@ impl Renderer {
         scene: Scene,
         clusters: Vec<Option<crate::scene::clusters::Clusters>>,
     ) -> Result<Renderer> {
-        let scene = SceneGpu::new(gpu, scene, clusters)?;
+        Self::skinning(gpu, scene, clusters, skinning::allowed())
+    }
+
+    /// As [`Renderer::new`], with every mesh a rig moves posed on the CPU (no skinning on
+    /// the GPU): for comparisons (`bench --motion`).
+    pub fn cpu_skinned(gpu: &GpuRef, mut scene: Scene) -> Result<Renderer> {
+        let clusters = crate::scene::clusters::prepare(&mut scene);
+        Self::skinning(gpu, scene, clusters, false)
+    }
+
+    fn skinning(
+        gpu: &GpuRef,
+        scene: Scene,
+        clusters: Vec<Option<crate::scene::clusters::Clusters>>,
+        gpu_skinning: bool,
+    ) -> Result<Renderer> {
+        let scene = SceneGpu::new(gpu, scene, clusters, gpu_skinning)?;
+        // A scene posed before it was uploaded (a comparison's, a sheet's) is drawn at
+        // that moment, and a later pose compares with it.
+        let posed = scene.scene.posed;
         Ok(Renderer {
             gpu: gpu.clone(),
             scene,
@@ -342,7 +362,7 @@ impl Renderer {
             time_post: false,
             cull_clusters: true,
             lod: Lod::default(),
-            posed: None,
+            posed,
             pose_cost: PoseCost::default(),
         })
     }

@@ -5,6 +5,8 @@
 //! renderer of the posed scene draws, byte for byte: the same upload code runs on the same
 //! vertices. The meshes a rig poses never get clusters ([`crate::scene::clusters::prepare`]
 //! skips them): their triangles move every frame, and a cluster's bounds would not.
+//! Meshes skinned on the GPU ([`super::skinning`]) are not posed on the CPU or uploaded: a
+//! pose sets their skins' joint matrices and bounds them by the animation's framing bounds.
 use super::instancing::Role;
 use super::upload::{instanced_head, whole_draw_mesh_into, SceneGpu};
 use super::Renderer;
@@ -24,6 +26,8 @@ pub struct PoseCost {
     pub meshes: usize,
     /// Bytes of vertex and index data uploaded again.
     pub bytes: u64,
+    /// Meshes skinned on the GPU (their joint matrices set, nothing uploaded).
+    pub skinned: usize,
 }
 
 impl Renderer {
@@ -36,7 +40,24 @@ impl Renderer {
         }
         let t = Instant::now();
         let bounds = self.scene.scene.bounds;
-        let changed = self.scene.scene.pose(moment)?;
+        let gpu = std::mem::take(&mut self.scene.skins.meshes);
+        let changed = self.scene.scene.pose_except(moment, &gpu);
+        self.scene.skins.meshes = gpu;
+        let changed = changed?;
+        if !self.scene.skins.meshes.is_empty() {
+            let joints = self
+                .scene
+                .scene
+                .motion
+                .as_ref()
+                .map(|r| r.gpu_joints(moment))
+                .unwrap_or_default();
+            let bounds = moment.map(|_| self.scene.scene.bounds);
+            self.scene.pose_skins(moment, joints, bounds.as_ref());
+            // The light views see them move; `--edges` lines are posed on the CPU.
+            self.res.shadow.invalidate();
+            self.res.edges = Default::default();
+        }
         let pose_ms = ms(t);
         // The shadow maps are fitted to the scene's bounds, which a pose may change (the
         // animation's framing) even where no mesh moved.
@@ -54,6 +75,7 @@ impl Renderer {
             upload_ms: ms(t),
             meshes: changed.len(),
             bytes: self.scene.uploaded.get() - before,
+            skinned: self.scene.skins.meshes.len(),
         };
         self.posed = moment;
         Ok(())
@@ -89,6 +111,9 @@ impl Renderer {
                 "mesh {bad}: no such mesh to upload again (the scene has {n})"
             )));
         }
+        // A mesh skinned on the GPU whose vertices the caller rewrote draws them: it leaves
+        // the GPU path (a later pose poses it on the CPU).
+        self.scene.skins.meshes.retain(|i| !meshes.contains(i));
         let roles = (!self.scene.scene.instancing.is_empty())
             .then(|| super::instancing::plan(&self.gpu, &self.scene.scene));
         let mut todo: Vec<usize> = meshes

@@ -89,28 +89,14 @@ pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
                 .switch("UNLIT", "unlit", unlit)
         })
     }))
-    // EXT_mesh_gpu_instancing's instanced draws: both tiers (Gouraud and a normal map for
-    // the tangent), the depth program plain and cut out, and the attribute pass.
-    .chain(
-        [
-            lit::program_key(1, 1, 1, 0, true, false, true).switch("HAS_NORMAL_MAP", "nrm", true),
-            lit::program_key(1, 1, 1, 0, true, true, true),
-            pbr::all_keys(1, 1, 1, 0).swap_remove(0),
-            shadow::depth_key(),
-            slots::flags(
-                shadow::depth_key().switch("HAS_TEXTURE", "tex", true),
-                &Material {
-                    alpha_mode: AlphaMode::Mask(0.5),
-                    ..Material::gltf_default()
-                },
-                true,
-                true,
-                false,
-            ),
-            attributes::key(),
-        ]
-        .map(|k| k.switch("INSTANCED", "inst", true)),
-    )
+    // EXT_mesh_gpu_instancing's instanced draws and skinning on the GPU (GL 2.1's minimum
+    // budget's 16 joints): both tiers (Gouraud and a normal map for the tangent), the depth
+    // program plain and cut out, and the attribute pass.
+    .chain(vertex_variants().map(|k| k.switch("INSTANCED", "inst", true)))
+    .chain(vertex_variants().map(|k| {
+        k.switch("SKINNED", "skin", true)
+            .count("SKIN_JOINTS", "j", 16)
+    }))
     // The copy path's RGBM-encoded linear frame (bloom without float render targets).
     .chain(
         [
@@ -124,6 +110,27 @@ pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
         }),
     )
     .collect()
+}
+
+/// The programs whose vertex stage moves the mesh (instances, skins), as their plain keys.
+fn vertex_variants() -> [ProgramKey; 6] {
+    [
+        lit::program_key(1, 1, 1, 0, true, false, true).switch("HAS_NORMAL_MAP", "nrm", true),
+        lit::program_key(1, 1, 1, 0, true, true, true),
+        pbr::all_keys(1, 1, 1, 0).swap_remove(0),
+        shadow::depth_key(),
+        slots::flags(
+            shadow::depth_key().switch("HAS_TEXTURE", "tex", true),
+            &Material {
+                alpha_mode: AlphaMode::Mask(0.5),
+                ..Material::gltf_default()
+            },
+            true,
+            true,
+            false,
+        ),
+        attributes::key(),
+    ]
 }
 
 /// The material variants of each lit program and of the depth program, for

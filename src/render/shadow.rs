@@ -112,7 +112,12 @@ fn is_masked(cx: &FrameCx, i: usize) -> bool {
 /// passes do, so what is not drawn casts no shadow.
 fn mask_key(cx: &FrameCx, i: usize, textured: bool) -> ProgramKey {
     let m = &cx.scene.meshes[i];
-    let depth_key = || depth_key().switch("INSTANCED", "inst", m.instances.is_some());
+    let depth_key = || {
+        super::skinning::key(
+            depth_key().switch("INSTANCED", "inst", m.instances.is_some()),
+            m,
+        )
+    };
     if !is_masked(cx, i) {
         return depth_key();
     }
@@ -340,6 +345,10 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
             current = Some(key);
         }
         let dm = &cx.scene.meshes[i];
+        if dm.skin.is_some() {
+            let p = cx.program(current.as_ref().expect("set above"))?;
+            super::skinning::set_joints(&p, cx.scene, dm);
+        }
         if is_masked(cx, i) {
             let p = cx.program(current.as_ref().expect("set above"))?;
             let model = &cx.scene.scene.materials[dm.material];

@@ -16,7 +16,7 @@ use glam::Vec3;
 
 pub(crate) struct DrawMesh {
     /// Its buffers: the whole mesh, or first only its whole-mesh levels.
-    mesh: Resident,
+    pub(crate) mesh: Resident,
     pub(crate) material: usize,
     pub(crate) center: Vec3,
     /// Bounding sphere radius around `center`, for frustum culling.
@@ -40,10 +40,12 @@ pub(crate) struct DrawMesh {
     pub(crate) clusters: Option<Clusters>,
     /// Drawn once per instance (`INSTANCED` programs); `triangles` counts every instance's.
     pub(crate) instances: Option<super::instancing::InstancedDraw>,
+    /// Skinned on the GPU (`SKINNED` programs, [`super::skinning`]).
+    pub(crate) skin: Option<super::skinning::SkinDraw>,
 }
 
 /// A mesh's buffers on the GPU.
-enum Resident {
+pub(crate) enum Resident {
     /// The whole mesh, its levels after its own triangles.
     Full(GpuMesh),
     /// Only its whole-mesh levels (a mesh cache hit's compact copy), which are its index
@@ -163,6 +165,8 @@ pub(crate) struct SceneGpu {
     pub(crate) uploaded: std::cell::Cell<u64>,
     /// Meshes uploaded whole after a first view drew their compact copies.
     pub(crate) completed: std::cell::Cell<u32>,
+    /// The meshes skinned on the GPU and their skins' joint matrices.
+    pub(crate) skins: super::skinning::GpuSkins,
 }
 
 /// Makes a texture from `t`'s pixels (fitted to the driver's size limit) with `make`, and
@@ -219,10 +223,12 @@ pub(crate) fn fit_texture<'a>(
 
 impl SceneGpu {
     /// Uploads `scene`; `clusters` are [`clusters::prepare`]'s for it (same mesh order).
+    /// `gpu_skinning`: the meshes that can be are skinned on the GPU ([`super::skinning`]).
     pub(crate) fn new(
         gpu: &GpuRef,
         mut scene: Scene,
         clusters: Vec<Option<Clusters>>,
+        gpu_skinning: bool,
     ) -> Result<SceneGpu> {
         let mut clusters = clusters.into_iter();
         // Lines and points are drawn with material 0; a file of only lines has none.
@@ -232,6 +238,11 @@ impl SceneGpu {
         let mut meshes = Vec::with_capacity(scene.meshes.count());
         let mut uploaded = 0;
         let plan = super::instancing::plan(gpu, &scene);
+        let (mut skins, skinned) = super::skinning::plan(gpu, &scene, gpu_skinning);
+        // (An instanced node is never posed: a skinned mesh draws as its own.)
+        skins
+            .meshes
+            .retain(|&i| matches!(plan.get(i), Some(Role::Own)));
         for (i, role) in plan.iter().enumerate() {
             // Whoever prepared them (a mesh cache entry too), a posed mesh has none.
             let c = clusters
@@ -239,6 +250,12 @@ impl SceneGpu {
                 .flatten()
                 .filter(|_| !super::posed::posed_by_rig(&scene, i));
             let (dm, bytes) = match role {
+                Role::Own if skins.meshes.binary_search(&i).is_ok() => {
+                    match skinned.binary_search_by_key(&i, |s| s.mesh) {
+                        Ok(k) => super::skinning::upload(gpu, &scene, &skinned[k])?,
+                        Err(_) => draw_mesh(gpu, &scene, i, c)?,
+                    }
+                }
                 Role::Own => draw_mesh(gpu, &scene, i, c)?,
                 Role::Absorbed => (absorbed(), 0),
                 Role::Head(copies) => instanced_head(gpu, &scene, i, copies)?,
@@ -261,6 +278,7 @@ impl SceneGpu {
             gpu: gpu.clone(),
             uploaded: std::cell::Cell::new(uploaded),
             completed: std::cell::Cell::new(0),
+            skins,
         })
     }
 
@@ -313,6 +331,7 @@ fn draw_mesh(
         colors,
         colors_rgba: rgba.as_deref(),
         uv1,
+        skin: None,
     };
     let levels = GpuMesh::with_levels(
         gpu,
@@ -343,6 +362,7 @@ fn draw_mesh(
         terminator_lift: compact.terminator_lift,
         clusters,
         instances: None,
+        skin: None,
     };
     Ok((dm, bytes))
 }
@@ -388,6 +408,7 @@ pub(crate) fn absorbed() -> DrawMesh {
         terminator_lift: 0.0,
         clusters: None,
         instances: None,
+        skin: None,
     }
 }
 
@@ -427,7 +448,7 @@ pub(crate) fn whole_draw_mesh_into(
         Some(c) => &c.lod.indices[..],
         None => &[][..],
     };
-    let (mesh, has, bytes) = upload_mesh_into(gpu, m, mat, levels, old)?;
+    let (mesh, has, bytes) = upload_mesh_into(gpu, m, mat, levels, old, None)?;
     // The levels' indices now live on the GPU only.
     if let Some(c) = &mut clusters {
         c.lod.indices = Vec::new();
@@ -449,6 +470,7 @@ pub(crate) fn whole_draw_mesh_into(
         terminator_lift: crate::scene::terminator_lift(m) as f32,
         clusters,
         instances: None,
+        skin: None,
     };
     Ok((dm, bytes))
 }
@@ -463,10 +485,10 @@ fn levels_read(scene: &Scene, i: usize) -> Result<&[u32]> {
 }
 
 /// Which optional streams an upload has.
-struct Has {
-    tangents: bool,
-    uv1: bool,
-    colors: bool,
+pub(crate) struct Has {
+    pub(crate) tangents: bool,
+    pub(crate) uv1: bool,
+    pub(crate) colors: bool,
 }
 
 /// The colour (RGB, or RGBA where alpha is per vertex too) and second UV streams of a
@@ -518,17 +540,18 @@ fn upload_mesh(
     mat: &crate::scene::Material,
     levels: &[u32],
 ) -> Result<(GpuMesh, Has, u64)> {
-    upload_mesh_into(gpu, m, mat, levels, None)
+    upload_mesh_into(gpu, m, mat, levels, None, None)
 }
 
 /// As [`upload_mesh`], into `old`'s buffers when they fit (a posed mesh: same sizes, no
 /// levels), else into new ones.
-fn upload_mesh_into(
+pub(crate) fn upload_mesh_into(
     gpu: &GpuRef,
     m: &crate::scene::Mesh,
     mat: &crate::scene::Material,
     levels: &[u32],
     old: Option<GpuMesh>,
+    skin: Option<crate::gpu::mesh::SkinStreams>,
 ) -> Result<(GpuMesh, Has, u64)> {
     // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
     let tangents = (m.has_uv && mat.needs_tangents()).then(|| {
@@ -544,6 +567,7 @@ fn upload_mesh_into(
         colors,
         colors_rgba: rgba.as_deref(),
         uv1,
+        skin,
     };
     let mesh = match old {
         Some(g) if levels.is_empty() && g.rewrite(&m.vertices, &m.indices, streams) => g,
@@ -561,7 +585,10 @@ fn upload_mesh_into(
         uv1: uv1.is_some(),
         colors: colors.is_some(),
     };
-    let bytes = bytes_of(&m.vertices, m.indices.len() + levels.len(), streams);
+    let skin_bytes = skin.map_or(0, |(j, w)| {
+        std::mem::size_of_val(j) + std::mem::size_of_val(w)
+    });
+    let bytes = bytes_of(&m.vertices, m.indices.len() + levels.len(), streams) + skin_bytes as u64;
     Ok((mesh, has, bytes))
 }
 
@@ -624,6 +651,7 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
             terminator_lift: 0.0,
             clusters: None,
             instances: None,
+            skin: None,
         });
     }
     Ok(out)

@@ -93,6 +93,7 @@ pub(super) fn decode(
         views: header.views,
         lights: header.lights,
         motion: None,
+        posed: None,
     };
     Some((scene, clusters))
 }

@@ -251,6 +251,7 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         views: Default::default(),
         lights: Vec::new(),
         motion: None,
+        posed: None,
     })
 }
 
@@ -320,5 +321,6 @@ fn cloud(
         views: Default::default(),
         lights: Vec::new(),
         motion: None,
+        posed: None,
     }
 }

@@ -148,17 +148,13 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         .iter()
         .map(|r| super::gltf_instancing::record(r, &entry_meshes, opts.up, origin))
         .collect();
-    let motion = (!plan.is_empty()).then(|| {
-        let built = super::motion::rig::Built {
-            origin,
-            default_material: default_index,
-            opts,
-            path,
-        };
-        let rig = super::motion::Rig::new(plan, parts, &meshes, wire_bounds, built);
-        maps.extend(rig.check_lines());
-        Arc::new(rig)
-    });
+    let built = super::motion::rig::Built {
+        origin,
+        default_material: default_index,
+        opts,
+        path,
+    };
+    let motion = rig_of(plan, parts, (&meshes, wire_bounds), built, &mut maps);
     Ok(Scene {
         name: Scene::name_of(path),
         meshes: meshes.into(),
@@ -174,7 +170,25 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         views,
         lights,
         motion,
+        posed: None,
     })
+}
+
+/// The scene's rig (None: nothing can move) over `meshes` and the lines' and points'
+/// bounds, its `--check` lines added to `maps`.
+fn rig_of(
+    plan: super::motion::Plan,
+    parts: Vec<super::motion::Part>,
+    (meshes, wire_bounds): (&[super::Mesh], super::Bounds),
+    built: super::motion::rig::Built,
+    maps: &mut Vec<String>,
+) -> Option<Arc<super::motion::Rig>> {
+    if plan.is_empty() {
+        return None;
+    }
+    let rig = super::motion::Rig::new(plan, parts, meshes, wire_bounds, built);
+    maps.extend(rig.check_lines());
+    Some(Arc::new(rig))
 }
 
 /// The triangle primitives made meshes re-centred on `origin` (None where a primitive has

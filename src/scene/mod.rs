@@ -269,6 +269,8 @@ pub struct Scene {
     /// glTF skins, morph targets and animations (None: nothing moves); shared by the
     /// scene's clones, which pose their own meshes.
     pub motion: Option<std::sync::Arc<motion::Rig>>,
+    /// The moment [`Scene::pose`] posed the meshes at (None: the static pose, as loaded).
+    pub posed: Option<motion::Moment>,
 }
 
 /// Line segments and points from `l` and `p` statements, glTF `LINES` and `POINTS`, and
@@ -401,6 +403,7 @@ impl Scene {
             views: Default::default(),
             lights: Vec::new(),
             motion: None,
+            posed: None,
         }
     }
 

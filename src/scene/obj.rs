@@ -532,6 +532,7 @@ fn load_with(
         views: Default::default(),
         lights: Vec::new(),
         motion: None,
+        posed: None,
     })
 }
 

@@ -24,6 +24,10 @@ pub(crate) const SOURCES: &[(&str, &str)] = &[
         include_str!("../../shaders_gl/include/instance.glsl"),
     ),
     (
+        "skin.glsl",
+        include_str!("../../shaders_gl/include/skin.glsl"),
+    ),
+    (
         "lighting.glsl",
         include_str!("../../shaders_gl/include/lighting.glsl"),
     ),

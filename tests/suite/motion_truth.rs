@@ -28,7 +28,9 @@ fn errors(a: &Rgba, b: &Rgba) -> (f64, usize) {
 /// and without VAOs and FBOs) and OSMesa equals the reference renderer at 1.25 s within the tolerance of
 /// `gpu_vs_reference::without_shadows_the_gpu_is_the_formula`'s (mean < 0.05/255; silhouette
 /// pixels where coverage differs: at most 0.1 % here, the picture being small); and that
-/// moment is not the static pose (the bend shows) in either renderer.
+/// moment is not the static pose (the bend shows) in either renderer. On each context the
+/// mesh is skinned on the GPU (its two joints fit every budget) and the picture is the CPU
+/// path's (`GLVIEW_SKINNING=cpu`) byte for byte (measured: identical on all five).
 #[test]
 fn a_moment_on_every_context_is_the_reference_posed() {
     let dir = out_dir("motion_truth");
@@ -60,6 +62,17 @@ fn a_moment_on_every_context_is_the_reference_posed() {
         w.extend_from_slice(extra);
         let got = render(&dir, name, &w, env);
         check_frame(&got, name);
+        let cpu_env: Vec<(&str, &str)> = env
+            .iter()
+            .copied()
+            .chain([("GLVIEW_SKINNING", "cpu")])
+            .collect();
+        let cpu = render(&dir, &format!("{name}-cpu"), &w, &cpu_env);
+        assert!(
+            got.data == cpu.data,
+            "{name}: skinned on the GPU is not the CPU path's picture: {}",
+            write_diff(&dir, name, &got, &cpu).display()
+        );
         let (mean, over) = errors(&got, &want);
         eprintln!("{name}: mean {mean:.4}/255, {over} pixels > 8/255");
         if mean >= 0.05 || over * 1000 > pixels(&got) {
@@ -120,7 +133,12 @@ fn the_same_time_twice_gives_the_same_bytes() {
     assert_eq!(a.data, c.data, "posed away and back");
     assert_ne!(a.data, b.data, "another moment");
     assert_eq!((pa.scene_uploads, pc.scene_uploads), (1, 0), "loaded once");
-    assert!(pc.pose.is_some_and(|p| p.meshes > 0), "posed again: {pc:?}");
+    // RiggedSimple is skinned on the GPU: a pose sets its joints and uploads nothing.
+    assert!(
+        pc.pose
+            .is_some_and(|p| p.skinned == 1 && p.meshes == 0 && p.bytes == 0),
+        "posed again on the GPU: {pc:?}"
+    );
 }
 
 /// The static pose drawn by the binary (a process that never posed).
@@ -131,4 +149,51 @@ fn run_still(dir: &std::path::Path) -> Rgba {
     let o = run(&w, &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     Rgba::load_png(&out).unwrap()
+}
+
+/// Skinned on the GPU, the passes beyond the legacy lit one: the PBR tier over its shadow
+/// map (the depth program's `SKINNED` variant) and the shadow map itself
+/// (`--show shadow-map`, which shows the bend: not the static pose's map) are the CPU path's
+/// byte for byte (measured: identical).
+#[test]
+fn shadows_and_pbr_skinned_on_the_gpu_are_the_cpu_paths() {
+    let dir = out_dir("motion_truth");
+    let base = [
+        MODEL,
+        "--size",
+        "64x48",
+        "--yaw",
+        "30",
+        "--shadow-size",
+        "256",
+    ];
+    for (name, view) in [
+        ("pbr-shadows", ["--shading", "pbr"]),
+        ("shadow-map", ["--show", "shadow-map"]),
+    ] {
+        let mut w = base.to_vec();
+        w.extend(view);
+        let mut at = w.clone();
+        at.extend(["--time", "1.25"]);
+        let gpu = render(&dir, name, &at, &[]);
+        assert!(!gpu.is_uniform(), "{name}: blank");
+        let cpu = render(
+            &dir,
+            &format!("{name}-cpu"),
+            &at,
+            &[("GLVIEW_SKINNING", "cpu")],
+        );
+        assert!(
+            gpu.data == cpu.data,
+            "{name}: skinned on the GPU is not the CPU path's picture: {}",
+            write_diff(&dir, name, &gpu, &cpu).display()
+        );
+        if name == "shadow-map" {
+            let still = render(&dir, &format!("{name}-static"), &w, &[]);
+            assert!(
+                gpu.data != still.data,
+                "the shadow map does not show the pose"
+            );
+        }
+    }
 }

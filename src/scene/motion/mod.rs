@@ -6,6 +6,7 @@
 //!
 //! Reading and checking: `read` (animations, skins) and `source` (a moving primitive's
 //! streams); sampling a channel: `sample`; node transforms and vertices: `pose`.
+pub mod gpu;
 pub(crate) mod pose;
 pub(crate) mod read;
 pub(crate) mod rig;
@@ -101,6 +102,12 @@ impl Scene {
     /// bounds (the same for every moment of it: a camera fitted to them does not follow
     /// the motion), or the static pose's. Without a rig nothing changes.
     pub fn pose(&mut self, moment: Option<Moment>) -> Result<Vec<usize>> {
+        self.pose_except(moment, &[])
+    }
+
+    /// As [`Scene::pose`], but the meshes `gpu` (sorted: skinned on the GPU, see
+    /// [`gpu`]) are neither posed nor returned: they keep the vertices they had.
+    pub fn pose_except(&mut self, moment: Option<Moment>, gpu: &[usize]) -> Result<Vec<usize>> {
         let Some(rig) = self.motion.clone() else {
             return Ok(Vec::new());
         };
@@ -118,14 +125,16 @@ impl Scene {
                 ));
             }
         }
-        let meshes = rig.posed_meshes(moment)?;
-        for (i, mesh) in rig.meshes.iter().zip(meshes) {
-            self.meshes[*i] = mesh;
+        let meshes = rig.posed_meshes_except(moment, gpu)?;
+        let changed: Vec<usize> = meshes.iter().map(|(i, _)| *i).collect();
+        for (i, mesh) in meshes {
+            self.meshes[i] = mesh;
         }
         self.bounds = match moment {
             None => rig.static_bounds,
             Some(m) => rig.framing(m.animation),
         };
-        Ok(rig.meshes.clone())
+        self.posed = moment;
+        Ok(changed)
     }
 }

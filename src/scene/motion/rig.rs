@@ -23,7 +23,7 @@ const FRAMING_WORK: usize = 1 << 26;
 #[derive(Debug, Default)]
 pub(crate) struct Plan {
     graph: Graph,
-    skins: Vec<Option<Skin>>,
+    pub(super) skins: Vec<Option<Skin>>,
     animations: Vec<Animation>,
     /// By node: a channel moves it or one of its ancestors.
     moved: Vec<bool>,
@@ -241,14 +241,20 @@ impl Rig {
     }
 
     /// The node transforms of `moment` (None: the static pose).
-    fn posed(&self, moment: Option<Moment>) -> Posed {
+    pub(super) fn posed(&self, moment: Option<Moment>) -> Posed {
         self.plan
             .graph
             .pose(moment.map(|m| (&self.plan.animations[m.animation], m.seconds)))
     }
 
     /// Each part's vertices placed in `posed` (`positions_only`: for bounds).
-    fn place_all(&self, posed: &Posed, positions_only: bool) -> Vec<super::pose::Placed> {
+    /// Parts of the scene meshes `skip` (sorted) are left out.
+    fn place_all(
+        &self,
+        posed: &Posed,
+        positions_only: bool,
+        skip: &[usize],
+    ) -> Vec<super::pose::Placed> {
         let joints: Vec<Vec<DMat4>> = self
             .plan
             .skins
@@ -260,6 +266,7 @@ impl Rig {
             .collect();
         self.parts
             .iter()
+            .filter(|p| skip.binary_search(&p.mesh).is_err())
             .map(|p| {
                 let deform = match p.skin {
                     Some(s) if !p.src.sets.is_empty() => Deform::Skin(&joints[s]),
@@ -273,23 +280,35 @@ impl Rig {
             .collect()
     }
 
-    /// The moving meshes at `moment`, built as the loader builds them.
-    pub(crate) fn posed_meshes(&self, moment: Option<Moment>) -> Result<Vec<Mesh>> {
+    /// The moving meshes at `moment`, built as the loader builds them, with each one's
+    /// scene mesh index; without the scene meshes `skip` (sorted: those skinned on the GPU).
+    pub(crate) fn posed_meshes_except(
+        &self,
+        moment: Option<Moment>,
+        skip: &[usize],
+    ) -> Result<Vec<(usize, Mesh)>> {
         let posed = self.posed(moment);
         let opts = LoadOptions {
             creases: self.creases,
             ..LoadOptions::default()
         };
-        self.place_all(&posed, false)
+        self.place_all(&posed, false, skip)
             .into_iter()
-            .zip(&self.parts)
+            .zip(
+                self.parts
+                    .iter()
+                    .filter(|p| skip.binary_search(&p.mesh).is_err()),
+            )
             .map(|(placed, p)| {
                 crate::scene::gltf_primitive::check_range(&placed.0)
                     .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", p.node)))?;
-                Ok(p.prim.with_geometry(placed).into_mesh(
-                    self.origin,
-                    self.default_material,
-                    &opts,
+                Ok((
+                    p.mesh,
+                    p.prim.with_geometry(placed).into_mesh(
+                        self.origin,
+                        self.default_material,
+                        &opts,
+                    ),
                 ))
             })
             .collect()
@@ -324,7 +343,7 @@ impl Rig {
                     animation,
                     seconds: t,
                 }));
-                for (positions, _, _) in self.place_all(&posed, true) {
+                for (positions, _, _) in self.place_all(&posed, true, &[]) {
                     for q in positions {
                         b.include((q - self.origin).as_vec3());
                     }

@@ -5,6 +5,9 @@
 //! (the frame alone); the target is a ratio of at most 1.3. A moving model also
 //! makes the frame draw its shadow maps again, which a still one reuses: so the still model
 //! is also timed with its maps redrawn each frame, and everything again without shadows.
+//! Playing is timed twice: with the skinned meshes skinned on the GPU where they can be
+//! (the renderer's default: a pose computes joint matrices only) and with every mesh posed
+//! on the CPU ([`Renderer::cpu_skinned`]).
 //! Frames are measured in interleaved rounds after a warm-up; medians are reported.
 use super::table::{num, Table};
 use glview::options::Options;
@@ -77,13 +80,22 @@ pub fn run_motion(model: &Path, size: (u32, u32)) -> Result<()> {
             c.meshes.to_string(),
             c.bytes.to_string(),
         ];
-        table.row(row("playing", t.playing, &posed));
-        ratios.push((on, t.playing / t.still));
+        table.row(row("playing, GPU skinning", t.playing, &posed));
+        let c = t.cpu_cost;
+        let posed = [
+            num(t.cpu_pose, 2),
+            num(t.cpu_upload, 2),
+            c.meshes.to_string(),
+            c.bytes.to_string(),
+        ];
+        table.row(row("playing, CPU skinning", t.cpu_playing, &posed));
+        ratios.push((on, "GPU", t.playing / t.still));
+        ratios.push((on, "CPU", t.cpu_playing / t.still));
     }
     println!("{}", table.render());
-    for (on, r) in ratios {
+    for (on, how, r) in ratios {
         let verdict = if r <= 1.3 { "met" } else { "NOT met" };
-        println!("shadows {on}: playing/still {r:.2} (target <= 1.3): {verdict}");
+        println!("shadows {on}, {how} skinning: playing/still {r:.2} (target <= 1.3): {verdict}");
     }
     Ok(())
 }
@@ -104,6 +116,29 @@ struct Times {
     pose: f64,
     upload: f64,
     cost: glview::render::PoseCost,
+    cpu_playing: f64,
+    cpu_pose: f64,
+    cpu_upload: f64,
+    cpu_cost: glview::render::PoseCost,
+}
+
+/// Poses `r` at frame `k` and draws it: the frame's time with the pose's, and the pose's
+/// and upload's apart.
+fn play(
+    r: &mut Renderer,
+    k: usize,
+    duration: f64,
+    s: &FrameSettings,
+    hl: &glview::headless::Headless,
+) -> Result<[f64; 3]> {
+    r.pose(Some(at(k, duration)))?;
+    let cost = r.pose_cost();
+    let frame = r.render(s, &hl.target())?.ms;
+    Ok([
+        cost.pose_ms + cost.upload_ms + frame,
+        cost.pose_ms,
+        cost.upload_ms,
+    ])
 }
 
 /// The still model's frames (maps reused, and redrawn), and the playing one's (pose, upload
@@ -117,11 +152,13 @@ fn measure(
     let mut still = Renderer::new(&hl.gpu, scene.clone())?;
     still.pose(Some(at(0, duration)))?;
     let mut playing = Renderer::new(&hl.gpu, scene.clone())?;
+    let mut cpu = Renderer::cpu_skinned(&hl.gpu, scene.clone())?;
     // Warm-up: programs compiled, shadow maps and textures made.
     still.render(s, &hl.target())?;
-    playing.pose(Some(at(1, duration)))?;
-    playing.render(s, &hl.target())?;
-    let mut ms: [Vec<f64>; 5] = Default::default();
+    for r in [&mut playing, &mut cpu] {
+        play(r, 1, duration, s, hl)?;
+    }
+    let mut ms: [Vec<f64>; 8] = Default::default();
     let mut k = 2;
     for _ in 0..ROUNDS {
         for _ in 0..FRAMES {
@@ -131,15 +168,15 @@ fn measure(
             still.invalidate_shadows();
             ms[1].push(still.render(s, &hl.target())?.ms);
         }
-        for _ in 0..FRAMES {
-            playing.pose(Some(at(k, duration)))?;
-            k += 1;
-            let cost = playing.pose_cost();
-            let frame = playing.render(s, &hl.target())?.ms;
-            ms[2].push(cost.pose_ms + cost.upload_ms + frame);
-            ms[3].push(cost.pose_ms);
-            ms[4].push(cost.upload_ms);
+        for (r, at) in [(&mut playing, 2), (&mut cpu, 5)] {
+            for f in 0..FRAMES {
+                let t = play(r, k + f, duration, s, hl)?;
+                for (j, v) in t.into_iter().enumerate() {
+                    ms[at + j].push(v);
+                }
+            }
         }
+        k += FRAMES;
     }
     let m = |v: &[f64]| super::median(v);
     Ok(Times {
@@ -149,5 +186,9 @@ fn measure(
         pose: m(&ms[3]),
         upload: m(&ms[4]),
         cost: playing.pose_cost(),
+        cpu_playing: m(&ms[5]),
+        cpu_pose: m(&ms[6]),
+        cpu_upload: m(&ms[7]),
+        cpu_cost: cpu.pose_cost(),
     })
 }
