@@ -170,7 +170,7 @@ fn refresh_one(scene: &mut SceneGpu, i: usize, role: Option<&Role>) -> Result<()
 /// them (reordered, without levels: a picture that draws levels builds them first); None
 /// for a mesh the rig poses or one now too small.
 fn clusters_again(scene: &mut Scene, i: usize) -> Option<Clusters> {
-    if posed_by_rig(scene, i) {
+    if scene.mesh_moves(i) {
         return None;
     }
     let m = &mut scene.meshes[i];
@@ -178,14 +178,6 @@ fn clusters_again(scene: &mut Scene, i: usize) -> Option<Clusters> {
         crate::scene::clusters::reorder(&m.vertices, &mut m.indices);
         Clusters::build(&m.vertices, &m.indices)
     })
-}
-
-/// Whether the scene's rig rewrites mesh `i` at each pose.
-pub(crate) fn posed_by_rig(scene: &Scene, i: usize) -> bool {
-    scene
-        .motion
-        .as_ref()
-        .is_some_and(|r| r.meshes().binary_search(&i).is_ok())
 }
 
 fn ms(t: Instant) -> f64 {

@@ -245,10 +245,7 @@ impl SceneGpu {
             .retain(|&i| matches!(plan.get(i), Some(Role::Own)));
         for (i, role) in plan.iter().enumerate() {
             // Whoever prepared them (a mesh cache entry too), a posed mesh has none.
-            let c = clusters
-                .next()
-                .flatten()
-                .filter(|_| !super::posed::posed_by_rig(&scene, i));
+            let c = clusters.next().flatten().filter(|_| !scene.mesh_moves(i));
             let (dm, bytes) = match role {
                 Role::Own if skins.meshes.binary_search(&i).is_ok() => {
                     match skinned.binary_search_by_key(&i, |s| s.mesh) {

@@ -68,18 +68,16 @@ pub fn levels_of(m: &super::Mesh, clusters: &Clusters) -> Lod {
 fn prepare_with(scene: &mut super::Scene, lod: bool) -> Vec<Option<Clusters>> {
     // The meshes a rig poses move their triangles at every pose: clusters made here would
     // bound where they were (the renderer draws them whole; render/posed.rs).
-    let posed = scene
-        .motion
-        .as_ref()
-        .map(|r| r.meshes().to_vec())
-        .unwrap_or_default();
+    let moves: Vec<bool> = (0..scene.meshes.count())
+        .map(|i| scene.mesh_moves(i))
+        .collect();
     scene
         .meshes
         .iter_mut()
         .enumerate()
         .map(|(i, m)| {
             let large = m.triangle_count() >= MIN_TRIANGLES;
-            (large && posed.binary_search(&i).is_err()).then(|| {
+            (large && !moves[i]).then(|| {
                 reorder(&m.vertices, &mut m.indices);
                 let mut c = Clusters::build(&m.vertices, &m.indices);
                 if lod {

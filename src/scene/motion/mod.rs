@@ -96,6 +96,14 @@ impl Scene {
         self.motion.as_deref().map_or(&[], |r| &r.animations)
     }
 
+    /// Whether a pose rewrites mesh `i` (its triangles move: it never gets clusters, and the
+    /// renderer draws it whole).
+    pub fn mesh_moves(&self, i: usize) -> bool {
+        self.motion
+            .as_ref()
+            .is_some_and(|r| r.meshes.binary_search(&i).is_ok())
+    }
+
     /// Poses the meshes at `moment` (None: the static pose, as loaded) and returns the
     /// indices of the meshes whose vertices were rewritten (their vertex count may change:
     /// generated normals are generated again). The bounds become the animation's framing
