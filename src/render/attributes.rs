@@ -78,12 +78,12 @@ impl Renderer {
         let p = self
             .programs
             .borrow_mut()
-            .get(&super::skinning::key(key(), dm))?;
+            .get(&super::skinning::key(key(), dm.skin))?;
         p.bind();
         p.set_mat4("uModelView", view);
         p.set_mat4("uProjection", proj);
         p.set_mat3("uNormalMatrix", &Mat3::from_mat4(*view));
-        super::skinning::set_joints(&p, &self.scene, dm);
+        super::skinning::set_joints(&p, &self.scene.skins, dm.skin);
         Ok(Some(p))
     }
 

@@ -183,3 +183,47 @@ fn clusters_again(scene: &mut Scene, i: usize) -> Option<Clusters> {
 fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
+
+impl SceneGpu {
+    /// Sets the joint matrices of `moment` and bounds the GPU-skinned meshes by `bounds`
+    /// (the animation's framing bounds: every moment of it lies inside).
+    pub(crate) fn pose_skins(
+        &mut self,
+        moment: Option<Moment>,
+        joints: Vec<Vec<glam::Mat4>>,
+        bounds: Option<&crate::scene::Bounds>,
+    ) {
+        self.skins.joints = joints;
+        self.skins.moment = moment;
+        for &i in &self.skins.meshes {
+            let (center, radius) = match bounds {
+                Some(b) => super::skinning::framing_sphere(b),
+                None => crate::scene::bounding_sphere(&self.scene.meshes[i].vertices),
+            };
+            if let Some(dm) = self.meshes.get_mut(i) {
+                dm.center = center;
+                dm.radius = radius;
+            }
+        }
+    }
+}
+
+impl SceneGpu {
+    /// The GPU-skinned meshes posed on the CPU at the renderer's moment, for what is made
+    /// from triangles on the CPU (`--edges` lines): none at the static pose, which the scene
+    /// meshes hold.
+    pub(crate) fn cpu_posed_skins(&self) -> Result<Vec<(usize, crate::scene::Mesh)>> {
+        let (Some(moment), Some(rig)) = (self.skins.moment, self.scene.motion.as_ref()) else {
+            return Ok(Vec::new());
+        };
+        let others: Vec<usize> = rig
+            .meshes()
+            .iter()
+            .copied()
+            .filter(|i| self.skins.meshes.binary_search(i).is_err())
+            .collect();
+        let mut others = others;
+        others.sort_unstable();
+        rig.posed_meshes_except(Some(moment), &others)
+    }
+}

@@ -115,7 +115,7 @@ fn mask_key(cx: &FrameCx, i: usize, textured: bool) -> ProgramKey {
     let depth_key = || {
         super::skinning::key(
             depth_key().switch("INSTANCED", "inst", m.instances.is_some()),
-            m,
+            m.skin,
         )
     };
     if !is_masked(cx, i) {
@@ -347,7 +347,7 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
         let dm = &cx.scene.meshes[i];
         if dm.skin.is_some() {
             let p = cx.program(current.as_ref().expect("set above"))?;
-            super::skinning::set_joints(&p, cx.scene, dm);
+            super::skinning::set_joints(&p, &cx.scene.skins, dm.skin);
         }
         if is_masked(cx, i) {
             let p = cx.program(current.as_ref().expect("set above"))?;

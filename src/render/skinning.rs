@@ -7,15 +7,12 @@
 //! array, set per draw. A pose computes the joint matrices only ([`Renderer::pose`] poses the
 //! other meshes on the CPU). `GLVIEW_SKINNING=cpu` keeps every mesh on the CPU path (the
 //! comparisons of the tests and `bench --motion`).
-use super::upload::{upload_mesh_into, DrawMesh, Resident, SceneGpu};
 use crate::gpu::program::Program;
 use crate::gpu::GpuRef;
 use crate::scene::motion::gpu::{joint_budget, GpuSkinned};
 use crate::scene::motion::Moment;
-use crate::scene::Mesh;
 use crate::scene::Scene;
 use crate::shader::cache::ProgramKey;
-use crate::Result;
 use glam::Mat4;
 
 /// A draw mesh skinned on the GPU: its skin, and the joints its programs declare.
@@ -66,62 +63,15 @@ pub(crate) fn plan(gpu: &GpuRef, scene: &Scene, allowed: bool) -> (GpuSkins, Vec
     (skins, skinned)
 }
 
-/// Uploads scene mesh `s.mesh` in bind space with its joints and weights: the scene mesh's
-/// other streams (UVs, colours, indices, material) as they are. Its bounds are the scene
-/// mesh's at the static pose, the animation's framing bounds at a moment (the scene's).
-pub(crate) fn upload(gpu: &GpuRef, scene: &Scene, s: &GpuSkinned) -> Result<(DrawMesh, u64)> {
-    let m = &scene.meshes[s.mesh];
-    let mut bind = m.clone();
-    for (v, (p, n)) in bind
-        .vertices
-        .iter_mut()
-        .zip(s.positions.iter().zip(&s.normals))
-    {
-        v.position = *p;
-        v.normal = *n;
-    }
-    bind.tangents = s.tangents.clone().unwrap_or_default();
-    let mat = &scene.materials[m.material];
-    let skin = Some((s.joint_ids.as_slice(), s.weights.as_slice()));
-    let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, skin)?;
-    let (center, radius) = match scene.posed {
-        Some(_) => framing_sphere(&scene.bounds),
-        None => crate::scene::bounding_sphere(&m.vertices),
-    };
-    let dm = DrawMesh {
-        mesh: Resident::Full(mesh),
-        material: m.material,
-        center,
-        radius,
-        triangles: m.triangle_count() as u64,
-        translucent: mat.is_translucent(),
-        has_uv: m.has_uv,
-        has_tangents: has.tangents,
-        has_uv1: has.uv1,
-        has_colors: has.colors,
-        primitive: crate::gpu::mesh::Primitive::Triangles,
-        has_normals: true,
-        // The static pose's: skinning bends a mesh without stretching its edges much.
-        terminator_lift: crate::scene::terminator_lift(m) as f32,
-        clusters: None,
-        instances: None,
-        skin: Some(SkinDraw {
-            skin: s.skin,
-            joints: s.joints,
-        }),
-    };
-    Ok((dm, bytes))
-}
-
 /// The sphere around bounds `b`.
-fn framing_sphere(b: &crate::scene::Bounds) -> (glam::Vec3, f32) {
+pub(crate) fn framing_sphere(b: &crate::scene::Bounds) -> (glam::Vec3, f32) {
     (b.center(), (b.max - b.min).length() * 0.5)
 }
 
-/// `key` for draw mesh `dm`: its `SKINNED` variant when it is skinned on the GPU (the key
-/// is unchanged otherwise).
-pub(crate) fn key(key: ProgramKey, dm: &DrawMesh) -> ProgramKey {
-    match dm.skin {
+/// `key` for a draw mesh skinned as `skin` says: its `SKINNED` variant when it is skinned on
+/// the GPU (the key is unchanged otherwise).
+pub(crate) fn key(key: ProgramKey, skin: Option<SkinDraw>) -> ProgramKey {
+    match skin {
         Some(s) => key
             .switch("SKINNED", "skin", true)
             .count("SKIN_JOINTS", "j", s.joints as i32),
@@ -129,56 +79,12 @@ pub(crate) fn key(key: ProgramKey, dm: &DrawMesh) -> ProgramKey {
     }
 }
 
-/// Sets the joint matrices of `dm`'s skin on the bound `program` (nothing for a mesh not
-/// skinned on the GPU).
-pub(crate) fn set_joints(program: &Program, scene: &SceneGpu, dm: &DrawMesh) {
-    if let Some(s) = dm.skin {
-        if let Some(j) = scene.skins.joints.get(s.skin) {
+/// Sets the joint matrices of a draw mesh's `skin` on the bound `program` (nothing for a
+/// mesh not skinned on the GPU).
+pub(crate) fn set_joints(program: &Program, skins: &GpuSkins, skin: Option<SkinDraw>) {
+    if let Some(s) = skin {
+        if let Some(j) = skins.joints.get(s.skin) {
             program.set_mat4_array("uJoints", &j[..j.len().min(s.joints)]);
         }
-    }
-}
-
-impl SceneGpu {
-    /// Sets the joint matrices of `moment` and bounds the GPU-skinned meshes by `bounds`
-    /// (the animation's framing bounds: every moment of it lies inside).
-    pub(crate) fn pose_skins(
-        &mut self,
-        moment: Option<Moment>,
-        joints: Vec<Vec<Mat4>>,
-        bounds: Option<&crate::scene::Bounds>,
-    ) {
-        self.skins.joints = joints;
-        self.skins.moment = moment;
-        for &i in &self.skins.meshes {
-            let (center, radius) = match bounds {
-                Some(b) => framing_sphere(b),
-                None => crate::scene::bounding_sphere(&self.scene.meshes[i].vertices),
-            };
-            if let Some(dm) = self.meshes.get_mut(i) {
-                dm.center = center;
-                dm.radius = radius;
-            }
-        }
-    }
-}
-
-impl SceneGpu {
-    /// The GPU-skinned meshes posed on the CPU at the renderer's moment, for what is made
-    /// from triangles on the CPU (`--edges` lines): none at the static pose, which the scene
-    /// meshes hold.
-    pub(crate) fn cpu_posed_skins(&self) -> Result<Vec<(usize, Mesh)>> {
-        let (Some(moment), Some(rig)) = (self.skins.moment, self.scene.motion.as_ref()) else {
-            return Ok(Vec::new());
-        };
-        let others: Vec<usize> = rig
-            .meshes()
-            .iter()
-            .copied()
-            .filter(|i| self.skins.meshes.binary_search(i).is_err())
-            .collect();
-        let mut others = others;
-        others.sort_unstable();
-        rig.posed_meshes_except(Some(moment), &others)
     }
 }

@@ -135,7 +135,7 @@ pub(crate) fn draw_meshes<T: Tier>(
         )
         .switch("POINTS", "pts", m.points)
         .switch("INSTANCED", "inst", dm.instances.is_some());
-        let key = super::skinning::key(key, dm);
+        let key = super::skinning::key(key, dm.skin);
         // (A material that is unlit already has the define.)
         let key = if m.unlit_points && !mat.unlit {
             key.switch("UNLIT", "unlit", true)
@@ -156,7 +156,7 @@ pub(crate) fn draw_meshes<T: Tier>(
             }
         }
         super::slots::set_uniforms(&program, mat, m.has_uv1);
-        super::skinning::set_joints(&program, scene, dm);
+        super::skinning::set_joints(&program, &scene.skins, dm.skin);
         program.set_f32("uNormalScale", mat.normal_scale);
         program.set_f32("uTerminatorLift", dm.terminator_lift);
         program.set_f32(

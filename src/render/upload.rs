@@ -249,7 +249,7 @@ impl SceneGpu {
             let (dm, bytes) = match role {
                 Role::Own if skins.meshes.binary_search(&i).is_ok() => {
                     match skinned.binary_search_by_key(&i, |s| s.mesh) {
-                        Ok(k) => super::skinning::upload(gpu, &scene, &skinned[k])?,
+                        Ok(k) => skinned_mesh(gpu, &scene, &skinned[k])?,
                         Err(_) => draw_mesh(gpu, &scene, i, c)?,
                     }
                 }
@@ -652,4 +652,55 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
         });
     }
     Ok(out)
+}
+
+/// Uploads scene mesh `s.mesh` in bind space with its joints and weights: the scene mesh's
+/// other streams (UVs, colours, indices, material) as they are. Its bounds are the scene
+/// mesh's at the static pose, the animation's framing bounds at a moment (the scene's).
+fn skinned_mesh(
+    gpu: &GpuRef,
+    scene: &Scene,
+    s: &crate::scene::motion::gpu::GpuSkinned,
+) -> Result<(DrawMesh, u64)> {
+    let m = &scene.meshes[s.mesh];
+    let mut bind = m.clone();
+    for (v, (p, n)) in bind
+        .vertices
+        .iter_mut()
+        .zip(s.positions.iter().zip(&s.normals))
+    {
+        v.position = *p;
+        v.normal = *n;
+    }
+    bind.tangents = s.tangents.clone().unwrap_or_default();
+    let mat = &scene.materials[m.material];
+    let skin = Some((s.joint_ids.as_slice(), s.weights.as_slice()));
+    let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, skin)?;
+    let (center, radius) = match scene.posed {
+        Some(_) => super::skinning::framing_sphere(&scene.bounds),
+        None => crate::scene::bounding_sphere(&m.vertices),
+    };
+    let dm = DrawMesh {
+        mesh: Resident::Full(mesh),
+        material: m.material,
+        center,
+        radius,
+        triangles: m.triangle_count() as u64,
+        translucent: mat.is_translucent(),
+        has_uv: m.has_uv,
+        has_tangents: has.tangents,
+        has_uv1: has.uv1,
+        has_colors: has.colors,
+        primitive: crate::gpu::mesh::Primitive::Triangles,
+        has_normals: true,
+        // The static pose's: skinning bends a mesh without stretching its edges much.
+        terminator_lift: crate::scene::terminator_lift(m) as f32,
+        clusters: None,
+        instances: None,
+        skin: Some(super::skinning::SkinDraw {
+            skin: s.skin,
+            joints: s.joints,
+        }),
+    };
+    Ok((dm, bytes))
 }
