@@ -50,7 +50,7 @@ impl Renderer {
                 .scene
                 .motion
                 .as_ref()
-                .map(|r| r.gpu_joints(moment))
+                .map(|r| (r.gpu_joints(moment), r.gpu_weights(moment)))
                 .unwrap_or_default();
             let bounds = moment.map(|_| self.scene.scene.bounds);
             self.scene.pose_skins(moment, joints, bounds.as_ref());

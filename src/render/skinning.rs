@@ -10,7 +10,7 @@
 use super::upload::{upload_mesh_into, DrawMesh, Resident, SceneGpu};
 use crate::gpu::program::Program;
 use crate::gpu::GpuRef;
-use crate::scene::motion::gpu::{joint_budget, GpuSkinned};
+use crate::scene::motion::gpu::{joint_budget, morph_budget, morph_uniforms, GpuSkinned};
 use crate::scene::motion::Moment;
 use crate::scene::Mesh;
 use crate::scene::Scene;
@@ -23,6 +23,9 @@ use glam::Mat4;
 pub(crate) struct SkinDraw {
     pub(crate) skin: usize,
     pub(crate) joints: usize,
+    /// Morphed on the GPU: the rig part (its weights in [`GpuSkins::weights`]) and the
+    /// morph uniforms' slot layout's index in [`GpuSkins::slots`], and its attribute count.
+    pub(crate) morph: Option<(usize, usize)>,
 }
 
 /// The scene meshes skinned on the GPU (sorted), and each skin's joint matrices at the
@@ -31,6 +34,10 @@ pub(crate) struct SkinDraw {
 pub(crate) struct GpuSkins {
     pub(crate) meshes: Vec<usize>,
     pub(crate) joints: Vec<Vec<Mat4>>,
+    /// Each rig part's morph weights at that moment.
+    pub(crate) weights: Vec<Vec<f32>>,
+    /// Each GPU-morphed part's attribute slots (by part).
+    pub(crate) slots: Vec<(usize, Vec<(crate::scene::motion::gpu::MorphKind, usize)>)>,
     /// The moment they are posed at (None: the static pose, which the scene meshes hold).
     pub(crate) moment: Option<Moment>,
 }
@@ -47,7 +54,8 @@ pub(crate) fn plan(gpu: &GpuRef, scene: &Scene, allowed: bool) -> (GpuSkins, Vec
         return (GpuSkins::default(), Vec::new());
     };
     let budget = joint_budget(gpu.caps.max_vertex_uniform_components);
-    let (mut skinned, cpu) = rig.gpu_skinned(scene, budget);
+    let morphs = morph_budget(gpu.caps.max_vertex_attribs);
+    let (mut skinned, cpu) = rig.gpu_skinned(scene, budget, morphs);
     // Tangents made by MikkTSpace from the bind pose would not be the posed mesh's.
     skinned.retain(|s| {
         let m = &scene.meshes[s.mesh];
@@ -61,6 +69,11 @@ pub(crate) fn plan(gpu: &GpuRef, scene: &Scene, allowed: bool) -> (GpuSkins, Vec
     let skins = GpuSkins {
         meshes: skinned.iter().map(|s| s.mesh).collect(),
         joints: rig.gpu_joints(scene.posed),
+        weights: rig.gpu_weights(scene.posed),
+        slots: skinned
+            .iter()
+            .filter_map(|s| s.morph.as_ref().map(|m| (m.part, m.slots.clone())))
+            .collect(),
         moment: scene.posed,
     };
     (skins, skinned)
@@ -83,7 +96,8 @@ pub(crate) fn upload(gpu: &GpuRef, scene: &Scene, s: &GpuSkinned) -> Result<(Dra
     bind.tangents = s.tangents.clone().unwrap_or_default();
     let mat = &scene.materials[m.material];
     let skin = Some((s.joint_ids.as_slice(), s.weights.as_slice()));
-    let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, skin)?;
+    let morph = s.morph.as_ref().map_or(&[][..], |m| m.deltas.as_slice());
+    let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, skin, morph)?;
     let (center, radius) = match scene.posed {
         Some(_) => framing_sphere(&scene.bounds),
         None => crate::scene::bounding_sphere(&m.vertices),
@@ -108,6 +122,7 @@ pub(crate) fn upload(gpu: &GpuRef, scene: &Scene, s: &GpuSkinned) -> Result<(Dra
         skin: Some(SkinDraw {
             skin: s.skin,
             joints: s.joints,
+            morph: s.morph.as_ref().map(|m| (m.part, m.slots.len())),
         }),
     };
     Ok((dm, bytes))
@@ -122,9 +137,18 @@ fn framing_sphere(b: &crate::scene::Bounds) -> (glam::Vec3, f32) {
 /// is unchanged otherwise).
 pub(crate) fn key(key: ProgramKey, dm: &DrawMesh) -> ProgramKey {
     match dm.skin {
-        Some(s) => key
-            .switch("SKINNED", "skin", true)
-            .count("SKIN_JOINTS", "j", s.joints as i32),
+        Some(s) => {
+            let key =
+                key.switch("SKINNED", "skin", true)
+                    .count("SKIN_JOINTS", "j", s.joints as i32);
+            match s.morph {
+                Some((_, n)) => {
+                    key.switch("MORPHED", "morph", true)
+                        .count("MORPH_ATTRIBUTES", "m", n as i32)
+                }
+                None => key,
+            }
+        }
         None => key,
     }
 }
@@ -136,6 +160,19 @@ pub(crate) fn set_joints(program: &Program, scene: &SceneGpu, dm: &DrawMesh) {
         if let Some(j) = scene.skins.joints.get(s.skin) {
             program.set_mat4_array("uJoints", &j[..j.len().min(s.joints)]);
         }
+        if let Some((part, _)) = s.morph {
+            let skins = &scene.skins;
+            let slots = skins
+                .slots
+                .iter()
+                .find(|x| x.0 == part)
+                .map(|x| x.1.as_slice());
+            let weights = skins.weights.get(part).map(Vec::as_slice);
+            let [p, n, t] = morph_uniforms(slots.unwrap_or(&[]), weights.unwrap_or(&[]));
+            program.set_vec4("uMorphPosition", p.into());
+            program.set_vec4("uMorphNormal", n.into());
+            program.set_vec4("uMorphTangent", t.into());
+        }
     }
 }
 
@@ -145,10 +182,11 @@ impl SceneGpu {
     pub(crate) fn pose_skins(
         &mut self,
         moment: Option<Moment>,
-        joints: Vec<Vec<Mat4>>,
+        (joints, weights): (Vec<Vec<Mat4>>, Vec<Vec<f32>>),
         bounds: Option<&crate::scene::Bounds>,
     ) {
         self.skins.joints = joints;
+        self.skins.weights = weights;
         self.skins.moment = moment;
         for &i in &self.skins.meshes {
             let (center, radius) = match bounds {
