@@ -81,7 +81,10 @@ impl Program {
             for &s in &shaders {
                 gl.attach_shader(raw, s);
             }
-            for (loc, attr) in ATTRIBUTES {
+            // A location past the driver's attributes is an error: only morphed meshes use
+            // 12 and up, and the morph budget keeps them off such a driver.
+            let max = gpu.caps.max_vertex_attribs.max(12);
+            for (loc, attr) in ATTRIBUTES.into_iter().filter(|a| a.0 < max) {
                 gl.bind_attrib_location(raw, loc, attr);
             }
             gl.link_program(raw);
