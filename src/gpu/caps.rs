@@ -81,6 +81,9 @@ pub struct Caps {
     /// back on these.
     pub(crate) max_vertex_uniform_components: u32,
     pub(crate) max_fragment_uniform_components: u32,
+    /// `GL_MAX_VERTEX_ATTRIBS` (16 at least on GL 2.1 and ES 3.0): what is left above the
+    /// fixed layout (attributes 0–11) carries GPU morph targets' deltas.
+    pub(crate) max_vertex_attribs: u32,
     pub(crate) extension_count: usize,
 }
 
@@ -146,6 +149,7 @@ impl Caps {
                 glow::MAX_FRAGMENT_UNIFORM_COMPONENTS,
                 glow::MAX_FRAGMENT_UNIFORM_VECTORS,
             );
+            let max_vertex_attribs = gl.get_parameter_i32(glow::MAX_VERTEX_ATTRIBS).max(0) as u32;
             let max_renderbuffer_size = if fbo {
                 gl.get_parameter_i32(glow::MAX_RENDERBUFFER_SIZE) as u32
             } else {
@@ -210,6 +214,7 @@ impl Caps {
                 max_varying_floats,
                 max_vertex_uniform_components,
                 max_fragment_uniform_components,
+                max_vertex_attribs,
                 extension_count: ext.len(),
             }
         }

@@ -21,6 +21,8 @@ pub(crate) struct GpuMesh {
     uv1: Option<Buffer>,
     /// A skinned mesh's joint indices and weights, attributes 10 and 11.
     skin: Option<(Buffer, Buffer)>,
+    /// A mesh morphed on the GPU: its targets' deltas, attributes 12 and up.
+    morph: Vec<Buffer>,
     vao: Option<glow::VertexArray>,
     index_type: u32,
     /// GL_TRIANGLES, GL_LINES or GL_POINTS.
@@ -41,6 +43,10 @@ pub(crate) const UV1_ATTRIBUTE: u32 = 5;
 /// Attribute locations of a skinned mesh's joints and weights (`skin.glsl`).
 pub(crate) const JOINTS_ATTRIBUTE: u32 = 10;
 pub(crate) const WEIGHTS_ATTRIBUTE: u32 = 11;
+/// Attribute location of a GPU-morphed mesh's first delta stream (`skin.glsl`), and how
+/// many the shaders declare at most.
+pub(crate) const MORPH_ATTRIBUTE: u32 = 12;
+pub(crate) const MORPH_ATTRIBUTES: usize = 4;
 
 /// What the indices of a mesh describe.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,12 +66,19 @@ pub(crate) struct Streams<'a> {
     pub(crate) uv1: Option<&'a [[f32; 2]]>,
     /// Joint indices (as floats) and weights of a mesh skinned on the GPU.
     pub(crate) skin: Option<SkinStreams<'a>>,
+    /// Morph target deltas of a mesh morphed on the GPU (at most [`MORPH_ATTRIBUTES`]).
+    pub(crate) morph: &'a [Vec<[f32; 3]>],
 }
 
 /// A skinned mesh's joint indices (as floats) and weights, one of each per vertex.
 pub(crate) type SkinStreams<'a> = (&'a [[f32; 4]], &'a [[f32; 4]]);
 
-fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&Buffer>); 5]) {
+fn set_attributes(
+    gl: &glow::Context,
+    vbo: &Buffer,
+    extra: [(u32, i32, Option<&Buffer>); 5],
+    morph: &[Buffer],
+) {
     let stride = std::mem::size_of::<Vertex>() as i32;
     // SAFETY: offsets match the #[repr(C)] Vertex layout; extra streams are tightly packed
     // float vectors of the given size.
@@ -85,6 +98,13 @@ fn set_attributes(gl: &glow::Context, vbo: &Buffer, extra: [(u32, i32, Option<&B
                 // A disabled array reads the current generic value: (0, 0, 0, 1).
                 None => gl.disable_vertex_attrib_array(loc),
             }
+        }
+        // Only a morphed mesh's programs declare these; without a VAO the draw disables
+        // them again (attributes past 11 are touched only by the meshes that have them).
+        for (loc, b) in (MORPH_ATTRIBUTE..).zip(morph) {
+            b.bind();
+            gl.enable_vertex_attrib_array(loc);
+            gl.vertex_attrib_pointer_f32(loc, 3, glow::FLOAT, false, 12, 0);
         }
     }
 }
@@ -139,6 +159,12 @@ impl GpuMesh {
             )),
             None => None,
         };
+        let morph = streams
+            .morph
+            .iter()
+            .take(MORPH_ATTRIBUTES)
+            .map(|d| Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(d)))
+            .collect::<Result<Vec<_>>>()?;
         let vbo = Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(vertices))?;
         // 16-bit indices where they suffice: half the memory, and the only kind ES 2 had.
         let index_type = if vertices.len() <= u16::MAX as usize + 1 {
@@ -162,6 +188,7 @@ impl GpuMesh {
                     &gpu.gl,
                     &vbo,
                     extra(&tangents, (&colors, color_size), &uv1, &skin),
+                    &morph,
                 );
                 ibo.bind();
                 gpu.gl.bind_vertex_array(None);
@@ -179,6 +206,7 @@ impl GpuMesh {
             color_size,
             uv1,
             skin,
+            morph,
             vao,
             index_type,
             mode: match primitive {
@@ -290,6 +318,7 @@ impl GpuMesh {
                             &self.uv1,
                             &self.skin,
                         ),
+                        &self.morph,
                     );
                     self.ibo.bind();
                 }
@@ -316,6 +345,10 @@ impl GpuMesh {
             }
             if self.vao.is_some() {
                 gl.bind_vertex_array(None);
+            } else {
+                for loc in (MORPH_ATTRIBUTE..).take(self.morph.len()) {
+                    gl.disable_vertex_attrib_array(loc);
+                }
             }
         }
     }

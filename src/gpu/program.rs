@@ -7,7 +7,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Attribute locations, bound before linking so every program shares one vertex layout.
-pub(crate) const ATTRIBUTES: [(u32, &str); 12] = [
+pub(crate) const ATTRIBUTES: [(u32, &str); 16] = [
     (0, "aPosition"),
     (1, "aNormal"),
     (2, "aUv"),
@@ -22,6 +22,11 @@ pub(crate) const ATTRIBUTES: [(u32, &str); 12] = [
     // A skinned mesh's joints and weights (`skin.glsl`, super::mesh::Streams::skin).
     (10, "aJoints"),
     (11, "aWeights"),
+    // A mesh morphed on the GPU: its targets' deltas (`skin.glsl`, super::mesh::Streams::morph).
+    (12, "aMorph0"),
+    (13, "aMorph1"),
+    (14, "aMorph2"),
+    (15, "aMorph3"),
 ];
 
 pub struct Program {
@@ -76,7 +81,10 @@ impl Program {
             for &s in &shaders {
                 gl.attach_shader(raw, s);
             }
-            for (loc, attr) in ATTRIBUTES {
+            // A location past the driver's attributes is an error: only morphed meshes use
+            // 12 and up, and the morph budget keeps them off such a driver.
+            let max = gpu.caps.max_vertex_attribs.max(12);
+            for (loc, attr) in ATTRIBUTES.into_iter().filter(|a| a.0 < max) {
                 gl.bind_attrib_location(raw, loc, attr);
             }
             gl.link_program(raw);

@@ -50,7 +50,7 @@ impl Renderer {
                 .scene
                 .motion
                 .as_ref()
-                .map(|r| r.gpu_joints(moment))
+                .map(|r| (r.gpu_joints(moment), r.gpu_weights(moment)))
                 .unwrap_or_default();
             let bounds = moment.map(|_| self.scene.scene.bounds);
             self.scene.pose_skins(moment, joints, bounds.as_ref());
@@ -190,10 +190,11 @@ impl SceneGpu {
     pub(crate) fn pose_skins(
         &mut self,
         moment: Option<Moment>,
-        joints: Vec<Vec<glam::Mat4>>,
+        (joints, weights): (Vec<Vec<glam::Mat4>>, Vec<Vec<f32>>),
         bounds: Option<&crate::scene::Bounds>,
     ) {
         self.skins.joints = joints;
+        self.skins.weights = weights;
         self.skins.moment = moment;
         for &i in &self.skins.meshes {
             let (center, radius) = match bounds {

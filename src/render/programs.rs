@@ -97,6 +97,13 @@ pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
         k.switch("SKINNED", "skin", true)
             .count("SKIN_JOINTS", "j", 16)
     }))
+    // Morph targets on the GPU: a one-joint skin with all four delta attributes.
+    .chain(vertex_variants().map(|k| {
+        k.switch("SKINNED", "skin", true)
+            .count("SKIN_JOINTS", "j", 1)
+            .switch("MORPHED", "morph", true)
+            .count("MORPH_ATTRIBUTES", "m", 4)
+    }))
     // The copy path's RGBM-encoded linear frame (bloom without float render targets).
     .chain(
         [

@@ -9,7 +9,7 @@
 //! comparisons of the tests and `bench --motion`).
 use crate::gpu::program::Program;
 use crate::gpu::GpuRef;
-use crate::scene::motion::gpu::{joint_budget, GpuSkinned};
+use crate::scene::motion::gpu::{joint_budget, morph_budget, morph_uniforms, GpuSkinned};
 use crate::scene::motion::Moment;
 use crate::scene::Scene;
 use crate::shader::cache::ProgramKey;
@@ -20,6 +20,9 @@ use glam::Mat4;
 pub(crate) struct SkinDraw {
     pub(crate) skin: usize,
     pub(crate) joints: usize,
+    /// Morphed on the GPU: the rig part (its weights in [`GpuSkins::weights`]) and the
+    /// morph uniforms' slot layout's index in [`GpuSkins::slots`], and its attribute count.
+    pub(crate) morph: Option<(usize, usize)>,
 }
 
 /// The scene meshes skinned on the GPU (sorted), and each skin's joint matrices at the
@@ -28,6 +31,10 @@ pub(crate) struct SkinDraw {
 pub(crate) struct GpuSkins {
     pub(crate) meshes: Vec<usize>,
     pub(crate) joints: Vec<Vec<Mat4>>,
+    /// Each rig part's morph weights at that moment.
+    pub(crate) weights: Vec<Vec<f32>>,
+    /// Each GPU-morphed part's attribute slots (by part).
+    pub(crate) slots: Vec<(usize, Vec<(crate::scene::motion::gpu::MorphKind, usize)>)>,
     /// The moment they are posed at (None: the static pose, which the scene meshes hold).
     pub(crate) moment: Option<Moment>,
 }
@@ -44,7 +51,8 @@ pub(crate) fn plan(gpu: &GpuRef, scene: &Scene, allowed: bool) -> (GpuSkins, Vec
         return (GpuSkins::default(), Vec::new());
     };
     let budget = joint_budget(gpu.caps.max_vertex_uniform_components);
-    let (mut skinned, cpu) = rig.gpu_skinned(scene, budget);
+    let morphs = morph_budget(gpu.caps.max_vertex_attribs);
+    let (mut skinned, cpu) = rig.gpu_skinned(scene, budget, morphs);
     // Tangents made by MikkTSpace from the bind pose would not be the posed mesh's.
     skinned.retain(|s| {
         let m = &scene.meshes[s.mesh];
@@ -58,6 +66,11 @@ pub(crate) fn plan(gpu: &GpuRef, scene: &Scene, allowed: bool) -> (GpuSkins, Vec
     let skins = GpuSkins {
         meshes: skinned.iter().map(|s| s.mesh).collect(),
         joints: rig.gpu_joints(scene.posed),
+        weights: rig.gpu_weights(scene.posed),
+        slots: skinned
+            .iter()
+            .filter_map(|s| s.morph.as_ref().map(|m| (m.part, m.slots.clone())))
+            .collect(),
         moment: scene.posed,
     };
     (skins, skinned)
@@ -69,12 +82,21 @@ pub(crate) fn framing_sphere(b: &crate::scene::Bounds) -> (glam::Vec3, f32) {
 }
 
 /// `key` for a draw mesh skinned as `skin` says: its `SKINNED` variant when it is skinned on
-/// the GPU (the key is unchanged otherwise).
+/// the GPU, and `MORPHED` when its morph targets are too (the key is unchanged otherwise).
 pub(crate) fn key(key: ProgramKey, skin: Option<SkinDraw>) -> ProgramKey {
     match skin {
-        Some(s) => key
-            .switch("SKINNED", "skin", true)
-            .count("SKIN_JOINTS", "j", s.joints as i32),
+        Some(s) => {
+            let key =
+                key.switch("SKINNED", "skin", true)
+                    .count("SKIN_JOINTS", "j", s.joints as i32);
+            match s.morph {
+                Some((_, n)) => {
+                    key.switch("MORPHED", "morph", true)
+                        .count("MORPH_ATTRIBUTES", "m", n as i32)
+                }
+                None => key,
+            }
+        }
         None => key,
     }
 }
@@ -85,6 +107,18 @@ pub(crate) fn set_joints(program: &Program, skins: &GpuSkins, skin: Option<SkinD
     if let Some(s) = skin {
         if let Some(j) = skins.joints.get(s.skin) {
             program.set_mat4_array("uJoints", &j[..j.len().min(s.joints)]);
+        }
+        if let Some((part, _)) = s.morph {
+            let slots = skins
+                .slots
+                .iter()
+                .find(|x| x.0 == part)
+                .map(|x| x.1.as_slice());
+            let weights = skins.weights.get(part).map(Vec::as_slice);
+            let [p, n, t] = morph_uniforms(slots.unwrap_or(&[]), weights.unwrap_or(&[]));
+            program.set_vec4("uMorphPosition", p.into());
+            program.set_vec4("uMorphNormal", n.into());
+            program.set_vec4("uMorphTangent", t.into());
         }
     }
 }

@@ -54,7 +54,8 @@ pub(crate) enum Resident {
     Compact {
         levels: GpuMesh,
         first: u32,
-        full: std::cell::OnceCell<GpuMesh>,
+        /// Boxed: a `GpuMesh` inline would make every draw mesh twice its size.
+        full: Box<std::cell::OnceCell<GpuMesh>>,
     },
     /// A copy of an instanced mesh that another draw mesh draws as one of its instances.
     Absorbed,
@@ -329,6 +330,7 @@ fn draw_mesh(
         colors_rgba: rgba.as_deref(),
         uv1,
         skin: None,
+        morph: &[],
     };
     let levels = GpuMesh::with_levels(
         gpu,
@@ -343,7 +345,7 @@ fn draw_mesh(
         mesh: Resident::Compact {
             levels,
             first: compact.first,
-            full: std::cell::OnceCell::new(),
+            full: Box::default(),
         },
         material: compact.material,
         center: Vec3::from(compact.center),
@@ -445,7 +447,7 @@ pub(crate) fn whole_draw_mesh_into(
         Some(c) => &c.lod.indices[..],
         None => &[][..],
     };
-    let (mesh, has, bytes) = upload_mesh_into(gpu, m, mat, levels, old, None)?;
+    let (mesh, has, bytes) = upload_mesh_into(gpu, m, mat, levels, old, None, &[])?;
     // The levels' indices now live on the GPU only.
     if let Some(c) = &mut clusters {
         c.lod.indices = Vec::new();
@@ -537,7 +539,7 @@ fn upload_mesh(
     mat: &crate::scene::Material,
     levels: &[u32],
 ) -> Result<(GpuMesh, Has, u64)> {
-    upload_mesh_into(gpu, m, mat, levels, None, None)
+    upload_mesh_into(gpu, m, mat, levels, None, None, &[])
 }
 
 /// As [`upload_mesh`], into `old`'s buffers when they fit (a posed mesh: same sizes, no
@@ -549,6 +551,7 @@ pub(crate) fn upload_mesh_into(
     levels: &[u32],
     old: Option<GpuMesh>,
     skin: Option<crate::gpu::mesh::SkinStreams>,
+    morph: &[Vec<[f32; 3]>],
 ) -> Result<(GpuMesh, Has, u64)> {
     // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
     let tangents = (m.has_uv && mat.needs_tangents()).then(|| {
@@ -565,6 +568,7 @@ pub(crate) fn upload_mesh_into(
         colors_rgba: rgba.as_deref(),
         uv1,
         skin,
+        morph,
     };
     let mesh = match old {
         Some(g) if levels.is_empty() && g.rewrite(&m.vertices, &m.indices, streams) => g,
@@ -585,7 +589,12 @@ pub(crate) fn upload_mesh_into(
     let skin_bytes = skin.map_or(0, |(j, w)| {
         std::mem::size_of_val(j) + std::mem::size_of_val(w)
     });
-    let bytes = bytes_of(&m.vertices, m.indices.len() + levels.len(), streams) + skin_bytes as u64;
+    let morph_bytes: usize = morph
+        .iter()
+        .map(|d| std::mem::size_of_val(d.as_slice()))
+        .sum();
+    let bytes = bytes_of(&m.vertices, m.indices.len() + levels.len(), streams)
+        + (skin_bytes + morph_bytes) as u64;
     Ok((mesh, has, bytes))
 }
 
@@ -675,7 +684,8 @@ fn skinned_mesh(
     bind.tangents = s.tangents.clone().unwrap_or_default();
     let mat = &scene.materials[m.material];
     let skin = Some((s.joint_ids.as_slice(), s.weights.as_slice()));
-    let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, skin)?;
+    let morph = s.morph.as_ref().map_or(&[][..], |m| m.deltas.as_slice());
+    let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, skin, morph)?;
     let (center, radius) = match scene.posed {
         Some(_) => super::skinning::framing_sphere(&scene.bounds),
         None => crate::scene::bounding_sphere(&m.vertices),
@@ -700,6 +710,7 @@ fn skinned_mesh(
         skin: Some(super::skinning::SkinDraw {
             skin: s.skin,
             joints: s.joints,
+            morph: s.morph.as_ref().map(|m| (m.part, m.slots.len())),
         }),
     };
     Ok((dm, bytes))

@@ -45,19 +45,7 @@ fn a_moment_on_every_context_is_the_reference_posed() {
         moved > 200,
         "the moment is not the static pose: {moved} pixels moved"
     );
-    let contexts: [Context; 5] = [
-        ("gl33", &["--gl", "core"], &[]),
-        ("es3", &["--gl", "es3"], &[]),
-        ("gl21", &["--gl", "2.1"], GL21),
-        ("osmesa", &["--backend", "osmesa"], &[]),
-        // A GL 2.1 driver without VAOs or FBOs: attributes bound per draw.
-        (
-            "osmesa-gl21-bare",
-            &["--backend", "osmesa", "--gl", "2.1"],
-            GL21_NO_FBO,
-        ),
-    ];
-    for (name, extra, env) in contexts {
+    for (name, extra, env) in CONTEXTS {
         let mut w = words(Some("1.25"));
         w.extend_from_slice(extra);
         let got = render(&dir, name, &w, env);
@@ -196,4 +184,101 @@ fn shadows_and_pbr_skinned_on_the_gpu_are_the_cpu_paths() {
             );
         }
     }
+}
+
+const MORPH_CUBE: &str = "tests/data/khronos/motion/AnimatedMorphCube.glb";
+
+/// The contexts glview has: GL 3.3, ES 3.0, GL 2.1 (Mesa overrides, with and without VAOs
+/// and FBOs) and OSMesa.
+const CONTEXTS: [Context; 5] = [
+    ("gl33", &["--gl", "core"], &[]),
+    ("es3", &["--gl", "es3"], &[]),
+    ("gl21", &["--gl", "2.1"], GL21),
+    ("osmesa", &["--backend", "osmesa"], &[]),
+    // A GL 2.1 driver without VAOs or FBOs: attributes bound per draw.
+    (
+        "osmesa-gl21-bare",
+        &["--backend", "osmesa", "--gl", "2.1"],
+        GL21_NO_FBO,
+    ),
+];
+
+/// AnimatedMorphCube at `time` on a context through the binary: the picture and the
+/// programs `--stats` lists.
+fn morph_cube(
+    dir: &std::path::Path,
+    name: &str,
+    time: &str,
+    ctx: Context,
+    cpu: bool,
+) -> (Rgba, String) {
+    let (ctx_name, extra, env) = ctx;
+    let out = dir.join(format!("morph-{ctx_name}-{time}{name}.png"));
+    let mut w = vec![MORPH_CUBE, "--size", "64x48", "--yaw", "30", "--no-shadows"];
+    w.extend(["--time", time, "--stats", "-o", out.to_str().unwrap()]);
+    w.extend_from_slice(extra);
+    let mut env = env.to_vec();
+    if cpu {
+        env.push(("GLVIEW_SKINNING", "cpu"));
+    }
+    let o = run(&w, &env);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = Rgba::load_png(&out).unwrap();
+    check_frame(&img, ctx_name);
+    (img, String::from_utf8_lossy(&o.stdout).into_owned())
+}
+
+/// Morph targets on the GPU: AnimatedMorphCube (two targets, positions and normals: four
+/// delta attributes, which fit every context's 16) at two moments of its weights animation
+/// is drawn by the `morph` programs on every context, and the picture is the CPU path's
+/// (`GLVIEW_SKINNING=cpu`) byte for byte (measured: identical on all five); the two moments
+/// differ.
+#[test]
+fn morphed_on_the_gpu_every_context_is_the_cpu_paths() {
+    let dir = out_dir("motion_truth");
+    for ctx in CONTEXTS {
+        let mut seen = Vec::new();
+        for time in ["0.5", "1.5"] {
+            let (gpu, stats) = morph_cube(&dir, "", time, ctx, false);
+            assert!(
+                stats.contains(",morph,m4]"),
+                "{}: not morphed on the GPU: {stats}",
+                ctx.0
+            );
+            let (cpu, stats) = morph_cube(&dir, "-cpu", time, ctx, true);
+            assert!(!stats.contains(",morph,"), "{}: {stats}", ctx.0);
+            assert!(
+                gpu.data == cpu.data,
+                "{} at {time} s: morphed on the GPU is not the CPU path's picture: {}",
+                ctx.0,
+                write_diff(&dir, &format!("morph-{}-{time}", ctx.0), &gpu, &cpu).display()
+            );
+            seen.push(gpu.data);
+        }
+        assert_ne!(seen[0], seen[1], "{}: the two moments", ctx.0);
+    }
+}
+
+/// A pose of a mesh morphed on the GPU sets its weights and uploads nothing (`PoseCost`).
+#[test]
+fn a_gpu_morphed_pose_uploads_nothing() {
+    at_repo();
+    let mut session = glview::session::Session::new();
+    let mut draw = |t: &str| {
+        let words = [MORPH_CUBE, "--size", "64x48", "--no-shadows", "--time", t];
+        let o = glview::Options::from_words(words).unwrap();
+        let mut profile = Default::default();
+        session
+            .draw(&o, None, Default::default(), &mut profile)
+            .unwrap();
+        profile
+    };
+    draw("0.5");
+    let p = draw("1.5");
+    assert_eq!(p.scene_uploads, 0, "loaded once");
+    assert!(
+        p.pose
+            .is_some_and(|p| p.skinned == 1 && p.meshes == 0 && p.bytes == 0),
+        "posed again on the GPU: {p:?}"
+    );
 }

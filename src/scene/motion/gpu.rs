@@ -1,8 +1,11 @@
-//! What the renderer needs to skin a mesh on the GPU instead of posing it on the CPU: which
-//! moving meshes can be (one JOINTS_0/WEIGHTS_0 set, the file's normals, no morph targets,
-//! a joint count within the context's vertex uniform budget), their bind-space streams in
-//! the order of the scene mesh's vertices, and each skin's joint matrices at a moment in the
-//! scene's local coordinates. Everything else stays on the CPU path, mesh by mesh. No GL.
+//! What the renderer needs to skin or morph a mesh on the GPU instead of posing it on the
+//! CPU: which moving meshes can be (skinned: one JOINTS_0/WEIGHTS_0 set, the file's normals,
+//! no morph targets, a joint count within the context's vertex uniform budget; morphed: no
+//! skin, the file's normals, the targets' deltas within the free vertex attributes), their
+//! bind-space streams in the order of the scene mesh's vertices, each skin's joint matrices
+//! at a moment in the scene's local coordinates, and each morphed part's node matrix (drawn
+//! as a one-joint skin) and weights. Everything else stays on the CPU path, mesh by mesh.
+//! No GL.
 use super::pose::joint_matrices;
 use super::{Moment, Rig};
 use crate::scene::{Scene, UpAxis};
@@ -30,6 +33,75 @@ pub enum CpuBecause {
     OverBudget(usize),
     /// Another primitive shares the scene mesh, or the vertex count changed.
     Shape,
+    /// Morph targets whose deltas need this many vertex attributes, over the free ones.
+    MorphOverBudget(usize),
+}
+
+/// The vertex attributes the fixed layout takes (position ... weights: 0–11); the rest of
+/// `GL_MAX_VERTEX_ATTRIBS`, at most 4 (the shaders' `aMorph0..3`), carry morph deltas.
+pub const FIXED_ATTRIBUTES: u32 = 12;
+
+/// The attributes free for morph deltas with `max_attribs` (`GL_MAX_VERTEX_ATTRIBS`).
+pub fn morph_budget(max_attribs: u32) -> usize {
+    max_attribs.saturating_sub(FIXED_ATTRIBUTES).min(4) as usize
+}
+
+/// Which delta of a morph target an attribute carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MorphKind {
+    Position,
+    Normal,
+    Tangent,
+}
+
+/// A mesh morphed on the GPU: one attribute per (kind, target) in `slots`, its deltas in
+/// `deltas`; `part` indexes [`Rig::gpu_weights`]'s result.
+#[derive(Clone, Debug)]
+pub struct GpuMorph {
+    pub part: usize,
+    pub slots: Vec<(MorphKind, usize)>,
+    pub deltas: Vec<Vec<[f32; 3]>>,
+}
+
+/// The uniforms of a morphed draw: per kind (position, normal, tangent), the weight of the
+/// target each attribute slot carries (0 for the slots of other kinds).
+pub fn morph_uniforms(slots: &[(MorphKind, usize)], weights: &[f32]) -> [[f32; 4]; 3] {
+    let mut u = [[0.0; 4]; 3];
+    for (k, &(kind, t)) in slots.iter().enumerate().take(4) {
+        u[kind as usize][k] = weights.get(t).copied().unwrap_or(0.0);
+    }
+    u
+}
+
+/// The attribute slots a part's morph targets need: each target's position deltas, its
+/// normal deltas, and its tangent deltas when `tangents` (the material needs tangents);
+/// `has(kind, target)` says whether the target moves that attribute.
+pub fn morph_slots(
+    targets: usize,
+    tangents: bool,
+    has: impl Fn(MorphKind, usize) -> bool,
+) -> Vec<(MorphKind, usize)> {
+    let mut kinds = vec![MorphKind::Position, MorphKind::Normal];
+    if tangents {
+        kinds.push(MorphKind::Tangent);
+    }
+    kinds
+        .into_iter()
+        .flat_map(|k| (0..targets).map(move |t| (k, t)))
+        .filter(|&(k, t)| has(k, t))
+        .collect()
+}
+
+/// The decision for a part with morph targets and no skin, without GL: `slots` delta
+/// attributes against `budget` free attributes ([`morph_budget`]), file normals or not.
+pub fn decide_morph(slots: usize, normals: bool, budget: usize) -> Result<(), CpuBecause> {
+    if !normals {
+        return Err(CpuBecause::NoFileNormals);
+    }
+    if slots > budget {
+        return Err(CpuBecause::MorphOverBudget(slots));
+    }
+    Ok(())
 }
 
 /// A scene mesh skinned on the GPU: its vertices in bind space (mesh space as the file
@@ -45,9 +117,12 @@ pub struct GpuSkinned {
     pub normals: Vec<[f32; 3]>,
     /// The file's tangents, the handedness made ±1 as the CPU pose makes it (None: none).
     pub tangents: Option<Vec<[f32; 4]>>,
-    /// JOINTS_0 as floats (exact below 2^24) and WEIGHTS_0.
+    /// JOINTS_0 as floats (exact below 2^24) and WEIGHTS_0 (a morphed part: joint 0,
+    /// weight 1, its node's matrix the one joint).
     pub joint_ids: Vec<[f32; 4]>,
     pub weights: Vec<[f32; 4]>,
+    /// Morphed on the GPU (no skin): its targets' deltas.
+    pub morph: Option<GpuMorph>,
 }
 
 /// The decision for one part, without GL: a skin with `joints` joints, `sets` joint sets,
@@ -91,88 +166,172 @@ fn f3(v: &[f32]) -> Vec<[f32; 3]> {
     v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
 }
 
+/// The file's tangents, the handedness made ±1 as the CPU pose makes it (None: none).
+fn file_tangents(src: &super::pose::Source) -> Option<Vec<[f32; 4]>> {
+    src.tangents.as_ref().map(|t| {
+        t.chunks_exact(4)
+            .map(|c| [c[0], c[1], c[2], if c[3] < 0.0 { -1.0 } else { 1.0 }])
+            .collect()
+    })
+}
+
 impl Rig {
     /// The moving meshes that can be skinned on the GPU with `budget` joints per program
-    /// ([`joint_budget`]), and why each other one cannot. `scene` is the loaded scene (for
-    /// the vertex counts).
+    /// ([`joint_budget`]) or morphed there with `morphs` free attributes ([`morph_budget`]),
+    /// and why each other one cannot. `scene` is the loaded scene (for the vertex counts and
+    /// the materials).
     pub fn gpu_skinned(
         &self,
         scene: &Scene,
         budget: usize,
+        morphs: usize,
     ) -> (Vec<GpuSkinned>, Vec<(usize, CpuBecause)>) {
         let mut gpu = Vec::new();
         let mut cpu = Vec::new();
-        for p in &self.parts {
-            let joints = p
-                .skin
-                .and_then(|s| self.plan.skins.get(s)?.as_ref())
-                .map(|s| s.joints.len());
-            let morphs = p
-                .src
-                .targets
-                .iter()
-                .any(|t| t.positions.is_some() || t.normals.is_some() || t.tangents.is_some());
-            let n = p.src.positions.len() / 3;
+        for (i, p) in self.parts.iter().enumerate() {
             let shared = self.parts.iter().filter(|q| q.mesh == p.mesh).count() > 1;
             let same = scene
                 .meshes
                 .get(p.mesh)
-                .is_some_and(|m| m.vertices.len() == n);
-            let verdict = decide(
-                joints,
-                p.src.sets.len(),
-                p.src.normals.is_some(),
-                morphs,
-                budget,
-            )
-            .and(if shared || !same {
+                .is_some_and(|m| m.vertices.len() == p.src.positions.len() / 3);
+            let shape = if shared || !same {
                 Err(CpuBecause::Shape)
             } else {
                 Ok(())
-            });
-            let (Ok(()), Some(skin), Some(joints), Some(normals)) =
-                (verdict, p.skin, joints, &p.src.normals)
-            else {
-                cpu.push((p.mesh, verdict.err().unwrap_or(CpuBecause::Shape)));
-                continue;
             };
-            let (js, ws) = &p.src.sets[0];
-            gpu.push(GpuSkinned {
-                mesh: p.mesh,
-                skin,
-                joints,
-                positions: f3(&p.src.positions),
-                normals: f3(normals),
-                tangents: p.src.tangents.as_ref().map(|t| {
-                    t.chunks_exact(4)
-                        .map(|c| [c[0], c[1], c[2], if c[3] < 0.0 { -1.0 } else { 1.0 }])
-                        .collect()
-                }),
-                joint_ids: js.iter().map(|j| j.map(f32::from)).collect(),
-                weights: ws.clone(),
+            let made = shape.and_then(|()| match p.skin {
+                None if !p.src.targets.is_empty() => self.gpu_morphed(scene, i, morphs),
+                _ => self.gpu_skin_part(p, budget),
             });
+            match made {
+                Ok(s) => gpu.push(s),
+                Err(why) => cpu.push((p.mesh, why)),
+            }
         }
         (gpu, cpu)
     }
 
+    /// Part `p` skinned on the GPU, or why not.
+    fn gpu_skin_part(&self, p: &super::rig::Part, budget: usize) -> Result<GpuSkinned, CpuBecause> {
+        let joints = p
+            .skin
+            .and_then(|s| self.plan.skins.get(s)?.as_ref())
+            .map(|s| s.joints.len());
+        let morphs = p
+            .src
+            .targets
+            .iter()
+            .any(|t| t.positions.is_some() || t.normals.is_some() || t.tangents.is_some());
+        decide(
+            joints,
+            p.src.sets.len(),
+            p.src.normals.is_some(),
+            morphs,
+            budget,
+        )?;
+        let (Some(skin), Some(joints), Some(normals), Some((js, ws))) =
+            (p.skin, joints, &p.src.normals, p.src.sets.first())
+        else {
+            return Err(CpuBecause::Shape);
+        };
+        Ok(GpuSkinned {
+            mesh: p.mesh,
+            skin,
+            joints,
+            positions: f3(&p.src.positions),
+            normals: f3(normals),
+            tangents: file_tangents(&p.src),
+            joint_ids: js.iter().map(|j| j.map(f32::from)).collect(),
+            weights: ws.clone(),
+            morph: None,
+        })
+    }
+
+    /// Part `i` (morph targets, no skin) morphed on the GPU, or why not: a one-joint skin
+    /// (index `skins + i` of [`Rig::gpu_joints`]: its node's matrix) with its deltas.
+    fn gpu_morphed(
+        &self,
+        scene: &Scene,
+        i: usize,
+        budget: usize,
+    ) -> Result<GpuSkinned, CpuBecause> {
+        let p = &self.parts[i];
+        let tangents = scene.meshes.get(p.mesh).is_some_and(|m| {
+            m.has_uv
+                && scene
+                    .materials
+                    .get(m.material)
+                    .is_some_and(|mat| mat.needs_tangents())
+        }) && p.src.tangents.is_some();
+        let pick = |k: MorphKind, t: usize| {
+            let t = &p.src.targets[t];
+            match k {
+                MorphKind::Position => t.positions.as_ref(),
+                MorphKind::Normal => t.normals.as_ref(),
+                MorphKind::Tangent => t.tangents.as_ref(),
+            }
+        };
+        let slots = morph_slots(p.src.targets.len(), tangents, |k, t| pick(k, t).is_some());
+        decide_morph(slots.len(), p.src.normals.is_some(), budget)?;
+        let Some(normals) = &p.src.normals else {
+            return Err(CpuBecause::NoFileNormals);
+        };
+        let n = p.src.positions.len() / 3;
+        let deltas = slots
+            .iter()
+            .map(|&(k, t)| pick(k, t).map_or_else(Vec::new, |d| f3(d)))
+            .collect();
+        Ok(GpuSkinned {
+            mesh: p.mesh,
+            skin: self.plan.skins.len() + i,
+            joints: 1,
+            positions: f3(&p.src.positions),
+            normals: f3(normals),
+            tangents: file_tangents(&p.src),
+            joint_ids: vec![[0.0; 4]; n],
+            weights: vec![[1.0, 0.0, 0.0, 0.0]; n],
+            morph: Some(GpuMorph {
+                part: i,
+                slots,
+                deltas,
+            }),
+        })
+    }
+
+    /// Each part's morph weights at `moment` (the node's animated weights, else the node's
+    /// or the mesh's), for [`morph_uniforms`].
+    pub fn gpu_weights(&self, moment: Option<Moment>) -> Vec<Vec<f32>> {
+        let posed = self.posed(moment);
+        self.parts
+            .iter()
+            .map(|p| {
+                posed.weights[p.node]
+                    .clone()
+                    .unwrap_or_else(|| self.plan.graph.weights[p.node].clone())
+            })
+            .collect()
+    }
+
     /// Every skin's joint matrices at `moment` (None: the static pose) in the scene's local
     /// coordinates: T(−origin) · up rotation · joint world · inverse bind, in f64, then f32
-    /// (an unusable skin: none).
+    /// (an unusable skin: none); then each part's node matrix as a one-joint skin (what a
+    /// part morphed on the GPU is drawn with).
     pub fn gpu_joints(&self, moment: Option<Moment>) -> Vec<Vec<Mat4>> {
         let posed = self.posed(moment);
         let to_scene = DMat4::from_translation(-self.origin) * up_matrix(self.up);
-        self.plan
-            .skins
-            .iter()
-            .map(|s| {
-                s.as_ref().map_or(Vec::new(), |s| {
-                    joint_matrices(s, &posed.world)
-                        .into_iter()
-                        .map(|m| (to_scene * m).as_mat4())
-                        .collect()
-                })
+        let skins = self.plan.skins.iter().map(|s| {
+            s.as_ref().map_or(Vec::new(), |s| {
+                joint_matrices(s, &posed.world)
+                    .into_iter()
+                    .map(|m| (to_scene * m).as_mat4())
+                    .collect()
             })
-            .collect()
+        });
+        let nodes = self
+            .parts
+            .iter()
+            .map(|p| vec![(to_scene * posed.world[p.node]).as_mat4()]);
+        skins.chain(nodes).collect()
     }
 }
 
@@ -207,7 +366,7 @@ mod tests {
     fn gpu_joints_times_bind_streams_are_the_cpu_pose() {
         let mut scene = rigged_simple();
         let rig = scene.motion.clone().expect("a rig");
-        let (gpu, cpu) = rig.gpu_skinned(&scene, 16);
+        let (gpu, cpu) = rig.gpu_skinned(&scene, 16, 4);
         assert!(cpu.is_empty(), "{cpu:?}");
         assert_eq!(gpu.len(), 1);
         for moment in [
@@ -240,7 +399,7 @@ mod tests {
         let mut scene =
             crate::scene::load::load_bytes(&path, &bytes, &LoadOptions::default()).expect("loads");
         let rig = scene.motion.clone().expect("a rig");
-        let (gpu, _) = rig.gpu_skinned(&scene, 64);
+        let (gpu, _) = rig.gpu_skinned(&scene, 64, 4);
         let mesh = gpu.first().expect("skinned on the GPU").mesh;
         let duration = scene.animations()[0].duration;
         let mut worst = 0.0f32;
@@ -275,7 +434,7 @@ mod tests {
     fn over_the_budget_the_mesh_is_posed_on_the_cpu() {
         let mut scene = rigged_simple();
         let rig = scene.motion.clone().expect("a rig");
-        let (gpu, cpu) = rig.gpu_skinned(&scene, 1);
+        let (gpu, cpu) = rig.gpu_skinned(&scene, 1, 4);
         assert!(gpu.is_empty());
         assert_eq!(cpu, vec![(0, CpuBecause::OverBudget(2))]);
         let before = scene.meshes[0].vertices.clone();
@@ -335,5 +494,105 @@ mod tests {
             let p = DVec3::new(1.0, 2.0, 3.0);
             assert_eq!(up_matrix(up).transform_point3(p), up.rotate(p));
         }
+    }
+
+    fn morph_cube() -> Scene {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/khronos/motion/AnimatedMorphCube.glb");
+        crate::scene::load::load_bytes(
+            &path,
+            &std::fs::read(&path).expect("committed sample"),
+            &LoadOptions::default(),
+        )
+        .expect("loads")
+    }
+
+    /// The GPU's morph formula on the CPU: the node matrix (the one joint) times the bind
+    /// position plus the slots' deltas weighted by the uniforms; the normal by the matrix's
+    /// inverse transpose, normalised. At the static pose and two moments of the weights
+    /// animation, it is where the CPU pose puts each vertex.
+    #[test]
+    fn gpu_morph_streams_and_uniforms_are_the_cpu_pose() {
+        let mut scene = morph_cube();
+        let rig = scene.motion.clone().expect("a rig");
+        let (gpu, cpu) = rig.gpu_skinned(&scene, 16, morph_budget(16));
+        assert!(cpu.is_empty(), "{cpu:?}");
+        let s = &gpu[0];
+        let m = s.morph.as_ref().expect("morphed on the GPU");
+        assert_eq!(s.joints, 1);
+        assert_eq!(m.slots.len(), 4, "two targets, positions and normals");
+        for seconds in [None, Some(0.5), Some(1.5)] {
+            let moment = seconds.map(|seconds| Moment {
+                animation: 0,
+                seconds,
+            });
+            scene.pose(moment).expect("poses");
+            let node = rig.gpu_joints(moment)[s.skin][0];
+            let [up, un, _] = morph_uniforms(&m.slots, &rig.gpu_weights(moment)[m.part]);
+            let normal_m = glam::Mat3::from_mat4(node).inverse().transpose();
+            let mut worst = (0.0f32, 0.0f32);
+            for (v, want) in scene.meshes[s.mesh].vertices.iter().enumerate() {
+                let sum = |u: [f32; 4], base: [f32; 3]| {
+                    let mut p = glam::Vec3::from(base);
+                    for (k, d) in m.deltas.iter().enumerate() {
+                        p += u[k] * glam::Vec3::from(d[v]);
+                    }
+                    p
+                };
+                let p = node.transform_point3(sum(up, s.positions[v]));
+                let n = (normal_m * sum(un, s.normals[v])).normalize();
+                let dp = (p - glam::Vec3::from(want.position)).abs().max_element();
+                let dn = (n - glam::Vec3::from(want.normal)).abs().max_element();
+                worst = (worst.0.max(dp), worst.1.max(dn));
+            }
+            // Positions are in the scene's units (the cube is 2 wide): f32 rounding.
+            assert!(
+                worst.0 < 1e-5 && worst.1 < 1e-5,
+                "{seconds:?}: off by {worst:?}"
+            );
+        }
+    }
+
+    /// Fewer free attributes than the cube's four delta streams: the CPU.
+    #[test]
+    fn a_morph_over_the_attribute_budget_stays_on_the_cpu() {
+        let scene = morph_cube();
+        let rig = scene.motion.clone().expect("a rig");
+        let (gpu, cpu) = rig.gpu_skinned(&scene, 16, 3);
+        assert!(gpu.is_empty());
+        assert_eq!(cpu, vec![(0, CpuBecause::MorphOverBudget(4))]);
+    }
+
+    #[test]
+    fn the_morph_budget_is_what_16_attributes_leave() {
+        assert_eq!(morph_budget(16), 4);
+        assert_eq!(morph_budget(32), 4, "the shaders declare four");
+        assert_eq!(morph_budget(8), 0);
+        let all = |_: MorphKind, _: usize| true;
+        assert_eq!(
+            morph_slots(4, false, |k, _| k == MorphKind::Position).len(),
+            4
+        );
+        assert_eq!(morph_slots(2, false, all).len(), 4);
+        // With a normal map the tangents' deltas too: 2 targets need 6.
+        assert_eq!(morph_slots(2, true, all).len(), 6);
+        let b = morph_budget(16);
+        assert_eq!(decide_morph(4, true, b), Ok(()));
+        assert_eq!(
+            decide_morph(6, true, b),
+            Err(CpuBecause::MorphOverBudget(6))
+        );
+        assert_eq!(decide_morph(2, false, b), Err(CpuBecause::NoFileNormals));
+    }
+
+    #[test]
+    fn morph_uniforms_weigh_each_slot_by_its_target() {
+        let slots = morph_slots(2, false, |_, _| true);
+        assert_eq!(
+            morph_uniforms(&slots, &[0.25, 0.75]),
+            [[0.25, 0.75, 0.0, 0.0], [0.0, 0.0, 0.25, 0.75], [0.0; 4]]
+        );
+        // Fewer weights than targets: the missing ones are 0.
+        assert_eq!(morph_uniforms(&slots, &[0.5])[0], [0.5, 0.0, 0.0, 0.0]);
     }
 }

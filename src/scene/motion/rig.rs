@@ -22,7 +22,7 @@ const FRAMING_WORK: usize = 1 << 26;
 /// skins, the playable animations, and which nodes an animation moves.
 #[derive(Debug, Default)]
 pub(crate) struct Plan {
-    graph: Graph,
+    pub(super) graph: Graph,
     pub(super) skins: Vec<Option<Skin>>,
     animations: Vec<Animation>,
     /// By node: a channel moves it or one of its ancestors.
