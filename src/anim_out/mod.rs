@@ -10,7 +10,7 @@
 //! - APNG: the `png` crate (already the stills' encoder); lossless, so each frame decodes
 //!   to exactly the still of the same moment.
 //! - WebP: `image-webp` (already built for EXT_texture_webp) encodes lossless VP8L stills;
-//!   [`webp`] wraps them in the animation chunks (VP8X, ANIM, ANMF) by hand. The libwebp
+//!   `webp` wraps them in the animation chunks (VP8X, ANIM, ANMF) by hand. The libwebp
 //!   wrappers compile libwebp's C sources, which the CI budget cannot pay for.
 mod apng;
 pub mod gif;
