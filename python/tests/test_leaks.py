@@ -55,10 +55,10 @@ def test_one_shot_renders_keep_memory_flat_and_forget_the_last_model(bunny):
             img = glview.render(size=(32, 24), backend="egl")
             assert np.array_equal(img.color, builtin.color)
 
-    # 400 rounds (200 reloads of each model) catch a leak above ~130 KiB a round, far below
+    # 200 rounds (100 reloads of each model) catch a leak above ~260 KiB a round, far below
     # a leaked context (~2 MB) or a leaked bunny scene (~1 MB); 1,000 rounds took ~40 s of
-    # the CI budget for a bound 2.5 times finer.
-    stays_flat("glview.render", 20, 400, one)
+    # the CI budget for a bound 5 times finer.
+    stays_flat("glview.render", 20, 200, one)
 
 
 def test_renderers_opened_and_closed_keep_memory_flat():
