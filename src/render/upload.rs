@@ -452,8 +452,23 @@ pub(crate) fn whole_draw_mesh_into(
     if let Some(c) = &mut clusters {
         c.lod.indices = Vec::new();
     }
-    let (center, radius) = crate::scene::bounding_sphere(&m.vertices);
+    let sphere = crate::scene::bounding_sphere(&m.vertices);
     let dm = DrawMesh {
+        clusters,
+        ..triangles_draw_mesh(mesh, (m, mat), has, sphere)
+    };
+    Ok((dm, bytes))
+}
+
+/// The draw record of scene mesh `m`'s triangles uploaded whole as `mesh` (no clusters,
+/// instances or GPU skin: the callers that have them set them), bounded by `sphere`.
+fn triangles_draw_mesh(
+    mesh: GpuMesh,
+    (m, mat): (&crate::scene::Mesh, &crate::scene::Material),
+    has: Has,
+    (center, radius): (glam::Vec3, f32),
+) -> DrawMesh {
+    DrawMesh {
         mesh: Resident::Full(mesh),
         material: m.material,
         center,
@@ -467,11 +482,10 @@ pub(crate) fn whole_draw_mesh_into(
         primitive: Primitive::Triangles,
         has_normals: true,
         terminator_lift: crate::scene::terminator_lift(m) as f32,
-        clusters,
+        clusters: None,
         instances: None,
         skin: None,
-    };
-    Ok((dm, bytes))
+    }
 }
 
 /// The levels' indices of mesh `i`, which came compact: read with its full arrays.
@@ -686,32 +700,19 @@ fn skinned_mesh(
     let skin = Some((s.joint_ids.as_slice(), s.weights.as_slice()));
     let morph = s.morph.as_ref().map_or(&[][..], |m| m.deltas.as_slice());
     let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, skin, morph)?;
-    let (center, radius) = match scene.posed {
+    let sphere = match scene.posed {
         Some(_) => super::skinning::framing_sphere(&scene.bounds),
         None => crate::scene::bounding_sphere(&m.vertices),
     };
+    // Its terminator lift is the static pose's (`m`'s): skinning bends a mesh without
+    // stretching its edges much.
     let dm = DrawMesh {
-        mesh: Resident::Full(mesh),
-        material: m.material,
-        center,
-        radius,
-        triangles: m.triangle_count() as u64,
-        translucent: mat.is_translucent(),
-        has_uv: m.has_uv,
-        has_tangents: has.tangents,
-        has_uv1: has.uv1,
-        has_colors: has.colors,
-        primitive: crate::gpu::mesh::Primitive::Triangles,
-        has_normals: true,
-        // The static pose's: skinning bends a mesh without stretching its edges much.
-        terminator_lift: crate::scene::terminator_lift(m) as f32,
-        clusters: None,
-        instances: None,
         skin: Some(super::skinning::SkinDraw {
             skin: s.skin,
             joints: s.joints,
             morph: s.morph.as_ref().map(|m| (m.part, m.slots.len())),
         }),
+        ..triangles_draw_mesh(mesh, (m, mat), has, sphere)
     };
     Ok((dm, bytes))
 }
