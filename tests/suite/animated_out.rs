@@ -109,6 +109,25 @@ fn apng_frames_are_the_stills() {
     sheet(&frames, "apng-frames.png");
 }
 
+/// An animated picture's frames, each with the millisecond its display ends at, once the
+/// picture is checked to loop forever, to hold [`FRAMES`] frames and to give each a whole
+/// number of milliseconds.
+fn timed_frames(looping: image::metadata::LoopCount, frames: image::Frames) -> Vec<(u32, Rgba)> {
+    assert!(matches!(looping, image::metadata::LoopCount::Infinite));
+    let frames: Vec<image::Frame> = frames.collect::<Result<_, _>>().unwrap();
+    assert_eq!(frames.len(), FRAMES as usize);
+    let mut elapsed = 0u32;
+    frames
+        .into_iter()
+        .map(|f| {
+            let (n, d) = f.delay().numer_denom_ms();
+            assert_eq!(n % d, 0);
+            elapsed += n / d;
+            (elapsed, rgba(f))
+        })
+        .collect()
+}
+
 /// The GIF: 6 frames of 64×48 looping forever, delays in 1/100 s adding up to k/15 s, each
 /// frame exactly the still reduced by glview's quantizer and, checked without it, within
 /// the palette tolerance of the still: every pixel the nearest of its frame's colours (no
@@ -119,24 +138,17 @@ fn gif_frames_are_the_quantized_stills() {
     let path = animated("turn.gif", &[]);
     let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
     let dec = image::codecs::gif::GifDecoder::new(file).unwrap();
-    assert!(matches!(
-        dec.loop_count(),
-        image::metadata::LoopCount::Infinite
-    ));
-    let frames: Vec<image::Frame> = dec.into_frames().collect::<Result<_, _>>().unwrap();
-    assert_eq!(frames.len(), FRAMES as usize);
-    let mut elapsed = 0u32;
+    let looping = dec.loop_count();
     let mut decoded = Vec::new();
-    for (k, f) in frames.into_iter().enumerate() {
-        let (n, d) = f.delay().numer_denom_ms();
-        elapsed += n / d;
+    for (k, (elapsed, frame)) in timed_frames(looping, dec.into_frames())
+        .into_iter()
+        .enumerate()
+    {
         // The delays are whole 1/100 s and keep time: frames 0..=k end at (k+1)/15 s.
-        assert_eq!(n % d, 0);
         assert_eq!(
             elapsed,
             ((k as f32 + 1.0) * 100.0 / FPS).round() as u32 * 10
         );
-        let frame = rgba(f);
         let still = &stills()[k];
         let q = glview::anim_out::gif::quantize(still).to_rgba(64, 48);
         assert!(frame == q, "GIF frame {k} is not the quantized still");
@@ -182,20 +194,13 @@ fn webp_frames_are_the_stills() {
     let anmf = bytes.windows(4).filter(|w| w == b"ANMF").count();
     assert_eq!(anmf, FRAMES as usize);
     let dec = image::codecs::webp::WebPDecoder::new(std::io::Cursor::new(bytes)).unwrap();
-    assert!(matches!(
-        dec.loop_count(),
-        image::metadata::LoopCount::Infinite
-    ));
-    let frames: Vec<image::Frame> = dec.into_frames().collect::<Result<_, _>>().unwrap();
-    assert_eq!(frames.len(), FRAMES as usize);
-    let mut elapsed = 0u32;
+    let looping = dec.loop_count();
     let mut decoded = Vec::new();
-    for (k, f) in frames.into_iter().enumerate() {
-        let (n, d) = f.delay().numer_denom_ms();
-        assert_eq!(n % d, 0);
-        elapsed += n / d;
+    for (k, (elapsed, frame)) in timed_frames(looping, dec.into_frames())
+        .into_iter()
+        .enumerate()
+    {
         assert_eq!(elapsed, ((k as f32 + 1.0) * 1000.0 / FPS).round() as u32);
-        let frame = rgba(f);
         assert!(
             frame == stills()[k],
             "WebP frame {k} differs from the still"

@@ -107,6 +107,17 @@ fn at(s: &Scene, m: usize, i: usize) -> Vec3 {
     Vec3::from(s.meshes[m].vertices[i].position) + s.origin.as_vec3()
 }
 
+/// Asserts that one of `s`'s warnings contains every one of `parts`.
+fn warns(s: &Scene, parts: &[&str]) {
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| parts.iter().all(|p| w.message.contains(p))),
+        "no warning with {parts:?}: {:?}",
+        s.warnings
+    );
+}
+
 fn normal(s: &Scene, m: usize, i: usize) -> Vec3 {
     Vec3::from(s.meshes[m].vertices[i].normal)
 }
@@ -172,24 +183,15 @@ fn a_skin_with_joints_out_of_range_or_a_singular_bind_matrix_is_drawn_unskinned(
     let mut bad = JOINTS;
     bad[4] = 7;
     let s = load(&skinned(&bad, &IDENTITY_AND_DOWN_1));
-    assert!(
-        s.warnings
-            .iter()
-            .any(|w| w.message.contains("names joint 7")),
-        "{:?}",
-        s.warnings
-    );
+    warns(&s, &["names joint 7"]);
     // Unskinned: the node's transform carries it (translation 100 along X).
     near(at(&s, 0, 1), Vec3::new(100.0, 2.0, 0.0));
     let mut singular = IDENTITY_AND_DOWN_1;
     singular[16..32].fill(0.0);
     let s = load(&skinned(&JOINTS, &singular));
-    assert!(
-        s.warnings.iter().any(|w| w
-            .message
-            .contains("skin 0: the inverse bind matrix of joint 1 is not invertible")),
-        "{:?}",
-        s.warnings
+    warns(
+        &s,
+        &["skin 0: the inverse bind matrix of joint 1 is not invertible"],
     );
     near(at(&s, 0, 1), Vec3::new(100.0, 2.0, 0.0));
 }
@@ -319,13 +321,7 @@ fn one_channel_on(
 #[test]
 fn hostile_samplers_are_dropped_with_a_warning() {
     let warned = |s: &Scene, what: &str| {
-        assert!(
-            s.warnings
-                .iter()
-                .any(|w| w.message.contains(what) && w.message.contains("animation 0 channel 0")),
-            "no warning with {what:?}: {:?}",
-            s.warnings
-        );
+        warns(s, &[what, "animation 0 channel 0"]);
         assert_eq!(s.animations()[0].channels, 0);
     };
     let six = [0.0; 6];
@@ -380,12 +376,6 @@ fn a_joint_outside_the_drawn_scene_leaves_the_skin_unapplied() {
 "skins":[{{"joints":[1]}}],
 "meshes":[{{"primitives":[{{"attributes":{{"POSITION":{pos},"JOINTS_0":{j},"WEIGHTS_0":{w}}}}}]}}]"#
     )));
-    assert!(
-        s.warnings.iter().any(|w| w
-            .message
-            .contains("skin 0: joint node 1 is not in the drawn scene")),
-        "{:?}",
-        s.warnings
-    );
+    warns(&s, &["skin 0: joint node 1 is not in the drawn scene"]);
     near(at(&s, 0, 1), Vec3::new(0.0, 2.0, 0.0));
 }
