@@ -223,8 +223,7 @@ impl SceneGpu {
             .copied()
             .filter(|i| self.skins.meshes.binary_search(i).is_err())
             .collect();
-        let mut others = others;
-        others.sort_unstable();
+        // `rig.meshes()` is sorted, so its filtered part is too.
         rig.posed_meshes_except(Some(moment), &others)
     }
 }

@@ -104,14 +104,9 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let mut prim_start = Vec::with_capacity(instances.len() + 1);
     for (node, mesh, world) in &instances {
         prim_start.push(read.prims.len());
-        let skin = doc
-            .nodes()
-            .nth(*node)
-            .and_then(|n| n.skin())
-            .map(|s| s.index());
         let instance = Instance::new(*node, *world, opts.up, &buffers, path)
             .with_variant(views.variant)
-            .with_moving(plan.moving(*node, skin, mesh.index()));
+            .with_moving(plan.moving(*node, mesh.index()));
         instance
             .read_mesh(mesh, &mut read, &mut warnings)
             .map_err(bad)?;

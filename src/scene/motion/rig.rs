@@ -29,6 +29,9 @@ pub(crate) struct Plan {
     moved: Vec<bool>,
     /// By node: it uses EXT_mesh_gpu_instancing (its instances are not posed).
     instanced: Vec<bool>,
+    /// By node: the skin it names (read once here: `doc.nodes().nth` per instance was a
+    /// walk of the node list for every mesh node).
+    skin_of: Vec<Option<usize>>,
     /// The static pose, and each usable skin's joint matrices in it.
     rest: Option<Posed>,
     rest_joints: Vec<Vec<DMat4>>,
@@ -84,11 +87,13 @@ impl Plan {
         };
         let mut in_scene = vec![false; count];
         let mut instanced = vec![false; count];
+        let mut skin_of = vec![None; count];
         let all: Vec<gltf::Node> = doc.nodes().collect();
         for &(i, _) in nodes {
             let n = &all[i];
             in_scene[i] = true;
             instanced[i] = n.extension_value("EXT_mesh_gpu_instancing").is_some();
+            skin_of[i] = n.skin().map(|s| s.index());
             graph.local[i] = glam::Mat4::from_cols_array_2d(&n.transform().matrix()).as_dmat4();
             graph.rest[i] = n.transform().decomposed();
             graph.weights[i] = n
@@ -126,6 +131,7 @@ impl Plan {
             animations,
             moved,
             instanced,
+            skin_of,
             rest: None,
             rest_joints: Vec::new(),
             targets,
@@ -146,16 +152,11 @@ impl Plan {
 
     /// How `node`'s `mesh` moves, or None if nothing ever moves it: no usable skin, no
     /// morph targets, and no animation moving it (an instanced node is never posed).
-    pub(crate) fn moving(
-        &self,
-        node: usize,
-        skin: Option<usize>,
-        mesh: usize,
-    ) -> Option<Moving<'_>> {
+    pub(crate) fn moving(&self, node: usize, mesh: usize) -> Option<Moving<'_>> {
         if self.instanced.get(node).copied().unwrap_or(true) {
             return None;
         }
-        let skin = skin
+        let skin = self.skin_of[node]
             .filter(|&s| self.skins.get(s).is_some_and(Option::is_some))
             .map(|s| (s, self.rest_joints[s].as_slice()));
         let morphs = self.targets.get(mesh).copied().unwrap_or(0) > 0;
