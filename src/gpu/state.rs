@@ -238,6 +238,21 @@ impl Gpu {
         }
     }
 
+    /// Limits drawing to rectangle `[x, y, width, height]` of the bound framebuffer (None:
+    /// the scissor test off, as every other pass expects it).
+    pub(crate) fn scissor(&self, rect: Option<[u32; 4]>) {
+        // SAFETY: no preconditions.
+        unsafe {
+            match rect {
+                Some([x, y, w, h]) => {
+                    self.gl.enable(glow::SCISSOR_TEST);
+                    self.gl.scissor(x as i32, y as i32, w as i32, h as i32);
+                }
+                None => self.gl.disable(glow::SCISSOR_TEST),
+            }
+        }
+    }
+
     /// Clears a rectangle only (a pane of a side-by-side frame) with the scissor test.
     pub(crate) fn clear_rect(&self, rect: [u32; 4], color: Option<[f32; 4]>) {
         // SAFETY: no preconditions.

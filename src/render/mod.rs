@@ -25,6 +25,7 @@ mod posed;
 pub mod post;
 pub mod programs;
 pub(crate) mod shadow;
+mod shadow_rect;
 mod skinning;
 mod slots;
 mod textures;

@@ -1,19 +1,22 @@
 //! A scene whose meshes move: the renderer poses its scene at a moment ([`Scene::pose`],
 //! on the CPU) and uploads again only the meshes the pose rewrote, with what depends on
-//! their triangles made anew (bounding spheres, clusters, terminator lift, tangents) and
-//! the passes' geometry caches dropped (shadow maps, edge lines). A pose draws what a fresh
+//! their triangles made anew (bounding spheres, clusters, terminator lift, tangents), the
+//! edge lines dropped, and the shadow maps drawn again where the moved meshes were and are
+//! ([`super::shadow_rect`]). A pose draws what a fresh
 //! renderer of the posed scene draws, byte for byte: the same upload code runs on the same
 //! vertices. The meshes a rig poses never get clusters ([`crate::scene::clusters::prepare`]
 //! skips them): their triangles move every frame, and a cluster's bounds would not.
 //! Meshes skinned on the GPU ([`super::skinning`]) are not posed on the CPU or uploaded: a
 //! pose sets their skins' joint matrices and bounds them by the animation's framing bounds.
 use super::instancing::Role;
+use super::shadow_rect::{points_box, union};
 use super::upload::{instanced_head, whole_draw_mesh_into, SceneGpu};
 use super::Renderer;
 use crate::scene::clusters::{Clusters, MIN_TRIANGLES};
 use crate::scene::motion::Moment;
-use crate::scene::Scene;
+use crate::scene::{Bounds, Scene};
 use crate::Result;
+use glam::Vec3;
 use std::time::Instant;
 
 /// What the last pose that changed the scene cost: the CPU pose ([`Scene::pose`]) and the
@@ -53,9 +56,13 @@ impl Renderer {
                 .map(|r| (r.gpu_joints(moment), r.gpu_weights(moment)))
                 .unwrap_or_default();
             let bounds = moment.map(|_| self.scene.scene.bounds);
+            let was = self.boxes_were(&self.scene.skins.meshes);
             self.scene.pose_skins(moment, joints, bounds.as_ref());
             // The light views see them move; `--edges` lines are posed on the CPU.
-            self.res.shadow.invalidate();
+            for (i, was) in was {
+                let now = bounds.unwrap_or_else(|| self.draws_within(i, None));
+                self.mark_moved(i, &was, now);
+            }
             self.res.edges = Default::default();
         }
         let pose_ms = ms(t);
@@ -99,8 +106,9 @@ impl Renderer {
 
     /// Uploads scene meshes `meshes` again after their vertices (and possibly their count
     /// and indices) changed: their buffers, bounding spheres and clusters are made anew as
-    /// a fresh renderer makes them, and the shadow maps and edge lines are made again at
-    /// the next frame. A copy drawn as an instance of another mesh refreshes that mesh.
+    /// a fresh renderer makes them, the edge lines are made again at the next frame, and
+    /// the shadow maps drawn again there over the meshes' old and new places. A copy drawn
+    /// as an instance of another mesh refreshes that mesh.
     pub fn refresh_meshes(&mut self, meshes: &[usize]) -> Result<()> {
         if meshes.is_empty() {
             return Ok(());
@@ -122,15 +130,57 @@ impl Renderer {
             .collect();
         todo.sort_unstable();
         todo.dedup();
-        for i in todo {
+        let was = self.boxes_were(&todo);
+        for (i, was) in was {
             let role = roles.as_ref().map(|r| &r[i]);
             refresh_one(&mut self.scene, i, role)?;
+            if !matches!(role, Some(Role::Absorbed)) {
+                let now = self.draws_within(i, role);
+                self.mark_moved(i, &was, now);
+            }
         }
         self.gpu.check_error("refresh meshes")?;
-        self.res.shadow.invalidate();
         // Edge lines are made from the triangles on the first frame that asks.
         self.res.edges = Default::default();
         Ok(())
+    }
+}
+
+impl Renderer {
+    /// Where draw meshes `meshes` were last drawn, before they move.
+    fn boxes_were(&self, meshes: &[usize]) -> Vec<(usize, Bounds)> {
+        meshes
+            .iter()
+            .map(|&i| {
+                let sphere = self
+                    .scene
+                    .meshes
+                    .get(i)
+                    .map_or((Vec3::ZERO, f32::INFINITY), |d| (d.center, d.radius));
+                (i, self.res.shadow.boxes.was(i, sphere))
+            })
+            .collect()
+    }
+
+    /// The box holding what draw mesh `i` draws now (its vertices; an instanced head's,
+    /// every copy's).
+    fn draws_within(&self, i: usize, role: Option<&Role>) -> Bounds {
+        let scene = &self.scene.scene;
+        let of = |m: usize| points_box(scene.meshes[m].vertices.iter().map(|v| &v.position));
+        match role {
+            Some(Role::Head(copies)) => copies
+                .meshes
+                .iter()
+                .fold(Bounds::empty(), |b, &m| union(&b, &of(m))),
+            _ => of(i),
+        }
+    }
+
+    /// Draw mesh `i` moved from box `was` to box `now`: the shadow maps are drawn again
+    /// over both at the next frame ([`super::shadow_rect`]).
+    fn mark_moved(&mut self, i: usize, was: &Bounds, now: Bounds) {
+        self.res.shadow.moved(&union(was, &now));
+        self.res.shadow.boxes.is(i, now);
     }
 }
 

@@ -76,13 +76,40 @@ struct ShadowKey {
 pub(crate) struct ShadowState {
     pub(crate) maps: Vec<ShadowMap>,
     key: Option<ShadowKey>,
+    /// The boxes where casters moved since the maps were drawn (one per moving draw mesh):
+    /// the next pass draws only their rectangles again ([`super::shadow_rect`]).
+    moved: Vec<Bounds>,
+    /// Where each moving draw mesh was last drawn.
+    pub(crate) boxes: super::shadow_rect::MovedBoxes,
 }
 
 impl ShadowState {
+    /// The maps are drawn again, whole, at the next frame.
     pub(crate) fn invalidate(&mut self) {
         self.key = None;
+        self.moved.clear();
+    }
+
+    /// A caster moved within box `b` (its old and new places): the next frame draws that
+    /// part of the maps again; nothing to do when they are to be drawn whole anyway. Past
+    /// [`MOVED_BOXES`] boxes, one box holds them all (each box draws every caster again).
+    pub(crate) fn moved(&mut self, b: &Bounds) {
+        if self.key.is_none() {
+            return;
+        }
+        self.moved.push(*b);
+        if self.moved.len() > MOVED_BOXES {
+            let all = self
+                .moved
+                .iter()
+                .fold(Bounds::empty(), |a, b| super::shadow_rect::union(&a, b));
+            self.moved = vec![all];
+        }
     }
 }
+
+/// At most this many boxes of moved casters are drawn apart in one pass.
+const MOVED_BOXES: usize = 8;
 
 /// Why there is no shadow pass this frame, if there is none.
 fn skip_reason(gpu: &GpuRef, s: &FrameSettings) -> Option<&'static str> {
@@ -164,26 +191,53 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
         size,
         slope_bias: s.shadows.slope_bias,
     };
+    let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
     if cx.res.shadow.key.as_ref() == Some(&key) {
-        cx.stats.shadow = format!("reused ({} map(s))", cx.res.shadow.maps.len());
-        return Ok(Outcome::Skipped(cx.stats.shadow.clone()));
+        let moved = std::mem::take(&mut cx.res.shadow.moved);
+        // The copy path draws through the target, whose depth outside a rectangle is not
+        // the map's: it draws the maps whole.
+        if moved.is_empty() {
+            cx.stats.shadow = format!("reused ({} map(s))", cx.res.shadow.maps.len());
+            return Ok(Outcome::Skipped(cx.stats.shadow.clone()));
+        }
+        if cx.gpu.caps.fbo {
+            return update_moved(cx, &moved, offset);
+        }
     }
     let gpu = cx.gpu.clone();
     let maps = allocate_maps(cx, casters, size)?;
-    let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
     for map in &maps {
-        draw_map(cx, map, offset)?;
+        draw_map(cx, map, offset, None)?;
     }
     cx.cull = None;
     gpu.apply(&RenderState::default());
     let entry = log_entry(&maps, size, gpu.caps.fbo);
     cx.stats.shadow = "rendered".into();
     gpu.check_error("shadow pass")?;
-    cx.res.shadow = ShadowState {
-        maps,
-        key: Some(key),
-    };
+    cx.res.shadow.maps = maps;
+    cx.res.shadow.key = Some(key);
+    cx.res.shadow.moved.clear();
     Ok(Outcome::Ran(entry))
+}
+
+/// Draws the maps again inside the rectangles of boxes `moved` only (casters moved there
+/// and nowhere else); the rest of each map is as the last pass left it.
+fn update_moved(cx: &mut FrameCx, moved: &[Bounds], offset: Option<(f32, f32)>) -> Result<Outcome> {
+    let gpu = cx.gpu.clone();
+    let maps = std::mem::take(&mut cx.res.shadow.maps);
+    let mut texels = 0u64;
+    let drawn = maps
+        .iter()
+        .try_for_each(|map| draw_map(cx, map, offset, Some((moved, &mut texels))));
+    cx.res.shadow.maps = maps;
+    drawn?;
+    cx.cull = None;
+    gpu.apply(&RenderState::default());
+    gpu.check_error("shadow pass (moved casters)")?;
+    cx.stats.shadow = format!("updated where casters moved ({texels} texels)");
+    Ok(Outcome::Ran(format!(
+        "shadow(moved casters: {texels} texels)"
+    )))
 }
 
 /// Where one light's map lies in its depth texture.
@@ -282,7 +336,15 @@ fn allocate_maps(cx: &mut FrameCx, casters: &[Light], size: u32) -> Result<Vec<S
 
 /// Renders one light's depth into `map`: each view (one, or six atlas tiles) in turn,
 /// through the map's FBO or, on the copy path, into the target and copied from there.
-fn draw_map(cx: &mut FrameCx, map: &ShadowMap, offset: Option<(f32, f32)>) -> Result<()> {
+/// With `moved` (FBO path only), only each view's rectangles of those boxes are cleared and
+/// drawn (every caster again in each: where rectangles overlap the last draws the same
+/// depths), and the texels drawn are counted.
+fn draw_map(
+    cx: &mut FrameCx,
+    map: &ShadowMap,
+    offset: Option<(f32, f32)>,
+    mut moved: Option<(&[Bounds], &mut u64)>,
+) -> Result<()> {
     let gpu = cx.gpu.clone();
     let target = cx.target;
     // The map's framebuffer has no colour buffer; on the copy path the light's view is
@@ -295,7 +357,9 @@ fn draw_map(cx: &mut FrameCx, map: &ShadowMap, offset: Option<(f32, f32)>) -> Re
     gpu.apply(&state);
     if let Some(fbo) = &map.fbo {
         fbo.bind();
-        gpu.clear(None);
+        if moved.is_none() {
+            gpu.clear(None);
+        }
     } else {
         gpu.bind_target(target.fbo, target.width, target.height);
     }
@@ -313,12 +377,41 @@ fn draw_map(cx: &mut FrameCx, map: &ShadowMap, offset: Option<(f32, f32)>) -> Re
         }
         // A light's view takes its levels by its own texel size.
         cx.cull = Some(ClusterView::new(*vp).with_lod(*vp, map.face, map.face, cx.lod.error));
-        draw_casters(cx, vp, &state)?;
+        match moved.as_mut() {
+            None => draw_casters(cx, vp, &state)?,
+            Some((boxes, texels)) => {
+                for r in super::shadow_rect::rects(vp, boxes, map.face) {
+                    **texels += u64::from(r[2]) * u64::from(r[3]);
+                    redraw_rect(cx, map, vp, &state, [tx + r[0], ty + r[1], r[2], r[3]])?;
+                }
+            }
+        }
         if map.fbo.is_none() {
             map.texture.copy_from_framebuffer(tx, ty, map.face);
         }
     }
     Ok(())
+}
+
+/// Clears rectangle `r` of `map` and draws every caster again inside it, with view `vp`.
+fn redraw_rect(
+    cx: &mut FrameCx,
+    map: &ShadowMap,
+    vp: &Mat4,
+    state: &RenderState,
+    r: [u32; 4],
+) -> Result<()> {
+    let gpu = cx.gpu.clone();
+    if map.views.len() == 1 && r == [0, 0, map.face, map.face] {
+        // The whole map: cleared and drawn without the scissor, llvmpipe's fast path.
+        gpu.clear(None);
+        return draw_casters(cx, vp, state);
+    }
+    gpu.clear_rect(r, None);
+    gpu.scissor(Some(r));
+    let drawn = draw_casters(cx, vp, state);
+    gpu.scissor(None);
+    drawn
 }
 
 /// Draws every shadow-casting mesh with the light's view-projection `vp`. MASK materials

@@ -4,6 +4,7 @@
 //! session's `--time` and `--animation` reach the scene or say what the file has.
 use super::common::*;
 use glview::headless::Headless;
+use glview::image_out::Rgba;
 use glview::platform::{Backend, GlRequest};
 use glview::render::Renderer;
 use glview::scene::{Mesh, Scene, Vertex};
@@ -144,5 +145,148 @@ fn time_on_a_still_model_is_a_one_line_error() {
             )),
             "{args:?}: {err}"
         );
+    }
+}
+
+/// The texels a shadow pass drew again where casters moved (its `--stats` entry), or None
+/// when it drew the maps whole or reused them.
+fn texels_updated(shadow: &str) -> Option<u64> {
+    let rest = shadow.strip_prefix("updated where casters moved (")?;
+    rest.split(' ').next()?.parse().ok()
+}
+
+/// `kept`'s frame (drawn by a renderer that moved casters) against `fresh`'s, byte for byte.
+fn assert_same(dir: &std::path::Path, name: &str, kept: &Rgba, fresh: &Rgba) {
+    assert!(
+        kept.data == fresh.data,
+        "{name}: the shadow map updated where casters moved differs from one drawn whole: {}",
+        write_diff(dir, name, kept, fresh).display()
+    );
+}
+
+/// Nudging the built-in scene's smallest mesh draws only its part of the shadow map again
+/// (the box of its old and new places), and that map — shown at a texel a pixel by
+/// `--show shadow-map` — and the lit picture are a fresh renderer's, byte for byte.
+#[test]
+fn a_moved_caster_redraws_only_its_part_of_the_shadow_map() {
+    let dir = out_dir("motion_render");
+    let hl = Headless::new(Backend::Egl, GlRequest::Core, 128, 128).expect("EGL context");
+    let size = ["--size", "128x128", "--shadow-size", "128"];
+    let (lit, scene) = settings_for(&size);
+    let (map, _) = settings_for(&[&size[..], &["--show", "shadow-map"]].concat());
+    let small = (0..scene.meshes.len())
+        .min_by_key(|&i| scene.meshes[i].indices.len())
+        .unwrap();
+    let step = 0.04 * (scene.bounds.max - scene.bounds.min).length();
+    let mut r = Renderer::new(&hl.gpu, scene).unwrap();
+    r.render(&map, &hl.target()).unwrap();
+    let before = hl.read();
+    for v in &mut r.scene_mut().meshes[small].vertices {
+        v.position[0] += step;
+        v.position[1] += step;
+    }
+    r.refresh_meshes(&[small]).unwrap();
+    let stats = r.render(&map, &hl.target()).unwrap();
+    let texels = texels_updated(&stats.shadow).unwrap_or_else(|| panic!("{}", stats.shadow));
+    assert!(
+        texels > 0 && texels < 128 * 128 / 4,
+        "{texels} texels drawn again"
+    );
+    let kept_map = hl.read();
+    assert!(
+        before.data != kept_map.data,
+        "the nudge does not show in the map"
+    );
+    let mut fresh = Renderer::new(&hl.gpu, r.scene().clone()).unwrap();
+    fresh.render(&map, &hl.target()).unwrap();
+    assert_same(&dir, "moved-map", &kept_map, &hl.read());
+    // The lit picture from the kept map (reused: nothing moved since).
+    let stats = r.render(&lit, &hl.target()).unwrap();
+    assert!(stats.shadow.starts_with("reused"), "{}", stats.shadow);
+    let kept = hl.read();
+    fresh.render(&lit, &hl.target()).unwrap();
+    assert_same(&dir, "moved-lit", &kept, &hl.read());
+}
+
+/// A skinned figure played on the GPU: from its second moment on, each pose draws the maps
+/// again only inside its animation's framing box, and each map equals a fresh renderer's
+/// posed at that moment.
+#[test]
+fn a_playing_figure_updates_its_shadow_map_as_a_fresh_renderer_draws_it() {
+    use glview::scene::motion::Moment;
+    let dir = out_dir("motion_render");
+    let hl = Headless::new(Backend::Egl, GlRequest::Core, 96, 96).expect("EGL context");
+    let (map, scene) = settings_for(&[
+        "tests/data/khronos/motion/CesiumMan.glb",
+        "--size",
+        "96x96",
+        "--shadow-size",
+        "96",
+        "--show",
+        "shadow-map",
+    ]);
+    let mut kept = Renderer::new(&hl.gpu, scene.clone()).unwrap();
+    let mut last: Option<Rgba> = None;
+    for (k, seconds) in [0.1, 0.6, 1.1].into_iter().enumerate() {
+        let moment = Some(Moment {
+            animation: 0,
+            seconds,
+        });
+        kept.pose(moment).unwrap();
+        let stats = kept.render(&map, &hl.target()).unwrap();
+        // The first pose leaves the static pose (its bounds change): drawn whole.
+        assert_eq!(
+            texels_updated(&stats.shadow).is_some(),
+            k > 0,
+            "{}",
+            stats.shadow
+        );
+        let got = hl.read();
+        let mut fresh = Renderer::new(&hl.gpu, scene.clone()).unwrap();
+        fresh.pose(moment).unwrap();
+        fresh.render(&map, &hl.target()).unwrap();
+        assert_same(&dir, &format!("figure-{k}"), &got, &hl.read());
+        assert!(
+            last.as_ref().is_none_or(|l| l.data != got.data),
+            "moment {k} did not move"
+        );
+        last = Some(got);
+    }
+}
+
+/// Khronos' milk truck turns its wheels under a still body: each frame draws the shadow
+/// map again inside the wheels' rectangles only (under half the map), and the map and the
+/// lit picture are a fresh renderer's at that moment, byte for byte.
+#[test]
+fn a_turning_wheel_redraws_only_its_part_of_the_shadow_map() {
+    use glview::scene::motion::Moment;
+    let dir = out_dir("motion_render");
+    let hl = Headless::new(Backend::Egl, GlRequest::Core, 96, 96).expect("EGL context");
+    let model = "tests/data/khronos/motion/CesiumMilkTruck.glb";
+    let size = [model, "--size", "96x96", "--shadow-size", "96"];
+    let (lit, scene) = settings_for(&size);
+    let (map, _) = settings_for(&[&size[..], &["--show", "shadow-map"]].concat());
+    let mut kept = Renderer::new(&hl.gpu, scene.clone()).unwrap();
+    for (k, seconds) in [0.1, 0.3, 0.5].into_iter().enumerate() {
+        let moment = Some(Moment {
+            animation: 0,
+            seconds,
+        });
+        kept.pose(moment).unwrap();
+        let stats = kept.render(&map, &hl.target()).unwrap();
+        if k > 0 {
+            let texels =
+                texels_updated(&stats.shadow).unwrap_or_else(|| panic!("{}", stats.shadow));
+            assert!(texels < 96 * 96 / 2, "{texels} texels drawn again");
+        }
+        let got_map = hl.read();
+        kept.render(&lit, &hl.target()).unwrap();
+        let got = hl.read();
+        let mut fresh = Renderer::new(&hl.gpu, scene.clone()).unwrap();
+        fresh.pose(moment).unwrap();
+        fresh.render(&map, &hl.target()).unwrap();
+        assert_same(&dir, &format!("truck-map-{k}"), &got_map, &hl.read());
+        fresh.render(&lit, &hl.target()).unwrap();
+        assert_same(&dir, &format!("truck-{k}"), &got, &hl.read());
     }
 }
