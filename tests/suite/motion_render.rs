@@ -166,11 +166,22 @@ fn assert_same(dir: &std::path::Path, name: &str, kept: &Rgba, fresh: &Rgba) {
 
 /// Nudging the built-in scene's smallest mesh draws only its part of the shadow map again
 /// (the box of its old and new places), and that map — shown at a texel a pixel by
-/// `--show shadow-map` — and the lit picture are a fresh renderer's, byte for byte.
+/// `--show shadow-map` — and the lit picture are a fresh renderer's, byte for byte, on
+/// GL 3.3, ES 3.0 and GL 2.1.
 #[test]
 fn a_moved_caster_redraws_only_its_part_of_the_shadow_map() {
+    for (name, request) in [
+        ("gl33", GlRequest::Core),
+        ("es3", GlRequest::Es3),
+        ("gl21", GlRequest::Gl21),
+    ] {
+        moved_caster(name, request);
+    }
+}
+
+fn moved_caster(name: &str, request: GlRequest) {
     let dir = out_dir("motion_render");
-    let hl = Headless::new(Backend::Egl, GlRequest::Core, 128, 128).expect("EGL context");
+    let hl = Headless::new(Backend::Egl, request, 128, 128).expect("EGL context");
     let size = ["--size", "128x128", "--shadow-size", "128"];
     let (lit, scene) = settings_for(&size);
     let (map, _) = settings_for(&[&size[..], &["--show", "shadow-map"]].concat());
@@ -187,25 +198,30 @@ fn a_moved_caster_redraws_only_its_part_of_the_shadow_map() {
     }
     r.refresh_meshes(&[small]).unwrap();
     let stats = r.render(&map, &hl.target()).unwrap();
-    let texels = texels_updated(&stats.shadow).unwrap_or_else(|| panic!("{}", stats.shadow));
+    let texels =
+        texels_updated(&stats.shadow).unwrap_or_else(|| panic!("{name}: {}", stats.shadow));
     assert!(
         texels > 0 && texels < 128 * 128 / 4,
-        "{texels} texels drawn again"
+        "{name}: {texels} texels drawn again"
     );
     let kept_map = hl.read();
     assert!(
         before.data != kept_map.data,
-        "the nudge does not show in the map"
+        "{name}: the nudge does not show in the map"
     );
     let mut fresh = Renderer::new(&hl.gpu, r.scene().clone()).unwrap();
     fresh.render(&map, &hl.target()).unwrap();
-    assert_same(&dir, "moved-map", &kept_map, &hl.read());
+    assert_same(&dir, &format!("moved-map-{name}"), &kept_map, &hl.read());
     // The lit picture from the kept map (reused: nothing moved since).
     let stats = r.render(&lit, &hl.target()).unwrap();
-    assert!(stats.shadow.starts_with("reused"), "{}", stats.shadow);
+    assert!(
+        stats.shadow.starts_with("reused"),
+        "{name}: {}",
+        stats.shadow
+    );
     let kept = hl.read();
     fresh.render(&lit, &hl.target()).unwrap();
-    assert_same(&dir, "moved-lit", &kept, &hl.read());
+    assert_same(&dir, &format!("moved-lit-{name}"), &kept, &hl.read());
 }
 
 /// A skinned figure played on the GPU: from its second moment on, each pose draws the maps
