@@ -1,18 +1,31 @@
-"""The server page's camera and variant pickers (issue 37): on a generated glTF with two
-cameras and two KHR_materials_variants, K and V change the picture on the page, and a
-choice in a picker gives the still `glview -o --camera NAME` / `--variant NAME` draws, byte
-for byte (the picker's index goes into the view's options as K's and V's do).
+"""The server page's controls of a glTF file's own views, with one browser between them.
+
+Cameras and variants (issue 37): on a generated glTF with two cameras and two
+KHR_materials_variants, K and V change the picture on the page, and a choice in a picker
+gives the still `glview -o --camera NAME` / `--variant NAME` draws, byte for byte (the
+picker's index goes into the view's options as K's and V's do).
+
+Animations (issue 39), driven as a user drives them on the committed Khronos
+BoxAnimated.glb: open it in the model picker, Play, Space on the view to pause, the
+frame-step buttons; a follower's page shows the presenter's time. Checked is what the user
+sees: frames arrive and the time shown (`#clock`'s `data-time`, the header's number as it
+is) moves on while playing; paused, neither the time nor the picture moves; a step lands on
+the `--fps` grid and the next one moves by exactly one frame (the time is an f32, so
+"exactly" is k/fps rounded to f32, as `--time` parses it); the still at a stepped time is
+`glview -o --animation 0 --time T`, byte for byte. The server's side of this (the play and
+time messages, frames at most `--fps` a second) is tests/suite/play.rs.
 """
 import base64
 import json
 import math
+import shutil
 import struct
 import subprocess
 
 import pytest
 
 from test_serve_page import (  # noqa: F401 (FLAGS: the browser fixture reads it here)
-    FLAGS, SIZE, Server, glview_bin, last_still, open_page, pixels, wait_still)
+    FLAGS, REPO, SIZE, Server, glview_bin, last_still, open_page, pixels, wait_still)
 
 CAMERAS = ["Front", "Side"]
 # The second variant's name is markup: the picker must show it as text (the names are the
@@ -153,3 +166,118 @@ def test_pickers_draw_what_the_command_line_draws(page, views_server, glview_bin
     page.evaluate("window.glview.send({type: 'pick', what: 'camera', index: 7, seq: 1000})")
     page.wait_for_function("document.getElementById('status').textContent.includes('no camera')")
     assert '1 "Side"' in page.locator("#status").inner_text()
+
+
+MOTION = REPO / "tests" / "data" / "khronos" / "motion"
+ANIMATED = "BoxAnimated.glb"
+
+
+def f32(x: float) -> float:
+    """`x` rounded to f32, as glview holds a time. (A quotient of two small integers rounded
+    to f64 and then to f32 is the f32 quotient: f64 has more than twice f32's bits.)"""
+    return struct.unpack("<f", struct.pack("<f", x))[0]
+
+
+def shown_time(page):
+    """The time the page shows: None for the static pose."""
+    t = page.locator("#clock").get_attribute("data-time")
+    return None if t in (None, "") else float(t)
+
+
+def wait_time(page, above):
+    """Waits until the page shows a time above `above`; returns it, checked against the
+    clock's text in the same instant (frames keep coming while it plays)."""
+    page.wait_for_function(
+        "t => { const d = document.getElementById('clock').dataset.time;"
+        " return d !== undefined && d !== '' && Number(d) > t; }", arg=above, timeout=15000)
+    t, text = page.evaluate("() => { const c = document.getElementById('clock');"
+                            " return [c.dataset.time, c.textContent]; }")
+    # The text is rounded to hundredths for the eye.
+    assert abs(float(text.split(" / ")[0]) - float(t)) <= 0.005 + 1e-9, (t, text)
+    return float(t)
+
+
+def press(page, button):
+    """Clicks one of the play controls; returns the header of the still that shows it."""
+    page.locator("#" + button).click()
+    return wait_still(page, page.evaluate("window.glview.sent"))
+
+
+def test_play_pause_step_and_follow(browser, glview_bin, tmp_path):
+    folder = tmp_path / "models"
+    folder.mkdir()
+    # Two models, so the user opens the animated one in the picker.
+    for name in ("AnimatedMorphCube.glb", ANIMATED):
+        shutil.copy(MOTION / name, folder)
+    s = Server(glview_bin, "--size", f"{SIZE[0]}x{SIZE[1]}", str(folder))
+    presenter = follower = None
+    try:
+        presenter = open_page(browser, s.presenter_url)
+        follower = open_page(browser, s.url + "&follow=1")
+        presenter.locator("#model").select_option(ANIMATED)
+        h = wait_still(presenter, presenter.evaluate("window.glview.sent"))
+        assert h["model"] == ANIMATED, h
+        assert presenter.locator("#motion").is_visible()
+        assert shown_time(presenter) is None
+        assert presenter.locator("#clock").inner_text() == "static pose"
+        fps = h["motion"]["fps"]
+        duration = h["motion"]["animations"][0]["duration"]
+
+        # Play: preview frames come with a time that moves on; the follower shows it too.
+        frames = presenter.evaluate("window.glview.frames")
+        presenter.locator("#play").click()
+        t1 = wait_time(presenter, 0)
+        t2 = wait_time(presenter, t1)
+        assert presenter.evaluate("window.glview.frames") >= frames + 2
+        assert presenter.locator("#play").inner_text() == "Pause"
+        assert wait_time(follower, 0) > 0
+
+        # Space on the view pauses: the still comes, then nothing for half a second (seven
+        # frames' time at --fps 15; tests/suite/play.rs waits a whole second on the server).
+        presenter.locator("#view").press("Space")
+        h = wait_still(presenter, presenter.evaluate("window.glview.sent"))
+        assert h["motion"]["playing"] is False, h["motion"]
+        assert presenter.locator("#play").inner_text() == "Play"
+        paused = shown_time(presenter)
+        assert t2 <= paused < duration, (t2, paused)
+        frames = presenter.evaluate("window.glview.frames")
+        presenter.wait_for_timeout(500)
+        assert presenter.evaluate("window.glview.frames") == frames
+        assert shown_time(presenter) == paused
+
+        # A step forward lands on the next frame of the grid; the next moves by one frame,
+        # a step back returns: k/fps, (k+1)/fps, k/fps.
+        press(presenter, "step-fwd")
+        k = math.floor(paused * fps + 1e-3) + 1
+        assert shown_time(presenter) == f32(k / fps), (paused, shown_time(presenter), k)
+        press(presenter, "step-fwd")
+        assert shown_time(presenter) == f32((k + 1) / fps)
+        ahead = pixels(last_still(presenter))
+        h = press(presenter, "step-back")
+        assert shown_time(presenter) == f32(k / fps)
+        assert h["motion"]["playing"] is False and h["motion"]["animation"] == 0, h["motion"]
+        still = last_still(presenter)
+        assert pixels(still).tobytes() != ahead.tobytes(), "a frame's step changed nothing"
+
+        # The still at that time is the command line's picture of it.
+        t = presenter.locator("#clock").get_attribute("data-time")
+        out = tmp_path / "moment.png"
+        w, hh = h["view"]
+        p = subprocess.run([glview_bin, str(folder / ANIMATED), "-o", str(out), "--size", f"{w}x{hh}",
+                            "--animation", "0", "--time", t], capture_output=True, text=True)
+        assert p.returncode == 0, p.stderr
+        a, b = pixels(still), pixels(out.read_bytes())
+        assert a.size == b.size == (w, hh)
+        assert a.tobytes() == b.tobytes(), f"the still ({h['command']}) differs from glview -o --time {t}"
+
+        # Teacher mode: the follower shows the presenter's moment and its very still.
+        follower.wait_for_function(
+            "t => window.glview.last.still && document.getElementById('clock').dataset.time === t",
+            arg=t)
+        assert last_still(follower) == still
+        assert not presenter.errors and not follower.errors, (presenter.errors, follower.errors)
+    finally:
+        for page in (presenter, follower):
+            if page is not None:
+                page.context.close()
+        s.stop()

@@ -81,3 +81,75 @@ fn batch_refuses_a_file_with_unbalanced_quotes_naming_the_line() {
         format!("error: {}:2: unbalanced quotes", file.display())
     );
 }
+
+/// `--animation` and `--time` on batch lines (issue 39's "batch: time=, animation="), on the
+/// committed Khronos InterpolationTest.glb: its "Linear Translation" (animation 8) by index
+/// and by name at one moment, and at another. Every picture is the very bytes `glview -o`
+/// writes for the same words run alone; the name and the index draw the same pixels; the two
+/// moments differ. Bad values fail their own line with one line naming the jobs file and the
+/// line (never a panic), and the good lines still render.
+#[test]
+fn batch_renders_moments_by_time_and_animation() {
+    let dir = out_dir("batch-motion");
+    let p = |n: &str| dir.join(n).to_str().unwrap().to_string();
+    let model = "tests/data/khronos/motion/InterpolationTest.glb";
+    let job = |words: &str, out: &str| format!("{model} --size 64x48 {words} -o {}", p(out));
+    let jobs = [
+        job("--animation 8 --time 0.5", "index.png"),
+        job("--animation 'Linear Translation' --time=0.5", "name.png"),
+        job("--animation 8 --time 1.25", "later.png"),
+        job("--time nan", "nan.png"),
+        job("--time -1", "negative.png"),
+        job("--animation nosuch --time 0.5", "nosuch.png"),
+    ];
+    let file = dir.join("jobs.txt");
+    std::fs::write(&file, jobs.join("\n")).unwrap();
+    let o = run(&["batch", file.to_str().unwrap()], &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "some jobs fail: exit 1\n{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    let f = file.display();
+    let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error: ")).collect();
+    let want = [
+        (4, "--time: NaN must be a finite number of seconds"),
+        (5, "--time: -1 must be a finite number of seconds"),
+        (6, "--animation nosuch: "),
+    ];
+    assert_eq!(errors.len(), want.len() + 1, "one line per bad job:\n{err}");
+    for ((line, says), got) in want.iter().zip(&errors) {
+        assert!(
+            got.starts_with(&format!("error: {f}:{line}: ")) && got.contains(says),
+            "line {line}: {got}\n{err}"
+        );
+    }
+    assert!(
+        err.contains(&format!("error: {f}: 3 of 6 jobs failed (lines 4, 5, 6)")),
+        "{err}"
+    );
+    for bad in ["nan.png", "negative.png", "nosuch.png"] {
+        assert!(!dir.join(bad).exists(), "{bad}");
+    }
+    // Every good job: the bytes of the same words run alone (the PNG's text included).
+    for (name, line) in [("index", &jobs[0]), ("name", &jobs[1]), ("later", &jobs[2])] {
+        let words = shlex::split(line).unwrap();
+        let alone = p(&format!("{name}-alone.png"));
+        let mut args: Vec<&str> = words.iter().map(String::as_str).collect();
+        let at = args.iter().position(|w| *w == "-o").unwrap();
+        args[at + 1] = &alone;
+        let single = run(&args, &[]);
+        assert!(single.status.success(), "{name}: {single:?}");
+        let batch = std::fs::read(dir.join(format!("{name}.png"))).unwrap();
+        assert!(
+            batch == std::fs::read(&alone).unwrap(),
+            "{name}: batch and alone differ"
+        );
+    }
+    let load = |n: &str| Rgba::load_png(&dir.join(n)).unwrap();
+    let (index, name, later) = (load("index.png"), load("name.png"), load("later.png"));
+    check_frame(&index, "index");
+    assert_close(&dir, "batch-motion-name", &name, &index, 0, 0, 0);
+    assert!(
+        index.data != later.data,
+        "0.5 s and 1.25 s draw the same picture"
+    );
+}
