@@ -576,23 +576,22 @@ impl Texture2d {
         }
     }
 
-    /// Copies a `size`² square from the lower-left corner of the bound read framebuffer's
-    /// depth into level 0 at (x, y): the shadow-map path for drivers without framebuffer
-    /// objects.
-    pub(crate) fn copy_from_framebuffer(&self, x: u32, y: u32, size: u32) {
-        // SAFETY: the caller keeps (x, y, size) inside the texture and size within the
-        // framebuffer.
+    /// Copies rectangle `[x, y, width, height]` of the bound read framebuffer's depth into
+    /// level 0 at `to`: the shadow-map path for drivers without framebuffer objects.
+    pub(crate) fn copy_from_framebuffer(&self, to: (u32, u32), [x, y, w, h]: [u32; 4]) {
+        // SAFETY: the caller keeps the rectangle inside the framebuffer and, placed at
+        // `to`, inside the texture.
         unsafe {
             self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
             self.gpu.gl.copy_tex_sub_image_2d(
                 glow::TEXTURE_2D,
                 0,
+                to.0 as i32,
+                to.1 as i32,
                 x as i32,
                 y as i32,
-                0,
-                0,
-                size as i32,
-                size as i32,
+                w as i32,
+                h as i32,
             );
         }
     }

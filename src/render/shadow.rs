@@ -194,15 +194,11 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
     let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
     if cx.res.shadow.key.as_ref() == Some(&key) {
         let moved = std::mem::take(&mut cx.res.shadow.moved);
-        // The copy path draws through the target, whose depth outside a rectangle is not
-        // the map's: it draws the maps whole.
         if moved.is_empty() {
             cx.stats.shadow = format!("reused ({} map(s))", cx.res.shadow.maps.len());
             return Ok(Outcome::Skipped(cx.stats.shadow.clone()));
         }
-        if cx.gpu.caps.fbo {
-            return update_moved(cx, &moved, offset);
-        }
+        return update_moved(cx, &moved, offset);
     }
     let gpu = cx.gpu.clone();
     let maps = allocate_maps(cx, casters, size)?;
@@ -336,7 +332,7 @@ fn allocate_maps(cx: &mut FrameCx, casters: &[Light], size: u32) -> Result<Vec<S
 
 /// Renders one light's depth into `map`: each view (one, or six atlas tiles) in turn,
 /// through the map's FBO or, on the copy path, into the target and copied from there.
-/// With `moved` (FBO path only), only each view's rectangles of those boxes are cleared and
+/// With `moved`, only each view's rectangles of those boxes are cleared and
 /// drawn (every caster again in each: where rectangles overlap the last draws the same
 /// depths), and the texels drawn are counted.
 fn draw_map(
@@ -363,31 +359,45 @@ fn draw_map(
     } else {
         gpu.bind_target(target.fbo, target.width, target.height);
     }
+    let whole = [0, 0, map.face, map.face];
     for (f, vp) in map.views.iter().enumerate() {
-        let (tx, ty) = if map.views.len() > 1 {
+        let tile = if map.views.len() > 1 {
             ((f as u32 % 3) * map.face, (f as u32 / 3) * map.face)
         } else {
             (0, 0)
         };
-        if map.fbo.is_some() {
-            gpu.viewport(tx, ty, map.face, map.face);
-        } else {
-            gpu.viewport(0, 0, map.face, map.face);
-            gpu.clear(None);
-        }
+        // Where the view is drawn: its tile of the map's framebuffer, or the target's
+        // corner, copied into its tile afterwards.
+        let at = if map.fbo.is_some() { tile } else { (0, 0) };
+        gpu.viewport(at.0, at.1, map.face, map.face);
         // A light's view takes its levels by its own texel size.
         cx.cull = Some(ClusterView::new(*vp).with_lod(*vp, map.face, map.face, cx.lod.error));
-        match moved.as_mut() {
-            None => draw_casters(cx, vp, &state)?,
-            Some((boxes, texels)) => {
-                for r in super::shadow_rect::rects(vp, boxes, map.face) {
-                    **texels += u64::from(r[2]) * u64::from(r[3]);
-                    redraw_rect(cx, map, vp, &state, [tx + r[0], ty + r[1], r[2], r[3]])?;
+        let rects = moved.as_mut().map(|(boxes, texels)| {
+            let rects = super::shadow_rect::rects(vp, boxes, map.face);
+            **texels += rects
+                .iter()
+                .map(|r| u64::from(r[2]) * u64::from(r[3]))
+                .sum::<u64>();
+            rects
+        });
+        match &rects {
+            None => {
+                if map.fbo.is_none() {
+                    gpu.clear(None);
+                }
+                draw_casters(cx, vp, &state)?;
+            }
+            Some(rects) => {
+                for r in rects {
+                    redraw_rect(cx, map, vp, &state, [at.0 + r[0], at.1 + r[1], r[2], r[3]])?;
                 }
             }
         }
         if map.fbo.is_none() {
-            map.texture.copy_from_framebuffer(tx, ty, map.face);
+            for r in rects.unwrap_or_else(|| vec![whole]) {
+                map.texture
+                    .copy_from_framebuffer((tile.0 + r[0], tile.1 + r[1]), r);
+            }
         }
     }
     Ok(())

@@ -306,3 +306,54 @@ fn a_turning_wheel_redraws_only_its_part_of_the_shadow_map() {
         assert_same(&dir, &format!("truck-{k}"), &got, &hl.read());
     }
 }
+
+/// The APNG frames of the milk truck's wheels on a GL 2.1 driver without framebuffer
+/// objects (OSMesa), where a shadow map is drawn into the frame's depth and copied: frames
+/// after the first update the map only where the wheels are (each rectangle drawn and
+/// copied alone; copying the whole view instead fails this), and every frame's map — shown by `--show shadow-map` — is the still's of
+/// its moment, drawn by a fresh renderer.
+#[test]
+fn without_framebuffer_objects_a_moving_caster_updates_its_rectangles() {
+    let dir = out_dir("motion_render");
+    let out = dir.join("truck-nofbo.apng");
+    let base = [
+        "tests/data/khronos/motion/CesiumMilkTruck.glb",
+        "--size",
+        "64x64",
+        "--shadow-size",
+        "64",
+        "--show",
+        "shadow-map",
+        "--backend",
+        "osmesa",
+        "--gl",
+        "2.1",
+    ];
+    let mut args = base.to_vec();
+    args.extend([
+        "--fps",
+        "5",
+        "--duration",
+        "0.6",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let o = run(&args, GL21_NO_FBO);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = std::io::BufReader::new(std::fs::File::open(&out).unwrap());
+    let mut reader = png::Decoder::new(file).read_info().unwrap();
+    for k in 0..3 {
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        let frame = Rgba {
+            width: 64,
+            height: 64,
+            data: buf[..info.buffer_size()].to_vec(),
+        };
+        let time = format!("{}", k as f32 / 5.0);
+        let mut at = base.to_vec();
+        at.extend(["--time", &time]);
+        let still = render(&dir, &format!("truck-nofbo-{k}"), &at, GL21_NO_FBO);
+        assert_same(&dir, &format!("truck-nofbo-{k}"), &frame, &still);
+    }
+}
