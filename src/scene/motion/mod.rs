@@ -133,11 +133,7 @@ impl Scene {
                 ));
             }
         }
-        let meshes = rig.posed_meshes_except(moment, gpu)?;
-        let changed: Vec<usize> = meshes.iter().map(|(i, _)| *i).collect();
-        for (i, mesh) in meshes {
-            self.meshes[i] = mesh;
-        }
+        let changed = rig.pose_into(moment, gpu, &mut self.meshes)?;
         self.bounds = match moment {
             None => rig.static_bounds,
             Some(m) => rig.framing(m.animation),

@@ -248,30 +248,30 @@ impl Rig {
             .pose(moment.map(|m| (&self.plan.animations[m.animation], m.seconds)))
     }
 
-    /// Each part's vertices placed in `posed` (`positions_only`: for bounds).
-    /// Parts of the scene meshes `skip` (sorted) are left out.
-    fn place_all(
+    /// Each of `parts`' vertices placed in `posed` (`positions_only`: for bounds). Only
+    /// the skins these parts use get joint matrices.
+    fn place_parts(
         &self,
         posed: &Posed,
+        parts: &[&Part],
         positions_only: bool,
-        skip: &[usize],
     ) -> Vec<super::pose::Placed> {
-        let joints: Vec<Vec<DMat4>> = self
-            .plan
-            .skins
+        let skinned = |p: &Part| p.skin.filter(|_| !p.src.sets.is_empty());
+        let mut joints: Vec<Vec<DMat4>> = vec![Vec::new(); self.plan.skins.len()];
+        let mut done = vec![false; self.plan.skins.len()];
+        for s in parts.iter().filter_map(|p| skinned(p)) {
+            if !std::mem::replace(&mut done[s], true) {
+                if let Some(skin) = &self.plan.skins[s] {
+                    joints[s] = joint_matrices(skin, &posed.world);
+                }
+            }
+        }
+        parts
             .iter()
-            .map(|s| {
-                s.as_ref()
-                    .map_or(Vec::new(), |s| joint_matrices(s, &posed.world))
-            })
-            .collect();
-        self.parts
-            .iter()
-            .filter(|p| skip.binary_search(&p.mesh).is_err())
             .map(|p| {
-                let deform = match p.skin {
-                    Some(s) if !p.src.sets.is_empty() => Deform::Skin(&joints[s]),
-                    _ => Deform::Node(posed.world[p.node]),
+                let deform = match skinned(p) {
+                    Some(s) => Deform::Skin(&joints[s]),
+                    None => Deform::Node(posed.world[p.node]),
                 };
                 let weights = posed.weights[p.node]
                     .as_deref()
@@ -281,38 +281,91 @@ impl Rig {
             .collect()
     }
 
+    /// The parts of the scene meshes not in `skip` (sorted) placed at `moment`, each checked
+    /// to fit f32 (an error before any mesh is changed). Nothing is posed when no part is
+    /// left (every moving mesh skinned on the GPU: a frame poses only their joints).
+    fn placed_except(
+        &self,
+        moment: Option<Moment>,
+        skip: &[usize],
+    ) -> Result<Vec<(&Part, super::pose::Placed)>> {
+        let parts: Vec<&Part> = self
+            .parts
+            .iter()
+            .filter(|p| skip.binary_search(&p.mesh).is_err())
+            .collect();
+        if parts.is_empty() {
+            return Ok(Vec::new());
+        }
+        let posed = self.posed(moment);
+        let placed = self.place_parts(&posed, &parts, false);
+        parts
+            .into_iter()
+            .zip(placed)
+            .map(|(p, placed)| {
+                crate::scene::gltf_primitive::check_range(&placed.0)
+                    .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", p.node)))?;
+                Ok((p, placed))
+            })
+            .collect()
+    }
+
+    /// The options the loader built the meshes with that a pose builds them with again.
+    fn build_options(&self) -> LoadOptions {
+        LoadOptions {
+            creases: self.creases,
+            ..LoadOptions::default()
+        }
+    }
+
     /// The moving meshes at `moment`, built as the loader builds them, with each one's
     /// scene mesh index; without the scene meshes `skip` (sorted: those skinned on the GPU).
+    /// New meshes, beside the scene's (for `--edges` of GPU-skinned meshes); a pose of the
+    /// scene itself is [`Rig::pose_into`].
     pub(crate) fn posed_meshes_except(
         &self,
         moment: Option<Moment>,
         skip: &[usize],
     ) -> Result<Vec<(usize, Mesh)>> {
-        let posed = self.posed(moment);
-        let opts = LoadOptions {
-            creases: self.creases,
-            ..LoadOptions::default()
-        };
-        self.place_all(&posed, false, skip)
+        let opts = self.build_options();
+        Ok(self
+            .placed_except(moment, skip)?
             .into_iter()
-            .zip(
-                self.parts
-                    .iter()
-                    .filter(|p| skip.binary_search(&p.mesh).is_err()),
-            )
-            .map(|(placed, p)| {
-                crate::scene::gltf_primitive::check_range(&placed.0)
-                    .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", p.node)))?;
-                Ok((
-                    p.mesh,
-                    p.prim.with_geometry(placed).into_mesh(
-                        self.origin,
-                        self.default_material,
-                        &opts,
-                    ),
-                ))
+            .map(|(p, placed)| {
+                let mesh = p.prim.with_geometry(placed).into_mesh(
+                    self.origin,
+                    self.default_material,
+                    &opts,
+                );
+                (p.mesh, mesh)
             })
-            .collect()
+            .collect())
+    }
+
+    /// Poses the scene's `meshes` at `moment`, but for `skip` (sorted: those skinned on the
+    /// GPU), and returns the indices of those rewritten. Only what a pose moves is written
+    /// (positions, normals, tangents: [`Prim::pose_into`]); on an error no mesh has changed.
+    ///
+    /// [`Prim::pose_into`]: crate::scene::gltf_primitive::Prim::pose_into
+    pub(crate) fn pose_into(
+        &self,
+        moment: Option<Moment>,
+        skip: &[usize],
+        meshes: &mut crate::scene::Meshes,
+    ) -> Result<Vec<usize>> {
+        let placed = self.placed_except(moment, skip)?;
+        if placed.is_empty() {
+            return Ok(Vec::new());
+        }
+        let opts = self.build_options();
+        let mut changed = Vec::with_capacity(placed.len());
+        for (p, placed) in placed {
+            let mesh = &mut meshes[p.mesh];
+            p.prim
+                .pose_into(placed, mesh, (self.origin, self.default_material), &opts);
+            changed.push(p.mesh);
+        }
+        Ok(changed)
     }
 
     /// The bounds of every moment of `animation`: its poses at evenly spaced moments and at
@@ -339,12 +392,13 @@ impl Rig {
             let step = keys.len().div_ceil(keys_kept.max(1)).max(1);
             times.extend(keys.iter().step_by(step).take(keys_kept));
             let mut b = self.still_bounds;
+            let all: Vec<&Part> = self.parts.iter().collect();
             for t in times {
                 let posed = self.posed(Some(Moment {
                     animation,
                     seconds: t,
                 }));
-                for (positions, _, _) in self.place_all(&posed, true, &[]) {
+                for (positions, _, _) in self.place_parts(&posed, &all, true) {
                     for q in positions {
                         b.include((q - self.origin).as_vec3());
                     }
