@@ -160,7 +160,9 @@ impl Source {
     }
 
     /// The vertices placed by `deform` with `weights` (the morph targets'), turned to the up
-    /// axis; normals and tangents skipped when `positions_only` (bounds of a pose).
+    /// axis; normals and tangents skipped when `positions_only` (bounds of a pose). One pass
+    /// over the vertices: a skinned vertex's matrix is summed once for its position, normal
+    /// and tangent.
     pub(crate) fn place(
         &self,
         deform: &Deform,
@@ -169,61 +171,49 @@ impl Source {
         positions_only: bool,
     ) -> Placed {
         let n = self.count();
-        let matrix = |i: usize| match deform {
-            Deform::Node(m) => *m,
-            Deform::Skin(j) => self.skin_matrix(j, i),
+        let node_m = match deform {
+            Deform::Node(m) => Some(DMat3::from_mat4(*m).inverse().transpose()),
+            Deform::Skin(_) => None,
         };
-        let positions = (0..n)
-            .map(|i| {
-                let p = self.morphed(&self.positions, 3, |t| t.positions.as_ref(), weights, i);
-                up.rotate(matrix(i).transform_point3(p))
-            })
-            .collect();
-        if positions_only {
-            return (positions, None, None);
-        }
-        let normals = self.normals.as_ref().and_then(|base| {
-            let node_m = match deform {
-                Deform::Node(m) => Some(DMat3::from_mat4(*m).inverse().transpose()),
-                Deform::Skin(_) => None,
-            };
-            // A node without a normal matrix (a zero scale): normals are generated, as the
-            // loader does; a skinned vertex whose matrix is singular gets an unusable normal
-            // that the mesh's repair replaces.
-            if node_m.is_some_and(|m| !m.is_finite()) {
-                return None;
-            }
-            Some(
-                (0..n)
-                    .map(|i| {
-                        let v = self.morphed(base, 3, |t| t.normals.as_ref(), weights, i);
-                        let m = node_m
-                            .unwrap_or_else(|| DMat3::from_mat4(matrix(i)).inverse().transpose());
-                        up.rotate(m * v)
-                    })
-                    .collect(),
-            )
-        });
         let node_singular = match deform {
             Deform::Node(m) => !DMat3::from_mat4(*m).inverse().is_finite(),
             Deform::Skin(_) => false,
         };
-        let tangents = self
+        // A node without a normal matrix (a zero scale): normals are generated, as the
+        // loader does; a skinned vertex whose matrix is singular gets an unusable normal
+        // that the mesh's repair replaces.
+        let normal_base = self
+            .normals
+            .as_deref()
+            .filter(|_| !positions_only && !node_m.is_some_and(|m| !m.is_finite()));
+        let tangent_base = self
             .tangents
-            .as_ref()
-            .filter(|_| !node_singular)
-            .map(|base| {
-                (0..n)
-                    .map(|i| {
-                        let v = self.morphed(base, 4, |t| t.tangents.as_ref(), weights, i);
-                        let m3 = DMat3::from_mat4(matrix(i));
-                        let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
-                        let t = up.rotate(m3 * v).normalize_or_zero().as_vec3();
-                        let w = if base[i * 4 + 3] < 0.0 { -flip } else { flip };
-                        [t.x, t.y, t.z, w as f32]
-                    })
-                    .collect()
-            });
+            .as_deref()
+            .filter(|_| !positions_only && !node_singular);
+        let mut positions = Vec::with_capacity(n);
+        let mut normals = normal_base.map(|_| Vec::with_capacity(n));
+        let mut tangents = tangent_base.map(|_| Vec::with_capacity(n));
+        for i in 0..n {
+            let m = match deform {
+                Deform::Node(m) => *m,
+                Deform::Skin(j) => self.skin_matrix(j, i),
+            };
+            let p = self.morphed(&self.positions, 3, |t| t.positions.as_ref(), weights, i);
+            positions.push(up.rotate(m.transform_point3(p)));
+            if let (Some(base), Some(out)) = (normal_base, normals.as_mut()) {
+                let v = self.morphed(base, 3, |t| t.normals.as_ref(), weights, i);
+                let nm = node_m.unwrap_or_else(|| DMat3::from_mat4(m).inverse().transpose());
+                out.push(up.rotate(nm * v));
+            }
+            if let (Some(base), Some(out)) = (tangent_base, tangents.as_mut()) {
+                let v = self.morphed(base, 4, |t| t.tangents.as_ref(), weights, i);
+                let m3 = DMat3::from_mat4(m);
+                let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
+                let t = up.rotate(m3 * v).normalize_or_zero().as_vec3();
+                let w = if base[i * 4 + 3] < 0.0 { -flip } else { flip };
+                out.push([t.x, t.y, t.z, w as f32]);
+            }
+        }
         (positions, normals, tangents)
     }
 }
