@@ -305,9 +305,10 @@ impl Rig {
         self.parts
             .iter()
             .map(|p| {
-                posed.weights[p.node]
-                    .clone()
-                    .unwrap_or_else(|| self.plan.graph.weights[p.node].clone())
+                posed
+                    .weights(p.node)
+                    .unwrap_or(&self.plan.graph.weights[p.node])
+                    .to_vec()
             })
             .collect()
     }

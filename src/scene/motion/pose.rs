@@ -29,51 +29,126 @@ pub(crate) struct Graph {
 /// Node transforms and morph weights of one moment.
 pub(crate) struct Posed {
     pub(crate) world: Vec<DMat4>,
-    /// Per node: the animated weights, where a channel sets them.
-    pub(crate) weights: Vec<Option<Vec<f32>>>,
+    /// The animated weights, by node (sorted; of a node set twice, the later channel's
+    /// last): only the nodes a channel sets.
+    weights: Vec<(usize, Vec<f32>)>,
+}
+
+impl Posed {
+    /// The morph weights a channel sets on `node` at this moment (None: the node's own).
+    pub(crate) fn weights(&self, node: usize) -> Option<&[f32]> {
+        let end = self.weights.partition_point(|w| w.0 <= node);
+        end.checked_sub(1)
+            .map(|k| &self.weights[k])
+            .filter(|w| w.0 == node)
+            .map(|w| w.1.as_slice())
+    }
+}
+
+/// What one animation moves, worked out once from the graph (so that a pose computes
+/// again only that): the slot of each channel (the translation, rotation and scale of one
+/// node it writes; None: a weights channel), the node of each slot, and the nodes whose
+/// world transform follows the animation (a slot's, or below one) in walk order with
+/// their slot.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Reach {
+    slot: Vec<Option<usize>>,
+    slot_node: Vec<usize>,
+    walk: Vec<(usize, Option<usize>)>,
 }
 
 impl Graph {
-    /// The world transforms (by node index; identity for nodes outside the scene) with
-    /// `anim`'s channels sampled at its time: a node no channel moves keeps the file's own
-    /// matrix, so the static pose is the loader's to the bit.
-    pub(crate) fn pose(&self, anim: Option<(&Animation, f64)>) -> Posed {
-        let n = self.local.len();
-        let mut local = self.local.clone();
-        let mut weights = vec![None; n];
-        if let Some((a, t)) = anim {
-            let mut trs: Vec<Option<Trs>> = vec![None; n];
-            for c in &a.channels {
-                let v = c.keys.sample(t);
-                if c.path == Path::Weights {
-                    weights[c.node] = Some(v);
-                    continue;
-                }
-                let e = trs[c.node].get_or_insert(self.rest[c.node]);
-                match c.path {
-                    Path::Translation => e.0 = [v[0], v[1], v[2]],
-                    Path::Rotation => e.1 = [v[0], v[1], v[2], v[3]],
-                    Path::Scale => e.2 = [v[0], v[1], v[2]],
-                    Path::Weights => {}
-                }
-            }
-            for (i, e) in trs.into_iter().enumerate() {
-                if let Some((t, r, s)) = e {
-                    local[i] = Mat4::from_scale_rotation_translation(
-                        Vec3::from(s),
-                        Quat::from_array(r),
-                        Vec3::from(t),
-                    )
-                    .as_dmat4();
-                }
-            }
-        }
-        let mut world = vec![DMat4::IDENTITY; n];
+    /// The world transforms of the static pose (by node index; identity for nodes outside
+    /// the scene): the file's own matrices, so the static pose is the loader's to the bit.
+    pub(crate) fn rest_world(&self) -> Vec<DMat4> {
+        let mut world = vec![DMat4::IDENTITY; self.local.len()];
         for &i in &self.order {
             let up = self.parent[i].map_or(DMat4::IDENTITY, |p| world[p]);
-            world[i] = up * local[i];
+            world[i] = up * self.local[i];
+        }
+        world
+    }
+
+    /// What `a` moves ([`Reach`]).
+    pub(crate) fn reach(&self, a: &Animation) -> Reach {
+        let n = self.local.len();
+        let mut slot_of: Vec<Option<usize>> = vec![None; n];
+        let mut slot_node = Vec::new();
+        let slot = a
+            .channels
+            .iter()
+            .map(|c| {
+                (c.path != Path::Weights).then(|| {
+                    *slot_of[c.node].get_or_insert_with(|| {
+                        slot_node.push(c.node);
+                        slot_node.len() - 1
+                    })
+                })
+            })
+            .collect();
+        let mut follows = vec![false; n];
+        let mut walk = Vec::new();
+        for &i in &self.order {
+            if slot_of[i].is_some() || self.parent[i].is_some_and(|p| follows[p]) {
+                follows[i] = true;
+                walk.push((i, slot_of[i]));
+            }
+        }
+        Reach {
+            slot,
+            slot_node,
+            walk,
+        }
+    }
+
+    /// The pose of `a` (whose [`Reach`] is `reach`) at `t` seconds, from the static pose's
+    /// world transforms `rest`: only the nodes the animation reaches are computed again, by
+    /// the same products in the same order as the static pose's, so a node it does not
+    /// move keeps the file's own matrix to the bit.
+    pub(crate) fn pose(&self, rest: &[DMat4], (a, reach): (&Animation, &Reach), t: f64) -> Posed {
+        let mut trs: Vec<Trs> = reach.slot_node.iter().map(|&i| self.rest[i]).collect();
+        let mut weights = Vec::new();
+        for (c, slot) in a.channels.iter().zip(&reach.slot) {
+            let v = c.keys.sample(t);
+            let Some(s) = *slot else {
+                weights.push((c.node, v));
+                continue;
+            };
+            let e = &mut trs[s];
+            match c.path {
+                Path::Translation => e.0 = [v[0], v[1], v[2]],
+                Path::Rotation => e.1 = [v[0], v[1], v[2], v[3]],
+                Path::Scale => e.2 = [v[0], v[1], v[2]],
+                Path::Weights => {}
+            }
+        }
+        // Stable: of two channels on one node's weights, the later stays last.
+        weights.sort_by_key(|w| w.0);
+        let local: Vec<DMat4> = trs
+            .into_iter()
+            .map(|(t, r, s)| {
+                Mat4::from_scale_rotation_translation(
+                    Vec3::from(s),
+                    Quat::from_array(r),
+                    Vec3::from(t),
+                )
+                .as_dmat4()
+            })
+            .collect();
+        let mut world = rest.to_vec();
+        for &(i, s) in &reach.walk {
+            let up = self.parent[i].map_or(DMat4::IDENTITY, |p| world[p]);
+            world[i] = up * s.map_or(self.local[i], |s| local[s]);
         }
         Posed { world, weights }
+    }
+
+    /// The static pose, from its world transforms `rest`.
+    pub(crate) fn rest_pose(rest: &[DMat4]) -> Posed {
+        Posed {
+            world: rest.to_vec(),
+            weights: Vec::new(),
+        }
     }
 }
 

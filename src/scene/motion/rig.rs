@@ -1,7 +1,7 @@
 //! The loader's side of motion: which nodes' meshes move ([`Plan`], read before the meshes),
 //! the moving primitives' sources ([`Part`]), and the [`Rig`] built from them once the
 //! scene's origin is known, which poses them again at any moment.
-use super::pose::{joint_matrices, Deform, Graph, Posed, Source};
+use super::pose::{joint_matrices, Deform, Graph, Posed, Reach, Source};
 use super::read::{Animation, Skin};
 use super::{Moment, Rig};
 use crate::error::{Error, Result};
@@ -32,8 +32,10 @@ pub(crate) struct Plan {
     /// By node: the skin it names (read once here: `doc.nodes().nth` per instance was a
     /// walk of the node list for every mesh node).
     skin_of: Vec<Option<usize>>,
-    /// The static pose, and each usable skin's joint matrices in it.
-    rest: Option<Posed>,
+    /// By animation: what it moves.
+    reach: Vec<Reach>,
+    /// The static pose's world transforms, and each usable skin's joint matrices in it.
+    rest_world: Vec<DMat4>,
     rest_joints: Vec<Vec<DMat4>>,
     /// Per mesh: its primitives' morph target count (most of them).
     targets: Vec<usize>,
@@ -132,21 +134,24 @@ impl Plan {
             moved,
             instanced,
             skin_of,
-            rest: None,
+            reach: Vec::new(),
+            rest_world: Vec::new(),
             rest_joints: Vec::new(),
             targets,
             morph_budget: AtomicUsize::new(super::source::MAX_MORPH),
         };
-        let rest = plan.graph.pose(None);
+        plan.reach = plan
+            .animations
+            .iter()
+            .map(|a| plan.graph.reach(a))
+            .collect();
+        let rest = plan.graph.rest_world();
         plan.rest_joints = plan
             .skins
             .iter()
-            .map(|s| {
-                s.as_ref()
-                    .map_or(Vec::new(), |s| joint_matrices(s, &rest.world))
-            })
+            .map(|s| s.as_ref().map_or(Vec::new(), |s| joint_matrices(s, &rest)))
             .collect();
-        plan.rest = Some(rest);
+        plan.rest_world = rest;
         plan
     }
 
@@ -243,9 +248,15 @@ impl Rig {
 
     /// The node transforms of `moment` (None: the static pose).
     pub(super) fn posed(&self, moment: Option<Moment>) -> Posed {
-        self.plan
-            .graph
-            .pose(moment.map(|m| (&self.plan.animations[m.animation], m.seconds)))
+        let p = &self.plan;
+        match moment {
+            None => Graph::rest_pose(&p.rest_world),
+            Some(m) => p.graph.pose(
+                &p.rest_world,
+                (&p.animations[m.animation], &p.reach[m.animation]),
+                m.seconds,
+            ),
+        }
     }
 
     /// Each of `parts`' vertices placed in `posed` (`positions_only`: for bounds). Only
@@ -273,8 +284,8 @@ impl Rig {
                     Some(s) => Deform::Skin(&joints[s]),
                     None => Deform::Node(posed.world[p.node]),
                 };
-                let weights = posed.weights[p.node]
-                    .as_deref()
+                let weights = posed
+                    .weights(p.node)
                     .unwrap_or(&self.plan.graph.weights[p.node]);
                 p.src.place(&deform, weights, self.up, positions_only)
             })
