@@ -260,7 +260,7 @@ impl Source {
         let normal_base = self
             .normals
             .as_deref()
-            .filter(|_| !positions_only && !node_m.is_some_and(|m| !m.is_finite()));
+            .filter(|_| !positions_only && node_m.is_none_or(|m| m.is_finite()));
         let tangent_base = self
             .tangents
             .as_deref()
