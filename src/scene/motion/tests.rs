@@ -102,6 +102,15 @@ pub(crate) fn load(bytes: &[u8]) -> Scene {
     load_bytes(Path::new("motion.glb"), bytes, &LoadOptions::default()).expect("loads")
 }
 
+/// A Khronos sample committed under tests/data/khronos/motion/ (`name`: its file name).
+pub(crate) fn sample(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/khronos/motion")
+        .join(name);
+    let bytes = std::fs::read(&path).expect("committed sample");
+    load_bytes(&path, &bytes, &LoadOptions::default()).expect("loads")
+}
+
 /// Vertex i of mesh m in the file's coordinates (re-centring undone).
 fn at(s: &Scene, m: usize, i: usize) -> Vec3 {
     Vec3::from(s.meshes[m].vertices[i].position) + s.origin.as_vec3()
@@ -409,14 +418,7 @@ fn shrinking() -> Vec<u8> {
 /// generated (the shrunk node at 1 s) and in the pose after, the mesh is built anew.
 #[test]
 fn a_pose_in_place_is_the_mesh_built_anew_and_keeps_the_streams_that_do_not_move() {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/khronos/motion/RiggedSimple.glb");
-    let rigged = load_bytes(
-        &path,
-        &std::fs::read(&path).expect("committed sample"),
-        &LoadOptions::default(),
-    )
-    .expect("loads");
+    let rigged = sample("RiggedSimple.glb");
     let shrunk = [
         (0.5, true),
         (1.0, false),
