@@ -439,7 +439,8 @@ impl Prim {
     /// vertex per position, the file's indices) and the pose keeps them: the streams a
     /// pose does not move (UVs, colours, indices) are then neither copied nor rebuilt.
     /// Where normals are generated, now or in the mesh's last pose (its vertices split at
-    /// creases), the mesh is made anew.
+    /// creases), the mesh is made anew. Either way it keeps its material, which a pose
+    /// does not change (an object's `--xray` material stays).
     pub(crate) fn pose_into(
         &self,
         (positions, normals, tangents): Placed,
@@ -456,9 +457,12 @@ impl Prim {
         let normals = match normals {
             Some(n) if same_layout && n.len() == count => n,
             normals => {
+                // The material is the scene's (`--xray` of an object gives it its own).
+                let material = mesh.material;
                 *mesh = self
                     .with_geometry((positions, normals, tangents))
                     .into_mesh(origin, default_material, opts);
+                mesh.material = material;
                 return;
             }
         };

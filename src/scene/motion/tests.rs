@@ -455,3 +455,24 @@ fn a_pose_in_place_is_the_mesh_built_anew_and_keeps_the_streams_that_do_not_move
         assert_eq!(back, loaded, "the static pose is the loaded mesh again");
     }
 }
+
+/// `--xray` of a moving object gives its mesh a material of its own, which a pose keeps,
+/// whether it writes the mesh in place (0.5 s) or makes it anew (1 s: normals generated).
+#[test]
+fn a_pose_keeps_an_xrayed_objects_material() {
+    let mut s = load(&shrinking());
+    s.xray(&["mesh".into()], 0.3).expect("the object is there");
+    let xrayed = s.meshes[0].material;
+    assert_eq!(
+        s.materials[xrayed].name,
+        format!("{} (x-ray)", s.materials[0].name)
+    );
+    for seconds in [0.5, 1.0, 1.7] {
+        s.pose(Some(Moment {
+            animation: 0,
+            seconds,
+        }))
+        .expect("poses");
+        assert_eq!(s.meshes[0].material, xrayed, "{seconds} s");
+    }
+}
