@@ -143,6 +143,19 @@ impl Graph {
         Posed { world, weights }
     }
 
+    /// By node: whether `a` (whose [`Reach`] is `reach`) changes its world transform or
+    /// its morph weights.
+    pub(crate) fn touched(&self, a: &Animation, reach: &Reach) -> Vec<bool> {
+        let mut hit = vec![false; self.local.len()];
+        for &(i, _) in &reach.walk {
+            hit[i] = true;
+        }
+        for c in a.channels.iter().filter(|c| c.path == Path::Weights) {
+            hit[c.node] = true;
+        }
+        hit
+    }
+
     /// The static pose, from its world transforms `rest`.
     pub(crate) fn rest_pose(rest: &[DMat4]) -> Posed {
         Posed {

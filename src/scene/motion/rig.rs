@@ -178,6 +178,30 @@ impl Plan {
         })
     }
 
+    /// By animation: the indices of the `parts` it moves (sorted): their node's world
+    /// transform or morph weights, or a joint of their skin. A part no animation of two
+    /// moments moves is the same at both.
+    fn reached(&self, parts: &[Part]) -> Vec<Vec<usize>> {
+        self.animations
+            .iter()
+            .zip(&self.reach)
+            .map(|(a, r)| {
+                let hit = self.graph.touched(a, r);
+                let skin_hit = |s: usize| {
+                    self.skins[s]
+                        .as_ref()
+                        .is_some_and(|k| k.joints.iter().any(|&j| hit[j]))
+                };
+                parts
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, p)| hit[p.node] || p.skin.is_some_and(skin_hit))
+                    .map(|(k, _)| k)
+                    .collect()
+            })
+            .collect()
+    }
+
     /// `--check`'s lines for the skins and morph targets.
     pub(crate) fn check_lines(&self) -> Vec<String> {
         let mut out: Vec<String> = self
@@ -230,8 +254,10 @@ impl Rig {
                 }
             }
         }
+        let reached = plan.reached(&parts);
         Rig {
             animations: plan.animations.iter().map(|a| a.info.clone()).collect(),
+            reached,
             framing: plan.animations.iter().map(|_| OnceLock::new()).collect(),
             meshes: moving,
             plan,
@@ -292,18 +318,36 @@ impl Rig {
             .collect()
     }
 
+    /// Whether part `k` may differ between the meshes posed at `since` and at `moment`:
+    /// always, unless both are moments of animations that do not move it (then both are
+    /// its static pose as a pose computes it). From or to the static pose (None) every
+    /// part is posed, as the loader's meshes are not a pose's.
+    fn may_move(&self, k: usize, since: Option<Moment>, moment: Option<Moment>) -> bool {
+        let (Some(a), Some(b)) = (since, moment) else {
+            return true;
+        };
+        [a, b]
+            .iter()
+            .any(|m| self.reached[m.animation].binary_search(&k).is_ok())
+    }
+
     /// The parts of the scene meshes not in `skip` (sorted) placed at `moment`, each checked
-    /// to fit f32 (an error before any mesh is changed). Nothing is posed when no part is
-    /// left (every moving mesh skinned on the GPU: a frame poses only their joints).
+    /// to fit f32 (an error before any mesh is changed); of meshes posed at `since`, only
+    /// the parts that may move between the two. Nothing is posed when no part is left
+    /// (every moving mesh skinned on the GPU: a frame poses only their joints).
     fn placed_except(
         &self,
-        moment: Option<Moment>,
+        (since, moment): (Option<Moment>, Option<Moment>),
         skip: &[usize],
     ) -> Result<Vec<(&Part, super::pose::Placed)>> {
         let parts: Vec<&Part> = self
             .parts
             .iter()
-            .filter(|p| skip.binary_search(&p.mesh).is_err())
+            .enumerate()
+            .filter(|(k, p)| {
+                skip.binary_search(&p.mesh).is_err() && self.may_move(*k, since, moment)
+            })
+            .map(|(_, p)| p)
             .collect();
         if parts.is_empty() {
             return Ok(Vec::new());
@@ -340,7 +384,7 @@ impl Rig {
     ) -> Result<Vec<(usize, Mesh)>> {
         let opts = self.build_options();
         Ok(self
-            .placed_except(moment, skip)?
+            .placed_except((None, moment), skip)?
             .into_iter()
             .map(|(p, placed)| {
                 let mesh = p.prim.with_geometry(placed).into_mesh(
@@ -353,18 +397,20 @@ impl Rig {
             .collect())
     }
 
-    /// Poses the scene's `meshes` at `moment`, but for `skip` (sorted: those skinned on the
-    /// GPU), and returns the indices of those rewritten. Only what a pose moves is written
-    /// (positions, normals, tangents: [`Prim::pose_into`]); on an error no mesh has changed.
+    /// Poses the scene's `meshes`, posed at `since`, at `moment`, but for `skip` (sorted:
+    /// those skinned on the GPU), and returns the indices of those rewritten: only the
+    /// meshes that may move between the two moments ([`Rig::may_move`]), and of those only
+    /// what a pose moves (positions, normals, tangents: [`Prim::pose_into`]). On an error
+    /// no mesh has changed.
     ///
     /// [`Prim::pose_into`]: crate::scene::gltf_primitive::Prim::pose_into
     pub(crate) fn pose_into(
         &self,
-        moment: Option<Moment>,
+        (since, moment): (Option<Moment>, Option<Moment>),
         skip: &[usize],
         meshes: &mut crate::scene::Meshes,
     ) -> Result<Vec<usize>> {
-        let placed = self.placed_except(moment, skip)?;
+        let placed = self.placed_except((since, moment), skip)?;
         if placed.is_empty() {
             return Ok(Vec::new());
         }

@@ -476,3 +476,35 @@ fn a_pose_keeps_an_xrayed_objects_material() {
         assert_eq!(s.meshes[0].material, xrayed, "{seconds} s");
     }
 }
+
+/// From one moment to another, a pose rewrites only the meshes either moment's animation
+/// moves (InterpolationTest: nine cubes, each moved by one of nine animations); from or to
+/// the static pose, every moving mesh. The meshes left alone are what a pose would write.
+#[test]
+fn a_pose_rewrites_only_the_meshes_its_animations_move() {
+    let mut s = sample("InterpolationTest.glb");
+    let rig = s.motion.clone().expect("a rig");
+    let all = rig.meshes().to_vec();
+    assert_eq!(all.len(), 9);
+    let at = |animation, seconds| Some(Moment { animation, seconds });
+    assert_eq!(
+        s.pose(at(0, 0.5)).expect("poses"),
+        all,
+        "from the static pose"
+    );
+    let one = s.pose(at(0, 0.9)).expect("poses");
+    assert_eq!(one.len(), 1, "{one:?}");
+    let other = s.pose(at(4, 0.3)).expect("poses");
+    assert_eq!(other.len(), 2, "{other:?}");
+    assert!(
+        other.contains(&one[0]),
+        "animation 0's cube goes back to rest"
+    );
+    for m in [at(4, 0.6), at(7, 1.0), at(7, 1.2)] {
+        s.pose(m).expect("poses");
+        for (i, fresh) in rig.posed_meshes_except(m, &[]).expect("poses") {
+            assert_eq!(format!("{:?}", s.meshes[i]), format!("{fresh:?}"), "{m:?}");
+        }
+    }
+    assert_eq!(s.pose(None).expect("poses"), all, "to the static pose");
+}
