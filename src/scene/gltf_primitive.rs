@@ -433,6 +433,47 @@ impl Prim {
         }
     }
 
+    /// Writes a pose's positions, normals and tangents into `mesh`, the mesh this
+    /// primitive became ([`Prim::into_mesh`]): the same mesh `into_mesh` of the posed
+    /// primitive makes. In place when the mesh has the layout the file's normals give (one
+    /// vertex per position, the file's indices) and the pose keeps them: the streams a
+    /// pose does not move (UVs, colours, indices) are then neither copied nor rebuilt.
+    /// Where normals are generated, now or in the mesh's last pose (its vertices split at
+    /// creases), the mesh is made anew. Either way it keeps its material, which a pose
+    /// does not change (an object's `--xray` material stays).
+    pub(crate) fn pose_into(
+        &self,
+        (positions, normals, tangents): Placed,
+        mesh: &mut Mesh,
+        (origin, default_material): (DVec3, usize),
+        opts: &LoadOptions,
+    ) {
+        let count = positions.len();
+        // Only the file-normals path leaves a vertex with its file normal (generating
+        // marks every vertex generated), and it never reorders the indices.
+        let same_layout = mesh.vertices.len() == count
+            && mesh.generated_normals < count
+            && mesh.indices == self.indices;
+        let normals = match normals {
+            Some(n) if same_layout && n.len() == count => n,
+            normals => {
+                // The material is the scene's (`--xray` of an object gives it its own).
+                let material = mesh.material;
+                *mesh = self
+                    .with_geometry((positions, normals, tangents))
+                    .into_mesh(origin, default_material, opts);
+                mesh.material = material;
+                return;
+            }
+        };
+        for ((v, p), n) in mesh.vertices.iter_mut().zip(&positions).zip(&normals) {
+            v.position = (*p - origin).as_vec3().into();
+            v.normal = n.as_vec3().into();
+        }
+        mesh.tangents = tangents.filter(|t| t.len() == count).unwrap_or_default();
+        mesh.finish_normals(true, None, opts.creases);
+    }
+
     /// The mesh, re-centred on `origin`: attributes of another length than the positions are
     /// dropped, a material index past the file's materials becomes `default_material`, and
     /// normals are generated where the file gave none.

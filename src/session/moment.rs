@@ -25,21 +25,21 @@ pub fn moment(args: &Options, scene: &Scene) -> Result<Option<Moment>> {
         (Some(a), _) => format!("--animation {a}"),
         (None, t) => format!("--time {}", t.unwrap_or_default()),
     };
-    if all.is_empty() {
-        return Err(Error::Usage(format!(
-            "{asked}: {} has no animations",
-            model_name(args, scene)
-        )));
-    }
-    let animation = match &m.animation {
-        None => 0,
-        Some(a) => find(all, a).ok_or_else(|| {
-            Error::Usage(format!(
+    let animation = match find(all, m.animation.as_deref()) {
+        Ok(a) => a,
+        Err(Missing::None) => {
+            return Err(Error::Usage(format!(
+                "{asked}: {} has no animations",
+                model_name(args, scene)
+            )))
+        }
+        Err(Missing::NoSuch) => {
+            return Err(Error::Usage(format!(
                 "{asked}: {} has no such animation; it has {}",
                 model_name(args, scene),
                 listing(all)
-            ))
-        })?,
+            )))
+        }
     };
     // `--animation` alone names what an animated output plays; a still stays static.
     Ok(m.time.map(|t| Moment {
@@ -59,12 +59,30 @@ pub fn pose_scene(args: &Options, scene: &mut Scene) -> Result<()> {
     Ok(())
 }
 
-/// The index of the animation `asked` names: an index in range, else an exact name.
-fn find(all: &[AnimationInfo], asked: &str) -> Option<usize> {
+/// Why [`find`] found no animation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Missing {
+    /// The file has no animations at all.
+    None,
+    /// It has some, but not the one asked for.
+    NoSuch,
+}
+
+/// The animation `asked` names among `all` (`--animation`, and the play keys' and the
+/// server's view of it): an index in range, else an exact name; not asked, the first.
+/// Each caller words the error for its own place (an option, a key).
+pub(crate) fn find(all: &[AnimationInfo], asked: Option<&str>) -> Result<usize, Missing> {
+    if all.is_empty() {
+        return Err(Missing::None);
+    }
+    let Some(asked) = asked else {
+        return Ok(0);
+    };
     match asked.trim().parse::<usize>() {
         Ok(i) if i < all.len() => Some(i),
         _ => all.iter().position(|a| a.name == asked),
     }
+    .ok_or(Missing::NoSuch)
 }
 
 /// `2 animations: 0 "Walk" (2.00 s), 1 (unnamed, 1.00 s)`.
@@ -112,11 +130,14 @@ mod tests {
     #[test]
     fn an_index_in_range_wins_then_an_exact_name() {
         let all = infos(&["Walk", "1", "Run"]);
-        assert_eq!(find(&all, "2"), Some(2));
-        assert_eq!(find(&all, "Run"), Some(2));
-        assert_eq!(find(&all, "run"), None);
-        assert_eq!(find(&all, "3"), None);
-        assert_eq!(find(&all, "1"), Some(1));
+        assert_eq!(find(&all, Some("2")), Ok(2));
+        assert_eq!(find(&all, Some("Run")), Ok(2));
+        assert_eq!(find(&all, Some("run")), Err(Missing::NoSuch));
+        assert_eq!(find(&all, Some("3")), Err(Missing::NoSuch));
+        assert_eq!(find(&all, Some("1")), Ok(1));
+        assert_eq!(find(&all, None), Ok(0));
+        assert_eq!(find(&[], None), Err(Missing::None));
+        assert_eq!(find(&[], Some("0")), Err(Missing::None));
     }
 
     #[test]

@@ -305,9 +305,10 @@ impl Rig {
         self.parts
             .iter()
             .map(|p| {
-                posed.weights[p.node]
-                    .clone()
-                    .unwrap_or_else(|| self.plan.graph.weights[p.node].clone())
+                posed
+                    .weights(p.node)
+                    .unwrap_or(&self.plan.graph.weights[p.node])
+                    .to_vec()
             })
             .collect()
     }
@@ -341,14 +342,7 @@ mod tests {
     use crate::scene::LoadOptions;
 
     fn rigged_simple() -> Scene {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data/khronos/motion/RiggedSimple.glb");
-        crate::scene::load::load_bytes(
-            &path,
-            &std::fs::read(&path).expect("committed sample"),
-            &LoadOptions::default(),
-        )
-        .expect("loads")
+        super::super::tests::sample("RiggedSimple.glb")
     }
 
     /// The GPU's formula on the CPU: the weighted joint matrices times the bind position.
@@ -497,14 +491,7 @@ mod tests {
     }
 
     fn morph_cube() -> Scene {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data/khronos/motion/AnimatedMorphCube.glb");
-        crate::scene::load::load_bytes(
-            &path,
-            &std::fs::read(&path).expect("committed sample"),
-            &LoadOptions::default(),
-        )
-        .expect("loads")
+        super::super::tests::sample("AnimatedMorphCube.glb")
     }
 
     /// The GPU's morph formula on the CPU: the node matrix (the one joint) times the bind

@@ -55,6 +55,8 @@ pub struct Rig {
     animations: Vec<AnimationInfo>,
     /// The scene meshes a pose rewrites (sorted).
     meshes: Vec<usize>,
+    /// By animation: the parts it moves (sorted indices into `parts`).
+    reached: Vec<Vec<usize>>,
     plan: Plan,
     parts: Vec<Part>,
     /// What the loader re-centred and built the meshes with.
@@ -106,7 +108,9 @@ impl Scene {
 
     /// Poses the meshes at `moment` (None: the static pose, as loaded) and returns the
     /// indices of the meshes whose vertices were rewritten (their vertex count may change:
-    /// generated normals are generated again). The bounds become the animation's framing
+    /// generated normals are generated again). From one moment to another, a mesh that
+    /// neither moment's animation moves is left as it is, and not returned (it would be
+    /// rewritten with the same vertices). The bounds become the animation's framing
     /// bounds (the same for every moment of it: a camera fitted to them does not follow
     /// the motion), or the static pose's. Without a rig nothing changes.
     pub fn pose(&mut self, moment: Option<Moment>) -> Result<Vec<usize>> {
@@ -133,11 +137,7 @@ impl Scene {
                 ));
             }
         }
-        let meshes = rig.posed_meshes_except(moment, gpu)?;
-        let changed: Vec<usize> = meshes.iter().map(|(i, _)| *i).collect();
-        for (i, mesh) in meshes {
-            self.meshes[i] = mesh;
-        }
+        let changed = rig.pose_into((self.posed, moment), gpu, &mut self.meshes)?;
         self.bounds = match moment {
             None => rig.static_bounds,
             Some(m) => rig.framing(m.animation),

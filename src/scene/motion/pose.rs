@@ -29,51 +29,139 @@ pub(crate) struct Graph {
 /// Node transforms and morph weights of one moment.
 pub(crate) struct Posed {
     pub(crate) world: Vec<DMat4>,
-    /// Per node: the animated weights, where a channel sets them.
-    pub(crate) weights: Vec<Option<Vec<f32>>>,
+    /// The animated weights, by node (sorted; of a node set twice, the later channel's
+    /// last): only the nodes a channel sets.
+    weights: Vec<(usize, Vec<f32>)>,
+}
+
+impl Posed {
+    /// The morph weights a channel sets on `node` at this moment (None: the node's own).
+    pub(crate) fn weights(&self, node: usize) -> Option<&[f32]> {
+        let end = self.weights.partition_point(|w| w.0 <= node);
+        end.checked_sub(1)
+            .map(|k| &self.weights[k])
+            .filter(|w| w.0 == node)
+            .map(|w| w.1.as_slice())
+    }
+}
+
+/// What one animation moves, worked out once from the graph (so that a pose computes
+/// again only that): the slot of each channel (the translation, rotation and scale of one
+/// node it writes; None: a weights channel), the node of each slot, and the nodes whose
+/// world transform follows the animation (a slot's, or below one) in walk order with
+/// their slot.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Reach {
+    slot: Vec<Option<usize>>,
+    slot_node: Vec<usize>,
+    walk: Vec<(usize, Option<usize>)>,
 }
 
 impl Graph {
-    /// The world transforms (by node index; identity for nodes outside the scene) with
-    /// `anim`'s channels sampled at its time: a node no channel moves keeps the file's own
-    /// matrix, so the static pose is the loader's to the bit.
-    pub(crate) fn pose(&self, anim: Option<(&Animation, f64)>) -> Posed {
-        let n = self.local.len();
-        let mut local = self.local.clone();
-        let mut weights = vec![None; n];
-        if let Some((a, t)) = anim {
-            let mut trs: Vec<Option<Trs>> = vec![None; n];
-            for c in &a.channels {
-                let v = c.keys.sample(t);
-                if c.path == Path::Weights {
-                    weights[c.node] = Some(v);
-                    continue;
-                }
-                let e = trs[c.node].get_or_insert(self.rest[c.node]);
-                match c.path {
-                    Path::Translation => e.0 = [v[0], v[1], v[2]],
-                    Path::Rotation => e.1 = [v[0], v[1], v[2], v[3]],
-                    Path::Scale => e.2 = [v[0], v[1], v[2]],
-                    Path::Weights => {}
-                }
-            }
-            for (i, e) in trs.into_iter().enumerate() {
-                if let Some((t, r, s)) = e {
-                    local[i] = Mat4::from_scale_rotation_translation(
-                        Vec3::from(s),
-                        Quat::from_array(r),
-                        Vec3::from(t),
-                    )
-                    .as_dmat4();
-                }
-            }
-        }
-        let mut world = vec![DMat4::IDENTITY; n];
+    /// The world transforms of the static pose (by node index; identity for nodes outside
+    /// the scene): the file's own matrices, so the static pose is the loader's to the bit.
+    pub(crate) fn rest_world(&self) -> Vec<DMat4> {
+        let mut world = vec![DMat4::IDENTITY; self.local.len()];
         for &i in &self.order {
             let up = self.parent[i].map_or(DMat4::IDENTITY, |p| world[p]);
-            world[i] = up * local[i];
+            world[i] = up * self.local[i];
+        }
+        world
+    }
+
+    /// What `a` moves ([`Reach`]).
+    pub(crate) fn reach(&self, a: &Animation) -> Reach {
+        let n = self.local.len();
+        let mut slot_of: Vec<Option<usize>> = vec![None; n];
+        let mut slot_node = Vec::new();
+        let slot = a
+            .channels
+            .iter()
+            .map(|c| {
+                (c.path != Path::Weights).then(|| {
+                    *slot_of[c.node].get_or_insert_with(|| {
+                        slot_node.push(c.node);
+                        slot_node.len() - 1
+                    })
+                })
+            })
+            .collect();
+        let mut follows = vec![false; n];
+        let mut walk = Vec::new();
+        for &i in &self.order {
+            if slot_of[i].is_some() || self.parent[i].is_some_and(|p| follows[p]) {
+                follows[i] = true;
+                walk.push((i, slot_of[i]));
+            }
+        }
+        Reach {
+            slot,
+            slot_node,
+            walk,
+        }
+    }
+
+    /// The pose of `a` (whose [`Reach`] is `reach`) at `t` seconds, from the static pose's
+    /// world transforms `rest`: only the nodes the animation reaches are computed again, by
+    /// the same products in the same order as the static pose's, so a node it does not
+    /// move keeps the file's own matrix to the bit.
+    pub(crate) fn pose(&self, rest: &[DMat4], (a, reach): (&Animation, &Reach), t: f64) -> Posed {
+        let mut trs: Vec<Trs> = reach.slot_node.iter().map(|&i| self.rest[i]).collect();
+        let mut weights = Vec::new();
+        for (c, slot) in a.channels.iter().zip(&reach.slot) {
+            let v = c.keys.sample(t);
+            let Some(s) = *slot else {
+                weights.push((c.node, v));
+                continue;
+            };
+            let e = &mut trs[s];
+            match c.path {
+                Path::Translation => e.0 = [v[0], v[1], v[2]],
+                Path::Rotation => e.1 = [v[0], v[1], v[2], v[3]],
+                Path::Scale => e.2 = [v[0], v[1], v[2]],
+                Path::Weights => {}
+            }
+        }
+        // Stable: of two channels on one node's weights, the later stays last.
+        weights.sort_by_key(|w| w.0);
+        let local: Vec<DMat4> = trs
+            .into_iter()
+            .map(|(t, r, s)| {
+                Mat4::from_scale_rotation_translation(
+                    Vec3::from(s),
+                    Quat::from_array(r),
+                    Vec3::from(t),
+                )
+                .as_dmat4()
+            })
+            .collect();
+        let mut world = rest.to_vec();
+        for &(i, s) in &reach.walk {
+            let up = self.parent[i].map_or(DMat4::IDENTITY, |p| world[p]);
+            world[i] = up * s.map_or(self.local[i], |s| local[s]);
         }
         Posed { world, weights }
+    }
+
+    /// By node: whether `a` (whose [`Reach`] is `reach`) changes its world transform or
+    /// its morph weights.
+    pub(crate) fn touched(&self, a: &Animation, reach: &Reach) -> Vec<bool> {
+        let mut hit = vec![false; self.local.len()];
+        for &(i, _) in &reach.walk {
+            hit[i] = true;
+        }
+        for c in a.channels.iter().filter(|c| c.path == Path::Weights) {
+            hit[c.node] = true;
+        }
+        hit
+    }
+
+    /// The static pose, from its world transforms `rest`.
+    pub(crate) fn rest_pose(rest: &[DMat4]) -> Posed {
+        Posed {
+            world: rest.to_vec(),
+            weights: Vec::new(),
+        }
     }
 }
 
@@ -160,7 +248,9 @@ impl Source {
     }
 
     /// The vertices placed by `deform` with `weights` (the morph targets'), turned to the up
-    /// axis; normals and tangents skipped when `positions_only` (bounds of a pose).
+    /// axis; normals and tangents skipped when `positions_only` (bounds of a pose). One pass
+    /// over the vertices: a skinned vertex's matrix is summed once for its position, normal
+    /// and tangent.
     pub(crate) fn place(
         &self,
         deform: &Deform,
@@ -169,61 +259,49 @@ impl Source {
         positions_only: bool,
     ) -> Placed {
         let n = self.count();
-        let matrix = |i: usize| match deform {
-            Deform::Node(m) => *m,
-            Deform::Skin(j) => self.skin_matrix(j, i),
+        let node_m = match deform {
+            Deform::Node(m) => Some(DMat3::from_mat4(*m).inverse().transpose()),
+            Deform::Skin(_) => None,
         };
-        let positions = (0..n)
-            .map(|i| {
-                let p = self.morphed(&self.positions, 3, |t| t.positions.as_ref(), weights, i);
-                up.rotate(matrix(i).transform_point3(p))
-            })
-            .collect();
-        if positions_only {
-            return (positions, None, None);
-        }
-        let normals = self.normals.as_ref().and_then(|base| {
-            let node_m = match deform {
-                Deform::Node(m) => Some(DMat3::from_mat4(*m).inverse().transpose()),
-                Deform::Skin(_) => None,
-            };
-            // A node without a normal matrix (a zero scale): normals are generated, as the
-            // loader does; a skinned vertex whose matrix is singular gets an unusable normal
-            // that the mesh's repair replaces.
-            if node_m.is_some_and(|m| !m.is_finite()) {
-                return None;
-            }
-            Some(
-                (0..n)
-                    .map(|i| {
-                        let v = self.morphed(base, 3, |t| t.normals.as_ref(), weights, i);
-                        let m = node_m
-                            .unwrap_or_else(|| DMat3::from_mat4(matrix(i)).inverse().transpose());
-                        up.rotate(m * v)
-                    })
-                    .collect(),
-            )
-        });
         let node_singular = match deform {
             Deform::Node(m) => !DMat3::from_mat4(*m).inverse().is_finite(),
             Deform::Skin(_) => false,
         };
-        let tangents = self
+        // A node without a normal matrix (a zero scale): normals are generated, as the
+        // loader does; a skinned vertex whose matrix is singular gets an unusable normal
+        // that the mesh's repair replaces.
+        let normal_base = self
+            .normals
+            .as_deref()
+            .filter(|_| !positions_only && node_m.is_none_or(|m| m.is_finite()));
+        let tangent_base = self
             .tangents
-            .as_ref()
-            .filter(|_| !node_singular)
-            .map(|base| {
-                (0..n)
-                    .map(|i| {
-                        let v = self.morphed(base, 4, |t| t.tangents.as_ref(), weights, i);
-                        let m3 = DMat3::from_mat4(matrix(i));
-                        let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
-                        let t = up.rotate(m3 * v).normalize_or_zero().as_vec3();
-                        let w = if base[i * 4 + 3] < 0.0 { -flip } else { flip };
-                        [t.x, t.y, t.z, w as f32]
-                    })
-                    .collect()
-            });
+            .as_deref()
+            .filter(|_| !positions_only && !node_singular);
+        let mut positions = Vec::with_capacity(n);
+        let mut normals = normal_base.map(|_| Vec::with_capacity(n));
+        let mut tangents = tangent_base.map(|_| Vec::with_capacity(n));
+        for i in 0..n {
+            let m = match deform {
+                Deform::Node(m) => *m,
+                Deform::Skin(j) => self.skin_matrix(j, i),
+            };
+            let p = self.morphed(&self.positions, 3, |t| t.positions.as_ref(), weights, i);
+            positions.push(up.rotate(m.transform_point3(p)));
+            if let (Some(base), Some(out)) = (normal_base, normals.as_mut()) {
+                let v = self.morphed(base, 3, |t| t.normals.as_ref(), weights, i);
+                let nm = node_m.unwrap_or_else(|| DMat3::from_mat4(m).inverse().transpose());
+                out.push(up.rotate(nm * v));
+            }
+            if let (Some(base), Some(out)) = (tangent_base, tangents.as_mut()) {
+                let v = self.morphed(base, 4, |t| t.tangents.as_ref(), weights, i);
+                let m3 = DMat3::from_mat4(m);
+                let flip = if m3.determinant() < 0.0 { -1.0 } else { 1.0 };
+                let t = up.rotate(m3 * v).normalize_or_zero().as_vec3();
+                let w = if base[i * 4 + 3] < 0.0 { -flip } else { flip };
+                out.push([t.x, t.y, t.z, w as f32]);
+            }
+        }
         (positions, normals, tangents)
     }
 }

@@ -1,7 +1,7 @@
 //! The loader's side of motion: which nodes' meshes move ([`Plan`], read before the meshes),
 //! the moving primitives' sources ([`Part`]), and the [`Rig`] built from them once the
 //! scene's origin is known, which poses them again at any moment.
-use super::pose::{joint_matrices, Deform, Graph, Posed, Source};
+use super::pose::{joint_matrices, Deform, Graph, Posed, Reach, Source};
 use super::read::{Animation, Skin};
 use super::{Moment, Rig};
 use crate::error::{Error, Result};
@@ -32,8 +32,10 @@ pub(crate) struct Plan {
     /// By node: the skin it names (read once here: `doc.nodes().nth` per instance was a
     /// walk of the node list for every mesh node).
     skin_of: Vec<Option<usize>>,
-    /// The static pose, and each usable skin's joint matrices in it.
-    rest: Option<Posed>,
+    /// By animation: what it moves.
+    reach: Vec<Reach>,
+    /// The static pose's world transforms, and each usable skin's joint matrices in it.
+    rest_world: Vec<DMat4>,
     rest_joints: Vec<Vec<DMat4>>,
     /// Per mesh: its primitives' morph target count (most of them).
     targets: Vec<usize>,
@@ -132,21 +134,24 @@ impl Plan {
             moved,
             instanced,
             skin_of,
-            rest: None,
+            reach: Vec::new(),
+            rest_world: Vec::new(),
             rest_joints: Vec::new(),
             targets,
             morph_budget: AtomicUsize::new(super::source::MAX_MORPH),
         };
-        let rest = plan.graph.pose(None);
+        plan.reach = plan
+            .animations
+            .iter()
+            .map(|a| plan.graph.reach(a))
+            .collect();
+        let rest = plan.graph.rest_world();
         plan.rest_joints = plan
             .skins
             .iter()
-            .map(|s| {
-                s.as_ref()
-                    .map_or(Vec::new(), |s| joint_matrices(s, &rest.world))
-            })
+            .map(|s| s.as_ref().map_or(Vec::new(), |s| joint_matrices(s, &rest)))
             .collect();
-        plan.rest = Some(rest);
+        plan.rest_world = rest;
         plan
     }
 
@@ -171,6 +176,30 @@ impl Plan {
             weights: &self.graph.weights[node],
             morph_budget: &self.morph_budget,
         })
+    }
+
+    /// By animation: the indices of the `parts` it moves (sorted): their node's world
+    /// transform or morph weights, or a joint of their skin. A part no animation of two
+    /// moments moves is the same at both.
+    fn reached(&self, parts: &[Part]) -> Vec<Vec<usize>> {
+        self.animations
+            .iter()
+            .zip(&self.reach)
+            .map(|(a, r)| {
+                let hit = self.graph.touched(a, r);
+                let skin_hit = |s: usize| {
+                    self.skins[s]
+                        .as_ref()
+                        .is_some_and(|k| k.joints.iter().any(|&j| hit[j]))
+                };
+                parts
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, p)| hit[p.node] || p.skin.is_some_and(skin_hit))
+                    .map(|(k, _)| k)
+                    .collect()
+            })
+            .collect()
     }
 
     /// `--check`'s lines for the skins and morph targets.
@@ -225,8 +254,10 @@ impl Rig {
                 }
             }
         }
+        let reached = plan.reached(&parts);
         Rig {
             animations: plan.animations.iter().map(|a| a.info.clone()).collect(),
+            reached,
             framing: plan.animations.iter().map(|_| OnceLock::new()).collect(),
             meshes: moving,
             plan,
@@ -243,76 +274,155 @@ impl Rig {
 
     /// The node transforms of `moment` (None: the static pose).
     pub(super) fn posed(&self, moment: Option<Moment>) -> Posed {
-        self.plan
-            .graph
-            .pose(moment.map(|m| (&self.plan.animations[m.animation], m.seconds)))
+        let p = &self.plan;
+        match moment {
+            None => Graph::rest_pose(&p.rest_world),
+            Some(m) => p.graph.pose(
+                &p.rest_world,
+                (&p.animations[m.animation], &p.reach[m.animation]),
+                m.seconds,
+            ),
+        }
     }
 
-    /// Each part's vertices placed in `posed` (`positions_only`: for bounds).
-    /// Parts of the scene meshes `skip` (sorted) are left out.
-    fn place_all(
+    /// Each of `parts`' vertices placed in `posed` (`positions_only`: for bounds). Only
+    /// the skins these parts use get joint matrices.
+    fn place_parts(
         &self,
         posed: &Posed,
+        parts: &[&Part],
         positions_only: bool,
-        skip: &[usize],
     ) -> Vec<super::pose::Placed> {
-        let joints: Vec<Vec<DMat4>> = self
-            .plan
-            .skins
+        let skinned = |p: &Part| p.skin.filter(|_| !p.src.sets.is_empty());
+        let mut joints: Vec<Vec<DMat4>> = vec![Vec::new(); self.plan.skins.len()];
+        let mut done = vec![false; self.plan.skins.len()];
+        for s in parts.iter().filter_map(|p| skinned(p)) {
+            if !std::mem::replace(&mut done[s], true) {
+                if let Some(skin) = &self.plan.skins[s] {
+                    joints[s] = joint_matrices(skin, &posed.world);
+                }
+            }
+        }
+        parts
             .iter()
-            .map(|s| {
-                s.as_ref()
-                    .map_or(Vec::new(), |s| joint_matrices(s, &posed.world))
-            })
-            .collect();
-        self.parts
-            .iter()
-            .filter(|p| skip.binary_search(&p.mesh).is_err())
             .map(|p| {
-                let deform = match p.skin {
-                    Some(s) if !p.src.sets.is_empty() => Deform::Skin(&joints[s]),
-                    _ => Deform::Node(posed.world[p.node]),
+                let deform = match skinned(p) {
+                    Some(s) => Deform::Skin(&joints[s]),
+                    None => Deform::Node(posed.world[p.node]),
                 };
-                let weights = posed.weights[p.node]
-                    .as_deref()
+                let weights = posed
+                    .weights(p.node)
                     .unwrap_or(&self.plan.graph.weights[p.node]);
                 p.src.place(&deform, weights, self.up, positions_only)
             })
             .collect()
     }
 
+    /// Whether part `k` may differ between the meshes posed at `since` and at `moment`:
+    /// always, unless both are moments of animations that do not move it (then both are
+    /// its static pose as a pose computes it). From or to the static pose (None) every
+    /// part is posed, as the loader's meshes are not a pose's.
+    fn may_move(&self, k: usize, since: Option<Moment>, moment: Option<Moment>) -> bool {
+        let (Some(a), Some(b)) = (since, moment) else {
+            return true;
+        };
+        [a, b]
+            .iter()
+            .any(|m| self.reached[m.animation].binary_search(&k).is_ok())
+    }
+
+    /// The parts of the scene meshes not in `skip` (sorted) placed at `moment`, each checked
+    /// to fit f32 (an error before any mesh is changed); of meshes posed at `since`, only
+    /// the parts that may move between the two. Nothing is posed when no part is left
+    /// (every moving mesh skinned on the GPU: a frame poses only their joints).
+    fn placed_except(
+        &self,
+        (since, moment): (Option<Moment>, Option<Moment>),
+        skip: &[usize],
+    ) -> Result<Vec<(&Part, super::pose::Placed)>> {
+        let parts: Vec<&Part> = self
+            .parts
+            .iter()
+            .enumerate()
+            .filter(|(k, p)| {
+                skip.binary_search(&p.mesh).is_err() && self.may_move(*k, since, moment)
+            })
+            .map(|(_, p)| p)
+            .collect();
+        if parts.is_empty() {
+            return Ok(Vec::new());
+        }
+        let posed = self.posed(moment);
+        let placed = self.place_parts(&posed, &parts, false);
+        parts
+            .into_iter()
+            .zip(placed)
+            .map(|(p, placed)| {
+                crate::scene::gltf_primitive::check_range(&placed.0)
+                    .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", p.node)))?;
+                Ok((p, placed))
+            })
+            .collect()
+    }
+
+    /// The options the loader built the meshes with that a pose builds them with again.
+    fn build_options(&self) -> LoadOptions {
+        LoadOptions {
+            creases: self.creases,
+            ..LoadOptions::default()
+        }
+    }
+
     /// The moving meshes at `moment`, built as the loader builds them, with each one's
     /// scene mesh index; without the scene meshes `skip` (sorted: those skinned on the GPU).
+    /// New meshes, beside the scene's (for `--edges` of GPU-skinned meshes); a pose of the
+    /// scene itself is [`Rig::pose_into`].
     pub(crate) fn posed_meshes_except(
         &self,
         moment: Option<Moment>,
         skip: &[usize],
     ) -> Result<Vec<(usize, Mesh)>> {
-        let posed = self.posed(moment);
-        let opts = LoadOptions {
-            creases: self.creases,
-            ..LoadOptions::default()
-        };
-        self.place_all(&posed, false, skip)
+        let opts = self.build_options();
+        Ok(self
+            .placed_except((None, moment), skip)?
             .into_iter()
-            .zip(
-                self.parts
-                    .iter()
-                    .filter(|p| skip.binary_search(&p.mesh).is_err()),
-            )
-            .map(|(placed, p)| {
-                crate::scene::gltf_primitive::check_range(&placed.0)
-                    .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", p.node)))?;
-                Ok((
-                    p.mesh,
-                    p.prim.with_geometry(placed).into_mesh(
-                        self.origin,
-                        self.default_material,
-                        &opts,
-                    ),
-                ))
+            .map(|(p, placed)| {
+                let mesh = p.prim.with_geometry(placed).into_mesh(
+                    self.origin,
+                    self.default_material,
+                    &opts,
+                );
+                (p.mesh, mesh)
             })
-            .collect()
+            .collect())
+    }
+
+    /// Poses the scene's `meshes`, posed at `since`, at `moment`, but for `skip` (sorted:
+    /// those skinned on the GPU), and returns the indices of those rewritten: only the
+    /// meshes that may move between the two moments ([`Rig::may_move`]), and of those only
+    /// what a pose moves (positions, normals, tangents: [`Prim::pose_into`]). On an error
+    /// no mesh has changed.
+    ///
+    /// [`Prim::pose_into`]: crate::scene::gltf_primitive::Prim::pose_into
+    pub(crate) fn pose_into(
+        &self,
+        (since, moment): (Option<Moment>, Option<Moment>),
+        skip: &[usize],
+        meshes: &mut crate::scene::Meshes,
+    ) -> Result<Vec<usize>> {
+        let placed = self.placed_except((since, moment), skip)?;
+        if placed.is_empty() {
+            return Ok(Vec::new());
+        }
+        let opts = self.build_options();
+        let mut changed = Vec::with_capacity(placed.len());
+        for (p, placed) in placed {
+            let mesh = &mut meshes[p.mesh];
+            p.prim
+                .pose_into(placed, mesh, (self.origin, self.default_material), &opts);
+            changed.push(p.mesh);
+        }
+        Ok(changed)
     }
 
     /// The bounds of every moment of `animation`: its poses at evenly spaced moments and at
@@ -339,12 +449,13 @@ impl Rig {
             let step = keys.len().div_ceil(keys_kept.max(1)).max(1);
             times.extend(keys.iter().step_by(step).take(keys_kept));
             let mut b = self.still_bounds;
+            let all: Vec<&Part> = self.parts.iter().collect();
             for t in times {
                 let posed = self.posed(Some(Moment {
                     animation,
                     seconds: t,
                 }));
-                for (positions, _, _) in self.place_all(&posed, true, &[]) {
+                for (positions, _, _) in self.place_parts(&posed, &all, true) {
                     for q in positions {
                         b.include((q - self.origin).as_vec3());
                     }

@@ -102,6 +102,15 @@ pub(crate) fn load(bytes: &[u8]) -> Scene {
     load_bytes(Path::new("motion.glb"), bytes, &LoadOptions::default()).expect("loads")
 }
 
+/// A Khronos sample committed under tests/data/khronos/motion/ (`name`: its file name).
+pub(crate) fn sample(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/khronos/motion")
+        .join(name);
+    let bytes = std::fs::read(&path).expect("committed sample");
+    load_bytes(&path, &bytes, &LoadOptions::default()).expect("loads")
+}
+
 /// Vertex i of mesh m in the file's coordinates (re-centring undone).
 fn at(s: &Scene, m: usize, i: usize) -> Vec3 {
     Vec3::from(s.meshes[m].vertices[i].position) + s.origin.as_vec3()
@@ -378,4 +387,124 @@ fn a_joint_outside_the_drawn_scene_leaves_the_skin_unapplied() {
     )));
     warns(&s, &["skin 0: joint node 1 is not in the drawn scene"]);
     near(at(&s, 0, 1), Vec3::new(0.0, 2.0, 0.0));
+}
+
+/// A triangle with normals, tangents, UVs and colours whose node's scale goes 1, 0 and
+/// (2, 0.5, 1) (LINEAR, keys at 0, 1 and 2 s): at 1 s its normal matrix is singular, so
+/// there its normals are generated (the loader's path for a mesh without usable normals);
+/// after, the unequal scale turns its tangents.
+fn shrinking() -> Vec<u8> {
+    let mut g = Glb::default();
+    let pos = g.floats(&TRIANGLE, "VEC3", 3);
+    let nrm = g.floats(&[0.0, 0.0, 1.0].repeat(3), "VEC3", 3);
+    let tan = g.floats(&[0.6, 0.8, 0.0, -1.0].repeat(3), "VEC4", 3);
+    let uv = g.floats(&[0.0, 0.0, 0.0, 1.0, 1.0, 0.0], "VEC2", 3);
+    let col = g.floats(&[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0], "VEC3", 3);
+    let t = g.floats(&[0.0, 1.0, 2.0], "SCALAR", 3);
+    let sv = g.floats(&[1.0, 1.0, 1.0, 0.0, 0.0, 0.0, 2.0, 0.5, 1.0], "VEC3", 3);
+    g.bytes(&format!(
+        r#""scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{pos},"NORMAL":{nrm},"TANGENT":{tan},
+"TEXCOORD_0":{uv},"COLOR_0":{col}}}}}]}}],
+"animations":[{{"channels":[{{"sampler":0,"target":{{"node":0,"path":"scale"}}}}],
+"samplers":[{{"input":{t},"output":{sv}}}]}}]"#
+    ))
+}
+
+/// A pose writes the scene's meshes in place only where they keep the layout the file's
+/// normals give, and the result is, field for field, the mesh the loader's path builds
+/// anew at that moment ([`super::Rig::posed_meshes_except`]); in place, the streams a pose
+/// does not move (the indices, the colours) are the same allocation. Where normals are
+/// generated (the shrunk node at 1 s) and in the pose after, the mesh is built anew.
+#[test]
+fn a_pose_in_place_is_the_mesh_built_anew_and_keeps_the_streams_that_do_not_move() {
+    let rigged = sample("RiggedSimple.glb");
+    let shrunk = [
+        (0.5, true),
+        (1.0, false),
+        (1.5, false),
+        (1.7, true),
+        (0.2, true),
+    ];
+    let rig_times = [(0.3, true), (1.1, true), (0.0, true)];
+    for (mut s, times) in [(load(&shrinking()), &shrunk[..]), (rigged, &rig_times[..])] {
+        let rig = s.motion.clone().expect("a rig");
+        let loaded: Vec<String> = s.meshes.iter().map(|m| format!("{m:?}")).collect();
+        for &(seconds, in_place) in times {
+            let m = Some(Moment {
+                animation: 0,
+                seconds,
+            });
+            let before: Vec<*const u32> = s.meshes.iter().map(|m| m.indices.as_ptr()).collect();
+            let changed = s.pose(m).expect("poses");
+            let fresh = rig.posed_meshes_except(m, &[]).expect("poses");
+            assert!(!fresh.is_empty());
+            assert_eq!(changed, fresh.iter().map(|f| f.0).collect::<Vec<_>>());
+            for (i, f) in fresh {
+                assert_eq!(
+                    format!("{:?}", s.meshes[i]),
+                    format!("{f:?}"),
+                    "{seconds} s"
+                );
+                let kept = s.meshes[i].indices.as_ptr() == before[i];
+                assert_eq!(kept, in_place, "mesh {i} at {seconds} s");
+            }
+        }
+        s.pose(None).expect("poses");
+        let back: Vec<String> = s.meshes.iter().map(|m| format!("{m:?}")).collect();
+        assert_eq!(back, loaded, "the static pose is the loaded mesh again");
+    }
+}
+
+/// `--xray` of a moving object gives its mesh a material of its own, which a pose keeps,
+/// whether it writes the mesh in place (0.5 s) or makes it anew (1 s: normals generated).
+#[test]
+fn a_pose_keeps_an_xrayed_objects_material() {
+    let mut s = load(&shrinking());
+    s.xray(&["mesh".into()], 0.3).expect("the object is there");
+    let xrayed = s.meshes[0].material;
+    assert_eq!(
+        s.materials[xrayed].name,
+        format!("{} (x-ray)", s.materials[0].name)
+    );
+    for seconds in [0.5, 1.0, 1.7] {
+        s.pose(Some(Moment {
+            animation: 0,
+            seconds,
+        }))
+        .expect("poses");
+        assert_eq!(s.meshes[0].material, xrayed, "{seconds} s");
+    }
+}
+
+/// From one moment to another, a pose rewrites only the meshes either moment's animation
+/// moves (InterpolationTest: nine cubes, each moved by one of nine animations); from or to
+/// the static pose, every moving mesh. The meshes left alone are what a pose would write.
+#[test]
+fn a_pose_rewrites_only_the_meshes_its_animations_move() {
+    let mut s = sample("InterpolationTest.glb");
+    let rig = s.motion.clone().expect("a rig");
+    let all = rig.meshes().to_vec();
+    assert_eq!(all.len(), 9);
+    let at = |animation, seconds| Some(Moment { animation, seconds });
+    assert_eq!(
+        s.pose(at(0, 0.5)).expect("poses"),
+        all,
+        "from the static pose"
+    );
+    let one = s.pose(at(0, 0.9)).expect("poses");
+    assert_eq!(one.len(), 1, "{one:?}");
+    let other = s.pose(at(4, 0.3)).expect("poses");
+    assert_eq!(other.len(), 2, "{other:?}");
+    assert!(
+        other.contains(&one[0]),
+        "animation 0's cube goes back to rest"
+    );
+    for m in [at(4, 0.6), at(7, 1.0), at(7, 1.2)] {
+        s.pose(m).expect("poses");
+        for (i, fresh) in rig.posed_meshes_except(m, &[]).expect("poses") {
+            assert_eq!(format!("{:?}", s.meshes[i]), format!("{fresh:?}"), "{m:?}");
+        }
+    }
+    assert_eq!(s.pose(None).expect("poses"), all, "to the static pose");
 }

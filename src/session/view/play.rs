@@ -8,6 +8,7 @@
 use super::View;
 use crate::error::{Error, Result};
 use crate::scene::motion::AnimationInfo;
+use crate::session::moment::{find, Missing};
 
 /// A frame's time is snapped to the `--fps` grid when within this many frames of it (the
 /// sum of f32 steps would otherwise drift off `--time k/fps`).
@@ -23,22 +24,15 @@ impl View {
     /// index, then by name, default the first. An error when the file has none or not that
     /// one.
     pub fn animation_index(&self, all: &[AnimationInfo]) -> Result<usize> {
-        if all.is_empty() {
-            return Err(Error::Usage("this model has no animations to play".into()));
-        }
-        let Some(asked) = &self.options.motion.animation else {
-            return Ok(0);
-        };
-        match asked.trim().parse::<usize>() {
-            Ok(i) if i < all.len() => Some(i),
-            _ => all.iter().position(|a| a.name == *asked),
-        }
-        .ok_or_else(|| {
-            Error::Usage(format!(
-                "no animation {asked:?}: the model has {} (0 to {})",
+        let asked = self.options.motion.animation.as_deref();
+        find(all, asked).map_err(|missing| match missing {
+            Missing::None => Error::Usage("this model has no animations to play".into()),
+            Missing::NoSuch => Error::Usage(format!(
+                "no animation {:?}: the model has {} (0 to {})",
+                asked.unwrap_or_default(),
                 all.len(),
                 all.len() - 1
-            ))
+            )),
         })
     }
 
@@ -263,7 +257,11 @@ mod tests {
             assert_eq!(v, good);
         }
         v.options.motion.animation = Some("walk".into());
-        assert!(v.animation_index(&all).is_err());
+        let e = v.animation_index(&all).unwrap_err().to_string();
+        assert!(
+            e.ends_with("no animation \"walk\": the model has 2 (0 to 1)"),
+            "{e}"
+        );
         let mut s = view();
         for r in [s.play_pause(&[]), s.step(1, &[]), s.next_animation(&[])] {
             assert!(r.unwrap_err().to_string().contains("no animations"));

@@ -74,24 +74,17 @@ pub fn run_motion(model: &Path, size: (u32, u32)) -> Result<()> {
         if shadows {
             table.row(row("still, shadow maps redrawn", t.redrawn, &none));
         }
-        let c = t.cost;
-        let posed = [
-            num(t.pose, 2),
-            num(t.upload, 2),
-            c.meshes.to_string(),
-            c.bytes.to_string(),
-        ];
-        table.row(row("playing, GPU skinning/morphs", t.playing, &posed));
-        let c = t.cpu_cost;
-        let posed = [
-            num(t.cpu_pose, 2),
-            num(t.cpu_upload, 2),
-            c.meshes.to_string(),
-            c.bytes.to_string(),
-        ];
-        table.row(row("playing, CPU skinning/morphs", t.cpu_playing, &posed));
-        ratios.push((on, "GPU", t.playing / t.still));
-        ratios.push((on, "CPU", t.cpu_playing / t.still));
+        for (how, p) in Skinning::BOTH.into_iter().zip(&t.playing) {
+            let posed = [
+                num(p.pose, 2),
+                num(p.upload, 2),
+                p.cost.meshes.to_string(),
+                p.cost.bytes.to_string(),
+            ];
+            let what = format!("playing, {} skinning/morphs", how.name());
+            table.row(row(&what, p.frame, &posed));
+            ratios.push((on, how.name(), p.frame / t.still));
+        }
     }
     println!("{}", table.render());
     for (on, how, r) in ratios {
@@ -111,18 +104,49 @@ fn at(k: usize, duration: f64) -> Moment {
     }
 }
 
+/// Where a playing renderer skins and morphs its meshes: the two paths the table compares.
+#[derive(Clone, Copy)]
+enum Skinning {
+    /// On the GPU where they can be (the renderer's default).
+    Gpu,
+    /// Every mesh posed on the CPU ([`Renderer::cpu_skinned`]).
+    Cpu,
+}
+
+impl Skinning {
+    /// In the order of the table's rows.
+    const BOTH: [Skinning; 2] = [Skinning::Gpu, Skinning::Cpu];
+
+    fn name(self) -> &'static str {
+        match self {
+            Skinning::Gpu => "GPU",
+            Skinning::Cpu => "CPU",
+        }
+    }
+
+    fn renderer(self, gpu: &glview::gpu::GpuRef, scene: Scene) -> Result<Renderer> {
+        match self {
+            Skinning::Gpu => Renderer::new(gpu, scene),
+            Skinning::Cpu => Renderer::cpu_skinned(gpu, scene),
+        }
+    }
+}
+
 /// Median frame times of one setting, and the pose's own cost.
 struct Times {
     still: f64,
     redrawn: f64,
-    playing: f64,
+    /// By [`Skinning::BOTH`].
+    playing: [Playing; 2],
+}
+
+/// A playing renderer's medians (the frame with its pose and upload, and those apart) and
+/// its last pose's cost.
+struct Playing {
+    frame: f64,
     pose: f64,
     upload: f64,
     cost: glview::render::PoseCost,
-    cpu_playing: f64,
-    cpu_pose: f64,
-    cpu_upload: f64,
-    cpu_cost: glview::render::PoseCost,
 }
 
 /// Poses `r` at frame `k` and draws it: the frame's time with the pose's, and the pose's
@@ -154,14 +178,18 @@ fn measure(
 ) -> Result<Times> {
     let mut still = Renderer::new(&hl.gpu, scene.clone())?;
     still.pose(Some(at(0, duration)))?;
-    let mut playing = Renderer::new(&hl.gpu, scene.clone())?;
-    let mut cpu = Renderer::cpu_skinned(&hl.gpu, scene.clone())?;
+    let mut playing = Vec::new();
+    for how in Skinning::BOTH {
+        playing.push(how.renderer(&hl.gpu, scene.clone())?);
+    }
     // Warm-up: programs compiled, shadow maps and textures made.
     still.render(s, &hl.target())?;
-    for r in [&mut playing, &mut cpu] {
+    for r in &mut playing {
         play(r, 1, duration, s, hl)?;
     }
-    let mut ms: [Vec<f64>; 8] = Default::default();
+    let mut ms: [Vec<f64>; 2] = Default::default();
+    // By playing renderer: its frames, poses and uploads.
+    let mut each: [[Vec<f64>; 3]; 2] = Default::default();
     let mut k = 2;
     for _ in 0..ROUNDS {
         for _ in 0..FRAMES {
@@ -171,27 +199,29 @@ fn measure(
             still.invalidate_shadows();
             ms[1].push(still.render(s, &hl.target())?.ms);
         }
-        for (r, at) in [(&mut playing, 2), (&mut cpu, 5)] {
+        for (r, ms) in playing.iter_mut().zip(&mut each) {
             for f in 0..FRAMES {
                 let t = play(r, k + f, duration, s, hl)?;
-                for (j, v) in t.into_iter().enumerate() {
-                    ms[at + j].push(v);
+                for (v, ms) in t.into_iter().zip(ms.iter_mut()) {
+                    ms.push(v);
                 }
             }
         }
         k += FRAMES;
     }
     let m = |v: &[f64]| super::median(v);
+    let playing = std::array::from_fn(|i| {
+        let [frame, pose, upload] = &each[i];
+        Playing {
+            frame: m(frame),
+            pose: m(pose),
+            upload: m(upload),
+            cost: playing[i].pose_cost(),
+        }
+    });
     Ok(Times {
         still: m(&ms[0]),
         redrawn: m(&ms[1]),
-        playing: m(&ms[2]),
-        pose: m(&ms[3]),
-        upload: m(&ms[4]),
-        cost: playing.pose_cost(),
-        cpu_playing: m(&ms[5]),
-        cpu_pose: m(&ms[6]),
-        cpu_upload: m(&ms[7]),
-        cpu_cost: cpu.pose_cost(),
+        playing,
     })
 }
