@@ -212,9 +212,29 @@ fn morph_cube(
     ctx: Context,
     cpu: bool,
 ) -> (Rgba, String) {
+    drawn(
+        MORPH_CUBE,
+        dir,
+        &format!("morph-{}-{time}{name}", ctx.0),
+        time,
+        ctx,
+        cpu,
+    )
+}
+
+/// `model` at `time` on a context through the binary (64×48, no shadows), written to
+/// `name`.png: the picture and the programs `--stats` lists.
+fn drawn(
+    model: &str,
+    dir: &std::path::Path,
+    name: &str,
+    time: &str,
+    ctx: Context,
+    cpu: bool,
+) -> (Rgba, String) {
     let (ctx_name, extra, env) = ctx;
-    let out = dir.join(format!("morph-{ctx_name}-{time}{name}.png"));
-    let mut w = vec![MORPH_CUBE, "--size", "64x48", "--yaw", "30", "--no-shadows"];
+    let out = dir.join(format!("{name}.png"));
+    let mut w = vec![model, "--size", "64x48", "--yaw", "30", "--no-shadows"];
     w.extend(["--time", time, "--stats", "-o", out.to_str().unwrap()]);
     w.extend_from_slice(extra);
     let mut env = env.to_vec();
@@ -281,4 +301,39 @@ fn a_gpu_morphed_pose_uploads_nothing() {
             .is_some_and(|p| p.skinned == 1 && p.meshes == 0 && p.bytes == 0),
         "posed again on the GPU: {p:?}"
     );
+}
+
+const SKINNED_MORPHED: &str = "tests/data/motion/SkinnedMorphed.glb";
+
+/// A mesh both skinned and morphed (tests/data/motion/SkinnedMorphed.glb, made by
+/// scripts/make_skinned_morphed.py: two joints, two targets of positions and normals) at
+/// 0.6 s, where the joint has turned 24° and the weights are [0.6, 0.3], is drawn on GL 3.3,
+/// ES 3.0 and GL 2.1 by one program that skins and morphs (`--stats`: `skin,j2,morph,m4`),
+/// and the picture is the CPU path's (`GLVIEW_SKINNING=cpu`) byte for byte; that moment is
+/// not the static pose.
+#[test]
+fn skinned_and_morphed_on_the_gpu_is_the_cpu_paths() {
+    let dir = out_dir("motion_truth");
+    for ctx in &CONTEXTS[..3] {
+        let name = format!("skinmorph-{}", ctx.0);
+        let (gpu, stats) = drawn(SKINNED_MORPHED, &dir, &name, "0.6", *ctx, false);
+        assert!(
+            stats.contains(",skin,j2,morph,m4]"),
+            "{}: not skinned and morphed on the GPU: {stats}",
+            ctx.0
+        );
+        let cpu_name = format!("{name}-cpu");
+        let (cpu, stats) = drawn(SKINNED_MORPHED, &dir, &cpu_name, "0.6", *ctx, true);
+        assert!(!stats.contains(",skin,"), "{}: {stats}", ctx.0);
+        assert!(
+            gpu.data == cpu.data,
+            "{}: skinned and morphed on the GPU is not the CPU path's picture: {}",
+            ctx.0,
+            write_diff(&dir, &name, &gpu, &cpu).display()
+        );
+        if ctx.0 == "gl33" {
+            let (rest, _) = drawn(SKINNED_MORPHED, &dir, "skinmorph-rest", "0", *ctx, false);
+            assert_ne!(rest.data, gpu.data, "0.6 s is not the rest pose");
+        }
+    }
 }

@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""Writes tests/data/motion/SkinnedMorphed.glb: a mesh both skinned and morphed (issue #39),
+as characters with a skeleton and shape keys are, small enough for tests (40 vertices).
+
+An open 8-sided tube along Y (rings at y = 0, 0.5, 1, 1.5, 2), skinned to two joints: the
+root at the origin and a child at y = 1 (inverse bind: identity and T(0,-1,0)); rings below
+0.5 follow the root, rings above 1.5 the child, ring 1 half each. Two morph targets with
+position and normal deltas (four delta attributes, the GPU's budget on 16 attributes):
+"bulge" pushes the middle rings out, "lean" shears the tube along X. One animation, LINEAR,
+keys 0 / 1 / 2 s: the child turns about Z 0 / 40 / 0 degrees and the weights go
+[0, 0] / [1, 0.5] / [0, 0], so at any moment inside (0, 2) s both the joints and the
+weights are away from rest. Run from the repository root; only the standard library.
+"""
+import json
+import math
+import struct
+
+SIDES, RINGS = 8, 5
+
+
+def ring_y(r):
+    return 0.5 * r
+
+
+positions, normals, joints, weights = [], [], [], []
+bulge_p, bulge_n, lean_p, lean_n = [], [], [], []
+for r in range(RINGS):
+    y = ring_y(r)
+    w1 = min(1.0, max(0.0, y - 0.5))  # 0 up to 0.5, 1 from 1.5
+    push = {1: 0.2, 2: 0.4, 3: 0.2}.get(r, 0.0)
+    tilt = {1: -0.4, 3: 0.4}.get(r, 0.0)
+    for s in range(SIDES):
+        a = 2 * math.pi * s / SIDES
+        c, k = math.cos(a), math.sin(a)
+        positions += [0.5 * c, y, 0.5 * k]
+        normals += [c, 0.0, k]
+        joints += [0, 1, 0, 0]
+        weights += [1.0 - w1, w1, 0.0, 0.0]
+        bulge_p += [push * c, 0.0, push * k]
+        bulge_n += [0.0, tilt, 0.0]
+        lean_p += [0.3 * y, 0.0, 0.0]
+        lean_n += [-0.15 * c * c, 0.15 * c, 0.0]
+
+indices = []
+for r in range(RINGS - 1):
+    for s in range(SIDES):
+        a, b = r * SIDES + s, r * SIDES + (s + 1) % SIDES
+        c, d = a + SIDES, b + SIDES
+        indices += [a, c, b, b, c, d]
+
+bin_ = bytearray()
+views, accessors = [], []
+
+
+def add(fmt, data, kind, ctype, count, minmax=False):
+    while len(bin_) % 4:
+        bin_.append(0)
+    raw = struct.pack("<%d%s" % (len(data), fmt), *data)
+    views.append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(raw)})
+    bin_.extend(raw)
+    acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": kind}
+    if minmax:
+        acc["min"] = [min(data[i::3]) for i in range(3)]
+        acc["max"] = [max(data[i::3]) for i in range(3)]
+    accessors.append(acc)
+    return len(accessors) - 1
+
+
+n = len(positions) // 3
+F, U16 = 5126, 5123
+pos = add("f", positions, "VEC3", F, n, True)
+nrm = add("f", normals, "VEC3", F, n)
+jnt = add("H", joints, "VEC4", U16, n)
+wgt = add("f", weights, "VEC4", F, n)
+idx = add("H", indices, "SCALAR", U16, len(indices))
+bp = add("f", bulge_p, "VEC3", F, n, True)
+bn = add("f", bulge_n, "VEC3", F, n)
+lp = add("f", lean_p, "VEC3", F, n, True)
+ln = add("f", lean_n, "VEC3", F, n)
+ibm = add("f", [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,
+                1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1], "MAT4", F, 2)
+times = add("f", [0.0, 1.0, 2.0], "SCALAR", F, 3)
+h = math.radians(40) / 2
+turns = add("f", [0, 0, 0, 1, 0, 0, math.sin(h), math.cos(h), 0, 0, 0, 1], "VEC4", F, 3)
+morphs = add("f", [0, 0, 1, 0.5, 0, 0], "SCALAR", F, 6)
+
+gltf = {
+    "asset": {"version": "2.0", "generator": "glview scripts/make_skinned_morphed.py"},
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1]}],
+    "nodes": [
+        {"name": "tube", "mesh": 0, "skin": 0},
+        {"name": "root", "children": [2]},
+        {"name": "upper", "translation": [0, 1, 0]},
+    ],
+    "skins": [{"joints": [1, 2], "inverseBindMatrices": ibm, "skeleton": 1}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.45, 0.2, 1],
+                                            "metallicFactor": 0, "roughnessFactor": 0.6},
+                   "doubleSided": True}],
+    "meshes": [{
+        "primitives": [{
+            "attributes": {"POSITION": pos, "NORMAL": nrm, "JOINTS_0": jnt, "WEIGHTS_0": wgt},
+            "indices": idx, "material": 0,
+            "targets": [{"POSITION": bp, "NORMAL": bn}, {"POSITION": lp, "NORMAL": ln}],
+        }],
+        "weights": [0, 0],
+        "extras": {"targetNames": ["bulge", "lean"]},
+    }],
+    "animations": [{
+        "name": "BendAndBulge",
+        "channels": [{"sampler": 0, "target": {"node": 2, "path": "rotation"}},
+                     {"sampler": 1, "target": {"node": 0, "path": "weights"}}],
+        "samplers": [{"input": times, "output": turns}, {"input": times, "output": morphs}],
+    }],
+    "buffers": [{"byteLength": 0}],
+    "bufferViews": views,
+    "accessors": accessors,
+}
+while len(bin_) % 4:
+    bin_.append(0)
+gltf["buffers"][0]["byteLength"] = len(bin_)
+js = json.dumps(gltf, separators=(",", ":")).encode()
+js += b" " * (-len(js) % 4)
+out = b"glTF" + struct.pack("<II", 2, 12 + 8 + len(js) + 8 + len(bin_))
+out += struct.pack("<I", len(js)) + b"JSON" + js
+out += struct.pack("<I", len(bin_)) + b"BIN\0" + bytes(bin_)
+with open("tests/data/motion/SkinnedMorphed.glb", "wb") as f:
+    f.write(out)
