@@ -10,16 +10,22 @@ position and normal deltas (four delta attributes, the GPU's budget on 16 attrib
 keys 0 / 1 / 2 s: the child turns about Z 0 / 40 / 0 degrees and the weights go
 [0, 0] / [1, 0.5] / [0, 0], so at any moment inside (0, 2) s both the joints and the
 weights are away from rest. Run from the repository root; only the standard library.
+
+`make_skinned_morphed.py SIDES RINGS OUT` writes the same shape finer (e.g. 64 100
+/tmp/big.glb: 6,400 vertices), for `glview bench --motion --motion-model OUT`.
 """
 import json
 import math
 import struct
+import sys
 
-SIDES, RINGS = 8, 5
+SIDES, RINGS, OUT = 8, 5, "tests/data/motion/SkinnedMorphed.glb"
+if len(sys.argv) == 4:
+    SIDES, RINGS, OUT = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3]
 
 
 def ring_y(r):
-    return 0.5 * r
+    return 2.0 * r / (RINGS - 1)
 
 
 positions, normals, joints, weights = [], [], [], []
@@ -27,8 +33,8 @@ bulge_p, bulge_n, lean_p, lean_n = [], [], [], []
 for r in range(RINGS):
     y = ring_y(r)
     w1 = min(1.0, max(0.0, y - 0.5))  # 0 up to 0.5, 1 from 1.5
-    push = {1: 0.2, 2: 0.4, 3: 0.2}.get(r, 0.0)
-    tilt = {1: -0.4, 3: 0.4}.get(r, 0.0)
+    push = 0.4 * max(0.0, 1.0 - abs(y - 1.0))
+    tilt = 0.4 * math.sin(math.pi * (y - 1.0))
     for s in range(SIDES):
         a = 2 * math.pi * s / SIDES
         c, k = math.cos(a), math.sin(a)
@@ -124,5 +130,5 @@ js += b" " * (-len(js) % 4)
 out = b"glTF" + struct.pack("<II", 2, 12 + 8 + len(js) + 8 + len(bin_))
 out += struct.pack("<I", len(js)) + b"JSON" + js
 out += struct.pack("<I", len(bin_)) + b"BIN\0" + bytes(bin_)
-with open("tests/data/motion/SkinnedMorphed.glb", "wb") as f:
+with open(OUT, "wb") as f:
     f.write(out)
