@@ -279,28 +279,31 @@ fn morphed_on_the_gpu_every_context_is_the_cpu_paths() {
     }
 }
 
-/// A pose of a mesh morphed on the GPU sets its weights and uploads nothing (`PoseCost`).
+/// A pose of a mesh morphed on the GPU, with or without a skin, sets its weights (and
+/// joints) and uploads nothing (`PoseCost`).
 #[test]
 fn a_gpu_morphed_pose_uploads_nothing() {
     at_repo();
-    let mut session = glview::session::Session::new();
-    let mut draw = |t: &str| {
-        let words = [MORPH_CUBE, "--size", "64x48", "--no-shadows", "--time", t];
-        let o = glview::Options::from_words(words).unwrap();
-        let mut profile = Default::default();
-        session
-            .draw(&o, None, Default::default(), &mut profile)
-            .unwrap();
-        profile
-    };
-    draw("0.5");
-    let p = draw("1.5");
-    assert_eq!(p.scene_uploads, 0, "loaded once");
-    assert!(
-        p.pose
-            .is_some_and(|p| p.skinned == 1 && p.meshes == 0 && p.bytes == 0),
-        "posed again on the GPU: {p:?}"
-    );
+    for model in [MORPH_CUBE, SKINNED_MORPHED] {
+        let mut session = glview::session::Session::new();
+        let mut draw = |t: &str| {
+            let words = [model, "--size", "64x48", "--no-shadows", "--time", t];
+            let o = glview::Options::from_words(words).unwrap();
+            let mut profile = Default::default();
+            session
+                .draw(&o, None, Default::default(), &mut profile)
+                .unwrap();
+            profile
+        };
+        draw("0.5");
+        let p = draw("1.5");
+        assert_eq!(p.scene_uploads, 0, "{model}: loaded once");
+        assert!(
+            p.pose
+                .is_some_and(|p| p.skinned == 1 && p.meshes == 0 && p.bytes == 0),
+            "{model}: posed again on the GPU: {p:?}"
+        );
+    }
 }
 
 const SKINNED_MORPHED: &str = "tests/data/motion/SkinnedMorphed.glb";
