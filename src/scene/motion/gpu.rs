@@ -13,7 +13,8 @@ use crate::scene::{Scene, UpAxis};
 use glam::{DMat4, DVec3, Mat4};
 
 /// Vertex uniform components kept for the programs' other uniforms (matrices, point size,
-/// the Gouraud variant's lights): a joint matrix is 16 components, GL 2.1's minimum budget
+/// the Gouraud variant's lights, a morphed draw's three weight vectors, which a skinned and
+/// morphed draw adds to its joints): a joint matrix is 16 components, GL 2.1's minimum budget
 /// is 512, so a GL 2.1 driver at the minimum skins up to 16 joints.
 pub const RESERVED_COMPONENTS: u32 = 256;
 
