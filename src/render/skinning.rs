@@ -1,8 +1,9 @@
 //! Skinning on the GPU (issue 39): the meshes a rig skins that can be
-//! ([`crate::scene::motion::gpu`]: one joint set, the file's normals, no morph targets, a
-//! skin within the context's vertex uniform budget, and the file's tangents where the
-//! material needs tangents) are uploaded once in bind space with their joints and weights
-//! (attributes 10 and 11), and drawn by the `SKINNED` variant of every program that reads
+//! ([`crate::scene::motion::gpu`]: one joint set, the file's normals, a skin within the
+//! context's vertex uniform budget, morph targets (if any) within the free attributes, and
+//! the file's tangents where the material needs tangents) are uploaded once in bind space
+//! with their joints and weights (attributes 10 and 11; morph deltas from 12), and drawn by
+//! the `SKINNED` variant (and `MORPHED` with targets) of every program that reads
 //! positions (lit, PBR, depth, attributes) with their skin's joint matrices as a uniform
 //! array, set per draw. A pose computes the joint matrices only ([`Renderer::pose`] poses the
 //! other meshes on the CPU). `GLVIEW_SKINNING=cpu` keeps every mesh on the CPU path (the

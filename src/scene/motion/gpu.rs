@@ -1,7 +1,8 @@
 //! What the renderer needs to skin or morph a mesh on the GPU instead of posing it on the
 //! CPU: which moving meshes can be (skinned: one JOINTS_0/WEIGHTS_0 set, the file's normals,
-//! no morph targets, a joint count within the context's vertex uniform budget; morphed: no
-//! skin, the file's normals, the targets' deltas within the free vertex attributes), their
+//! a joint count within the context's vertex uniform budget; morphed: the file's normals,
+//! the targets' deltas within the free vertex attributes; a mesh with both is skinned and
+//! morphed by one program when both fit), their
 //! bind-space streams in the order of the scene mesh's vertices, each skin's joint matrices
 //! at a moment in the scene's local coordinates, and each morphed part's node matrix (drawn
 //! as a one-joint skin) and weights. Everything else stays on the CPU path, mesh by mesh.
@@ -12,7 +13,8 @@ use crate::scene::{Scene, UpAxis};
 use glam::{DMat4, DVec3, Mat4};
 
 /// Vertex uniform components kept for the programs' other uniforms (matrices, point size,
-/// the Gouraud variant's lights): a joint matrix is 16 components, GL 2.1's minimum budget
+/// the Gouraud variant's lights, a morphed draw's three weight vectors, which a skinned and
+/// morphed draw adds to its joints): a joint matrix is 16 components, GL 2.1's minimum budget
 /// is 512, so a GL 2.1 driver at the minimum skins up to 16 joints.
 pub const RESERVED_COMPONENTS: u32 = 256;
 
@@ -28,7 +30,6 @@ pub enum CpuBecause {
     NotSkinned,
     JointSets(usize),
     NoFileNormals,
-    MorphTargets,
     /// The skin's joints, over the budget.
     OverBudget(usize),
     /// Another primitive shares the scene mesh, or the vertex count changed.
@@ -92,7 +93,7 @@ pub fn morph_slots(
         .collect()
 }
 
-/// The decision for a part with morph targets and no skin, without GL: `slots` delta
+/// The decision for a part's morph targets (skinned or not), without GL: `slots` delta
 /// attributes against `budget` free attributes ([`morph_budget`]), file normals or not.
 pub fn decide_morph(slots: usize, normals: bool, budget: usize) -> Result<(), CpuBecause> {
     if !normals {
@@ -117,21 +118,22 @@ pub struct GpuSkinned {
     pub normals: Vec<[f32; 3]>,
     /// The file's tangents, the handedness made ±1 as the CPU pose makes it (None: none).
     pub tangents: Option<Vec<[f32; 4]>>,
-    /// JOINTS_0 as floats (exact below 2^24) and WEIGHTS_0 (a morphed part: joint 0,
-    /// weight 1, its node's matrix the one joint).
+    /// JOINTS_0 as floats (exact below 2^24) and WEIGHTS_0 (a morphed part without a skin:
+    /// joint 0, weight 1, its node's matrix the one joint).
     pub joint_ids: Vec<[f32; 4]>,
     pub weights: Vec<[f32; 4]>,
-    /// Morphed on the GPU (no skin): its targets' deltas.
+    /// Morphed on the GPU (with its skin, or alone as a one-joint skin): its targets'
+    /// deltas, added before the skin's matrices as the spec orders.
     pub morph: Option<GpuMorph>,
 }
 
-/// The decision for one part, without GL: a skin with `joints` joints, `sets` joint sets,
-/// file normals or not, morph targets or not, against `budget` joints.
+/// The decision for one skinned part's skin, without GL: a skin with `joints` joints,
+/// `sets` joint sets, file normals or not, against `budget` joints (its morph targets, if
+/// any, are [`decide_morph`]'s).
 pub fn decide(
     joints: Option<usize>,
     sets: usize,
     normals: bool,
-    morphs: bool,
     budget: usize,
 ) -> Result<(), CpuBecause> {
     let Some(joints) = joints else {
@@ -142,9 +144,6 @@ pub fn decide(
     }
     if !normals {
         return Err(CpuBecause::NoFileNormals);
-    }
-    if morphs {
-        return Err(CpuBecause::MorphTargets);
     }
     if joints > budget {
         return Err(CpuBecause::OverBudget(joints));
@@ -201,7 +200,7 @@ impl Rig {
             };
             let made = shape.and_then(|()| match p.skin {
                 None if !p.src.targets.is_empty() => self.gpu_morphed(scene, i, morphs),
-                _ => self.gpu_skin_part(p, budget),
+                _ => self.gpu_skin_part(scene, i, (budget, morphs)),
             });
             match made {
                 Ok(s) => gpu.push(s),
@@ -211,29 +210,27 @@ impl Rig {
         (gpu, cpu)
     }
 
-    /// Part `p` skinned on the GPU, or why not.
-    fn gpu_skin_part(&self, p: &super::rig::Part, budget: usize) -> Result<GpuSkinned, CpuBecause> {
+    /// Part `i` skinned on the GPU (`budget`: joints, free attributes), its morph targets
+    /// with it where they move anything, or why not.
+    fn gpu_skin_part(
+        &self,
+        scene: &Scene,
+        i: usize,
+        (budget, morphs): (usize, usize),
+    ) -> Result<GpuSkinned, CpuBecause> {
+        let p = &self.parts[i];
         let joints = p
             .skin
             .and_then(|s| self.plan.skins.get(s)?.as_ref())
             .map(|s| s.joints.len());
-        let morphs = p
-            .src
-            .targets
-            .iter()
-            .any(|t| t.positions.is_some() || t.normals.is_some() || t.tangents.is_some());
-        decide(
-            joints,
-            p.src.sets.len(),
-            p.src.normals.is_some(),
-            morphs,
-            budget,
-        )?;
+        decide(joints, p.src.sets.len(), p.src.normals.is_some(), budget)?;
         let (Some(skin), Some(joints), Some(normals), Some((js, ws))) =
             (p.skin, joints, &p.src.normals, p.src.sets.first())
         else {
             return Err(CpuBecause::Shape);
         };
+        // Targets that move nothing (or no targets) take no attribute: plain skinning.
+        let morph = Some(self.gpu_morph(scene, i, morphs)?).filter(|m| !m.slots.is_empty());
         Ok(GpuSkinned {
             mesh: p.mesh,
             skin,
@@ -243,18 +240,14 @@ impl Rig {
             tangents: file_tangents(&p.src),
             joint_ids: js.iter().map(|j| j.map(f32::from)).collect(),
             weights: ws.clone(),
-            morph: None,
+            morph,
         })
     }
 
-    /// Part `i` (morph targets, no skin) morphed on the GPU, or why not: a one-joint skin
-    /// (index `skins + i` of [`Rig::gpu_joints`]: its node's matrix) with its deltas.
-    fn gpu_morphed(
-        &self,
-        scene: &Scene,
-        i: usize,
-        budget: usize,
-    ) -> Result<GpuSkinned, CpuBecause> {
+    /// Part `i`'s morph targets on the GPU within `budget` free attributes, skinned or not:
+    /// one slot per delta stream the draw uses ([`morph_slots`]: tangents only where its
+    /// material needs them), or why not ([`decide_morph`]).
+    fn gpu_morph(&self, scene: &Scene, i: usize, budget: usize) -> Result<GpuMorph, CpuBecause> {
         let p = &self.parts[i];
         let tangents = scene.meshes.get(p.mesh).is_some_and(|m| {
             m.has_uv
@@ -273,14 +266,31 @@ impl Rig {
         };
         let slots = morph_slots(p.src.targets.len(), tangents, |k, t| pick(k, t).is_some());
         decide_morph(slots.len(), p.src.normals.is_some(), budget)?;
-        let Some(normals) = &p.src.normals else {
-            return Err(CpuBecause::NoFileNormals);
-        };
-        let n = p.src.positions.len() / 3;
         let deltas = slots
             .iter()
             .map(|&(k, t)| pick(k, t).map_or_else(Vec::new, |d| f3(d)))
             .collect();
+        Ok(GpuMorph {
+            part: i,
+            slots,
+            deltas,
+        })
+    }
+
+    /// Part `i` (morph targets, no skin) morphed on the GPU, or why not: a one-joint skin
+    /// (index `skins + i` of [`Rig::gpu_joints`]: its node's matrix) with its deltas.
+    fn gpu_morphed(
+        &self,
+        scene: &Scene,
+        i: usize,
+        budget: usize,
+    ) -> Result<GpuSkinned, CpuBecause> {
+        let morph = self.gpu_morph(scene, i, budget)?;
+        let p = &self.parts[i];
+        let Some(normals) = &p.src.normals else {
+            return Err(CpuBecause::NoFileNormals);
+        };
+        let n = p.src.positions.len() / 3;
         Ok(GpuSkinned {
             mesh: p.mesh,
             skin: self.plan.skins.len() + i,
@@ -290,11 +300,7 @@ impl Rig {
             tangents: file_tangents(&p.src),
             joint_ids: vec![[0.0; 4]; n],
             weights: vec![[1.0, 0.0, 0.0, 0.0]; n],
-            morph: Some(GpuMorph {
-                part: i,
-                slots,
-                deltas,
-            }),
+            morph: Some(morph),
         })
     }
 
@@ -455,24 +461,14 @@ mod tests {
     #[test]
     fn a_skin_over_the_budget_stays_on_the_cpu() {
         let b = joint_budget(512);
-        assert_eq!(decide(Some(16), 1, true, false, b), Ok(()));
+        assert_eq!(decide(Some(16), 1, true, b), Ok(()));
         assert_eq!(
-            decide(Some(19), 1, true, false, b),
+            decide(Some(19), 1, true, b),
             Err(CpuBecause::OverBudget(19))
         );
-        assert_eq!(
-            decide(Some(2), 2, true, false, b),
-            Err(CpuBecause::JointSets(2))
-        );
-        assert_eq!(
-            decide(Some(2), 1, false, false, b),
-            Err(CpuBecause::NoFileNormals)
-        );
-        assert_eq!(
-            decide(Some(2), 1, true, true, b),
-            Err(CpuBecause::MorphTargets)
-        );
-        assert_eq!(decide(None, 0, true, false, b), Err(CpuBecause::NotSkinned));
+        assert_eq!(decide(Some(2), 2, true, b), Err(CpuBecause::JointSets(2)));
+        assert_eq!(decide(Some(2), 1, false, b), Err(CpuBecause::NoFileNormals));
+        assert_eq!(decide(None, 0, true, b), Err(CpuBecause::NotSkinned));
     }
 
     #[test]
@@ -533,6 +529,63 @@ mod tests {
                 worst = (worst.0.max(dp), worst.1.max(dn));
             }
             // Positions are in the scene's units (the cube is 2 wide): f32 rounding.
+            assert!(
+                worst.0 < 1e-5 && worst.1 < 1e-5,
+                "{seconds:?}: off by {worst:?}"
+            );
+        }
+    }
+
+    /// A mesh both skinned and morphed (tests/data/motion/SkinnedMorphed.glb, made by
+    /// scripts/make_skinned_morphed.py): the shader's order, the weighted deltas added to
+    /// the bind streams and then the vertex's skin matrix (normals by its inverse transpose,
+    /// normalised), puts every vertex and normal where the CPU pose does, at the static pose
+    /// and at two moments where both the joint and the weights are away from rest.
+    #[test]
+    fn gpu_skin_and_morph_streams_are_the_cpu_pose() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/motion/SkinnedMorphed.glb");
+        let bytes = std::fs::read(&path).expect("committed test file");
+        let mut scene =
+            crate::scene::load::load_bytes(&path, &bytes, &LoadOptions::default()).expect("loads");
+        let rig = scene.motion.clone().expect("a rig");
+        let (gpu, cpu) = rig.gpu_skinned(&scene, 2, 4);
+        assert!(cpu.is_empty(), "{cpu:?}");
+        let s = &gpu[0];
+        let m = s.morph.as_ref().expect("morphed with its skin");
+        assert_eq!((s.skin, s.joints, m.slots.len()), (0, 2, 4));
+        let rest = scene.meshes[s.mesh].vertices.clone();
+        for seconds in [None, Some(0.6), Some(1.3)] {
+            let moment = seconds.map(|seconds| Moment {
+                animation: 0,
+                seconds,
+            });
+            scene.pose(moment).expect("poses");
+            if moment.is_some() {
+                assert_ne!(scene.meshes[s.mesh].vertices, rest, "{seconds:?}: moved");
+            }
+            let joints = &rig.gpu_joints(moment)[s.skin];
+            let [up, un, _] = morph_uniforms(&m.slots, &rig.gpu_weights(moment)[m.part]);
+            let mut worst = (0.0f32, 0.0f32);
+            for (v, want) in scene.meshes[s.mesh].vertices.iter().enumerate() {
+                let sum = |u: [f32; 4], base: [f32; 3]| {
+                    let mut p = glam::Vec3::from(base);
+                    for (k, d) in m.deltas.iter().enumerate() {
+                        p += u[k] * glam::Vec3::from(d[v]);
+                    }
+                    p
+                };
+                let mut skin_m = Mat4::ZERO;
+                for k in 0..4 {
+                    skin_m += joints[s.joint_ids[v][k] as usize] * s.weights[v][k];
+                }
+                let p = skin_m.transform_point3(sum(up, s.positions[v]));
+                let normal_m = glam::Mat3::from_mat4(skin_m).inverse().transpose();
+                let n = (normal_m * sum(un, s.normals[v])).normalize();
+                let dp = (p - glam::Vec3::from(want.position)).abs().max_element();
+                let dn = (n - glam::Vec3::from(want.normal)).abs().max_element();
+                worst = (worst.0.max(dp), worst.1.max(dn));
+            }
             assert!(
                 worst.0 < 1e-5 && worst.1 < 1e-5,
                 "{seconds:?}: off by {worst:?}"

@@ -508,3 +508,83 @@ fn a_pose_rewrites_only_the_meshes_its_animations_move() {
     }
     assert_eq!(s.pose(None).expect("poses"), all, "to the static pose");
 }
+
+/// The skinned triangle of [`skinned`] with two morph targets moving positions and normals
+/// (`normals`: with normal deltas): four delta attributes, or two without.
+fn skinned_morphed(normals: bool) -> Vec<u8> {
+    let mut g = Glb::default();
+    let pos = g.floats(&TRIANGLE, "VEC3", 3);
+    let nrm = g.floats(&[1.0, 0.0, 0.0].repeat(3), "VEC3", 3);
+    let j = g.u16s(&JOINTS, "VEC4");
+    let w = g.floats(
+        &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.5, 0.5, 0.0, 0.0],
+        "VEC4",
+        3,
+    );
+    let ibm = g.floats(&IDENTITY_AND_DOWN_1, "MAT4", 2);
+    let up = g.floats(&[0.0, 0.0, 2.0].repeat(3), "VEC3", 3);
+    let side = g.floats(&[4.0, 0.0, 0.0].repeat(3), "VEC3", 3);
+    let tilt = g.floats(&[0.0, 0.0, 0.5].repeat(3), "VEC3", 3);
+    let n = |a: usize| {
+        if normals {
+            format!(r#","NORMAL":{a}"#)
+        } else {
+            String::new()
+        }
+    };
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    g.bytes(&format!(
+        r#""scene":0,"scenes":[{{"nodes":[0,1]}}],
+"nodes":[{{"mesh":0,"skin":0}},{{"children":[2]}},
+{{"translation":[0,1,0],"rotation":[0,0,{s},{s}]}}],
+"skins":[{{"joints":[1,2],"inverseBindMatrices":{ibm}}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{pos},"NORMAL":{nrm},"JOINTS_0":{j},"WEIGHTS_0":{w}}},
+"targets":[{{"POSITION":{up}{}}},{{"POSITION":{side}{}}}]}}],"weights":[0.5,0.25]}}]"#,
+        n(tilt),
+        n(tilt)
+    ))
+}
+
+/// A part both skinned and morphed goes to the GPU as one draw (its real skin's joints and
+/// JOINTS_0/WEIGHTS_0, and its targets' deltas) when the skin fits the joint budget and the
+/// deltas the free attributes; over either, the CPU with the reason.
+#[test]
+fn a_skinned_and_morphed_part_is_decided_by_both_budgets() {
+    use super::gpu::{CpuBecause, MorphKind};
+    let s = load(&skinned_morphed(true));
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let rig = s.motion.clone().expect("a rig");
+    let (gpu, cpu) = rig.gpu_skinned(&s, 2, 4);
+    assert!(cpu.is_empty(), "{cpu:?}");
+    let g = &gpu[0];
+    assert_eq!((g.mesh, g.skin, g.joints), (0, 0, 2));
+    assert_eq!(g.joint_ids[1], [1.0, 0.0, 0.0, 0.0]);
+    assert_eq!(g.weights[2], [0.5, 0.5, 0.0, 0.0]);
+    let m = g.morph.as_ref().expect("morphed with its skin");
+    use MorphKind::{Normal, Position};
+    assert_eq!(
+        m.slots,
+        vec![(Position, 0), (Position, 1), (Normal, 0), (Normal, 1)]
+    );
+    assert_eq!(
+        (m.part, m.deltas[1][0], m.deltas[3][2]),
+        (0, [4.0, 0.0, 0.0], [0.0, 0.0, 0.5])
+    );
+    let (gpu, cpu) = rig.gpu_skinned(&s, 1, 4);
+    assert!(gpu.is_empty());
+    assert_eq!(cpu, vec![(0, CpuBecause::OverBudget(2))]);
+    let (gpu, cpu) = rig.gpu_skinned(&s, 2, 3);
+    assert!(gpu.is_empty());
+    assert_eq!(cpu, vec![(0, CpuBecause::MorphOverBudget(4))]);
+    // Position deltas only: two attributes, which fit 3.
+    let s = load(&skinned_morphed(false));
+    let rig = s.motion.clone().expect("a rig");
+    let (gpu, _) = rig.gpu_skinned(&s, 2, 3);
+    let m = gpu[0].morph.as_ref().expect("morphed with its skin");
+    assert_eq!(m.slots, vec![(Position, 0), (Position, 1)]);
+    // A skinned part without targets is plain skinning (no morph attributes).
+    let s = load(&skinned(&JOINTS, &IDENTITY_AND_DOWN_1));
+    let rig = s.motion.clone().expect("a rig");
+    let (gpu, _) = rig.gpu_skinned(&s, 2, 0);
+    assert!(gpu[0].morph.is_none());
+}
