@@ -345,7 +345,6 @@ impl Rig {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::LoadOptions;
 
     fn rigged_simple() -> Scene {
         super::super::tests::sample("RiggedSimple.glb")
@@ -393,11 +392,7 @@ mod tests {
     /// moments of its walk; how much larger it is than each moment's own sphere is printed.
     #[test]
     fn the_framing_sphere_holds_every_moment() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data/khronos/motion/CesiumMan.glb");
-        let bytes = std::fs::read(&path).expect("committed sample");
-        let mut scene =
-            crate::scene::load::load_bytes(&path, &bytes, &LoadOptions::default()).expect("loads");
+        let mut scene = super::super::tests::sample("CesiumMan.glb");
         let rig = scene.motion.clone().expect("a rig");
         let (gpu, _) = rig.gpu_skinned(&scene, 64, 4);
         let mesh = gpu.first().expect("skinned on the GPU").mesh;
@@ -510,30 +505,49 @@ mod tests {
                 seconds,
             });
             scene.pose(moment).expect("poses");
-            let node = rig.gpu_joints(moment)[s.skin][0];
-            let [up, un, _] = morph_uniforms(&m.slots, &rig.gpu_weights(moment)[m.part]);
-            let normal_m = glam::Mat3::from_mat4(node).inverse().transpose();
-            let mut worst = (0.0f32, 0.0f32);
-            for (v, want) in scene.meshes[s.mesh].vertices.iter().enumerate() {
-                let sum = |u: [f32; 4], base: [f32; 3]| {
-                    let mut p = glam::Vec3::from(base);
-                    for (k, d) in m.deltas.iter().enumerate() {
-                        p += u[k] * glam::Vec3::from(d[v]);
-                    }
-                    p
-                };
-                let p = node.transform_point3(sum(up, s.positions[v]));
-                let n = (normal_m * sum(un, s.normals[v])).normalize();
-                let dp = (p - glam::Vec3::from(want.position)).abs().max_element();
-                let dn = (n - glam::Vec3::from(want.normal)).abs().max_element();
-                worst = (worst.0.max(dp), worst.1.max(dn));
-            }
+            let worst = shader_pose_error(&rig, s, moment, &scene.meshes[s.mesh].vertices);
             // Positions are in the scene's units (the cube is 2 wide): f32 rounding.
             assert!(
                 worst.0 < 1e-5 && worst.1 < 1e-5,
                 "{seconds:?}: off by {worst:?}"
             );
         }
+    }
+
+    /// How far the shader's pose of `s` at `moment` — the slots' deltas weighted by the
+    /// uniforms added to the bind streams, then the vertex's skin matrix (a morphed part's:
+    /// its node's, the one joint), normals by its inverse transpose, normalised — lies from
+    /// `posed` (the CPU pose), in position and in normal.
+    fn shader_pose_error(
+        rig: &Rig,
+        s: &GpuSkinned,
+        moment: Option<Moment>,
+        posed: &[crate::scene::Vertex],
+    ) -> (f32, f32) {
+        let m = s.morph.as_ref().expect("morphed");
+        let joints = &rig.gpu_joints(moment)[s.skin];
+        let [up, un, _] = morph_uniforms(&m.slots, &rig.gpu_weights(moment)[m.part]);
+        let mut worst = (0.0f32, 0.0f32);
+        for (v, want) in posed.iter().enumerate() {
+            let sum = |u: [f32; 4], base: [f32; 3]| {
+                let mut p = glam::Vec3::from(base);
+                for (k, d) in m.deltas.iter().enumerate() {
+                    p += u[k] * glam::Vec3::from(d[v]);
+                }
+                p
+            };
+            let mut skin_m = Mat4::ZERO;
+            for k in 0..4 {
+                skin_m += joints[s.joint_ids[v][k] as usize] * s.weights[v][k];
+            }
+            let p = skin_m.transform_point3(sum(up, s.positions[v]));
+            let normal_m = glam::Mat3::from_mat4(skin_m).inverse().transpose();
+            let n = (normal_m * sum(un, s.normals[v])).normalize();
+            let dp = (p - glam::Vec3::from(want.position)).abs().max_element();
+            let dn = (n - glam::Vec3::from(want.normal)).abs().max_element();
+            worst = (worst.0.max(dp), worst.1.max(dn));
+        }
+        worst
     }
 
     /// A mesh both skinned and morphed (tests/data/motion/SkinnedMorphed.glb, made by
@@ -543,11 +557,7 @@ mod tests {
     /// and at two moments where both the joint and the weights are away from rest.
     #[test]
     fn gpu_skin_and_morph_streams_are_the_cpu_pose() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/data/motion/SkinnedMorphed.glb");
-        let bytes = std::fs::read(&path).expect("committed test file");
-        let mut scene =
-            crate::scene::load::load_bytes(&path, &bytes, &LoadOptions::default()).expect("loads");
+        let mut scene = super::super::tests::committed("tests/data/motion/SkinnedMorphed.glb");
         let rig = scene.motion.clone().expect("a rig");
         let (gpu, cpu) = rig.gpu_skinned(&scene, 2, 4);
         assert!(cpu.is_empty(), "{cpu:?}");
@@ -564,28 +574,7 @@ mod tests {
             if moment.is_some() {
                 assert_ne!(scene.meshes[s.mesh].vertices, rest, "{seconds:?}: moved");
             }
-            let joints = &rig.gpu_joints(moment)[s.skin];
-            let [up, un, _] = morph_uniforms(&m.slots, &rig.gpu_weights(moment)[m.part]);
-            let mut worst = (0.0f32, 0.0f32);
-            for (v, want) in scene.meshes[s.mesh].vertices.iter().enumerate() {
-                let sum = |u: [f32; 4], base: [f32; 3]| {
-                    let mut p = glam::Vec3::from(base);
-                    for (k, d) in m.deltas.iter().enumerate() {
-                        p += u[k] * glam::Vec3::from(d[v]);
-                    }
-                    p
-                };
-                let mut skin_m = Mat4::ZERO;
-                for k in 0..4 {
-                    skin_m += joints[s.joint_ids[v][k] as usize] * s.weights[v][k];
-                }
-                let p = skin_m.transform_point3(sum(up, s.positions[v]));
-                let normal_m = glam::Mat3::from_mat4(skin_m).inverse().transpose();
-                let n = (normal_m * sum(un, s.normals[v])).normalize();
-                let dp = (p - glam::Vec3::from(want.position)).abs().max_element();
-                let dn = (n - glam::Vec3::from(want.normal)).abs().max_element();
-                worst = (worst.0.max(dp), worst.1.max(dn));
-            }
+            let worst = shader_pose_error(&rig, s, moment, &scene.meshes[s.mesh].vertices);
             assert!(
                 worst.0 < 1e-5 && worst.1 < 1e-5,
                 "{seconds:?}: off by {worst:?}"

@@ -104,10 +104,13 @@ pub(crate) fn load(bytes: &[u8]) -> Scene {
 
 /// A Khronos sample committed under tests/data/khronos/motion/ (`name`: its file name).
 pub(crate) fn sample(name: &str) -> Scene {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/khronos/motion")
-        .join(name);
-    let bytes = std::fs::read(&path).expect("committed sample");
+    committed(&format!("tests/data/khronos/motion/{name}"))
+}
+
+/// A committed test file, by its path from the repository's root, loaded.
+pub(crate) fn committed(path: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(path);
+    let bytes = std::fs::read(&path).expect("committed test file");
     load_bytes(&path, &bytes, &LoadOptions::default()).expect("loads")
 }
 
