@@ -9,7 +9,6 @@
 //! Meshes skinned on the GPU ([`super::skinning`]) are not posed on the CPU or uploaded: a
 //! pose sets their skins' joint matrices and bounds them by the animation's framing bounds.
 use super::instancing::Role;
-use super::shadow_rect::{points_box, union};
 use super::upload::{instanced_head, whole_draw_mesh_into, SceneGpu};
 use super::Renderer;
 use crate::scene::clusters::{Clusters, MIN_TRIANGLES};
@@ -166,12 +165,15 @@ impl Renderer {
     /// every copy's).
     fn draws_within(&self, i: usize, role: Option<&Role>) -> Bounds {
         let scene = &self.scene.scene;
-        let of = |m: usize| points_box(scene.meshes[m].vertices.iter().map(|v| &v.position));
+        let of = |m: usize| {
+            let vertices = &scene.meshes[m].vertices;
+            Bounds::around(vertices.iter().map(|v| Vec3::from(v.position)))
+        };
         match role {
             Some(Role::Head(copies)) => copies
                 .meshes
                 .iter()
-                .fold(Bounds::empty(), |b, &m| union(&b, &of(m))),
+                .fold(Bounds::empty(), |b, &m| b.union(&of(m))),
             _ => of(i),
         }
     }
@@ -179,7 +181,7 @@ impl Renderer {
     /// Draw mesh `i` moved from box `was` to box `now`: the shadow maps are drawn again
     /// over both at the next frame ([`super::shadow_rect`]).
     fn mark_moved(&mut self, i: usize, was: &Bounds, now: Bounds) {
-        self.res.shadow.moved(&union(was, &now));
+        self.res.shadow.moved(&was.union(&now));
         self.res.shadow.boxes.is(i, now);
     }
 }

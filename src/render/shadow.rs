@@ -99,10 +99,7 @@ impl ShadowState {
         }
         self.moved.push(*b);
         if self.moved.len() > MOVED_BOXES {
-            let all = self
-                .moved
-                .iter()
-                .fold(Bounds::empty(), |a, b| super::shadow_rect::union(&a, b));
+            let all = self.moved.iter().fold(Bounds::empty(), |a, b| a.union(b));
             self.moved = vec![all];
         }
     }

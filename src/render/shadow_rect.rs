@@ -27,12 +27,7 @@ pub(crate) fn rect(vp: &Mat4, b: &Bounds, face: u32) -> Option<[u32; 4]> {
         glam::Vec2::splat(f32::INFINITY),
         glam::Vec2::splat(f32::NEG_INFINITY),
     );
-    for i in 0..8 {
-        let p = Vec3::new(
-            if i & 1 == 0 { b.min.x } else { b.max.x },
-            if i & 2 == 0 { b.min.y } else { b.max.y },
-            if i & 4 == 0 { b.min.z } else { b.max.z },
-        );
+    for p in b.corners() {
         let c = *vp * Vec4::from((p, 1.0));
         // NaN compares false: not finite either way.
         if c.w <= 1e-6 || !c.is_finite() {
@@ -72,23 +67,6 @@ pub(crate) fn sphere_box(center: Vec3, radius: f32) -> Bounds {
     Bounds {
         min: center - Vec3::splat(radius),
         max: center + Vec3::splat(radius),
-    }
-}
-
-/// The box around points.
-pub(crate) fn points_box<'a>(points: impl IntoIterator<Item = &'a [f32; 3]>) -> Bounds {
-    let mut b = Bounds::empty();
-    for p in points {
-        b.include(Vec3::from(*p));
-    }
-    b
-}
-
-/// The smallest box holding both.
-pub(crate) fn union(a: &Bounds, b: &Bounds) -> Bounds {
-    Bounds {
-        min: a.min.min(b.min),
-        max: a.max.max(b.max),
     }
 }
 

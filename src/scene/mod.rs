@@ -98,11 +98,7 @@ pub struct Mesh {
 /// The bounding sphere (centre of the box, farthest vertex) the renderer culls a mesh with;
 /// the mesh cache stores it for meshes it keeps compact ([`meshes::Compact`]).
 pub(crate) fn bounding_sphere(vertices: &[Vertex]) -> (Vec3, f32) {
-    let mut b = Bounds::empty();
-    for v in vertices {
-        b.include(v.position.into());
-    }
-    let center = b.center();
+    let center = Bounds::around(vertices.iter().map(|v| Vec3::from(v.position))).center();
     let radius = vertices
         .iter()
         .map(|v| (Vec3::from(v.position) - center).length())
@@ -175,6 +171,21 @@ impl Bounds {
     pub fn include(&mut self, p: Vec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
+    }
+    /// The box around `points` (empty without any).
+    pub(crate) fn around(points: impl IntoIterator<Item = Vec3>) -> Self {
+        let mut b = Bounds::empty();
+        for p in points {
+            b.include(p);
+        }
+        b
+    }
+    /// The smallest box holding both.
+    pub(crate) fn union(&self, other: &Bounds) -> Bounds {
+        Bounds {
+            min: self.min.min(other.min),
+            max: self.max.max(other.max),
+        }
     }
     pub(crate) fn is_empty(&self) -> bool {
         self.min.x > self.max.x
@@ -384,10 +395,12 @@ impl Scene {
 
     /// A scene built in code (tests, generators): local coordinates are file coordinates.
     pub fn from_meshes(name: &str, meshes: Vec<Mesh>, materials: Vec<Material>) -> Scene {
-        let mut bounds = Bounds::empty();
-        for v in meshes.iter().flat_map(|m| &m.vertices) {
-            bounds.include(Vec3::from(v.position));
-        }
+        let bounds = Bounds::around(
+            meshes
+                .iter()
+                .flat_map(|m| &m.vertices)
+                .map(|v| Vec3::from(v.position)),
+        );
         Scene {
             name: name.into(),
             meshes: meshes.into(),

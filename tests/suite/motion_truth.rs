@@ -203,25 +203,6 @@ const CONTEXTS: [Context; 5] = [
     ),
 ];
 
-/// AnimatedMorphCube at `time` on a context through the binary: the picture and the
-/// programs `--stats` lists.
-fn morph_cube(
-    dir: &std::path::Path,
-    name: &str,
-    time: &str,
-    ctx: Context,
-    cpu: bool,
-) -> (Rgba, String) {
-    drawn(
-        MORPH_CUBE,
-        dir,
-        &format!("morph-{}-{time}{name}", ctx.0),
-        time,
-        ctx,
-        cpu,
-    )
-}
-
 /// `model` at `time` on a context through the binary (64×48, no shadows), written to
 /// `name`.png: the picture and the programs `--stats` lists.
 fn drawn(
@@ -259,19 +240,20 @@ fn morphed_on_the_gpu_every_context_is_the_cpu_paths() {
     for ctx in CONTEXTS {
         let mut seen = Vec::new();
         for time in ["0.5", "1.5"] {
-            let (gpu, stats) = morph_cube(&dir, "", time, ctx, false);
+            let name = format!("morph-{}-{time}", ctx.0);
+            let (gpu, stats) = drawn(MORPH_CUBE, &dir, &name, time, ctx, false);
             assert!(
                 stats.contains(",morph,m4]"),
                 "{}: not morphed on the GPU: {stats}",
                 ctx.0
             );
-            let (cpu, stats) = morph_cube(&dir, "-cpu", time, ctx, true);
+            let (cpu, stats) = drawn(MORPH_CUBE, &dir, &format!("{name}-cpu"), time, ctx, true);
             assert!(!stats.contains(",morph,"), "{}: {stats}", ctx.0);
             assert!(
                 gpu.data == cpu.data,
                 "{} at {time} s: morphed on the GPU is not the CPU path's picture: {}",
                 ctx.0,
-                write_diff(&dir, &format!("morph-{}-{time}", ctx.0), &gpu, &cpu).display()
+                write_diff(&dir, &name, &gpu, &cpu).display()
             );
             seen.push(gpu.data);
         }
