@@ -52,7 +52,7 @@ impl Renderer {
                 .scene
                 .motion
                 .as_ref()
-                .map(|r| (r.gpu_joints(moment), r.gpu_weights(moment)))
+                .map(|r| r.gpu_pose(moment))
                 .unwrap_or_default();
             let bounds = moment.map(|_| self.scene.scene.bounds);
             let was = self.boxes_were(&self.scene.skins.meshes);

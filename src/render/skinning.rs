@@ -64,10 +64,11 @@ pub(crate) fn plan(gpu: &GpuRef, scene: &Scene, allowed: bool) -> (GpuSkins, Vec
     for (mesh, why) in cpu {
         log::debug!("mesh {mesh}: posed on the CPU ({why:?})");
     }
+    let (joints, weights) = rig.gpu_pose(scene.posed);
     let skins = GpuSkins {
         meshes: skinned.iter().map(|s| s.mesh).collect(),
-        joints: rig.gpu_joints(scene.posed),
-        weights: rig.gpu_weights(scene.posed),
+        joints,
+        weights,
         slots: skinned
             .iter()
             .filter_map(|s| s.morph.as_ref().map(|m| (m.part, m.slots.clone())))

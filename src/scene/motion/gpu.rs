@@ -304,10 +304,20 @@ impl Rig {
         })
     }
 
+    /// [`Rig::gpu_joints`] and [`Rig::gpu_weights`] at `moment`, from one pose of the
+    /// node graph (what a frame of a GPU-skinned or -morphed scene sets).
+    pub fn gpu_pose(&self, moment: Option<Moment>) -> (Vec<Vec<Mat4>>, Vec<Vec<f32>>) {
+        let posed = self.posed(moment);
+        (self.joints_in(&posed), self.weights_in(&posed))
+    }
+
     /// Each part's morph weights at `moment` (the node's animated weights, else the node's
     /// or the mesh's), for [`morph_uniforms`].
     pub fn gpu_weights(&self, moment: Option<Moment>) -> Vec<Vec<f32>> {
-        let posed = self.posed(moment);
+        self.weights_in(&self.posed(moment))
+    }
+
+    fn weights_in(&self, posed: &super::pose::Posed) -> Vec<Vec<f32>> {
         self.parts
             .iter()
             .map(|p| {
@@ -324,7 +334,10 @@ impl Rig {
     /// (an unusable skin: none); then each part's node matrix as a one-joint skin (what a
     /// part morphed on the GPU is drawn with).
     pub fn gpu_joints(&self, moment: Option<Moment>) -> Vec<Vec<Mat4>> {
-        let posed = self.posed(moment);
+        self.joints_in(&self.posed(moment))
+    }
+
+    fn joints_in(&self, posed: &super::pose::Posed) -> Vec<Vec<Mat4>> {
         let to_scene = DMat4::from_translation(-self.origin) * up_matrix(self.up);
         let skins = self.plan.skins.iter().map(|s| {
             s.as_ref().map_or(Vec::new(), |s| {
