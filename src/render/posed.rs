@@ -42,10 +42,13 @@ impl Renderer {
         }
         let t = Instant::now();
         let bounds = self.scene.scene.bounds;
+        let since = self.scene.scene.posed;
         let gpu = std::mem::take(&mut self.scene.skins.meshes);
         let changed = self.scene.scene.pose_except(moment, &gpu);
         self.scene.skins.meshes = gpu;
         let changed = changed?;
+        let wire_moved =
+            (self.scene.scene.motion.as_ref()).is_some_and(|r| r.wire_may_move(since, moment));
         if !self.scene.skins.meshes.is_empty() {
             let joints = self
                 .scene
@@ -75,6 +78,9 @@ impl Renderer {
         let before = self.scene.uploaded.get();
         let t = Instant::now();
         self.refresh_meshes(&changed)?;
+        if wire_moved {
+            self.scene.refresh_wire()?;
+        }
         self.gpu.finish();
         self.pose_cost = PoseCost {
             pose_ms,

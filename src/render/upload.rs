@@ -261,7 +261,9 @@ impl SceneGpu {
             uploaded += bytes;
             meshes.push(dm);
         }
-        meshes.extend(wire_meshes(gpu, &scene)?);
+        let (wire, bytes) = wire_meshes(gpu, &scene)?;
+        meshes.extend(wire);
+        uploaded += bytes;
         gpu.check_error("upload")?;
         let caps = &gpu.caps;
         if !caps.depth_texture || !caps.shadow_compare {
@@ -290,6 +292,16 @@ impl SceneGpu {
                 !m.absorbed() && !view.outside(m.center, m.radius)
             })
             .collect()
+    }
+
+    /// Uploads the lines and points again (a pose moved them): the draw meshes after the
+    /// scene meshes are made anew, as a fresh upload makes them.
+    pub(crate) fn refresh_wire(&mut self) -> Result<()> {
+        let (wire, bytes) = wire_meshes(&self.gpu, &self.scene)?;
+        self.meshes.truncate(self.scene.meshes.count());
+        self.meshes.extend(wire);
+        self.uploaded.set(self.uploaded.get() + bytes);
+        self.gpu.check_error("upload lines and points")
     }
 
     /// Draw meshes that are drawn (every one but the copies drawn as instances).
@@ -617,7 +629,7 @@ pub(crate) fn upload_mesh_into(
 /// programs' `safeNormalize` turns them towards the eye, so a line is lit flat, as a face
 /// looking at the camera. Points are lit with their normals where the file gives them, else
 /// drawn unlit; per-point colours where given.
-fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
+fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<(Vec<DrawMesh>, u64)> {
     let w = &scene.wire;
     let has_normals = w.normals.len() == w.positions.len() && !w.positions.is_empty();
     let vertices: Vec<crate::scene::Vertex> = w
@@ -643,6 +655,7 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
         .fold(0.0f32, f32::max);
     let segments: Vec<u32> = w.segments.iter().flatten().copied().collect();
     let mut out = Vec::new();
+    let mut bytes = 0;
     for (indices, primitive) in [
         (segments, Primitive::Lines),
         (w.points.clone(), Primitive::Points),
@@ -655,6 +668,9 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
             ..Streams::default()
         };
         let mesh = GpuMesh::with_streams(gpu, &vertices, &indices, streams, primitive)?;
+        bytes += (std::mem::size_of_val(vertices.as_slice())
+            + colors.map_or(0, std::mem::size_of_val)
+            + std::mem::size_of_val(indices.as_slice())) as u64;
         out.push(DrawMesh {
             mesh: Resident::Full(mesh),
             material: 0,
@@ -674,7 +690,7 @@ fn wire_meshes(gpu: &GpuRef, scene: &Scene) -> Result<Vec<DrawMesh>> {
             skin: None,
         });
     }
-    Ok(out)
+    Ok((out, bytes))
 }
 
 /// Uploads scene mesh `s.mesh` in bind space with its joints and weights: the scene mesh's

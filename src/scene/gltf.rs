@@ -124,12 +124,11 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let sources = std::mem::take(&mut read.sources);
     let (meshes, mut bounds, mesh_of, parts) =
         build_meshes(read.prims, sources, (origin, default_index), opts);
+    let wire_parts = std::mem::take(&mut read.wire_sources);
     let mut wire = read.wire;
-    let mut wire_bounds = Bounds::empty();
     for q in &read.wire_pts {
         let l = (*q - origin).as_vec3();
         bounds.include(l);
-        wire_bounds.include(l);
         wire.positions.push(l.into());
     }
     if meshes.is_empty() && wire.is_empty() {
@@ -149,7 +148,13 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         opts,
         path,
     };
-    let motion = rig_of(plan, parts, (&meshes, wire_bounds), built, &mut maps);
+    let motion = rig_of(
+        plan,
+        (parts, wire_parts),
+        (&meshes, &wire),
+        built,
+        &mut maps,
+    );
     Ok(Scene {
         name: Scene::name_of(path),
         meshes: meshes.into(),
@@ -169,19 +174,31 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     })
 }
 
-/// The scene's rig (None: nothing can move) over `meshes` and the lines' and points'
-/// bounds, its `--check` lines added to `maps`.
+/// The moving lines' and points' sources as read: (first wire position, source, node, skin).
+type WireSources = Vec<(usize, super::motion::pose::Source, usize, Option<usize>)>;
+
+/// The scene's rig (None: nothing can move) over `meshes` and the lines and points, its
+/// `--check` lines added to `maps`.
 fn rig_of(
     plan: super::motion::Plan,
-    parts: Vec<super::motion::Part>,
-    (meshes, wire_bounds): (&[super::Mesh], super::Bounds),
+    (parts, wires): (Vec<super::motion::Part>, WireSources),
+    (meshes, wire): (&[super::Mesh], &super::Wire),
     built: super::motion::rig::Built,
     maps: &mut Vec<String>,
 ) -> Option<Arc<super::motion::Rig>> {
     if plan.is_empty() {
         return None;
     }
-    let rig = super::motion::Rig::new(plan, parts, meshes, wire_bounds, built);
+    let wires = wires
+        .into_iter()
+        .map(|(first, src, node, skin)| super::motion::WirePart {
+            first,
+            node,
+            skin,
+            src,
+        })
+        .collect();
+    let rig = super::motion::Rig::new(plan, (parts, wires), meshes, wire, built);
     maps.extend(rig.check_lines());
     Some(Arc::new(rig))
 }

@@ -41,6 +41,9 @@ pub(crate) struct Primitives {
     wire_unlit: bool,
     /// The moving primitives' sources: (index in `prims`, source, node, applied skin).
     pub(crate) sources: Vec<(usize, Source, usize, Option<usize>)>,
+    /// The moving lines' and points' sources: (their first index in `wire_pts`, source,
+    /// node, applied skin).
+    pub(crate) wire_sources: Vec<(usize, Source, usize, Option<usize>)>,
 }
 
 impl Primitives {
@@ -171,7 +174,15 @@ impl<'a> Instance<'a> {
                 let base = out.wire_pts.len() as u32;
                 // Points take their COLOR_0 and NORMAL (lit where every point has one).
                 let colors = self.colors(&p)?.0;
-                let normals = self.normals(&p, &where_, warnings)?;
+                // A moving node's lines and points are posed as its triangles are (skinned,
+                // morphed, carried by the node), in the static pose too.
+                let (positions, normals) = match self.moving {
+                    Some(m) => {
+                        let (q, n, _) = self.posed(&p, m, &where_(), out, warnings, true)?;
+                        (q, n)
+                    }
+                    None => (positions, self.normals(&p, &where_, warnings)?),
+                };
                 out.wire_attributes(positions.len(), colors, normals);
                 out.wire_pts.extend(&positions);
                 if p.mode() == Mode::Points {
@@ -183,7 +194,7 @@ impl<'a> Instance<'a> {
                 continue;
             }
             let (positions, normals, tangents) = match self.moving {
-                Some(m) => self.posed(&p, m, &where_(), out, warnings)?,
+                Some(m) => self.posed(&p, m, &where_(), out, warnings, false)?,
                 None => (
                     positions,
                     self.normals(&p, &where_, warnings)?,
@@ -214,7 +225,7 @@ impl<'a> Instance<'a> {
 
     /// A moving primitive's attributes in the static pose (skinned by its skin's joints or
     /// carried by the node, morphed by the static weights); its source is recorded in `out`
-    /// for the next `prims` entry.
+    /// for the next `prims` entry, or (`wire`: lines or points) for the next wire position.
     fn posed(
         &self,
         p: &gltf::Primitive,
@@ -222,6 +233,7 @@ impl<'a> Instance<'a> {
         label: &str,
         out: &mut Primitives,
         warnings: &mut Vec<Warning>,
+        wire: bool,
     ) -> Result<Placed, String> {
         let mut warn = |message| self.warn(warnings, message);
         let src = super::motion::source::read(
@@ -238,7 +250,12 @@ impl<'a> Instance<'a> {
         let placed = src.place(&deform, m.weights, self.up, false);
         check_range(&placed.0).map_err(|e| format!("{label}: node {}: {e}", self.node))?;
         let skin = m.skin.map(|s| s.0).filter(|_| !src.sets.is_empty());
-        out.sources.push((out.prims.len(), src, self.node, skin));
+        if wire {
+            out.wire_sources
+                .push((out.wire_pts.len(), src, self.node, skin));
+        } else {
+            out.sources.push((out.prims.len(), src, self.node, skin));
+        }
         Ok(placed)
     }
 

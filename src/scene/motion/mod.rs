@@ -15,7 +15,7 @@ pub(crate) mod source;
 #[cfg(test)]
 mod tests;
 
-pub(crate) use rig::{Moving, Part, Plan};
+pub(crate) use rig::{Moving, Part, Plan, WirePart};
 
 use super::{Bounds, Scene};
 use crate::error::Result;
@@ -57,8 +57,11 @@ pub struct Rig {
     meshes: Vec<usize>,
     /// By animation: the parts it moves (sorted indices into `parts`).
     reached: Vec<Vec<usize>>,
+    /// By animation: whether it moves any of `wires`.
+    wire_reached: Vec<bool>,
     plan: Plan,
     parts: Vec<Part>,
+    wires: Vec<rig::WirePart>,
     /// What the loader re-centred and built the meshes with.
     origin: glam::DVec3,
     up: super::UpAxis,
@@ -106,8 +109,8 @@ impl Scene {
             .is_some_and(|r| r.meshes.binary_search(&i).is_ok())
     }
 
-    /// Poses the meshes at `moment` (None: the static pose, as loaded) and returns the
-    /// indices of the meshes whose vertices were rewritten (their vertex count may change:
+    /// Poses the meshes, lines and points at `moment` (None: the static pose, as loaded)
+    /// and returns the indices of the meshes whose vertices were rewritten (their vertex count may change:
     /// generated normals are generated again). From one moment to another, a mesh that
     /// neither moment's animation moves is left as it is, and not returned (it would be
     /// rewritten with the same vertices). The bounds become the animation's framing
@@ -137,7 +140,11 @@ impl Scene {
                 ));
             }
         }
+        let wires = rig.placed_wires((self.posed, moment))?;
         let changed = rig.pose_into((self.posed, moment), gpu, &mut self.meshes)?;
+        if let Some(placed) = wires {
+            rig.write_wires(placed, &mut self.wire);
+        }
         self.bounds = match moment {
             None => rig.static_bounds,
             Some(m) => rig.framing(m.animation),

@@ -1,7 +1,7 @@
 //! The loader's side of motion: which nodes' meshes move ([`Plan`], read before the meshes),
 //! the moving primitives' sources ([`Part`]), and the [`Rig`] built from them once the
 //! scene's origin is known, which poses them again at any moment.
-use super::pose::{joint_matrices, Deform, Graph, Posed, Reach, Source};
+use super::pose::{joint_matrices, Deform, Graph, Placed, Posed, Reach, Source};
 use super::read::{Animation, Skin};
 use super::{Moment, Rig};
 use crate::error::{Error, Result};
@@ -62,6 +62,33 @@ pub(crate) struct Part {
     pub(crate) skin: Option<usize>,
     pub(crate) src: Source,
     pub(crate) prim: Prim,
+}
+
+/// Moving lines or points: where their positions start in the scene's [`Wire`], their node
+/// and skin, and their source data.
+///
+/// [`Wire`]: crate::scene::Wire
+#[derive(Debug)]
+pub(crate) struct WirePart {
+    pub(crate) first: usize,
+    pub(crate) node: usize,
+    pub(crate) skin: Option<usize>,
+    pub(crate) src: Source,
+}
+
+/// What a pose places: a primitive's node, applied skin and source.
+type Placing<'a> = (usize, Option<usize>, &'a Source);
+
+impl Part {
+    fn placing(&self) -> Placing<'_> {
+        (self.node, self.skin, &self.src)
+    }
+}
+
+impl WirePart {
+    fn placing(&self) -> Placing<'_> {
+        (self.node, self.skin, &self.src)
+    }
 }
 
 impl std::fmt::Debug for Posed {
@@ -178,10 +205,10 @@ impl Plan {
         })
     }
 
-    /// By animation: the indices of the `parts` it moves (sorted): their node's world
-    /// transform or morph weights, or a joint of their skin. A part no animation of two
-    /// moments moves is the same at both.
-    fn reached(&self, parts: &[Part]) -> Vec<Vec<usize>> {
+    /// By animation: the indices of the primitives `parts` (node, skin) it moves (sorted):
+    /// their node's world transform or morph weights, or a joint of their skin. A part no
+    /// animation of two moments moves is the same at both.
+    fn reached(&self, parts: &[(usize, Option<usize>)]) -> Vec<Vec<usize>> {
         self.animations
             .iter()
             .zip(&self.reach)
@@ -195,7 +222,7 @@ impl Plan {
                 parts
                     .iter()
                     .enumerate()
-                    .filter(|(_, p)| hit[p.node] || p.skin.is_some_and(skin_hit))
+                    .filter(|(_, &(node, skin))| hit[node] || skin.is_some_and(skin_hit))
                     .map(|(k, _)| k)
                     .collect()
             })
@@ -234,18 +261,30 @@ pub(crate) struct Built<'a> {
 }
 
 impl Rig {
-    /// The rig of a loaded scene: `parts` are its moving primitives, `meshes` all its
-    /// meshes in the static pose and `wire` bounds what lines and points hold.
+    /// The rig of a loaded scene: `parts` are its moving triangle primitives, `meshes` all
+    /// its meshes in the static pose, `wires` its moving lines and points and `wire` all of
+    /// them (positions re-centred).
     pub(crate) fn new(
         plan: Plan,
-        parts: Vec<Part>,
+        (parts, wires): (Vec<Part>, Vec<WirePart>),
         meshes: &[Mesh],
-        wire: Bounds,
+        wire: &crate::scene::Wire,
         b: Built,
     ) -> Rig {
         let moving: Vec<usize> = parts.iter().map(|p| p.mesh).collect();
-        let mut still_bounds = wire;
-        let mut static_bounds = wire;
+        let mut still_bounds = Bounds::empty();
+        let mut static_bounds = Bounds::empty();
+        let mut wire_moves = vec![false; wire.positions.len()];
+        for w in &wires {
+            let n = w.src.positions.len() / 3;
+            wire_moves[w.first..w.first + n].fill(true);
+        }
+        for (q, moves) in wire.positions.iter().zip(&wire_moves) {
+            static_bounds.include((*q).into());
+            if !moves {
+                still_bounds.include((*q).into());
+            }
+        }
         for (i, m) in meshes.iter().enumerate() {
             for v in &m.vertices {
                 static_bounds.include(v.position.into());
@@ -254,14 +293,21 @@ impl Rig {
                 }
             }
         }
-        let reached = plan.reached(&parts);
+        let reached = plan.reached(&parts.iter().map(|p| (p.node, p.skin)).collect::<Vec<_>>());
+        let wire_reached = plan
+            .reached(&wires.iter().map(|w| (w.node, w.skin)).collect::<Vec<_>>())
+            .iter()
+            .map(|r| !r.is_empty())
+            .collect();
         Rig {
             animations: plan.animations.iter().map(|a| a.info.clone()).collect(),
             reached,
+            wire_reached,
             framing: plan.animations.iter().map(|_| OnceLock::new()).collect(),
             meshes: moving,
             plan,
             parts,
+            wires,
             origin: b.origin,
             up: b.opts.up,
             default_material: b.default_material,
@@ -287,16 +333,11 @@ impl Rig {
 
     /// Each of `parts`' vertices placed in `posed` (`positions_only`: for bounds). Only
     /// the skins these parts use get joint matrices.
-    fn place_parts(
-        &self,
-        posed: &Posed,
-        parts: &[&Part],
-        positions_only: bool,
-    ) -> Vec<super::pose::Placed> {
-        let skinned = |p: &Part| p.skin.filter(|_| !p.src.sets.is_empty());
+    fn place_parts(&self, posed: &Posed, parts: &[Placing], positions_only: bool) -> Vec<Placed> {
+        let skinned = |&(_, skin, src): &Placing| skin.filter(|_| !src.sets.is_empty());
         let mut joints: Vec<Vec<DMat4>> = vec![Vec::new(); self.plan.skins.len()];
         let mut done = vec![false; self.plan.skins.len()];
-        for s in parts.iter().filter_map(|p| skinned(p)) {
+        for s in parts.iter().filter_map(skinned) {
             if !std::mem::replace(&mut done[s], true) {
                 if let Some(skin) = &self.plan.skins[s] {
                     joints[s] = joint_matrices(skin, &posed.world);
@@ -306,14 +347,15 @@ impl Rig {
         parts
             .iter()
             .map(|p| {
+                let (node, _, src) = *p;
                 let deform = match skinned(p) {
                     Some(s) => Deform::Skin(&joints[s]),
-                    None => Deform::Node(posed.world[p.node]),
+                    None => Deform::Node(posed.world[node]),
                 };
                 let weights = posed
-                    .weights(p.node)
-                    .unwrap_or(&self.plan.graph.weights[p.node]);
-                p.src.place(&deform, weights, self.up, positions_only)
+                    .weights(node)
+                    .unwrap_or(&self.plan.graph.weights[node]);
+                src.place(&deform, weights, self.up, positions_only)
             })
             .collect()
     }
@@ -353,7 +395,8 @@ impl Rig {
             return Ok(Vec::new());
         }
         let posed = self.posed(moment);
-        let placed = self.place_parts(&posed, &parts, false);
+        let placing: Vec<Placing> = parts.iter().map(|p| p.placing()).collect();
+        let placed = self.place_parts(&posed, &placing, false);
         parts
             .into_iter()
             .zip(placed)
@@ -425,6 +468,53 @@ impl Rig {
         Ok(changed)
     }
 
+    /// Whether a pose from `since` to `moment` may move the scene's lines and points (as
+    /// [`Rig::may_move`] for each part).
+    pub(crate) fn wire_may_move(&self, since: Option<Moment>, moment: Option<Moment>) -> bool {
+        if self.wires.is_empty() {
+            return false;
+        }
+        let (Some(a), Some(b)) = (since, moment) else {
+            return true;
+        };
+        self.wire_reached[a.animation] || self.wire_reached[b.animation]
+    }
+
+    /// The moving lines and points placed at `moment` if a pose from `since` may move them
+    /// (None: it does not), each checked to fit f32.
+    pub(crate) fn placed_wires(
+        &self,
+        (since, moment): (Option<Moment>, Option<Moment>),
+    ) -> Result<Option<Vec<Placed>>> {
+        if !self.wire_may_move(since, moment) {
+            return Ok(None);
+        }
+        let placing: Vec<Placing> = self.wires.iter().map(WirePart::placing).collect();
+        let placed = self.place_parts(&self.posed(moment), &placing, false);
+        for (w, (q, _, _)) in self.wires.iter().zip(&placed) {
+            crate::scene::gltf_primitive::check_range(q)
+                .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", w.node)))?;
+        }
+        Ok(Some(placed))
+    }
+
+    /// Writes [`Rig::placed_wires`]' positions (re-centred) and, where the lines and points
+    /// are lit by their normals, normals into `wire`.
+    pub(crate) fn write_wires(&self, placed: Vec<Placed>, wire: &mut crate::scene::Wire) {
+        let lit = wire.normals.len() == wire.positions.len();
+        for (w, (q, n, _)) in self.wires.iter().zip(placed) {
+            let at = w.first..w.first + q.len();
+            for (dst, q) in wire.positions[at.clone()].iter_mut().zip(q) {
+                *dst = (q - self.origin).as_vec3().to_array();
+            }
+            if let Some(n) = n.filter(|_| lit) {
+                for (dst, n) in wire.normals[at].iter_mut().zip(n) {
+                    *dst = n.normalize_or_zero().as_vec3().to_array();
+                }
+            }
+        }
+    }
+
     /// The bounds of every moment of `animation`: its poses at evenly spaced moments and at
     /// its key times (at most [`FRAMING_SAMPLES`] + [`FRAMING_KEYS`] poses), with what
     /// never moves.
@@ -432,7 +522,10 @@ impl Rig {
         *self.framing[animation].get_or_init(|| {
             let a = &self.plan.animations[animation];
             let d = a.info.duration;
-            let vertices: usize = self.parts.iter().map(|p| p.src.positions.len() / 3).sum();
+            let vertices: usize = (self.parts.iter().map(|p| &p.src))
+                .chain(self.wires.iter().map(|w| &w.src))
+                .map(|s| s.positions.len() / 3)
+                .sum();
             let affordable = (FRAMING_WORK / vertices.max(1)).max(2);
             let samples = FRAMING_SAMPLES.min(affordable);
             let mut times: Vec<f64> = (0..=samples)
@@ -449,7 +542,9 @@ impl Rig {
             let step = keys.len().div_ceil(keys_kept.max(1)).max(1);
             times.extend(keys.iter().step_by(step).take(keys_kept));
             let mut b = self.still_bounds;
-            let all: Vec<&Part> = self.parts.iter().collect();
+            let all: Vec<Placing> = (self.parts.iter().map(Part::placing))
+                .chain(self.wires.iter().map(WirePart::placing))
+                .collect();
             for t in times {
                 let posed = self.posed(Some(Moment {
                     animation,

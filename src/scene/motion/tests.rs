@@ -591,3 +591,79 @@ fn a_skinned_and_morphed_part_is_decided_by_both_budgets() {
     let (gpu, _) = rig.gpu_skinned(&s, 2, 0);
     assert!(gpu[0].morph.is_none());
 }
+
+/// Node 0 holds a triangle, its three edges as LINES and its corners as POINTS, all on the
+/// same positions and normals (+X: the points are lit); an animation moves the node: translation (0,0,0) →
+/// (4,0,0) → (4,2,0) (LINEAR, keys at 0, 1, 2 s) and a turn of 90° about Z from 1 s (STEP).
+/// Node 1's lines never move.
+fn moving_wire() -> Vec<u8> {
+    let mut g = Glb::default();
+    let pos = g.floats(&TRIANGLE, "VEC3", 3);
+    let nrm = g.floats(&[1.0, 0.0, 0.0].repeat(3), "VEC3", 3);
+    let edges = g.u16s(&[0, 1, 1, 2, 2, 0], "SCALAR");
+    let far = g.floats(&[10.0, 0.0, 0.0, 10.0, 1.0, 0.0], "VEC3", 2);
+    let far_nrm = g.floats(&[1.0, 0.0, 0.0].repeat(2), "VEC3", 2);
+    let t3 = g.floats(&[0.0, 1.0, 2.0], "SCALAR", 3);
+    let tv = g.floats(&[0.0, 0.0, 0.0, 4.0, 0.0, 0.0, 4.0, 2.0, 0.0], "VEC3", 3);
+    let t2 = g.floats(&[0.0, 1.0], "SCALAR", 2);
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let rv = g.floats(&[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, s, s], "VEC4", 2);
+    g.bytes(&format!(
+        r#""scene":0,"scenes":[{{"nodes":[0,1]}}],"nodes":[{{"mesh":0}},{{"mesh":1}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{pos},"NORMAL":{nrm}}}}},
+{{"attributes":{{"POSITION":{pos},"NORMAL":{nrm}}},"indices":{edges},"mode":1}},
+{{"attributes":{{"POSITION":{pos},"NORMAL":{nrm}}},"mode":0}}]}},
+{{"primitives":[{{"attributes":{{"POSITION":{far},"NORMAL":{far_nrm}}},"mode":1}}]}}],
+"animations":[{{"channels":[{{"sampler":0,"target":{{"node":0,"path":"translation"}}}},
+{{"sampler":1,"target":{{"node":0,"path":"rotation"}}}}],
+"samplers":[{{"input":{t3},"output":{tv}}},{{"input":{t2},"output":{rv},"interpolation":"STEP"}}]}}]"#
+    ))
+}
+
+/// Wire position `i` of `s` in the file's coordinates (re-centring undone).
+fn wire_at(s: &Scene, i: usize) -> Vec3 {
+    Vec3::from(s.wire.positions[i]) + s.origin.as_vec3()
+}
+
+/// Lines and points of a moving node move with it, as its triangles do: at 1.5 s every
+/// corner is the turned, moved triangle's, (x, y) → (4 − y, 1 + x) by hand, and the points'
+/// normals turn from +X to +Y; the still node's lines stay; the static pose puts them back;
+/// the animation's framing bounds hold every moved line.
+#[test]
+fn lines_and_points_of_a_moving_node_move_with_it() {
+    let mut s = load(&moving_wire());
+    // The lines and the points (3 positions each), the still lines (2).
+    assert_eq!(s.wire.positions.len(), 8);
+    assert_eq!(s.wire.normals.len(), 8, "lit points");
+    let rest: Vec<Vec3> = (0..8).map(|i| wire_at(&s, i)).collect();
+    let rest_normals = s.wire.normals.clone();
+    let (still, moving): (Vec<usize>, Vec<usize>) = (0..8).partition(|&i| rest[i].x > 5.0);
+    assert_eq!(still.len(), 2);
+    let corner = |i: usize| rest[i];
+    assert!(moving.iter().all(|&i| TRIANGLE
+        .chunks_exact(3)
+        .any(|c| (Vec3::from_slice(c) - corner(i)).length() < 1e-5)));
+    s.pose(Some(Moment {
+        animation: 0,
+        seconds: 1.5,
+    }))
+    .unwrap();
+    for &i in &moving {
+        let c = corner(i);
+        let want = Vec3::new(4.0 - c.y, 1.0 + c.x, c.z);
+        near(wire_at(&s, i), want);
+        near(Vec3::from(s.wire.normals[i]), Vec3::Y);
+        let q = want - s.origin.as_vec3();
+        let inside = q.cmpge(s.bounds.min - 1e-4).all() && q.cmple(s.bounds.max + 1e-4).all();
+        assert!(inside, "{want} outside the framing bounds {:?}", s.bounds);
+    }
+    for &i in &still {
+        near(wire_at(&s, i), rest[i]);
+        near(Vec3::from(s.wire.normals[i]), Vec3::X);
+    }
+    s.pose(None).unwrap();
+    for (i, r) in rest.iter().enumerate() {
+        near(wire_at(&s, i), *r);
+    }
+    assert_eq!(s.wire.normals, rest_normals);
+}

@@ -1,0 +1,147 @@
+#!/usr/bin/env python3
+"""Writes tests/data/motion/MovingWire.glb and its still twin MovingWireStill.glb (issue #39:
+lines and points of a moving node move with it).
+
+MovingWire: node 0 holds a unit cube (triangles), a square frame of LINES in front of it
+(z = 0.8, not on a face: no depth ties) and its four corners as POINTS; one animation moves
+node 0 (STEP: at 1 s translation (1.5, 0.5, 0) and a turn of 30 degrees about Y) and turns
+joint node 4 of a skinned rope of LINES (two joints; STEP: at 1 s 45 degrees about Z);
+node 1's square of LINES never moves. STEP keys make the pose at 1 s the key values
+exactly. MovingWireStill is the same file with those values written into the nodes and
+no animation: its static pose is the animated file's pose at 1 s. Run from the repository
+root; only the standard library.
+"""
+import json
+import math
+import struct
+
+
+def quat(axis, deg):
+    h = math.radians(deg) / 2
+    s = math.sin(h)
+    return [axis[0] * s, axis[1] * s, axis[2] * s, math.cos(h)]
+
+
+class Glb:
+    def __init__(self):
+        self.bin, self.views, self.accessors = bytearray(), [], []
+
+    def add(self, data, fmt, kind, comp, count):
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        raw = struct.pack("<%d%s" % (len(data), fmt), *data)
+        self.views.append({"buffer": 0, "byteOffset": len(self.bin), "byteLength": len(raw)})
+        self.bin += raw
+        acc = {"bufferView": len(self.views) - 1, "componentType": comp, "count": count, "type": kind}
+        if kind == "VEC3" and comp == 5126:
+            acc["min"] = [min(data[i::3]) for i in range(3)]
+            acc["max"] = [max(data[i::3]) for i in range(3)]
+        if kind == "SCALAR" and comp == 5126:
+            acc["min"], acc["max"] = [min(data)], [max(data)]
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+    def floats(self, data, kind):
+        per = {"SCALAR": 1, "VEC3": 3, "VEC4": 4, "MAT4": 16}[kind]
+        return self.add(data, "f", kind, 5126, len(data) // per)
+
+    def u16(self, data, kind="SCALAR"):
+        per = 4 if kind == "VEC4" else 1
+        return self.add(data, "H", kind, 5123, len(data) // per)
+
+    def write(self, path, gltf):
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        gltf.update(asset={"version": "2.0"}, buffers=[{"byteLength": len(self.bin)}],
+                    bufferViews=self.views, accessors=self.accessors)
+        js = json.dumps(gltf, separators=(",", ":")).encode()
+        js += b" " * (-len(js) % 4)
+        out = struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(js) + 8 + len(self.bin))
+        out += struct.pack("<II", len(js), 0x4E4F534A) + js
+        out += struct.pack("<II", len(self.bin), 0x004E4942) + self.bin
+        open(path, "wb").write(out)
+
+
+def cube(g):
+    pos, nrm, idx = [], [], []
+    for axis in range(3):
+        for sign in (-1, 1):
+            n = [0, 0, 0]
+            n[axis] = sign
+            u, v = [(axis + 1) % 3, (axis + 2) % 3]
+            base = len(pos) // 3
+            for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p = [0.0, 0.0, 0.0]
+                p[axis], p[u], p[v] = 0.5 * sign, 0.5 * a, 0.5 * b
+                pos += p
+                nrm += n
+            quad = [0, 1, 2, 0, 2, 3] if sign > 0 else [0, 2, 1, 0, 3, 2]
+            idx += [base + k for k in quad]
+    return {"attributes": {"POSITION": g.floats(pos, "VEC3"), "NORMAL": g.floats(nrm, "VEC3")},
+            "indices": g.u16(idx)}
+
+
+def square(g, x, z, half):
+    pos = []
+    for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+        pos += [x + half * a, half * b, z]
+    return g.floats(pos, "VEC3")
+
+
+def build(animated):
+    g = Glb()
+    frame = square(g, 0.0, 0.8, 0.7)
+    loop = g.u16([0, 1, 1, 2, 2, 3, 3, 0])
+    far = square(g, -2.5, 0.0, 0.5)
+    # The rope: 9 positions up Y from 0 to 2, weights moving from joint 3 to joint 4.
+    rope_p, rope_j, rope_w = [], [], []
+    for k in range(9):
+        y = 2.0 * k / 8
+        w1 = min(1.0, max(0.0, y - 0.5))
+        rope_p += [2.5, y, 0.0]
+        rope_j += [0, 1, 0, 0]
+        rope_w += [1.0 - w1, w1, 0.0, 0.0]
+    rope = g.floats(rope_p, "VEC3")
+    rope_joints = g.u16(rope_j, "VEC4")
+    rope_weights = g.floats(rope_w, "VEC4")
+    strip = g.u16([k for i in range(8) for k in (i, i + 1)])
+    ibm = g.floats([1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -2.5, 0, 0, 1,
+                    1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -2.5, -1, 0, 1], "MAT4")
+    move_t, move_r = [1.5, 0.5, 0.0], quat((0, 1, 0), 30)
+    bend_r = quat((0, 0, 1), 45)
+    meshes = [
+        {"primitives": [cube(g),
+                        {"attributes": {"POSITION": frame}, "indices": loop, "mode": 1},
+                        {"attributes": {"POSITION": frame}, "mode": 0}]},
+        {"primitives": [{"attributes": {"POSITION": far}, "indices": loop, "mode": 1}]},
+        {"primitives": [{"attributes": {"POSITION": rope, "JOINTS_0": rope_joints,
+                                        "WEIGHTS_0": rope_weights},
+                         "indices": strip, "mode": 1}]},
+    ]
+    nodes = [{"mesh": 0}, {"mesh": 1}, {"mesh": 2, "skin": 0},
+             {"translation": [2.5, 0, 0], "children": [4]},
+             {"translation": [0, 1, 0]}]
+    gltf = {"scene": 0, "scenes": [{"nodes": [0, 1, 2, 3]}], "nodes": nodes, "meshes": meshes,
+            "skins": [{"joints": [3, 4], "inverseBindMatrices": ibm}]}
+    if animated:
+        times = g.floats([0.0, 1.0], "SCALAR")
+        tv = g.floats([0.0, 0.0, 0.0] + move_t, "VEC3")
+        rv = g.floats([0.0, 0.0, 0.0, 1.0] + move_r, "VEC4")
+        bv = g.floats([0.0, 0.0, 0.0, 1.0] + bend_r, "VEC4")
+        gltf["animations"] = [{
+            "name": "Move",
+            "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}},
+                         {"sampler": 1, "target": {"node": 0, "path": "rotation"}},
+                         {"sampler": 2, "target": {"node": 4, "path": "rotation"}}],
+            "samplers": [{"input": times, "output": o, "interpolation": "STEP"}
+                         for o in (tv, rv, bv)]}]
+    else:
+        nodes[0].update(translation=move_t, rotation=move_r)
+        nodes[4]["rotation"] = bend_r
+    return g, gltf
+
+
+for animated, path in ((True, "tests/data/motion/MovingWire.glb"),
+                       (False, "tests/data/motion/MovingWireStill.glb")):
+    g, gltf = build(animated)
+    g.write(path, gltf)
