@@ -69,26 +69,48 @@ wait "$prep_pid" || prep_rc=$?
 cat "$prep_log"
 rm -f "$prep_log"
 [ "$prep_rc" -eq 0 ] || { echo "error: scripts/prepare_tests.sh failed (above)" >&2; exit "$prep_rc"; }
+# The library's docs build without a warning (broken links, bad code blocks; its examples run
+# as doctests in the test step), and the Python package's tests pass: both in the
+# background beside the Rust tests, niced so that the tests come first. The Rust tests keep
+# about a quarter of the two cores idle (tests waiting on sockets, timeouts and child
+# processes); rustdoc's own check build of every dependency (~100 s of one core on a clean
+# run) and the Python tests (~40 s) fill it, where they used to run after the tests and
+# beside the browser step, slowing it. Cargo holds its build lock only while it compiles,
+# not while tests run. Their logs are printed once each is collected.
+bg_pids=()
+bg_logs=()
+bg_names=()
+background() {
+  local name=$1 log
+  shift
+  log=$(mktemp)
+  (
+    t0=$(date +%s)
+    nice -n 19 "$@"
+    echo "scripts/test.sh: step '$name' (in the background) $(($(date +%s) - t0)) s"
+  ) >"$log" 2>&1 &
+  bg_pids+=("$!")
+  bg_logs+=("$log")
+  bg_names+=("$name")
+}
+# Waits for background step $1 (its index), prints its log, and fails if it failed.
+collect() {
+  local k=$1 rc=0
+  wait "${bg_pids[$k]}" || rc=$?
+  cat "${bg_logs[$k]}"
+  rm -f "${bg_logs[$k]}"
+  [ "$rc" -eq 0 ] || { echo "error: step '${bg_names[$k]}' failed (above)" >&2; exit "$rc"; }
+}
+# rustdoc starts once `cargo test` has found its build fresh and let go of the build lock
+# (seconds: the build step built everything), else the tests would wait for its build.
+background doc bash -c 'sleep 20 && RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p glview --quiet'
+background python bash scripts/test_python.sh
 step test cargo test --workspace --no-fail-fast 2>&1
-# The library's docs build without a warning (broken links, bad code blocks); its examples
-# ran as doctests above. In the background, beside the Python and browser steps (which wait
-# on pictures and pages more than they compute): rustdoc needs its own check build of every
-# dependency, ~70 s of a clean run on 2 cores. Its result is collected at the end.
-doc_log=$(mktemp)
-(
-  t0=$(date +%s)
-  RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p glview --quiet
-  echo "scripts/test.sh: step 'doc' (in the background) $(($(date +%s) - t0)) s"
-) >"$doc_log" 2>&1 &
-doc_pid=$!
 # The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells
 # equal, different and failed renders apart.
 step "pictures checker self-test" bash scripts/pictures_unchanged.sh --self-test --after-bin target/debug/glview
-step python bash scripts/test_python.sh
-# The page of `glview serve` in Debian's Chromium, driven by a pinned Playwright.
+collect 1
+# The page of `glview serve` in Debian's Chromium, driven by a pinned Playwright: alone, as
+# its pages wait on frames with timeouts.
 step browser bash scripts/test_browser.sh
-doc_rc=0
-wait "$doc_pid" || doc_rc=$?
-cat "$doc_log"
-rm -f "$doc_log"
-[ "$doc_rc" -eq 0 ] || { echo "error: cargo doc -p glview failed (above)" >&2; exit "$doc_rc"; }
+collect 0
