@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Writes tests/data/motion/MovingWire.glb and its still twin MovingWireStill.glb (issue #39:
-lines and points of a moving node move with it).
+lines, points and instances of a moving node move with it).
 
 MovingWire: node 0 holds a unit cube (triangles), a square frame of LINES in front of it
 (z = 0.8, not on a face: no depth ties) and its four corners as POINTS; one animation moves
 node 0 (STEP: at 1 s translation (1.5, 0.5, 0) and a turn of 30 degrees about Y) and turns
 joint node 4 of a skinned rope of LINES (two joints; STEP: at 1 s 45 degrees about Z);
-node 1's square of LINES never moves. STEP keys make the pose at 1 s the key values
+node 1's square of LINES never moves; node 5, a child of node 0, draws a small cube three
+times in a row above it (EXT_mesh_gpu_instancing). STEP keys make the pose at 1 s the key values
 exactly. MovingWireStill is the same file with those values written into the nodes and
 no animation: its static pose is the animated file's pose at 1 s. Run from the repository
 root; only the standard library.
@@ -117,12 +118,19 @@ def build(animated):
         {"primitives": [{"attributes": {"POSITION": rope, "JOINTS_0": rope_joints,
                                         "WEIGHTS_0": rope_weights},
                          "indices": strip, "mode": 1}]},
+        {"primitives": [cube(g)]},
     ]
-    nodes = [{"mesh": 0}, {"mesh": 1}, {"mesh": 2, "skin": 0},
+    rows = g.floats([-0.8, 0.0, 0.0, 0.0, 0.0, 0.0, 0.8, 0.0, 0.0], "VEC3")
+    small = g.floats([0.3] * 9, "VEC3")
+    nodes = [{"mesh": 0, "children": [5]}, {"mesh": 1}, {"mesh": 2, "skin": 0},
              {"translation": [2.5, 0, 0], "children": [4]},
-             {"translation": [0, 1, 0]}]
+             {"translation": [0, 1, 0]},
+             {"mesh": 3, "translation": [0, 0.9, 0],
+              "extensions": {"EXT_mesh_gpu_instancing": {"attributes": {"TRANSLATION": rows,
+                                                                       "SCALE": small}}}}]
     gltf = {"scene": 0, "scenes": [{"nodes": [0, 1, 2, 3]}], "nodes": nodes, "meshes": meshes,
-            "skins": [{"joints": [3, 4], "inverseBindMatrices": ibm}]}
+            "skins": [{"joints": [3, 4], "inverseBindMatrices": ibm}],
+            "extensionsUsed": ["EXT_mesh_gpu_instancing"]}
     if animated:
         times = g.floats([0.0, 1.0], "SCALAR")
         tv = g.floats([0.0, 0.0, 0.0] + move_t, "VEC3")

@@ -240,7 +240,8 @@ impl SceneGpu {
         let mut uploaded = 0;
         let plan = super::instancing::plan(gpu, &scene);
         let (mut skins, skinned) = super::skinning::plan(gpu, &scene, gpu_skinning);
-        // (An instanced node is never posed: a skinned mesh draws as its own.)
+        // (A skinned mesh draws as its own: instanced copies are never skinned, and a moving
+        // instanced node's copies are not shared.)
         skins
             .meshes
             .retain(|&i| matches!(plan.get(i), Some(Role::Own)));

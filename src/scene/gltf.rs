@@ -6,7 +6,7 @@
 //! ([`super::gltf_primitive`]) and the scene re-centred like OBJ; lines and points go to
 //! [`Scene::wire`]. A missing or broken image is a warning.
 use super::gltf_accessor::{self as accessor, MAX_ELEMENTS};
-use super::gltf_primitive::{Instance, Primitives};
+use super::gltf_primitive::{Instance, Primitives, Recorded};
 use super::LoadOptions;
 use super::{Bounds, Scene, Texture, Warning};
 use crate::error::{Error, Result};
@@ -102,11 +102,12 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let mut read = Primitives::default();
     // Where each entry's primitives start in `read.prims`, for the instanced nodes' record.
     let mut prim_start = Vec::with_capacity(instances.len() + 1);
-    for (node, mesh, world) in &instances {
+    for (e, (node, mesh, world)) in instances.iter().enumerate() {
         prim_start.push(read.prims.len());
         let instance = Instance::new(*node, *world, opts.up, &buffers, path)
             .with_variant(views.variant)
-            .with_moving(plan.moving(*node, mesh.index()));
+            .with_moving(plan.moving(*node, mesh.index()))
+            .with_instance(super::gltf_instancing::instance_of(&runs, e));
         instance
             .read_mesh(mesh, &mut read, &mut warnings)
             .map_err(bad)?;
@@ -138,10 +139,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         .windows(2)
         .map(|w| mesh_of[w[0]..w[1]].iter().flatten().copied().collect())
         .collect();
-    let instancing = runs
-        .iter()
-        .map(|r| super::gltf_instancing::record(r, &entry_meshes, opts.up, origin))
-        .collect();
+    let instancing = records(&runs, &entry_meshes, &plan, (opts.up, origin));
     let built = super::motion::rig::Built {
         origin,
         default_material: default_index,
@@ -174,14 +172,31 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     })
 }
 
-/// The moving lines' and points' sources as read: (first wire position, source, node, skin).
-type WireSources = Vec<(usize, super::motion::pose::Source, usize, Option<usize>)>;
+/// The scene's record of each instanced node's `runs` (its copies are the meshes
+/// `entry_meshes` of its entries). A moving node's copies move apart from any relative
+/// matrices recorded now: they are drawn as they are, not as instances of the first.
+fn records(
+    runs: &[super::gltf_instancing::Run],
+    entry_meshes: &[Vec<usize>],
+    plan: &super::motion::Plan,
+    (up, origin): (super::UpAxis, glam::DVec3),
+) -> Vec<super::gltf_instancing::Instancing> {
+    runs.iter()
+        .map(|r| super::gltf_instancing::record(r, entry_meshes, up, origin))
+        .map(|mut r| {
+            if plan.moving(r.node, r.mesh).is_some() {
+                r.relative.clear();
+            }
+            r
+        })
+        .collect()
+}
 
 /// The scene's rig (None: nothing can move) over `meshes` and the lines and points, its
 /// `--check` lines added to `maps`.
 fn rig_of(
     plan: super::motion::Plan,
-    (parts, wires): (Vec<super::motion::Part>, WireSources),
+    (parts, wires): (Vec<super::motion::Part>, Vec<Recorded>),
     (meshes, wire): (&[super::Mesh], &super::Wire),
     built: super::motion::rig::Built,
     maps: &mut Vec<String>,
@@ -191,11 +206,12 @@ fn rig_of(
     }
     let wires = wires
         .into_iter()
-        .map(|(first, src, node, skin)| super::motion::WirePart {
-            first,
-            node,
-            skin,
-            src,
+        .map(|r| super::motion::WirePart {
+            first: r.at,
+            node: r.node,
+            skin: r.skin,
+            instance: r.instance,
+            src: r.src,
         })
         .collect();
     let rig = super::motion::Rig::new(plan, (parts, wires), meshes, wire, built);
@@ -208,7 +224,7 @@ fn rig_of(
 #[allow(clippy::type_complexity)]
 fn build_meshes(
     prims: Vec<super::gltf_primitive::Prim>,
-    sources: Vec<(usize, super::motion::pose::Source, usize, Option<usize>)>,
+    sources: Vec<Recorded>,
     (origin, default_index): (glam::DVec3, usize),
     opts: &LoadOptions,
 ) -> (
@@ -228,15 +244,16 @@ fn build_meshes(
             mesh_of.push(None);
             continue;
         }
-        while sources.peek().is_some_and(|s| s.0 < pi) {
+        while sources.peek().is_some_and(|s| s.at < pi) {
             sources.next();
         }
-        if let Some((_, src, node, skin)) = sources.next_if(|s| s.0 == pi) {
+        if let Some(r) = sources.next_if(|s| s.at == pi) {
             parts.push(super::motion::Part {
                 mesh: meshes.len(),
-                node,
-                skin,
-                src,
+                node: r.node,
+                skin: r.skin,
+                instance: r.instance,
+                src: r.src,
                 prim: p.clone(),
             });
         }

@@ -120,6 +120,15 @@ pub(crate) struct Run {
     pub(crate) mesh: usize,
     pub(crate) entry: usize,
     pub(crate) worlds: Vec<DMat4>,
+    /// Each instance's own transform (the node's comes before it in `worlds`).
+    pub(crate) locals: Vec<DMat4>,
+}
+
+/// The instance transform of entry `e` of [`expand`]'s list, if it is a copy of an
+/// instanced node (`runs` in entry order).
+pub(crate) fn instance_of(runs: &[Run], e: usize) -> Option<DMat4> {
+    let r = &runs[runs.partition_point(|r| r.entry <= e).checked_sub(1)?];
+    r.locals.get(e - r.entry).copied()
 }
 
 /// The up-axis rotation as a matrix (its columns the rotated axes; exact).
@@ -217,12 +226,13 @@ pub(crate) fn expand<'a>(
                 "node {i}: {EXT}: more than {MAX_INSTANCES} instances in the file"
             ));
         }
-        let worlds: Vec<DMat4> = ms.into_iter().map(|m| world * m).collect();
+        let worlds: Vec<DMat4> = ms.iter().map(|m| world * *m).collect();
         runs.push(Run {
             node: i,
             mesh: mesh.index(),
             entry: out.len(),
             worlds: worlds.clone(),
+            locals: ms,
         });
         out.extend(worlds.into_iter().map(|w| (i, mesh.clone(), w)));
     }
@@ -241,6 +251,7 @@ mod tests {
             mesh: 0,
             entry: 0,
             worlds,
+            locals: Vec::new(),
         }
     }
 

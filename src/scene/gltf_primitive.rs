@@ -39,11 +39,22 @@ pub(crate) struct Primitives {
     pub(crate) wire: Wire,
     /// Some wire primitive had no normals: the points are drawn unlit.
     wire_unlit: bool,
-    /// The moving primitives' sources: (index in `prims`, source, node, applied skin).
-    pub(crate) sources: Vec<(usize, Source, usize, Option<usize>)>,
-    /// The moving lines' and points' sources: (their first index in `wire_pts`, source,
-    /// node, applied skin).
-    pub(crate) wire_sources: Vec<(usize, Source, usize, Option<usize>)>,
+    /// The moving primitives' sources (`at`: the index in `prims`).
+    pub(crate) sources: Vec<Recorded>,
+    /// The moving lines' and points' sources (`at`: their first index in `wire_pts`).
+    pub(crate) wire_sources: Vec<Recorded>,
+}
+
+/// A moving primitive's source as the loader read it, and what carries it.
+pub(crate) struct Recorded {
+    pub(crate) at: usize,
+    pub(crate) src: Source,
+    pub(crate) node: usize,
+    /// The skin applied, if any.
+    pub(crate) skin: Option<usize>,
+    /// A copy of an instanced node (`EXT_mesh_gpu_instancing`): its instance's transform,
+    /// after the node's.
+    pub(crate) instance: Option<DMat4>,
 }
 
 impl Primitives {
@@ -95,6 +106,9 @@ pub(crate) struct Instance<'a> {
     variant: Option<usize>,
     /// How the node's mesh moves (skin, morph targets, animation), if it does.
     moving: Option<Moving<'a>>,
+    /// An instanced node's copy: the instance's transform (`world` holds it after the
+    /// node's), for poses.
+    instance: Option<DMat4>,
     buffers: &'a accessor::Buffers,
     /// The glTF file, named by warnings.
     path: &'a Path,
@@ -118,6 +132,7 @@ impl<'a> Instance<'a> {
             up,
             variant: None,
             moving: None,
+            instance: None,
             buffers,
             path,
         }
@@ -132,6 +147,12 @@ impl<'a> Instance<'a> {
     /// pose, their sources kept for other poses).
     pub(crate) fn with_moving(self, moving: Option<Moving<'a>>) -> Self {
         Instance { moving, ..self }
+    }
+
+    /// The same instance as a copy of an instanced node, `instance` its transform after the
+    /// node's (None: a plain node).
+    pub(crate) fn with_instance(self, instance: Option<DMat4>) -> Self {
+        Instance { instance, ..self }
     }
 
     fn warn(&self, warnings: &mut Vec<Warning>, message: String) {
@@ -250,12 +271,17 @@ impl<'a> Instance<'a> {
         let placed = src.place(&deform, m.weights, self.up, false);
         check_range(&placed.0).map_err(|e| format!("{label}: node {}: {e}", self.node))?;
         let skin = m.skin.map(|s| s.0).filter(|_| !src.sets.is_empty());
-        if wire {
-            out.wire_sources
-                .push((out.wire_pts.len(), src, self.node, skin));
-        } else {
-            out.sources.push((out.prims.len(), src, self.node, skin));
-        }
+        let (list, at) = match wire {
+            true => (&mut out.wire_sources, out.wire_pts.len()),
+            false => (&mut out.sources, out.prims.len()),
+        };
+        list.push(Recorded {
+            at,
+            src,
+            node: self.node,
+            skin,
+            instance: self.instance,
+        });
         Ok(placed)
     }
 

@@ -363,14 +363,15 @@ fn without_framebuffer_objects_a_moving_caster_updates_its_rectangles() {
     }
 }
 
-/// Lines and points of moving nodes move with them (tests/data/motion/MovingWire.glb from
-/// scripts/make_moving_wire.py: a node's lines and points carried by its animation, a
-/// skinned rope of lines bent by a joint, still lines beside them): at 1 s (STEP keys: the
+/// Lines, points and instances of moving nodes move with them (tests/data/motion/MovingWire.glb
+/// from scripts/make_moving_wire.py: a node's lines and points carried by its animation, a
+/// skinned rope of lines bent by a joint, still lines beside them, an instanced child node
+/// whose three copies GL 3.3 would draw as instances of one): at 1 s (STEP keys: the
 /// key values exactly) the picture is that of the still twin whose nodes hold those values,
 /// byte for byte, on GL 3.3 and GL 2.1 (the camera fixed: the two files' bounds differ), and
 /// not the static pose's; a kept renderer posed away and back draws the same bytes.
 #[test]
-fn lines_and_points_of_moving_nodes_are_the_still_twins() {
+fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
     use glview::scene::motion::Moment;
     let dir = out_dir("motion_render");
     let camera = [

@@ -350,7 +350,7 @@ impl Rig {
         let nodes = self
             .parts
             .iter()
-            .map(|p| vec![(to_scene * posed.world[p.node]).as_mat4()]);
+            .map(|p| vec![(to_scene * super::rig::carried(posed, p.node, p.instance)).as_mat4()]);
         skins.chain(nodes).collect()
     }
 }

@@ -27,7 +27,7 @@ pub(crate) struct Plan {
     animations: Vec<Animation>,
     /// By node: a channel moves it or one of its ancestors.
     moved: Vec<bool>,
-    /// By node: it uses EXT_mesh_gpu_instancing (its instances are not posed).
+    /// By node: it uses EXT_mesh_gpu_instancing (its copies are never skinned).
     instanced: Vec<bool>,
     /// By node: the skin it names (read once here: `doc.nodes().nth` per instance was a
     /// walk of the node list for every mesh node).
@@ -60,6 +60,8 @@ pub(crate) struct Part {
     pub(crate) mesh: usize,
     pub(crate) node: usize,
     pub(crate) skin: Option<usize>,
+    /// A copy of an instanced node: its instance's transform after the node's.
+    pub(crate) instance: Option<DMat4>,
     pub(crate) src: Source,
     pub(crate) prim: Prim,
 }
@@ -73,21 +75,31 @@ pub(crate) struct WirePart {
     pub(crate) first: usize,
     pub(crate) node: usize,
     pub(crate) skin: Option<usize>,
+    pub(crate) instance: Option<DMat4>,
     pub(crate) src: Source,
 }
 
-/// What a pose places: a primitive's node, applied skin and source.
-type Placing<'a> = (usize, Option<usize>, &'a Source);
+/// What a pose places: a primitive's node, applied skin, source and instance transform.
+type Placing<'a> = (usize, Option<usize>, &'a Source, Option<DMat4>);
+
+/// The world transform of `node` in `posed`, then `instance`'s (a copy of an instanced
+/// node), which carries an unskinned primitive.
+pub(crate) fn carried(posed: &Posed, node: usize, instance: Option<DMat4>) -> DMat4 {
+    match instance {
+        Some(m) => posed.world[node] * m,
+        None => posed.world[node],
+    }
+}
 
 impl Part {
     fn placing(&self) -> Placing<'_> {
-        (self.node, self.skin, &self.src)
+        (self.node, self.skin, &self.src, self.instance)
     }
 }
 
 impl WirePart {
     fn placing(&self) -> Placing<'_> {
-        (self.node, self.skin, &self.src)
+        (self.node, self.skin, &self.src, self.instance)
     }
 }
 
@@ -183,12 +195,13 @@ impl Plan {
     }
 
     /// How `node`'s `mesh` moves, or None if nothing ever moves it: no usable skin, no
-    /// morph targets, and no animation moving it (an instanced node is never posed).
+    /// morph targets, and no animation moving it. An instanced node's copies are carried
+    /// by the node and morphed, never skinned (as when they stood still: the extension
+    /// leaves a skin on an instanced node undefined).
     pub(crate) fn moving(&self, node: usize, mesh: usize) -> Option<Moving<'_>> {
-        if self.instanced.get(node).copied().unwrap_or(true) {
-            return None;
-        }
+        let instanced = *self.instanced.get(node)?;
         let skin = self.skin_of[node]
+            .filter(|_| !instanced)
             .filter(|&s| self.skins.get(s).is_some_and(Option::is_some))
             .map(|s| (s, self.rest_joints[s].as_slice()));
         let morphs = self.targets.get(mesh).copied().unwrap_or(0) > 0;
@@ -334,7 +347,7 @@ impl Rig {
     /// Each of `parts`' vertices placed in `posed` (`positions_only`: for bounds). Only
     /// the skins these parts use get joint matrices.
     fn place_parts(&self, posed: &Posed, parts: &[Placing], positions_only: bool) -> Vec<Placed> {
-        let skinned = |&(_, skin, src): &Placing| skin.filter(|_| !src.sets.is_empty());
+        let skinned = |&(_, skin, src, _): &Placing| skin.filter(|_| !src.sets.is_empty());
         let mut joints: Vec<Vec<DMat4>> = vec![Vec::new(); self.plan.skins.len()];
         let mut done = vec![false; self.plan.skins.len()];
         for s in parts.iter().filter_map(skinned) {
@@ -347,10 +360,10 @@ impl Rig {
         parts
             .iter()
             .map(|p| {
-                let (node, _, src) = *p;
+                let (node, _, src, instance) = *p;
                 let deform = match skinned(p) {
                     Some(s) => Deform::Skin(&joints[s]),
-                    None => Deform::Node(posed.world[node]),
+                    None => Deform::Node(carried(posed, node, instance)),
                 };
                 let weights = posed
                     .weights(node)

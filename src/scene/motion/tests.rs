@@ -667,3 +667,45 @@ fn lines_and_points_of_a_moving_node_move_with_it() {
     }
     assert_eq!(s.wire.normals, rest_normals);
 }
+
+/// The copies of an instanced node (EXT_mesh_gpu_instancing) under a moving node move with
+/// it (tests/data/motion/MovingWire.glb: node 5 draws a cube scaled 0.3 at x = −0.8, 0, 0.8,
+/// 0.9 above node 0, which is moved by (1.5, 0.5, 0) and turned 30° about Y at 1 s): each
+/// copy's centre is then (1.5 + 0.866·x, 1.4, −0.5·x) by hand; its record is no longer
+/// shared (the renderer draws the copies as they are, not as instances of the first).
+#[test]
+fn copies_of_an_instanced_node_move_with_it() {
+    let mut s = committed("tests/data/motion/MovingWire.glb");
+    let copies = |s: &Scene| -> Vec<Vec3> {
+        let mut c: Vec<Vec3> = (0..s.meshes.len())
+            .filter_map(|m| {
+                let mut b = crate::scene::Bounds::empty();
+                for v in &s.meshes[m].vertices {
+                    b.include(v.position.into());
+                }
+                let size = b.max - b.min;
+                ((size.y - 0.3).abs() < 1e-4).then(|| b.center() + s.origin.as_vec3())
+            })
+            .collect();
+        c.sort_by(|a, b| a.x.total_cmp(&b.x));
+        c
+    };
+    let rest = copies(&s);
+    assert_eq!(rest.len(), 3, "three copies");
+    for (c, x) in rest.iter().zip([-0.8f32, 0.0, 0.8]) {
+        near(*c, Vec3::new(x, 0.9, 0.0));
+    }
+    s.pose(Some(Moment {
+        animation: 0,
+        seconds: 1.0,
+    }))
+    .unwrap();
+    let (cos, sin) = (30f32.to_radians().cos(), 30f32.to_radians().sin());
+    for (c, x) in copies(&s).iter().zip([-0.8f32, 0.0, 0.8]) {
+        near(*c, Vec3::new(1.5 + cos * x, 1.4, -sin * x));
+    }
+    let record = s.instancing.iter().find(|r| r.node == 5).expect("node 5");
+    assert!(!record.shareable(), "a moving node's copies are not shared");
+    s.pose(None).unwrap();
+    assert_eq!(copies(&s), rest);
+}
