@@ -135,14 +135,20 @@ pub(crate) fn sample_level(t: &[[f32; 3]], w: usize, h: usize, d: DVec3) -> DVec
     let y = (v * h as f64 - 0.5).clamp(0.0, (h - 1) as f64);
     let (x0, y0) = (x.floor(), y.floor());
     let (fx, fy) = (x - x0, y - y0);
-    let xi = |i: f64| (i as i64).rem_euclid(w as i64) as usize;
-    let yi = |j: f64| (j as usize).min(h - 1);
-    let at = |i: f64, j: f64| {
-        let p = t[yi(j) * w + xi(i)];
+    // Columns x0 and x0 + 1 wrapped, rows y0 and y0 + 1 clamped: one integer remainder per
+    // lookup, not one per tap (the Monte Carlo references call this millions of times).
+    let i0 = (x0 as i64).rem_euclid(w as i64) as usize;
+    let i1 = if i0 + 1 == w { 0 } else { i0 + 1 };
+    let (r0, r1) = (
+        (y0 as usize).min(h - 1) * w,
+        ((y0 + 1.0) as usize).min(h - 1) * w,
+    );
+    let at = |k: usize| {
+        let p = t[k];
         DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
     };
-    let top = at(x0, y0).lerp(at(x0 + 1.0, y0), fx);
-    let bottom = at(x0, y0 + 1.0).lerp(at(x0 + 1.0, y0 + 1.0), fx);
+    let top = at(r0 + i0).lerp(at(r0 + i1), fx);
+    let bottom = at(r1 + i0).lerp(at(r1 + i1), fx);
     top.lerp(bottom, fy)
 }
 
@@ -183,6 +189,53 @@ pub(crate) fn cube_direction(face: usize, x: f64, y: f64, size: usize) -> DVec3 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The lookup is the textbook one, tap by tap (each tap's column wrapped, its row
+    /// clamped), to the bit: on a noisy 7×5 level (odd sizes, so the wrap and clamp edges
+    /// are hit) over a spiral of directions and the poles and seam.
+    #[test]
+    fn lookup_is_each_tap_wrapped_and_clamped() {
+        let (w, h) = (7usize, 5usize);
+        let t: Vec<[f32; 3]> = (0..w * h)
+            .map(|k| {
+                let k = k as f32;
+                [(k * 0.37).sin(), (k * 1.3).cos() + 2.0, k]
+            })
+            .collect();
+        let textbook = |d: DVec3| {
+            let u = 0.5 + d.x.atan2(-d.z) / (2.0 * PI);
+            let v = d.y.clamp(-1.0, 1.0).acos() / PI;
+            let x = u * w as f64 - 0.5;
+            let y = (v * h as f64 - 0.5).clamp(0.0, (h - 1) as f64);
+            let (x0, y0) = (x.floor(), y.floor());
+            let at = |i: f64, j: f64| {
+                let p = t[(j as usize).min(h - 1) * w + (i as i64).rem_euclid(w as i64) as usize];
+                DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]))
+            };
+            let top = at(x0, y0).lerp(at(x0 + 1.0, y0), x - x0);
+            let bottom = at(x0, y0 + 1.0).lerp(at(x0 + 1.0, y0 + 1.0), x - x0);
+            top.lerp(bottom, y - y0)
+        };
+        let mut dirs: Vec<DVec3> = (0..2000)
+            .map(|k| {
+                let z = 1.0 - 2.0 * (k as f64 + 0.5) / 2000.0;
+                let a = k as f64 * 2.399_963;
+                let r = (1.0 - z * z).sqrt();
+                DVec3::new(r * a.cos(), z, r * a.sin())
+            })
+            .collect();
+        dirs.extend([
+            DVec3::Y,
+            -DVec3::Y,
+            DVec3::Z,
+            -DVec3::Z,
+            DVec3::X,
+            -DVec3::X,
+        ]);
+        for d in dirs {
+            assert_eq!(sample_level(&t, w, h, d), textbook(d), "{d}");
+        }
+    }
 
     #[test]
     fn equirect_round_trip() {
