@@ -32,6 +32,47 @@ fn duck(dir: &Path, name: &str, ktx2: &str, png: &str, required: bool) -> PathBu
     p
 }
 
+/// A textured triangle in `dir` whose base colour texture is image 1 (`ktx2`, through the
+/// extension, required) with image 0 (`png`) beside it: the hostile test loads it ~450
+/// times, where the Duck's Draco decode (an unoptimised crate in test builds) took most of
+/// its time.
+fn triangle(dir: &Path, name: &str, ktx2: &str, png: &str) -> PathBuf {
+    for f in [ktx2, png] {
+        std::fs::copy(repo().join(KTX2).join(f), dir.join(f)).unwrap();
+    }
+    let floats: [f32; 15] = [
+        0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, // positions
+        0.0, 0.0, 1.0, 0.0, 0.0, 1.0, // UVs
+    ];
+    let bin: Vec<u8> = floats.iter().flat_map(|f| f.to_le_bytes()).collect();
+    std::fs::write(dir.join("triangle.bin"), &bin).unwrap();
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}],
+        "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "textures": [{"extensions": {"KHR_texture_basisu": {"source": 1}}}],
+        "images": [{"uri": png}, {"uri": ktx2}],
+        "buffers": [{"uri": "triangle.bin", "byteLength": 60}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 36},
+            {"buffer": 0, "byteOffset": 36, "byteLength": 24}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0]},
+            {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}
+        ],
+        "extensionsUsed": ["KHR_texture_basisu"],
+        "extensionsRequired": ["KHR_texture_basisu"]
+    });
+    let p = dir.join(name);
+    std::fs::write(&p, serde_json::to_string(&doc).unwrap()).unwrap();
+    p
+}
+
 fn base_texture(s: &Scene) -> &glview::scene::Texture {
     &s.materials[0]
         .base_color_texture
@@ -111,7 +152,10 @@ fn broken_ktx2_files_are_warnings_naming_the_image() {
         ),
     ] {
         let good = std::fs::read(repo().join(KTX2).join(ktx2)).unwrap();
-        let p = duck(&dir, "broken.gltf", ktx2, png, true);
+        let p = triangle(&dir, "broken.gltf", ktx2, png);
+        // The good file decodes on this triangle: the cuts below are what fails.
+        let s = load(&p, &LoadOptions::default()).unwrap();
+        assert!(s.materials[0].base_color_texture.is_some(), "{ktx2} intact");
         let n = good.len();
         let mut cuts: Vec<usize> = vec![0, 11, 12, 47, 48, 80, 200, n / 2, n - 1];
         cuts.extend((0..n).step_by(997));
