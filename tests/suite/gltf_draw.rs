@@ -151,6 +151,26 @@ fn shot(
     ctx: &(&str, Vec<&str>, &[(&str, &str)]),
     extra: &[&str],
 ) -> Rgba {
+    let (out, args) = shot_words(dir, name, model, ctx, extra);
+    let mut all = vec!["--output", out.to_str().unwrap()];
+    all.extend(args.iter().map(String::as_str));
+    let o = run(&all, ctx.2);
+    assert!(
+        o.status.success(),
+        "glview {all:?} failed:\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    Rgba::load_png(&out).expect("read output")
+}
+
+/// [`shot`]'s output file and words (without `--output`).
+fn shot_words(
+    dir: &Path,
+    name: &str,
+    model: &Path,
+    ctx: &(&str, Vec<&str>, &[(&str, &str)]),
+    extra: &[&str],
+) -> (std::path::PathBuf, Vec<String>) {
     let size = format!("{N}x{N}");
     let mut args = vec![
         model.to_str().unwrap(),
@@ -167,15 +187,40 @@ fn shot(
     args.extend(ctx.1.iter().copied());
     args.extend_from_slice(extra);
     let out = dir.join(format!("{name}-{}.png", ctx.0));
-    let mut all = vec!["--output", out.to_str().unwrap()];
-    all.extend_from_slice(&args);
-    let o = run(&all, ctx.2);
+    (out, args.into_iter().map(String::from).collect())
+}
+
+/// [`shot`] of each of `jobs` (name, model, extra words) from one `glview batch` process
+/// on context `ctx` (a batch job's picture is the same command line's run alone:
+/// `batch::batch_equals_single_runs_and_reports_failures_by_line`): one process and one
+/// context for many pictures, instead of one each.
+fn shots(
+    dir: &Path,
+    jobs: &[(String, std::path::PathBuf, &[&str])],
+    ctx: &(&str, Vec<&str>, &[(&str, &str)]),
+) -> Vec<Rgba> {
+    let quote = |w: &str| format!("'{}'", w.replace('\'', r"'\''"));
+    let mut lines = Vec::new();
+    let mut outs = Vec::new();
+    for (name, model, extra) in jobs {
+        let (out, args) = shot_words(dir, name, model, ctx, extra);
+        let mut words = vec![quote("--output"), quote(out.to_str().unwrap())];
+        words.extend(args.iter().map(|w| quote(w)));
+        lines.push(words.join(" "));
+        outs.push(out);
+    }
+    let file = dir.join(format!("jobs-{}-{}.txt", ctx.0, jobs[0].0));
+    std::fs::write(&file, lines.join("\n")).unwrap();
+    let o = run(&["batch", file.to_str().unwrap()], ctx.2);
     assert!(
         o.status.success(),
-        "glview {all:?} failed:\n{}",
+        "glview batch {} failed:\n{}",
+        file.display(),
         String::from_utf8_lossy(&o.stderr)
     );
-    Rgba::load_png(&out).expect("read output")
+    outs.iter()
+        .map(|out| Rgba::load_png(out).expect("read output"))
+        .collect()
 }
 
 /// The UV at the centre of pixel (x, y) of the quad whose corners carry `uv` (picture
@@ -274,25 +319,32 @@ fn wrap_modes_are_texel_exact_and_unlit_is_the_texture() {
         ..Quad::default()
     };
     let modes = [(10497, "repeat"), (33071, "clamp"), (33648, "mirror")];
-    for ctx in contexts() {
-        for (s, sn) in modes {
-            for (t, tn) in modes {
-                let name = format!("wrap-{sn}-{tn}");
-                let sampler = format!(r#"{{{NEAREST}, "wrapS": {s}, "wrapT": {t}}}"#);
-                let m = quad(&dir, &name, &q, &unlit(&sampler, r#"{"index": 0}"#, ""));
-                for (tier, extra) in [("legacy", &[][..]), ("pbr", PBR_PLAIN)] {
-                    let img = shot(&dir, &format!("{name}-{tier}"), &m, &ctx, extra);
-                    let n = assert_pixels(&img, &format!("{name} {tier} {}", ctx.0), 1, |x, y| {
-                        let [u, v] = uv_at(&q.uv0, x, y).map(|c| c * 2.0);
-                        if near_edge(u) || near_edge(v) {
-                            return None;
-                        }
-                        let (i, j) = (wrap(u, 2, s), wrap(v, 2, t));
-                        Some(TEXELS[(j * 2 + i) as usize])
-                    });
-                    assert!(n > (N * N / 2) as usize, "{name}: only {n} pixels checked");
-                }
+    // Every pair of modes in both tiers: (name, model, extra words) and the modes.
+    let mut jobs = Vec::new();
+    let mut wraps = Vec::new();
+    for (s, sn) in modes {
+        for (t, tn) in modes {
+            let name = format!("wrap-{sn}-{tn}");
+            let sampler = format!(r#"{{{NEAREST}, "wrapS": {s}, "wrapT": {t}}}"#);
+            let m = quad(&dir, &name, &q, &unlit(&sampler, r#"{"index": 0}"#, ""));
+            for (tier, extra) in [("legacy", &[][..]), ("pbr", PBR_PLAIN)] {
+                jobs.push((format!("{name}-{tier}"), m.clone(), extra));
+                wraps.push((s, t));
             }
+        }
+    }
+    for ctx in contexts() {
+        let imgs = shots(&dir, &jobs, &ctx);
+        for ((img, (name, _, _)), &(s, t)) in imgs.iter().zip(&jobs).zip(&wraps) {
+            let n = assert_pixels(img, &format!("{name} {}", ctx.0), 1, |x, y| {
+                let [u, v] = uv_at(&q.uv0, x, y).map(|c| c * 2.0);
+                if near_edge(u) || near_edge(v) {
+                    return None;
+                }
+                let (i, j) = (wrap(u, 2, s), wrap(v, 2, t));
+                Some(TEXELS[(j * 2 + i) as usize])
+            });
+            assert!(n > (N * N / 2) as usize, "{name}: only {n} pixels checked");
         }
     }
 }
