@@ -13,11 +13,8 @@ venv=target/pyvenv
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
-# Pinned: a Debian Chromium upgrade can break a Playwright release, so a known pair is logged.
-# websockets speaks WebDriver BiDi to Firefox ESR (test_serve_firefox.py: no geckodriver).
-# numpy, trimesh and distributed are the Python package's tests' (scripts/test_python.sh).
-"$venv/bin/pip" install --quiet numpy pytest trimesh distributed \
-  playwright==1.65.2 websockets==17.4 pillow
+# Every package pinned (python/tests/requirements.txt says why).
+"$venv/bin/pip" install --quiet -r python/tests/requirements.txt
 
 # The SCORM 1.2 runtime the export page's package is run in (python/tests_browser/scorm:
 # scorm-again, pinned with its integrity hash in package-lock.json), copied out of the

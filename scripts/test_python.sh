@@ -17,7 +17,7 @@ venv=target/pyvenv
 if [ ! -x "$venv/bin/python" ]; then
   python3 -m venv "$venv"
 fi
-"$venv/bin/pip" install --quiet numpy pytest trimesh distributed
+"$venv/bin/pip" install --quiet -r python/tests/requirements.txt
 if [ "${1:-}" = "--pip-install" ]; then
   shift
   "$venv/bin/pip" install --quiet maturin
