@@ -5,7 +5,30 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$(date +%s)
 # Printed on success and on failure, so CI logs always show how long the suite took.
-trap 'rc=$?; echo "scripts/test.sh: $(( $(date +%s) - start )) s (exit $rc)"' EXIT
+# Background steps (below) still running when a foreground step fails are stopped, with
+# their children (an orphaned rustdoc would hold cargo's build lock, an orphaned pytest use
+# binaries a re-run rebuilds), and their logs shown.
+bg_pids=()
+bg_logs=()
+bg_names=()
+kill_tree() {
+  local c
+  for c in $(pgrep -P "$1" || true); do kill_tree "$c"; done
+  kill "$1" 2>/dev/null || true
+}
+finish() {
+  local rc=$? k
+  for k in "${!bg_pids[@]}"; do
+    [ -n "${bg_pids[$k]}" ] || continue
+    kill_tree "${bg_pids[$k]}"
+    wait "${bg_pids[$k]}" 2>/dev/null || true
+    echo "scripts/test.sh: step '${bg_names[$k]}' (in the background) stopped; its log:"
+    cat "${bg_logs[$k]}"
+    rm -f "${bg_logs[$k]}"
+  done
+  echo "scripts/test.sh: $(( $(date +%s) - start )) s (exit $rc)"
+}
+trap finish EXIT
 # Each step prints its own duration, so a slow CI run says which step to look at.
 step() {
   local name=$1 t0
@@ -77,9 +100,6 @@ rm -f "$prep_log"
 # run) and the Python tests (~40 s) fill it, where they used to run after the tests and
 # beside the browser step, slowing it. Cargo holds its build lock only while it compiles,
 # not while tests run. Their logs are printed once each is collected.
-bg_pids=()
-bg_logs=()
-bg_names=()
 background() {
   local name=$1 log
   shift
@@ -97,6 +117,7 @@ background() {
 collect() {
   local k=$1 rc=0
   wait "${bg_pids[$k]}" || rc=$?
+  bg_pids[k]=""
   cat "${bg_logs[$k]}"
   rm -f "${bg_logs[$k]}"
   [ "$rc" -eq 0 ] || { echo "error: step '${bg_names[$k]}' failed (above)" >&2; exit "$rc"; }
