@@ -7,7 +7,8 @@ MovingWire: node 0 holds a unit cube (triangles), a square frame of LINES in fro
 node 0 (STEP: at 1 s translation (1.5, 0.5, 0) and a turn of 30 degrees about Y) and turns
 joint node 4 of a skinned rope of LINES (two joints; STEP: at 1 s 45 degrees about Z);
 node 1's square of LINES never moves; node 5, a child of node 0, draws a small cube three
-times in a row above it (EXT_mesh_gpu_instancing). STEP keys make the pose at 1 s the key values
+times in a row above it (EXT_mesh_gpu_instancing). A second animation turns node 5 alone
+(90 degrees about Y at 1 s, STEP): it moves no line or point. STEP keys make the pose at 1 s the key values
 exactly. MovingWireStill is the same file with those values written into the nodes and
 no animation: its static pose is the animated file's pose at 1 s. Run from the repository
 root; only the standard library.
@@ -136,13 +137,17 @@ def build(animated):
         tv = g.floats([0.0, 0.0, 0.0] + move_t, "VEC3")
         rv = g.floats([0.0, 0.0, 0.0, 1.0] + move_r, "VEC4")
         bv = g.floats([0.0, 0.0, 0.0, 1.0] + bend_r, "VEC4")
+        sv = g.floats([0.0, 0.0, 0.0, 1.0] + quat((0, 1, 0), 90), "VEC4")
         gltf["animations"] = [{
             "name": "Move",
             "channels": [{"sampler": 0, "target": {"node": 0, "path": "translation"}},
                          {"sampler": 1, "target": {"node": 0, "path": "rotation"}},
                          {"sampler": 2, "target": {"node": 4, "path": "rotation"}}],
             "samplers": [{"input": times, "output": o, "interpolation": "STEP"}
-                         for o in (tv, rv, bv)]}]
+                         for o in (tv, rv, bv)]}, {
+            "name": "Spin",
+            "channels": [{"sampler": 0, "target": {"node": 5, "path": "rotation"}}],
+            "samplers": [{"input": times, "output": sv, "interpolation": "STEP"}]}]
     else:
         nodes[0].update(translation=move_t, rotation=move_r)
         nodes[4]["rotation"] = bend_r

@@ -77,10 +77,18 @@ impl Renderer {
         self.posed = None;
         let before = self.scene.uploaded.get();
         let t = Instant::now();
-        self.refresh_meshes(&changed)?;
-        if wire_moved {
-            self.scene.refresh_wire()?;
+        let uploaded = self
+            .refresh_meshes(&changed)
+            .and_then(|()| match wire_moved {
+                true => self.scene.refresh_wire(),
+                false => Ok(()),
+            });
+        if uploaded.is_err() {
+            // The next pose starts over from the loaded scene's standing: every part is
+            // placed and uploaded again, not only those the two moments' animations move.
+            self.scene.scene.posed = None;
         }
+        uploaded?;
         self.gpu.finish();
         self.pose_cost = PoseCost {
             pose_ms,
@@ -107,6 +115,13 @@ impl Renderer {
     /// then uploads the ones changed (nothing is drawn from the change before that).
     pub fn scene_mut(&mut self) -> &mut Scene {
         &mut self.scene.scene
+    }
+
+    /// Uploads the scene's lines and points again after their positions (or normals)
+    /// changed in place ([`Renderer::scene_mut`]); [`Renderer::pose`] does it itself when
+    /// a pose moves them.
+    pub fn refresh_wire(&mut self) -> Result<()> {
+        self.scene.refresh_wire()
     }
 
     /// Uploads scene meshes `meshes` again after their vertices (and possibly their count

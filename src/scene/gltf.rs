@@ -173,8 +173,9 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
 }
 
 /// The scene's record of each instanced node's `runs` (its copies are the meshes
-/// `entry_meshes` of its entries). A moving node's copies move apart from any relative
-/// matrices recorded now: they are drawn as they are, not as instances of the first.
+/// `entry_meshes` of its entries). An animated node's copies move apart from any relative
+/// matrices recorded now: they are drawn as they are, not as instances of the first (a
+/// node merely morphed by its static weights keeps them: its copies never move).
 fn records(
     runs: &[super::gltf_instancing::Run],
     entry_meshes: &[Vec<usize>],
@@ -184,7 +185,7 @@ fn records(
     runs.iter()
         .map(|r| super::gltf_instancing::record(r, entry_meshes, up, origin))
         .map(|mut r| {
-            if plan.moving(r.node, r.mesh).is_some() {
+            if plan.animated(r.node) {
                 r.relative.clear();
             }
             r

@@ -369,7 +369,8 @@ fn without_framebuffer_objects_a_moving_caster_updates_its_rectangles() {
 /// whose three copies GL 3.3 would draw as instances of one): at 1 s (STEP keys: the
 /// key values exactly) the picture is that of the still twin whose nodes hold those values,
 /// byte for byte, on GL 3.3 and GL 2.1 (the camera fixed: the two files' bounds differ), and
-/// not the static pose's; a kept renderer posed away and back draws the same bytes.
+/// not the static pose's; a kept renderer posed away and back, and on to a moment of an
+/// animation that moves no line (the lines go back to rest), draws a fresh renderer's bytes.
 #[test]
 fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
     use glview::scene::motion::Moment;
@@ -416,23 +417,26 @@ fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
     let hl = Headless::new(Backend::Egl, GlRequest::Core, 160, 120).expect("EGL context");
     let (settings, scene) = settings_for(&file(MOVING, None, "core"));
     let mut kept = Renderer::new(&hl.gpu, scene.clone()).unwrap();
-    let at = |seconds| {
-        Some(Moment {
-            animation: 0,
-            seconds,
-        })
-    };
+    let at = |animation, seconds| Some(Moment { animation, seconds });
     let mut frames = Vec::new();
-    for moment in [at(1.0), None, at(0.5), at(1.0)] {
+    // Animation 1 turns the instanced node alone: from animation 0's moment to its own, the
+    // lines and points go back to where animation 1 leaves them (the static pose).
+    let moments = [at(0, 1.0), None, at(0, 0.5), at(0, 1.0), at(1, 1.0)];
+    for moment in moments {
         kept.pose(moment).unwrap();
         kept.render(&settings, &hl.target()).unwrap();
         frames.push(hl.read());
     }
-    let mut fresh = Renderer::new(&hl.gpu, scene).unwrap();
-    fresh.pose(at(1.0)).unwrap();
-    fresh.render(&settings, &hl.target()).unwrap();
-    let fresh = hl.read();
-    assert_same(&dir, "wire-kept", &frames[0], &fresh);
-    assert_same(&dir, "wire-back", &frames[3], &fresh);
-    assert!(frames[1].data != fresh.data && frames[2].data == frames[1].data);
+    let fresh = |moment| {
+        let mut r = Renderer::new(&hl.gpu, scene.clone()).unwrap();
+        r.pose(moment).unwrap();
+        r.render(&settings, &hl.target()).unwrap();
+        hl.read()
+    };
+    let (moved, spun) = (fresh(at(0, 1.0)), fresh(at(1, 1.0)));
+    assert_same(&dir, "wire-kept", &frames[0], &moved);
+    assert_same(&dir, "wire-back", &frames[3], &moved);
+    assert_same(&dir, "wire-other-animation", &frames[4], &spun);
+    assert!(frames[1].data != moved.data && frames[2].data == frames[1].data);
+    assert!(spun.data != frames[1].data, "animation 1 turns the copies");
 }

@@ -218,6 +218,12 @@ impl Plan {
         })
     }
 
+    /// Whether a channel moves `node` or one of its ancestors (its transform or its morph
+    /// weights change with the moment).
+    pub(crate) fn animated(&self, node: usize) -> bool {
+        self.moved.get(node).copied().unwrap_or(false)
+    }
+
     /// By animation: the indices of the primitives `parts` (node, skin) it moves (sorted):
     /// their node's world transform or morph weights, or a joint of their skin. A part no
     /// animation of two moments moves is the same at both.
@@ -512,7 +518,9 @@ impl Rig {
     }
 
     /// Writes [`Rig::placed_wires`]' positions (re-centred) and, where the lines and points
-    /// are lit by their normals, normals into `wire`.
+    /// are lit by their normals, normals into `wire`: zero where the pose has none (a
+    /// singular node matrix), so a kept renderer and a fresh one draw the same (the lit
+    /// programs turn a zero normal towards the eye).
     pub(crate) fn write_wires(&self, placed: Vec<Placed>, wire: &mut crate::scene::Wire) {
         let lit = wire.normals.len() == wire.positions.len();
         for (w, (q, n, _)) in self.wires.iter().zip(placed) {
@@ -520,9 +528,15 @@ impl Rig {
             for (dst, q) in wire.positions[at.clone()].iter_mut().zip(q) {
                 *dst = (q - self.origin).as_vec3().to_array();
             }
-            if let Some(n) = n.filter(|_| lit) {
-                for (dst, n) in wire.normals[at].iter_mut().zip(n) {
-                    *dst = n.normalize_or_zero().as_vec3().to_array();
+            if lit {
+                let dst = &mut wire.normals[at];
+                match n {
+                    Some(n) => {
+                        for (dst, n) in dst.iter_mut().zip(n) {
+                            *dst = n.normalize_or_zero().as_vec3().to_array();
+                        }
+                    }
+                    None => dst.fill([0.0; 3]),
                 }
             }
         }

@@ -52,7 +52,19 @@ pub(crate) fn read(
             Ok(Some(v))
         };
     let normals = finite(Semantic::Normals, 3, "NORMAL")?;
-    let tangents = finite(Semantic::Tangents, 4, "TANGENT")?;
+    // Lines and points have no tangent frame: their TANGENT is not read (a bad one would
+    // refuse the file, as the still path never reads it).
+    let triangles = !matches!(
+        p.mode(),
+        gltf::mesh::Mode::Points
+            | gltf::mesh::Mode::Lines
+            | gltf::mesh::Mode::LineLoop
+            | gltf::mesh::Mode::LineStrip
+    );
+    let tangents = match triangles {
+        true => finite(Semantic::Tangents, 4, "TANGENT")?,
+        false => None,
+    };
     let targets = targets(p, buffers, (n, morph_budget), label, warn)?;
     let sets = match joints {
         Some(j) => skin_sets(p, buffers, (n, j), label, warn)?,

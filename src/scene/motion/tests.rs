@@ -701,7 +701,9 @@ fn copies_of_an_instanced_node_move_with_it() {
     }))
     .unwrap();
     let (cos, sin) = (30f32.to_radians().cos(), 30f32.to_radians().sin());
-    for (c, x) in copies(&s).iter().zip([-0.8f32, 0.0, 0.8]) {
+    let moved = copies(&s);
+    assert_eq!(moved.len(), 3, "three copies at 1 s");
+    for (c, x) in moved.iter().zip([-0.8f32, 0.0, 0.8]) {
         near(*c, Vec3::new(1.5 + cos * x, 1.4, -sin * x));
     }
     let record = s.instancing.iter().find(|r| r.node == 5).expect("node 5");
