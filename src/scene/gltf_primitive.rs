@@ -12,6 +12,7 @@ use glam::{DMat3, DMat4, DVec3};
 use gltf::accessor::Dimensions as D;
 use gltf::mesh::{Mode, Semantic};
 use std::path::Path;
+use std::sync::Arc;
 
 /// A triangle primitive as read: world coordinates (f64, not yet re-centred) and its
 /// attributes, each None if absent or unusable.
@@ -43,12 +44,25 @@ pub(crate) struct Primitives {
     pub(crate) sources: Vec<Recorded>,
     /// The moving lines' and points' sources (`at`: their first index in `wire_pts`).
     pub(crate) wire_sources: Vec<Recorded>,
+    /// The sources read so far by (mesh, primitive, skin joint count): every node drawing
+    /// a mesh (each copy of an instanced node among them) shares one, read, warned about
+    /// and charged to the file's morph budget once.
+    shared: std::collections::HashMap<(usize, usize, Option<usize>), Arc<Source>>,
+}
+
+/// Which primitive a moving source is read for: its mesh and index there, the label its
+/// warnings carry, and whether it is lines or points.
+struct Which<'l> {
+    mesh: usize,
+    prim: usize,
+    label: &'l str,
+    wire: bool,
 }
 
 /// A moving primitive's source as the loader read it, and what carries it.
 pub(crate) struct Recorded {
     pub(crate) at: usize,
-    pub(crate) src: Source,
+    pub(crate) src: Arc<Source>,
     pub(crate) node: usize,
     /// The skin applied, if any.
     pub(crate) skin: Option<usize>,
@@ -199,7 +213,13 @@ impl<'a> Instance<'a> {
                 // morphed, carried by the node), in the static pose too.
                 let (positions, normals) = match self.moving {
                     Some(m) => {
-                        let (q, n, _) = self.posed(&p, m, &where_(), out, warnings, true)?;
+                        let which = Which {
+                            mesh: mesh.index(),
+                            prim: pi,
+                            label: &where_(),
+                            wire: true,
+                        };
+                        let (q, n, _) = self.posed(&p, m, which, out, warnings)?;
                         (q, n)
                     }
                     None => (positions, self.normals(&p, &where_, warnings)?),
@@ -215,7 +235,15 @@ impl<'a> Instance<'a> {
                 continue;
             }
             let (positions, normals, tangents) = match self.moving {
-                Some(m) => self.posed(&p, m, &where_(), out, warnings, false)?,
+                Some(m) => {
+                    let which = Which {
+                        mesh: mesh.index(),
+                        prim: pi,
+                        label: &where_(),
+                        wire: false,
+                    };
+                    self.posed(&p, m, which, out, warnings)?
+                }
                 None => (
                     positions,
                     self.normals(&p, &where_, warnings)?,
@@ -251,19 +279,33 @@ impl<'a> Instance<'a> {
         &self,
         p: &gltf::Primitive,
         m: Moving,
-        label: &str,
+        which: Which,
         out: &mut Primitives,
         warnings: &mut Vec<Warning>,
-        wire: bool,
     ) -> Result<Placed, String> {
-        let mut warn = |message| self.warn(warnings, message);
-        let src = super::motion::source::read(
-            p,
-            self.buffers,
-            (m.skin.map(|s| s.1.len()), m.morph_budget),
+        let Which {
+            mesh,
+            prim,
             label,
-            &mut warn,
-        )?;
+            wire,
+        } = which;
+        let joints = m.skin.map(|s| s.1.len());
+        let src = match out.shared.get(&(mesh, prim, joints)) {
+            Some(src) => src.clone(),
+            None => {
+                let mut warn = |message| self.warn(warnings, message);
+                let read = super::motion::source::read(
+                    p,
+                    self.buffers,
+                    (joints, m.morph_budget),
+                    label,
+                    &mut warn,
+                )?;
+                let read = Arc::new(read);
+                out.shared.insert((mesh, prim, joints), read.clone());
+                read
+            }
+        };
         let deform = match m.skin {
             Some((_, joints)) if !src.sets.is_empty() => Deform::Skin(joints),
             _ => Deform::Node(self.world),

@@ -62,7 +62,8 @@ pub(crate) struct Part {
     pub(crate) skin: Option<usize>,
     /// A copy of an instanced node: its instance's transform after the node's.
     pub(crate) instance: Option<DMat4>,
-    pub(crate) src: Source,
+    /// Shared by every node drawing the primitive.
+    pub(crate) src: std::sync::Arc<Source>,
     pub(crate) prim: Prim,
 }
 
@@ -76,7 +77,7 @@ pub(crate) struct WirePart {
     pub(crate) node: usize,
     pub(crate) skin: Option<usize>,
     pub(crate) instance: Option<DMat4>,
-    pub(crate) src: Source,
+    pub(crate) src: std::sync::Arc<Source>,
 }
 
 /// What a pose places: a primitive's node, applied skin, source and instance transform.
@@ -93,13 +94,13 @@ pub(crate) fn carried(posed: &Posed, node: usize, instance: Option<DMat4>) -> DM
 
 impl Part {
     fn placing(&self) -> Placing<'_> {
-        (self.node, self.skin, &self.src, self.instance)
+        (self.node, self.skin, self.src.as_ref(), self.instance)
     }
 }
 
 impl WirePart {
     fn placing(&self) -> Placing<'_> {
-        (self.node, self.skin, &self.src, self.instance)
+        (self.node, self.skin, self.src.as_ref(), self.instance)
     }
 }
 
@@ -549,8 +550,8 @@ impl Rig {
         *self.framing[animation].get_or_init(|| {
             let a = &self.plan.animations[animation];
             let d = a.info.duration;
-            let vertices: usize = (self.parts.iter().map(|p| &p.src))
-                .chain(self.wires.iter().map(|w| &w.src))
+            let vertices: usize = (self.parts.iter().map(|p| p.src.as_ref()))
+                .chain(self.wires.iter().map(|w| w.src.as_ref()))
                 .map(|s| s.positions.len() / 3)
                 .sum();
             let affordable = (FRAMING_WORK / vertices.max(1)).max(2);

@@ -708,6 +708,18 @@ fn copies_of_an_instanced_node_move_with_it() {
     }
     let record = s.instancing.iter().find(|r| r.node == 5).expect("node 5");
     assert!(!record.shareable(), "a moving node's copies are not shared");
+    // The copies are posed from one source, read (and charged to the morph budget) once.
+    let rig = s.motion.clone().unwrap();
+    let sources: Vec<_> = rig
+        .parts
+        .iter()
+        .filter(|p| p.node == 5)
+        .map(|p| &p.src)
+        .collect();
+    assert_eq!(sources.len(), 3);
+    assert!(sources
+        .iter()
+        .all(|q| std::sync::Arc::ptr_eq(q, sources[0])));
     s.pose(None).unwrap();
     assert_eq!(copies(&s), rest);
 }
