@@ -209,10 +209,7 @@ fn rig_of(
         .into_iter()
         .map(|r| super::motion::WirePart {
             first: r.at,
-            node: r.node,
-            skin: r.skin,
-            instance: r.instance,
-            src: r.src,
+            by: r.by,
         })
         .collect();
     let rig = super::motion::Rig::new(plan, (parts, wires), meshes, wire, built);
@@ -251,10 +248,7 @@ fn build_meshes(
         if let Some(r) = sources.next_if(|s| s.at == pi) {
             parts.push(super::motion::Part {
                 mesh: meshes.len(),
-                node: r.node,
-                skin: r.skin,
-                instance: r.instance,
-                src: r.src,
+                by: r.by,
                 prim: p.clone(),
             });
         }

@@ -5,7 +5,7 @@
 //! once the scene's origin is known.
 use super::gltf_accessor as accessor;
 use super::motion::pose::{Deform, Placed, Source};
-use super::motion::Moving;
+use super::motion::{Carried, Moving};
 use super::LoadOptions;
 use super::{Mesh, UpAxis, Vertex, Warning, Wire};
 use glam::{DMat3, DMat4, DVec3};
@@ -59,16 +59,10 @@ struct Which<'l> {
     wire: bool,
 }
 
-/// A moving primitive's source as the loader read it, and what carries it.
+/// A moving primitive as the loader read it: where it went (`at`) and what carries it.
 pub(crate) struct Recorded {
     pub(crate) at: usize,
-    pub(crate) src: Arc<Source>,
-    pub(crate) node: usize,
-    /// The skin applied, if any.
-    pub(crate) skin: Option<usize>,
-    /// A copy of an instanced node (`EXT_mesh_gpu_instancing`): its instance's transform,
-    /// after the node's.
-    pub(crate) instance: Option<DMat4>,
+    pub(crate) by: Carried,
 }
 
 impl Primitives {
@@ -319,10 +313,12 @@ impl<'a> Instance<'a> {
         };
         list.push(Recorded {
             at,
-            src,
-            node: self.node,
-            skin,
-            instance: self.instance,
+            by: Carried {
+                node: self.node,
+                skin,
+                instance: self.instance,
+                src,
+            },
         });
         Ok(placed)
     }

@@ -192,14 +192,14 @@ impl Rig {
             let same = scene
                 .meshes
                 .get(p.mesh)
-                .is_some_and(|m| m.vertices.len() == p.src.positions.len() / 3);
+                .is_some_and(|m| m.vertices.len() == p.by.src.positions.len() / 3);
             let shape = if shared || !same {
                 Err(CpuBecause::Shape)
             } else {
                 Ok(())
             };
-            let made = shape.and_then(|()| match p.skin {
-                None if !p.src.targets.is_empty() => self.gpu_morphed(scene, i, morphs),
+            let made = shape.and_then(|()| match p.by.skin {
+                None if !p.by.src.targets.is_empty() => self.gpu_morphed(scene, i, morphs),
                 _ => self.gpu_skin_part(scene, i, (budget, morphs)),
             });
             match made {
@@ -219,13 +219,13 @@ impl Rig {
         (budget, morphs): (usize, usize),
     ) -> Result<GpuSkinned, CpuBecause> {
         let p = &self.parts[i];
-        let joints = p
-            .skin
+        let (src, skin) = (&p.by.src, p.by.skin);
+        let joints = skin
             .and_then(|s| self.plan.skins.get(s)?.as_ref())
             .map(|s| s.joints.len());
-        decide(joints, p.src.sets.len(), p.src.normals.is_some(), budget)?;
+        decide(joints, src.sets.len(), src.normals.is_some(), budget)?;
         let (Some(skin), Some(joints), Some(normals), Some((js, ws))) =
-            (p.skin, joints, &p.src.normals, p.src.sets.first())
+            (skin, joints, &src.normals, src.sets.first())
         else {
             return Err(CpuBecause::Shape);
         };
@@ -235,9 +235,9 @@ impl Rig {
             mesh: p.mesh,
             skin,
             joints,
-            positions: f3(&p.src.positions),
+            positions: f3(&src.positions),
             normals: f3(normals),
-            tangents: file_tangents(&p.src),
+            tangents: file_tangents(src),
             joint_ids: js.iter().map(|j| j.map(f32::from)).collect(),
             weights: ws.clone(),
             morph,
@@ -249,23 +249,24 @@ impl Rig {
     /// material needs them), or why not ([`decide_morph`]).
     fn gpu_morph(&self, scene: &Scene, i: usize, budget: usize) -> Result<GpuMorph, CpuBecause> {
         let p = &self.parts[i];
+        let src = &p.by.src;
         let tangents = scene.meshes.get(p.mesh).is_some_and(|m| {
             m.has_uv
                 && scene
                     .materials
                     .get(m.material)
                     .is_some_and(|mat| mat.needs_tangents())
-        }) && p.src.tangents.is_some();
+        }) && src.tangents.is_some();
         let pick = |k: MorphKind, t: usize| {
-            let t = &p.src.targets[t];
+            let t = &src.targets[t];
             match k {
                 MorphKind::Position => t.positions.as_ref(),
                 MorphKind::Normal => t.normals.as_ref(),
                 MorphKind::Tangent => t.tangents.as_ref(),
             }
         };
-        let slots = morph_slots(p.src.targets.len(), tangents, |k, t| pick(k, t).is_some());
-        decide_morph(slots.len(), p.src.normals.is_some(), budget)?;
+        let slots = morph_slots(src.targets.len(), tangents, |k, t| pick(k, t).is_some());
+        decide_morph(slots.len(), src.normals.is_some(), budget)?;
         let deltas = slots
             .iter()
             .map(|&(k, t)| pick(k, t).map_or_else(Vec::new, |d| f3(d)))
@@ -287,17 +288,18 @@ impl Rig {
     ) -> Result<GpuSkinned, CpuBecause> {
         let morph = self.gpu_morph(scene, i, budget)?;
         let p = &self.parts[i];
-        let Some(normals) = &p.src.normals else {
+        let src = &p.by.src;
+        let Some(normals) = &src.normals else {
             return Err(CpuBecause::NoFileNormals);
         };
-        let n = p.src.positions.len() / 3;
+        let n = src.positions.len() / 3;
         Ok(GpuSkinned {
             mesh: p.mesh,
             skin: self.plan.skins.len() + i,
             joints: 1,
-            positions: f3(&p.src.positions),
+            positions: f3(&src.positions),
             normals: f3(normals),
-            tangents: file_tangents(&p.src),
+            tangents: file_tangents(src),
             joint_ids: vec![[0.0; 4]; n],
             weights: vec![[1.0, 0.0, 0.0, 0.0]; n],
             morph: Some(morph),
@@ -322,8 +324,8 @@ impl Rig {
             .iter()
             .map(|p| {
                 posed
-                    .weights(p.node)
-                    .unwrap_or(&self.plan.graph.weights[p.node])
+                    .weights(p.by.node)
+                    .unwrap_or(&self.plan.graph.weights[p.by.node])
                     .to_vec()
             })
             .collect()
@@ -350,7 +352,7 @@ impl Rig {
         let nodes = self
             .parts
             .iter()
-            .map(|p| vec![(to_scene * super::rig::carried(posed, p.node, p.instance)).as_mat4()]);
+            .map(|p| vec![(to_scene * p.by.world(posed)).as_mat4()]);
         skins.chain(nodes).collect()
     }
 }

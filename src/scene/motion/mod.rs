@@ -15,7 +15,7 @@ pub(crate) mod source;
 #[cfg(test)]
 mod tests;
 
-pub(crate) use rig::{Moving, Part, Plan, WirePart};
+pub(crate) use rig::{Carried, Moving, Part, Plan, WirePart};
 
 use super::{Bounds, Scene};
 use crate::error::Result;
@@ -110,8 +110,8 @@ impl Scene {
     }
 
     /// Poses the meshes, lines and points at `moment` (None: the static pose, as loaded)
-    /// and returns the indices of the meshes whose vertices were rewritten (their vertex count may change:
-    /// generated normals are generated again). From one moment to another, a mesh that
+    /// and returns the indices of the meshes whose vertices were rewritten (their vertex
+    /// count may change: generated normals are generated again). From one moment to another, a mesh that
     /// neither moment's animation moves is left as it is, and not returned (it would be
     /// rewritten with the same vertices). The bounds become the animation's framing
     /// bounds (the same for every moment of it: a camera fitted to them does not follow

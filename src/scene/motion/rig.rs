@@ -58,49 +58,46 @@ pub(crate) struct Moving<'a> {
 #[derive(Debug)]
 pub(crate) struct Part {
     pub(crate) mesh: usize,
-    pub(crate) node: usize,
-    pub(crate) skin: Option<usize>,
-    /// A copy of an instanced node: its instance's transform after the node's.
-    pub(crate) instance: Option<DMat4>,
-    /// Shared by every node drawing the primitive.
-    pub(crate) src: std::sync::Arc<Source>,
+    pub(crate) by: Carried,
     pub(crate) prim: Prim,
 }
 
-/// Moving lines or points: where their positions start in the scene's [`Wire`], their node
-/// and skin, and their source data.
+/// Moving lines or points: where their positions start in the scene's [`Wire`], and what
+/// carries them.
 ///
 /// [`Wire`]: crate::scene::Wire
 #[derive(Debug)]
 pub(crate) struct WirePart {
     pub(crate) first: usize,
+    pub(crate) by: Carried,
+}
+
+/// What places a moving primitive (triangles, or lines and points) at a moment.
+#[derive(Debug)]
+pub(crate) struct Carried {
     pub(crate) node: usize,
+    /// The skin applied, if any.
     pub(crate) skin: Option<usize>,
+    /// A copy of an instanced node (`EXT_mesh_gpu_instancing`): its instance's transform,
+    /// after the node's.
     pub(crate) instance: Option<DMat4>,
+    /// Shared by every node drawing the primitive.
     pub(crate) src: std::sync::Arc<Source>,
 }
 
-/// What a pose places: a primitive's node, applied skin, source and instance transform.
-type Placing<'a> = (usize, Option<usize>, &'a Source, Option<DMat4>);
-
-/// The world transform of `node` in `posed`, then `instance`'s (a copy of an instanced
-/// node), which carries an unskinned primitive.
-pub(crate) fn carried(posed: &Posed, node: usize, instance: Option<DMat4>) -> DMat4 {
-    match instance {
-        Some(m) => posed.world[node] * m,
-        None => posed.world[node],
+impl Carried {
+    /// The world transform that carries the primitive unskinned in `posed`: its node's,
+    /// then its instance's.
+    pub(crate) fn world(&self, posed: &Posed) -> DMat4 {
+        match self.instance {
+            Some(m) => posed.world[self.node] * m,
+            None => posed.world[self.node],
+        }
     }
-}
 
-impl Part {
-    fn placing(&self) -> Placing<'_> {
-        (self.node, self.skin, self.src.as_ref(), self.instance)
-    }
-}
-
-impl WirePart {
-    fn placing(&self) -> Placing<'_> {
-        (self.node, self.skin, self.src.as_ref(), self.instance)
+    /// The skin that places its vertices, if any (one with no joint sets does not).
+    fn skinned(&self) -> Option<usize> {
+        self.skin.filter(|_| !self.src.sets.is_empty())
     }
 }
 
@@ -228,7 +225,7 @@ impl Plan {
     /// By animation: the indices of the primitives `parts` (node, skin) it moves (sorted):
     /// their node's world transform or morph weights, or a joint of their skin. A part no
     /// animation of two moments moves is the same at both.
-    fn reached(&self, parts: &[(usize, Option<usize>)]) -> Vec<Vec<usize>> {
+    fn reached(&self, parts: &[&Carried]) -> Vec<Vec<usize>> {
         self.animations
             .iter()
             .zip(&self.reach)
@@ -242,7 +239,7 @@ impl Plan {
                 parts
                     .iter()
                     .enumerate()
-                    .filter(|(_, &(node, skin))| hit[node] || skin.is_some_and(skin_hit))
+                    .filter(|(_, c)| hit[c.node] || c.skin.is_some_and(skin_hit))
                     .map(|(k, _)| k)
                     .collect()
             })
@@ -296,7 +293,7 @@ impl Rig {
         let mut static_bounds = Bounds::empty();
         let mut wire_moves = vec![false; wire.positions.len()];
         for w in &wires {
-            let n = w.src.positions.len() / 3;
+            let n = w.by.src.positions.len() / 3;
             wire_moves[w.first..w.first + n].fill(true);
         }
         for (q, moves) in wire.positions.iter().zip(&wire_moves) {
@@ -313,9 +310,9 @@ impl Rig {
                 }
             }
         }
-        let reached = plan.reached(&parts.iter().map(|p| (p.node, p.skin)).collect::<Vec<_>>());
+        let reached = plan.reached(&parts.iter().map(|p| &p.by).collect::<Vec<_>>());
         let wire_reached = plan
-            .reached(&wires.iter().map(|w| (w.node, w.skin)).collect::<Vec<_>>())
+            .reached(&wires.iter().map(|w| &w.by).collect::<Vec<_>>())
             .iter()
             .map(|r| !r.is_empty())
             .collect();
@@ -353,11 +350,10 @@ impl Rig {
 
     /// Each of `parts`' vertices placed in `posed` (`positions_only`: for bounds). Only
     /// the skins these parts use get joint matrices.
-    fn place_parts(&self, posed: &Posed, parts: &[Placing], positions_only: bool) -> Vec<Placed> {
-        let skinned = |&(_, skin, src, _): &Placing| skin.filter(|_| !src.sets.is_empty());
+    fn place_parts(&self, posed: &Posed, parts: &[&Carried], positions_only: bool) -> Vec<Placed> {
         let mut joints: Vec<Vec<DMat4>> = vec![Vec::new(); self.plan.skins.len()];
         let mut done = vec![false; self.plan.skins.len()];
-        for s in parts.iter().filter_map(skinned) {
+        for s in parts.iter().filter_map(|c| c.skinned()) {
             if !std::mem::replace(&mut done[s], true) {
                 if let Some(skin) = &self.plan.skins[s] {
                     joints[s] = joint_matrices(skin, &posed.world);
@@ -366,16 +362,15 @@ impl Rig {
         }
         parts
             .iter()
-            .map(|p| {
-                let (node, _, src, instance) = *p;
-                let deform = match skinned(p) {
+            .map(|c| {
+                let deform = match c.skinned() {
                     Some(s) => Deform::Skin(&joints[s]),
-                    None => Deform::Node(carried(posed, node, instance)),
+                    None => Deform::Node(c.world(posed)),
                 };
                 let weights = posed
-                    .weights(node)
-                    .unwrap_or(&self.plan.graph.weights[node]);
-                src.place(&deform, weights, self.up, positions_only)
+                    .weights(c.node)
+                    .unwrap_or(&self.plan.graph.weights[c.node]);
+                c.src.place(&deform, weights, self.up, positions_only)
             })
             .collect()
     }
@@ -415,14 +410,15 @@ impl Rig {
             return Ok(Vec::new());
         }
         let posed = self.posed(moment);
-        let placing: Vec<Placing> = parts.iter().map(|p| p.placing()).collect();
+        let placing: Vec<&Carried> = parts.iter().map(|p| &p.by).collect();
         let placed = self.place_parts(&posed, &placing, false);
         parts
             .into_iter()
             .zip(placed)
             .map(|(p, placed)| {
-                crate::scene::gltf_primitive::check_range(&placed.0)
-                    .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", p.node)))?;
+                crate::scene::gltf_primitive::check_range(&placed.0).map_err(|e| {
+                    Error::model(&self.path, None, format!("node {}: {e}", p.by.node))
+                })?;
                 Ok((p, placed))
             })
             .collect()
@@ -509,11 +505,11 @@ impl Rig {
         if !self.wire_may_move(since, moment) {
             return Ok(None);
         }
-        let placing: Vec<Placing> = self.wires.iter().map(WirePart::placing).collect();
+        let placing: Vec<&Carried> = self.wires.iter().map(|w| &w.by).collect();
         let placed = self.place_parts(&self.posed(moment), &placing, false);
         for (w, (q, _, _)) in self.wires.iter().zip(&placed) {
             crate::scene::gltf_primitive::check_range(q)
-                .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", w.node)))?;
+                .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", w.by.node)))?;
         }
         Ok(Some(placed))
     }
@@ -550,10 +546,10 @@ impl Rig {
         *self.framing[animation].get_or_init(|| {
             let a = &self.plan.animations[animation];
             let d = a.info.duration;
-            let vertices: usize = (self.parts.iter().map(|p| p.src.as_ref()))
-                .chain(self.wires.iter().map(|w| w.src.as_ref()))
-                .map(|s| s.positions.len() / 3)
-                .sum();
+            let all: Vec<&Carried> = (self.parts.iter().map(|p| &p.by))
+                .chain(self.wires.iter().map(|w| &w.by))
+                .collect();
+            let vertices: usize = all.iter().map(|c| c.src.positions.len() / 3).sum();
             let affordable = (FRAMING_WORK / vertices.max(1)).max(2);
             let samples = FRAMING_SAMPLES.min(affordable);
             let mut times: Vec<f64> = (0..=samples)
@@ -570,9 +566,6 @@ impl Rig {
             let step = keys.len().div_ceil(keys_kept.max(1)).max(1);
             times.extend(keys.iter().step_by(step).take(keys_kept));
             let mut b = self.still_bounds;
-            let all: Vec<Placing> = (self.parts.iter().map(Part::placing))
-                .chain(self.wires.iter().map(WirePart::placing))
-                .collect();
             for t in times {
                 let posed = self.posed(Some(Moment {
                     animation,

@@ -713,8 +713,8 @@ fn copies_of_an_instanced_node_move_with_it() {
     let sources: Vec<_> = rig
         .parts
         .iter()
-        .filter(|p| p.node == 5)
-        .map(|p| &p.src)
+        .filter(|p| p.by.node == 5)
+        .map(|p| &p.by.src)
         .collect();
     assert_eq!(sources.len(), 3);
     assert!(sources
