@@ -368,7 +368,8 @@ fn without_framebuffer_objects_a_moving_caster_updates_its_rectangles() {
 /// skinned rope of lines bent by a joint, still lines beside them, an instanced child node
 /// whose three copies GL 3.3 would draw as instances of one): at 1 s (STEP keys: the
 /// key values exactly) the picture is that of the still twin whose nodes hold those values,
-/// byte for byte, on GL 3.3 and GL 2.1 (the camera fixed: the two files' bounds differ), and
+/// byte for byte, on every context (GL 3.3, ES 3.0, GL 2.1 with and without VAOs and
+/// FBOs, OSMesa; the camera fixed: the two files' bounds differ), and
 /// not the static pose's; a kept renderer posed away and back, and on to a moment of an
 /// animation that moves no line (the lines go back to rest), draws a fresh renderer's bytes.
 #[test]
@@ -386,8 +387,9 @@ fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
         "--yaw",
         "20",
     ];
-    let file = |f: &'static str, time: Option<&'static str>, gl: &'static str| {
-        let mut w = vec![f, "--gl", gl];
+    let file = |f: &'static str, time: Option<&'static str>, ctx: &[&'static str]| {
+        let mut w = vec![f];
+        w.extend(ctx);
         w.extend(camera);
         if let Some(t) = time {
             w.extend(["--time", t]);
@@ -395,10 +397,10 @@ fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
         w
     };
     const MOVING: &str = "tests/data/motion/MovingWire.glb";
-    for (gl, env) in [("core", &[][..]), ("2.1", GL21)] {
-        let w = file(MOVING, Some("1"), gl);
+    for (gl, ctx, env) in super::motion_truth::CONTEXTS {
+        let w = file(MOVING, Some("1"), ctx);
         let moved = render(&dir, &format!("wire-{gl}"), &w, env);
-        let twin = file("tests/data/motion/MovingWireStill.glb", None, gl);
+        let twin = file("tests/data/motion/MovingWireStill.glb", None, ctx);
         let want = render(&dir, &format!("wire-twin-{gl}"), &twin, env);
         assert!(
             moved.data == want.data,
@@ -408,14 +410,14 @@ fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
         let rest = render(
             &dir,
             &format!("wire-rest-{gl}"),
-            &file(MOVING, None, gl),
+            &file(MOVING, None, ctx),
             env,
         );
         let d = diff(&moved, &rest, 8);
         assert!(d.over > 200, "{gl}: 1 s is the static pose: {}", d.over);
     }
     let hl = Headless::new(Backend::Egl, GlRequest::Core, 160, 120).expect("EGL context");
-    let (settings, scene) = settings_for(&file(MOVING, None, "core"));
+    let (settings, scene) = settings_for(&file(MOVING, None, &["--gl", "core"]));
     let mut kept = Renderer::new(&hl.gpu, scene.clone()).unwrap();
     let at = |animation, seconds| Some(Moment { animation, seconds });
     let mut frames = Vec::new();

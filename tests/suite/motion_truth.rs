@@ -74,7 +74,7 @@ fn a_moment_on_every_context_is_the_reference_posed() {
 }
 
 /// A context's name, its options and its environment.
-type Context = (
+pub(crate) type Context = (
     &'static str,
     &'static [&'static str],
     &'static [(&'static str, &'static str)],
@@ -190,7 +190,7 @@ const MORPH_CUBE: &str = "tests/data/khronos/motion/AnimatedMorphCube.glb";
 
 /// The contexts glview has: GL 3.3, ES 3.0, GL 2.1 (Mesa overrides, with and without VAOs
 /// and FBOs) and OSMesa.
-const CONTEXTS: [Context; 5] = [
+pub(crate) const CONTEXTS: [Context; 5] = [
     ("gl33", &["--gl", "core"], &[]),
     ("es3", &["--gl", "es3"], &[]),
     ("gl21", &["--gl", "2.1"], GL21),
