@@ -10,8 +10,10 @@ use glview::scene::{LoadOptions, Scene};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// (file, animation, moments): skins (CesiumMan, Fox, RiggedSimple), morph weights
-/// (AnimatedMorphCube), node TRS (BoxAnimated), every interpolation (InterpolationTest).
+/// (file, animation, moments): skins (CesiumMan, Fox, RiggedSimple, RiggedFigure), morph
+/// weights (AnimatedMorphCube; AnimatedMorphSphere's with tangents; MorphStressTest's 8
+/// targets, past the GPU's budget), node TRS (BoxAnimated, CesiumMilkTruck's wheels), every
+/// interpolation (InterpolationTest).
 const CASES: &[(&str, usize, &[f64])] = &[
     ("CesiumMan", 0, &[0.0, 0.77, 1.5]),
     ("Fox", 1, &[0.31]),
@@ -23,6 +25,11 @@ const CASES: &[(&str, usize, &[f64])] = &[
     ("InterpolationTest", 2, &[0.8]),
     ("InterpolationTest", 4, &[0.37]),
     ("InterpolationTest", 5, &[0.8]),
+    ("AnimatedMorphSphere", 0, &[2.5, 4.5]),
+    ("MorphStressTest", 0, &[3.3]),
+    ("MorphStressTest", 1, &[0.9]),
+    ("RiggedFigure", 0, &[0.4, 1.0]),
+    ("CesiumMilkTruck", 0, &[0.3]),
 ];
 
 /// The pinned three.js with the pose script, or None (a failure under CI=true) when
