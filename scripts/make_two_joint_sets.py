@@ -12,14 +12,21 @@ Even rings put joints 0-3 in set 0 and 4-5 in set 1; odd rings put 2-5 in set 0 
 set 1, so neither set alone is the skin. One animation, LINEAR, keys 0 / 1 / 2 s: joints 1-5
 turn about Z by 0 / 15 / 0 degrees, so at 1 s the tube bends into an arc. Run from
 the repository root; only the standard library.
+
+`make_two_joint_sets.py SIDES RINGS OUT` writes the same tube finer (e.g. 64 200
+/tmp/sets.glb: 12,800 vertices) and no positions, for `glview bench --motion
+--motion-model OUT`.
 """
 import json
 import math
 import struct
+import sys
 
 SIDES, RINGS, JOINTS, SPACING, REACH = 8, 11, 6, 0.8, 2.1
 OUT = "tests/data/motion/TwoJointSets.glb"
 EXPECTED = "tests/data/motion/TwoJointSets.expected.json"
+if len(sys.argv) == 4:
+    SIDES, RINGS, OUT, EXPECTED = int(sys.argv[1]), int(sys.argv[2]), sys.argv[3], None
 
 
 def f32(x):
@@ -127,6 +134,8 @@ out += struct.pack("<I", len(js)) + b"JSON" + js
 out += struct.pack("<I", len(bin_)) + b"BIN\0" + bytes(bin_)
 with open(OUT, "wb") as f:
     f.write(out)
+if EXPECTED is None:
+    sys.exit(0)
 
 
 # The pose at 1 s (the middle key exactly), from the values as stored (f32), in 2D: every

@@ -1,4 +1,5 @@
-// Skinning on the GPU (glTF skins, one JOINTS_0/WEIGHTS_0 set), vertex stage only. With
+// Skinning on the GPU (glTF skins: JOINTS_0/WEIGHTS_0, and JOINTS_1/WEIGHTS_1 with
+// SKIN_SETS 2, in the first two morph attributes' places), vertex stage only. With
 // SKINNED, the uploaded mesh is in bind space (the file's mesh-space positions, normals and
 // tangents) and uJoints holds its skin's joint matrices in the scene's local coordinates
 // (T(-origin) * up rotation * joint world * inverse bind), SKIN_JOINTS of them; without, the
@@ -51,10 +52,20 @@ vec3 morphSum(vec4 w) {
 IN vec4 aJoints;    // joint indices as floats (GLSL 1.20 has no integer attributes)
 IN vec4 aWeights;
 uniform mat4 uJoints[SKIN_JOINTS];
+#if defined(SKIN_SETS) && SKIN_SETS > 1
+IN vec4 aJoints1;
+IN vec4 aWeights1;
+#endif
 
+// The sets in the file's order, as the CPU pose sums them.
 mat4 skinMatrix() {
-    return aWeights.x * uJoints[int(aJoints.x)] + aWeights.y * uJoints[int(aJoints.y)]
-         + aWeights.z * uJoints[int(aJoints.z)] + aWeights.w * uJoints[int(aJoints.w)];
+    mat4 m = aWeights.x * uJoints[int(aJoints.x)] + aWeights.y * uJoints[int(aJoints.y)]
+           + aWeights.z * uJoints[int(aJoints.z)] + aWeights.w * uJoints[int(aJoints.w)];
+#if defined(SKIN_SETS) && SKIN_SETS > 1
+    m += aWeights1.x * uJoints[int(aJoints1.x)] + aWeights1.y * uJoints[int(aJoints1.y)]
+       + aWeights1.z * uJoints[int(aJoints1.z)] + aWeights1.w * uJoints[int(aJoints1.w)];
+#endif
+    return m;
 }
 
 vec3 skinPoint(vec3 p) {

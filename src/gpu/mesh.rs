@@ -21,8 +21,9 @@ pub(crate) struct GpuMesh {
     uv1: Option<Buffer>,
     /// A skinned mesh's joint indices and weights, attributes 10 and 11.
     skin: Option<(Buffer, Buffer)>,
-    /// A mesh morphed on the GPU: its targets' deltas, attributes 12 and up.
-    morph: Vec<Buffer>,
+    /// Attributes 12 and up, with their component counts: a GPU-morphed mesh's targets'
+    /// deltas (3), or a second joint set's joints and weights (4 and 4).
+    high: Vec<(Buffer, i32)>,
     vao: Option<glow::VertexArray>,
     index_type: u32,
     /// GL_TRIANGLES, GL_LINES or GL_POINTS.
@@ -43,8 +44,9 @@ pub(crate) const UV1_ATTRIBUTE: u32 = 5;
 /// Attribute locations of a skinned mesh's joints and weights (`skin.glsl`).
 pub(crate) const JOINTS_ATTRIBUTE: u32 = 10;
 pub(crate) const WEIGHTS_ATTRIBUTE: u32 = 11;
-/// Attribute location of a GPU-morphed mesh's first delta stream (`skin.glsl`), and how
-/// many the shaders declare at most.
+/// Attribute location of a GPU-morphed mesh's first delta stream, or of a second joint
+/// set's joints (its weights next) (`skin.glsl`), and how many deltas the shaders declare
+/// at most.
 pub(crate) const MORPH_ATTRIBUTE: u32 = 12;
 pub(crate) const MORPH_ATTRIBUTES: usize = 4;
 
@@ -68,6 +70,9 @@ pub(crate) struct Streams<'a> {
     pub(crate) skin: Option<SkinStreams<'a>>,
     /// Morph target deltas of a mesh morphed on the GPU (at most [`MORPH_ATTRIBUTES`]).
     pub(crate) morph: &'a [Vec<[f32; 3]>],
+    /// A second joint set (JOINTS_1, WEIGHTS_1) of a mesh skinned on the GPU, in the deltas'
+    /// places (a mesh has one or the other).
+    pub(crate) skin1: Option<SkinStreams<'a>>,
 }
 
 /// A skinned mesh's joint indices (as floats) and weights, one of each per vertex.
@@ -77,7 +82,7 @@ fn set_attributes(
     gl: &glow::Context,
     vbo: &Buffer,
     extra: [(u32, i32, Option<&Buffer>); 5],
-    morph: &[Buffer],
+    high: &[(Buffer, i32)],
 ) {
     let stride = std::mem::size_of::<Vertex>() as i32;
     // SAFETY: offsets match the #[repr(C)] Vertex layout; extra streams are tightly packed
@@ -99,12 +104,13 @@ fn set_attributes(
                 None => gl.disable_vertex_attrib_array(loc),
             }
         }
-        // Only a morphed mesh's programs declare these; without a VAO the draw disables
-        // them again (attributes past 11 are touched only by the meshes that have them).
-        for (loc, b) in (MORPH_ATTRIBUTE..).zip(morph) {
+        // Only a morphed mesh's (or a two-set skin's) programs declare these; without a VAO
+        // the draw disables them again (attributes past 11 are touched only by the meshes
+        // that have them).
+        for (loc, (b, size)) in (MORPH_ATTRIBUTE..).zip(high) {
             b.bind();
             gl.enable_vertex_attrib_array(loc);
-            gl.vertex_attrib_pointer_f32(loc, 3, glow::FLOAT, false, 12, 0);
+            gl.vertex_attrib_pointer_f32(loc, *size, glow::FLOAT, false, size * 4, 0);
         }
     }
 }
@@ -159,12 +165,22 @@ impl GpuMesh {
             )),
             None => None,
         };
-        let morph = streams
-            .morph
-            .iter()
-            .take(MORPH_ATTRIBUTES)
-            .map(|d| Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(d)))
-            .collect::<Result<Vec<_>>>()?;
+        // A second joint set's joints and weights (vec4), else the morph deltas (vec3).
+        let array = |d: &[u8], size: i32| -> Result<(Buffer, i32)> {
+            Ok((Buffer::new_static(gpu, glow::ARRAY_BUFFER, d)?, size))
+        };
+        let high = match streams.skin1 {
+            Some((j, w)) => vec![
+                array(bytemuck::cast_slice(j), 4)?,
+                array(bytemuck::cast_slice(w), 4)?,
+            ],
+            None => streams
+                .morph
+                .iter()
+                .take(MORPH_ATTRIBUTES)
+                .map(|d| array(bytemuck::cast_slice(d), 3))
+                .collect::<Result<Vec<_>>>()?,
+        };
         let vbo = Buffer::new_static(gpu, glow::ARRAY_BUFFER, bytemuck::cast_slice(vertices))?;
         // 16-bit indices where they suffice: half the memory, and the only kind ES 2 had.
         let index_type = if vertices.len() <= u16::MAX as usize + 1 {
@@ -188,7 +204,7 @@ impl GpuMesh {
                     &gpu.gl,
                     &vbo,
                     extra(&tangents, (&colors, color_size), &uv1, &skin),
-                    &morph,
+                    &high,
                 );
                 ibo.bind();
                 gpu.gl.bind_vertex_array(None);
@@ -206,7 +222,7 @@ impl GpuMesh {
             color_size,
             uv1,
             skin,
-            morph,
+            high,
             vao,
             index_type,
             mode: match primitive {
@@ -318,7 +334,7 @@ impl GpuMesh {
                             &self.uv1,
                             &self.skin,
                         ),
-                        &self.morph,
+                        &self.high,
                     );
                     self.ibo.bind();
                 }
@@ -346,7 +362,7 @@ impl GpuMesh {
             if self.vao.is_some() {
                 gl.bind_vertex_array(None);
             } else {
-                for loc in (MORPH_ATTRIBUTE..).take(self.morph.len()) {
+                for loc in (MORPH_ATTRIBUTE..).take(self.high.len()) {
                     gl.disable_vertex_attrib_array(loc);
                 }
             }

@@ -7,7 +7,7 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Attribute locations, bound before linking so every program shares one vertex layout.
-pub(crate) const ATTRIBUTES: [(u32, &str); 16] = [
+pub(crate) const ATTRIBUTES: [(u32, &str); 18] = [
     (0, "aPosition"),
     (1, "aNormal"),
     (2, "aUv"),
@@ -27,6 +27,10 @@ pub(crate) const ATTRIBUTES: [(u32, &str); 16] = [
     (13, "aMorph1"),
     (14, "aMorph2"),
     (15, "aMorph3"),
+    // A second joint set, in the first two morph attributes' places: a program declares
+    // one or the other (`skin.glsl`), never both, so the names never alias in one program.
+    (12, "aJoints1"),
+    (13, "aWeights1"),
 ];
 
 pub struct Program {
@@ -81,8 +85,9 @@ impl Program {
             for &s in &shaders {
                 gl.attach_shader(raw, s);
             }
-            // A location past the driver's attributes is an error: only morphed meshes use
-            // 12 and up, and the morph budget keeps them off such a driver.
+            // A location past the driver's attributes is an error: only morphed meshes and
+            // two-set skins use 12 and up, and the free-attribute budget keeps them off such
+            // a driver.
             let max = gpu.caps.max_vertex_attribs.max(12);
             for (loc, attr) in ATTRIBUTES.into_iter().filter(|a| a.0 < max) {
                 gl.bind_attrib_location(raw, loc, attr);

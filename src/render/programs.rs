@@ -97,6 +97,12 @@ pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
         k.switch("SKINNED", "skin", true)
             .count("SKIN_JOINTS", "j", 16)
     }))
+    // Two joint sets (JOINTS_1/WEIGHTS_1 in attributes 12 and 13).
+    .chain(vertex_variants().map(|k| {
+        k.switch("SKINNED", "skin", true)
+            .count("SKIN_JOINTS", "j", 16)
+            .count("SKIN_SETS", "s", 2)
+    }))
     // Morph targets on the GPU: a one-joint skin with all four delta attributes.
     .chain(vertex_variants().map(|k| {
         k.switch("SKINNED", "skin", true)

@@ -1,5 +1,6 @@
 //! Skinning on the GPU (issue 39): the meshes a rig skins that can be
-//! ([`crate::scene::motion::gpu`]: one joint set, the file's normals, a skin within the
+//! ([`crate::scene::motion::gpu`]: one joint set or two (the second in attributes 12 and
+//! 13, without morph targets on the GPU), the file's normals, a skin within the
 //! context's vertex uniform budget, morph targets (if any) within the free attributes, and
 //! the file's tangents where the material needs tangents) are uploaded once in bind space
 //! with their joints and weights (attributes 10 and 11; morph deltas from 12), and drawn by
@@ -21,6 +22,8 @@ use glam::Mat4;
 pub(crate) struct SkinDraw {
     pub(crate) skin: usize,
     pub(crate) joints: usize,
+    /// Joint sets: 1, or 2 (JOINTS_1/WEIGHTS_1 in attributes 12 and 13, never morphed).
+    pub(crate) sets: usize,
     /// Morphed on the GPU: the rig part (its weights in [`GpuSkins::weights`]) and the
     /// morph uniforms' slot layout's index in [`GpuSkins::slots`], and its attribute count.
     pub(crate) morph: Option<(usize, usize)>,
@@ -91,6 +94,12 @@ pub(crate) fn key(key: ProgramKey, skin: Option<SkinDraw>) -> ProgramKey {
             let key =
                 key.switch("SKINNED", "skin", true)
                     .count("SKIN_JOINTS", "j", s.joints as i32);
+            // One set keeps the key (and so the programs) skins had before two sets.
+            let key = if s.sets > 1 {
+                key.count("SKIN_SETS", "s", s.sets as i32)
+            } else {
+                key
+            };
             match s.morph {
                 Some((_, n)) => {
                     key.switch("MORPHED", "morph", true)

@@ -344,6 +344,7 @@ fn draw_mesh(
         uv1,
         skin: None,
         morph: &[],
+        skin1: None,
     };
     let levels = GpuMesh::with_levels(
         gpu,
@@ -460,7 +461,7 @@ pub(crate) fn whole_draw_mesh_into(
         Some(c) => &c.lod.indices[..],
         None => &[][..],
     };
-    let (mesh, has, bytes) = upload_mesh_into(gpu, m, mat, levels, old, None, &[])?;
+    let (mesh, has, bytes) = upload_mesh_into(gpu, m, mat, levels, old, &[], &[])?;
     // The levels' indices now live on the GPU only.
     if let Some(c) = &mut clusters {
         c.lod.indices = Vec::new();
@@ -566,7 +567,7 @@ fn upload_mesh(
     mat: &crate::scene::Material,
     levels: &[u32],
 ) -> Result<(GpuMesh, Has, u64)> {
-    upload_mesh_into(gpu, m, mat, levels, None, None, &[])
+    upload_mesh_into(gpu, m, mat, levels, None, &[], &[])
 }
 
 /// As [`upload_mesh`], into `old`'s buffers when they fit (a posed mesh: same sizes, no
@@ -577,7 +578,7 @@ pub(crate) fn upload_mesh_into(
     mat: &crate::scene::Material,
     levels: &[u32],
     old: Option<GpuMesh>,
-    skin: Option<crate::gpu::mesh::SkinStreams>,
+    skin: &[crate::gpu::mesh::SkinStreams],
     morph: &[Vec<[f32; 3]>],
 ) -> Result<(GpuMesh, Has, u64)> {
     // The file's tangents where it has them (glTF TANGENT), else MikkTSpace's.
@@ -594,8 +595,9 @@ pub(crate) fn upload_mesh_into(
         colors,
         colors_rgba: rgba.as_deref(),
         uv1,
-        skin,
+        skin: skin.first().copied(),
         morph,
+        skin1: skin.get(1).copied(),
     };
     let mesh = match old {
         Some(g) if levels.is_empty() && g.rewrite(&m.vertices, &m.indices, streams) => g,
@@ -613,9 +615,10 @@ pub(crate) fn upload_mesh_into(
         uv1: uv1.is_some(),
         colors: colors.is_some(),
     };
-    let skin_bytes = skin.map_or(0, |(j, w)| {
-        std::mem::size_of_val(j) + std::mem::size_of_val(w)
-    });
+    let skin_bytes: usize = skin
+        .iter()
+        .map(|(j, w)| std::mem::size_of_val(*j) + std::mem::size_of_val(*w))
+        .sum();
     let morph_bytes: usize = morph
         .iter()
         .map(|d| std::mem::size_of_val(d.as_slice()))
@@ -714,9 +717,10 @@ fn skinned_mesh(
     }
     bind.tangents = s.tangents.clone().unwrap_or_default();
     let mat = &scene.materials[m.material];
-    let skin = Some((s.joint_ids.as_slice(), s.weights.as_slice()));
+    let mut sets = vec![(s.joint_ids.as_slice(), s.weights.as_slice())];
+    sets.extend(s.second.as_ref().map(|(j, w)| (j.as_slice(), w.as_slice())));
     let morph = s.morph.as_ref().map_or(&[][..], |m| m.deltas.as_slice());
-    let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, skin, morph)?;
+    let (mesh, has, bytes) = upload_mesh_into(gpu, &bind, mat, &[], None, &sets, morph)?;
     let sphere = match scene.posed {
         Some(_) => super::skinning::framing_sphere(&scene.bounds),
         None => crate::scene::bounding_sphere(&m.vertices),
@@ -727,6 +731,7 @@ fn skinned_mesh(
         skin: Some(super::skinning::SkinDraw {
             skin: s.skin,
             joints: s.joints,
+            sets: sets.len(),
             morph: s.morph.as_ref().map(|m| (m.part, m.slots.len())),
         }),
         ..triangles_draw_mesh(mesh, (m, mat), has, sphere)

@@ -326,8 +326,28 @@ fn skinned_and_morphed_on_the_gpu_is_the_cpu_paths() {
     }
 }
 
+/// A skin with two joint sets (tests/data/motion/TwoJointSets.glb, made by
+/// scripts/make_two_joint_sets.py: six joints, up to six per vertex split across JOINTS_0
+/// and JOINTS_1) at 0.6 s is skinned on the GPU on every context by the two-set program
+/// (`--stats`: `skin,j6,s2`), and the picture is the CPU path's byte for byte (the CPU pose
+/// itself is held to the script's positions in `scene::motion::tests`); that moment is not
+/// the rest pose.
+#[test]
+fn two_joint_sets_on_the_gpu_are_the_cpu_paths() {
+    let dir = out_dir("motion_truth");
+    for ctx in &CONTEXTS {
+        let gpu = gpu_is_cpu(&dir, TWO_SETS, ",skin,j6,s2]", *ctx);
+        if ctx.0 == "gl33" {
+            let (rest, _) = drawn(TWO_SETS, &dir, "two-sets-rest", "0", *ctx, false);
+            assert_ne!(rest.data, gpu.data, "0.6 s is not the rest pose");
+        }
+    }
+}
+
+const TWO_SETS: &str = "tests/data/motion/TwoJointSets.glb";
+
 /// `model` at 0.6 s on `ctx` is drawn by a program whose `--stats` name ends in `program`
-/// (skinned and morphed on the GPU) and equals the CPU path's picture byte for byte; the
+/// (skinned, and morphed, on the GPU) and equals the CPU path's picture byte for byte; the
 /// GPU's picture.
 fn gpu_is_cpu(dir: &std::path::Path, model: &str, program: &str, ctx: Context) -> Rgba {
     let stem = std::path::Path::new(model).file_stem().unwrap();
@@ -335,14 +355,14 @@ fn gpu_is_cpu(dir: &std::path::Path, model: &str, program: &str, ctx: Context) -
     let (gpu, stats) = drawn(model, dir, &name, "0.6", ctx, false);
     assert!(
         stats.contains(program),
-        "{name}: not skinned and morphed on the GPU: {stats}"
+        "{name}: not skinned (and morphed) on the GPU: {stats}"
     );
     let cpu_name = format!("{name}-cpu");
     let (cpu, stats) = drawn(model, dir, &cpu_name, "0.6", ctx, true);
     assert!(!stats.contains(",skin,"), "{name}: {stats}");
     assert!(
         gpu.data == cpu.data,
-        "{name}: skinned and morphed on the GPU is not the CPU path's picture: {}",
+        "{name}: skinned (and morphed) on the GPU is not the CPU path's picture: {}",
         write_diff(dir, &name, &gpu, &cpu).display()
     );
     gpu

@@ -28,6 +28,8 @@ pub fn joint_budget(components: u32) -> usize {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum CpuBecause {
     NotSkinned,
+    /// More than two joint sets; or two, with morph targets on the GPU too or fewer than
+    /// two free attributes (the second set takes the first two morph attributes' places).
     JointSets(usize),
     NoFileNormals,
     /// The skin's joints, over the budget.
@@ -122,14 +124,20 @@ pub struct GpuSkinned {
     /// joint 0, weight 1, its node's matrix the one joint).
     pub joint_ids: Vec<[f32; 4]>,
     pub weights: Vec<[f32; 4]>,
+    /// JOINTS_1 (as floats) and WEIGHTS_1, where the file has a second set.
+    pub second: Option<GpuJointSet>,
     /// Morphed on the GPU (with its skin, or alone as a one-joint skin): its targets'
     /// deltas, added before the skin's matrices as the spec orders.
     pub morph: Option<GpuMorph>,
 }
 
+/// One joint set on the GPU: joint indices (as floats) and weights, per vertex.
+pub type GpuJointSet = (Vec<[f32; 4]>, Vec<[f32; 4]>);
+
 /// The decision for one skinned part's skin, without GL: a skin with `joints` joints,
-/// `sets` joint sets, file normals or not, against `budget` joints (its morph targets, if
-/// any, are [`decide_morph`]'s).
+/// `sets` joint sets (one or two), file normals or not, against `budget` joints (its morph
+/// targets, if any, are [`decide_morph`]'s; a second set's attributes are checked with
+/// them).
 pub fn decide(
     joints: Option<usize>,
     sets: usize,
@@ -139,7 +147,7 @@ pub fn decide(
     let Some(joints) = joints else {
         return Err(CpuBecause::NotSkinned);
     };
-    if sets != 1 {
+    if !(1..=2).contains(&sets) {
         return Err(CpuBecause::JointSets(sets));
     }
     if !normals {
@@ -231,6 +239,12 @@ impl Rig {
         };
         // Targets that move nothing (or no targets) take no attribute: plain skinning.
         let morph = Some(self.gpu_morph(scene, i, morphs)?).filter(|m| !m.slots.is_empty());
+        let second = match src.sets.get(1) {
+            None => None,
+            // The second set takes attributes 12 and 13, the first morph attributes'.
+            Some(_) if morph.is_some() || morphs < 2 => return Err(CpuBecause::JointSets(2)),
+            Some((js, ws)) => Some((js.iter().map(|j| j.map(f32::from)).collect(), ws.clone())),
+        };
         Ok(GpuSkinned {
             mesh: p.mesh,
             skin,
@@ -240,6 +254,7 @@ impl Rig {
             tangents: file_tangents(src),
             joint_ids: js.iter().map(|j| j.map(f32::from)).collect(),
             weights: ws.clone(),
+            second,
             morph,
         })
     }
@@ -302,6 +317,7 @@ impl Rig {
             tangents: file_tangents(src),
             joint_ids: vec![[0.0; 4]; n],
             weights: vec![[1.0, 0.0, 0.0, 0.0]; n],
+            second: None,
             morph: Some(morph),
         })
     }
@@ -461,6 +477,27 @@ mod tests {
         assert_ne!(scene.meshes[0].vertices, before);
     }
 
+    /// A second joint set goes to the GPU in attributes 12 and 13, so it needs two free
+    /// ones (16 attributes leave 4); with fewer the mesh is posed on the CPU.
+    #[test]
+    fn a_second_joint_set_needs_two_free_attributes() {
+        let scene = super::super::tests::committed("tests/data/motion/TwoJointSets.glb");
+        let rig = scene.motion.clone().expect("a rig");
+        let (gpu, cpu) = rig.gpu_skinned(&scene, 16, 4);
+        assert!(cpu.is_empty(), "{cpu:?}");
+        let (j1, w1) = gpu[0].second.as_ref().expect("the second set");
+        assert_eq!(
+            (j1.len(), w1.len()),
+            (gpu[0].positions.len(), gpu[0].positions.len())
+        );
+        // Ring 6 (y = 2.4) weighs joints 4 and 5 in set 1.
+        assert_eq!(j1[48], [4.0, 5.0, 0.0, 0.0]);
+        assert!(w1[48][0] > 0.0 && w1[48][1] > 0.0);
+        let (gpu, cpu) = rig.gpu_skinned(&scene, 16, 1);
+        assert!(gpu.is_empty());
+        assert_eq!(cpu, vec![(0, CpuBecause::JointSets(2))]);
+    }
+
     #[test]
     fn the_budget_leaves_room_and_gl21s_minimum_skins_16_joints() {
         assert_eq!(joint_budget(512), 16);
@@ -476,7 +513,8 @@ mod tests {
             decide(Some(19), 1, true, b),
             Err(CpuBecause::OverBudget(19))
         );
-        assert_eq!(decide(Some(2), 2, true, b), Err(CpuBecause::JointSets(2)));
+        assert_eq!(decide(Some(2), 2, true, b), Ok(()));
+        assert_eq!(decide(Some(2), 3, true, b), Err(CpuBecause::JointSets(3)));
         assert_eq!(decide(Some(2), 1, false, b), Err(CpuBecause::NoFileNormals));
         assert_eq!(decide(None, 0, true, b), Err(CpuBecause::NotSkinned));
     }
