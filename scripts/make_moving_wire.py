@@ -13,9 +13,9 @@ exactly. MovingWireStill is the same file with those values written into the nod
 no animation: its static pose is the animated file's pose at 1 s. Run from the repository
 root; only the standard library.
 """
-import json
 import math
-import struct
+
+import glb
 
 
 def quat(axis, deg):
@@ -24,44 +24,15 @@ def quat(axis, deg):
     return [axis[0] * s, axis[1] * s, axis[2] * s, math.cos(h)]
 
 
-class Glb:
-    def __init__(self):
-        self.bin, self.views, self.accessors = bytearray(), [], []
-
-    def add(self, data, fmt, kind, comp, count):
-        while len(self.bin) % 4:
-            self.bin.append(0)
-        raw = struct.pack("<%d%s" % (len(data), fmt), *data)
-        self.views.append({"buffer": 0, "byteOffset": len(self.bin), "byteLength": len(raw)})
-        self.bin += raw
-        acc = {"bufferView": len(self.views) - 1, "componentType": comp, "count": count, "type": kind}
-        if kind == "VEC3" and comp == 5126:
-            acc["min"] = [min(data[i::3]) for i in range(3)]
-            acc["max"] = [max(data[i::3]) for i in range(3)]
-        if kind == "SCALAR" and comp == 5126:
-            acc["min"], acc["max"] = [min(data)], [max(data)]
-        self.accessors.append(acc)
-        return len(self.accessors) - 1
+class Glb(glb.Glb):
+    """Float accessors of positions and key times carry min and max."""
 
     def floats(self, data, kind):
-        per = {"SCALAR": 1, "VEC3": 3, "VEC4": 4, "MAT4": 16}[kind]
-        return self.add(data, "f", kind, 5126, len(data) // per)
+        n = len(data) // glb.COMPONENTS[kind]
+        return self.add("f", data, kind, glb.FLOAT, n, kind in ("VEC3", "SCALAR"))
 
     def u16(self, data, kind="SCALAR"):
-        per = 4 if kind == "VEC4" else 1
-        return self.add(data, "H", kind, 5123, len(data) // per)
-
-    def write(self, path, gltf):
-        while len(self.bin) % 4:
-            self.bin.append(0)
-        gltf.update(asset={"version": "2.0"}, buffers=[{"byteLength": len(self.bin)}],
-                    bufferViews=self.views, accessors=self.accessors)
-        js = json.dumps(gltf, separators=(",", ":")).encode()
-        js += b" " * (-len(js) % 4)
-        out = struct.pack("<III", 0x46546C67, 2, 12 + 8 + len(js) + 8 + len(self.bin))
-        out += struct.pack("<II", len(js), 0x4E4F534A) + js
-        out += struct.pack("<II", len(self.bin), 0x004E4942) + self.bin
-        open(path, "wb").write(out)
+        return self.add("H", data, kind, glb.U16, len(data) // glb.COMPONENTS[kind])
 
 
 def cube(g):

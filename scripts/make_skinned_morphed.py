@@ -19,11 +19,12 @@ tube with UVs (a seam column of its own), TANGENTs and an 8x8 bumpy normal map, 
 "bulge" target only, with position, normal and tangent deltas (three delta attributes: a
 normal-mapped material needs the tangents' deltas too).
 """
-import json
 import math
 import struct
 import sys
 import zlib
+
+import glb
 
 SIDES, RINGS, OUT = 8, 5, "tests/data/motion/SkinnedMorphed.glb"
 MAPPED = sys.argv[1:] == ["--mapped"]
@@ -67,26 +68,12 @@ for r in range(RINGS - 1):
         c, d = a + COLS, b + COLS
         indices += [a, c, b, b, c, d]
 
-bin_ = bytearray()
-views, accessors = [], []
-
-
-def add(fmt, data, kind, ctype, count, minmax=False):
-    while len(bin_) % 4:
-        bin_.append(0)
-    raw = struct.pack("<%d%s" % (len(data), fmt), *data)
-    views.append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(raw)})
-    bin_.extend(raw)
-    acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": kind}
-    if minmax:
-        acc["min"] = [min(data[i::3]) for i in range(3)]
-        acc["max"] = [max(data[i::3]) for i in range(3)]
-    accessors.append(acc)
-    return len(accessors) - 1
+g = glb.Glb()
+add = g.add
 
 
 n = len(positions) // 3
-F, U16 = 5126, 5123
+F, U16 = glb.FLOAT, glb.U16
 pos = add("f", positions, "VEC3", F, n, True)
 nrm = add("f", normals, "VEC3", F, n)
 jnt = add("H", joints, "VEC4", U16, n)
@@ -120,11 +107,7 @@ if MAPPED:
 
     png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 8, 8, 8, 2, 0, 0, 0))
     png += chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b"")
-    while len(bin_) % 4:
-        bin_.append(0)
-    views.append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(png)})
-    bin_.extend(png)
-    extra["images"] = [{"bufferView": len(views) - 1, "mimeType": "image/png"}]
+    extra["images"] = [{"bufferView": g.view(png), "mimeType": "image/png"}]
     extra["textures"] = [{"source": 0}]
     material["normalTexture"] = {"index": 0}
     weight_keys = [0, 1, 0]
@@ -167,18 +150,9 @@ gltf = {
                      {"sampler": 1, "target": {"node": 0, "path": "weights"}}],
         "samplers": [{"input": times, "output": turns}, {"input": times, "output": morphs}],
     }],
-    "buffers": [{"byteLength": 0}],
-    "bufferViews": views,
-    "accessors": accessors,
+    "buffers": None,  # these three set by Glb.write, in these places
+    "bufferViews": None,
+    "accessors": None,
     **extra,
 }
-while len(bin_) % 4:
-    bin_.append(0)
-gltf["buffers"][0]["byteLength"] = len(bin_)
-js = json.dumps(gltf, separators=(",", ":")).encode()
-js += b" " * (-len(js) % 4)
-out = b"glTF" + struct.pack("<II", 2, 12 + 8 + len(js) + 8 + len(bin_))
-out += struct.pack("<I", len(js)) + b"JSON" + js
-out += struct.pack("<I", len(bin_)) + b"BIN\0" + bytes(bin_)
-with open(OUT, "wb") as f:
-    f.write(out)
+g.write(OUT, gltf)

@@ -22,6 +22,8 @@ import math
 import struct
 import sys
 
+import glb
+
 SIDES, RINGS, JOINTS, SPACING, REACH = 8, 11, 6, 0.8, 2.1
 OUT = "tests/data/motion/TwoJointSets.glb"
 EXPECTED = "tests/data/motion/TwoJointSets.expected.json"
@@ -57,26 +59,12 @@ for r in range(RINGS - 1):
         a, b = r * SIDES + s, r * SIDES + (s + 1) % SIDES
         indices += [a, a + SIDES, b, b, a + SIDES, b + SIDES]
 
-bin_ = bytearray()
-views, accessors = [], []
-
-
-def add(fmt, data, kind, ctype, count, minmax=False):
-    while len(bin_) % 4:
-        bin_.append(0)
-    raw = struct.pack("<%d%s" % (len(data), fmt), *data)
-    views.append({"buffer": 0, "byteOffset": len(bin_), "byteLength": len(raw)})
-    bin_.extend(raw)
-    acc = {"bufferView": len(views) - 1, "componentType": ctype, "count": count, "type": kind}
-    if minmax:
-        acc["min"] = [min(data[i::3]) for i in range(3)]
-        acc["max"] = [max(data[i::3]) for i in range(3)]
-    accessors.append(acc)
-    return len(accessors) - 1
+g = glb.Glb()
+add = g.add
 
 
 n = len(positions) // 3
-F, U16 = 5126, 5123
+F, U16 = glb.FLOAT, glb.U16
 attributes = {
     "POSITION": add("f", positions, "VEC3", F, n, True),
     "NORMAL": add("f", normals, "VEC3", F, n),
@@ -120,20 +108,11 @@ gltf = {
                    "doubleSided": True}],
     "meshes": [{"primitives": [{"attributes": attributes, "indices": idx, "material": 0}]}],
     "animations": [{"name": "Bend", "channels": channels, "samplers": samplers}],
-    "buffers": [{"byteLength": 0}],
-    "bufferViews": views,
-    "accessors": accessors,
+    "buffers": None,  # these three set by Glb.write, in these places
+    "bufferViews": None,
+    "accessors": None,
 }
-while len(bin_) % 4:
-    bin_.append(0)
-gltf["buffers"][0]["byteLength"] = len(bin_)
-js = json.dumps(gltf, separators=(",", ":")).encode()
-js += b" " * (-len(js) % 4)
-out = b"glTF" + struct.pack("<II", 2, 12 + 8 + len(js) + 8 + len(bin_))
-out += struct.pack("<I", len(js)) + b"JSON" + js
-out += struct.pack("<I", len(bin_)) + b"BIN\0" + bytes(bin_)
-with open(OUT, "wb") as f:
-    f.write(out)
+g.write(OUT, gltf)
 if EXPECTED is None:
     sys.exit(0)
 
