@@ -38,6 +38,9 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_anisotropy",
     "KHR_materials_variants",
     "KHR_lights_punctual",
+    // Pointers to nodes' translation, rotation, scale and weights; others are warned of
+    // (`gltf_pointer`).
+    "KHR_animation_pointer",
 ];
 
 /// Decoded images stop here (bytes of RGBA8); later images are skipped with a warning.
@@ -283,9 +286,23 @@ fn parse_document(
             ));
         }
     }
-    let parsed = gltf::Gltf::from_slice_without_validation(bytes)
+    let parsed = super::gltf_pointer::parse(bytes)
         .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-    let mut json = parsed.document.into_json();
+    let (mut json, blob) = match parsed {
+        Some(p) => {
+            warnings.extend(p.dropped.iter().map(|d| Warning {
+                file: path.to_path_buf(),
+                line: None,
+                message: d.message(),
+            }));
+            (p.json, p.blob)
+        }
+        None => {
+            let parsed = gltf::Gltf::from_slice_without_validation(bytes)
+                .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
+            (parsed.document.into_json(), parsed.blob)
+        }
+    };
     if let Some(v) = &json.asset.min_version {
         check_min_version(v).map_err(bad)?;
     }
@@ -325,10 +342,7 @@ fn parse_document(
     json.extensions_required.clear();
     prefer_extension_sources(&mut json);
     validate(&json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-    Ok((
-        gltf::Document::from_json_without_validation(json),
-        parsed.blob,
-    ))
+    Ok((gltf::Document::from_json_without_validation(json), blob))
 }
 
 /// Texture extensions naming an image format glview decodes, in the order it prefers them.

@@ -22,6 +22,7 @@ pub(crate) mod gltf_lights;
 pub(crate) mod gltf_material;
 pub(crate) mod gltf_meshopt;
 pub(crate) mod gltf_modes;
+pub(crate) mod gltf_pointer;
 pub(crate) mod gltf_primitive;
 pub(crate) mod gltf_scenes;
 pub(crate) mod gltf_specgloss;

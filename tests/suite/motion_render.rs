@@ -442,3 +442,85 @@ fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
     assert!(frames[1].data != moved.data && frames[2].data == frames[1].data);
     assert!(spun.data != frames[1].data, "animation 1 turns the copies");
 }
+
+/// `path` (a GLB) with its JSON chunk replaced by `json`, written to `out`.
+fn glb_with_json(path: &str, json: &serde_json::Value, out: &std::path::Path) {
+    let bytes = std::fs::read(path).unwrap();
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let bin = &bytes[20 + len..];
+    let mut text = serde_json::to_vec(json).unwrap();
+    text.resize(text.len().div_ceil(4) * 4, b' ');
+    let mut glb = b"glTF".to_vec();
+    glb.extend(2u32.to_le_bytes());
+    glb.extend(((12 + 8 + text.len() + bin.len()) as u32).to_le_bytes());
+    glb.extend((text.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(text);
+    glb.extend(bin);
+    std::fs::write(out, glb).unwrap();
+}
+
+/// KHR_animation_pointer: Khronos' BoxAnimated with every channel written as the pointer to
+/// its node's property (`/nodes/N/rotation`, `"path": "pointer"`, no `node`; before, such a
+/// file was refused: "missing field `node`"), plus a channel pointing at a material's base
+/// colour, loads with one warning naming that pointer, and draws the original file's
+/// picture byte for byte at the static pose and at two moments.
+#[test]
+fn pointer_channels_to_nodes_play_as_the_node_channels() {
+    const BOX: &str = "tests/data/khronos/motion/BoxAnimated.glb";
+    let dir = out_dir("motion_render");
+    at_repo();
+    let bytes = std::fs::read(BOX).unwrap();
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let mut json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + len]).unwrap();
+    const POINTER: &str = "KHR_animation_pointer";
+    let channels = json["animations"][0]["channels"].as_array_mut().unwrap();
+    let plain = channels.len();
+    for c in channels.iter_mut() {
+        let t = &c["target"];
+        let pointer = format!("/nodes/{}/{}", t["node"], t["path"].as_str().unwrap());
+        c["target"] =
+            serde_json::json!({"path": "pointer", "extensions": {POINTER: {"pointer": pointer}}});
+    }
+    channels.push(serde_json::json!({"sampler": 0, "target": {"path": "pointer",
+        "extensions": {POINTER: {"pointer": "/materials/0/pbrMetallicRoughness/baseColorFactor"}}}}));
+    json["extensionsUsed"] = serde_json::json!([POINTER]);
+    let pointers = dir.join("BoxPointers.glb");
+    glb_with_json(BOX, &json, &pointers);
+    let file = pointers.to_str().unwrap();
+    let o = run(&["--check", file], &[]);
+    // `--check` reports the warnings with the rest, on standard output.
+    let err = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let warned: Vec<&str> = err.lines().filter(|l| l.contains(POINTER)).collect();
+    assert_eq!(warned.len(), 1, "{err}");
+    assert!(
+        warned[0].contains(file)
+            && warned[0].contains(&format!("channel {plain}: {POINTER} /materials/0/pbrMetallicRoughness/baseColorFactor is not played")),
+        "{}",
+        warned[0]
+    );
+    let mut seen = Vec::new();
+    for time in [None, Some("1.3"), Some("3.0")] {
+        let mut w = vec!["--size", "96x72"];
+        w.extend(time.map(|t| ["--time", t]).into_iter().flatten());
+        let name = format!("box-{}", time.unwrap_or("static"));
+        let want = render(&dir, &name, &[&[BOX][..], &w].concat(), &[]);
+        let got = render(
+            &dir,
+            &format!("{name}-pointers"),
+            &[&[file][..], &w].concat(),
+            &[],
+        );
+        assert!(
+            got.data == want.data,
+            "{name}: the pointer channels do not draw the node channels' picture: {}",
+            write_diff(&dir, &name, &got, &want).display()
+        );
+        seen.push(want.data);
+    }
+    assert!(
+        seen[0] != seen[1] && seen[1] != seen[2],
+        "the moments differ"
+    );
+}

@@ -1,0 +1,196 @@
+//! KHR_animation_pointer (issue 39): an animation channel may name what it animates by a
+//! JSON pointer instead of a node and a path (`"path": "pointer"`, no `node`). The `gltf`
+//! crate's types require the node, so such a file would not even parse. Before the crate
+//! reads the JSON, each pointer channel is rewritten here: one naming a node's
+//! `translation`, `rotation`, `scale` or `weights` becomes the plain channel it means (the
+//! extension defines it so), and is played as one; any other (a material's colour, a light's
+//! intensity, a camera's field of view) is taken out of the animation with a warning naming
+//! its pointer, and the rest of the file plays. Files without the extension's name in their
+//! JSON are not touched (one scan of the JSON's bytes).
+use serde_json::Value;
+
+/// The extension's name, as it appears in a channel target's `extensions`.
+pub(crate) const NAME: &str = "KHR_animation_pointer";
+
+/// A channel taken out: the animation and channel indices, and its pointer.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Dropped {
+    pub(crate) animation: usize,
+    pub(crate) channel: usize,
+    pub(crate) pointer: String,
+}
+
+impl Dropped {
+    pub(crate) fn message(&self) -> String {
+        format!(
+            "animation {} channel {}: {NAME} {} is not played (glview plays pointers to \
+             nodes' translation, rotation, scale and weights only)",
+            self.animation, self.channel, self.pointer
+        )
+    }
+}
+
+/// A file's JSON with its pointer channels rewritten, its binary chunk (a GLB's), and the
+/// channels taken out.
+pub(crate) struct Parsed {
+    pub(crate) json: gltf::json::Root,
+    pub(crate) blob: Option<Vec<u8>>,
+    pub(crate) dropped: Vec<Dropped>,
+}
+
+/// A glTF or GLB file's bytes parsed with its pointer channels rewritten ([`rewrite`]), when
+/// its JSON names the extension; None for any other file (the crate parses it as it is).
+pub(crate) fn parse(bytes: &[u8]) -> Result<Option<Parsed>, String> {
+    let (text, blob) = if bytes.starts_with(b"glTF") {
+        let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| e.to_string())?;
+        (glb.json, glb.bin)
+    } else {
+        (std::borrow::Cow::Borrowed(bytes), None)
+    };
+    if !mentions(&text) {
+        return Ok(None);
+    }
+    let mut value: Value = serde_json::from_slice(&text).map_err(|e| e.to_string())?;
+    let dropped = rewrite(&mut value);
+    let json = serde_json::from_value(value).map_err(|e| e.to_string())?;
+    // The binary chunk is copied only here, for a file that has pointers (the crate's own
+    // parse copies it as well).
+    Ok(Some(Parsed {
+        json,
+        blob: blob.map(std::borrow::Cow::into_owned),
+        dropped,
+    }))
+}
+
+/// Whether JSON text `json` may hold pointer channels (its bytes name the extension).
+pub(crate) fn mentions(json: &[u8]) -> bool {
+    json.windows(NAME.len()).any(|w| w == NAME.as_bytes())
+}
+
+/// The node and path a pointer names, if it is one of a node's four animated properties:
+/// `/nodes/{n}/translation` and so on (JSON pointer escapes cannot occur in these).
+fn node_path(pointer: &str) -> Option<(u64, &'static str)> {
+    let rest = pointer.strip_prefix("/nodes/")?;
+    let (index, property) = rest.split_once('/')?;
+    // A JSON array index: digits, no sign, no leading zero.
+    if index.is_empty()
+        || !index.bytes().all(|b| b.is_ascii_digit())
+        || index.len() > 1 && index.starts_with('0')
+    {
+        return None;
+    }
+    let path = ["translation", "rotation", "scale", "weights"]
+        .into_iter()
+        .find(|p| *p == property)?;
+    Some((index.parse().ok()?, path))
+}
+
+/// Rewrites the pointer channels of glTF JSON `root` in place (see the module): returns the
+/// channels it took out. Targets without a node that are not pointer channels are left for
+/// the crate to refuse, as before.
+pub(crate) fn rewrite(root: &mut Value) -> Vec<Dropped> {
+    let mut dropped = Vec::new();
+    let Some(animations) = root.get_mut("animations").and_then(Value::as_array_mut) else {
+        return dropped;
+    };
+    for (ai, a) in animations.iter_mut().enumerate() {
+        let Some(channels) = a.get_mut("channels").and_then(Value::as_array_mut) else {
+            continue;
+        };
+        let mut ci = 0;
+        channels.retain_mut(|c| {
+            let index = ci;
+            ci += 1;
+            let Some(target) = c.get_mut("target").and_then(Value::as_object_mut) else {
+                return true;
+            };
+            if target.contains_key("node") || target.get("path") != Some(&Value::from("pointer")) {
+                return true;
+            }
+            let pointer = target
+                .get("extensions")
+                .and_then(|e| e.get(NAME))
+                .and_then(|x| x.get("pointer"))
+                .and_then(Value::as_str)
+                .unwrap_or("(none)")
+                .to_string();
+            match node_path(&pointer) {
+                Some((node, path)) => {
+                    target.insert("node".into(), node.into());
+                    target.insert("path".into(), path.into());
+                    true
+                }
+                None => {
+                    dropped.push(Dropped {
+                        animation: ai,
+                        channel: index,
+                        pointer,
+                    });
+                    false
+                }
+            }
+        });
+    }
+    dropped
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn channel(target: Value) -> Value {
+        serde_json::json!({"sampler": 0, "target": target})
+    }
+
+    fn pointer(p: &str) -> Value {
+        serde_json::json!({"path": "pointer", "extensions": {NAME: {"pointer": p}}})
+    }
+
+    #[test]
+    fn node_pointers_become_plain_channels_and_the_rest_are_taken_out() {
+        let mut root = serde_json::json!({"animations": [{"channels": [
+            channel(serde_json::json!({"node": 1, "path": "rotation"})),
+            channel(pointer("/nodes/3/translation")),
+            channel(pointer("/materials/0/pbrMetallicRoughness/baseColorFactor")),
+            channel(pointer("/nodes/12/weights")),
+            channel(pointer("/nodes/01/scale")),
+            channel(pointer("/nodes/2/matrix")),
+            channel(serde_json::json!({"path": "pointer"})),
+        ]}]});
+        let dropped = rewrite(&mut root);
+        let channels = root["animations"][0]["channels"].as_array().unwrap();
+        let targets: Vec<(u64, &str)> = channels
+            .iter()
+            .map(|c| {
+                let t = &c["target"];
+                (t["node"].as_u64().unwrap(), t["path"].as_str().unwrap())
+            })
+            .collect();
+        assert_eq!(
+            targets,
+            [(1, "rotation"), (3, "translation"), (12, "weights")]
+        );
+        let out: Vec<(usize, &str)> = dropped
+            .iter()
+            .map(|d| (d.channel, d.pointer.as_str()))
+            .collect();
+        assert_eq!(
+            out,
+            [
+                (2, "/materials/0/pbrMetallicRoughness/baseColorFactor"),
+                (4, "/nodes/01/scale"),
+                (5, "/nodes/2/matrix"),
+                (6, "(none)"),
+            ]
+        );
+        assert!(dropped[0]
+            .message()
+            .contains("animation 0 channel 2: KHR_animation_pointer /materials/0"));
+    }
+
+    #[test]
+    fn the_scan_finds_the_name() {
+        assert!(mentions(br#"{"extensionsUsed":["KHR_animation_pointer"]}"#));
+        assert!(!mentions(br#"{"asset":{"version":"2.0"}}"#));
+    }
+}
