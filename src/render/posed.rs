@@ -69,8 +69,11 @@ impl Renderer {
         }
         let pose_ms = ms(t);
         // The shadow maps are fitted to the scene's bounds, which a pose may change (the
-        // animation's framing) even where no mesh moved.
-        if self.scene.scene.bounds != bounds {
+        // animation's framing) even where no mesh moved; and a cut-out (MASK) material's
+        // animated alpha changes what casts a shadow.
+        let materials = (self.scene.scene.motion.as_ref())
+            .is_some_and(|r| r.materials_may_change(since, moment));
+        if self.scene.scene.bounds != bounds || materials {
             self.res.shadow.invalidate();
         }
         // A failed upload leaves the scene posed but the GPU not: the next call poses again.

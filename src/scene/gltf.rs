@@ -57,7 +57,7 @@ fn invalid(path: &Path, m: String) -> Error {
 pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     let bad = |m: String| invalid(path, m);
     let mut warnings = Vec::new();
-    let (doc, blob) = parse_document(path, bytes, &mut warnings)?;
+    let (doc, blob, pointed) = parse_document(path, bytes, &mut warnings)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let buffers = super::gltf_buffers::buffers(&doc, blob, dir, opts.textures.allow_outside_paths)
         .map_err(bad)?;
@@ -96,7 +96,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         message,
     }));
     let mut warn = |message| warnings.push(Warning::of(path, message));
-    let plan = super::motion::Plan::read(&doc, &nodes, &buffers, &mut warn);
+    let plan = super::motion::Plan::read(&doc, &nodes, (&buffers, &pointed), &mut warn);
     let instances = super::gltf_graph::instances(&doc, &nodes);
     let (instances, mut maps, runs) =
         super::gltf_instancing::expand(&doc, instances, &buffers).map_err(bad)?;
@@ -152,7 +152,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let motion = rig_of(
         plan,
         (parts, wire_parts),
-        (&meshes, &wire),
+        (&meshes, &wire, &materials),
         built,
         &mut maps,
     );
@@ -201,7 +201,7 @@ fn records(
 fn rig_of(
     plan: super::motion::Plan,
     (parts, wires): (Vec<super::motion::Part>, Vec<Recorded>),
-    (meshes, wire): (&[super::Mesh], &super::Wire),
+    drawn: (&[super::Mesh], &super::Wire, &[super::Material]),
     built: super::motion::rig::Built,
     maps: &mut Vec<String>,
 ) -> Option<Arc<super::motion::Rig>> {
@@ -215,7 +215,7 @@ fn rig_of(
             by: r.by,
         })
         .collect();
-    let rig = super::motion::Rig::new(plan, (parts, wires), meshes, wire, built);
+    let rig = super::motion::Rig::new(plan, (parts, wires), drawn, built);
     maps.extend(rig.check_lines());
     Some(Arc::new(rig))
 }
@@ -265,14 +265,20 @@ fn build_meshes(
     (meshes, bounds, mesh_of, parts)
 }
 
-/// The parsed document and the GLB's binary chunk, after the checks the `gltf` crate skips or
-/// does too late: the GLB length, required extensions (refused unless supported; unsupported
-/// used ones are a warning) and attribute accessor indices (its validator would panic).
+/// The parsed document, the GLB's binary chunk and the KHR_animation_pointer channels that
+/// animate materials (taken out of the document: [`super::gltf_pointer`]), after the checks
+/// the `gltf` crate skips or does too late: the GLB length, required extensions (refused
+/// unless supported; unsupported used ones are a warning) and attribute accessor indices
+/// (its validator would panic).
 fn parse_document(
     path: &Path,
     bytes: &[u8],
     warnings: &mut Vec<Warning>,
-) -> Result<(gltf::Document, Option<Vec<u8>>)> {
+) -> Result<(
+    gltf::Document,
+    Option<Vec<u8>>,
+    Vec<super::gltf_pointer::MaterialChannel>,
+)> {
     let bad = |m: String| invalid(path, m);
     // The crate subtracts the 12-byte header from the GLB's stated length unchecked
     // (overflow, found by the gltf fuzz target).
@@ -288,19 +294,19 @@ fn parse_document(
     }
     let parsed = super::gltf_pointer::parse(bytes)
         .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-    let (mut json, blob) = match parsed {
+    let (mut json, blob, pointed) = match parsed {
         Some(p) => {
             warnings.extend(p.dropped.iter().map(|d| Warning {
                 file: path.to_path_buf(),
                 line: None,
                 message: d.message(),
             }));
-            (p.json, p.blob)
+            (p.json, p.blob, p.materials)
         }
         None => {
             let parsed = gltf::Gltf::from_slice_without_validation(bytes)
                 .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-            (parsed.document.into_json(), parsed.blob)
+            (parsed.document.into_json(), parsed.blob, Vec::new())
         }
     };
     if let Some(v) = &json.asset.min_version {
@@ -342,7 +348,11 @@ fn parse_document(
     json.extensions_required.clear();
     prefer_extension_sources(&mut json);
     validate(&json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-    Ok((gltf::Document::from_json_without_validation(json), blob))
+    Ok((
+        gltf::Document::from_json_without_validation(json),
+        blob,
+        pointed,
+    ))
 }
 
 /// Texture extensions naming an image format glview decodes, in the order it prefers them.

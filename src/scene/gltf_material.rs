@@ -86,6 +86,51 @@ fn load_slot(
     })
 }
 
+/// The factors of a glTF material that KHR_animation_pointer may animate, as the file gives
+/// them; [`Factors::apply`] makes them the material's values, for the loader and for a pose
+/// alike (so a moment's material is the one a file holding those factors loads as).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Factors {
+    pub(crate) base_color: [f32; 4],
+    pub(crate) metallic: f32,
+    pub(crate) roughness: f32,
+    pub(crate) emissive: [f32; 3],
+    pub(crate) emissive_strength: f32,
+}
+
+impl Factors {
+    pub(crate) fn of(m: &gltf::Material) -> Factors {
+        let pbr = m.pbr_metallic_roughness();
+        Factors {
+            base_color: pbr.base_color_factor(),
+            metallic: pbr.metallic_factor(),
+            roughness: pbr.roughness_factor(),
+            emissive: m.emissive_factor(),
+            emissive_strength: m.emissive_strength().unwrap_or(1.0),
+        }
+    }
+
+    /// Sets `out`'s colour, opacity, metallic, roughness and emissive values from these
+    /// factors (`out.alpha_mode` decides the opacity).
+    pub(crate) fn apply(&self, out: &mut Material) {
+        let [r, g, b, a] = self.base_color;
+        out.base_color = [r, g, b];
+        out.base_alpha = a;
+        // The factor's alpha is the opacity only in BLEND (MASK tests it, OPAQUE ignores it).
+        let opacity = if out.alpha_mode == AlphaMode::Blend {
+            a
+        } else {
+            1.0
+        };
+        out.opacity = translucency(opacity, out.alpha_mode);
+        out.metallic = self.metallic.clamp(0.0, 1.0);
+        out.roughness = self.roughness.clamp(0.0, 1.0);
+        let strength = self.emissive_strength;
+        out.emissive = self.emissive.map(|e| e * strength);
+        out.emissive_strength = strength;
+    }
+}
+
 /// `image(i)` decodes (once) or gives None after warning.
 pub(crate) fn material(
     doc: &gltf::Document,
@@ -93,8 +138,6 @@ pub(crate) fn material(
     image: &mut dyn FnMut(usize) -> Option<Arc<Texture>>,
 ) -> Material {
     let pbr = m.pbr_metallic_roughness();
-    let [r, g, b, a] = pbr.base_color_factor();
-    let strength = m.emissive_strength().unwrap_or(1.0);
     let alpha_mode = match m.alpha_mode() {
         gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
         gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
@@ -102,27 +145,13 @@ pub(crate) fn material(
     };
     let mut out = Material {
         name: m.name().unwrap_or("gltf").to_string(),
-        base_color: [r, g, b],
-        base_alpha: a,
         alpha_mode,
-        // The factor's alpha is the opacity only in BLEND (MASK tests it, OPAQUE ignores it).
-        opacity: translucency(
-            if alpha_mode == AlphaMode::Blend {
-                a
-            } else {
-                1.0
-            },
-            alpha_mode,
-        ),
-        metallic: pbr.metallic_factor().clamp(0.0, 1.0),
-        roughness: pbr.roughness_factor().clamp(0.0, 1.0),
-        emissive: m.emissive_factor().map(|e| e * strength),
-        emissive_strength: strength,
         double_sided: m.double_sided(),
         unlit: m.unlit(),
         colour_rule: ColourRule::Linear,
         ..Material::gltf_default()
     };
+    Factors::of(m).apply(&mut out);
     out.check.base_color = pbr
         .base_color_texture()
         .map(|t| format!("baseColorTexture image {}", t.texture().source().index()));

@@ -3,14 +3,52 @@
 //! crate's types require the node, so such a file would not even parse. Before the crate
 //! reads the JSON, each pointer channel is rewritten here: one naming a node's
 //! `translation`, `rotation`, `scale` or `weights` becomes the plain channel it means (the
-//! extension defines it so), and is played as one; any other (a material's colour, a light's
-//! intensity, a camera's field of view) is taken out of the animation with a warning naming
-//! its pointer, and the rest of the file plays. Files without the extension's name in their
-//! JSON are not touched (one scan of the JSON's bytes).
+//! extension defines it so), and is played as one; one naming a material factor glview
+//! animates ([`MaterialProperty`]) is taken out and returned, for `motion::read` to read its
+//! sampler; any other (a light's intensity, a camera's field of view, a texture transform)
+//! is taken out with a warning naming its pointer, and the rest of the file plays. Files
+//! without the extension's name in their JSON are not touched (one scan of the JSON's
+//! bytes).
 use serde_json::Value;
 
 /// The extension's name, as it appears in a channel target's `extensions`.
 pub(crate) const NAME: &str = "KHR_animation_pointer";
+
+/// A material factor a pointer channel may animate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum MaterialProperty {
+    /// `pbrMetallicRoughness/baseColorFactor` (4 floats).
+    BaseColor,
+    /// `pbrMetallicRoughness/metallicFactor`.
+    Metallic,
+    /// `pbrMetallicRoughness/roughnessFactor`.
+    Roughness,
+    /// `emissiveFactor` (3 floats).
+    Emissive,
+    /// `extensions/KHR_materials_emissive_strength/emissiveStrength`.
+    EmissiveStrength,
+}
+
+impl MaterialProperty {
+    /// Floats per value.
+    pub(crate) fn width(self) -> usize {
+        match self {
+            MaterialProperty::BaseColor => 4,
+            MaterialProperty::Emissive => 3,
+            _ => 1,
+        }
+    }
+}
+
+/// A pointer channel animating a material factor: where its sampler is, and what it sets.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct MaterialChannel {
+    pub(crate) animation: usize,
+    pub(crate) channel: usize,
+    pub(crate) sampler: usize,
+    pub(crate) material: usize,
+    pub(crate) property: MaterialProperty,
+}
 
 /// A channel taken out: the animation and channel indices, and its pointer.
 #[derive(Clone, Debug, PartialEq)]
@@ -24,17 +62,19 @@ impl Dropped {
     pub(crate) fn message(&self) -> String {
         format!(
             "animation {} channel {}: {NAME} {} is not played (glview plays pointers to \
-             nodes' translation, rotation, scale and weights only)",
+             nodes' translation, rotation, scale and weights, and to materials' base colour, \
+             metallic, roughness and emissive factors and emissive strength)",
             self.animation, self.channel, self.pointer
         )
     }
 }
 
 /// A file's JSON with its pointer channels rewritten, its binary chunk (a GLB's), and the
-/// channels taken out.
+/// channels taken out: those animating materials, and the others.
 pub(crate) struct Parsed {
     pub(crate) json: gltf::json::Root,
     pub(crate) blob: Option<Vec<u8>>,
+    pub(crate) materials: Vec<MaterialChannel>,
     pub(crate) dropped: Vec<Dropped>,
 }
 
@@ -51,13 +91,14 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Option<Parsed>, String> {
         return Ok(None);
     }
     let mut value: Value = serde_json::from_slice(&text).map_err(|e| e.to_string())?;
-    let dropped = rewrite(&mut value);
+    let (materials, dropped) = rewrite(&mut value);
     let json = serde_json::from_value(value).map_err(|e| e.to_string())?;
     // The binary chunk is copied only here, for a file that has pointers (the crate's own
     // parse copies it as well).
     Ok(Some(Parsed {
         json,
         blob: blob.map(std::borrow::Cow::into_owned),
+        materials,
         dropped,
     }))
 }
@@ -67,11 +108,14 @@ pub(crate) fn mentions(json: &[u8]) -> bool {
     json.windows(NAME.len()).any(|w| w == NAME.as_bytes())
 }
 
-/// The node and path a pointer names, if it is one of a node's four animated properties:
-/// `/nodes/{n}/translation` and so on (JSON pointer escapes cannot occur in these).
-fn node_path(pointer: &str) -> Option<(u64, &'static str)> {
-    let rest = pointer.strip_prefix("/nodes/")?;
-    let (index, property) = rest.split_once('/')?;
+/// `pointer` split after `/{array}/{index}/`: the index and the rest (JSON pointer escapes
+/// cannot occur in the paths glview reads).
+fn indexed<'a>(pointer: &'a str, array: &str) -> Option<(usize, &'a str)> {
+    let rest = pointer
+        .strip_prefix('/')?
+        .strip_prefix(array)?
+        .strip_prefix('/')?;
+    let (index, rest) = rest.split_once('/')?;
     // A JSON array index: digits, no sign, no leading zero.
     if index.is_empty()
         || !index.bytes().all(|b| b.is_ascii_digit())
@@ -79,19 +123,42 @@ fn node_path(pointer: &str) -> Option<(u64, &'static str)> {
     {
         return None;
     }
+    Some((index.parse().ok()?, rest))
+}
+
+/// The node and path a pointer names, if it is one of a node's four animated properties:
+/// `/nodes/{n}/translation` and so on.
+fn node_path(pointer: &str) -> Option<(usize, &'static str)> {
+    let (index, property) = indexed(pointer, "nodes")?;
     let path = ["translation", "rotation", "scale", "weights"]
         .into_iter()
         .find(|p| *p == property)?;
-    Some((index.parse().ok()?, path))
+    Some((index, path))
+}
+
+/// The material and factor a pointer names, if glview animates it.
+fn material_path(pointer: &str) -> Option<(usize, MaterialProperty)> {
+    let (index, property) = indexed(pointer, "materials")?;
+    let p = match property {
+        "pbrMetallicRoughness/baseColorFactor" => MaterialProperty::BaseColor,
+        "pbrMetallicRoughness/metallicFactor" => MaterialProperty::Metallic,
+        "pbrMetallicRoughness/roughnessFactor" => MaterialProperty::Roughness,
+        "emissiveFactor" => MaterialProperty::Emissive,
+        "extensions/KHR_materials_emissive_strength/emissiveStrength" => {
+            MaterialProperty::EmissiveStrength
+        }
+        _ => return None,
+    };
+    Some((index, p))
 }
 
 /// Rewrites the pointer channels of glTF JSON `root` in place (see the module): returns the
-/// channels it took out. Targets without a node that are not pointer channels are left for
-/// the crate to refuse, as before.
-pub(crate) fn rewrite(root: &mut Value) -> Vec<Dropped> {
-    let mut dropped = Vec::new();
+/// channels it took out, those animating materials and the others. Targets without a node
+/// that are not pointer channels are left for the crate to refuse, as before.
+pub(crate) fn rewrite(root: &mut Value) -> (Vec<MaterialChannel>, Vec<Dropped>) {
+    let (mut materials, mut dropped) = (Vec::new(), Vec::new());
     let Some(animations) = root.get_mut("animations").and_then(Value::as_array_mut) else {
-        return dropped;
+        return (materials, dropped);
     };
     for (ai, a) in animations.iter_mut().enumerate() {
         let Some(channels) = a.get_mut("channels").and_then(Value::as_array_mut) else {
@@ -101,6 +168,7 @@ pub(crate) fn rewrite(root: &mut Value) -> Vec<Dropped> {
         channels.retain_mut(|c| {
             let index = ci;
             ci += 1;
+            let sampler = c.get("sampler").and_then(Value::as_u64);
             let Some(target) = c.get_mut("target").and_then(Value::as_object_mut) else {
                 return true;
             };
@@ -114,24 +182,29 @@ pub(crate) fn rewrite(root: &mut Value) -> Vec<Dropped> {
                 .and_then(Value::as_str)
                 .unwrap_or("(none)")
                 .to_string();
-            match node_path(&pointer) {
-                Some((node, path)) => {
-                    target.insert("node".into(), node.into());
-                    target.insert("path".into(), path.into());
-                    true
-                }
-                None => {
-                    dropped.push(Dropped {
-                        animation: ai,
-                        channel: index,
-                        pointer,
-                    });
-                    false
-                }
+            if let Some((node, path)) = node_path(&pointer) {
+                target.insert("node".into(), node.into());
+                target.insert("path".into(), path.into());
+                return true;
             }
+            match (material_path(&pointer), sampler) {
+                (Some((material, property)), Some(sampler)) => materials.push(MaterialChannel {
+                    animation: ai,
+                    channel: index,
+                    sampler: usize::try_from(sampler).unwrap_or(usize::MAX),
+                    material,
+                    property,
+                }),
+                _ => dropped.push(Dropped {
+                    animation: ai,
+                    channel: index,
+                    pointer,
+                }),
+            }
+            false
         });
     }
-    dropped
+    (materials, dropped)
 }
 
 #[cfg(test)]
@@ -147,7 +220,7 @@ mod tests {
     }
 
     #[test]
-    fn node_pointers_become_plain_channels_and_the_rest_are_taken_out() {
+    fn node_pointers_become_plain_channels_material_ones_are_returned_and_the_rest_dropped() {
         let mut root = serde_json::json!({"animations": [{"channels": [
             channel(serde_json::json!({"node": 1, "path": "rotation"})),
             channel(pointer("/nodes/3/translation")),
@@ -155,9 +228,10 @@ mod tests {
             channel(pointer("/nodes/12/weights")),
             channel(pointer("/nodes/01/scale")),
             channel(pointer("/nodes/2/matrix")),
+            channel(pointer("/materials/1/alphaCutoff")),
             channel(serde_json::json!({"path": "pointer"})),
         ]}]});
-        let dropped = rewrite(&mut root);
+        let (materials, dropped) = rewrite(&mut root);
         let channels = root["animations"][0]["channels"].as_array().unwrap();
         let targets: Vec<(u64, &str)> = channels
             .iter()
@@ -170,6 +244,16 @@ mod tests {
             targets,
             [(1, "rotation"), (3, "translation"), (12, "weights")]
         );
+        assert_eq!(
+            materials,
+            [MaterialChannel {
+                animation: 0,
+                channel: 2,
+                sampler: 0,
+                material: 0,
+                property: MaterialProperty::BaseColor,
+            }]
+        );
         let out: Vec<(usize, &str)> = dropped
             .iter()
             .map(|d| (d.channel, d.pointer.as_str()))
@@ -177,15 +261,40 @@ mod tests {
         assert_eq!(
             out,
             [
-                (2, "/materials/0/pbrMetallicRoughness/baseColorFactor"),
                 (4, "/nodes/01/scale"),
                 (5, "/nodes/2/matrix"),
-                (6, "(none)"),
+                (6, "/materials/1/alphaCutoff"),
+                (7, "(none)"),
             ]
         );
-        assert!(dropped[0]
+        assert!(dropped[2]
             .message()
-            .contains("animation 0 channel 2: KHR_animation_pointer /materials/0"));
+            .contains("animation 0 channel 6: KHR_animation_pointer /materials/1/alphaCutoff"));
+    }
+
+    #[test]
+    fn material_pointers_name_the_factors_glview_animates() {
+        use MaterialProperty as P;
+        for (p, want) in [
+            (
+                "/materials/3/pbrMetallicRoughness/metallicFactor",
+                Some((3, P::Metallic)),
+            ),
+            (
+                "/materials/0/pbrMetallicRoughness/roughnessFactor",
+                Some((0, P::Roughness)),
+            ),
+            ("/materials/2/emissiveFactor", Some((2, P::Emissive))),
+            (
+                "/materials/2/extensions/KHR_materials_emissive_strength/emissiveStrength",
+                Some((2, P::EmissiveStrength)),
+            ),
+            ("/materials/-1/emissiveFactor", None),
+            ("/materials/2/emissiveFactor/0", None),
+            ("/materials/2/normalTexture/scale", None),
+        ] {
+            assert_eq!(material_path(p), want, "{p}");
+        }
     }
 
     #[test]

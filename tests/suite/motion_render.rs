@@ -462,8 +462,8 @@ fn glb_with_json(path: &str, json: &serde_json::Value, out: &std::path::Path) {
 
 /// KHR_animation_pointer: Khronos' BoxAnimated with every channel written as the pointer to
 /// its node's property (`/nodes/N/rotation`, `"path": "pointer"`, no `node`; before, such a
-/// file was refused: "missing field `node`"), plus a channel pointing at a material's base
-/// colour, loads with one warning naming that pointer, and draws the original file's
+/// file was refused: "missing field `node`"), plus a channel pointing at a material's alpha
+/// cutoff (not played), loads with one warning naming that pointer, and draws the original file's
 /// picture byte for byte at the static pose and at two moments.
 #[test]
 fn pointer_channels_to_nodes_play_as_the_node_channels() {
@@ -483,7 +483,7 @@ fn pointer_channels_to_nodes_play_as_the_node_channels() {
             serde_json::json!({"path": "pointer", "extensions": {POINTER: {"pointer": pointer}}});
     }
     channels.push(serde_json::json!({"sampler": 0, "target": {"path": "pointer",
-        "extensions": {POINTER: {"pointer": "/materials/0/pbrMetallicRoughness/baseColorFactor"}}}}));
+        "extensions": {POINTER: {"pointer": "/materials/0/alphaCutoff"}}}}));
     json["extensionsUsed"] = serde_json::json!([POINTER]);
     let pointers = dir.join("BoxPointers.glb");
     glb_with_json(BOX, &json, &pointers);
@@ -496,7 +496,7 @@ fn pointer_channels_to_nodes_play_as_the_node_channels() {
     assert_eq!(warned.len(), 1, "{err}");
     assert!(
         warned[0].contains(file)
-            && warned[0].contains(&format!("channel {plain}: {POINTER} /materials/0/pbrMetallicRoughness/baseColorFactor is not played")),
+            && warned[0].contains(&format!("channel {plain}: {POINTER} /materials/0/alphaCutoff is not played")),
         "{}",
         warned[0]
     );
@@ -523,4 +523,206 @@ fn pointer_channels_to_nodes_play_as_the_node_channels() {
         seen[0] != seen[1] && seen[1] != seen[2],
         "the moments differ"
     );
+}
+
+/// BoxAnimated's JSON and binary chunk, with `floats` appended to the binary chunk as one
+/// accessor of `kind` (`count` values); the accessor's index.
+fn add_floats(
+    json: &mut serde_json::Value,
+    bin: &mut Vec<u8>,
+    floats: &[f32],
+    (kind, count): (&str, usize),
+) -> usize {
+    bin.resize(bin.len().div_ceil(4) * 4, 0);
+    let views = json["bufferViews"].as_array_mut().unwrap();
+    views.push(
+        serde_json::json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": floats.len() * 4}),
+    );
+    let view = views.len() - 1;
+    bin.extend(floats.iter().flat_map(|f| f.to_le_bytes()));
+    json["buffers"][0]["byteLength"] = bin.len().into();
+    let accessors = json["accessors"].as_array_mut().unwrap();
+    let mut a = serde_json::json!({"bufferView": view, "componentType": 5126, "count": count, "type": kind});
+    if kind == "SCALAR" {
+        a["min"] = serde_json::json!([floats[0]]);
+        a["max"] = serde_json::json!([floats[count - 1]]);
+    }
+    accessors.push(a);
+    accessors.len() - 1
+}
+
+fn strs(v: &[String]) -> Vec<&str> {
+    v.iter().map(String::as_str).collect()
+}
+
+/// Writes a GLB of `json` and `bin` to `out`.
+fn write_glb(json: &serde_json::Value, bin: &[u8], out: &std::path::Path) {
+    let mut text = serde_json::to_vec(json).unwrap();
+    text.resize(text.len().div_ceil(4) * 4, b' ');
+    let mut bin = bin.to_vec();
+    bin.resize(bin.len().div_ceil(4) * 4, 0);
+    let mut glb = b"glTF".to_vec();
+    glb.extend(2u32.to_le_bytes());
+    glb.extend(((12 + 8 + text.len() + 8 + bin.len()) as u32).to_le_bytes());
+    glb.extend((text.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(text);
+    glb.extend((bin.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(bin);
+    std::fs::write(out, glb).unwrap();
+}
+
+/// KHR_animation_pointer on materials: Khronos' BoxAnimated with pointer channels (STEP, keys
+/// 0 / 1 / 2 s) on the inner material's base colour and roughness and the outer's emissive
+/// factor and strength, beside its own node channels. At 1.3 s its picture is, byte for
+/// byte, that of the same file with the 1 s keys written into the materials and no pointer
+/// channels (posed at 1.3 s too: the lid moves alike), on GL 3.3 and GL 2.1; at the static
+/// pose it is the original file's; and a kept renderer posed to 1.3 s, the static pose and
+/// 1.3 s again draws a fresh renderer's bytes each time (nothing of a material is kept
+/// stale).
+#[test]
+fn pointer_channels_to_materials_are_the_factors_written_in() {
+    use glview::scene::motion::Moment;
+    let dir = out_dir("motion_render");
+    let (animated, twin_file) = box_with_material_pointers(&dir);
+    let o = run(&["--check", animated.to_str().unwrap()], &[]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success() && !out.contains("warning"), "{out}");
+    assert!(
+        out.contains("animation 0 \"animation 0\": 6 channels"),
+        "{out}"
+    );
+    let w = |f: &std::path::Path, time: Option<&'static str>, gl: &'static str| {
+        let mut w = vec![
+            f.to_str().unwrap().to_string(),
+            "--size".into(),
+            "96x72".into(),
+            "--gl".into(),
+            gl.into(),
+        ];
+        w.extend(
+            time.map(|t| ["--time".to_string(), t.to_string()])
+                .into_iter()
+                .flatten(),
+        );
+        w
+    };
+    for (gl, env) in [("core", &[][..]), ("2.1", GL21)] {
+        let words = |f, t| w(f, t, gl);
+        let a = words(&animated, Some("1.3"));
+        let got = render(&dir, &format!("matptr-{gl}"), &strs(&a), env);
+        let t = words(&twin_file, Some("1.3"));
+        let want = render(&dir, &format!("matptr-twin-{gl}"), &strs(&t), env);
+        assert!(
+            got.data == want.data,
+            "{gl}: the animated materials at 1.3 s are not the twin's: {}",
+            write_diff(&dir, &format!("matptr-{gl}"), &got, &want).display()
+        );
+        let s = words(&animated, None);
+        let still = render(&dir, &format!("matptr-static-{gl}"), &strs(&s), env);
+        let o = words(std::path::Path::new(BOX_ANIMATED), None);
+        let original = render(&dir, &format!("matptr-original-{gl}"), &strs(&o), env);
+        assert!(
+            still.data == original.data,
+            "{gl}: the static pose is not the file's"
+        );
+        assert!(got.data != still.data);
+    }
+    let hl = Headless::new(Backend::Egl, GlRequest::Core, 96, 72).expect("EGL context");
+    let words = w(&animated, None, "core");
+    let (settings, scene) = settings_for(&strs(&words));
+    let mut kept = Renderer::new(&hl.gpu, scene.clone()).unwrap();
+    let at = Some(Moment {
+        animation: 0,
+        seconds: 1.3,
+    });
+    let fresh = |moment| {
+        let mut r = Renderer::new(&hl.gpu, scene.clone()).unwrap();
+        r.pose(moment).unwrap();
+        r.render(&settings, &hl.target()).unwrap();
+        hl.read()
+    };
+    let (moved, rest) = (fresh(at), fresh(None));
+    for (moment, want, name) in [
+        (at, &moved, "kept"),
+        (None, &rest, "kept-static"),
+        (at, &moved, "kept-again"),
+    ] {
+        kept.pose(moment).unwrap();
+        kept.render(&settings, &hl.target()).unwrap();
+        assert_same(&dir, &format!("matptr-{name}"), &hl.read(), want);
+    }
+}
+
+const BOX_ANIMATED: &str = "tests/data/khronos/motion/BoxAnimated.glb";
+
+/// BoxAnimated with the material pointer channels of the test above, and its twin with
+/// their 1 s keys written into the materials: the two files' paths in `dir`.
+fn box_with_material_pointers(dir: &std::path::Path) -> (std::path::PathBuf, std::path::PathBuf) {
+    const BOX: &str = BOX_ANIMATED;
+    at_repo();
+    let bytes = std::fs::read(BOX).unwrap();
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let base: serde_json::Value = serde_json::from_slice(&bytes[20..20 + len]).unwrap();
+    let bin0 = bytes[20 + len + 8..].to_vec();
+    let (mut json, mut bin) = (base.clone(), bin0.clone());
+    let times = add_floats(&mut json, &mut bin, &[0.0, 1.0, 2.0], ("SCALAR", 3));
+    // (material, pointer tail, kind, the three keys' values)
+    let channels: [(usize, &str, &str, Vec<f32>); 4] = [
+        (
+            0,
+            "pbrMetallicRoughness/baseColorFactor",
+            "VEC4",
+            vec![0.8, 0.4, 0.8, 1.0, 0.1, 0.9, 0.2, 1.0, 0.3, 0.3, 0.3, 1.0],
+        ),
+        (
+            0,
+            "pbrMetallicRoughness/roughnessFactor",
+            "SCALAR",
+            vec![1.0, 0.25, 0.5],
+        ),
+        (
+            1,
+            "emissiveFactor",
+            "VEC3",
+            vec![0.0, 0.0, 0.0, 0.6, 0.2, 0.0, 0.0, 0.0, 1.0],
+        ),
+        (
+            1,
+            "extensions/KHR_materials_emissive_strength/emissiveStrength",
+            "SCALAR",
+            vec![1.0, 1.5, 1.0],
+        ),
+    ];
+    const POINTER: &str = "KHR_animation_pointer";
+    for (material, tail, kind, values) in &channels {
+        let output = add_floats(&mut json, &mut bin, values, (kind, 3));
+        let samplers = json["animations"][0]["samplers"].as_array_mut().unwrap();
+        samplers
+            .push(serde_json::json!({"input": times, "output": output, "interpolation": "STEP"}));
+        let sampler = samplers.len() - 1;
+        let pointer = format!("/materials/{material}/{tail}");
+        json["animations"][0]["channels"].as_array_mut().unwrap().push(serde_json::json!(
+            {"sampler": sampler, "target": {"path": "pointer", "extensions": {POINTER: {"pointer": pointer}}}}));
+    }
+    json["extensionsUsed"] = serde_json::json!([POINTER, "KHR_materials_emissive_strength"]);
+    let animated = dir.join("BoxMaterialPointers.glb");
+    write_glb(&json, &bin, &animated);
+    // The twin: the 1 s keys written into the materials.
+    let mut twin = base.clone();
+    let key1 = |v: &Vec<f32>| {
+        let w = v.len() / 3;
+        v[w..2 * w].to_vec()
+    };
+    twin["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = key1(&channels[0].3).into();
+    twin["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"] =
+        key1(&channels[1].3)[0].into();
+    twin["materials"][1]["emissiveFactor"] = key1(&channels[2].3).into();
+    twin["materials"][1]["extensions"] = serde_json::json!(
+        {"KHR_materials_emissive_strength": {"emissiveStrength": key1(&channels[3].3)[0]}});
+    twin["extensionsUsed"] = serde_json::json!(["KHR_materials_emissive_strength"]);
+    let twin_file = dir.join("BoxMaterialTwin.glb");
+    write_glb(&twin, &bin0, &twin_file);
+    (animated, twin_file)
 }

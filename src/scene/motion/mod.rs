@@ -7,6 +7,7 @@
 //! Reading and checking: `read` (animations, skins) and `source` (a moving primitive's
 //! streams); sampling a channel: `sample`; node transforms and vertices: `pose`.
 pub mod gpu;
+pub(crate) mod materials;
 pub(crate) mod pose;
 pub(crate) mod read;
 pub(crate) mod rig;
@@ -73,6 +74,8 @@ pub struct Rig {
     still_bounds: Bounds,
     /// Per animation: the bounds of every moment of it (sampled), computed on first use.
     framing: Vec<OnceLock<Bounds>>,
+    /// The materials KHR_animation_pointer channels animate.
+    materials: materials::Materials,
 }
 
 impl Rig {
@@ -142,6 +145,7 @@ impl Scene {
         }
         let wires = rig.placed_wires((self.posed, moment))?;
         let changed = rig.pose_into((self.posed, moment), gpu, &mut self.meshes)?;
+        rig.pose_materials(moment, &mut self.materials);
         if let Some(placed) = wires {
             rig.write_wires(placed, &mut self.wire);
         }

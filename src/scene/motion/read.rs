@@ -6,6 +6,7 @@
 use super::sample::{Interp, Keys};
 use super::{AnimationInfo, Path};
 use crate::scene::gltf_accessor::{self as accessor, Buffers};
+use crate::scene::gltf_pointer::{MaterialChannel, MaterialProperty};
 use glam::{DMat4, Mat4};
 use gltf::accessor::Dimensions as D;
 use gltf::animation::{Interpolation, Property};
@@ -30,10 +31,20 @@ pub(crate) struct Channel {
     pub(crate) keys: Keys,
 }
 
+/// One material factor over time (a KHR_animation_pointer channel).
+#[derive(Clone, Debug)]
+pub(crate) struct MaterialKeys {
+    /// The glTF material (the scene's material of the same index).
+    pub(crate) material: usize,
+    pub(crate) property: MaterialProperty,
+    pub(crate) keys: Keys,
+}
+
 #[derive(Clone, Debug)]
 pub(crate) struct Animation {
     pub(crate) info: AnimationInfo,
     pub(crate) channels: Vec<Channel>,
+    pub(crate) materials: Vec<MaterialKeys>,
 }
 
 /// A skin glview applies: world transforms of `joints` times `inverse_bind` make the
@@ -44,12 +55,13 @@ pub(crate) struct Skin {
     pub(crate) inverse_bind: Vec<DMat4>,
 }
 
-/// Every animation of the file, each with the channels that can be played. `in_scene`
-/// marks the nodes of the drawn scene (channels of other nodes are dropped silently: a file
-/// with several scenes animates them all).
+/// Every animation of the file, each with the channels that can be played, and the material
+/// channels `pointed` (KHR_animation_pointer's, taken out of the document) that can.
+/// `in_scene` marks the nodes of the drawn scene (channels of other nodes are dropped
+/// silently: a file with several scenes animates them all).
 pub(crate) fn animations(
     doc: &gltf::Document,
-    buffers: &Buffers,
+    (buffers, pointed): (&Buffers, &[MaterialChannel]),
     in_scene: &[bool],
     warn: &mut dyn FnMut(String),
 ) -> Vec<Animation> {
@@ -83,16 +95,35 @@ pub(crate) fn animations(
                 )),
             }
         }
-        let duration = channels.iter().map(|c| c.keys.end()).fold(0.0f32, f32::max);
+        let json = &doc.as_json().animations[a.index()];
+        let mut materials = Vec::new();
+        for p in pointed.iter().filter(|p| p.animation == a.index()) {
+            match material_keys(doc, (&a, json), p, buffers, &mut budget) {
+                Ok(keys) => materials.push(MaterialKeys {
+                    material: p.material,
+                    property: p.property,
+                    keys,
+                }),
+                Err(e) => warn(format!(
+                    "{label} channel {}: {e}; the channel is not played",
+                    p.channel
+                )),
+            }
+        }
+        let duration = (channels.iter().map(|c| &c.keys))
+            .chain(materials.iter().map(|m| &m.keys))
+            .map(Keys::end)
+            .fold(0.0f32, f32::max);
         out.push(Animation {
             info: AnimationInfo {
                 name: a
                     .name()
                     .map_or_else(|| format!("animation {}", a.index()), str::to_string),
                 duration: f64::from(duration),
-                channels: channels.len(),
+                channels: channels.len() + materials.len(),
             },
             channels,
+            materials,
         });
     }
     out
@@ -119,6 +150,48 @@ fn channel(
     let Some(Checked::Valid(interpolation)) = interpolation else {
         return Err("its interpolation is not STEP, LINEAR or CUBICSPLINE".into());
     };
+    let values = match property {
+        Property::Translation | Property::Scale => Values::of(&[D::Vec3]),
+        Property::Rotation => Values {
+            rotation: true,
+            ..Values::of(&[D::Vec4])
+        },
+        Property::MorphTargetWeights => Values {
+            many: true,
+            ..Values::of(&[D::Scalar])
+        },
+    };
+    Ok((property, keys(&s, interpolation, values, buffers, budget)?))
+}
+
+/// What a sampler's output values are: quaternions (interpolated on the sphere and
+/// normalised) or not, their accessor types, and whether a key holds several (morph
+/// weights: one per target).
+#[derive(Clone, Copy)]
+struct Values {
+    rotation: bool,
+    dims: &'static [D],
+    many: bool,
+}
+
+impl Values {
+    fn of(dims: &'static [D]) -> Values {
+        Values {
+            rotation: false,
+            dims,
+            many: false,
+        }
+    }
+}
+
+/// The keys of sampler `s` with `interpolation`, checked (see [`channel`]).
+fn keys(
+    s: &gltf::animation::Sampler,
+    interpolation: Interpolation,
+    values: Values,
+    buffers: &Buffers,
+    budget: &mut usize,
+) -> Result<Keys, String> {
     let (input, output) = (s.input(), s.output());
     let n = input.count();
     if n == 0 {
@@ -146,12 +219,11 @@ fn channel(
             }
         ));
     }
-    let (rotation, dims): (bool, &[D]) = match property {
-        Property::Translation | Property::Scale => (false, &[D::Vec3]),
-        Property::Rotation => (true, &[D::Vec4]),
-        Property::MorphTargetWeights => (false, &[D::Scalar]),
-    };
-    let weights = property == Property::MorphTargetWeights;
+    let Values {
+        rotation,
+        dims,
+        many: weights,
+    } = values;
     if !weights && m != n * per {
         return Err(format!("{m} output values for {n} keys"));
     }
@@ -180,17 +252,41 @@ fn channel(
     }
     *budget -= cost;
     let keys = Keys {
-        width: if rotation || width == 3 {
-            width
-        } else {
-            m / (n * per)
-        },
+        // Weights: one per target, however many the file's keys hold.
+        width: if weights { m / (n * per) } else { width },
         times,
         values,
         interp,
         rotation,
     };
-    Ok((property, keys))
+    Ok(keys)
+}
+
+/// The keys of a KHR_animation_pointer channel `p` setting a material factor, checked as a
+/// node channel's are (one value of the factor's width per key).
+fn material_keys(
+    doc: &gltf::Document,
+    (a, json): (&gltf::Animation, &gltf::json::Animation),
+    p: &MaterialChannel,
+    buffers: &Buffers,
+    budget: &mut usize,
+) -> Result<Keys, String> {
+    if p.material >= doc.materials().len() {
+        return Err(format!("material {} does not exist", p.material));
+    }
+    let Some(s) = a.samplers().nth(p.sampler) else {
+        return Err(format!("sampler {} does not exist", p.sampler));
+    };
+    let interpolation = json.samplers.get(p.sampler).map(|s| s.interpolation);
+    let Some(Checked::Valid(interpolation)) = interpolation else {
+        return Err("its interpolation is not STEP, LINEAR or CUBICSPLINE".into());
+    };
+    let dims: &'static [D] = match p.property.width() {
+        4 => &[D::Vec4],
+        3 => &[D::Vec3],
+        _ => &[D::Scalar],
+    };
+    keys(&s, interpolation, Values::of(dims), buffers, budget)
 }
 
 /// Every skin of the file; None for a skin that cannot be applied (with a warning).

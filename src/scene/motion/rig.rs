@@ -41,6 +41,8 @@ pub(crate) struct Plan {
     targets: Vec<usize>,
     /// Morph deltas (targets × vertices) the file's primitives may still read.
     morph_budget: AtomicUsize,
+    /// The file's factors of each material an animation animates (KHR_animation_pointer).
+    material_factors: Vec<(usize, crate::scene::gltf_material::Factors)>,
 }
 
 /// How one node's mesh is read when it moves: its skin's static joint matrices and the
@@ -113,7 +115,10 @@ impl Plan {
     pub(crate) fn read(
         doc: &gltf::Document,
         nodes: &[(usize, DMat4)],
-        buffers: &crate::scene::gltf_accessor::Buffers,
+        (buffers, pointed): (
+            &crate::scene::gltf_accessor::Buffers,
+            &[crate::scene::gltf_pointer::MaterialChannel],
+        ),
         warn: &mut dyn FnMut(String),
     ) -> Plan {
         let count = doc.nodes().len();
@@ -144,7 +149,7 @@ impl Plan {
                 graph.parent[c.index()] = Some(i);
             }
         }
-        let animations = super::read::animations(doc, buffers, &in_scene, warn);
+        let animations = super::read::animations(doc, (buffers, pointed), &in_scene, warn);
         let skins = super::read::skins(doc, buffers, &in_scene, warn);
         let mut moved = vec![false; count];
         for c in animations.iter().flat_map(|a| &a.channels) {
@@ -164,7 +169,17 @@ impl Plan {
                     .unwrap_or(0)
             })
             .collect();
+        let mut material_factors: Vec<(usize, crate::scene::gltf_material::Factors)> = Vec::new();
+        for k in animations.iter().flat_map(|a| &a.materials) {
+            if !material_factors.iter().any(|f| f.0 == k.material) {
+                if let Some(m) = doc.materials().nth(k.material) {
+                    material_factors
+                        .push((k.material, crate::scene::gltf_material::Factors::of(&m)));
+                }
+            }
+        }
         let mut plan = Plan {
+            material_factors,
             graph,
             skins,
             animations,
@@ -284,8 +299,7 @@ impl Rig {
     pub(crate) fn new(
         plan: Plan,
         (parts, wires): (Vec<Part>, Vec<WirePart>),
-        meshes: &[Mesh],
-        wire: &crate::scene::Wire,
+        (meshes, wire, materials): (&[Mesh], &crate::scene::Wire, &[crate::scene::Material]),
         b: Built,
     ) -> Rig {
         let moving: Vec<usize> = parts.iter().map(|p| p.mesh).collect();
@@ -317,6 +331,11 @@ impl Rig {
             .map(|r| !r.is_empty())
             .collect();
         Rig {
+            materials: super::materials::Materials::new(
+                &plan.animations,
+                &plan.material_factors,
+                materials,
+            ),
             animations: plan.animations.iter().map(|a| a.info.clone()).collect(),
             reached,
             wire_reached,
@@ -333,6 +352,28 @@ impl Rig {
             static_bounds,
             still_bounds,
         }
+    }
+
+    /// Sets the materials animations animate to `moment` (None: as loaded).
+    pub(crate) fn pose_materials(
+        &self,
+        moment: Option<Moment>,
+        materials: &mut [crate::scene::Material],
+    ) {
+        self.materials
+            .pose(&self.plan.animations, moment, materials);
+    }
+
+    /// Whether going from moment `since` to `moment` may change a material (either
+    /// moment's animation animates one): the shadow maps depend on a cut-out material's
+    /// alpha.
+    pub fn materials_may_change(&self, since: Option<Moment>, moment: Option<Moment>) -> bool {
+        [since, moment].into_iter().flatten().any(|m| {
+            self.plan
+                .animations
+                .get(m.animation)
+                .is_some_and(|a| !a.materials.is_empty())
+        })
     }
 
     /// The node transforms of `moment` (None: the static pose).

@@ -1,0 +1,127 @@
+//! Materials animated by KHR_animation_pointer channels (`gltf_pointer`): base colour,
+//! metallic, roughness, emissive factor and emissive strength. A pose sets the sampled
+//! factors, the others the file's, through the loader's own [`Factors::apply`], so the
+//! material at a moment is the one a file holding those factors loads as; the static pose
+//! gives back the loaded values exactly. Nothing is uploaded: the renderer reads a
+//! material's factors at every draw.
+use super::read::Animation;
+use super::Moment;
+use crate::scene::gltf_material::Factors;
+use crate::scene::gltf_pointer::MaterialProperty;
+use crate::scene::Material;
+
+/// What a pose may change of a material, as loaded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Values {
+    base_color: [f32; 3],
+    base_alpha: f32,
+    opacity: Option<f32>,
+    metallic: f32,
+    roughness: f32,
+    emissive: [f32; 3],
+    emissive_strength: f32,
+}
+
+impl Values {
+    fn of(m: &Material) -> Values {
+        Values {
+            base_color: m.base_color,
+            base_alpha: m.base_alpha,
+            opacity: m.opacity,
+            metallic: m.metallic,
+            roughness: m.roughness,
+            emissive: m.emissive,
+            emissive_strength: m.emissive_strength,
+        }
+    }
+
+    fn restore(&self, m: &mut Material) {
+        m.base_color = self.base_color;
+        m.base_alpha = self.base_alpha;
+        m.opacity = self.opacity;
+        m.metallic = self.metallic;
+        m.roughness = self.roughness;
+        m.emissive = self.emissive;
+        m.emissive_strength = self.emissive_strength;
+    }
+}
+
+/// One animated material: its index, the file's factors and its loaded values.
+#[derive(Debug)]
+struct Animated {
+    material: usize,
+    factors: Factors,
+    rest: Values,
+}
+
+/// The materials some animation animates.
+#[derive(Debug, Default)]
+pub(crate) struct Materials {
+    animated: Vec<Animated>,
+}
+
+impl Materials {
+    /// The materials `animations` animate, with the file's `factors` of each (by material)
+    /// and their loaded values in `materials`.
+    pub(crate) fn new(
+        animations: &[Animation],
+        factors: &[(usize, Factors)],
+        materials: &[Material],
+    ) -> Materials {
+        let mut animated: Vec<Animated> = Vec::new();
+        for k in animations.iter().flat_map(|a| &a.materials) {
+            if animated.iter().any(|a| a.material == k.material) {
+                continue;
+            }
+            let f = factors.iter().find(|f| f.0 == k.material).map(|f| f.1);
+            if let (Some(factors), Some(m)) = (f, materials.get(k.material)) {
+                animated.push(Animated {
+                    material: k.material,
+                    factors,
+                    rest: Values::of(m),
+                });
+            }
+        }
+        Materials { animated }
+    }
+
+    /// Sets `materials` to `moment` of `animations` (None: as loaded).
+    pub(crate) fn pose(
+        &self,
+        animations: &[Animation],
+        moment: Option<Moment>,
+        materials: &mut [Material],
+    ) {
+        for a in &self.animated {
+            let Some(out) = materials.get_mut(a.material) else {
+                continue;
+            };
+            a.rest.restore(out);
+            let Some(m) = moment else { continue };
+            let keys: Vec<_> = animations[m.animation]
+                .materials
+                .iter()
+                .filter(|k| k.material == a.material)
+                .collect();
+            if keys.is_empty() {
+                continue;
+            }
+            let mut f = a.factors;
+            for k in keys {
+                set(&mut f, k.property, &k.keys.sample(m.seconds));
+            }
+            f.apply(out);
+        }
+    }
+}
+
+/// Factor `p` of `f` set to `v` (its width in floats).
+fn set(f: &mut Factors, p: MaterialProperty, v: &[f32]) {
+    match p {
+        MaterialProperty::BaseColor => f.base_color.copy_from_slice(&v[..4]),
+        MaterialProperty::Metallic => f.metallic = v[0],
+        MaterialProperty::Roughness => f.roughness = v[0],
+        MaterialProperty::Emissive => f.emissive.copy_from_slice(&v[..3]),
+        MaterialProperty::EmissiveStrength => f.emissive_strength = v[0],
+    }
+}
