@@ -447,17 +447,7 @@ fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
 fn glb_with_json(path: &str, json: &serde_json::Value, out: &std::path::Path) {
     let bytes = std::fs::read(path).unwrap();
     let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    let bin = &bytes[20 + len..];
-    let mut text = serde_json::to_vec(json).unwrap();
-    text.resize(text.len().div_ceil(4) * 4, b' ');
-    let mut glb = b"glTF".to_vec();
-    glb.extend(2u32.to_le_bytes());
-    glb.extend(((12 + 8 + text.len() + bin.len()) as u32).to_le_bytes());
-    glb.extend((text.len() as u32).to_le_bytes());
-    glb.extend(b"JSON");
-    glb.extend(text);
-    glb.extend(bin);
-    std::fs::write(out, glb).unwrap();
+    write_glb(json, &bytes[20 + len + 8..], out);
 }
 
 /// KHR_animation_pointer: Khronos' BoxAnimated with every channel written as the pointer to
@@ -482,8 +472,10 @@ fn pointer_channels_to_nodes_play_as_the_node_channels() {
         c["target"] =
             serde_json::json!({"path": "pointer", "extensions": {POINTER: {"pointer": pointer}}});
     }
-    channels.push(serde_json::json!({"sampler": 0, "target": {"path": "pointer",
-        "extensions": {POINTER: {"pointer": "/materials/0/alphaCutoff"}}}}));
+    channels.push(
+        serde_json::json!({"sampler": 0, "target": {"path": "pointer",
+        "extensions": {POINTER: {"pointer": "/materials/0/alphaCutoff"}}}}),
+    );
     json["extensionsUsed"] = serde_json::json!([POINTER]);
     let pointers = dir.join("BoxPointers.glb");
     glb_with_json(BOX, &json, &pointers);
@@ -496,7 +488,9 @@ fn pointer_channels_to_nodes_play_as_the_node_channels() {
     assert_eq!(warned.len(), 1, "{err}");
     assert!(
         warned[0].contains(file)
-            && warned[0].contains(&format!("channel {plain}: {POINTER} /materials/0/alphaCutoff is not played")),
+            && warned[0].contains(&format!(
+                "channel {plain}: {POINTER} /materials/0/alphaCutoff is not played"
+            )),
         "{}",
         warned[0]
     );
