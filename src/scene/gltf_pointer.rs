@@ -105,7 +105,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Option<Parsed>, String> {
 
 /// Whether JSON text `json` may hold pointer channels (its bytes name the extension).
 pub(crate) fn mentions(json: &[u8]) -> bool {
-    json.windows(NAME.len()).any(|w| w == NAME.as_bytes())
+    memchr::memmem::find(json, NAME.as_bytes()).is_some()
 }
 
 /// `pointer` split after `/{array}/{index}/`: the index and the rest (JSON pointer escapes
