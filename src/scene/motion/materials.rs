@@ -61,27 +61,19 @@ pub(crate) struct Materials {
 }
 
 impl Materials {
-    /// The materials `animations` animate, with the file's `factors` of each (by material)
-    /// and their loaded values in `materials`.
-    pub(crate) fn new(
-        animations: &[Animation],
-        factors: &[(usize, Factors)],
-        materials: &[Material],
-    ) -> Materials {
-        let mut animated: Vec<Animated> = Vec::new();
-        for k in animations.iter().flat_map(|a| &a.materials) {
-            if animated.iter().any(|a| a.material == k.material) {
-                continue;
-            }
-            let f = factors.iter().find(|f| f.0 == k.material).map(|f| f.1);
-            if let (Some(factors), Some(m)) = (f, materials.get(k.material)) {
-                animated.push(Animated {
-                    material: k.material,
+    /// The animated materials (`factors`: each one's index and file factors, once), with
+    /// their loaded values in `materials`.
+    pub(crate) fn new(factors: &[(usize, Factors)], materials: &[Material]) -> Materials {
+        let animated = factors
+            .iter()
+            .filter_map(|&(material, factors)| {
+                Some(Animated {
+                    material,
                     factors,
-                    rest: Values::of(m),
-                });
-            }
-        }
+                    rest: Values::of(materials.get(material)?),
+                })
+            })
+            .collect();
         Materials { animated }
     }
 

@@ -150,33 +150,33 @@ fn channel(
     let Some(Checked::Valid(interpolation)) = interpolation else {
         return Err("its interpolation is not STEP, LINEAR or CUBICSPLINE".into());
     };
-    let values = match property {
-        Property::Translation | Property::Scale => Values::of(&[D::Vec3]),
-        Property::Rotation => Values {
+    let kind = match property {
+        Property::Translation | Property::Scale => Output::of(&[D::Vec3]),
+        Property::Rotation => Output {
             rotation: true,
-            ..Values::of(&[D::Vec4])
+            ..Output::of(&[D::Vec4])
         },
-        Property::MorphTargetWeights => Values {
+        Property::MorphTargetWeights => Output {
             many: true,
-            ..Values::of(&[D::Scalar])
+            ..Output::of(&[D::Scalar])
         },
     };
-    Ok((property, keys(&s, interpolation, values, buffers, budget)?))
+    Ok((property, keys(&s, interpolation, kind, buffers, budget)?))
 }
 
 /// What a sampler's output values are: quaternions (interpolated on the sphere and
 /// normalised) or not, their accessor types, and whether a key holds several (morph
 /// weights: one per target).
 #[derive(Clone, Copy)]
-struct Values {
+struct Output {
     rotation: bool,
     dims: &'static [D],
     many: bool,
 }
 
-impl Values {
-    fn of(dims: &'static [D]) -> Values {
-        Values {
+impl Output {
+    fn of(dims: &'static [D]) -> Output {
+        Output {
             rotation: false,
             dims,
             many: false,
@@ -184,11 +184,12 @@ impl Values {
     }
 }
 
-/// The keys of sampler `s` with `interpolation`, checked (see [`channel`]).
+/// The keys of sampler `s` with `interpolation` and output values of `kind`, checked (see
+/// [`channel`]).
 fn keys(
     s: &gltf::animation::Sampler,
     interpolation: Interpolation,
-    values: Values,
+    kind: Output,
     buffers: &Buffers,
     budget: &mut usize,
 ) -> Result<Keys, String> {
@@ -219,11 +220,11 @@ fn keys(
             }
         ));
     }
-    let Values {
+    let Output {
         rotation,
         dims,
         many: weights,
-    } = values;
+    } = kind;
     if !weights && m != n * per {
         return Err(format!("{m} output values for {n} keys"));
     }
@@ -286,7 +287,7 @@ fn material_keys(
         3 => &[D::Vec3],
         _ => &[D::Scalar],
     };
-    keys(&s, interpolation, Values::of(dims), buffers, budget)
+    keys(&s, interpolation, Output::of(dims), buffers, budget)
 }
 
 /// Every skin of the file; None for a skin that cannot be applied (with a warning).

@@ -41,7 +41,8 @@ pub(crate) struct Plan {
     targets: Vec<usize>,
     /// Morph deltas (targets × vertices) the file's primitives may still read.
     morph_budget: AtomicUsize,
-    /// The file's factors of each material an animation animates (KHR_animation_pointer).
+    /// Each material an animation animates (KHR_animation_pointer), once, with the file's
+    /// factors.
     material_factors: Vec<(usize, crate::scene::gltf_material::Factors)>,
 }
 
@@ -331,11 +332,7 @@ impl Rig {
             .map(|r| !r.is_empty())
             .collect();
         Rig {
-            materials: super::materials::Materials::new(
-                &plan.animations,
-                &plan.material_factors,
-                materials,
-            ),
+            materials: super::materials::Materials::new(&plan.material_factors, materials),
             animations: plan.animations.iter().map(|a| a.info.clone()).collect(),
             reached,
             wire_reached,
