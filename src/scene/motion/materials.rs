@@ -90,19 +90,17 @@ impl Materials {
             };
             a.rest.restore(out);
             let Some(m) = moment else { continue };
-            let keys: Vec<_> = animations[m.animation]
-                .materials
-                .iter()
-                .filter(|k| k.material == a.material)
-                .collect();
-            if keys.is_empty() {
-                continue;
+            let (mut f, mut sampled) = (a.factors, false);
+            for k in &animations[m.animation].materials {
+                if k.material == a.material {
+                    set(&mut f, k.property, &k.keys.sample(m.seconds));
+                    sampled = true;
+                }
             }
-            let mut f = a.factors;
-            for k in keys {
-                set(&mut f, k.property, &k.keys.sample(m.seconds));
+            // A material this animation leaves alone keeps its loaded values.
+            if sampled {
+                f.apply(out);
             }
-            f.apply(out);
         }
     }
 }
