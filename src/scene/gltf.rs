@@ -57,20 +57,23 @@ fn invalid(path: &Path, m: String) -> Error {
 pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> Result<Scene> {
     let bad = |m: String| invalid(path, m);
     let mut warnings = Vec::new();
-    let (doc, blob, pointed) = parse_document(path, bytes, &mut warnings)?;
+    let Parsed {
+        doc,
+        blob,
+        pointed,
+        placeholders,
+    } = parse_document(path, bytes, &mut warnings)?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    let buffers = super::gltf_buffers::buffers(&doc, blob, dir, opts.textures.allow_outside_paths)
-        .map_err(bad)?;
-    let views = super::gltf_buffers::decoded_views(&doc, &buffers).map_err(bad)?;
-    let draco = super::gltf_draco::decode_all(&doc, &buffers).map_err(bad)?;
-    let buffers = accessor::Buffers {
-        buffers,
-        views,
-        draco,
-    };
+    let buffers = read_buffers(&doc, blob, path, opts, &mut warnings)?;
     let dependencies = super::gltf_buffers::external_files(&doc, dir, opts.textures);
 
-    let images = decode_images(&doc, &buffers.buffers, path, opts, &mut warnings);
+    let images = decode_images(
+        &doc,
+        (&buffers.buffers, &placeholders),
+        path,
+        opts,
+        &mut warnings,
+    );
     let mut materials = Vec::new();
     for m in doc.materials() {
         let mut image = |i: usize| images.get(i).cloned().flatten();
@@ -101,7 +104,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
     let (instances, mut maps, runs) =
         super::gltf_instancing::expand(&doc, instances, &buffers).map_err(bad)?;
     maps.extend(views.check_lines());
-    check_instanced_total(&instances).map_err(bad)?;
+    check_instanced_total(&instances, &buffers.draco).map_err(bad)?;
     let mut read = Primitives::default();
     // Where each entry's primitives start in `read.prims`, for the instanced nodes' record.
     let mut prim_start = Vec::with_capacity(instances.len() + 1);
@@ -172,6 +175,35 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         lights,
         motion,
         posed: None,
+    })
+}
+
+/// The bytes of every buffer, of the views EXT_meshopt_compression decoded, and of the
+/// accessors Draco streams filled.
+fn read_buffers(
+    doc: &gltf::Document,
+    blob: Option<Vec<u8>>,
+    path: &Path,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<accessor::Buffers> {
+    let bad = |m: String| invalid(path, m);
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut warn = |m| warnings.push(Warning::of(path, m));
+    let buffers = super::gltf_buffers::buffers(
+        doc,
+        blob,
+        (dir, opts.textures.allow_outside_paths),
+        &mut warn,
+    )
+    .map_err(bad)?;
+    let views = super::gltf_buffers::decoded_views(doc, &buffers).map_err(bad)?;
+    let (draco, miscounted) = super::gltf_draco::decode_all(doc, &buffers).map_err(bad)?;
+    warnings.extend(miscounted.map(|m| Warning::of(path, m)));
+    Ok(accessor::Buffers {
+        buffers,
+        views,
+        draco,
     })
 }
 
@@ -265,50 +297,33 @@ fn build_meshes(
     (meshes, bounds, mesh_of, parts)
 }
 
-/// The parsed document, the GLB's binary chunk and the KHR_animation_pointer channels that
-/// animate materials (taken out of the document: [`super::gltf_pointer`]), after the checks
-/// the `gltf` crate skips or does too late: the GLB length, required extensions (refused
-/// unless supported; unsupported used ones are a warning) and attribute accessor indices
-/// (its validator would panic).
-fn parse_document(
-    path: &Path,
-    bytes: &[u8],
-    warnings: &mut Vec<Warning>,
-) -> Result<(
-    gltf::Document,
-    Option<Vec<u8>>,
-    Vec<super::gltf_pointer::MaterialChannel>,
-)> {
+/// A parsed document, the GLB's binary chunk, the KHR_animation_pointer channels that
+/// animate materials (taken out of the document: [`super::gltf_pointer`]) and the images
+/// the quirk repairs added in place of missing ones ([`super::gltf_quirks`]).
+struct Parsed {
+    doc: gltf::Document,
+    blob: Option<Vec<u8>>,
+    pointed: Vec<super::gltf_pointer::MaterialChannel>,
+    placeholders: Vec<usize>,
+}
+
+/// The parsed document ([`Parsed`]), after the checks the `gltf` crate skips or does too
+/// late: required extensions (refused unless supported; unsupported used ones are a
+/// warning) and attribute accessor indices (its validator would panic); real exporters'
+/// quirks are repaired with a warning each ([`super::gltf_quirks`]).
+fn parse_document(path: &Path, bytes: &[u8], warnings: &mut Vec<Warning>) -> Result<Parsed> {
     let bad = |m: String| invalid(path, m);
-    // The crate subtracts the 12-byte header from the GLB's stated length unchecked
-    // (overflow, found by the gltf fuzz target).
-    if bytes.starts_with(b"glTF") {
-        let len = bytes
-            .get(8..12)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-        if len.is_none_or(|l| l < 12) {
-            return Err(bad(
-                "not a valid glTF file: GLB header shorter than 12 bytes".into(),
-            ));
-        }
-    }
-    let parsed = super::gltf_pointer::parse(bytes)
-        .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-    let (mut json, blob, pointed) = match parsed {
-        Some(p) => {
-            warnings.extend(p.dropped.iter().map(|d| Warning {
-                file: path.to_path_buf(),
-                line: None,
-                message: d.message(),
-            }));
-            (p.json, p.blob, p.materials)
-        }
-        None => {
-            let parsed = gltf::Gltf::from_slice_without_validation(bytes)
-                .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-            (parsed.document.into_json(), parsed.blob, Vec::new())
-        }
+    let mut warn = |m: String| warnings.push(Warning::of(path, m));
+    let (text, blob) = if bytes.starts_with(b"glTF") {
+        let glb = super::gltf_glb::split(bytes, &mut warn)
+            .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
+        (glb.json, glb.bin)
+    } else {
+        (bytes, None)
     };
+    let mut found = super::gltf_quirks::Found::default();
+    let (mut json, pointed) = json_of(text, &mut found, &mut warn)
+        .map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
     if let Some(v) = &json.asset.min_version {
         check_min_version(v).map_err(bad)?;
     }
@@ -321,11 +336,7 @@ fn parse_document(
     }
     for x in &json.extensions_used {
         if !SUPPORTED_EXTENSIONS.contains(&x.as_str()) {
-            warnings.push(Warning {
-                file: path.to_path_buf(),
-                line: None,
-                message: format!("uses glTF extension {x}, which glview ignores"),
-            });
+            warn(format!("uses glTF extension {x}, which glview ignores"));
         }
     }
     // The crate's validator indexes the accessors with the POSITION index before it has
@@ -347,12 +358,51 @@ fn parse_document(
     // Checked above; the crate's validator refuses any it does not know itself.
     json.extensions_required.clear();
     prefer_extension_sources(&mut json);
-    validate(&json).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
-    Ok((
-        gltf::Document::from_json_without_validation(json),
-        blob,
+    super::gltf_quirks::tolerate(&mut json, &mut found);
+    validate(&mut json, &mut found).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
+    for w in found.warnings() {
+        warn(w);
+    }
+    Ok(Parsed {
+        doc: gltf::Document::from_json_without_validation(json),
+        blob: blob.map(<[u8]>::to_vec),
         pointed,
-    ))
+        placeholders: found.placeholders,
+    })
+}
+
+/// The JSON `text` as the crate's document, and the material pointer channels taken out
+/// of it. Read straight into the crate's types unless it names KHR_animation_pointer or
+/// those types refuse it; then read as a JSON value first, the pointer channels rewritten
+/// ([`super::gltf_pointer`]) and the quirks the types cannot hold repaired, which costs a
+/// second parse only for those files.
+fn json_of(
+    text: &[u8],
+    found: &mut super::gltf_quirks::Found,
+    warn: &mut dyn FnMut(String),
+) -> std::result::Result<(gltf::json::Root, Vec<super::gltf_pointer::MaterialChannel>), String> {
+    let pointers = super::gltf_pointer::mentions(text);
+    let direct = if pointers {
+        None
+    } else {
+        match serde_json::from_slice(text) {
+            Ok(json) => return Ok((json, Vec::new())),
+            Err(e) => Some(e.to_string()),
+        }
+    };
+    let first_error = |e: serde_json::Error| direct.clone().unwrap_or_else(|| e.to_string());
+    let mut value: serde_json::Value = serde_json::from_slice(text).map_err(first_error)?;
+    let (materials, dropped) = if pointers {
+        super::gltf_pointer::rewrite(&mut value)
+    } else {
+        Default::default()
+    };
+    for d in &dropped {
+        warn(d.message());
+    }
+    super::gltf_quirks::tolerate_value(&mut value, found);
+    let json = serde_json::from_value(value).map_err(first_error)?;
+    Ok((json, materials))
 }
 
 /// Texture extensions naming an image format glview decodes, in the order it prefers them.
@@ -377,27 +427,47 @@ fn prefer_extension_sources(json: &mut gltf::json::Root) {
 }
 
 /// The crate's validation (every index in range: its accessors would panic otherwise), less
-/// one rule it adds to the specification: an accessor without a `bufferView` is valid (zeros,
-/// which sparse values or an extension such as KHR_draco_mesh_compression replace), where
-/// the crate demands one unless the accessor is sparse.
-fn validate(json: &gltf::json::Root) -> std::result::Result<(), gltf::Error> {
+/// one rule it adds to the specification (an accessor without a `bufferView` is valid:
+/// zeros, which sparse values or an extension such as KHR_draco_mesh_compression replace,
+/// where the crate demands one unless the accessor is sparse) and with real exporters'
+/// quirks repaired ([`super::gltf_quirks::repair`]); what is left is refused.
+fn validate(
+    json: &mut gltf::json::Root,
+    found: &mut super::gltf_quirks::Found,
+) -> std::result::Result<(), gltf::Error> {
+    use super::gltf_quirks::{repair, Repair};
     use gltf::json::validation::{Error as E, Validate};
-    let mut errors = Vec::new();
-    json.validate(json, gltf::json::Path::new, &mut |path, error| {
-        let path = path();
-        let p = path.as_str();
-        let view_missing = matches!(error, E::Missing)
-            && p.starts_with("accessors[")
-            && p.ends_with("].bufferView");
-        if !view_missing {
-            errors.push((path, error));
+    // A repair can reveal what it hid (a child past the nodes behind a missing scene); each
+    // round fixes at least one error, and a file has only so many.
+    for _ in 0..8 {
+        let mut errors = Vec::new();
+        json.validate(json, gltf::json::Path::new, &mut |path, error| {
+            let path = path();
+            let p = path.as_str();
+            let view_missing = matches!(error, E::Missing)
+                && p.starts_with("accessors[")
+                && p.ends_with("].bufferView");
+            if !view_missing {
+                errors.push((path, error));
+            }
+        });
+        let mut fixed = false;
+        let mut left = Vec::new();
+        for (path, error) in errors {
+            match repair(json, path.as_str(), &error, found) {
+                Some(Repair::Fixed) => fixed = true,
+                Some(Repair::Ignored) => {}
+                None => left.push((path, error)),
+            }
         }
-    });
-    if errors.is_empty() {
-        Ok(())
-    } else {
-        Err(gltf::Error::Validation(errors))
+        if !left.is_empty() {
+            return Err(gltf::Error::Validation(left));
+        }
+        if !fixed {
+            return Ok(());
+        }
     }
+    Ok(())
 }
 
 /// `asset.minVersion` ("major.minor"): a file that needs a later glTF than 2.0 is refused, as
@@ -418,14 +488,20 @@ fn check_min_version(v: &str) -> std::result::Result<(), String> {
 }
 
 /// Meshes can be instanced by many nodes: the total is bounded before anything is read.
+/// An accessor a Draco stream filled counts what the stream decoded (`draco`).
 fn check_instanced_total(
     instances: &[(usize, gltf::Mesh, DMat4)],
+    draco: &super::gltf_draco::Decoded,
 ) -> std::result::Result<(), String> {
+    let count = |a: gltf::Accessor| match draco.get(&a.index()) {
+        Some(d) => d.len() / (a.data_type().size() * a.dimensions().multiplicity()),
+        None => a.count(),
+    };
     let mut total = 0usize;
     for (node, mesh, _) in instances {
         for p in mesh.primitives() {
-            let n = p.get(&Semantic::Positions).map_or(0, |a| a.count());
-            let k = p.indices().map_or(0, |a| a.count());
+            let n = p.get(&Semantic::Positions).map_or(0, count);
+            let k = p.indices().map_or(0, count);
             total = total.saturating_add(n.max(k / 3));
             if total > MAX_ELEMENTS {
                 return Err(format!(
@@ -440,10 +516,11 @@ fn check_instanced_total(
 
 /// Every image a material uses, decoded in parallel (a few at a time, so the texture budget is
 /// checked between batches and at most one batch overshoots it); a missing, broken or
-/// over-budget image is a warning and None.
+/// over-budget image is a warning and None. The `placeholders` the quirk repairs added for
+/// textures without an image are None without a warning of their own.
 fn decode_images(
     doc: &gltf::Document,
-    buffers: &[Vec<u8>],
+    (buffers, placeholders): (&[Vec<u8>], &[usize]),
     path: &Path,
     opts: &LoadOptions,
     warnings: &mut Vec<Warning>,
@@ -471,7 +548,9 @@ fn decode_images(
             }
         }
     }
-    let wanted: Vec<usize> = (0..used.len()).filter(|&i| used[i]).collect();
+    let wanted: Vec<usize> = (0..used.len())
+        .filter(|&i| used[i] && !placeholders.contains(&i))
+        .collect();
     let mut out: Vec<Option<Arc<Texture>>> = vec![None; used.len()];
     let mut texture_bytes = 0usize;
     for batch in wanted.chunks(rayon::current_num_threads().max(1)) {

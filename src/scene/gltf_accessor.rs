@@ -90,7 +90,10 @@ pub(crate) fn read_f32(
     let (t, norm) = (acc.data_type(), acc.normalized());
     let csize = t.size();
     let esize = csize * dims;
-    let count = acc.count();
+    // A Draco stream's accessor holds what the stream decoded, whatever its `count` says
+    // (the stream's own ceilings bound it: `gltf_draco`).
+    let draco = buffers.draco.get(&i);
+    let count = draco.map_or(acc.count(), |d| d.len() / esize.max(1));
     if count > MAX_ELEMENTS {
         return Err(format!(
             "accessor {i}: count {count} is more than glview reads ({MAX_ELEMENTS})"
@@ -110,7 +113,7 @@ pub(crate) fn read_f32(
             *o = component(&row[c * csize..], t, norm);
         }
     };
-    if let Some(d) = buffers.draco.get(&i) {
+    if let Some(d) = draco {
         // Packed by the Draco reader to exactly `count` rows of `esize` bytes.
         read_rows(d, esize, &mut |k, row| {
             fill(&mut out[k * dims..k * dims + dims], row)

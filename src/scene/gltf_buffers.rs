@@ -16,25 +16,23 @@ fn read_prefix(path: &Path, len: usize) -> Result<Vec<u8>, String> {
     if !meta.is_file() {
         return Err("not a regular file".into());
     }
-    if meta.len() < len as u64 {
-        return Err(format!(
-            "byteLength is {len} but the file has {} bytes",
-            meta.len()
-        ));
-    }
-    let mut out = Vec::with_capacity(len);
+    // A file shorter than `len` is read whole: the caller says so.
+    let mut out = Vec::with_capacity(len.min(meta.len() as usize));
     std::fs::File::open(path)
         .and_then(|f| f.take(len as u64).read_to_end(&mut out))
         .map_err(|e| e.to_string())?;
     Ok(out)
 }
 
-/// Every buffer's bytes, exactly `byteLength` long. `blob` is the GLB binary chunk.
+/// Every buffer's bytes, at most `byteLength` long. `blob` is the GLB binary chunk. A buffer
+/// with fewer bytes than its `byteLength` (an exporter that wrote the length before it
+/// trimmed the data) is read as the bytes there, as three.js reads it, with a warning in
+/// `warn`; an accessor reaching past them is refused where it is read.
 pub(crate) fn buffers(
     doc: &gltf::Document,
     blob: Option<Vec<u8>>,
-    dir: &Path,
-    allow_outside: bool,
+    (dir, allow_outside): (&Path, bool),
+    warn: &mut dyn FnMut(String),
 ) -> Result<Vec<Vec<u8>>, String> {
     let mut blob = blob;
     let mut out = Vec::new();
@@ -72,8 +70,9 @@ pub(crate) fn buffers(
             }
         };
         if data.len() < len {
-            return Err(what(format!(
-                "byteLength is {len} but only {} bytes are there",
+            warn(what(format!(
+                "byteLength is {len} but only {} bytes are there; read as those bytes, as \
+                 three.js reads them",
                 data.len()
             )));
         }

@@ -6,6 +6,12 @@
 //! normalized integers, quantized positions already restored by Draco, colours, joints and
 //! weights all follow the accessor's `componentType` and `normalized` as the extension says.
 //! A stream is decoded once per file however many nodes instance its mesh.
+//!
+//! The decoded geometry is what is drawn: where a stream decodes more (or fewer) points or
+//! corners than its accessors' `count` say (FBX2glTF writes the source mesh's count for
+//! parts Draco split at seams), the decoded counts are used, as three.js's DRACOLoader and
+//! the extension's "render the decompressed Draco geometry directly" do, with one warning
+//! per file; an index past the decoded points stays an error (`gltf_primitive`).
 use super::gltf_accessor::MAX_ELEMENTS;
 use draco_core::{DataType as Dt, DecodeLimits, DecoderBuffer, MeshDecoder, PointIndex};
 use gltf::accessor::DataType;
@@ -23,9 +29,14 @@ const EXT: &str = "KHR_draco_mesh_compression";
 /// `count × components` in the accessor's component type.
 pub(crate) type Decoded = HashMap<usize, Vec<u8>>;
 
-/// Decodes every Draco primitive of the file. An error names the mesh and primitive.
-pub(crate) fn decode_all(doc: &gltf::Document, buffers: &[Vec<u8>]) -> Result<Decoded, String> {
+/// Decodes every Draco primitive of the file. An error names the mesh and primitive; a
+/// warning (one for the file) says which primitives' accessor counts were not the stream's.
+pub(crate) fn decode_all(
+    doc: &gltf::Document,
+    buffers: &[Vec<u8>],
+) -> Result<(Decoded, Option<String>), String> {
     let mut out = Decoded::new();
+    let mut miscounted = Miscounted::default();
     // Which stream filled an accessor: two primitives may share one stream (and its
     // accessors), but two streams may not both claim an accessor.
     let mut filled_by: HashMap<usize, usize> = HashMap::new();
@@ -40,12 +51,60 @@ pub(crate) fn decode_all(doc: &gltf::Document, buffers: &[Vec<u8>]) -> Result<De
                 .get("bufferView")
                 .and_then(Value::as_u64)
                 .and_then(|v| doc.views().nth(usize::try_from(v).ok()?));
-            let stream = stream(view, buffers)
-                .and_then(|s| primitive(&p, ext, s, &mut budget, &mut filled_by, &mut out));
+            let mut off = None;
+            let stream = stream(view, buffers).and_then(|s| {
+                let to = Fill {
+                    budget: &mut budget,
+                    filled_by: &mut filled_by,
+                    out: &mut out,
+                    off: &mut off,
+                };
+                primitive(&p, ext, s, to)
+            });
             stream.map_err(|e| format!("{where_}: {EXT}: {e}"))?;
+            if let Some(off) = off {
+                miscounted.note(&where_, off);
+            }
         }
     }
-    Ok(out)
+    Ok((out, miscounted.warning()))
+}
+
+/// Where a stream's count was not its accessor's: the first such, and how many.
+#[derive(Default)]
+struct Miscounted {
+    count: usize,
+    first: Option<String>,
+}
+
+impl Miscounted {
+    fn note(&mut self, primitive: &str, off: String) {
+        self.count += 1;
+        self.first.get_or_insert(format!("{primitive}: {off}"));
+    }
+
+    fn warning(&self) -> Option<String> {
+        let first = self.first.as_ref()?;
+        let n = self.count;
+        let which = if n == 1 {
+            "a Draco primitive decodes".to_string()
+        } else {
+            format!("{n} Draco primitives decode")
+        };
+        Some(format!(
+            "{EXT}: {which} another count than its accessors say ({first}); the decoded \
+             geometry is drawn, as three.js draws it"
+        ))
+    }
+}
+
+/// What one stream fills: the file's remaining byte budget, which stream filled each
+/// accessor, the decoded accessors, and the first count that was not its accessor's.
+struct Fill<'a> {
+    budget: &'a mut u64,
+    filled_by: &'a mut HashMap<usize, usize>,
+    out: &'a mut Decoded,
+    off: &'a mut Option<String>,
 }
 
 /// The compressed bytes of the extension's `bufferView`, and its index.
@@ -66,10 +125,14 @@ fn primitive(
     p: &gltf::Primitive,
     ext: &Value,
     (view, bytes): (usize, &[u8]),
-    budget: &mut u64,
-    filled_by: &mut HashMap<usize, usize>,
-    out: &mut Decoded,
+    to: Fill,
 ) -> Result<(), String> {
+    let Fill {
+        budget,
+        filled_by,
+        out,
+        off,
+    } = to;
     let Some(ids) = ext.get("attributes").and_then(Value::as_object) else {
         return Err("attributes is missing".into());
     };
@@ -105,7 +168,7 @@ fn primitive(
     let mesh = decode(bytes, *budget)?;
     let mut used = 0u64;
     if let Some(acc) = index_acc {
-        let packed = indices(&mesh, &acc)?;
+        let packed = indices(&mesh, &acc, off)?;
         used += packed.len() as u64;
         out.insert(acc.index(), packed);
     }
@@ -121,7 +184,7 @@ fn primitive(
         let att = mesh
             .attribute_by_unique_id(id)
             .ok_or_else(|| format!("{name}: the stream has no attribute {id}"))?;
-        let packed = attribute(&mesh, att, &acc).map_err(|e| format!("{name}: {e}"))?;
+        let packed = attribute(&mesh, att, &acc, off).map_err(|e| format!("{name}: {e}"))?;
         used += packed.len() as u64;
         out.insert(acc.index(), packed);
     }
@@ -153,12 +216,17 @@ fn decode(bytes: &[u8], budget: u64) -> Result<draco_core::Mesh, String> {
     }
 }
 
-/// The faces as the index accessor's component type; its count must be three per face.
-fn indices(mesh: &draco_core::Mesh, acc: &gltf::Accessor) -> Result<Vec<u8>, String> {
+/// The faces as the index accessor's component type (all of them: a count other than the
+/// accessor's is noted in `off`).
+fn indices(
+    mesh: &draco_core::Mesh,
+    acc: &gltf::Accessor,
+    off: &mut Option<String>,
+) -> Result<Vec<u8>, String> {
     let corners = mesh.faces().as_flattened();
     if corners.len() != acc.count() {
-        return Err(format!(
-            "the stream decodes {} indices, accessor {} says {}",
+        off.get_or_insert(format!(
+            "{} indices where accessor {} says {}",
             corners.len(),
             acc.index(),
             acc.count()
@@ -174,18 +242,26 @@ fn indices(mesh: &draco_core::Mesh, acc: &gltf::Accessor) -> Result<Vec<u8>, Str
 }
 
 /// One decoded attribute, point by point (through the stream's point-to-value map), as
-/// `acc`'s component type. The point count and the component count must be the accessor's.
+/// `acc`'s component type. The component count must be the accessor's; every decoded point
+/// is kept (a point count other than the accessor's is noted in `off`).
 fn attribute(
     mesh: &draco_core::Mesh,
     att: &draco_core::PointAttribute,
     acc: &gltf::Accessor,
+    off: &mut Option<String>,
 ) -> Result<Vec<u8>, String> {
     let n = mesh.num_points();
     let dims = acc.dimensions().multiplicity();
-    if n != acc.count() || usize::from(att.num_components()) != dims {
+    if usize::from(att.num_components()) != dims {
         return Err(format!(
-            "the stream decodes {n} values of {} components, accessor {} says {} of {dims}",
+            "the stream decodes values of {} components, accessor {} says {dims}",
             att.num_components(),
+            acc.index(),
+        ));
+    }
+    if n != acc.count() {
+        off.get_or_insert(format!(
+            "{n} points where accessor {} says {}",
             acc.index(),
             acc.count()
         ));
@@ -265,8 +341,9 @@ mod tests {
         let doc = gltf::Gltf::from_slice_without_validation(&bytes)
             .unwrap()
             .document;
-        let buffers = super::super::gltf_buffers::buffers(&doc, None, &dir, false).unwrap();
-        let draco = super::decode_all(&doc, &buffers).unwrap();
+        let buffers =
+            super::super::gltf_buffers::buffers(&doc, None, (&dir, false), &mut |_| {}).unwrap();
+        let draco = super::decode_all(&doc, &buffers).unwrap().0;
         let views = vec![None; doc.views().len()];
         (
             doc,

@@ -69,40 +69,6 @@ impl Dropped {
     }
 }
 
-/// A file's JSON with its pointer channels rewritten, its binary chunk (a GLB's), and the
-/// channels taken out: those animating materials, and the others.
-pub(crate) struct Parsed {
-    pub(crate) json: gltf::json::Root,
-    pub(crate) blob: Option<Vec<u8>>,
-    pub(crate) materials: Vec<MaterialChannel>,
-    pub(crate) dropped: Vec<Dropped>,
-}
-
-/// A glTF or GLB file's bytes parsed with its pointer channels rewritten ([`rewrite`]), when
-/// its JSON names the extension; None for any other file (the crate parses it as it is).
-pub(crate) fn parse(bytes: &[u8]) -> Result<Option<Parsed>, String> {
-    let (text, blob) = if bytes.starts_with(b"glTF") {
-        let glb = gltf::binary::Glb::from_slice(bytes).map_err(|e| e.to_string())?;
-        (glb.json, glb.bin)
-    } else {
-        (std::borrow::Cow::Borrowed(bytes), None)
-    };
-    if !mentions(&text) {
-        return Ok(None);
-    }
-    let mut value: Value = serde_json::from_slice(&text).map_err(|e| e.to_string())?;
-    let (materials, dropped) = rewrite(&mut value);
-    let json = serde_json::from_value(value).map_err(|e| e.to_string())?;
-    // The binary chunk is copied only here, for a file that has pointers (the crate's own
-    // parse copies it as well).
-    Ok(Some(Parsed {
-        json,
-        blob: blob.map(std::borrow::Cow::into_owned),
-        materials,
-        dropped,
-    }))
-}
-
 /// Whether JSON text `json` may hold pointer channels (its bytes name the extension).
 pub(crate) fn mentions(json: &[u8]) -> bool {
     memchr::memmem::find(json, NAME.as_bytes()).is_some()
@@ -154,7 +120,7 @@ fn material_path(pointer: &str) -> Option<(usize, MaterialProperty)> {
 
 /// Rewrites the pointer channels of glTF JSON `root` in place (see the module): returns the
 /// channels it took out, those animating materials and the others. Targets without a node
-/// that are not pointer channels are left for the crate to refuse, as before.
+/// that are not pointer channels are left for [`super::gltf_quirks::tolerate_value`].
 pub(crate) fn rewrite(root: &mut Value) -> (Vec<MaterialChannel>, Vec<Dropped>) {
     let (mut materials, mut dropped) = (Vec::new(), Vec::new());
     let Some(animations) = root.get_mut("animations").and_then(Value::as_array_mut) else {

@@ -421,3 +421,73 @@ pub mod fixture {
         )
     }
 }
+
+/// A GLB file's JSON and binary chunk, to edit and write again (test files made from real
+/// ones: quirks, pointer channels).
+pub struct Glb {
+    pub json: serde_json::Value,
+    pub bin: Vec<u8>,
+}
+
+impl Glb {
+    pub fn read(path: &Path) -> Glb {
+        let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+        let json = serde_json::from_slice(&bytes[20..20 + len]).unwrap();
+        let bin = bytes.get(20 + len + 8..).unwrap_or_default().to_vec();
+        Glb { json, bin }
+    }
+
+    /// Appends `values` (f32s) as a new accessor of `kind` ("SCALAR", "VEC3", ...) in a
+    /// view of its own; its index. The buffer's byteLength follows on write.
+    pub fn add_f32(&mut self, values: &[f32], kind: &str, per: usize) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        let views = self.json["bufferViews"].as_array_mut().unwrap();
+        views.push(serde_json::json!({
+            "buffer": 0, "byteOffset": self.bin.len(), "byteLength": values.len() * 4
+        }));
+        let view = views.len() - 1;
+        self.bin.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+        let mut acc = serde_json::json!({
+            "bufferView": view, "componentType": 5126, "count": values.len() / per, "type": kind
+        });
+        if kind == "SCALAR" {
+            let lo = values.iter().copied().fold(f32::MAX, f32::min);
+            let hi = values.iter().copied().fold(f32::MIN, f32::max);
+            acc["min"] = serde_json::json!([lo]);
+            acc["max"] = serde_json::json!([hi]);
+        }
+        let accessors = self.json["accessors"].as_array_mut().unwrap();
+        accessors.push(acc);
+        accessors.len() - 1
+    }
+
+    /// Writes the file (its buffer's byteLength set to the chunk's length, before padding).
+    pub fn write(&self, out: &Path) {
+        let mut json = self.json.clone();
+        if let Some(b) = json["buffers"].get_mut(0) {
+            b["byteLength"] = self.bin.len().into();
+        }
+        write_glb(&json, &self.bin, out);
+    }
+}
+
+/// `json` and `bin` as a GLB at `out`, each chunk padded to 4 bytes.
+pub fn write_glb(json: &serde_json::Value, bin: &[u8], out: &Path) {
+    let mut text = serde_json::to_vec(json).unwrap();
+    text.resize(text.len().div_ceil(4) * 4, b' ');
+    let mut bin = bin.to_vec();
+    bin.resize(bin.len().div_ceil(4) * 4, 0);
+    let mut glb = b"glTF".to_vec();
+    glb.extend(2u32.to_le_bytes());
+    glb.extend(((12 + 8 + text.len() + 8 + bin.len()) as u32).to_le_bytes());
+    glb.extend((text.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(text);
+    glb.extend((bin.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(bin);
+    std::fs::write(out, glb).unwrap();
+}

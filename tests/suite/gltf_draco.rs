@@ -150,11 +150,35 @@ fn hostile_draco_streams_are_one_line_errors() {
         }
     }
     assert!(refused > 0);
-    // Counts that lie, and a view beyond its buffer.
+    // A view beyond its buffer (counts that lie are drawn as decoded: below).
+    let p = box_variant(&dir, "view", &bin, &|s| {
+        s.replace("\"byteOffset\": 0", "\"byteOffset\": 100")
+    });
+    let e = loads_or_names(&p).expect_err("view");
+    assert!(e.contains("outside"), "view: {e}");
+}
+
+/// Draco parts whose accessors say another count than the stream decodes (FBX2glTF writes
+/// the source mesh's count: a car's 20 of 51 parts decode more points) draw the decoded
+/// geometry, as three.js's DRACOLoader does, with one warning naming the first; the picture
+/// is the file's with the counts corrected by hand. An index past the decoded points is
+/// still refused.
+#[test]
+fn draco_counts_other_than_the_streams_draw_the_decoded_geometry() {
+    let dir = out_dir("gltf-draco-counts");
+    let bin = std::fs::read(data("Box").join("Box.bin")).unwrap();
+    let right = box_variant(&dir, "right", &bin, &|s| s);
+    let want = shot(&dir, "right", &right);
     type Edit<'a> = &'a dyn Fn(String) -> String;
-    let cases: [(&str, Edit, &str); 3] = [
+    let cases: [(&str, Edit, &str); 4] = [
+        // Fewer points than decoded (the stream's 24), on every attribute.
         (
-            "count",
+            "fewer",
+            &|s| s.replace("\"count\": 24", "\"count\": 20"),
+            "24 points where accessor",
+        ),
+        (
+            "more",
             &|s| s.replacen("\"count\": 24", "\"count\": 25", 1),
             "says 25",
         ),
@@ -164,14 +188,30 @@ fn hostile_draco_streams_are_one_line_errors() {
             "says 4000000000",
         ),
         (
-            "view",
-            &|s| s.replace("\"byteOffset\": 0", "\"byteOffset\": 100"),
-            "outside",
+            "indices",
+            &|s| s.replace("\"count\": 36", "\"count\": 30"),
+            "36 indices where accessor",
         ),
     ];
     for (name, edit, expect) in cases {
         let p = box_variant(&dir, name, &bin, edit);
-        let e = loads_or_names(&p).expect_err(name);
-        assert!(e.contains(expect), "{name}: {e}");
+        assert_ne!(
+            std::fs::read(&p).unwrap(),
+            std::fs::read(&right).unwrap(),
+            "{name}"
+        );
+        let s = load(&p, &LoadOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let w: Vec<String> = s.warnings.iter().map(|w| w.message.clone()).collect();
+        assert_eq!(w.len(), 1, "{name}: {w:?}");
+        assert!(
+            w[0].contains(expect) && w[0].contains("the decoded geometry is drawn"),
+            "{name}: {}",
+            w[0]
+        );
+        let got = shot(&dir, name, &p);
+        assert!(
+            got == want,
+            "{name}: the picture is not the corrected file's"
+        );
     }
 }

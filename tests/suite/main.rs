@@ -36,6 +36,7 @@ mod gltf_ktx2;
 mod gltf_lights;
 mod gltf_materials;
 mod gltf_motion_threejs;
+mod gltf_quirks;
 mod gltf_sidedness;
 mod gltf_views;
 mod gltf_webp;

@@ -549,24 +549,6 @@ fn strs(v: &[String]) -> Vec<&str> {
     v.iter().map(String::as_str).collect()
 }
 
-/// Writes a GLB of `json` and `bin` to `out`.
-fn write_glb(json: &serde_json::Value, bin: &[u8], out: &std::path::Path) {
-    let mut text = serde_json::to_vec(json).unwrap();
-    text.resize(text.len().div_ceil(4) * 4, b' ');
-    let mut bin = bin.to_vec();
-    bin.resize(bin.len().div_ceil(4) * 4, 0);
-    let mut glb = b"glTF".to_vec();
-    glb.extend(2u32.to_le_bytes());
-    glb.extend(((12 + 8 + text.len() + 8 + bin.len()) as u32).to_le_bytes());
-    glb.extend((text.len() as u32).to_le_bytes());
-    glb.extend(b"JSON");
-    glb.extend(text);
-    glb.extend((bin.len() as u32).to_le_bytes());
-    glb.extend(b"BIN\0");
-    glb.extend(bin);
-    std::fs::write(out, glb).unwrap();
-}
-
 /// KHR_animation_pointer on materials: Khronos' BoxAnimated with pointer channels (STEP, keys
 /// 0 / 1 / 2 s) on the inner material's base colour and roughness and the outer's emissive
 /// factor and strength, beside its own node channels. At 1.3 s its picture is, byte for

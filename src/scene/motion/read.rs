@@ -1,8 +1,11 @@
 //! Reading a glTF file's animations and skins, every size bounded before it is read and
-//! every value checked: a sampler whose keys are not finite or not increasing, or whose
+//! every value checked: a sampler whose keys are not finite or go back in time, or whose
 //! output does not match its input, is dropped with a warning (the model still loads, in
 //! its static pose); a skin whose joints lie outside the scene or whose inverse bind
-//! matrices are not invertible is not applied, with a warning.
+//! matrices are not invertible is not applied, with a warning. Equal neighbouring key
+//! times, which exporters write routinely (a step cut in two keys) and the specification
+//! forbids, are played as three.js plays them (the later key holds from the shared time
+//! on: [`super::sample`]), with one warning per animation.
 use super::sample::{Interp, Keys};
 use super::{AnimationInfo, Path};
 use crate::scene::gltf_accessor::{self as accessor, Buffers};
@@ -73,6 +76,7 @@ pub(crate) fn animations(
             None => format!("animation {}", a.index()),
         };
         let mut channels = Vec::new();
+        let mut repeats = Repeats::default();
         for (ci, c) in a.channels().enumerate() {
             let node = c.target().node().index();
             if !in_scene.get(node).copied().unwrap_or(false) {
@@ -80,16 +84,16 @@ pub(crate) fn animations(
             }
             let json = &doc.as_json().animations[a.index()];
             match channel((&c, json), buffers, &mut budget) {
-                Ok((property, keys)) => channels.push(Channel {
-                    node,
-                    path: match property {
+                Ok((property, keys)) => {
+                    repeats.note(ci, &keys);
+                    let path = match property {
                         Property::Translation => Path::Translation,
                         Property::Rotation => Path::Rotation,
                         Property::Scale => Path::Scale,
                         Property::MorphTargetWeights => Path::Weights,
-                    },
-                    keys,
-                }),
+                    };
+                    channels.push(Channel { node, path, keys });
+                }
                 Err(e) => warn(format!(
                     "{label} channel {ci}: {e}; the channel is not played"
                 )),
@@ -99,16 +103,22 @@ pub(crate) fn animations(
         let mut materials = Vec::new();
         for p in pointed.iter().filter(|p| p.animation == a.index()) {
             match material_keys(doc, (&a, json), p, buffers, &mut budget) {
-                Ok(keys) => materials.push(MaterialKeys {
-                    material: p.material,
-                    property: p.property,
-                    keys,
-                }),
+                Ok(keys) => {
+                    repeats.note(p.channel, &keys);
+                    materials.push(MaterialKeys {
+                        material: p.material,
+                        property: p.property,
+                        keys,
+                    });
+                }
                 Err(e) => warn(format!(
                     "{label} channel {}: {e}; the channel is not played",
                     p.channel
                 )),
             }
+        }
+        if let Some(w) = repeats.warning(&label) {
+            warn(w);
         }
         let duration = (channels.iter().map(|c| &c.keys))
             .chain(materials.iter().map(|m| &m.keys))
@@ -129,7 +139,43 @@ pub(crate) fn animations(
     out
 }
 
-/// One channel's keys, checked: the input is finite, strictly increasing scalar seconds;
+/// The channels of one animation whose keys repeat a time, for its one warning.
+#[derive(Default)]
+struct Repeats {
+    count: usize,
+    /// The first such channel, its key that repeats the time before it, and the time.
+    first: Option<(usize, usize, f32)>,
+}
+
+impl Repeats {
+    fn note(&mut self, channel: usize, keys: &Keys) {
+        let Some(k) = keys.times.windows(2).position(|w| w[1] == w[0]) else {
+            return;
+        };
+        self.count += 1;
+        self.first
+            .get_or_insert((channel, k + 1, keys.times[k + 1]));
+    }
+
+    fn warning(&self, label: &str) -> Option<String> {
+        let (c, k, t) = self.first?;
+        let n = self.count;
+        let which = if n == 1 {
+            format!("channel {c} has")
+        } else {
+            format!("{n} channels have")
+        };
+        Some(format!(
+            "{label}: {which} equal neighbouring key times (channel {c}: key {k} at {t} \
+             repeats key {}'s time), which glTF forbids; played as three.js plays them: \
+             the earlier key is reached just before the shared time, the later one holds \
+             from it on",
+            k - 1
+        ))
+    }
+}
+
+/// One channel's keys, checked: the input is finite, non-decreasing scalar seconds;
 /// the output has one value (three for CUBICSPLINE) per key of the property's width.
 fn channel(
     (c, json): (&gltf::animation::Channel, &gltf::json::Animation),
@@ -239,9 +285,9 @@ fn keys(
     if let Some(k) = times.iter().position(|t| !t.is_finite()) {
         return Err(format!("key {k}'s time is not finite"));
     }
-    if let Some(k) = times.windows(2).position(|w| w[1] <= w[0]) {
+    if let Some(k) = times.windows(2).position(|w| w[1] < w[0]) {
         return Err(format!(
-            "key times are not increasing ({} then {} at key {})",
+            "key times go back ({} then {} at key {})",
             times[k],
             times[k + 1],
             k + 1

@@ -2,7 +2,12 @@
 //! Appendix C): before the first key the first value, after the last the last; STEP holds a
 //! key's value until the next; LINEAR interpolates (rotations by the shortest-path slerp);
 //! CUBICSPLINE is the Hermite spline whose tangents are scaled by the key interval.
-//! Keys are validated when read (`read.rs`): finite, strictly increasing, outputs sized.
+//! Keys are validated when read (`read.rs`): finite, never going back, outputs sized.
+//! Equal neighbouring times (which glTF forbids and exporters write: a jump cut as two keys)
+//! are sampled as three.js samples them: the interval holding `t` is the one whose start is
+//! the last key at or before `t`, so the earlier of two keys at a shared time is reached
+//! just before it and the later one holds from it on; no interval of zero length is ever
+//! divided by.
 
 /// How values between keys are found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -13,7 +18,7 @@ pub(crate) enum Interp {
     Cubic,
 }
 
-/// One sampler's keys: `times` strictly increasing, and `width` floats per value (3 for a
+/// One sampler's keys: `times` never decreasing, and `width` floats per value (3 for a
 /// translation or scale, 4 for a rotation, the number of morph targets for weights); a
 /// cubic sampler stores three values per key (in-tangent, value, out-tangent).
 #[derive(Clone, Debug)]
@@ -43,7 +48,9 @@ impl Keys {
         let n = self.times.len();
         let first = f64::from(self.times[0]);
         let last = f64::from(self.times[n - 1]);
-        if n == 1 || t <= first {
+        // At `first` itself the search below gives the same value (s = 0), or the later of
+        // keys that share the first time.
+        if n == 1 || t < first {
             return self.finish(self.value(0).to_vec());
         }
         if t >= last {
@@ -173,6 +180,54 @@ mod tests {
         close(&k.sample(1.0), &[7.0]);
         close(&k.sample(1.5), &[7.0]);
         close(&k.sample(2.5), &[9.0]);
+    }
+
+    #[test]
+    fn equal_key_times_reach_the_earlier_key_before_and_hold_the_later_from_then_on() {
+        // A jump written as two keys at t = 1 (values 10 and 20): three.js's interval search
+        // (Interpolant.evaluate) stops at the first key later than t, so at t = 1 the
+        // interval is [1, 2] from the second key; just before, [0, 1] towards the first.
+        let k = keys(
+            &[0.0, 1.0, 1.0, 2.0],
+            &[0.0, 10.0, 20.0, 40.0],
+            1,
+            Interp::Linear,
+        );
+        close(&k.sample(0.5), &[5.0]);
+        close(&k.sample(0.999), &[9.99]);
+        close(&k.sample(1.0), &[20.0]);
+        close(&k.sample(1.5), &[30.0]);
+        let s = keys(
+            &[0.0, 1.0, 1.0, 2.0],
+            &[0.0, 10.0, 20.0, 40.0],
+            1,
+            Interp::Step,
+        );
+        close(&s.sample(0.999), &[0.0]);
+        close(&s.sample(1.0), &[20.0]);
+        // Shared first and last times: the later key at the start, the last key at the end.
+        let e = keys(
+            &[1.0, 1.0, 2.0, 2.0],
+            &[1.0, 2.0, 3.0, 4.0],
+            1,
+            Interp::Linear,
+        );
+        close(&e.sample(0.0), &[1.0]);
+        close(&e.sample(1.0), &[2.0]);
+        close(&e.sample(1.5), &[2.5]);
+        close(&e.sample(2.0), &[4.0]);
+        // Cubic: (a, v, b) per key; at the shared time the later key's value, and the spline
+        // from it, never an interval of zero length.
+        let c = keys(
+            &[0.0, 1.0, 1.0, 2.0],
+            &[0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 5.0, 0.0, 0.0, 7.0, 0.0],
+            1,
+            Interp::Cubic,
+        );
+        close(&c.sample(1.0), &[5.0]);
+        close(&c.sample(1.5), &[6.0]);
+        close(&c.sample(0.5), &[0.5]);
+        assert!(c.sample(1.0).iter().all(|v| v.is_finite()));
     }
 
     #[test]
