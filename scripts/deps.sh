@@ -6,6 +6,7 @@ pkgs=(
   libegl1 libegl-mesa0 libgl1-mesa-dri libgles2 # EGL headless on Mesa (llvmpipe)
   libosmesa6                                     # OSMesa fallback, loaded at run time
   libturbojpeg0                                  # glview serve's JPEG previews, loaded at run time
+  libdav1d6                                      # EXT_texture_avif's AV1 decoder, loaded at run time
   libx11-6 libx11-xcb1 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 # winit on X11
 )
 case "${1:-}" in

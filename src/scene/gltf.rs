@@ -23,6 +23,7 @@ pub(crate) const SUPPORTED_EXTENSIONS: &[&str] = &[
     "EXT_meshopt_compression",
     "KHR_draco_mesh_compression",
     "EXT_texture_webp",
+    "EXT_texture_avif",
     "KHR_texture_basisu",
     "EXT_mesh_gpu_instancing",
     "KHR_materials_unlit",
@@ -61,19 +62,13 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         doc,
         blob,
         pointed,
-        placeholders,
+        images: notes,
     } = parse_document(path, bytes, &mut warnings)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let buffers = read_buffers(&doc, blob, path, opts, &mut warnings)?;
     let dependencies = super::gltf_buffers::external_files(&doc, dir, opts.textures);
 
-    let images = decode_images(
-        &doc,
-        (&buffers.buffers, &placeholders),
-        path,
-        opts,
-        &mut warnings,
-    );
+    let images = decode_images(&doc, (&buffers.buffers, &notes), path, opts, &mut warnings);
     let mut materials = Vec::new();
     for m in doc.materials() {
         let mut image = |i: usize| images.get(i).cloned().flatten();
@@ -304,7 +299,16 @@ struct Parsed {
     doc: gltf::Document,
     blob: Option<Vec<u8>>,
     pointed: Vec<super::gltf_pointer::MaterialChannel>,
+    images: ImageNotes,
+}
+
+/// What the parse says of the file's images: placeholders the quirk repairs added for
+/// textures without an image (absent, without a warning of their own), and AVIF images
+/// with the image their texture falls back to where they do not decode.
+#[derive(Default)]
+struct ImageNotes {
     placeholders: Vec<usize>,
+    fallbacks: Vec<(usize, usize)>,
 }
 
 /// The parsed document ([`Parsed`]), after the checks the `gltf` crate skips or does too
@@ -357,7 +361,11 @@ fn parse_document(path: &Path, bytes: &[u8], warnings: &mut Vec<Warning>) -> Res
     }
     // Checked above; the crate's validator refuses any it does not know itself.
     json.extensions_required.clear();
-    prefer_extension_sources(&mut json);
+    let (fallbacks, no_avif) =
+        prefer_extension_sources(&mut json, super::texture_avif::available());
+    if let Some(m) = no_avif {
+        warn(m);
+    }
     super::gltf_quirks::tolerate(&mut json, &mut found);
     validate(&mut json, &mut found).map_err(|e| bad(format!("not a valid glTF file: {e}")))?;
     for w in found.warnings() {
@@ -367,7 +375,10 @@ fn parse_document(path: &Path, bytes: &[u8], warnings: &mut Vec<Warning>) -> Res
         doc: gltf::Document::from_json_without_validation(json),
         blob: blob.map(<[u8]>::to_vec),
         pointed,
-        placeholders: found.placeholders,
+        images: ImageNotes {
+            placeholders: found.placeholders,
+            fallbacks,
+        },
     })
 }
 
@@ -406,24 +417,49 @@ fn json_of(
 }
 
 /// Texture extensions naming an image format glview decodes, in the order it prefers them.
-const IMAGE_EXTENSIONS: &[&str] = &["KHR_texture_basisu", "EXT_texture_webp"];
+const IMAGE_EXTENSIONS: &[&str] = &["KHR_texture_basisu", "EXT_texture_avif", "EXT_texture_webp"];
+const AVIF: &str = "EXT_texture_avif";
 
 /// A texture's image from the first extension in [`IMAGE_EXTENSIONS`] it has, in place of its
 /// own `source`, as the extensions ask of a reader that supports them (the own `source` is
 /// the fallback for readers that do not, and may be absent when the extension is required).
-/// An extension `source` that names no image is ignored: the texture's own is used.
-fn prefer_extension_sources(json: &mut gltf::json::Root) {
+/// An extension `source` that names no image is ignored: the texture's own is used. AVIF
+/// only where it can be decoded (`avif`); else the texture keeps its own source, which the
+/// returned warning says. Also returned: each AVIF image chosen with its texture's own
+/// image, used where the AVIF image does not decode.
+fn prefer_extension_sources(
+    json: &mut gltf::json::Root,
+    avif: bool,
+) -> (Vec<(usize, usize)>, Option<String>) {
     let images = json.images.len();
+    let mut fallbacks = Vec::new();
+    let mut skipped = 0;
     for t in &mut json.textures {
         let others = t.extensions.as_ref().map(|e| &e.others);
         let source = IMAGE_EXTENSIONS.iter().find_map(|x| {
             let i = others?.get(*x)?.get("source")?.as_u64()?;
-            u32::try_from(i).ok().filter(|&i| (i as usize) < images)
+            let i = u32::try_from(i).ok().filter(|&i| (i as usize) < images)?;
+            if *x == AVIF && !avif {
+                skipped += 1;
+                return None;
+            }
+            Some((i, *x))
         });
-        if let Some(i) = source {
+        if let Some((i, x)) = source {
+            let own = t.source.value();
+            if x == AVIF && own < images && own != i as usize {
+                fallbacks.push((i as usize, own));
+            }
             t.source = gltf::json::Index::new(i);
         }
     }
+    let warning = (skipped > 0).then(|| {
+        format!(
+            "{AVIF}: {skipped} texture(s) have AVIF images, which need libdav1d (Debian: \
+             libdav1d6), not found here; their fallback images are drawn"
+        )
+    });
+    (fallbacks, warning)
 }
 
 /// The crate's validation (every index in range: its accessors would panic otherwise), less
@@ -516,11 +552,12 @@ fn check_instanced_total(
 
 /// Every image a material uses, decoded in parallel (a few at a time, so the texture budget is
 /// checked between batches and at most one batch overshoots it); a missing, broken or
-/// over-budget image is a warning and None. The `placeholders` the quirk repairs added for
-/// textures without an image are None without a warning of their own.
+/// over-budget image is a warning and None. The placeholders the quirk repairs added for
+/// textures without an image are None without a warning of their own; an AVIF image that
+/// does not decode is its texture's fallback image, with a warning ([`ImageNotes`]).
 fn decode_images(
     doc: &gltf::Document,
-    (buffers, placeholders): (&[Vec<u8>], &[usize]),
+    (buffers, notes): (&[Vec<u8>], &ImageNotes),
     path: &Path,
     opts: &LoadOptions,
     warnings: &mut Vec<Warning>,
@@ -549,7 +586,7 @@ fn decode_images(
         }
     }
     let wanted: Vec<usize> = (0..used.len())
-        .filter(|&i| used[i] && !placeholders.contains(&i))
+        .filter(|&i| used[i] && !notes.placeholders.contains(&i))
         .collect();
     let mut out: Vec<Option<Arc<Texture>>> = vec![None; used.len()];
     let mut texture_bytes = 0usize;
@@ -581,11 +618,24 @@ fn decode_images(
                     texture_bytes += t.rgba.len();
                     out[i] = Some(Arc::new(t));
                 }
-                Err(e) => warnings.push(Warning {
-                    file: path.to_path_buf(),
-                    line: None,
-                    message: format!("{label}: {e}; materials using it render without it"),
-                }),
+                Err(e) => {
+                    let fallback = notes.fallbacks.iter().find(|f| f.0 == i).map(|f| f.1);
+                    let decoded = fallback.map(|j| {
+                        (
+                            j,
+                            super::gltf_buffers::image(doc, j, buffers, path, opts.textures),
+                        )
+                    });
+                    let message = match decoded {
+                        Some((j, Ok(t))) => {
+                            texture_bytes += t.rgba.len();
+                            out[i] = Some(Arc::new(t));
+                            format!("{label}: {e}; its texture's fallback image {j} is drawn")
+                        }
+                        _ => format!("{label}: {e}; materials using it render without it"),
+                    };
+                    warnings.push(Warning::of(path, message));
+                }
             }
         }
     }

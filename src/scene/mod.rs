@@ -50,6 +50,7 @@ pub(crate) mod spacing;
 pub(crate) mod stl;
 pub(crate) mod tangents;
 pub(crate) mod texture;
+pub(crate) mod texture_avif;
 pub(crate) mod texture_ktx2;
 pub(crate) mod texture_path;
 pub mod texture_slot;

@@ -118,29 +118,33 @@ pub(crate) fn decode_bytes(
     })
 }
 
-/// Largest KTX2 file read whole (it cannot be transcoded from a stream).
-const MAX_KTX2_BYTES: u64 = 256 << 20;
+/// Largest KTX2 or AVIF file read whole (neither is decoded from a stream).
+const MAX_WHOLE_BYTES: u64 = 256 << 20;
 
-/// A KTX2 file's bytes, or None if `src` is not one.
-fn ktx2_bytes(src: Source<'_>) -> Result<Option<std::borrow::Cow<'_, [u8]>>, String> {
+/// The bytes of `src` if its first bytes are a `what` file (`is`), read whole; None if not.
+fn whole_bytes<'a>(
+    src: Source<'a>,
+    is: fn(&[u8]) -> bool,
+    what: &str,
+) -> Result<Option<std::borrow::Cow<'a, [u8]>>, String> {
     use std::io::Read;
     match src {
-        Source::Mem(b) => Ok(super::texture_ktx2::is_ktx2(b).then_some(b.into())),
+        Source::Mem(b) => Ok(is(b).then_some(b.into())),
         Source::File(p) => {
             let mut head = Vec::new();
             src.open()?
-                .take(12)
+                .take(64)
                 .read_to_end(&mut head)
                 .map_err(|e| e.to_string())?;
-            if !super::texture_ktx2::is_ktx2(&head) {
+            if !is(&head) {
                 return Ok(None);
             }
             let mut all = Vec::new();
             std::fs::File::open(p)
-                .and_then(|f| f.take(MAX_KTX2_BYTES + 1).read_to_end(&mut all))
+                .and_then(|f| f.take(MAX_WHOLE_BYTES + 1).read_to_end(&mut all))
                 .map_err(|e| e.to_string())?;
-            if all.len() as u64 > MAX_KTX2_BYTES {
-                return Err(format!("KTX2 file over {} MiB", MAX_KTX2_BYTES >> 20));
+            if all.len() as u64 > MAX_WHOLE_BYTES {
+                return Err(format!("{what} file over {} MiB", MAX_WHOLE_BYTES >> 20));
             }
             Ok(Some(all.into()))
         }
@@ -148,8 +152,11 @@ fn ktx2_bytes(src: Source<'_>) -> Result<Option<std::borrow::Cow<'_, [u8]>>, Str
 }
 
 fn decode_from(src: Source, opts: TextureOptions) -> Result<(u32, u32, Vec<u8>), String> {
-    if let Some(bytes) = ktx2_bytes(src)? {
+    if let Some(bytes) = whole_bytes(src, super::texture_ktx2::is_ktx2, "KTX2")? {
         return super::texture_ktx2::decode(&bytes, max_side(opts));
+    }
+    if let Some(bytes) = whole_bytes(src, super::texture_avif::is_avif, "AVIF")? {
+        return super::texture_avif::decode(&bytes, max_side(opts), MAX_SOURCE_PIXELS);
     }
     let (format, w, h) = header(src)?;
     let max = max_side(opts);

@@ -69,18 +69,22 @@ pub(crate) enum Missing {
 }
 
 /// The animation `asked` names among `all` (`--animation`, and the play keys' and the
-/// server's view of it): an index in range, else an exact name; not asked, the first.
-/// Each caller words the error for its own place (an option, a key).
+/// server's view of it): an index in range, else `all` (every animation together: the
+/// merged entry, or the only animation), else an exact name of one of the file's; not
+/// asked, the default ([`AnimationInfo::default`]). Each caller words the error for its
+/// own place (an option, a key).
 pub(crate) fn find(all: &[AnimationInfo], asked: Option<&str>) -> Result<usize, Missing> {
     if all.is_empty() {
         return Err(Missing::None);
     }
     let Some(asked) = asked else {
-        return Ok(0);
+        return Ok(all.iter().position(|a| a.default).unwrap_or(0));
     };
-    match asked.trim().parse::<usize>() {
+    let asked = asked.trim();
+    match asked.parse::<usize>() {
         Ok(i) if i < all.len() => Some(i),
-        _ => all.iter().position(|a| a.name == asked),
+        _ if asked == "all" => all.iter().position(|a| a.together).or(Some(0)),
+        _ => all.iter().position(|a| a.name == asked && !a.together),
     }
     .ok_or(Missing::NoSuch)
 }
@@ -91,7 +95,12 @@ fn listing(all: &[AnimationInfo]) -> String {
         .iter()
         .enumerate()
         .map(|(i, a)| {
-            if a.name.is_empty() {
+            if a.together {
+                format!(
+                    "{i} \"all\" (every animation together, {:.2} s)",
+                    a.duration
+                )
+            } else if a.name.is_empty() {
                 format!("{i} (unnamed, {:.2} s)", a.duration)
             } else {
                 format!("{i} {:?} ({:.2} s)", a.name, a.duration)
@@ -123,6 +132,8 @@ mod tests {
                 name: (*n).into(),
                 duration: 1.5,
                 channels: 2,
+                together: false,
+                default: false,
             })
             .collect()
     }
@@ -138,6 +149,16 @@ mod tests {
         assert_eq!(find(&all, None), Ok(0));
         assert_eq!(find(&[], None), Err(Missing::None));
         assert_eq!(find(&[], Some("0")), Err(Missing::None));
+        // `all`: the merged entry (the only animation where there is one); not asked, the
+        // default the loader marked.
+        assert_eq!(find(&all, Some("all")), Ok(0));
+        let mut merged = infos(&["Walk", "Run", "all"]);
+        merged[2].together = true;
+        merged[2].default = true;
+        assert_eq!(find(&merged, Some("all")), Ok(2));
+        assert_eq!(find(&merged, None), Ok(2));
+        merged[0].name = "all".into();
+        assert_eq!(find(&merged, Some("all")), Ok(2), "the keyword wins");
     }
 
     #[test]

@@ -15,6 +15,7 @@ pub(crate) mod sample;
 pub(crate) mod source;
 #[cfg(test)]
 mod tests;
+pub(crate) mod together;
 
 pub(crate) use rig::{Carried, Moving, Part, Plan, WirePart};
 
@@ -39,6 +40,12 @@ pub struct AnimationInfo {
     /// The last key time of any of its channels, in seconds.
     pub duration: f64,
     pub channels: usize,
+    /// Not one of the file's: every animation of it on one clock (`--animation all`), the
+    /// last entry of [`Scene::animations`] where the file has two or more.
+    pub together: bool,
+    /// The animation played where none is named: every one together where they drive
+    /// different nodes (as the glTF Sample Viewer plays them), else the first.
+    pub default: bool,
 }
 
 /// What a channel moves.
@@ -89,11 +96,20 @@ impl Rig {
     pub(crate) fn check_lines(&self) -> Vec<String> {
         let mut out = self.plan.check_lines();
         for (i, a) in self.animations.iter().enumerate() {
-            out.push(format!(
-                "animation {i} \"{}\": {} channels, {:.3} s",
-                a.name, a.channels, a.duration
-            ));
+            out.push(if a.together {
+                format!(
+                    "animation {i} \"all\": the file's animations together, {} channels, \
+                     {:.3} s (--animation all)",
+                    a.channels, a.duration
+                )
+            } else {
+                format!(
+                    "animation {i} \"{}\": {} channels, {:.3} s",
+                    a.name, a.channels, a.duration
+                )
+            });
         }
+        out.extend(self.plan.together_lines());
         out
     }
 }

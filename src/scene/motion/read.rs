@@ -31,7 +31,8 @@ pub(crate) const MAX_JOINTS: usize = 1 << 16;
 pub(crate) struct Channel {
     pub(crate) node: usize,
     pub(crate) path: Path,
-    pub(crate) keys: Keys,
+    /// Shared with the merged animation that plays every one together ([`super::together`]).
+    pub(crate) keys: std::sync::Arc<Keys>,
 }
 
 /// One material factor over time (a KHR_animation_pointer channel).
@@ -40,7 +41,7 @@ pub(crate) struct MaterialKeys {
     /// The glTF material (the scene's material of the same index).
     pub(crate) material: usize,
     pub(crate) property: MaterialProperty,
-    pub(crate) keys: Keys,
+    pub(crate) keys: std::sync::Arc<Keys>,
 }
 
 #[derive(Clone, Debug)]
@@ -92,7 +93,11 @@ pub(crate) fn animations(
                         Property::Scale => Path::Scale,
                         Property::MorphTargetWeights => Path::Weights,
                     };
-                    channels.push(Channel { node, path, keys });
+                    channels.push(Channel {
+                        node,
+                        path,
+                        keys: keys.into(),
+                    });
                 }
                 Err(e) => warn(format!(
                     "{label} channel {ci}: {e}; the channel is not played"
@@ -108,7 +113,7 @@ pub(crate) fn animations(
                     materials.push(MaterialKeys {
                         material: p.material,
                         property: p.property,
-                        keys,
+                        keys: keys.into(),
                     });
                 }
                 Err(e) => warn(format!(
@@ -122,7 +127,7 @@ pub(crate) fn animations(
         }
         let duration = (channels.iter().map(|c| &c.keys))
             .chain(materials.iter().map(|m| &m.keys))
-            .map(Keys::end)
+            .map(|k| k.end())
             .fold(0.0f32, f32::max);
         out.push(Animation {
             info: AnimationInfo {
@@ -131,6 +136,8 @@ pub(crate) fn animations(
                     .map_or_else(|| format!("animation {}", a.index()), str::to_string),
                 duration: f64::from(duration),
                 channels: channels.len() + materials.len(),
+                together: false,
+                default: false,
             },
             channels,
             materials,

@@ -34,6 +34,8 @@ pub(crate) struct Plan {
     skin_of: Vec<Option<usize>>,
     /// By animation: what it moves.
     reach: Vec<Reach>,
+    /// By node: its name in the file, for `--check`.
+    names: Vec<Option<String>>,
     /// The static pose's world transforms, and each usable skin's joint matrices in it.
     rest_world: Vec<DMat4>,
     rest_joints: Vec<Vec<DMat4>>,
@@ -150,7 +152,12 @@ impl Plan {
                 graph.parent[c.index()] = Some(i);
             }
         }
-        let animations = super::read::animations(doc, (buffers, pointed), &in_scene, warn);
+        let animations = super::together::with_merged(super::read::animations(
+            doc,
+            (buffers, pointed),
+            &in_scene,
+            warn,
+        ));
         let skins = super::read::skins(doc, buffers, &in_scene, warn);
         let mut moved = vec![false; count];
         for c in animations.iter().flat_map(|a| &a.channels) {
@@ -180,6 +187,7 @@ impl Plan {
             }
         }
         let mut plan = Plan {
+            names: doc.nodes().map(|n| n.name().map(str::to_string)).collect(),
             material_factors,
             graph,
             skins,
@@ -277,6 +285,11 @@ impl Plan {
             out.push(format!("mesh {m}: {t} morph targets"));
         }
         out
+    }
+
+    /// `--check`'s lines on playing the animations together ([`super::together`]).
+    pub(crate) fn together_lines(&self) -> Vec<String> {
+        super::together::check_lines(&self.animations, &self.names)
     }
 
     /// Whether anything in the file can move or be posed.

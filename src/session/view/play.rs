@@ -169,6 +169,8 @@ mod tests {
                 name: format!("a{i}"),
                 duration: *d,
                 channels: 1,
+                together: false,
+                default: false,
             })
             .collect()
     }
