@@ -392,7 +392,9 @@ fn lines_points_and_instances_of_moving_nodes_are_the_still_twins() {
         w.extend(ctx);
         w.extend(camera);
         if let Some(t) = time {
-            w.extend(["--time", t]);
+            // The first animation's moment (by default both would play: they drive
+            // different nodes).
+            w.extend(["--animation", "0", "--time", t]);
         }
         w
     };

@@ -284,7 +284,11 @@ fn play_keys_replayed_headless_are_moments() {
             ". . . Space , Space",
             &["--time", "0.13333334"][..],
         ),
-        ("next", "A", &["--animation", "1", "--time", "0"][..]),
+        // The file's two animations drive different nodes: both play by default (the last
+        // entry, "all"), and `A` goes on to the first.
+        ("next", "A", &["--animation", "0", "--time", "0"][..]),
+        ("next-next", "A A", &["--animation", "1", "--time", "0"][..]),
+        ("all", "A A A", &["--animation", "all", "--time", "0"][..]),
     ] {
         let replayed = shot(&format!("keys-{name}"), &["--keys", keys]);
         let want = shot(&format!("time-{name}"), moment);
