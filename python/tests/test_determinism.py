@@ -91,3 +91,22 @@ def test_cache_cold_warm_off_threads_and_the_cli_give_one_picture(
     glview.release()
     triangles = 2 * segments * (rings - 1)
     assert np.array_equal(every, first) == (triangles <= SIZE[0] * SIZE[1])
+
+
+def test_every_combination_of_read_backs_leaves_the_colour_the_clis(tmp_path, glview_bin):
+    """Issue 50: depth, normals, ids and the linear colour come from the geometry the colour
+    is drawn with, so asking for any of them never changes the picture (on the sphere above
+    the level-of-detail threshold, where `depth=True` used to draw every triangle)."""
+    model = sphere_obj(tmp_path / "sphere.obj", 129, 256)
+    out = tmp_path / "cli.png"
+    p = subprocess.run([glview_bin, model, "--size", "200x150", "-o", str(out)],
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    want = decode_png(str(out))
+    for k in range(16):
+        flags = dict(depth=bool(k & 1), normals=bool(k & 2), ids=bool(k & 4), linear=bool(k & 8))
+        img = glview.render(model, size=SIZE, **flags)
+        assert np.array_equal(img.color, want), f"{flags}: the colour differs from glview -o"
+        if flags["depth"]:
+            assert np.isfinite(img.depth).any()
+    glview.release()

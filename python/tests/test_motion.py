@@ -32,6 +32,19 @@ def test_time_and_animation_keywords_are_the_cli_options(tmp_path, rigged, cli):
     assert not np.array_equal(glview.render(rigged, size=SIZE, time=1.0).color, img.color)
 
 
+def test_animation_all_is_the_cli_option(tmp_path, cli):
+    """Issue 50: ``animation="all"`` plays every animation together, as ``--animation all``;
+    InterpolationTest's nine animations drive different cubes, so that is also its default."""
+    model = REPO / "tests" / "data" / "khronos" / "motion" / "InterpolationTest.glb"
+    out = tmp_path / "all.png"
+    cli(model, "--size", "64x48", "--time", "1.3", "--animation", "all", "-o", out)
+    img = glview.render(model, size=SIZE, time=1.3, animation="all")
+    assert np.array_equal(img.color, decode_png(str(out)))
+    assert np.array_equal(glview.render(model, size=SIZE, time=1.3).color, img.color)
+    one = glview.render(model, size=SIZE, time=1.3, animation="2")
+    assert not np.array_equal(one.color, img.color)
+
+
 def test_a_bad_animation_raises_the_cli_message(rigged, cli):
     p = cli(rigged, "--time", "0", "--animation", "nope", "-o", "x.png", check=False)
     assert p.returncode != 0

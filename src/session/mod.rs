@@ -422,15 +422,10 @@ fn draw(
     );
     renderer.time_post = args.picture.stats;
     renderer.cull_clusters = args.render.culling;
-    // Depth, normals and ids are measurements (a data set's ground truth): with `auto`
-    // they and the picture drawn with them take every triangle; `--lod on` still asks for
-    // levels there.
-    let mode = match args.render.lod {
-        crate::options::LodMode::Auto if outputs.any() => crate::options::LodMode::Off,
-        m => m,
-    };
+    // Depth, normals and ids come from the geometry the colour is drawn with: asking for
+    // them never changes the picture (`--lod off` draws every triangle for all of them).
     renderer.lod = crate::render::Lod {
-        mode,
+        mode: args.render.lod,
         error: args.render.lod_error,
     };
     let shown = View::settled(args, renderer.scene())?;

@@ -142,6 +142,19 @@ fn every_way(dir: &Path, model: &str) -> Vec<(String, Rgba)> {
         "Rust API, no cache".into(),
         rust_api(model, &["--no-cache"]),
     ));
+    // Every combination of read-backs: the colour is drawn from the geometry they are.
+    for k in 1..16u8 {
+        let outputs = Outputs {
+            depth: k & 1 != 0,
+            normals: k & 2 != 0,
+            ids: k & 4 != 0,
+            linear: k & 8 != 0,
+        };
+        let words = [model, "--size", SIZE];
+        let o = glview::Options::from_words(words).expect("valid options");
+        let frame = api::render(&o, outputs).unwrap();
+        all.push((format!("Rust API with {outputs:?}"), frame.color));
+    }
     all.push((
         "server still, cold".into(),
         served(model, &empty(dir, "cache-serve")),

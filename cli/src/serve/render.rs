@@ -197,6 +197,7 @@ fn motion_json(view: &View, all: &[glview::scene::motion::AnimationInfo]) -> ser
             serde_json::json!({
                 "name": a.name.chars().take(MAX_NAME_CHARS).collect::<String>(),
                 "duration": a.duration,
+                "together": a.together,
             })
         })
         .collect();

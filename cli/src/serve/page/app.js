@@ -350,7 +350,7 @@ function showMotion(m) {
   box.hidden = !m || m.animations.length === 0;
   if (box.hidden) return;
   const sel = $('animation');
-  const names = m.animations.map((a, i) => a.name || 'animation ' + i);
+  const names = m.animations.map((a, i) => a.together ? 'all together' : a.name || 'animation ' + i);
   const key = JSON.stringify(names);
   if (sel.dataset.names !== key) {
     sel.dataset.names = key;

@@ -2,9 +2,13 @@
 //! (by default Khronos' CesiumMan, committed under tests/data/khronos/motion/) at 1024×768 posed anew every frame — the
 //! CPU pose ([`glview::scene::Scene::pose`]), the posed meshes uploaded again
 //! ([`Renderer::pose`]) and the frame — against the same model standing still at one moment
-//! (the frame alone); the issue's target is a ratio of at most 1.3. A moving model also
-//! makes the frame draw its shadow maps again, which a still one reuses: so the still model
-//! is also timed with its maps redrawn each frame, and everything again without shadows.
+//! (the frame alone). A moving model also makes the frame draw its shadow maps again,
+//! which a still one reuses: so the still model is also timed with its maps redrawn each
+//! frame, and everything again without shadows. The target (issue 39, restated in issue
+//! 50): a played frame costs at most 1.3× the still frame that draws what it draws, which
+//! with shadows is the still frame whose maps are redrawn every frame, as a moving caster's
+//! must be; the ratio against the still frame that reuses its maps stays in the table,
+//! labelled, with no target.
 //! Playing is timed twice: with the skinned (or morphed) meshes skinned (or morphed) on the
 //! GPU where they can be (the renderer's default: a pose computes joint matrices and morph
 //! weights only) and with every mesh posed
@@ -52,7 +56,8 @@ pub fn run_motion(model: &Path, size: (u32, u32)) -> Result<()> {
         "upload ms",
         "meshes posed",
         "bytes uploaded",
-        "vs still",
+        "vs still (maps reused)",
+        "vs still, maps redrawn",
     ]);
     let name = model
         .file_stem()
@@ -63,10 +68,17 @@ pub fn run_motion(model: &Path, size: (u32, u32)) -> Result<()> {
         let (s, _) = glview::session::frame_settings(&o, &scene)?;
         let t = measure(&hl, &scene, &s, duration)?;
         let on = if shadows { "on" } else { "off" };
+        // With shadows, a played frame is held to the still one that redraws its maps.
+        let like = if shadows { t.redrawn } else { t.still };
         let row = |what: &str, ms: f64, pose: &[String]| {
             let mut r = vec![format!("{name}, {what}"), on.into(), num(ms, 2)];
             r.extend_from_slice(pose);
             r.push(format!("{:.2}x", ms / t.still));
+            r.push(if shadows {
+                format!("{:.2}x", ms / like)
+            } else {
+                "(as vs still)".into()
+            });
             r
         };
         let none = ["-".into(), "-".into(), "0".into(), "0".into()];
@@ -83,15 +95,18 @@ pub fn run_motion(model: &Path, size: (u32, u32)) -> Result<()> {
             ];
             let what = format!("playing, {} skinning/morphs", how.name());
             table.row(row(&what, p.frame, &posed));
-            ratios.push((on, how.name(), p.frame / t.still));
+            ratios.push((on, how.name(), p.frame / like, p.frame / t.still));
         }
     }
     println!("{}", table.render());
-    for (on, how, r) in ratios {
+    for (on, how, r, reused) in ratios {
         let verdict = if r <= 1.3 { "met" } else { "NOT met" };
-        println!(
-            "shadows {on}, {how} skinning/morphs: playing/still {r:.2} (target <= 1.3): {verdict}"
-        );
+        let against = if on == "on" {
+            format!("playing / still with its maps redrawn {r:.2} (target <= 1.3): {verdict}; playing / still reusing its maps {reused:.2} (no target: a still caster's maps are drawn once)")
+        } else {
+            format!("playing / still {r:.2} (target <= 1.3): {verdict}")
+        };
+        println!("shadows {on}, {how} skinning/morphs: {against}");
     }
     Ok(())
 }
