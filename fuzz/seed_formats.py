@@ -71,4 +71,28 @@ for model in ("Box", "Duck", "Avocado", "RiggedSimple"):
     gltf = json.load(open(os.path.join(d, model + ".gltf")))
     binary = open(os.path.join(d, gltf["buffers"][0]["uri"]), "rb").read()
     out("gltf", model + "-draco.glb", glb(gltf, binary))
-print("seed_formats.py: corpus/stl, corpus/ply, corpus/gltf written")
+    # The tolerated Draco counts (issue 50): accessors saying fewer points and indices than
+    # the stream decodes, so the target reaches the decoded-count path.
+    for a in gltf["accessors"]:
+        a["count"] = max(1, a["count"] - 4)
+    out("gltf", model + "-draco-counts.glb", glb(gltf, binary))
+# AVIF (issue 50): the avif target's corpus, and BoxTextured with an EXT_texture_avif image
+# beside its PNG, so the gltf target reaches the AVIF decoder and the fallback.
+avif = os.path.join(here, "..", "tests", "data", "avif")
+for f in sorted(os.listdir(avif)):
+    if f.endswith(".avif"):
+        out("avif", f, open(os.path.join(avif, f), "rb").read())
+box = open(os.path.join(samples, "BoxTextured", "BoxTextured.glb"), "rb").read()
+n = struct.unpack("<I", box[12:16])[0]
+doc = json.loads(box[20:20 + n])
+binary = box[28 + n:28 + n + struct.unpack("<I", box[20 + n:24 + n])[0]]
+binary += b"\0" * (-len(binary) % 4)
+img = open(os.path.join(avif, "opaque-420-limited.avif"), "rb").read()
+doc["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(img)})
+doc["images"].append({"bufferView": len(doc["bufferViews"]) - 1, "mimeType": "image/avif"})
+doc["textures"][0]["extensions"] = {"EXT_texture_avif": {"source": len(doc["images"]) - 1}}
+doc["extensionsUsed"] = ["EXT_texture_avif"]
+binary += img
+doc["buffers"][0]["byteLength"] = len(binary)
+out("gltf", "BoxTextured-avif.glb", glb(doc, binary))
+print("seed_formats.py: corpus/stl, corpus/ply, corpus/gltf, corpus/avif written")

@@ -170,7 +170,7 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
     (
         &["A"],
         Action::CycleAnimation,
-        "glTF: the file's next animation, from its start",
+        "glTF: the file's next animation (then all together), from its start",
     ),
     (
         &["F12"],

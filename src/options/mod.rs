@@ -204,9 +204,9 @@ declare_options! {
         /// Level of detail of large meshes (those with clusters): per group of clusters,
         /// the coarsest simplified level whose error seen from the view (camera or light)
         /// is at most --lod-error pixels. auto: for meshes with more triangles than the
-        /// picture has pixels (but every triangle where the library's depth, normals or ids
-        /// are read back: they are measurements); on: every large mesh; off: every
-        /// triangle (so does --no-culling). The levels are built before the first picture
+        /// picture has pixels; on: every large mesh; off: every triangle (so does
+        /// --no-culling). Depth, normals and ids read back come from the same triangles as
+        /// the colour (off for every triangle). The levels are built before the first picture
         /// that draws them and kept in the mesh cache's entry: the cache makes a picture
         /// faster, never different.
         lod: LodMode = LodMode::Auto, "lod" value;
@@ -322,8 +322,10 @@ declare_options! {
     }
     /// glTF animations, and animated pictures (`-o` with .gif, .webp or .apng).
     motion: Motion {
-        /// glTF: the animation to pose or play, by index or name (default: the first, when
-        /// --time or an animated output asks for one). `--check` lists them.
+        /// glTF: the animation to pose or play, by index or name, or `all`: every animation
+        /// together on one clock. Default, when --time or an animated output asks for one:
+        /// all, where no two drive the same node (as the glTF Sample Viewer plays them),
+        /// else the first. `--check` lists them and the nodes each drives.
         animation: Option<String> = None, "animation" maybe;
         /// glTF: draw the moment this many seconds into the animation (each channel holds
         /// its first key before it and its last key after it, as glTF defines). Without it

@@ -99,6 +99,20 @@ pub struct Mesh {
     pub tangents: Vec<[f32; 4]>,
 }
 
+/// An image file's bytes (PNG, JPEG, WebP, BMP, TGA, GIF, HDR, KTX2, AVIF) decoded as a
+/// texture is, within the same bounds (refused before decoding when too large, downscaled
+/// past the texture budget): width, height and RGBA8 pixels, top row first. For tools and
+/// the fuzz targets; a model's textures are decoded by its loader.
+pub fn decode_image(bytes: &[u8]) -> std::result::Result<(u32, u32, Vec<u8>), String> {
+    let t = texture::decode_bytes(
+        bytes,
+        std::path::PathBuf::from("<bytes>"),
+        0,
+        material::TextureOptions::default(),
+    )?;
+    Ok((t.width, t.height, t.rgba))
+}
+
 /// The bounding sphere (centre of the box, farthest vertex) the renderer culls a mesh with;
 /// the mesh cache stores it for meshes it keeps compact ([`meshes::Compact`]).
 pub(crate) fn bounding_sphere(vertices: &[Vertex]) -> (Vec3, f32) {
