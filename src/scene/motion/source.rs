@@ -180,5 +180,63 @@ fn skin_sets(
             .collect();
         sets.push((js, ws));
     }
+    normalise_weights(&mut sets, (p, buffers, joints), label, warn)?;
     Ok(sets)
+}
+
+/// Weights off their sum of 1 by more than this are normalised (a float's rounding of four
+/// weights is ~1e-7).
+const WEIGHT_SUM_SLACK: f32 = 1e-3;
+
+/// Each vertex's weights, over every set, scaled to sum to 1 where they do not (exporters
+/// write sums of 1.75 and 0: FBX2glTF's RobotExpressive), as three.js normalises them
+/// (`SkinnedMesh.normalizeSkinWeights`: L1, and a vertex of no weight at all on its first
+/// joint); one warning for the primitive. Weights that already sum to 1 are left to the bit.
+fn normalise_weights(
+    sets: &mut [JointSet],
+    (p, buffers, skin_joints): (&gltf::Primitive, &Buffers, usize),
+    label: &str,
+    warn: &mut dyn FnMut(String),
+) -> Result<(), String> {
+    let Some(n) = sets.first().map(|s| s.1.len()) else {
+        return Ok(());
+    };
+    let (mut off, mut lo, mut hi) = (0usize, f32::MAX, f32::MIN);
+    let mut first_joint: Option<Vec<f32>> = None;
+    for v in 0..n {
+        let sum: f32 = sets.iter().map(|s| s.1[v].iter().sum::<f32>()).sum();
+        if (sum - 1.0).abs() <= WEIGHT_SUM_SLACK {
+            continue;
+        }
+        off += 1;
+        (lo, hi) = (lo.min(sum), hi.max(sum));
+        if sum > 0.0 {
+            for s in sets.iter_mut() {
+                s.1[v].iter_mut().for_each(|w| *w /= sum);
+            }
+        } else {
+            // No weight at all: the vertex follows its first joint, as three.js has it.
+            let joints = match &first_joint {
+                Some(j) => j,
+                None => {
+                    let a = p.get(&Semantic::Joints(0)).ok_or("no JOINTS_0")?;
+                    first_joint.insert(accessor::read_f32(&a, buffers, &[D::Vec4])?.1)
+                }
+            };
+            let j = joints[v * 4];
+            sets[0].0[v][0] = if j >= 0.0 && (j as usize) < skin_joints {
+                j as u16
+            } else {
+                0
+            };
+            sets[0].1[v] = [1.0, 0.0, 0.0, 0.0];
+        }
+    }
+    if off > 0 {
+        warn(format!(
+            "{label}: the skin weights of {off} of {n} vertices do not sum to 1 (sums from \
+             {lo:.3} to {hi:.3}), which glTF requires; normalised, as three.js does"
+        ));
+    }
+    Ok(())
 }

@@ -115,6 +115,8 @@ pub(crate) fn check_lines(animations: &[Animation], names: &[Option<String>]) ->
         ));
     }
     let each: Vec<Vec<Target>> = file.iter().map(|a| targets(a)).collect();
+    // (earlier, later, nodes both drive) of every pair that shares a target.
+    let mut pairs: Vec<(usize, usize, Vec<usize>)> = Vec::new();
     for i in 0..file.len() {
         for k in 0..i {
             let same: Vec<usize> = nodes[i]
@@ -122,19 +124,35 @@ pub(crate) fn check_lines(animations: &[Animation], names: &[Option<String>]) ->
                 .copied()
                 .filter(|n| nodes[k].binary_search(n).is_ok())
                 .collect();
-            if same.is_empty() && shared(&each[i], &each[k]) == 0 {
-                continue;
+            if !same.is_empty() || shared(&each[i], &each[k]) > 0 {
+                pairs.push((k, i, same));
             }
-            let first = same
-                .first()
-                .map_or_else(|| "a material".into(), |&n| format!("node {}", node(n)));
-            out.push(format!(
-                "warning: animations {} and {} drive {} of the same nodes (first: {first}); \
-                 played together (--animation all), the later one's channels win there",
-                label(k),
-                label(i),
-                same.len()
-            ));
+        }
+    }
+    let what = |(k, i, same): &(usize, usize, Vec<usize>)| {
+        let first = same
+            .first()
+            .map_or_else(|| "a material".into(), |&n| format!("node {}", node(n)));
+        format!(
+            "{} and {} drive {} of the same nodes (first: {first})",
+            label(*k),
+            label(*i),
+            same.len()
+        )
+    };
+    let later = "played together (--animation all), the later one's channels win there";
+    // A bundle of clips on one skeleton shares nodes in every pair: one line, not dozens.
+    if pairs.len() > 3 {
+        out.push(format!(
+            "warning: {} pairs of the {} animations drive the same nodes, first animations {}; \
+             {later}",
+            pairs.len(),
+            file.len(),
+            what(&pairs[0])
+        ));
+    } else {
+        for p in &pairs {
+            out.push(format!("warning: animations {}; {later}", what(p)));
         }
     }
     let default = animations.iter().position(|a| a.info.default).unwrap_or(0);
