@@ -78,3 +78,22 @@ impl Error {
         }
     }
 }
+
+/// The scene crate's errors are the library's `Model` and `Io`, as they were before it was a
+/// crate of its own.
+impl From<crate::scene::error::Error> for Error {
+    fn from(e: crate::scene::error::Error) -> Self {
+        match e {
+            crate::scene::error::Error::Model {
+                path,
+                line,
+                message,
+            } => Error::Model {
+                path,
+                line,
+                message,
+            },
+            crate::scene::error::Error::Io { path, source } => Error::Io { path, source },
+        }
+    }
+}

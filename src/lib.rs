@@ -20,7 +20,6 @@ pub mod metrics;
 pub mod options;
 pub mod pbr;
 pub mod repro;
-pub mod scene;
 pub mod shading;
 
 #[allow(unsafe_code)]
@@ -37,4 +36,6 @@ pub mod progress;
 pub mod session;
 
 pub use error::{Error, Result};
+/// The scene crate: the model, its loaders, geometry, levels of detail and motion.
+pub use glview_scene as scene;
 pub use options::Options;

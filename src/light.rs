@@ -1,5 +1,6 @@
 //! Lights, in the scene's local (re-centred) coordinates.
 use glam::{DVec3, Vec3};
+pub use glview_scene::model::lights::{FileLight, FileLightKind};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LightKind {
@@ -45,80 +46,7 @@ impl Light {
     }
 }
 
-/// KHR_lights_punctual's attenuation of a point or spot light, the specification's formulas
-/// (the Sample Viewer's `getRangeAttenuation` and the spec's informative spot formula):
-/// `window / d²` with `window = clamp(1 − (d/range)⁴, 0, 1)` (1 without a range), times
-/// `clamp(cos θ · scale + offset, 0, 1)²` off the spot's axis. A spot is a point light with
-/// a cone: its shadow map is a point light's.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Falloff {
-    /// 1/range² (0: no range, the light reaches everywhere).
-    pub inv_range2: f32,
-    /// Divide by the squared distance (photometric lights); glview's own lights do not.
-    pub inverse_square: bool,
-    /// The spot's cone, None for a point light.
-    pub spot: Option<Spot>,
-}
-
-/// A spot light's cone: the unit direction it shines in (local coordinates) and the
-/// specification's `lightAngleScale` / `lightAngleOffset`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Spot {
-    pub dir: Vec3,
-    pub scale: f32,
-    pub offset: f32,
-}
-
-impl Spot {
-    /// The cone between `inner` and `outer` (radians, 0 ≤ inner < outer ≤ π/2, as the
-    /// loader made them), as the specification's informative formula spells it.
-    pub fn new(dir: Vec3, inner: f32, outer: f32) -> Spot {
-        let scale = 1.0 / (inner.cos() - outer.cos()).max(0.001);
-        Spot {
-            dir,
-            scale,
-            offset: -outer.cos() * scale,
-        }
-    }
-}
-
-/// The squared distance below which a light is taken to be this far: the inverse square
-/// stays finite at the light itself.
-pub const MIN_DISTANCE2: f64 = 1e-8;
-
-impl Falloff {
-    pub const NONE: Falloff = Falloff {
-        inv_range2: 0.0,
-        inverse_square: false,
-        spot: None,
-    };
-
-    /// The factor at offset `to_light` (from the lit point to the light). f32 inputs read
-    /// in f64, the same steps as `glviewFalloff` in falloff.glsl.
-    pub fn at(&self, to_light: DVec3) -> f64 {
-        if *self == Falloff::NONE {
-            return 1.0;
-        }
-        let d2 = to_light.length_squared();
-        let r = d2 * f64::from(self.inv_range2);
-        let window = (1.0 - r * r).clamp(0.0, 1.0);
-        let inv = if self.inverse_square {
-            1.0 / d2.max(MIN_DISTANCE2)
-        } else {
-            1.0
-        };
-        let spot = self.spot.map_or(1.0, |s| {
-            let cd = if d2 > 0.0 {
-                s.dir.as_dvec3().dot(-to_light) / d2.sqrt()
-            } else {
-                1.0
-            };
-            let a = (cd * f64::from(s.scale) + f64::from(s.offset)).clamp(0.0, 1.0);
-            a * a
-        });
-        window * inv * spot
-    }
-}
+pub use glview_scene::model::lights::{Falloff, Spot, MIN_DISTANCE2};
 
 /// The default kit (no `--light`): key (casts the shadow), fill and headlight colours.
 pub(crate) const KIT_KEY: f32 = 0.75;
@@ -126,7 +54,7 @@ pub(crate) const KIT_FILL: f32 = 0.3;
 pub(crate) const KIT_HEAD: f32 = 0.3;
 
 /// The most lights a frame draws (each may cast a shadow); more is an error at the CLI.
-pub const MAX_LIGHTS: usize = 4;
+pub use glview_scene::model::lights::MAX_LIGHTS;
 
 /// A light as given on the command line: positions in the file's coordinates, in f64 so a
 /// model far from the origin keeps its light exactly where it was put.
@@ -168,27 +96,6 @@ impl LightSpec {
     }
 }
 
-/// A light a model file brings (glTF KHR_lights_punctual), in the file's coordinates (f64,
-/// the up axis already turned, like the geometry), as the file states it: intensity in
-/// candela (point, spot) or lux (directional).
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct FileLight {
-    /// The light's name in the file, or `light N`.
-    pub name: String,
-    /// The node that places it.
-    pub node: usize,
-    pub kind: FileLightKind,
-    /// World position (unused by a directional light).
-    pub position: DVec3,
-    /// Unit direction the light shines in (its node's −Z; unused by a point light).
-    pub direction: DVec3,
-    /// Linear RGB in 0..1.
-    pub color: [f32; 3],
-    pub intensity: f32,
-    /// Where a point or spot light's reach ends; None: everywhere (inverse square only).
-    pub range: Option<f32>,
-}
-
 /// The legacy tier's exposure for a file's lights: the factor on their colours that makes the
 /// brightest give the kit's key light (`KIT_KEY`) at the model's centre (a point or spot
 /// light as if at least `radius` away, its range and cone aside; a directional light its
@@ -199,7 +106,7 @@ pub fn legacy_scale(lights: &[FileLight], centre: DVec3, radius: f64) -> f32 {
     let brightest = lights
         .iter()
         .map(|l| {
-            let c = f64::from(l.to_local(centre).color.max_element());
+            let c = f64::from(file_light(l, centre).color.max_element());
             match l.kind {
                 FileLightKind::Directional => c,
                 _ => c / (l.position - centre).length_squared().max(radius * radius),
@@ -213,82 +120,22 @@ pub fn legacy_scale(lights: &[FileLight], centre: DVec3, radius: f64) -> f32 {
     }
 }
 
-/// A file light's kind; a spot's cone angles in radians, 0 ≤ inner ≤ outer ≤ π/2.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub enum FileLightKind {
-    Directional,
-    Point,
-    Spot { inner: f32, outer: f32 },
-}
-
-impl FileLight {
-    /// The frame's light: colour × intensity / π in both tiers (docs/gltf/lights.md): glview's
-    /// lights give the diffuse term `Kd · colour · N·L`, the specification's `Kd/π · E · N·L`
-    /// for an illuminance E, so a file light of E lux (or candela at 1 unit) equals a glview
-    /// light of colour E/π, and the PBR tier follows the specification exactly.
-    pub fn to_local(&self, origin: DVec3) -> Light {
-        let color = Vec3::from(self.color) * (self.intensity / std::f32::consts::PI);
-        let falloff = |spot| Falloff {
-            inv_range2: self.range.map_or(0.0, |r| 1.0 / (r * r)),
-            inverse_square: true,
-            spot,
-        };
-        let at = (self.position - origin).as_vec3();
-        let dir = self.direction.as_vec3().normalize_or_zero();
-        match self.kind {
-            FileLightKind::Directional => Light::new(LightKind::Directional(dir), color),
-            FileLightKind::Point => Light {
-                kind: LightKind::Point(at),
-                color,
-                falloff: falloff(None),
-            },
-            FileLightKind::Spot { inner, outer } => Light {
-                kind: LightKind::Point(at),
-                color,
-                falloff: falloff(Some(Spot::new(dir, inner, outer))),
-            },
-        }
-    }
-
-    /// One line for `--check`: `spot "Lamp" (node 3): 40 cd, colour 1,0.9,0.8, range 5, cone 10°-30°, at X,Y,Z, towards X,Y,Z`.
-    pub fn describe(&self) -> String {
-        let c = self.color;
-        let mut s = match self.kind {
-            FileLightKind::Directional => format!(
-                "directional {:?} (node {}): {} lux",
-                self.name, self.node, self.intensity
-            ),
-            FileLightKind::Point | FileLightKind::Spot { .. } => format!(
-                "{} {:?} (node {}): {} cd",
-                if self.kind == FileLightKind::Point {
-                    "point"
-                } else {
-                    "spot"
-                },
-                self.name,
-                self.node,
-                self.intensity
-            ),
-        };
-        s += &format!(", colour {},{},{}", c[0], c[1], c[2]);
-        if let (Some(r), false) = (self.range, self.kind == FileLightKind::Directional) {
-            s += &format!(", range {r}");
-        }
-        if let FileLightKind::Spot { inner, outer } = self.kind {
-            s += &format!(
-                ", cone {:.4}°-{:.4}°",
-                inner.to_degrees(),
-                outer.to_degrees()
-            );
-        }
-        let (p, d) = (self.position, self.direction);
-        if self.kind != FileLightKind::Directional {
-            s += &format!(", at {},{},{}", p.x, p.y, p.z);
-        }
-        if self.kind != FileLightKind::Point {
-            s += &format!(", towards {:.4},{:.4},{:.4}", d.x, d.y, d.z);
-        }
-        s
+/// The frame's light of a file light: colour × intensity / π in both tiers (docs/gltf/lights.md): glview's
+/// lights give the diffuse term `Kd · colour · N·L`, the specification's `Kd/π · E · N·L`
+/// for an illuminance E, so a file light of E lux (or candela at 1 unit) equals a glview
+/// light of colour E/π, and the PBR tier follows the specification exactly.
+pub fn file_light(l: &FileLight, origin: DVec3) -> Light {
+    let color = Vec3::from(l.color) * (l.intensity / std::f32::consts::PI);
+    let at = (l.position - origin).as_vec3();
+    let dir = l.direction.as_vec3().normalize_or_zero();
+    let falloff = l.falloff();
+    match l.kind {
+        FileLightKind::Directional => Light::new(LightKind::Directional(dir), color),
+        FileLightKind::Point | FileLightKind::Spot { .. } => Light {
+            kind: LightKind::Point(at),
+            color,
+            falloff,
+        },
     }
 }
 

@@ -88,7 +88,7 @@ struct App<'a> {
     /// The scene until the renderer takes it.
     scene: Option<Scene>,
     /// Its clusters and levels from the mesh cache, if it had or wrote them.
-    prepared: Option<Vec<Option<glview::scene::clusters::Clusters>>>,
+    prepared: Option<Vec<Option<glview::scene::lod::clusters::Clusters>>>,
     /// Derived from `view` ([`session::frame_settings`]) whenever it changes.
     settings: FrameSettings,
     live: Option<Live>,

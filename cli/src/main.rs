@@ -145,11 +145,11 @@ fn dispatch(args: &Args) -> Result<()> {
             .load
             .model
             .as_deref()
-            .map(|p| glview::scene::formats::format_of(p).0);
+            .map(|p| glview::scene::loaders::formats::format_of(p).0);
         let crease = args
             .load
             .crease
-            .unwrap_or(glview::scene::normals::DEFAULT_CREASE_DEG);
+            .unwrap_or(glview::scene::geometry::normals::DEFAULT_CREASE_DEG);
         print!("{}", glview::scene::report::report(&scene, format, crease));
         return Ok(());
     }

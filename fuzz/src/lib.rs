@@ -3,9 +3,9 @@
 //! check scenes in exactly the same way. Depends on nothing but glview and std.
 #![allow(dead_code)]
 
-use glview::scene::fast::Parser;
+use glview::scene::loaders::obj::fast::Parser;
 use glview::scene::Scene;
-use glview::scene::{obj::load_embedded_with, LoadOptions};
+use glview::scene::{loaders::obj::load_embedded_with, LoadOptions};
 use std::path::Path;
 
 /// Separates the OBJ part from the MTL part of one fuzz input.
@@ -149,7 +149,7 @@ pub fn known_unfixed(data: &[u8]) -> Option<&'static str> {
 pub const FAST_PARSERS: &[Parser] = &[Parser::Auto, Parser::Chunked(64)];
 
 /// The outcome of a load as text: the Scene's Debug text (exact floats) or the error.
-pub fn outcome_text(r: &Result<Scene, glview::Error>) -> String {
+pub fn outcome_text(r: &Result<Scene, glview::scene::error::Error>) -> String {
     match r {
         Ok(s) => format!("{s:?}"),
         Err(e) => format!("error: {e}"),
@@ -190,7 +190,11 @@ pub fn first_difference(a: &str, b: &str) -> String {
 /// vertex order, indices, materials, smoothing, warnings and their lines) or the error text.
 /// The fast path either gives the old path's result or falls back to it, so any difference is
 /// a bug in the fast path. Returns the old path's outcome.
-pub fn load_compared(path: &Path, obj: &[u8], mtl: &[u8]) -> Result<Scene, glview::Error> {
+pub fn load_compared(
+    path: &Path,
+    obj: &[u8],
+    mtl: &[u8],
+) -> Result<Scene, glview::scene::error::Error> {
     let opts = LoadOptions::default();
     let want = load_embedded_with(path, obj, mtl, &opts, Parser::Tobj);
     let want_text = outcome_text(&want);
@@ -210,7 +214,7 @@ pub fn load_compared(path: &Path, obj: &[u8], mtl: &[u8]) -> Result<Scene, glvie
 /// Loads one fuzz input with the old and the fast OBJ paths and checks the outcome; panics (the
 /// fuzzer's "crash") when the two differ ([`load_compared`]), on a violated invariant or on an
 /// error that does not name the file.
-pub fn run_one(data: &[u8]) -> Result<Scene, glview::Error> {
+pub fn run_one(data: &[u8]) -> Result<Scene, glview::scene::error::Error> {
     let (obj, mtl) = split_input(data);
     let path = model_path();
     let out = load_compared(path, obj, mtl);
@@ -220,7 +224,7 @@ pub fn run_one(data: &[u8]) -> Result<Scene, glview::Error> {
 
 /// Panics (the fuzzer's "crash") on a scene that breaks an invariant, or on an error that
 /// does not name the file in one line.
-fn check_outcome(path: &std::path::Path, out: &Result<Scene, glview::Error>) {
+fn check_outcome(path: &std::path::Path, out: &Result<Scene, glview::scene::error::Error>) {
     match out {
         Ok(scene) => {
             if let Err(e) = check_scene(scene) {
@@ -254,7 +258,7 @@ pub fn format_path(name: &str) -> std::path::PathBuf {
 /// Loads one fuzz input as the file `name` (its extension picks the loader, `.gz` inflates
 /// it first) and checks the outcome like [`run_one`]: a scene that keeps the invariants, or an
 /// error naming the file. Used by the `stl`, `ply` and `gltf` targets.
-pub fn run_format(name: &str, data: &[u8]) -> Result<Scene, glview::Error> {
+pub fn run_format(name: &str, data: &[u8]) -> Result<Scene, glview::scene::error::Error> {
     let path = format_path(name);
     let out = glview::scene::load::load_bytes(&path, data, &LoadOptions::default());
     check_outcome(&path, &out);

@@ -65,7 +65,7 @@ impl Model {
     /// A model from arrays: the same scene as the same data in an OBJ file.
     pub fn from_arrays(a: &Arrays, opts: &Options) -> Result<Model> {
         let obj = a.to_obj()?;
-        let scene = crate::scene::obj::load_embedded(
+        let scene = crate::scene::loaders::obj::load_embedded(
             Path::new("<arrays>.obj"),
             obj.as_bytes(),
             b"",

@@ -9,7 +9,7 @@ pub mod split;
 
 use crate::frame::{FrameSettings, Shading};
 use crate::image_out::Rgba;
-use crate::scene::clusters::Clusters;
+use crate::scene::lod::clusters::Clusters;
 use crate::scene::Scene;
 use crate::{Error, Result};
 

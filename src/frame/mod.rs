@@ -156,7 +156,7 @@ impl Default for Guides {
 pub enum EdgeMode {
     #[default]
     Off,
-    /// Boundary and creased edges (`crate::scene::edges::EdgeSet::Feature`).
+    /// Boundary and creased edges (`crate::scene::geometry::edges::EdgeSet::Feature`).
     Feature,
     /// Every triangle edge.
     Wireframe,
@@ -206,7 +206,7 @@ impl Default for Edges {
     fn default() -> Self {
         Edges {
             mode: EdgeMode::Off,
-            crease_deg: crate::scene::normals::DEFAULT_CREASE_DEG,
+            crease_deg: crate::scene::geometry::normals::DEFAULT_CREASE_DEG,
             color: [0.0; 3],
             surface: true,
             only_color: [0.9; 3],
@@ -218,13 +218,13 @@ impl Default for Edges {
 
 impl Edges {
     /// The edge set of a mesh, or None when no lines are drawn.
-    pub(crate) fn set(&self) -> Option<crate::scene::edges::EdgeSet> {
+    pub(crate) fn set(&self) -> Option<crate::scene::geometry::edges::EdgeSet> {
         match self.mode {
             EdgeMode::Off => None,
-            EdgeMode::Feature => Some(crate::scene::edges::EdgeSet::Feature {
+            EdgeMode::Feature => Some(crate::scene::geometry::edges::EdgeSet::Feature {
                 crease_deg: self.crease_deg,
             }),
-            EdgeMode::Wireframe => Some(crate::scene::edges::EdgeSet::All),
+            EdgeMode::Wireframe => Some(crate::scene::geometry::edges::EdgeSet::All),
         }
     }
 

@@ -304,3 +304,15 @@ macro_rules! word_value {
         }
     };
 }
+
+// The scene crate's up axis: a word (`+Y`, `-Z`, ...) in options as in its own Display and
+// FromStr (its Serialize and Deserialize are the scene crate's).
+impl OptionValue for crate::scene::UpAxis {
+    const EXPECTED: &'static str = "an axis: +Y, -Y, +X, -X, +Z or -Z";
+    fn parse_word(s: &str) -> Result<Self, String> {
+        s.parse()
+    }
+    fn to_word(&self) -> String {
+        self.to_string()
+    }
+}

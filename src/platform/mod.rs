@@ -1,7 +1,6 @@
 //! Context creation: EGL headless (device platform, surfaceless), OSMesa (loaded at run time)
 //! and, for the binary's window (winit + glutin-winit), the attributes of a context request. Each gives a `glow::Context`; the same
 //! renderer draws in all of them.
-pub mod dav1d;
 pub(crate) mod egl;
 pub(crate) mod osmesa;
 pub mod turbojpeg;

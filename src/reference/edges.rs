@@ -9,7 +9,7 @@
 //! lies within half the width of the segment, or of its ends (the GPU's square caps are
 //! taken as round here: they differ in a corner pixel or two).
 use super::{material, Context};
-use crate::scene::edges::{self, EdgeSet};
+use crate::scene::geometry::edges::{self, EdgeSet};
 use glam::{DVec2, DVec3, DVec4};
 
 const TILE: u32 = 16;

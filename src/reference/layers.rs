@@ -8,7 +8,7 @@ use super::material::{self, Corners};
 use super::Context;
 use crate::pbr::brdf::Surface;
 use crate::pbr::sheen;
-use crate::scene::texture_slot::Slot;
+use crate::scene::model::texture_slot::Slot;
 use crate::scene::Material;
 use glam::DVec3;
 use std::f64::consts::PI;

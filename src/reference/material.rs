@@ -1,4 +1,4 @@
-//! The material ([`crate::scene::material`]) read on the CPU the way the shaders
+//! The material ([`crate::scene::model::material`]) read on the CPU the way the shaders
 //! read it (`material.glsl`, `normalmap.glsl`, `lit.frag`, `pbr.frag`): each slot's UV set and
 //! `KHR_texture_transform`, its sampler's wrap modes and filter, MASK cut-outs, BLEND alpha
 //! from the base colour texture, single-sided culling, tangent-space normal maps.
@@ -10,8 +10,8 @@
 use super::bvh::Hit;
 use super::Context;
 use crate::pbr::srgb_decode;
-use crate::scene::material::AlphaMode;
-use crate::scene::texture_slot::{Filter, Sampler, Slot, Wrap};
+use crate::scene::model::material::AlphaMode;
+use crate::scene::model::texture_slot::{Filter, Sampler, Slot, Wrap};
 use crate::scene::{Material, Mesh, Texture};
 use glam::{DVec2, DVec3, DVec4};
 

@@ -140,7 +140,7 @@ impl<'a> Context<'a> {
                         .get(m.material)
                         .is_some_and(|x| x.needs_tangents());
                     if m.has_uv && mapped && m.tangents.len() != m.vertices.len() {
-                        crate::scene::tangents::generate(m)
+                        crate::scene::geometry::tangents::generate(m)
                     } else {
                         Vec::new()
                     }
@@ -324,7 +324,7 @@ fn trace(ctx: &Context, x: u32, y: u32, sc: &mut Scratch) -> (DVec3, PixelInfo, 
         let mesh = &ctx.scene.meshes[hit.tri.mesh as usize];
         let m = &ctx.scene.materials[mesh.material];
         let mut alpha = f64::from(tr.opacity.unwrap_or(m.draw_opacity()));
-        if m.alpha_mode == crate::scene::material::AlphaMode::Blend {
+        if m.alpha_mode == crate::scene::model::material::AlphaMode::Blend {
             // BLEND: the base colour texture's and the vertex colour's alphas multiply the
             // opacity.
             alpha *= material::base_alpha(m, &material::Corners::new(ctx, hit)).1;

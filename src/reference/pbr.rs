@@ -10,7 +10,7 @@ use super::material::{self, Corners};
 use super::Context;
 use crate::frame::LightingParams;
 use crate::pbr::brdf::Surface;
-use crate::scene::texture_slot::{Slot, TextureSlot};
+use crate::scene::model::texture_slot::{Slot, TextureSlot};
 use crate::scene::Material;
 use glam::DVec3;
 

@@ -6,7 +6,7 @@ use super::material::{self, Corners};
 use super::Context;
 use crate::frame::Shading;
 use crate::light::{Light, LightKind};
-use crate::scene::texture_slot::Slot;
+use crate::scene::model::texture_slot::Slot;
 use crate::scene::Mesh;
 use crate::shading::{reflect, shade, specular_factor, to_light, Tex};
 use glam::DVec3;
@@ -273,7 +273,7 @@ fn gouraud(
 mod tests {
     use super::*;
     use crate::reference::material::sample;
-    use crate::scene::texture_slot::Sampler;
+    use crate::scene::model::texture_slot::Sampler;
     use crate::scene::Texture;
 
     fn checker() -> Texture {

@@ -10,7 +10,7 @@ use super::material::{self, Corners};
 use super::Context;
 use crate::pbr::brdf::{integrate_brdf, Surface};
 use crate::pbr::Tonemap;
-use crate::scene::texture_slot::Slot;
+use crate::scene::model::texture_slot::Slot;
 use crate::scene::Material;
 use glam::{DVec3, DVec4};
 

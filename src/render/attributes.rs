@@ -157,7 +157,7 @@ impl Renderer {
         }
         // The same levels of detail as the picture's lit pass, so ids and depth cover exactly
         // what it drew.
-        let lod_view = crate::scene::clusters::ClusterView::new(proj * view).with_lod(
+        let lod_view = crate::scene::lod::clusters::ClusterView::new(proj * view).with_lod(
             proj * view,
             width,
             height,

@@ -1,5 +1,5 @@
 //! Drawing one mesh with only the clusters the current view may see
-//! ([`crate::scene::clusters`]): clusters outside the view's frustum are skipped for every
+//! ([`crate::scene::lod::clusters`]): clusters outside the view's frustum are skipped for every
 //! mesh, and for a closed outward-facing mesh seen from outside (the whole of it past the
 //! near plane) so are the clusters facing away, with GL back-face culling for the rest; a
 //! draw that culls back faces anyway (single-sided materials) skips them for any mesh. The
@@ -12,7 +12,7 @@ use super::FrameCx;
 use super::Lod;
 use crate::gpu::state::{Blend, Cull, RenderState};
 use crate::options::LodMode;
-use crate::scene::meshes::FirstView;
+use crate::scene::model::meshes::FirstView;
 use crate::Result;
 
 /// Draws mesh `i` with `state`, whole or by its visible clusters.
@@ -118,7 +118,7 @@ pub(crate) fn uses_lod(lod: Lod, cull_clusters: bool, triangles: u64, pixels: u6
 /// draw with levels ([`uses_lod`]) and has none yet (a cache miss brings clusters without
 /// them), and keeps them for later frames. Built before the first picture that uses them,
 /// so a picture never depends on whether the mesh cache held them: the cache's levels are
-/// these same levels ([`crate::scene::clusters::levels_of`]), it only saves building them.
+/// these same levels ([`crate::scene::lod::clusters::levels_of`]), it only saves building them.
 /// Returns the meshes built.
 pub(crate) fn build_levels(
     scene: &mut SceneGpu,
@@ -139,7 +139,7 @@ pub(crate) fn build_levels(
         let Some(FirstView::Whole(m)) = scene.scene.meshes.first_view(i) else {
             continue;
         };
-        let mut levels = crate::scene::clusters::levels_of(m, c);
+        let mut levels = crate::scene::lod::clusters::levels_of(m, c);
         dm.set_levels(&m.indices, &levels.indices)?;
         let Some(c) = &mut dm.clusters else { continue };
         // As at upload: the levels' indices live on the GPU only.

@@ -12,7 +12,7 @@
 use super::{FrameCx, Outcome, Pass};
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::state::{DepthFunc, RenderState};
-use crate::scene::edges::{self, EdgeSet};
+use crate::scene::geometry::edges::{self, EdgeSet};
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 

@@ -11,7 +11,7 @@
 //! copy, and there is no cluster culling inside an instance.
 use crate::gpu::instances::Instances;
 use crate::gpu::GpuRef;
-use crate::scene::clusters::ClusterView;
+use crate::scene::lod::clusters::ClusterView;
 use crate::scene::Scene;
 use glam::Vec3;
 

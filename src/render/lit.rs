@@ -177,7 +177,7 @@ fn light_flags(key: ProgramKey, s: &crate::frame::FrameSettings) -> ProgramKey {
 fn set_material_terms(
     p: &Program,
     s: &crate::frame::FrameSettings,
-    mat: &crate::scene::material::PhongTerms,
+    mat: &crate::scene::model::material::PhongTerms,
 ) {
     let t = s.lighting.terms;
     let on = |b: bool| if b { 1.0 } else { 0.0 };

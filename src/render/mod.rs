@@ -79,7 +79,7 @@ pub struct FrameStats {
     pub(crate) back_faces_kept: Vec<String>,
     /// The scene's mesh buffers so far: bytes of vertex and index data uploaded, meshes a
     /// draw needed whole after a first view drew their compact copies (a mesh cache hit's,
-    /// [`crate::scene::meshes`]), and the bytes of the entry read for them.
+    /// [`crate::scene::model::meshes`]), and the bytes of the entry read for them.
     pub mesh_bytes_uploaded: u64,
     pub meshes_completed: u32,
     pub mesh_bytes_read_later: u64,
@@ -159,7 +159,7 @@ pub(crate) struct FrameCx<'a> {
     pub(crate) rgbm_blend: f32,
     /// The view large meshes are culled against, cluster by cluster: set by each pass that
     /// draws meshes (the camera's, or a light's).
-    pub(crate) cull: Option<crate::scene::clusters::ClusterView>,
+    pub(crate) cull: Option<crate::scene::lod::clusters::ClusterView>,
     /// Cluster culling is on ([`Renderer::cull_clusters`]).
     pub(crate) cull_clusters: bool,
     /// Level of detail ([`Renderer::lod`]).
@@ -323,7 +323,7 @@ impl Default for Lod {
 impl Renderer {
     /// Uploads the scene once (static buffers; textures deduplicated by file).
     pub fn new(gpu: &GpuRef, mut scene: Scene) -> Result<Renderer> {
-        let clusters = crate::scene::clusters::prepare(&mut scene);
+        let clusters = crate::scene::lod::clusters::prepare(&mut scene);
         Self::prepared(gpu, scene, clusters)
     }
 
@@ -331,7 +331,7 @@ impl Renderer {
     pub fn prepared(
         gpu: &GpuRef,
         scene: Scene,
-        clusters: Vec<Option<crate::scene::clusters::Clusters>>,
+        clusters: Vec<Option<crate::scene::lod::clusters::Clusters>>,
     ) -> Result<Renderer> {
         Self::skinning(gpu, scene, clusters, skinning::allowed())
     }
@@ -339,14 +339,14 @@ impl Renderer {
     /// As [`Renderer::new`], with every mesh a rig moves posed on the CPU (no skinning on
     /// the GPU): for comparisons (`bench --motion`).
     pub fn cpu_skinned(gpu: &GpuRef, mut scene: Scene) -> Result<Renderer> {
-        let clusters = crate::scene::clusters::prepare(&mut scene);
+        let clusters = crate::scene::lod::clusters::prepare(&mut scene);
         Self::skinning(gpu, scene, clusters, false)
     }
 
     fn skinning(
         gpu: &GpuRef,
         scene: Scene,
-        clusters: Vec<Option<crate::scene::clusters::Clusters>>,
+        clusters: Vec<Option<crate::scene::lod::clusters::Clusters>>,
         gpu_skinning: bool,
     ) -> Result<Renderer> {
         let scene = SceneGpu::new(gpu, scene, clusters, gpu_skinning)?;

@@ -15,7 +15,7 @@ use super::{FrameCx, Outcome, Pass, Shading};
 use crate::gpu::program::Program;
 use crate::gpu::texture::TextureFormat;
 use crate::gpu::GpuRef;
-use crate::scene::texture_slot::{ColorSpace, TextureSlot};
+use crate::scene::model::texture_slot::{ColorSpace, TextureSlot};
 use crate::scene::{Material, Scene, Texture};
 use crate::shader::cache::ProgramKey;
 use crate::{Error, Result};

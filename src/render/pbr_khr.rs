@@ -7,8 +7,8 @@ use super::textures::TextureTable;
 use super::units::{khr_units, FRAME_UNIT};
 use crate::gpu::program::Program;
 use crate::gpu::GpuRef;
-use crate::scene::material_khr::{COUNT, SLOTS};
-use crate::scene::texture_slot::ColorSpace;
+use crate::scene::model::material_khr::{COUNT, SLOTS};
+use crate::scene::model::texture_slot::ColorSpace;
 use crate::scene::Material;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
@@ -215,7 +215,7 @@ pub(crate) fn material(
         p.set_f32(
             "uIor",
             k.ior
-                .unwrap_or(crate::scene::material_khr::CORE_IOR)
+                .unwrap_or(crate::scene::model::material_khr::CORE_IOR)
                 .max(1.0),
         );
     }

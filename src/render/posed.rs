@@ -4,14 +4,14 @@
 //! edge lines dropped, and the shadow maps drawn again where the moved meshes were and are
 //! ([`super::shadow_rect`]). A pose draws what a fresh
 //! renderer of the posed scene draws, byte for byte: the same upload code runs on the same
-//! vertices. The meshes a rig poses never get clusters ([`crate::scene::clusters::prepare`]
+//! vertices. The meshes a rig poses never get clusters ([`crate::scene::lod::clusters::prepare`]
 //! skips them): their triangles move every frame, and a cluster's bounds would not.
 //! Meshes skinned on the GPU ([`super::skinning`]) are not posed on the CPU or uploaded: a
 //! pose sets their skins' joint matrices and bounds them by the animation's framing bounds.
 use super::instancing::Role;
 use super::upload::{instanced_head, whole_draw_mesh_into, SceneGpu};
 use super::Renderer;
-use crate::scene::clusters::{Clusters, MIN_TRIANGLES};
+use crate::scene::lod::clusters::{Clusters, MIN_TRIANGLES};
 use crate::scene::motion::Moment;
 use crate::scene::{Bounds, Scene};
 use crate::Result;
@@ -242,7 +242,7 @@ fn refresh_one(scene: &mut SceneGpu, i: usize, role: Option<&Role>) -> Result<()
     Ok(())
 }
 
-/// Mesh `i`'s clusters for its new vertices, as [`crate::scene::clusters::prepare`] makes
+/// Mesh `i`'s clusters for its new vertices, as [`crate::scene::lod::clusters::prepare`] makes
 /// them (reordered, without levels: a picture that draws levels builds them first); None
 /// for a mesh the rig poses or one now too small.
 fn clusters_again(scene: &mut Scene, i: usize) -> Option<Clusters> {
@@ -251,7 +251,7 @@ fn clusters_again(scene: &mut Scene, i: usize) -> Option<Clusters> {
     }
     let m = &mut scene.meshes[i];
     (m.triangle_count() >= MIN_TRIANGLES).then(|| {
-        crate::scene::clusters::reorder(&m.vertices, &mut m.indices);
+        crate::scene::lod::clusters::reorder(&m.vertices, &mut m.indices);
         Clusters::build(&m.vertices, &m.indices)
     })
 }
@@ -300,6 +300,6 @@ impl SceneGpu {
             .filter(|i| self.skins.meshes.binary_search(i).is_err())
             .collect();
         // `rig.meshes()` is sorted, so its filtered part is too.
-        rig.posed_meshes_except(Some(moment), &others)
+        Ok(rig.posed_meshes_except(Some(moment), &others)?)
     }
 }

@@ -2,7 +2,7 @@
 //! (which compiles them all ahead of any frame) and its test. The renderer owns the keys (each
 //! pass builds its own), so the list lives here and the shader cache only stores programs.
 use super::{attributes, background, edges, grid, guides, lit, pbr, post, shadow, slots, view};
-use crate::scene::material::{AlphaMode, Material};
+use crate::scene::model::material::{AlphaMode, Material};
 use crate::shader::cache::ProgramKey;
 
 /// Every program key the renderer can ask for with up to `max_lights` lights: the legacy

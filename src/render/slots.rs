@@ -5,8 +5,8 @@
 //! 4 emissive.
 use crate::gpu::program::Program;
 use crate::gpu::texture::Texture2d;
-use crate::scene::material::{AlphaMode, Material};
-use crate::scene::texture_slot::{Filter, Sampler, Slot, Wrap};
+use crate::scene::model::material::{AlphaMode, Material};
+use crate::scene::model::texture_slot::{Filter, Sampler, Slot, Wrap};
 use crate::shader::cache::ProgramKey;
 use glam::Mat3;
 
@@ -104,7 +104,7 @@ pub(crate) fn set_uniforms(p: &Program, model: &Material, has_uv1: bool) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::texture_slot::{ColorSpace, TexTransform, TextureSlot};
+    use crate::scene::model::texture_slot::{ColorSpace, TexTransform, TextureSlot};
 
     #[test]
     fn matrix_equals_the_extensions_formula() {

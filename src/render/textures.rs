@@ -5,7 +5,7 @@
 //! the legacy tier, which works in display values.
 use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
 use crate::gpu::GpuRef;
-use crate::scene::texture_slot::Sampler;
+use crate::scene::model::texture_slot::Sampler;
 use crate::scene::Texture;
 use crate::Result;
 use std::path::PathBuf;

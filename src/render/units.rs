@@ -31,8 +31,8 @@
 //! Full-screen passes (post, aa, overlay, ibl_gpu, the shadow map view) draw one quad with
 //! their own program and bind their inputs from unit 0 up; they share no program with the
 //! scene passes, so they need no entry here.
-use crate::scene::material_khr::{COUNT as KHR_MAPS, SLOTS as KHR_SLOTS};
-use crate::scene::texture_slot::Slot;
+use crate::scene::model::material_khr::{COUNT as KHR_MAPS, SLOTS as KHR_SLOTS};
+use crate::scene::model::texture_slot::Slot;
 
 /// The base colour map of both lit tiers and of the shadow pass (alpha-tested texels).
 pub(crate) const BASE_UNIT: u32 = 0;

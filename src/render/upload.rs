@@ -9,7 +9,7 @@ use super::instancing::{Copies, Role};
 use crate::gpu::mesh::{GpuMesh, Primitive, Streams};
 use crate::gpu::texture::Texture2d;
 use crate::gpu::GpuRef;
-use crate::scene::clusters::Clusters;
+use crate::scene::lod::clusters::Clusters;
 use crate::scene::Scene;
 use crate::Result;
 use glam::Vec3;
@@ -36,7 +36,7 @@ pub(crate) struct DrawMesh {
     /// How far a shadow lookup rises in the terminator band (`uTerminatorLift`).
     pub(crate) terminator_lift: f32,
     /// Runs of triangles with bounds and normal cones, for meshes large enough that
-    /// skipping what a pass cannot see pays ([`crate::scene::clusters`]).
+    /// skipping what a pass cannot see pays ([`crate::scene::lod::clusters`]).
     pub(crate) clusters: Option<Clusters>,
     /// Drawn once per instance (`INSTANCED` programs); `triangles` counts every instance's.
     pub(crate) instances: Option<super::instancing::InstancedDraw>,
@@ -286,7 +286,7 @@ impl SceneGpu {
     /// Indices of the meshes whose bounding sphere touches the view frustum of `view_proj`:
     /// off-screen meshes cost a program bind and a draw call each for nothing.
     pub(crate) fn visible(&self, view_proj: &glam::Mat4) -> Vec<usize> {
-        let view = crate::scene::clusters::ClusterView::new(*view_proj);
+        let view = crate::scene::lod::clusters::ClusterView::new(*view_proj);
         (0..self.meshes.len())
             .filter(|&i| {
                 let m = &self.meshes[i];
@@ -319,7 +319,7 @@ fn draw_mesh(
     i: usize,
     clusters: Option<Clusters>,
 ) -> Result<(DrawMesh, u64)> {
-    use crate::scene::meshes::FirstView;
+    use crate::scene::model::meshes::FirstView;
     let first = scene.meshes.first_view(i);
     let compact = match first {
         // Generated tangents are the whole mesh's: such a mesh is uploaded whole.
@@ -448,7 +448,7 @@ pub(crate) fn whole_draw_mesh_into(
         Resident::Full(g) if d.instances.is_none() => Some(g),
         _ => None,
     });
-    use crate::scene::meshes::FirstView;
+    use crate::scene::model::meshes::FirstView;
     let m = match scene.meshes.first_view(i) {
         Some(FirstView::Whole(m)) => m,
         _ => &scene.meshes[i],
@@ -586,7 +586,7 @@ pub(crate) fn upload_mesh_into(
         if m.tangents.len() == m.vertices.len() {
             std::borrow::Cow::Borrowed(m.tangents.as_slice())
         } else {
-            std::borrow::Cow::Owned(crate::scene::tangents::generate(m))
+            std::borrow::Cow::Owned(crate::scene::geometry::tangents::generate(m))
         }
     });
     let (colors, rgba, uv1) = streams_of(&m.vertices, &m.colors, &m.color_alpha, &m.uv1);

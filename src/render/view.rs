@@ -7,7 +7,7 @@ use super::units::SHADOW_UNIT;
 use super::FrameCx;
 use crate::gpu::program::Program;
 use crate::light::{Falloff, LightKind};
-use crate::scene::clusters::ClusterView;
+use crate::scene::lod::clusters::ClusterView;
 use crate::shader::cache::ProgramKey;
 use crate::Result;
 use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};

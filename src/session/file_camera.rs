@@ -11,7 +11,7 @@
 //! about its view direction is dropped (the picture stays upright; `--check` says so).
 use crate::error::{Error, Result};
 use crate::options::{Camera, Options, Ortho};
-use crate::scene::views::{pivot_distance, yaw_pitch, Projection};
+use crate::scene::model::views::{pivot_distance, yaw_pitch, Projection};
 use crate::scene::Scene;
 use glam::DVec3;
 

@@ -42,8 +42,8 @@ use crate::render::attributes::{FrameDepth, Outputs};
 use crate::render::ibl::{Environments, SharedEnvironments};
 use crate::render::Renderer;
 use crate::repro::SceneKey;
-use crate::scene::clusters::Clusters;
-use crate::scene::profile::LoadProfile;
+use crate::scene::load::profile::LoadProfile;
+use crate::scene::lod::clusters::Clusters;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
 use profile::ms;
 use std::path::Path;
@@ -230,8 +230,8 @@ impl Session {
         context(args, size, false, &mut self.kept, &mut Profile::default())?;
         let kept = self.kept.as_mut().expect("context made above");
         kept.renderers.clear();
-        let clusters =
-            clusters.unwrap_or_else(|| crate::scene::clusters::prepare_without_lod(&mut scene));
+        let clusters = clusters
+            .unwrap_or_else(|| crate::scene::lod::clusters::prepare_without_lod(&mut scene));
         let mut renderer = Renderer::prepared(&kept.hl.gpu, scene, clusters)?;
         renderer.share_environments(kept.envs.clone());
         renderer.set_environment(env_request(args)?);
@@ -326,15 +326,15 @@ type Loaded = (
 
 fn load(args: &Options) -> Loaded {
     let t = Instant::now();
-    crate::scene::profile::take_last();
+    crate::scene::load::profile::take_last();
     let scene = load_scene_prepared(args);
-    let profile = crate::scene::profile::take_last();
+    let profile = crate::scene::load::profile::take_last();
     let c = Instant::now();
     // A cache hit (or the miss that wrote the entry) brings them, levels of detail included;
     // else they are built here, without levels (the renderer builds those a picture draws).
     let scene = scene.map(|(mut s, prepared)| {
         let clusters =
-            prepared.unwrap_or_else(|| crate::scene::clusters::prepare_without_lod(&mut s));
+            prepared.unwrap_or_else(|| crate::scene::lod::clusters::prepare_without_lod(&mut s));
         (s, clusters)
     });
     (scene, ms(t), profile, ms(c))
@@ -606,6 +606,6 @@ fn given_scene(args: &Options, scene: &crate::scene::Scene) -> Loaded {
         return (Err(e), ms(t), None, 0.0);
     }
     let c = Instant::now();
-    let clusters = crate::scene::clusters::prepare_without_lod(&mut s);
+    let clusters = crate::scene::lod::clusters::prepare_without_lod(&mut s);
     (Ok((s, clusters)), ms(t), None, ms(c))
 }

@@ -12,10 +12,10 @@ use crate::light::{LightOpt, LightSpec, MAX_LIGHTS};
 use crate::options::{Diffuse, Options, Ortho, Show};
 use crate::pbr::precompute::IblSettings;
 use crate::pbr::{EnvRequest, EnvSource, OutputParams, PbrParams};
-use crate::scene::clusters::Clusters;
-use crate::scene::material::TextureOptions;
+use crate::scene::lod::clusters::Clusters;
+use crate::scene::model::material::TextureOptions;
 use crate::scene::Scene;
-use crate::scene::{obj, LoadOptions, ProgressFn};
+use crate::scene::{loaders::obj, LoadOptions, ProgressFn};
 use glam::Vec3;
 use std::path::Path;
 
@@ -100,7 +100,7 @@ fn load_scene_prepared_with(
             eprintln!("warning: {w}");
         }
     }
-    scene
+    Ok(scene?)
 }
 
 /// What the options change in a loaded scene (a file's, or one a program passed in): the
@@ -110,7 +110,7 @@ pub(crate) fn adjust_scene(args: &Options, s: &mut crate::scene::Scene) -> Resul
         let opacity = args
             .render
             .opacity
-            .unwrap_or(crate::scene::xray::XRAY_OPACITY);
+            .unwrap_or(crate::scene::model::xray::XRAY_OPACITY);
         s.xray(&args.load.xray, opacity.clamp(0.0, 1.0))
             .map_err(Error::Usage)?;
     }
@@ -138,8 +138,8 @@ pub fn load_options(args: &Options, progress: Option<ProgressFn>) -> LoadOptions
         cache: args.load.cache,
         honor_transparency: args.load.honor_transparency,
         creases: match (args.load.flat, args.load.crease) {
-            (true, _) => crate::scene::normals::Creases::Flat,
-            (false, Some(d)) => crate::scene::normals::Creases::Angle(d),
+            (true, _) => crate::scene::geometry::normals::Creases::Flat,
+            (false, Some(d)) => crate::scene::geometry::normals::Creases::Angle(d),
             (false, None) => Default::default(),
         },
         up: args.load.up,
@@ -301,7 +301,7 @@ fn edges(args: &Options) -> crate::frame::Edges {
         crease_deg: args
             .load
             .crease
-            .unwrap_or(crate::scene::normals::DEFAULT_CREASE_DEG),
+            .unwrap_or(crate::scene::geometry::normals::DEFAULT_CREASE_DEG),
         color: r.edge_color.unwrap_or(d.color),
         surface: !r.wireframe_only,
         only_color: r.edge_color.unwrap_or(d.only_color),
@@ -354,7 +354,7 @@ fn lights(args: &Options, scene: &Scene) -> Result<(Vec<crate::light::Light>, Op
             }
         };
         let lights = scene.lights.iter().map(|l| {
-            let mut light = l.to_local(scene.origin);
+            let mut light = crate::light::file_light(l, scene.origin);
             light.color *= scale;
             light
         });

@@ -193,7 +193,7 @@ impl View {
 
 /// `index` checked against the file's `names` (the error lists them, as `--camera` does).
 fn picked(kind: &str, names: &[&str], index: usize) -> Result<()> {
-    crate::scene::views::pick(kind, names, &index.to_string())
+    crate::scene::model::views::pick(kind, names, &index.to_string())
         .map(|_| ())
         .map_err(crate::Error::Usage)
 }
@@ -319,7 +319,7 @@ mod tests {
     /// scene was loaded with) and back to the file's own materials.
     #[test]
     fn k_and_v_cycle_the_files_cameras_and_variants() {
-        use crate::scene::views::{FileCamera, Projection};
+        use crate::scene::model::views::{FileCamera, Projection};
         let (mut v, mut scene) = view();
         let camera = FileCamera {
             name: "c".into(),

@@ -2,7 +2,7 @@
 //! fresh parse; any change to the file (time, size, content) or its MTL invalidates it.
 use crate::common;
 use glview::scene::cache;
-use glview::scene::material::TextureOptions;
+use glview::scene::model::material::TextureOptions;
 use glview::scene::{load, LoadOptions};
 use std::time::{Duration, SystemTime};
 
@@ -55,7 +55,7 @@ fn second_load_hits_and_changes_invalidate() {
         assert_eq!(a.vertices, b.vertices);
         // The entry holds the indices reordered for clusters, as an uncached render does.
         let mut reordered = b.indices.clone();
-        glview::scene::clusters::reorder(&b.vertices, &mut reordered);
+        glview::scene::lod::clusters::reorder(&b.vertices, &mut reordered);
         assert_eq!(a.indices, reordered);
         assert_eq!(a.material, b.material);
     }
@@ -418,7 +418,7 @@ fn textured_quad(dir: &std::path::Path) -> std::path::PathBuf {
 /// The textured model put in and read back from `own` in process equals the fresh scene:
 /// every stream and every image, the metallic-roughness and emissive slots sharing one image.
 fn entry_equals_fresh_scene(own: &std::path::Path, model: &std::path::Path) {
-    use glview::scene::clusters;
+    use glview::scene::lod::clusters;
     let off = LoadOptions {
         cache: false,
         ..Default::default()
@@ -438,7 +438,7 @@ fn entry_equals_fresh_scene(own: &std::path::Path, model: &std::path::Path) {
     }
     let (a, b) = (&hit.materials[0], &fresh.materials[0]);
     assert_eq!(a, b);
-    use glview::scene::texture_slot::Slot;
+    use glview::scene::model::texture_slot::Slot;
     let pixels = |m: &glview::scene::Material, s: Slot| {
         let t = m.image(s).expect("a texture");
         (t.width, t.height, t.rgba.clone(), t.image)
@@ -460,7 +460,7 @@ fn entry_equals_fresh_scene(own: &std::path::Path, model: &std::path::Path) {
 /// An external image is a dependency of the entry: rewriting it makes the entry a miss.
 fn external_image_is_a_dependency(dir: &std::path::Path, own: &std::path::Path) {
     use crate::gltf_draw::{quad, Quad};
-    use glview::scene::clusters;
+    use glview::scene::lod::clusters;
     let off = LoadOptions {
         cache: false,
         ..Default::default()
@@ -521,7 +521,7 @@ fn miss_and_hit_equal_uncached(
 /// meshes are first used, and the model is read again (the same meshes): never a wrong one.
 #[test]
 fn a_flipped_byte_in_either_section_never_gives_a_wrong_mesh() {
-    use glview::scene::clusters;
+    use glview::scene::lod::clusters;
     let dir = common::out_dir("cache_sections");
     let own = dir.join("entries");
     let _ = std::fs::remove_dir_all(&own);

@@ -38,7 +38,7 @@ fn shared_models_load_with_the_manifest_counts() {
         // Creases off (180°): tobj's count is for smooth normals. The default crease angle
         // splits vertices at sharp edges (tests/loading.rs).
         let opts = LoadOptions {
-            creases: glview::scene::normals::Creases::Angle(180.0),
+            creases: glview::scene::geometry::normals::Creases::Angle(180.0),
             ..Default::default()
         };
         let s = load(&shared().join(p), &opts).unwrap_or_else(|e| panic!("{p}: {e}"));

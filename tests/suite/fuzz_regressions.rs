@@ -30,7 +30,7 @@ fn load(test: &str, obj: &[u8], mtl: &[u8], fix: &str) -> (PathBuf, glview::Resu
     let path = model_path(test);
     let out = catch_unwind(AssertUnwindSafe(|| load_compared(&path, obj, mtl)));
     match out {
-        Ok(r) => (path, r),
+        Ok(r) => (path, r.map_err(glview::Error::from)),
         Err(p) => {
             let msg = p
                 .downcast_ref::<String>()

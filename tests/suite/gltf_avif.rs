@@ -15,7 +15,7 @@ fn avif(name: &str) -> PathBuf {
 
 /// Whether AVIF can be decoded here; false (skipping) only outside CI.
 fn decoder() -> bool {
-    let here = glview::platform::dav1d::available();
+    let here = glview::scene::textures::avif::available();
     assert!(here || !in_ci(), "CI installs libdav1d6 (scripts/deps.sh)");
     if !here {
         eprintln!("libdav1d is not installed: AVIF tests skipped");

@@ -437,7 +437,7 @@ fn second_uv_set_and_texture_transform_equal_uvs_moved_on_the_cpu() {
     );
     let plain = quad(&dir, "set0", &base, &unlit(&sampler, r#"{"index": 0}"#, ""));
     // KHR_texture_transform on set 0 against the same transform applied to the corners.
-    let x = glview::scene::texture_slot::TexTransform {
+    let x = glview::scene::model::texture_slot::TexTransform {
         offset: [0.25, -0.5],
         rotation: 0.3,
         scale: [1.5, 2.0],

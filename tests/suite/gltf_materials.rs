@@ -4,8 +4,8 @@
 //! one file distinct textures; COLOR_0 in integer encodings; winding kept front-facing under a
 //! mirroring node.
 use crate::common::*;
-use glview::scene::material::AlphaMode;
-use glview::scene::texture_slot::{ColorSpace, Filter, Slot, Wrap};
+use glview::scene::model::material::AlphaMode;
+use glview::scene::model::texture_slot::{ColorSpace, Filter, Slot, Wrap};
 use glview::scene::{load, LoadOptions};
 use std::path::PathBuf;
 

@@ -3,7 +3,7 @@
 use crate::common;
 use common::{box_obj, out_dir, run, shared};
 use glam::{DVec3, Vec3};
-use glview::scene::normals::Creases;
+use glview::scene::geometry::normals::Creases;
 use glview::scene::{load, LoadOptions};
 use glview::scene::{Scene, UpAxis};
 use std::f64::consts::TAU;

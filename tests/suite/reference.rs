@@ -8,8 +8,8 @@ use glview::frame::LightingParams;
 use glview::light::{Light, LightKind};
 use glview::reference::{render_with_info, PixelInfo};
 use glview::render::{FrameSettings, Shading, ShadowSettings};
-use glview::scene::material::PhongTerms;
-use glview::scene::texture_slot::{ColorSpace, TextureSlot};
+use glview::scene::model::material::PhongTerms;
+use glview::scene::model::texture_slot::{ColorSpace, TextureSlot};
 use glview::scene::{Material, Mesh, Scene, Vertex};
 use glview::shading::{shade, to_light};
 

@@ -173,7 +173,7 @@ fn views_json(session: &mut Session, o: &glview::Options) -> glview::Result<serd
 }
 
 /// [`views_json`] of the scene's `views`, looked at through `--camera` `camera`.
-fn views_of(views: &glview::scene::views::Views, camera: Option<&str>) -> serde_json::Value {
+fn views_of(views: &glview::scene::model::views::Views, camera: Option<&str>) -> serde_json::Value {
     let names = |list: &mut dyn Iterator<Item = &str>| -> Vec<String> {
         list.take(MAX_NAMES)
             .map(|n| n.chars().take(MAX_NAME_CHARS).collect())
@@ -218,7 +218,7 @@ mod tests {
     /// each; the indices are the drawn ones whatever the bound.
     #[test]
     fn views_are_bounded() {
-        let mut views = glview::scene::views::Views {
+        let mut views = glview::scene::model::views::Views {
             variants: (0..100)
                 .map(|i| format!("{i}{}", "é".repeat(200)))
                 .collect(),

@@ -10,7 +10,7 @@ use super::{median, sphere};
 use glview::headless::Headless;
 use glview::options::Options;
 use glview::render::{FrameSettings, Renderer};
-use glview::scene::clusters;
+use glview::scene::lod::clusters;
 use glview::Result;
 use std::path::Path;
 use std::time::Instant;

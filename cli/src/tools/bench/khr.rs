@@ -10,7 +10,7 @@ use glview::headless::Headless;
 use glview::options::Options;
 use glview::platform::{Backend, GlRequest};
 use glview::render::Renderer;
-use glview::scene::material_khr::{Clearcoat, Iridescence, Khr, Sheen, Specular, Volume};
+use glview::scene::model::material_khr::{Clearcoat, Iridescence, Khr, Sheen, Specular, Volume};
 use glview::Result;
 use std::path::Path;
 

@@ -234,14 +234,14 @@ fn measure_file(
     let opts = scene::LoadOptions::default();
     let scene = scene::load(file, &opts)?;
     let triangles = scene.triangle_count();
-    let parse_ms = time_ms(runs, || scene::load(file, &opts))?;
+    let parse_ms = time_ms(runs, || Ok(scene::load(file, &opts)?))?;
     let warm_load_ms = if bytes >= glview::scene::cache::MIN_SIZE {
         let cached = scene::LoadOptions {
             cache: true,
             ..Default::default()
         };
         scene::load(file, &cached)?;
-        Some(time_ms(runs, || scene::load(file, &cached))?)
+        Some(time_ms(runs, || Ok(scene::load(file, &cached)?))?)
     } else {
         None
     };

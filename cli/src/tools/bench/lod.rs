@@ -10,7 +10,7 @@ use super::table::{num, Table};
 use glview::frame::Shading;
 use glview::options::{LodMode, Options};
 use glview::render::{Lod, Renderer};
-use glview::scene::clusters;
+use glview::scene::lod::clusters;
 use glview::Result;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
