@@ -42,8 +42,8 @@ use crate::render::attributes::{FrameDepth, Outputs};
 use crate::render::ibl::{Environments, SharedEnvironments};
 use crate::render::Renderer;
 use crate::repro::SceneKey;
-use crate::scene::load::profile::LoadProfile;
 use crate::scene::lod::clusters::Clusters;
+use crate::scene::profile::LoadProfile;
 use crate::shader::cache::{ProgramCache, SharedPrograms};
 use profile::ms;
 use std::path::Path;
@@ -326,9 +326,9 @@ type Loaded = (
 
 fn load(args: &Options) -> Loaded {
     let t = Instant::now();
-    crate::scene::load::profile::take_last();
+    crate::scene::profile::take_last();
     let scene = load_scene_prepared(args);
-    let profile = crate::scene::load::profile::take_last();
+    let profile = crate::scene::profile::take_last();
     let c = Instant::now();
     // A cache hit (or the miss that wrote the entry) brings them, levels of detail included;
     // else they are built here, without levels (the renderer builds those a picture draws).

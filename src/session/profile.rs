@@ -1,5 +1,5 @@
 //! Where one picture's time went (`--stats`).
-use crate::scene::load::profile::LoadProfile;
+use crate::scene::profile::LoadProfile;
 use serde::Serialize;
 use std::time::Instant;
 

@@ -3,8 +3,8 @@
 //! with their lines) or the same error, on every shared OBJ file and on generated files. Small
 //! files are also parsed in chunks of a few dozen bytes so that relative indices cross chunks.
 use crate::common::shared;
-use glview::scene::load::profile;
 use glview::scene::loaders::obj::fast::Parser;
+use glview::scene::profile;
 use glview::scene::{loaders::obj::load_bytes_with, LoadOptions};
 use std::path::{Path, PathBuf};
 

@@ -13,10 +13,12 @@ pub mod loaders;
 pub mod lod;
 pub mod model;
 pub mod motion;
+pub mod profile;
 pub mod report;
 pub mod textures;
 
-pub use load::{load, load_prepared, LoadOptions, ProgressFn};
+pub use load::options::{LoadOptions, ProgressFn};
+pub use load::{load, load_prepared};
 pub use loaders::gltf::instancing::Instancing;
 pub use model::material::{Material, Texture};
 pub use model::meshes::Meshes;

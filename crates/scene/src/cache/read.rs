@@ -45,7 +45,7 @@ pub(super) fn decode(
     if payload.left != 0 || payload.hasher.digest128() != header.first_hash {
         return None;
     }
-    crate::load::profile::set_entry_bytes(header.first_len);
+    crate::profile::set_entry_bytes(header.first_len);
     let mut materials = header.materials;
     if header.slots.len() != materials.len() {
         return None;
@@ -398,7 +398,7 @@ impl RestOfEntry {
 /// The model read again without the cache, prepared as the entry's writer prepared it; an
 /// error if it no longer has the entry's `count` meshes.
 fn reload(model: &Path, textures: TextureOptions, count: usize) -> Result<Full, String> {
-    let opts = crate::load::LoadOptions {
+    let opts = crate::load::options::LoadOptions {
         textures,
         ..Default::default()
     };

@@ -1,7 +1,7 @@
 //! The mesh cache: hits, misses, corrupt entries and the size bound.
 use super::*;
 use std::time::Duration;
-use {crate::load::LoadOptions, crate::loaders::obj::load_bytes};
+use {crate::load::options::LoadOptions, crate::loaders::obj::load_bytes};
 
 /// A fresh folder with `n` small models; returns it and (path, bytes, scene) per model.
 fn setup(name: &str, n: usize) -> (PathBuf, Vec<(PathBuf, Vec<u8>, Scene)>) {

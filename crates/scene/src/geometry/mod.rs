@@ -7,6 +7,7 @@ pub mod closure;
 pub mod dedup;
 pub mod edges;
 pub mod normals;
+pub mod prim;
 pub mod spacing;
 pub mod tangents;
 pub mod triangulate;

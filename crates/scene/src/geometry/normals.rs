@@ -75,7 +75,7 @@ fn usable(n: [f32; 3]) -> bool {
 /// Fills in normals that are missing (`all`), zero or not finite; normalises the rest.
 /// Returns how many normals were generated.
 pub(crate) fn repair_normals(vertices: &mut [Vertex], indices: &[u32], all: bool) -> usize {
-    let _timer = crate::load::profile::nested(crate::load::profile::Stage::Normals);
+    let _timer = crate::profile::nested(crate::profile::Stage::Normals);
     let need = all || vertices.iter().any(|v| !usable(v.normal));
     let smooth = if need {
         smooth_normals(vertices, indices)
@@ -127,7 +127,7 @@ pub(crate) fn generate(
     groups: Option<&[u32]>,
     creases: Creases,
 ) -> (Vec<Vertex>, Vec<u32>, Vec<u32>) {
-    let _timer = crate::load::profile::nested(crate::load::profile::Stage::Normals);
+    let _timer = crate::profile::nested(crate::profile::Stage::Normals);
     let tris: Vec<[u32; 3]> = indices
         .chunks_exact(3)
         .map(|t| [t[0], t[1], t[2]])

@@ -16,8 +16,8 @@ pub(crate) fn finish(
 ) {
     dedup::drop_redundant_faces(path, meshes, warnings);
     texture_warnings(materials, warnings);
-    crate::load::profile::mark(crate::load::profile::Stage::Finish);
-    crate::load::profile::end(false);
+    crate::profile::mark(crate::profile::Stage::Finish);
+    crate::profile::end(false);
 }
 
 /// One warning per downscaled texture, naming the image file.

@@ -4,53 +4,14 @@
 //! `gltf`) and none dispatches to another; what every loader is asked is [`LoadOptions`].
 
 pub mod finish;
-pub mod profile;
+pub mod options;
 pub mod uri;
 use crate::error::{Error, Result};
-use crate::geometry::normals::Creases;
 use crate::loaders::formats::{self, format_of, Format, MAX_STREAM};
-use crate::model::material::TextureOptions;
+use crate::model::Scene;
+pub use options::{LoadOptions, ProgressFn};
 use std::io::Read;
 use std::path::Path;
-use {crate::model::Scene, crate::model::UpAxis};
-
-/// Called with (bytes scanned, total bytes) while a file is read.
-pub type ProgressFn = std::sync::Arc<dyn Fn(u64, u64) + Send + Sync>;
-
-#[derive(Clone, Default)]
-pub struct LoadOptions {
-    pub textures: TextureOptions,
-    pub progress: Option<ProgressFn>,
-    /// Use the mesh cache (`scene::cache`) for large files.
-    pub cache: bool,
-    /// Keep fully transparent materials (`d 0`, `Tr 1`) invisible instead of opaque.
-    pub honor_transparency: bool,
-    /// How generated normals treat sharp edges (`--crease`, `--flat`).
-    pub creases: Creases,
-    /// Which file axis is up (`--up`).
-    pub up: UpAxis,
-    /// A base-colour texture for meshes without a material of their own (`--texture`).
-    pub texture: Option<std::path::PathBuf>,
-    /// The glTF scene to draw (`--scene N|NAME`; default: the file's default scene).
-    pub scene: Option<String>,
-    /// The `KHR_materials_variants` variant to draw (`--variant N|NAME`).
-    pub variant: Option<String>,
-}
-
-impl LoadOptions {
-    /// Whether these options give the scene the mesh cache stores (it keys on the file only).
-    /// A chosen scene or variant is not it: the entry holds the default scene with its
-    /// default materials, and those choices load the file (variant files are small; a
-    /// cache of every scene and every variant's materials would multiply the entry).
-    pub(crate) fn cacheable(&self) -> bool {
-        !self.honor_transparency
-            && self.creases == Creases::default()
-            && self.up == UpAxis::PosY
-            && self.texture.is_none()
-            && self.scene.is_none()
-            && self.variant.is_none()
-    }
-}
 
 /// Reads a file, refusing what is not a regular file (directories, devices, FIFOs would hang).
 pub(crate) fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
@@ -80,7 +41,7 @@ pub fn load_prepared(
     path: &Path,
     opts: &LoadOptions,
 ) -> Result<(Scene, Option<Vec<Option<crate::lod::clusters::Clusters>>>)> {
-    crate::load::profile::begin(0);
+    crate::profile::begin(0);
     let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     // Looked up whatever the size (a miss is one failed open): a small file with large
     // images has an entry too.
@@ -88,8 +49,8 @@ pub fn load_prepared(
     if cached {
         if let Some((scene, clusters)) = crate::cache::lookup(path, opts.textures) {
             log::debug!("{}: loaded from the mesh cache", path.display());
-            crate::load::profile::set_bytes(size);
-            crate::load::profile::end(true);
+            crate::profile::set_bytes(size);
+            crate::profile::end(true);
             return Ok((scene, Some(clusters)));
         }
     }
@@ -127,8 +88,8 @@ fn load_uncached(
 ) -> Result<Scene> {
     let (format, gz) = formats::format_of(path);
     let bytes = read_regular_file(path)?;
-    crate::load::profile::set_bytes(bytes.len() as u64);
-    crate::load::profile::mark(crate::load::profile::Stage::Read);
+    crate::profile::set_bytes(bytes.len() as u64);
+    crate::profile::mark(crate::profile::Stage::Read);
     if gz || format != Format::Obj {
         return load_bytes(path, &bytes, opts);
     }

@@ -3,7 +3,7 @@
 //! OBJ faces, normals generated with the same creases. Bad input is a one-line error naming
 //! the file, as for OBJ.
 use crate::error::{Error, Result};
-use crate::load::LoadOptions;
+use crate::load::options::LoadOptions;
 use glam::DVec3;
 use std::io::Read;
 use std::path::Path;

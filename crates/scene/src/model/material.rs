@@ -381,6 +381,40 @@ pub(crate) fn translucency(opacity: f32, mode: AlphaMode) -> Option<f32> {
     (opacity < 1.0 || mode == AlphaMode::Blend).then_some(opacity)
 }
 
+/// The factors of a glTF material that KHR_animation_pointer may animate, as the file gives
+/// them; [`Factors::apply`] makes them the material's values, for the loader and for a pose
+/// alike (so a moment's material is the one a file holding those factors loads as).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Factors {
+    pub(crate) base_color: [f32; 4],
+    pub(crate) metallic: f32,
+    pub(crate) roughness: f32,
+    pub(crate) emissive: [f32; 3],
+    pub(crate) emissive_strength: f32,
+}
+
+impl Factors {
+    /// Sets `out`'s colour, opacity, metallic, roughness and emissive values from these
+    /// factors (`out.alpha_mode` decides the opacity).
+    pub(crate) fn apply(&self, out: &mut Material) {
+        let [r, g, b, a] = self.base_color;
+        out.base_color = [r, g, b];
+        out.base_alpha = a;
+        // The factor's alpha is the opacity only in BLEND (MASK tests it, OPAQUE ignores it).
+        let opacity = if out.alpha_mode == AlphaMode::Blend {
+            a
+        } else {
+            1.0
+        };
+        out.opacity = translucency(opacity, out.alpha_mode);
+        out.metallic = self.metallic.clamp(0.0, 1.0);
+        out.roughness = self.roughness.clamp(0.0, 1.0);
+        let strength = self.emissive_strength;
+        out.emissive = self.emissive.map(|e| e * strength);
+        out.emissive_strength = strength;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

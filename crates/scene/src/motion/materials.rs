@@ -4,10 +4,9 @@
 //! material at a moment is the one a file holding those factors loads as; the static pose
 //! gives back the loaded values exactly. Nothing is uploaded: the renderer reads a
 //! material's factors at every draw.
-use crate::loaders::gltf::material::Factors;
-use crate::loaders::gltf::pointer::MaterialProperty;
+use crate::model::material::Factors;
 use crate::model::material::Material;
-use crate::motion::read::Animation;
+use crate::motion::channels::Animation;
 use crate::motion::Moment;
 
 /// What a pose may change of a material, as loaded.
@@ -113,5 +112,31 @@ fn set(f: &mut Factors, p: MaterialProperty, v: &[f32]) {
         MaterialProperty::Roughness => f.roughness = v[0],
         MaterialProperty::Emissive => f.emissive.copy_from_slice(&v[..3]),
         MaterialProperty::EmissiveStrength => f.emissive_strength = v[0],
+    }
+}
+
+/// A material factor a pointer channel may animate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum MaterialProperty {
+    /// `pbrMetallicRoughness/baseColorFactor` (4 floats).
+    BaseColor,
+    /// `pbrMetallicRoughness/metallicFactor`.
+    Metallic,
+    /// `pbrMetallicRoughness/roughnessFactor`.
+    Roughness,
+    /// `emissiveFactor` (3 floats).
+    Emissive,
+    /// `extensions/KHR_materials_emissive_strength/emissiveStrength`.
+    EmissiveStrength,
+}
+
+impl MaterialProperty {
+    /// Floats per value.
+    pub(crate) fn width(self) -> usize {
+        match self {
+            MaterialProperty::BaseColor => 4,
+            MaterialProperty::Emissive => 3,
+            _ => 1,
+        }
     }
 }

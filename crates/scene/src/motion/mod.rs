@@ -6,13 +6,12 @@
 //!
 //! Reading and checking: `read` (animations, skins) and `source` (a moving primitive's
 //! streams); sampling a channel: `sample`; node transforms and vertices: `pose`.
+pub mod channels;
 pub mod gpu;
 pub(crate) mod materials;
 pub(crate) mod pose;
-pub(crate) mod read;
 pub(crate) mod rig;
 pub(crate) mod sample;
-pub(crate) mod source;
 #[cfg(test)]
 mod tests;
 pub(crate) mod together;

@@ -5,9 +5,13 @@
 //! pose of an unskinned primitive uses the loader's own formulas (`gltf_primitive`), so a
 //! file's still does not move by a rounding when its meshes become posable.
 use crate::model::UpAxis;
-use crate::motion::read::{Animation, Skin};
+use crate::motion::channels::{Animation, Skin};
 use crate::motion::Path;
 use glam::{DMat3, DMat4, DVec3, Mat4, Quat, Vec3};
+
+/// Morph targets × vertices of the whole file beyond this are not read (8 M deltas of each
+/// attribute, 96 MB each): a primitive that would pass it is not morphed.
+pub(crate) const MAX_MORPH: usize = 1 << 23;
 
 /// A node's translation, rotation (x, y, z, w) and scale.
 pub(crate) type Trs = ([f32; 3], [f32; 4], [f32; 3]);

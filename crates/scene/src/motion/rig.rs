@@ -2,13 +2,15 @@
 //! the moving primitives' sources ([`Part`]), and the [`Rig`] built from them once the
 //! scene's origin is known, which poses them again at any moment.
 use crate::error::{Error, Result};
-use crate::loaders::gltf::primitive::Prim;
+use crate::geometry::prim::Prim;
+use crate::model::material::Factors;
+use crate::motion::channels::{Animation, Skin};
+use crate::motion::pose::MAX_MORPH;
 use crate::motion::pose::{joint_matrices, Deform, Graph, Placed, Posed, Reach, Source};
-use crate::motion::read::{Animation, Skin};
 use glam::DMat4;
 use std::sync::atomic::AtomicUsize;
 use std::sync::OnceLock;
-use {crate::load::LoadOptions, crate::model::Bounds, crate::model::Mesh};
+use {crate::load::options::LoadOptions, crate::model::Bounds, crate::model::Mesh};
 use {crate::motion::Moment, crate::motion::Rig};
 
 /// Samples of an animation whose poses bound its framing: evenly spaced moments, and key
@@ -45,7 +47,76 @@ pub(crate) struct Plan {
     morph_budget: AtomicUsize,
     /// Each material an animation animates (KHR_animation_pointer), once, with the file's
     /// factors.
-    material_factors: Vec<(usize, crate::loaders::gltf::material::Factors)>,
+    material_factors: Vec<(usize, Factors)>,
+}
+
+/// What a loader read for a [`Plan`]: the drawn scene's node graph (in walk order), which
+/// nodes are instanced and which skin each names, node names, the usable skins, the
+/// playable animations (merged entry included), each mesh's morph target count and the
+/// animated materials with their factors.
+pub(crate) struct Read {
+    pub(crate) graph: Graph,
+    pub(crate) instanced: Vec<bool>,
+    pub(crate) skin_of: Vec<Option<usize>>,
+    pub(crate) names: Vec<Option<String>>,
+    pub(crate) skins: Vec<Option<Skin>>,
+    pub(crate) animations: Vec<Animation>,
+    pub(crate) targets: Vec<usize>,
+    pub(crate) material_factors: Vec<(usize, Factors)>,
+}
+
+impl Plan {
+    /// The plan of what a loader read: which nodes each animation moves, and the static
+    /// pose's world transforms and joint matrices.
+    pub(crate) fn new(read: Read) -> Plan {
+        let Read {
+            graph,
+            instanced,
+            skin_of,
+            names,
+            skins,
+            animations,
+            targets,
+            material_factors,
+        } = read;
+        let mut moved = vec![false; graph.parent.len()];
+        for c in animations.iter().flat_map(|a| &a.channels) {
+            moved[c.node] = true;
+        }
+        for &i in &graph.order {
+            if graph.parent[i].is_some_and(|p| moved[p]) {
+                moved[i] = true;
+            }
+        }
+        let mut plan = Plan {
+            names,
+            material_factors,
+            graph,
+            skins,
+            animations,
+            moved,
+            instanced,
+            skin_of,
+            reach: Vec::new(),
+            rest_world: Vec::new(),
+            rest_joints: Vec::new(),
+            targets,
+            morph_budget: AtomicUsize::new(MAX_MORPH),
+        };
+        plan.reach = plan
+            .animations
+            .iter()
+            .map(|a| plan.graph.reach(a))
+            .collect();
+        let rest = plan.graph.rest_world();
+        plan.rest_joints = plan
+            .skins
+            .iter()
+            .map(|s| s.as_ref().map_or(Vec::new(), |s| joint_matrices(s, &rest)))
+            .collect();
+        plan.rest_world = rest;
+        plan
+    }
 }
 
 /// How one node's mesh is read when it moves: its skin's static joint matrices and the
@@ -113,110 +184,6 @@ impl std::fmt::Debug for Posed {
 }
 
 impl Plan {
-    /// Reads the graph of the drawn scene (`nodes`: the walk's order), the skins and the
-    /// animations; problems are warnings.
-    pub(crate) fn read(
-        doc: &gltf::Document,
-        nodes: &[(usize, DMat4)],
-        (buffers, pointed): (
-            &crate::loaders::gltf::accessor::Buffers,
-            &[crate::loaders::gltf::pointer::MaterialChannel],
-        ),
-        warn: &mut dyn FnMut(String),
-    ) -> Plan {
-        let count = doc.nodes().len();
-        let mut graph = Graph {
-            order: nodes.iter().map(|n| n.0).collect(),
-            parent: vec![None; count],
-            local: vec![DMat4::IDENTITY; count],
-            rest: vec![([0.0; 3], [0.0, 0.0, 0.0, 1.0], [1.0; 3]); count],
-            weights: vec![Vec::new(); count],
-        };
-        let mut in_scene = vec![false; count];
-        let mut instanced = vec![false; count];
-        let mut skin_of = vec![None; count];
-        let all: Vec<gltf::Node> = doc.nodes().collect();
-        for &(i, _) in nodes {
-            let n = &all[i];
-            in_scene[i] = true;
-            instanced[i] = n.extension_value("EXT_mesh_gpu_instancing").is_some();
-            skin_of[i] = n.skin().map(|s| s.index());
-            graph.local[i] = glam::Mat4::from_cols_array_2d(&n.transform().matrix()).as_dmat4();
-            graph.rest[i] = n.transform().decomposed();
-            graph.weights[i] = n
-                .weights()
-                .or_else(|| n.mesh().and_then(|m| m.weights()))
-                .map(<[f32]>::to_vec)
-                .unwrap_or_default();
-            for c in n.children() {
-                graph.parent[c.index()] = Some(i);
-            }
-        }
-        let animations = crate::motion::together::with_merged(crate::motion::read::animations(
-            doc,
-            (buffers, pointed),
-            &in_scene,
-            warn,
-        ));
-        let skins = crate::motion::read::skins(doc, buffers, &in_scene, warn);
-        let mut moved = vec![false; count];
-        for c in animations.iter().flat_map(|a| &a.channels) {
-            moved[c.node] = true;
-        }
-        for &i in &graph.order {
-            if graph.parent[i].is_some_and(|p| moved[p]) {
-                moved[i] = true;
-            }
-        }
-        let targets = doc
-            .meshes()
-            .map(|m| {
-                m.primitives()
-                    .map(|p| p.morph_targets().len())
-                    .max()
-                    .unwrap_or(0)
-            })
-            .collect();
-        let mut material_factors: Vec<(usize, crate::loaders::gltf::material::Factors)> =
-            Vec::new();
-        for k in animations.iter().flat_map(|a| &a.materials) {
-            if !material_factors.iter().any(|f| f.0 == k.material) {
-                if let Some(m) = doc.materials().nth(k.material) {
-                    material_factors
-                        .push((k.material, crate::loaders::gltf::material::Factors::of(&m)));
-                }
-            }
-        }
-        let mut plan = Plan {
-            names: doc.nodes().map(|n| n.name().map(str::to_string)).collect(),
-            material_factors,
-            graph,
-            skins,
-            animations,
-            moved,
-            instanced,
-            skin_of,
-            reach: Vec::new(),
-            rest_world: Vec::new(),
-            rest_joints: Vec::new(),
-            targets,
-            morph_budget: AtomicUsize::new(crate::motion::source::MAX_MORPH),
-        };
-        plan.reach = plan
-            .animations
-            .iter()
-            .map(|a| plan.graph.reach(a))
-            .collect();
-        let rest = plan.graph.rest_world();
-        plan.rest_joints = plan
-            .skins
-            .iter()
-            .map(|s| s.as_ref().map_or(Vec::new(), |s| joint_matrices(s, &rest)))
-            .collect();
-        plan.rest_world = rest;
-        plan
-    }
-
     /// How `node`'s `mesh` moves, or None if nothing ever moves it: no usable skin, no
     /// morph targets, and no animation moving it. An instanced node's copies are carried
     /// by the node and morphed, never skinned (as when they stood still: the extension
@@ -472,7 +439,7 @@ impl Rig {
             .into_iter()
             .zip(placed)
             .map(|(p, placed)| {
-                crate::loaders::gltf::primitive::check_range(&placed.0).map_err(|e| {
+                crate::geometry::prim::check_range(&placed.0).map_err(|e| {
                     Error::model(&self.path, None, format!("node {}: {e}", p.by.node))
                 })?;
                 Ok((p, placed))
@@ -518,7 +485,7 @@ impl Rig {
     /// what a pose moves (positions, normals, tangents: [`Prim::pose_into`]). On an error
     /// no mesh has changed.
     ///
-    /// [`Prim::pose_into`]: crate::loaders::gltf::primitive::Prim::pose_into
+    /// [`Prim::pose_into`]: crate::geometry::prim::Prim::pose_into
     pub(crate) fn pose_into(
         &self,
         (since, moment): (Option<Moment>, Option<Moment>),
@@ -564,7 +531,7 @@ impl Rig {
         let placing: Vec<&Carried> = self.wires.iter().map(|w| &w.by).collect();
         let placed = self.place_parts(&self.posed(moment), &placing, false);
         for (w, (q, _, _)) in self.wires.iter().zip(&placed) {
-            crate::loaders::gltf::primitive::check_range(q)
+            crate::geometry::prim::check_range(q)
                 .map_err(|e| Error::model(&self.path, None, format!("node {}: {e}", w.by.node)))?;
         }
         Ok(Some(placed))

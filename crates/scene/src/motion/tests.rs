@@ -5,7 +5,7 @@ use crate::load::load_bytes;
 use crate::motion::Moment;
 use glam::Vec3;
 use std::path::Path;
-use {crate::load::LoadOptions, crate::model::Scene};
+use {crate::load::options::LoadOptions, crate::model::Scene};
 
 /// A GLB under construction: one binary buffer, views and accessors appended.
 #[derive(Default)]

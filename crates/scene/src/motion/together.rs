@@ -12,7 +12,7 @@
 //! shares no target with one already started): every animation together where no two
 //! share a target (node and property, or material factor), else the first. Where only some
 //! overlap the Sample Viewer plays a subset; glview plays the first (docs/gltf/motion.md).
-use crate::motion::read::Animation;
+use crate::motion::channels::Animation;
 use crate::motion::AnimationInfo;
 
 /// What an animation's channel sets: a node's translation, rotation, scale or weights, or
@@ -173,7 +173,7 @@ pub(crate) fn check_lines(animations: &[Animation], names: &[Option<String>]) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::motion::read::Channel;
+    use crate::motion::channels::Channel;
     use crate::motion::sample::{Interp, Keys};
     use crate::motion::Path;
 

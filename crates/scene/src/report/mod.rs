@@ -21,7 +21,7 @@ pub fn report(
     }
     normals_and_culling(&mut r, s);
     // The loader's per-stage times for the load just done on this thread (see `profile`).
-    if let Some(p) = crate::load::profile::last() {
+    if let Some(p) = crate::profile::last() {
         let _ = writeln!(r, "load: {p}");
     }
     for w in &s.warnings {

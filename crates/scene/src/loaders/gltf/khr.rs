@@ -3,59 +3,13 @@
 //! [`crate::model::material_khr::Khr`]. Texture infos are resolved like the core slots (sampler,
 //! UV set, KHR_texture_transform); a malformed value is the extension's default, as a
 //! missing one is, with a warning ([`problems`]).
+use crate::loaders::gltf::slots::{floats, num, texture_info};
 use crate::model::material_khr::{
     Anisotropy, Clearcoat, Iridescence, Khr, Sheen, Specular, Volume,
 };
-use crate::model::texture_slot::{ColorSpace, Slot, TexTransform};
+use crate::model::texture_slot::{ColorSpace, Slot};
 use crate::report::material::SlotFacts;
 use serde_json::Value;
-
-pub(crate) fn num(v: &Value, key: &str, default: f32) -> f32 {
-    v.get(key)
-        .and_then(Value::as_f64)
-        .filter(|x| x.is_finite())
-        .map_or(default, |x| x as f32)
-}
-
-/// An array of exactly `N` finite numbers (its non-numbers skipped), else `default`.
-pub(crate) fn floats<const N: usize>(v: &Value, key: &str, default: [f32; N]) -> [f32; N] {
-    let Some(a) = v.get(key).and_then(Value::as_array) else {
-        return default;
-    };
-    let c: Vec<f32> = a
-        .iter()
-        .filter_map(Value::as_f64)
-        .map(|x| x as f32)
-        .collect();
-    <[f32; N]>::try_from(c)
-        .ok()
-        .filter(|c| c.iter().all(|x| x.is_finite()))
-        .unwrap_or(default)
-}
-
-/// A texture info's facts: the texture's sampler and image, the UV set (the transform's
-/// texCoord overrides), the transform and the normal scale.
-pub(crate) fn texture_info(doc: &gltf::Document, slot: Slot, info: &Value) -> Option<SlotFacts> {
-    let index = info.get("index")?.as_u64()? as usize;
-    let tex = doc.textures().nth(index)?;
-    let tex_coord = info.get("texCoord").and_then(Value::as_u64).unwrap_or(0) as u32;
-    let xf = info
-        .get("extensions")
-        .and_then(|e| e.get("KHR_texture_transform"));
-    let mut f =
-        crate::loaders::gltf::material::facts(slot, tex, tex_coord, None, num(info, "scale", 1.0));
-    if let Some(x) = xf {
-        f.transform = Some(TexTransform {
-            offset: floats(x, "offset", [0.0, 0.0]),
-            rotation: num(x, "rotation", 0.0),
-            scale: floats(x, "scale", [1.0, 1.0]),
-        });
-        if let Some(t) = x.get("texCoord").and_then(Value::as_u64) {
-            f.uv_set = t as u32;
-        }
-    }
-    Some(f)
-}
 
 /// The material extensions read from raw JSON (here and in `gltf_specgloss`).
 const EXTENSIONS: [&str; 9] = [

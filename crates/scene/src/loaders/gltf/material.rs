@@ -2,67 +2,12 @@
 //! `KHR_texture_transform` and colour space; alpha mode, sidedness, unlit and
 //! `KHR_materials_emissive_strength`. Images are kept as the file has them (the
 //! metallic-roughness image's blue and green channels are read by the shader, no copies).
-use crate::model::material::{translucency, AlphaMode, ColourRule};
-use crate::model::texture_slot::{self as mm, ColorSpace, Slot, TextureSlot};
+use crate::loaders::gltf::slots::facts;
+use crate::model::material::{AlphaMode, ColourRule, Factors};
+use crate::model::texture_slot::{ColorSpace, Slot, TextureSlot};
 use crate::report::material::{slot_line, SlotFacts};
-use gltf::texture::{MagFilter, MinFilter, WrappingMode};
 use std::sync::Arc;
 use {crate::model::material::Material, crate::model::material::Texture};
-
-fn wrap(w: WrappingMode) -> mm::Wrap {
-    match w {
-        WrappingMode::ClampToEdge => mm::Wrap::ClampToEdge,
-        WrappingMode::MirroredRepeat => mm::Wrap::MirroredRepeat,
-        WrappingMode::Repeat => mm::Wrap::Repeat,
-    }
-}
-
-fn min_filter(f: MinFilter) -> mm::Filter {
-    match f {
-        MinFilter::Nearest => mm::Filter::Nearest,
-        MinFilter::Linear => mm::Filter::Linear,
-        MinFilter::NearestMipmapNearest => mm::Filter::NearestMipmapNearest,
-        MinFilter::LinearMipmapNearest => mm::Filter::LinearMipmapNearest,
-        MinFilter::NearestMipmapLinear => mm::Filter::NearestMipmapLinear,
-        MinFilter::LinearMipmapLinear => mm::Filter::LinearMipmapLinear,
-    }
-}
-
-/// The slot's facts as the file gives them (its `--check` line is made from these whether or
-/// not the image decodes).
-pub(crate) fn facts(
-    s: Slot,
-    tex: gltf::Texture,
-    tex_coord: u32,
-    transform: Option<gltf::texture::TextureTransform>,
-    scale: f32,
-) -> SlotFacts {
-    let smp = tex.sampler();
-    SlotFacts {
-        slot: s,
-        image: tex.source().index(),
-        loaded: false,
-        sampler: mm::Sampler {
-            wrap_s: wrap(smp.wrap_s()),
-            wrap_t: wrap(smp.wrap_t()),
-            mag: match smp.mag_filter() {
-                Some(MagFilter::Nearest) => mm::Filter::Nearest,
-                _ => mm::Filter::Linear,
-            },
-            min: smp.min_filter().map(min_filter),
-        },
-        uv_set: transform
-            .as_ref()
-            .and_then(|t| t.tex_coord())
-            .unwrap_or(tex_coord),
-        transform: transform.map(|t| mm::TexTransform {
-            offset: t.offset(),
-            rotation: t.rotation(),
-            scale: t.scale(),
-        }),
-        scale,
-    }
-}
 
 /// One slot in colour space `cs`, when `image` decodes its image; its `--check` line, saying
 /// whether the image loaded, goes to `lines` either way.
@@ -86,48 +31,15 @@ fn load_slot(
     })
 }
 
-/// The factors of a glTF material that KHR_animation_pointer may animate, as the file gives
-/// them; [`Factors::apply`] makes them the material's values, for the loader and for a pose
-/// alike (so a moment's material is the one a file holding those factors loads as).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Factors {
-    pub(crate) base_color: [f32; 4],
-    pub(crate) metallic: f32,
-    pub(crate) roughness: f32,
-    pub(crate) emissive: [f32; 3],
-    pub(crate) emissive_strength: f32,
-}
-
-impl Factors {
-    pub(crate) fn of(m: &gltf::Material) -> Factors {
-        let pbr = m.pbr_metallic_roughness();
-        Factors {
-            base_color: pbr.base_color_factor(),
-            metallic: pbr.metallic_factor(),
-            roughness: pbr.roughness_factor(),
-            emissive: m.emissive_factor(),
-            emissive_strength: m.emissive_strength().unwrap_or(1.0),
-        }
-    }
-
-    /// Sets `out`'s colour, opacity, metallic, roughness and emissive values from these
-    /// factors (`out.alpha_mode` decides the opacity).
-    pub(crate) fn apply(&self, out: &mut Material) {
-        let [r, g, b, a] = self.base_color;
-        out.base_color = [r, g, b];
-        out.base_alpha = a;
-        // The factor's alpha is the opacity only in BLEND (MASK tests it, OPAQUE ignores it).
-        let opacity = if out.alpha_mode == AlphaMode::Blend {
-            a
-        } else {
-            1.0
-        };
-        out.opacity = translucency(opacity, out.alpha_mode);
-        out.metallic = self.metallic.clamp(0.0, 1.0);
-        out.roughness = self.roughness.clamp(0.0, 1.0);
-        let strength = self.emissive_strength;
-        out.emissive = self.emissive.map(|e| e * strength);
-        out.emissive_strength = strength;
+/// The factors of glTF material `m` ([`Factors`]).
+pub(crate) fn factors_of(m: &gltf::Material) -> Factors {
+    let pbr = m.pbr_metallic_roughness();
+    Factors {
+        base_color: pbr.base_color_factor(),
+        metallic: pbr.metallic_factor(),
+        roughness: pbr.roughness_factor(),
+        emissive: m.emissive_factor(),
+        emissive_strength: m.emissive_strength().unwrap_or(1.0),
     }
 }
 
@@ -151,7 +63,7 @@ pub(crate) fn material(
         colour_rule: ColourRule::Linear,
         ..Material::gltf_default()
     };
-    Factors::of(m).apply(&mut out);
+    factors_of(m).apply(&mut out);
     out.check.base_color = pbr
         .base_color_texture()
         .map(|t| format!("baseColorTexture image {}", t.texture().source().index()));

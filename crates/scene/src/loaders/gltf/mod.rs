@@ -7,6 +7,7 @@
 //! [`Scene::wire`]. A missing or broken image is a warning.
 
 pub mod accessor;
+pub mod animations;
 pub mod buffers;
 pub mod cameras;
 pub mod draco;
@@ -18,14 +19,17 @@ pub mod lights;
 pub mod material;
 pub mod meshopt;
 pub mod modes;
+pub mod plan;
 pub mod pointer;
 pub mod primitive;
 pub mod quirks;
 pub mod scenes;
+pub mod slots;
+pub mod sources;
 pub mod specgloss;
 pub mod variants;
 use crate::error::{Error, Result};
-use crate::load::LoadOptions;
+use crate::load::options::LoadOptions;
 use crate::loaders::gltf::accessor::MAX_ELEMENTS;
 use crate::loaders::gltf::primitive::{Instance, Primitives, Recorded};
 use glam::DMat4;
@@ -119,7 +123,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         message,
     }));
     let mut warn = |message| warnings.push(Warning::of(path, message));
-    let plan = crate::motion::Plan::read(&doc, &nodes, (&buffers, &pointed), &mut warn);
+    let plan = crate::loaders::gltf::plan::plan(&doc, &nodes, (&buffers, &pointed), &mut warn);
     let instances = crate::loaders::gltf::graph::instances(&doc, &nodes);
     let (instances, mut maps, runs) =
         crate::loaders::gltf::instancing::expand(&doc, instances, &buffers).map_err(bad)?;
@@ -286,7 +290,7 @@ fn rig_of(
 /// too few indices), their bounds, and the moving ones' parts.
 #[allow(clippy::type_complexity)]
 fn build_meshes(
-    prims: Vec<crate::loaders::gltf::primitive::Prim>,
+    prims: Vec<crate::geometry::prim::Prim>,
     sources: Vec<Recorded>,
     (origin, default_index): (glam::DVec3, usize),
     opts: &LoadOptions,

@@ -14,31 +14,7 @@ use serde_json::Value;
 /// The extension's name, as it appears in a channel target's `extensions`.
 pub(crate) const NAME: &str = "KHR_animation_pointer";
 
-/// A material factor a pointer channel may animate.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum MaterialProperty {
-    /// `pbrMetallicRoughness/baseColorFactor` (4 floats).
-    BaseColor,
-    /// `pbrMetallicRoughness/metallicFactor`.
-    Metallic,
-    /// `pbrMetallicRoughness/roughnessFactor`.
-    Roughness,
-    /// `emissiveFactor` (3 floats).
-    Emissive,
-    /// `extensions/KHR_materials_emissive_strength/emissiveStrength`.
-    EmissiveStrength,
-}
-
-impl MaterialProperty {
-    /// Floats per value.
-    pub(crate) fn width(self) -> usize {
-        match self {
-            MaterialProperty::BaseColor => 4,
-            MaterialProperty::Emissive => 3,
-            _ => 1,
-        }
-    }
-}
+pub(crate) use crate::motion::materials::MaterialProperty;
 
 /// A pointer channel animating a material factor: where its sampler is, and what it sets.
 #[derive(Clone, Debug, PartialEq)]

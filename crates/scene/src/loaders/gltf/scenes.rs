@@ -2,7 +2,7 @@
 //! its first) and which material variant (`--variant N|NAME`), with the file's lists for
 //! [`Views`]; its cameras are added once the chosen scene's nodes are walked
 //! ([`crate::loaders::gltf::cameras`]).
-use crate::load::LoadOptions;
+use crate::load::options::LoadOptions;
 use crate::model::views::{pick, Views};
 
 /// The scene to draw and the views so far (scenes and variants, no cameras yet).

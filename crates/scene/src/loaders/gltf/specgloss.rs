@@ -22,7 +22,7 @@ pub(crate) fn convert(
     out: &mut Material,
     load: &mut dyn FnMut(SlotFacts, ColorSpace) -> Option<TextureSlot>,
 ) {
-    use crate::loaders::gltf::khr::{floats, num, texture_info};
+    use crate::loaders::gltf::slots::{floats, num, texture_info};
     let Some(e) = m.extension_value(EXTENSION) else {
         return;
     };

@@ -8,7 +8,8 @@ pub mod quirks;
 pub mod repair;
 use crate::error::{Error, Result};
 use crate::geometry::normals::Creases;
-use crate::load::{read_regular_file, LoadOptions};
+use crate::load::options::LoadOptions;
+use crate::load::read_regular_file;
 use crate::loaders::obj::fast::Parser;
 use glam::DVec3;
 use std::cell::RefCell;
@@ -153,7 +154,7 @@ fn parse(
         }
         other => other,
     };
-    crate::load::profile::set_fast_path(fast.is_some());
+    crate::profile::set_fast_path(fast.is_some());
     let (models, mats, repaired) = match fast {
         Some(p) => {
             let repaired = repair::Repaired {
@@ -165,7 +166,7 @@ fn parse(
         }
         None => {
             let mut repaired = repair::repair_obj_with_progress(path, bytes, &report)?;
-            crate::load::profile::mark(crate::load::profile::Stage::Repair);
+            crate::profile::mark(crate::profile::Stage::Repair);
             warnings.borrow_mut().append(&mut repaired.warnings);
             // Polygons come with their arity and are triangulated here (ear clipping where
             // concave); lines and points were taken out by the pre-pass.
@@ -181,7 +182,7 @@ fn parse(
             (models, mats, repaired)
         }
     };
-    crate::load::profile::mark(crate::load::profile::Stage::Parse);
+    crate::profile::mark(crate::profile::Stage::Parse);
     Ok(Parsed {
         models,
         mats,
@@ -236,7 +237,7 @@ fn materials(
         maps.extend(quirks::map_report(m, origin));
         materials.push(r.map());
     }
-    crate::load::profile::mark(crate::load::profile::Stage::Textures);
+    crate::profile::mark(crate::profile::Stage::Textures);
     let mut reported = std::collections::HashSet::new();
     for (line, name) in usemtl {
         if !materials.iter().any(|m| &m.name == name) && reported.insert(name.clone()) {
@@ -515,7 +516,7 @@ fn load_with(
         meshes.push(mesh);
     }
     let wire = wire_of(&repaired, &wire_used, &rotated, origin, &mut bounds);
-    crate::load::profile::mark(crate::load::profile::Stage::Meshes);
+    crate::profile::mark(crate::profile::Stage::Meshes);
     crate::load::finish::finish(path, &mut meshes, &materials, &mut warnings);
     if meshes.is_empty() && wire.is_empty() {
         return Err(Error::model(path, None, "no triangles in the file"));

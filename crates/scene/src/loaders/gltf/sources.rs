@@ -4,14 +4,10 @@
 //! a morph target of the wrong size or with non-finite deltas moves nothing, and joint
 //! indices past the skin's joints make the primitive unskinned — each with a warning.
 use crate::loaders::gltf::accessor::{self as accessor, Buffers};
-use crate::motion::pose::{JointSet, Source, Target};
+use crate::motion::pose::{JointSet, Source, Target, MAX_MORPH};
 use gltf::accessor::Dimensions as D;
 use gltf::mesh::Semantic;
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// Morph targets × vertices of the whole file beyond this are not read (8 M deltas of each
-/// attribute, 96 MB each): a primitive that would pass it is not morphed.
-pub(crate) const MAX_MORPH: usize = 1 << 23;
 
 /// Reads `p`'s streams; `joints` is the applied skin's joint count (None: no skin).
 /// Positions that are not finite are an error (as for every primitive).

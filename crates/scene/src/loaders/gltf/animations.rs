@@ -7,7 +7,8 @@
 //! forbids, are played as three.js plays them (the later key holds from the shared time
 //! on: [`crate::motion::sample`]), with one warning per animation.
 use crate::loaders::gltf::accessor::{self as accessor, Buffers};
-use crate::loaders::gltf::pointer::{MaterialChannel, MaterialProperty};
+use crate::loaders::gltf::pointer::MaterialChannel;
+use crate::motion::channels::{Animation, Channel, MaterialKeys, Skin, MAX_JOINTS};
 use crate::motion::sample::{Interp, Keys};
 use glam::{DMat4, Mat4};
 use gltf::accessor::Dimensions as D;
@@ -23,41 +24,6 @@ pub(crate) const MAX_KEYS: usize = 1 << 20;
 /// bounded too.
 pub(crate) const MAX_ANIMATION_FLOATS: usize = 1 << 24;
 const CHANNEL_COST: usize = 32;
-/// Joints of one skin.
-pub(crate) const MAX_JOINTS: usize = 1 << 16;
-
-/// One channel: a node's translation, rotation, scale or morph weights over time.
-#[derive(Clone, Debug)]
-pub(crate) struct Channel {
-    pub(crate) node: usize,
-    pub(crate) path: Path,
-    /// Shared with the merged animation that plays every one together ([`crate::motion::together`]).
-    pub(crate) keys: std::sync::Arc<Keys>,
-}
-
-/// One material factor over time (a KHR_animation_pointer channel).
-#[derive(Clone, Debug)]
-pub(crate) struct MaterialKeys {
-    /// The glTF material (the scene's material of the same index).
-    pub(crate) material: usize,
-    pub(crate) property: MaterialProperty,
-    pub(crate) keys: std::sync::Arc<Keys>,
-}
-
-#[derive(Clone, Debug)]
-pub(crate) struct Animation {
-    pub(crate) info: AnimationInfo,
-    pub(crate) channels: Vec<Channel>,
-    pub(crate) materials: Vec<MaterialKeys>,
-}
-
-/// A skin glview applies: world transforms of `joints` times `inverse_bind` make the
-/// joint matrices (the skinned node's own transform is ignored, as glTF asks).
-#[derive(Clone, Debug)]
-pub(crate) struct Skin {
-    pub(crate) joints: Vec<usize>,
-    pub(crate) inverse_bind: Vec<DMat4>,
-}
 
 /// Every animation of the file, each with the channels that can be played, and the material
 /// channels `pointed` (KHR_animation_pointer's, taken out of the document) that can.

@@ -180,7 +180,7 @@ pub fn take_last() -> Option<LoadProfile> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use {crate::load, crate::load::LoadOptions};
+    use {crate::load, crate::load::options::LoadOptions};
 
     #[test]
     fn a_load_records_every_stage_and_they_add_up() {
