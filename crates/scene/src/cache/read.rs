@@ -3,6 +3,7 @@
 use crate::lod::clusters::Clusters;
 use crate::model::material::{Material, Texture, TextureOptions};
 use crate::model::meshes::{Compact, First, Full, Meshes, Rest};
+use crate::model::scene::Parts;
 use glam::DVec3;
 use std::path::Path;
 use std::sync::Arc;
@@ -79,8 +80,7 @@ pub(super) fn decode(
         Meshes::deferred(firsts, Box::new(rest))
     };
     let [lo, hi] = header.file_bounds;
-    let scene = Scene {
-        name: header.name,
+    let parts = Parts {
         meshes,
         materials,
         bounds: header.bounds,
@@ -94,8 +94,8 @@ pub(super) fn decode(
         views: header.views,
         lights: header.lights,
         motion: None,
-        posed: None,
     };
+    let scene = Scene::new(header.name, parts);
     Some((scene, clusters))
 }
 

@@ -4,6 +4,7 @@
 //! the file, as for OBJ.
 use crate::error::{Error, Result};
 use crate::load::options::LoadOptions;
+use crate::model::scene::Parts;
 use glam::DVec3;
 use std::io::Read;
 use std::path::Path;
@@ -239,23 +240,17 @@ fn build(path: &Path, raw: Raw, opts: &LoadOptions) -> Result<Scene> {
         });
     }
     material.name = "default".into();
-    Ok(Scene {
-        name: mesh.name.clone(),
+    let name = mesh.name.clone();
+    let parts = Parts {
         meshes: vec![mesh].into(),
         materials: vec![material],
         bounds,
         origin,
         file_bounds: (lo, hi),
-        dependencies: Vec::new(),
         warnings,
-        wire: Wire::default(),
-        maps: Vec::new(),
-        instancing: Vec::new(),
-        views: Default::default(),
-        lights: Vec::new(),
-        motion: None,
-        posed: None,
-    })
+        ..Parts::default()
+    };
+    Ok(Scene::new(name, parts))
 }
 
 /// A file of vertices and no faces (a scan, photogrammetry): every vertex a point, with its
@@ -306,24 +301,17 @@ fn cloud(
         name: "point cloud".into(),
         ..Material::cloud()
     };
-    Scene {
-        name: path
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-        meshes: Vec::new().into(),
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let parts = Parts {
         materials: vec![material],
         bounds,
         origin,
         file_bounds: (lo, hi),
-        dependencies: Vec::new(),
-        warnings: Vec::new(),
         wire,
-        maps: Vec::new(),
-        instancing: Vec::new(),
-        views: Default::default(),
-        lights: Vec::new(),
-        motion: None,
-        posed: None,
-    }
+        ..Parts::default()
+    };
+    Scene::new(name, parts)
 }

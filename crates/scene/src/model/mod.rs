@@ -13,7 +13,7 @@ pub mod views;
 pub mod xray;
 
 use glam::{DVec3, Vec3};
-pub use scene::Scene;
+pub use scene::{Parts, Scene};
 
 /// One interleaved vertex as uploaded to the vertex buffer.
 #[repr(C)]

@@ -44,7 +44,82 @@ pub struct Scene {
     pub posed: Option<motion::Moment>,
 }
 
+/// What a loader made of a file, for [`Scene::new`]; a part it has none of is its default
+/// (no lines, no views, no lights, nothing that moves).
+pub struct Parts {
+    pub meshes: Meshes,
+    pub materials: Vec<Material>,
+    pub bounds: Bounds,
+    pub origin: DVec3,
+    pub file_bounds: (DVec3, DVec3),
+    pub dependencies: Vec<std::path::PathBuf>,
+    pub warnings: Vec<Warning>,
+    pub wire: Wire,
+    pub maps: Vec<String>,
+    pub instancing: Vec<Instancing>,
+    pub views: model::views::Views,
+    pub lights: Vec<crate::model::lights::FileLight>,
+    pub motion: Option<std::sync::Arc<motion::Rig>>,
+}
+
+impl Default for Parts {
+    fn default() -> Parts {
+        Parts {
+            meshes: Vec::new().into(),
+            materials: Vec::new(),
+            bounds: Bounds::empty(),
+            origin: DVec3::ZERO,
+            file_bounds: (DVec3::ZERO, DVec3::ZERO),
+            dependencies: Vec::new(),
+            warnings: Vec::new(),
+            wire: Wire::default(),
+            maps: Vec::new(),
+            instancing: Vec::new(),
+            views: Default::default(),
+            lights: Vec::new(),
+            motion: None,
+        }
+    }
+}
+
 impl Scene {
+    /// The one place a scene is made: named `name`, of what a loader (or the mesh cache, or
+    /// code) made, in its static pose.
+    pub fn new(name: String, parts: Parts) -> Scene {
+        let Parts {
+            meshes,
+            materials,
+            bounds,
+            origin,
+            file_bounds,
+            dependencies,
+            warnings,
+            wire,
+            maps,
+            instancing,
+            views,
+            lights,
+            motion,
+        } = parts;
+        Scene {
+            name,
+            meshes,
+            materials,
+            bounds,
+            origin,
+            file_bounds,
+            dependencies,
+            warnings,
+            wire,
+            maps,
+            instancing,
+            views,
+            lights,
+            motion,
+            posed: None,
+        }
+    }
+
     /// A model file's scene name: its file name without the extension.
     pub(crate) fn name_of(path: &std::path::Path) -> String {
         path.file_stem()
@@ -60,23 +135,14 @@ impl Scene {
                 .flat_map(|m| &m.vertices)
                 .map(|v| Vec3::from(v.position)),
         );
-        Scene {
-            name: name.into(),
+        let parts = Parts {
             meshes: meshes.into(),
             materials,
             bounds,
-            origin: DVec3::ZERO,
             file_bounds: (bounds.min.as_dvec3(), bounds.max.as_dvec3()),
-            dependencies: Vec::new(),
-            warnings: Vec::new(),
-            wire: Wire::default(),
-            maps: Vec::new(),
-            instancing: Vec::new(),
-            views: Default::default(),
-            lights: Vec::new(),
-            motion: None,
-            posed: None,
-        }
+            ..Parts::default()
+        };
+        Scene::new(name.into(), parts)
     }
 
     /// Counted without reading meshes still in a cache entry.

@@ -32,6 +32,7 @@ use crate::error::{Error, Result};
 use crate::load::options::LoadOptions;
 use crate::loaders::gltf::accessor::MAX_ELEMENTS;
 use crate::loaders::gltf::primitive::{Instance, Primitives, Recorded};
+use crate::model::scene::Parts;
 use glam::DMat4;
 use gltf::mesh::Semantic;
 use std::path::Path;
@@ -188,8 +189,7 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         built,
         &mut maps,
     );
-    Ok(Scene {
-        name: Scene::name_of(path),
+    let parts = Parts {
         meshes: meshes.into(),
         materials,
         bounds,
@@ -203,8 +203,8 @@ pub(crate) fn load_gltf_bytes(path: &Path, bytes: &[u8], opts: &LoadOptions) -> 
         views,
         lights,
         motion,
-        posed: None,
-    })
+    };
+    Ok(Scene::new(Scene::name_of(path), parts))
 }
 
 /// The bytes of every buffer, of the views EXT_meshopt_compression decoded, and of the

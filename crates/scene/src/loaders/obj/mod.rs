@@ -11,6 +11,7 @@ use crate::geometry::normals::Creases;
 use crate::load::options::LoadOptions;
 use crate::load::read_regular_file;
 use crate::loaders::obj::fast::Parser;
+use crate::model::scene::Parts;
 use glam::DVec3;
 use std::cell::RefCell;
 use std::path::Path;
@@ -521,8 +522,7 @@ fn load_with(
     if meshes.is_empty() && wire.is_empty() {
         return Err(Error::model(path, None, "no triangles in the file"));
     }
-    Ok(Scene {
-        name: Scene::name_of(path),
+    let parts = Parts {
         meshes: meshes.into(),
         materials,
         bounds,
@@ -532,12 +532,9 @@ fn load_with(
         warnings,
         wire,
         maps,
-        instancing: Vec::new(),
-        views: Default::default(),
-        lights: Vec::new(),
-        motion: None,
-        posed: None,
-    })
+        ..Parts::default()
+    };
+    Ok(Scene::new(Scene::name_of(path), parts))
 }
 
 #[cfg(test)]
