@@ -123,6 +123,7 @@ pub(crate) fn set_bytes(bytes: u64) {
     REC.with_borrow_mut(|r| r.current.bytes = bytes);
 }
 
+#[cfg_attr(not(feature = "native"), allow(dead_code))]
 /// The bytes of the mesh cache entry a hit read (its header and first section).
 pub(crate) fn set_entry_bytes(bytes: u64) {
     REC.with_borrow_mut(|r| r.current.entry_bytes = bytes);

@@ -5,6 +5,7 @@
 
 pub mod finish;
 pub mod options;
+pub mod resources;
 pub mod uri;
 use crate::error::{Error, Result};
 use crate::loaders::formats::{self, format_of, Format, MAX_STREAM};
@@ -15,14 +16,12 @@ use std::path::Path;
 
 /// Reads a file, refusing what is not a regular file (directories, devices, FIFOs would hang).
 pub(crate) fn read_regular_file(path: &Path) -> Result<Vec<u8>> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.is_dir() {
-        return Err(Error::model(path, None, "is a directory, not an OBJ file"));
+    let files = resources::current();
+    match files.kind(path).map_err(|e| Error::io(path, e))? {
+        resources::Kind::Dir => Err(Error::model(path, None, "is a directory, not an OBJ file")),
+        resources::Kind::Other => Err(Error::model(path, None, "is not a regular file")),
+        resources::Kind::File(_) => files.read(path, u64::MAX).map_err(|e| Error::io(path, e)),
     }
-    if !meta.is_file() {
-        return Err(Error::model(path, None, "is not a regular file"));
-    }
-    std::fs::read(path).map_err(|e| Error::io(path, e))
 }
 
 /// Loads a model file: OBJ (with its MTL libraries and diffuse textures), STL, PLY or glTF,
@@ -42,10 +41,14 @@ pub fn load_prepared(
     opts: &LoadOptions,
 ) -> Result<(Scene, Option<Vec<Option<crate::lod::clusters::Clusters>>>)> {
     crate::profile::begin(0);
-    let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    let size = match resources::current().kind(path) {
+        Ok(resources::Kind::File(n)) => n,
+        _ => 0,
+    };
     // Looked up whatever the size (a miss is one failed open): a small file with large
-    // images has an entry too.
-    let cached = opts.cache && opts.cacheable();
+    // images has an entry too. Native builds only: the cache is a folder on disk.
+    let cached = cfg!(feature = "native") && opts.cache && opts.cacheable();
+    #[cfg(feature = "native")]
     if cached {
         if let Some((scene, clusters)) = crate::cache::lookup(path, opts.textures) {
             log::debug!("{}: loaded from the mesh cache", path.display());
@@ -55,10 +58,29 @@ pub fn load_prepared(
         }
     }
     let mut content = None;
-    let mut scene = load_uncached(path, opts, &mut content)?;
+    let scene = load_uncached(path, opts, &mut content)?;
     // The entry holds everything a format gives (colours, both UV sets, tangents, lines,
     // points, decoded textures), so every format is cached.
     // A scene that moves is not cached: the entry holds meshes, not the rig that poses them.
+    #[cfg(not(feature = "native"))]
+    {
+        let _ = (cached, size, content);
+        Ok((scene, None))
+    }
+    #[cfg(feature = "native")]
+    cache_entry(path, opts, (size, content), scene)
+}
+
+/// Writes the mesh cache's entry of a scene just loaded where it is worth one, and returns
+/// the scene with the clusters built for it.
+#[cfg(feature = "native")]
+fn cache_entry(
+    path: &Path,
+    opts: &LoadOptions,
+    (size, content): (u64, Option<Vec<u8>>),
+    mut scene: Scene,
+) -> Result<(Scene, Option<Vec<Option<crate::lod::clusters::Clusters>>>)> {
+    let cached = opts.cache && opts.cacheable();
     if !(cached && scene.motion.is_none() && crate::cache::worth_an_entry(size, &scene)) {
         return Ok((scene, None));
     }

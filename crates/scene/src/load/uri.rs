@@ -126,21 +126,22 @@ pub(crate) fn in_folder(name: &str, dir: &Path, allow_outside: bool) -> Result<P
         return Err("no file name".into());
     }
     let rel = Path::new(name);
+    let files = crate::load::resources::current();
     let candidate = if rel.is_absolute() {
         rel.to_path_buf()
     } else {
         let direct = dir.join(rel);
-        if direct.exists() {
+        if files.kind(&direct).is_ok() {
             direct
         } else {
-            find_case_insensitive(dir, rel)
+            find_case_insensitive(files.as_ref(), dir, rel)
                 .ok_or_else(|| format!("file not found ({})", direct.display()))?
         }
     };
-    let real = candidate
-        .canonicalize()
+    let real = files
+        .canonical(&candidate)
         .map_err(|e| format!("{}: {e}", candidate.display()))?;
-    let base = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
+    let base = files.canonical(dir).unwrap_or_else(|_| dir.to_path_buf());
     if !allow_outside && !real.starts_with(&base) {
         return Err(format!(
             "resolves to {} outside the model's folder; not read (use --allow-outside-paths)",
@@ -150,7 +151,11 @@ pub(crate) fn in_folder(name: &str, dir: &Path, allow_outside: bool) -> Result<P
     Ok(real)
 }
 
-fn find_case_insensitive(dir: &Path, rel: &Path) -> Option<PathBuf> {
+fn find_case_insensitive(
+    files: &dyn crate::load::resources::Resources,
+    dir: &Path,
+    rel: &Path,
+) -> Option<PathBuf> {
     let mut cur = dir.to_path_buf();
     for comp in rel.components() {
         let want = comp.as_os_str().to_string_lossy().to_lowercase();
@@ -158,11 +163,12 @@ fn find_case_insensitive(dir: &Path, rel: &Path) -> Option<PathBuf> {
             cur.push(comp);
             continue;
         }
-        let found = std::fs::read_dir(&cur)
+        let found = files
+            .names(&cur)
             .ok()?
-            .flatten()
-            .find(|e| e.file_name().to_string_lossy().to_lowercase() == want)?;
-        cur = found.path();
+            .into_iter()
+            .find(|n| n.to_lowercase() == want)?;
+        cur.push(found);
     }
     Some(cur)
 }

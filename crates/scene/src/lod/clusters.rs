@@ -62,7 +62,16 @@ pub fn add_lod(scene: &crate::model::Scene, clusters: &mut [Option<Clusters>]) {
 /// (the loader, the mesh cache's writer, the renderer before a picture), so a picture's
 /// levels are the same whoever built them.
 pub fn levels_of(m: &crate::model::Mesh, clusters: &Clusters) -> Lod {
-    Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &clusters.list)
+    #[cfg(feature = "native")]
+    {
+        Lod::build(&m.vertices, &m.colors, m.has_uv, &m.indices, &clusters.list)
+    }
+    // No simplifier in the browser build: a scene there brings its levels or has none.
+    #[cfg(not(feature = "native"))]
+    {
+        let _ = (m, clusters);
+        Lod::default()
+    }
 }
 
 fn prepare_with(scene: &mut crate::model::Scene, lod: bool) -> Vec<Option<Clusters>> {

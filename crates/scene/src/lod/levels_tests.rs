@@ -1,6 +1,7 @@
 //! Tests of [`super`]: no cracks between groups at mixed levels, error 0 is every triangle.
 use super::*;
 use crate::lod::clusters::{prepare, Clusters};
+use crate::model::Vertex;
 use glam::{Mat4, Vec3};
 use {crate::geometry::closure::closure, crate::model::Mesh, crate::model::Scene};
 

@@ -4,3 +4,5 @@
 pub mod clusters;
 pub mod levels;
 pub mod reorder;
+#[cfg(feature = "native")]
+pub mod simplify;

@@ -73,6 +73,18 @@ pub fn reorder(vertices: &[Vertex], indices: &mut [u32]) {
 /// block's lowest (the optimiser's tables are as long as the vertex count: the mesh's would
 /// cost a clear of megabytes per block), or renumbered when the block's span is wide.
 fn fifo_local(block: &mut [u32]) {
+    // No meshoptimizer in the browser build: blocks keep their Morton order there (a scene
+    // there is reordered natively, in the mesh cache's entry, or drawn in file order).
+    #[cfg(not(feature = "native"))]
+    {
+        let _ = block;
+    }
+    #[cfg(feature = "native")]
+    fifo_native(block);
+}
+
+#[cfg(feature = "native")]
+fn fifo_native(block: &mut [u32]) {
     let (lo, hi) = block
         .iter()
         .fold((u32::MAX, 0), |(lo, hi), &i| (lo.min(i), hi.max(i)));

@@ -307,6 +307,7 @@ impl Material {
         self.slot(s).map(|t| &t.image)
     }
 
+    #[cfg_attr(not(feature = "native"), allow(dead_code))]
     /// Every texture slot in one fixed order (the mesh cache's slot table follows it).
     pub(crate) fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 19] {
         let [a, b, c, d, e, f, g, h, i, j, k, l] = &mut self.khr.maps;
@@ -333,6 +334,7 @@ impl Material {
         ]
     }
 
+    #[cfg_attr(not(feature = "native"), allow(dead_code))]
     /// As [`Material::slots_mut`], read only.
     pub(crate) fn slots(&self) -> [&Option<TextureSlot>; 19] {
         let [a, b, c, d, e, f, g, h, i, j, k, l] = &self.khr.maps;

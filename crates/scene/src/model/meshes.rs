@@ -33,6 +33,7 @@ pub(crate) struct Full {
 }
 
 /// One mesh of a first view: whole, or only its whole-mesh levels.
+#[cfg_attr(not(feature = "native"), allow(dead_code))]
 pub(crate) enum First {
     Whole(Mesh),
     Compact(Compact),
@@ -79,6 +80,7 @@ pub(crate) trait Rest: Send {
 }
 
 impl Meshes {
+    #[cfg_attr(not(feature = "native"), allow(dead_code))]
     /// Meshes whose full arrays are still to be read by `rest`: `first` holds each mesh's
     /// first-view part (whole, or its compact copy).
     pub(crate) fn deferred(first: Vec<First>, rest: Box<dyn Rest>) -> Meshes {

@@ -44,29 +44,35 @@ fn max_side(opts: TextureOptions) -> u32 {
     }
 }
 
-/// Where an image's bytes are: a file, or memory (a glTF `data:` URI or buffer view).
+/// An image file's bytes: read whole through the loads' resources (a file, or the browser's
+/// fetched bytes), or held by a container (a glTF `data:` URI or buffer view).
 #[derive(Clone, Copy)]
-enum Source<'a> {
-    File(&'a Path),
-    Mem(&'a [u8]),
-}
-
-trait ReadSeek: std::io::BufRead + std::io::Seek {}
-impl<T: std::io::BufRead + std::io::Seek> ReadSeek for T {}
+struct Source<'a>(&'a [u8]);
 
 impl<'a> Source<'a> {
-    fn open(self) -> Result<Box<dyn ReadSeek + 'a>, String> {
-        Ok(match self {
-            Source::File(p) => Box::new(std::io::BufReader::new(
-                std::fs::File::open(p).map_err(|e| e.to_string())?,
-            )),
-            Source::Mem(b) => Box::new(std::io::Cursor::new(b)),
-        })
+    fn open(self) -> std::io::Cursor<&'a [u8]> {
+        std::io::Cursor::new(self.0)
     }
-    fn reader(self) -> Result<image::ImageReader<Box<dyn ReadSeek + 'a>>, String> {
-        image::ImageReader::new(self.open()?)
+    fn reader(self) -> Result<image::ImageReader<std::io::Cursor<&'a [u8]>>, String> {
+        image::ImageReader::new(self.open())
             .with_guessed_format()
             .map_err(|e| e.to_string())
+    }
+}
+
+/// Largest image file read (a PNG is then decoded row by row; the bounds on the pixels
+/// follow from its header).
+const MAX_IMAGE_FILE: u64 = 1 << 30;
+
+/// The bytes of image file `path`, through the loads' resources.
+fn read_file(path: &Path, limit: u64) -> Result<Vec<u8>, String> {
+    let files = crate::load::resources::current();
+    match files.kind(path).map_err(|e| e.to_string())? {
+        crate::load::resources::Kind::File(n) if n > limit => {
+            Err(format!("image file over {} MiB", limit >> 20))
+        }
+        crate::load::resources::Kind::File(_) => files.read(path, limit).map_err(|e| e.to_string()),
+        _ => Err("not a regular file".into()),
     }
 }
 
@@ -86,7 +92,8 @@ fn header(src: Source) -> Result<(Option<ImageFormat>, u32, u32), String> {
 /// If the texture at `t.path` was decoded smaller than its file, the sentence saying so
 /// (for a warning); re-reads only the header.
 pub(crate) fn downscale_note(t: &Texture) -> Option<String> {
-    let (_, w, h) = header(Source::File(&t.path)).ok()?;
+    let bytes = read_file(&t.path, MAX_IMAGE_FILE).ok()?;
+    let (_, w, h) = header(Source(&bytes)).ok()?;
     ((w, h) != (t.width, t.height)).then(|| {
         format!(
             "texture {w}x{h} downscaled to {}x{} (at most {} pixels and the largest side allowed)",
@@ -97,7 +104,8 @@ pub(crate) fn downscale_note(t: &Texture) -> Option<String> {
 
 /// Decodes an image file already resolved (and checked against the folder rule).
 pub(crate) fn decode(path: PathBuf, opts: TextureOptions) -> Result<Texture, String> {
-    let (width, height, rgba) = decode_from(Source::File(&path), opts)?;
+    let bytes = read_file(&path, MAX_IMAGE_FILE)?;
+    let (width, height, rgba) = decode_from(Source(&bytes), opts)?;
     Ok(Texture {
         path,
         image: None,
@@ -115,7 +123,7 @@ pub(crate) fn decode_bytes(
     index: usize,
     opts: TextureOptions,
 ) -> Result<Texture, String> {
-    let (width, height, rgba) = decode_from(Source::Mem(bytes), opts)?;
+    let (width, height, rgba) = decode_from(Source(bytes), opts)?;
     Ok(Texture {
         path,
         image: Some(index),
@@ -125,37 +133,23 @@ pub(crate) fn decode_bytes(
     })
 }
 
-/// Largest KTX2 or AVIF file read whole (neither is decoded from a stream).
+/// Largest KTX2 or AVIF file decoded (neither is decoded from a stream).
 const MAX_WHOLE_BYTES: u64 = 256 << 20;
 
-/// The bytes of `src` if its first bytes are a `what` file (`is`), read whole; None if not.
+/// The bytes of `src` if they are a `what` file (`is`), within [`MAX_WHOLE_BYTES`]; None if
+/// not.
 fn whole_bytes<'a>(
     src: Source<'a>,
     is: fn(&[u8]) -> bool,
     what: &str,
-) -> Result<Option<std::borrow::Cow<'a, [u8]>>, String> {
-    use std::io::Read;
-    match src {
-        Source::Mem(b) => Ok(is(b).then_some(b.into())),
-        Source::File(p) => {
-            let mut head = Vec::new();
-            src.open()?
-                .take(64)
-                .read_to_end(&mut head)
-                .map_err(|e| e.to_string())?;
-            if !is(&head) {
-                return Ok(None);
-            }
-            let mut all = Vec::new();
-            std::fs::File::open(p)
-                .and_then(|f| f.take(MAX_WHOLE_BYTES + 1).read_to_end(&mut all))
-                .map_err(|e| e.to_string())?;
-            if all.len() as u64 > MAX_WHOLE_BYTES {
-                return Err(format!("{what} file over {} MiB", MAX_WHOLE_BYTES >> 20));
-            }
-            Ok(Some(all.into()))
-        }
+) -> Result<Option<&'a [u8]>, String> {
+    if !is(src.0) {
+        return Ok(None);
     }
+    if src.0.len() as u64 > MAX_WHOLE_BYTES {
+        return Err(format!("{what} file over {} MiB", MAX_WHOLE_BYTES >> 20));
+    }
+    Ok(Some(src.0))
 }
 
 fn decode_from(src: Source, opts: TextureOptions) -> Result<(u32, u32, Vec<u8>), String> {
@@ -214,7 +208,7 @@ fn decode_whole(src: Source, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result
 
 /// PNG, decoded row by row into the downscaler: memory is the result plus a few rows.
 fn decode_png(src: Source, (w, h): (u32, u32), (tw, th): (u32, u32)) -> Result<Vec<u8>, String> {
-    let mut decoder = png::Decoder::new_with_limits(src.open()?, png::Limits { bytes: 64 << 20 });
+    let mut decoder = png::Decoder::new_with_limits(src.open(), png::Limits { bytes: 64 << 20 });
     decoder.set_transformations(png::Transformations::normalize_to_color8());
     let mut reader = decoder
         .read_info()

@@ -5,23 +5,20 @@
 use crate::load::uri::{self, Resolved};
 use crate::model::material::Texture;
 use crate::model::material::TextureOptions;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 /// Largest buffer glview reads (a `byteLength` beyond it is refused before reading).
 pub(crate) const MAX_BUFFER_BYTES: usize = 1 << 31;
 
 fn read_prefix(path: &Path, len: usize) -> Result<Vec<u8>, String> {
-    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
-    if !meta.is_file() {
-        return Err("not a regular file".into());
+    let files = crate::load::resources::current();
+    match files.kind(path).map_err(|e| e.to_string())? {
+        // A file shorter than `len` is read whole: the caller says so.
+        crate::load::resources::Kind::File(_) => {
+            files.read(path, len as u64).map_err(|e| e.to_string())
+        }
+        _ => Err("not a regular file".into()),
     }
-    // A file shorter than `len` is read whole: the caller says so.
-    let mut out = Vec::with_capacity(len.min(meta.len() as usize));
-    std::fs::File::open(path)
-        .and_then(|f| f.take(len as u64).read_to_end(&mut out))
-        .map_err(|e| e.to_string())?;
-    Ok(out)
 }
 
 /// Every buffer's bytes, at most `byteLength` long. `blob` is the GLB binary chunk. A buffer

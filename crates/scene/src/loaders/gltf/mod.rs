@@ -17,7 +17,16 @@ pub mod instancing;
 pub mod khr;
 pub mod lights;
 pub mod material;
+#[cfg(feature = "native")]
 pub mod meshopt;
+#[cfg(not(feature = "native"))]
+pub mod meshopt {
+    //! EXT_meshopt_compression needs meshoptimizer (C++), which the browser build has not:
+    //! a scene there arrives decoded (the mesh cache's entry).
+    pub(crate) fn decode(_: &serde_json::Value, _: &[Vec<u8>]) -> Result<Vec<u8>, String> {
+        Err("EXT_meshopt_compression is decoded in native builds only (meshoptimizer)".into())
+    }
+}
 pub mod modes;
 pub mod plan;
 pub mod pointer;
