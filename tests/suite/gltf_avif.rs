@@ -234,4 +234,12 @@ fn hostile_avif_files_are_warnings() {
         }
     }
     assert!(refused > 0);
+    // Found by the avif fuzz target: an `iloc` box saying 4 GB in a 251-byte file, which the
+    // parser reserved before reading; now refused before the parser sees it.
+    let bomb = std::fs::read(avif("fuzz-iloc-4gb.avif")).unwrap();
+    let e = glview::scene::decode_image(&bomb).unwrap_err();
+    assert!(
+        e.contains("box says") && e.contains("past its container"),
+        "{e}"
+    );
 }

@@ -65,6 +65,7 @@ pub(crate) fn decode(
     max_side: u32,
     max_pixels: u64,
 ) -> Result<(u32, u32, Vec<u8>), String> {
+    boxes_fit(bytes)?;
     // The parser has no `unsafe` and returns errors for what it checks; a panic on what it
     // missed would still be a bug of ours to the user, so it becomes the image's error too.
     let parsed =
@@ -103,6 +104,45 @@ pub(crate) fn decode(
         d.push_rgba_row(row);
     }
     Ok((tw, th, d.finish()))
+}
+
+/// Every box of the top level and of `meta`, `iprp` and `ipco` lies within its container:
+/// avif-parse reserves a box's stated size before it reads it, so a 251-byte file whose
+/// `iloc` says 4 GB reserved 4 GB (found by the avif fuzz target).
+fn boxes_fit(bytes: &[u8]) -> Result<(), String> {
+    fn walk(b: &[u8], skip: usize) -> Result<(), String> {
+        let word = |at: usize| u32::from_be_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]]);
+        let mut at = skip;
+        while at + 8 <= b.len() {
+            let kind = &b[at + 4..at + 8];
+            let left = (b.len() - at) as u64;
+            let (size, head) = match word(at) {
+                0 => (left, 8),
+                1 if at + 16 <= b.len() => (
+                    (u64::from(word(at + 8)) << 32) | u64::from(word(at + 12)),
+                    16,
+                ),
+                1 => (u64::MAX, 16),
+                n => (u64::from(n), 8),
+            };
+            if size < head as u64 || size > left {
+                return Err(format!(
+                    "not a readable AVIF file: its {:?} box says {size} bytes, past its container",
+                    String::from_utf8_lossy(kind)
+                ));
+            }
+            let inner = &b[at + head..at + size as usize];
+            match kind {
+                // `meta` is a full box: version and flags before its children.
+                b"meta" => walk(inner, 4)?,
+                b"iprp" | b"ipco" => walk(inner, 0)?,
+                _ => {}
+            }
+            at += size as usize;
+        }
+        Ok(())
+    }
+    walk(bytes, 0)
 }
 
 /// (Kr, Kb) of matrix coefficients `m` (ISO/IEC 23091-2); None for identity (GBR).

@@ -154,10 +154,10 @@ fn whole_bytes<'a>(
 
 fn decode_from(src: Source, opts: TextureOptions) -> Result<(u32, u32, Vec<u8>), String> {
     if let Some(bytes) = whole_bytes(src, crate::textures::ktx2::is_ktx2, "KTX2")? {
-        return crate::textures::ktx2::decode(&bytes, max_side(opts));
+        return crate::textures::ktx2::decode(bytes, max_side(opts));
     }
     if let Some(bytes) = whole_bytes(src, crate::textures::avif::is_avif, "AVIF")? {
-        return crate::textures::avif::decode(&bytes, max_side(opts), MAX_SOURCE_PIXELS);
+        return crate::textures::avif::decode(bytes, max_side(opts), MAX_SOURCE_PIXELS);
     }
     let (format, w, h) = header(src)?;
     let max = max_side(opts);
