@@ -39,6 +39,7 @@ fn osmesa_profile(r: GlRequest) -> Option<OsMesaProfile> {
 impl Headless {
     pub fn new(backend: Backend, gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
         crate::platform::keep_freed_heap();
+        crate::native_hooks();
         let mut errors = Vec::new();
         if matches!(backend, Backend::Auto | Backend::Egl) {
             match Self::egl(gl, width, height) {

@@ -1,6 +1,7 @@
 //! PNG output with text chunks that say how the picture was made, so any screenshot can be
 //! reproduced, plus the frame checks every render gets (no NaN-black speckles, no blank frame).
 use crate::{Error, Result};
+pub use glview_render::image::Rgba;
 use std::path::Path;
 
 /// What `-o FILE` writes, from the extension.
@@ -24,37 +25,28 @@ impl OutputFormat {
 /// A PNG's text chunks (key, value), as pictures carry them to the file.
 pub(crate) type PngText = Vec<(&'static str, String)>;
 
-/// An RGBA8 image, row 0 at the top.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Rgba {
-    pub width: u32,
-    pub height: u32,
-    pub data: Vec<u8>,
-}
-
-impl Rgba {
-    pub fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
-        let i = ((y * self.width + x) * 4) as usize;
-        [
-            self.data[i],
-            self.data[i + 1],
-            self.data[i + 2],
-            self.data[i + 3],
-        ]
-    }
-
-    /// Whether every pixel has the same colour (a blank frame).
-    pub fn is_uniform(&self) -> bool {
-        self.data.chunks_exact(4).all(|p| p == &self.data[..4])
-    }
-
+/// Writing and reading pictures as files (the renderer's [`Rgba`] holds pixels only), and
+/// JPEG encoding.
+pub trait RgbaFiles: Sized {
     /// Saves as PNG (with `text` chunks) or JPEG (quality 95, no alpha, no text) by the
     /// extension; refuses other extensions.
-    pub(crate) fn save(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
+    fn save(&self, path: &Path, text: &[(&str, String)]) -> Result<()>;
+    /// The picture as JPEG bytes of `quality` (alpha dropped), and which encoder made them:
+    /// libjpeg-turbo where it is installed (loaded at run time; ~12× faster), else the
+    /// `image` crate's; `GLVIEW_JPEG=image` picks the latter (for measuring the two).
+    fn jpeg_bytes(&self, quality: u8) -> Result<(Vec<u8>, &'static str)>;
+    fn save_png(&self, path: &Path, text: &[(&str, String)]) -> Result<()>;
+    fn load_png(path: &Path) -> Result<Self>;
+}
+
+impl RgbaFiles for Rgba {
+    /// Saves as PNG (with `text` chunks) or JPEG (quality 95, no alpha, no text) by the
+    /// extension; refuses other extensions.
+    fn save(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
         match OutputFormat::of(path) {
             Some(OutputFormat::Png) => self.save_png(path, text),
             Some(OutputFormat::Jpeg) => {
-                let bytes = self.jpeg_by_image(95).map_err(|message| Error::Image {
+                let bytes = jpeg_by_image(self, 95).map_err(|message| Error::Image {
                     path: path.into(),
                     message,
                 })?;
@@ -71,7 +63,7 @@ impl Rgba {
     /// The picture as JPEG bytes of `quality` (alpha dropped), and which encoder made them:
     /// libjpeg-turbo where it is installed (loaded at run time; ~12× faster), else the
     /// `image` crate's; `GLVIEW_JPEG=image` picks the latter (for measuring the two).
-    pub fn jpeg_bytes(&self, quality: u8) -> Result<(Vec<u8>, &'static str)> {
+    fn jpeg_bytes(&self, quality: u8) -> Result<(Vec<u8>, &'static str)> {
         let err = |message: String| Error::Image {
             path: "(JPEG in memory)".into(),
             message,
@@ -87,31 +79,12 @@ impl Rgba {
                 return r.map(|b| (b, "libjpeg-turbo")).map_err(err);
             }
         }
-        self.jpeg_by_image(quality)
+        jpeg_by_image(self, quality)
             .map(|b| (b, "image"))
             .map_err(err)
     }
 
-    /// JPEG by the `image` crate's encoder.
-    fn jpeg_by_image(&self, quality: u8) -> std::result::Result<Vec<u8>, String> {
-        let rgb: Vec<u8> = self
-            .data
-            .chunks_exact(4)
-            .flat_map(|p| [p[0], p[1], p[2]])
-            .collect();
-        let mut out = Vec::new();
-        image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality.clamp(1, 100))
-            .encode(
-                &rgb,
-                self.width,
-                self.height,
-                image::ExtendedColorType::Rgb8,
-            )
-            .map_err(|e| e.to_string())?;
-        Ok(out)
-    }
-
-    pub fn save_png(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
+    fn save_png(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
         let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
         self.write_png(std::io::BufWriter::new(file), text)
             .map_err(|e| Error::Image {
@@ -120,36 +93,7 @@ impl Rgba {
             })
     }
 
-    /// The PNG file's bytes (with `text` chunks), for callers that keep pictures in memory.
-    pub fn png_bytes(&self, text: &[(&str, String)]) -> Vec<u8> {
-        let mut out = Vec::new();
-        // Writing into memory fails only on a bad text key, and glview's keys are fixed.
-        let _ = self.write_png(&mut out, text);
-        out
-    }
-
-    fn write_png<W: std::io::Write>(
-        &self,
-        out: W,
-        text: &[(&str, String)],
-    ) -> std::result::Result<(), png::EncodingError> {
-        let mut enc = png::Encoder::new(out, self.width, self.height);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        // zlib level 3 instead of the crate's default 6: measured on the bunny at 640×480
-        // and the built-in scene at 1024×768, encode 10.0 → 4.2 ms and 13.4 → 8.1 ms for
-        // files 3–5 % larger (level 1: 2–4 ms but 45 % larger). Batches are encode-bound
-        // after the frame.
-        enc.set_deflate_compression(png::DeflateCompression::Level(3));
-        for (k, v) in text {
-            enc.add_text_chunk(k.to_string(), v.clone())?;
-        }
-        let mut w = enc.write_header()?;
-        w.write_image_data(&self.data)?;
-        w.finish()
-    }
-
-    pub fn load_png(path: &Path) -> Result<Rgba> {
+    fn load_png(path: &Path) -> Result<Rgba> {
         let img = image::open(path)
             .map_err(|e| Error::Image {
                 path: path.into(),
@@ -162,6 +106,20 @@ impl Rgba {
             data: img.into_raw(),
         })
     }
+}
+
+/// JPEG by the `image` crate's encoder.
+fn jpeg_by_image(img: &Rgba, quality: u8) -> std::result::Result<Vec<u8>, String> {
+    let rgb: Vec<u8> = img
+        .data
+        .chunks_exact(4)
+        .flat_map(|p| [p[0], p[1], p[2]])
+        .collect();
+    let mut out = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality.clamp(1, 100))
+        .encode(&rgb, img.width, img.height, image::ExtendedColorType::Rgb8)
+        .map_err(|e| e.to_string())?;
+    Ok(out)
 }
 
 /// Reads the PNG's text chunks (tEXt, zTXt and iTXt) as (keyword, text).
@@ -235,7 +193,10 @@ mod tests {
         assert_eq!(encoder, if turbo { "libjpeg-turbo" } else { "image" });
         let slow = crate::platform::turbojpeg::encode_rgba(&img.data, w, h + 1, 90);
         assert!(slow.is_none_or(|r| r.is_err()), "a wrong size is refused");
-        let mut all = vec![(bytes, encoder), (img.jpeg_by_image(90).unwrap(), "image")];
+        let mut all = vec![
+            (bytes, encoder),
+            (jpeg_by_image(&img, 90).unwrap(), "image"),
+        ];
         if let Some(t) = crate::platform::turbojpeg::encode_rgba(&img.data, w, h, 90) {
             all.push((t.unwrap(), "libjpeg-turbo"));
         }

@@ -2,40 +2,47 @@
 //! options, loading, rendering on every context, comparisons and the Python/serving API.
 //! The command line, the window and the tools are the `glview-cli` crate.
 //!
-//! Dependencies point one way: `api`/`headless` → `render` → {`scene`, `camera`, `light`,
-//! `shader`, `gpu`} → `platform`. Only `gpu` and `platform` contain `unsafe`.
+//! This is the native library: contexts (EGL, GLX, OSMesa), files, threads and the clock,
+//! around the renderer (`glview-render`, re-exported below) and the scene (`glview-scene`).
+//! Dependencies point one way: `api`/`headless`/`session` → the renderer → the scene;
+//! `platform` makes the contexts the renderer draws in. Only the renderer's `gpu` and
+//! `platform` contain `unsafe`.
 #![deny(unsafe_code)]
 
 pub mod anim_out;
-pub mod camera;
 pub mod compare;
-pub mod error;
 pub mod export;
-pub mod frame;
-pub mod grid;
+mod ibl_cache;
 pub mod image_out;
-pub mod keys;
-pub mod light;
 pub mod metrics;
-pub mod options;
-pub mod pbr;
 pub mod repro;
-pub mod shading;
 
-#[allow(unsafe_code)]
-pub mod gpu;
 #[allow(unsafe_code)]
 pub mod platform;
 pub mod reference;
-pub mod render;
-pub mod shader;
 
 pub mod api;
 pub mod headless;
 pub mod progress;
 pub mod session;
 
-pub use error::{Error, Result};
+pub use glview_render::passes as render;
+/// The renderer and the view model (`glview-render`), under the paths they had before the
+/// crate split.
+pub use glview_render::{
+    camera, clock, error, frame, gpu, grid, image, keys, light, options, pbr, shader, shading, view,
+};
+pub use glview_render::{Error, Options, Result};
 /// The scene crate: the model, its loaders, geometry, levels of detail and motion.
 pub use glview_scene as scene;
-pub use options::Options;
+
+/// What the native library gives the renderer once, before its first frame: the clock its
+/// `--stats` milliseconds are in and the disk cache of precomputed environment maps.
+/// [`headless::Headless::new`] and [`session::Session::new`] call it; a front end that makes
+/// its own context (the cli's window) calls it before drawing.
+pub fn native_hooks() {
+    static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+    START.get_or_init(std::time::Instant::now);
+    clock::set(|| START.get().map_or(0.0, |s| s.elapsed().as_secs_f64() * 1e3));
+    pbr::store::set_store(std::sync::Arc::new(ibl_cache::DiskMaps));
+}

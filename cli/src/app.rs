@@ -9,6 +9,7 @@ use crate::cli::Args;
 use crate::window::WindowContext;
 use glview::frame::{FrameSettings, Shading};
 use glview::gpu::{Gpu, GpuRef};
+use glview::image_out::RgbaFiles;
 use glview::keys::{self, Action, Effect};
 use glview::render::aa::{AaTarget, WindowAa};
 use glview::render::{Renderer, Target};
@@ -117,6 +118,7 @@ impl App<'_> {
             .with_title(format!("glview — {} — loading", scene.name))
             .with_inner_size(self.size);
         let window = WindowContext::new(event_loop, attributes, self.args.context.gl)?;
+        glview::native_hooks();
         let gpu = Gpu::new(window.glow_context());
         let mut renderer = match self.prepared.take() {
             Some(clusters) => Renderer::prepared(&gpu, scene, clusters)?,

@@ -3,6 +3,7 @@
 //! is declared, parsed and documented once, in `options`.
 use clap::builder::{PossibleValue, PossibleValuesParser};
 use clap::{Arg, ArgAction, ArgMatches, Parser};
+use glview::image_out::RgbaFiles;
 pub use glview::options::AaMode;
 use glview::options::{specs, Form, OptionSpec, Options};
 use std::path::PathBuf;

@@ -4,6 +4,7 @@
 //! `glview::api::Renderer`. Buffers move into NumPy arrays without a copy.
 use glview::api::{self, Arrays, Model, Outputs};
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use glview::{Error, Options};
 use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1};
 use pyo3::create_exception;

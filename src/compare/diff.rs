@@ -1,6 +1,7 @@
 //! Difference images with numbers: `--diff A,B` and `--diff-against FILE.png`.
 use super::canvas;
 use crate::image_out::Rgba;
+use crate::image_out::RgbaFiles;
 use crate::metrics::{compare, ImageError, WRONG_THRESHOLD};
 use crate::options::Options;
 use crate::{Error, Result};

@@ -2,13 +2,14 @@
 //! difference of two with its numbers (`--diff`), a render against a stored picture
 //! (`--diff-against`), and contact sheets (`glview sheet`). One context, one scene upload:
 //! every GPU pane is a viewport of one frame target.
-pub mod canvas;
+pub use glview_render::image::canvas;
 pub mod diff;
 pub mod sheet;
 pub mod split;
 
 use crate::frame::{FrameSettings, Shading};
 use crate::image_out::Rgba;
+use crate::image_out::RgbaFiles;
 use crate::scene::lod::clusters::Clusters;
 use crate::scene::Scene;
 use crate::{Error, Result};

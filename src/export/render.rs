@@ -4,6 +4,7 @@
 use super::{ExportOptions, Grid};
 use crate::compare::{crop, phong_pbr};
 use crate::image_out::Rgba;
+use crate::image_out::RgbaFiles;
 use crate::options::AaMode;
 use crate::{Error, Result};
 

@@ -5,41 +5,7 @@ pub(crate) mod egl;
 pub(crate) mod osmesa;
 pub mod turbojpeg;
 
-crate::choice! {
-    /// The context a user asks for with `--gl`.
-    pub enum GlRequest {
-        /// The best that works: GL 3.3 core, then GL ES 3.0, then GL 2.1.
-        Auto = "auto",
-        /// Desktop GL 2.1 (GLSL 1.20), compatibility profile.
-        Gl21 = "2.1",
-        /// OpenGL ES 3.0 (GLSL ES 3.00).
-        Es3 = "es3",
-        /// OpenGL 3.3 core (GLSL 3.30).
-        Core = "core",
-    }
-}
-
-impl GlRequest {
-    /// The concrete requests to try, in order.
-    pub fn candidates(self) -> &'static [GlRequest] {
-        match self {
-            GlRequest::Auto => &[GlRequest::Core, GlRequest::Es3, GlRequest::Gl21],
-            GlRequest::Gl21 => &[GlRequest::Gl21],
-            GlRequest::Es3 => &[GlRequest::Es3],
-            GlRequest::Core => &[GlRequest::Core],
-        }
-    }
-}
-
-crate::choice! {
-    /// Where headless frames are rendered (`--backend`).
-    pub enum Backend {
-        /// EGL, then OSMesa.
-        Auto = "auto",
-        Egl = "egl",
-        Osmesa = "osmesa",
-    }
-}
+pub use crate::options::context::{Backend, GlRequest};
 
 /// What glutin is asked for, per request; shared by the EGL headless and the window paths.
 pub fn context_attributes(

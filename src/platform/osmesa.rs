@@ -227,6 +227,12 @@ impl Drop for OsMesaContext {
     }
 }
 
+impl From<OsMesaError> for crate::Error {
+    fn from(e: OsMesaError) -> crate::Error {
+        crate::Error::Osmesa(e.to_string())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -15,7 +15,7 @@ use crate::scene::Material;
 use glam::DVec3;
 
 /// Default Monte Carlo samples per lobe and pixel; the tests state the noise this leaves.
-pub(crate) const DEFAULT_SAMPLES: u32 = 2048;
+pub(crate) const DEFAULT_SAMPLES: u32 = crate::options::DEFAULT_REFERENCE_SAMPLES;
 
 /// The material at a hit as the PBR formula sees it (`base` is the base colour texture's
 /// linear colour, or white).

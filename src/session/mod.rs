@@ -15,27 +15,24 @@
 //! # Ok::<(), glview::Error>(())
 //! ```
 pub(crate) mod animated;
-mod file_camera;
 pub(crate) mod modes;
-mod moment;
 mod profile;
 pub(crate) mod settings;
 pub(crate) mod text;
-pub(crate) mod view;
 
 pub use animated::{turntable_yaw, AnimTimes};
+pub(crate) use glview_render::view::settings::env_request;
+pub use glview_render::view::settings::frame_settings;
+pub use glview_render::view::{moment, pose_scene, View};
 pub use modes::{compile_shaders, print_info, render_headless, render_reference};
-pub use moment::{moment, pose_scene};
 pub use profile::Profile;
-pub(crate) use settings::{env_request, reference_env};
-pub use settings::{
-    frame_settings, load_options, load_scene, load_scene_prepared, load_scene_with,
-};
+pub(crate) use settings::reference_env;
+pub use settings::{load_options, load_scene, load_scene_prepared, load_scene_with};
 pub use text::{png_text, Drawer, PictureText, Repro};
-pub use view::View;
 
 use crate::error::Result;
 use crate::headless::Headless;
+use crate::image_out::RgbaFiles;
 use crate::options::{AaMode, Options};
 use crate::platform::{Backend, GlRequest};
 use crate::render::attributes::{FrameDepth, Outputs};
@@ -126,6 +123,7 @@ impl Default for Session {
 impl Session {
     /// A session without a context yet (the first picture makes it).
     pub fn new() -> Session {
+        crate::native_hooks();
         Session::default()
     }
 
@@ -414,7 +412,7 @@ fn draw(
 ) -> Result<Drawn> {
     let (w, h) = args.picture.size;
     // SSAA renders k times larger on each axis and box-filters down.
-    let k = settings::ssaa_factor(args);
+    let k = glview_render::view::settings::ssaa_factor(args);
     let kept = prepare(args, keep, kept, given, (w * k, h * k), profile)?;
     let (hl, renderer) = (
         &kept.hl,
@@ -602,7 +600,7 @@ fn frame_depth(hl: &Headless, stats: &crate::render::FrameStats, direct: bool) -
 fn given_scene(args: &Options, scene: &crate::scene::Scene) -> Loaded {
     let t = Instant::now();
     let mut s = scene.clone();
-    if let Err(e) = settings::adjust_scene(args, &mut s) {
+    if let Err(e) = glview_render::view::settings::adjust_scene(args, &mut s) {
         return (Err(e), ms(t), None, 0.0);
     }
     let c = Instant::now();

@@ -1,10 +1,12 @@
 //! The headless modes besides a picture of the scene: the PBR maps as pictures, the CPU
 //! reference renderer, every shader compiled, the driver's report.
-use super::settings::{env_request, load_scene, reference_env};
+use super::settings::{load_scene, reference_env};
 use super::text::{png_text, Drawer, Repro};
 use crate::error::{Error, Result};
+use crate::image_out::RgbaFiles;
 use crate::options::{Options, Show};
 use crate::pbr::OutputParams;
+use glview_render::view::settings::env_request;
 use std::path::Path;
 
 /// `--show irradiance|specular|lut`: the PBR maps, composed on the CPU from the

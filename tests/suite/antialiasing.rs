@@ -4,6 +4,7 @@
 use crate::common;
 use common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 
 const N: u32 = 64;
 

@@ -4,6 +4,7 @@
 use crate::common::*;
 use glview::api::{self, Arrays, Model, Outputs, Renderer};
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use glview::Options;
 
 fn opts(words: &[&str]) -> Options {

@@ -3,6 +3,7 @@
 //! or unbounded memory. The malformed files are written here, one per case.
 use crate::common;
 use common::*;
+use glview::image_out::RgbaFiles;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};

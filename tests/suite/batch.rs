@@ -2,6 +2,7 @@
 //! and failing jobs are reported by line without stopping the others.
 use crate::common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 
 #[test]
 fn batch_equals_single_runs_and_reports_failures_by_line() {

@@ -5,6 +5,7 @@ use crate::common;
 use common::*;
 use glview::frame::Bloom;
 use glview::headless::Headless;
+use glview::image_out::RgbaFiles;
 use glview::platform::{Backend, GlRequest};
 use glview::render::post::{bloom_buffer, gaussian};
 

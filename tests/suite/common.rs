@@ -2,6 +2,7 @@
 //! write the output plus a diff image when a comparison fails.
 #![allow(dead_code)]
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

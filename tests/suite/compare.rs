@@ -4,6 +4,7 @@
 use crate::common;
 use common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 
 const STRIP: u32 = glview::compare::canvas::STRIP;
 

@@ -8,6 +8,7 @@ use crate::culling::sphere_obj;
 use crate::serve_client::{decode_png, Server};
 use glview::api::{self, Outputs};
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use glview::scene::lod::clusters::{self, Clusters};
 use glview::scene::{cache, load, LoadOptions};
 use std::path::{Path, PathBuf};

@@ -6,6 +6,7 @@
 //! (scripts/deps.sh), so there these tests never skip.
 use crate::common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use glview::scene::{load, LoadOptions, Scene};
 use std::path::{Path, PathBuf};
 

@@ -3,6 +3,7 @@
 //! draco), and hostile streams (every truncation and byte of a real one, lying counts, claims
 //! beyond the buffer) are a one-line error naming the file, never a panic.
 use crate::common::*;
+use glview::image_out::RgbaFiles;
 use glview::scene::{load, LoadOptions};
 use std::path::{Path, PathBuf};
 

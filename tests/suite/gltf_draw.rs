@@ -9,6 +9,7 @@
 use crate::common::*;
 use crate::gltf_materials::b64;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use std::path::{Path, PathBuf};
 
 /// Side of the square pictures; the quad spans it exactly.

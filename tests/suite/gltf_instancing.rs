@@ -4,6 +4,7 @@
 //! scene holds every instance written out; GL 3.3 and ES 3.0 draw them instanced (one copy
 //! uploaded, a matrix per instance), GL 2.1 and OSMesa draw the copies.
 use crate::common::*;
+use glview::image_out::RgbaFiles;
 use glview::scene::{load, LoadOptions};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};

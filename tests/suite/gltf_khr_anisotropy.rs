@@ -8,6 +8,7 @@
 //! `gltf_khr.rs`.
 use crate::common::*;
 use crate::gltf_khr::{gpu_matches_the_reference, material, max_diff, shot, sphere, CONTEXTS};
+use glview::image_out::RgbaFiles;
 
 /// A brushed gold-like metal.
 const METAL: ([f64; 3], f64, f64) = ([1.0, 0.78, 0.34], 1.0, 0.35);

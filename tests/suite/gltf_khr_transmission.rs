@@ -3,6 +3,7 @@
 use crate::common::*;
 use crate::gltf_khr::{material, shot, sphere, view, CONTEXTS, N};
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 
 /// KHR_materials_transmission, thin-walled: a white, smooth, fully transmissive sphere over a
 /// flat background B in a uniform environment of B's linear value shows nothing but B (what

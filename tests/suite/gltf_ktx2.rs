@@ -4,6 +4,7 @@
 //! measured mean difference (docs/gltf/compression.md); broken KTX2 files are a warning naming
 //! the image, and the model renders without them.
 use crate::common::*;
+use glview::image_out::RgbaFiles;
 use glview::scene::{load, LoadOptions, Scene};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};

@@ -4,6 +4,7 @@
 //! hand. The Draco counts are in gltf_draco.rs, the equal key times' sampling rule in the
 //! library's unit tests (motion/sample.rs).
 use crate::common::*;
+use glview::image_out::RgbaFiles;
 use glview::scene::{load, LoadOptions};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};

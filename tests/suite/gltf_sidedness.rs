@@ -4,6 +4,7 @@
 use crate::common::*;
 use crate::gltf_materials::b64;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use std::path::{Path, PathBuf};
 
 /// A right triangle in z = 0, counter-clockwise seen from +Z (normals +Z), asymmetric so

@@ -7,6 +7,7 @@
 use crate::common::*;
 use crate::gltf_materials::b64;
 use glam::{DVec3, Mat3, Quat, Vec3};
+use glview::image_out::RgbaFiles;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 

@@ -4,6 +4,7 @@
 //! no image falls back to the own one. Oracle: a lossless WebP of the Duck's PNG, so the
 //! decoded texels and the picture equal the PNG's exactly.
 use crate::common::*;
+use glview::image_out::RgbaFiles;
 use glview::scene::{load, LoadOptions, Scene};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};

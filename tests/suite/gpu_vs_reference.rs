@@ -2,6 +2,7 @@
 //! on the project's scenes, through the real CLI.
 use crate::common;
 use common::*;
+use glview::image_out::RgbaFiles;
 
 struct Errors {
     mean: f64,

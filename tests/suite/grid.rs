@@ -6,6 +6,7 @@ use crate::common::*;
 use crate::points::{render_bin, Context, CONTEXTS};
 use glam::Vec3;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use std::path::Path;
 
 const W: u32 = 160;

@@ -5,6 +5,7 @@
 //! plays it) and files whose animations share a skeleton play the first (Fox); `--check`
 //! lists the nodes each animation drives and warns where two drive the same ones.
 use crate::common::*;
+use glview::image_out::RgbaFiles;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 

@@ -4,6 +4,7 @@
 //! and the same `--time` giving the same bytes, from a fresh session and a kept one.
 use super::common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 
 const MODEL: &str = "tests/data/khronos/motion/RiggedSimple.glb";
 const SIZE: &str = "160x120";

@@ -2,6 +2,7 @@
 //! old GL 2.1 driver emulated by Mesa's overrides) and OSMesa give the same picture.
 use crate::common;
 use common::*;
+use glview::image_out::RgbaFiles;
 
 const ARGS: &[&str] = &[
     "--size",

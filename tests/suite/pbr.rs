@@ -6,6 +6,7 @@
 use crate::common;
 use common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use glview::pbr::env::Environment;
 use glview::reference::{render_env_with_info, PbrEnv};
 use std::path::Path;

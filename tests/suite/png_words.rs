@@ -7,6 +7,7 @@
 //! what was drawn (after the keys; what `auto` chose). Each
 //! picture is then drawn again by `glview --repro PICTURE.png`, pixel for pixel.
 use crate::common::*;
+use glview::image_out::RgbaFiles;
 use glview::image_out::{png_text, Rgba};
 use glview::options::{spec, Form, OptionSpec, Show};
 use glview::pbr::Tonemap;

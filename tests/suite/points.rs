@@ -5,6 +5,7 @@
 use crate::common::*;
 use glam::{Vec3, Vec4Swizzles};
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use std::path::Path;
 
 pub(crate) const W: u32 = 200;

@@ -6,6 +6,7 @@
 use crate::common;
 use common::*;
 use glview::frame::Bloom;
+use glview::image_out::RgbaFiles;
 use glview::render::post::{bloom_buffer, gaussian};
 
 const NO_FBO: &[&str] = &["--gl", "2.1", "--backend", "osmesa"];

@@ -15,6 +15,7 @@
 //! Carlo; `pbr.rs` measures that part).
 use crate::common::*;
 use crate::gltf_draw::{alpha_ramp, png, quad, Quad, NEAREST, TEXELS};
+use glview::image_out::RgbaFiles;
 use glview::render::FrameSettings;
 use std::path::Path;
 

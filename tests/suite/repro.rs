@@ -1,6 +1,7 @@
 //! A picture's PNG text carries a command line that renders it again: every option that
 //! changes pixels, the camera as it was (also after `--keys` moved it) and the state keys.
 use crate::common::*;
+use glview::image_out::RgbaFiles;
 use glview::image_out::{png_text, Rgba};
 
 /// Renders `args`, reads `glview.command`, renders that command again and compares.

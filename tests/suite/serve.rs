@@ -2,6 +2,7 @@
 use super::common;
 use super::serve_client::{decode_png, Got, Server};
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use serde_json::json;
 use std::time::{Duration, Instant};
 

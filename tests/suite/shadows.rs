@@ -3,6 +3,7 @@
 use crate::common;
 use common::*;
 use glam::DVec3;
+use glview::image_out::RgbaFiles;
 use glview::light::LightKind;
 
 struct Classified {

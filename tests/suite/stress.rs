@@ -4,6 +4,7 @@
 use crate::common;
 use common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 
 fn rotate_180(img: &Rgba) -> Rgba {
     let mut out = img.clone();

@@ -5,6 +5,7 @@
 //! dark triangles inside the lit side, on the GPU and in the reference alike.
 use crate::common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use std::f64::consts::PI;
 
 /// A UV sphere of `rings` × `segments` quads with exact smooth normals (unit positions).

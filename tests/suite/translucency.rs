@@ -6,6 +6,7 @@
 use crate::common;
 use common::*;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use std::fmt::Write;
 use std::path::Path;
 

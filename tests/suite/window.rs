@@ -5,6 +5,7 @@
 //! measurements are not disturbed by a neighbour rendering on the same cores.
 use crate::common;
 use crate::xvfb;
+use glview::image_out::RgbaFiles;
 
 use common::{assert_close, bin, check_frame, diff, out_dir, render};
 use glview::image_out::Rgba;

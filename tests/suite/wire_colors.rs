@@ -4,6 +4,7 @@
 use crate::common::*;
 use glam::{Vec3, Vec4Swizzles};
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use std::path::Path;
 
 const SIZE: (u32, u32) = (160, 120);

@@ -2,6 +2,7 @@
 //! command line's picture of the same options) and read back ([`draw`]), then encoded on a
 //! worker ([`encode`]): JPEG for a preview, PNG with the picture's text (its options, its
 //! command line) for a still.
+use glview::image_out::RgbaFiles;
 use glview::render::attributes::Outputs;
 use glview::session::{Profile, Session, View};
 use std::time::Instant;

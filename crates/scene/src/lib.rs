@@ -4,6 +4,7 @@
 //! (`cache/`, native builds) and the motion runtime (`motion/`). No GL, no window, no clock:
 //! the renderer, the CPU reference renderer, the browser build and the tests share it. Files
 //! are read through [`load::Resources`]; threads and the disk cache are the `native` feature's.
+pub mod builtin;
 #[cfg(feature = "native")]
 pub mod cache;
 pub mod error;

@@ -1,5 +1,6 @@
 //! The error-against-time plot (plotters, drawn into memory and saved with `png`), and the
 //! Pareto front: the settings no other setting beats on both time and error.
+use glview::image_out::RgbaFiles;
 use glview::{Error, Result};
 use plotters::prelude::*;
 use std::path::Path;

@@ -13,6 +13,7 @@ use super::summary::{self, Report, Row, SceneInfo};
 use super::{ensure_dir, median};
 use glview::headless::Headless;
 use glview::image_out::Rgba;
+use glview::image_out::RgbaFiles;
 use glview::platform::{Backend, GlRequest};
 use glview::render::Renderer;
 use glview::{Error, Result};
