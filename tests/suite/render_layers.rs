@@ -1,4 +1,4 @@
-//! The files of `src/render/` import each other in one direction only: no file reaches, through
+//! The files of `crates/render/src/passes/` import each other in one direction only: no file reaches, through
 //! `super::NAME` or `crate::render::NAME`, a file that reaches it back. A circle among them
 //! (issue #41: ten files once held each other through texture-unit constants kept in lit.rs)
 //! means no file can be read or changed without the others; this test reads the sources and
@@ -99,7 +99,7 @@ fn graph(files: &BTreeMap<String, String>, hub: &str) -> Graph {
     for (stem, source) in files {
         let code = production_code(source);
         let arrows = graph.entry(stem.clone()).or_default();
-        for prefix in ["super::", "crate::render::"] {
+        for prefix in ["super::", "crate::passes::"] {
             for (first, name) in paths_after(&code, prefix) {
                 let (target, name) = if files.contains_key(first) {
                     (first.to_string(), name.to_string())
@@ -198,7 +198,7 @@ fn imports_are_read_from_paths_groups_and_reexports_but_not_comments_or_tests() 
             "a",
             "use super::{b::X, FrameCx};\n// super::c::Y\nfn f() { super::c::z(); }\n",
         ),
-        ("b", "use crate::render::c;\nuse super::Hidden;\n"),
+        ("b", "use crate::passes::c;\nuse super::Hidden;\n"),
         (
             "c",
             "const K: u32 = 1;\n#[cfg(test)]\nmod tests {\n    use super::super::a;\n}\n",
@@ -238,7 +238,7 @@ fn imports_are_read_from_paths_groups_and_reexports_but_not_comments_or_tests() 
 
 #[test]
 fn render_files_import_each_other_in_one_direction() {
-    let dir = repo().join("src/render");
+    let dir = repo().join("crates/render/src/passes");
     let mut files = BTreeMap::new();
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
@@ -247,17 +247,23 @@ fn render_files_import_each_other_in_one_direction() {
             files.insert(stem, std::fs::read_to_string(&path).unwrap());
         }
     }
-    let hub = files.remove("mod").expect("src/render/mod.rs");
-    assert!(files.len() > 20, "src/render holds {} files", files.len());
+    let hub = files
+        .remove("mod")
+        .expect("crates/render/src/passes/mod.rs");
+    assert!(
+        files.len() > 20,
+        "crates/render/src/passes holds {} files",
+        files.len()
+    );
     let g = graph(&files, &hub);
     let arrows: usize = g.values().map(BTreeMap::len).sum();
     assert!(
         arrows > 20,
-        "only {arrows} arrows among src/render files: is the parser blind?"
+        "only {arrows} arrows among crates/render/src/passes files: is the parser blind?"
     );
     if let Some(cycle) = find_cycle(&g) {
         panic!(
-            "src/render files import each other in a circle:\n{}files held in circles: {}",
+            "crates/render/src/passes files import each other in a circle:\n{}files held in circles: {}",
             describe(&g, &cycle),
             in_circles(&g).join(", ")
         );

@@ -339,7 +339,7 @@ fn defaults_are_the_documented_ones() {
 /// `cargo run --bin glview -- --options-reference > docs/options.md`.
 #[test]
 fn the_committed_reference_is_current() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/options.md");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/options.md");
     let committed = std::fs::read_to_string(path).unwrap_or_default();
     assert!(
         committed == reference_markdown(),
