@@ -179,3 +179,16 @@ fn repro_draws_the_picture_again_from_its_options() {
 fn first_size(img: &Rgba) -> (u32, u32) {
     (img.width, img.height)
 }
+
+/// A model path in letters Latin-1 lacks (Cyrillic here) goes into the PNG's text as UTF-8
+/// (an iTXt chunk: tEXt holds Latin-1 only, and refusing to write the picture was the bug),
+/// and the command read back from it renders the same picture.
+#[test]
+fn a_path_beyond_latin1_is_kept_in_the_png_text() {
+    let dir = out_dir("repro").join("модели ü");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cube = dir.join("Куб.obj");
+    std::fs::write(&cube, box_obj([-1.0, -0.5, -1.0], [1.0, 0.5, 1.0], 0)).unwrap();
+    let c = reproduces("non-latin1", &[cube.to_str().unwrap(), "--size", "80x60"]);
+    assert!(c.contains("модели ü/Куб.obj"), "{c}");
+}

@@ -49,7 +49,13 @@ impl Rgba {
         // after the frame.
         enc.set_deflate_compression(png::DeflateCompression::Level(3));
         for (k, v) in text {
-            enc.add_text_chunk(k.to_string(), v.clone())?;
+            // tEXt holds Latin-1 only; a model path in Cyrillic, Greek or CJK letters goes
+            // in an iTXt (UTF-8) chunk, which every reader of tEXt also reads.
+            if v.chars().all(|c| (c as u32) < 0x100) {
+                enc.add_text_chunk(k.to_string(), v.clone())?;
+            } else {
+                enc.add_itxt_chunk(k.to_string(), v.clone())?;
+            }
         }
         let mut w = enc.write_header()?;
         w.write_image_data(&self.data)?;
