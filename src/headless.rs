@@ -1,19 +1,30 @@
 //! Headless rendering: a context from EGL (device platform, own framebuffer object) or OSMesa
-//! (client memory, no framebuffer object needed), one renderer, PNG out.
+//! (client memory, no framebuffer object needed) on Linux, or WGL on a hidden window (own
+//! framebuffer object) on Windows; one renderer, PNG out.
 use crate::error::{Error, Result};
 use crate::gpu::framebuffer::Framebuffer;
 use crate::gpu::{Gpu, GpuRef};
 use crate::image_out::Rgba;
+#[cfg(not(windows))]
 use crate::platform::egl::EglHeadless;
+#[cfg(not(windows))]
 use crate::platform::osmesa::{OsMesaContext, OsMesaProfile};
+#[cfg(windows)]
+use crate::platform::wgl::WglHeadless;
 use crate::platform::{Backend, GlRequest};
 use crate::render::Target;
 
 enum Platform {
     /// Held only to keep the context alive until the `Gpu` is dropped.
+    #[cfg(not(windows))]
     #[allow(dead_code)]
     Egl(EglHeadless),
+    #[cfg(not(windows))]
     OsMesa(OsMesaContext),
+    /// Held only to keep the context alive until the `Gpu` is dropped.
+    #[cfg(windows)]
+    #[allow(dead_code)]
+    Wgl(WglHeadless),
 }
 
 /// A current headless context with a render target of a fixed size. Field order is drop
@@ -28,6 +39,7 @@ pub struct Headless {
     pub(crate) height: u32,
 }
 
+#[cfg(not(windows))]
 fn osmesa_profile(r: GlRequest) -> Option<OsMesaProfile> {
     match r {
         GlRequest::Core => Some(OsMesaProfile::Core33),
@@ -40,6 +52,16 @@ impl Headless {
     pub fn new(backend: Backend, gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
         crate::platform::keep_freed_heap();
         crate::native_hooks();
+        Self::on_platform(backend, gl, width, height)
+    }
+
+    #[cfg(not(windows))]
+    fn on_platform(backend: Backend, gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
+        if backend == Backend::Wgl {
+            return Err(Error::Unsupported(
+                "--backend wgl is Windows' (here: egl or osmesa)".into(),
+            ));
+        }
         let mut errors = Vec::new();
         if matches!(backend, Backend::Auto | Backend::Egl) {
             match Self::egl(gl, width, height) {
@@ -56,9 +78,41 @@ impl Headless {
         Err(Error::Context(errors.join("; ")))
     }
 
+    #[cfg(windows)]
+    fn on_platform(backend: Backend, gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
+        if matches!(backend, Backend::Egl | Backend::Osmesa) {
+            return Err(Error::Unsupported(format!(
+                "--backend {} is Linux's; on Windows headless pictures use WGL (--backend wgl \
+                 or auto)",
+                backend.word()
+            )));
+        }
+        let wgl = WglHeadless::new(gl, width, height)?;
+        let gpu = Gpu::new(wgl.glow_context());
+        crate::platform::require_gl21(&gpu.caps)?;
+        if !gpu.caps.fbo {
+            return Err(Error::Unsupported(format!(
+                "headless WGL renders into a framebuffer object, and this {} driver has none",
+                gpu.caps.version
+            )));
+        }
+        check_size(&gpu, width, height)?;
+        let fbo = Framebuffer::color_depth(&gpu, width, height)?;
+        Ok(Headless {
+            msaa: None,
+            fbo: Some(fbo),
+            gpu,
+            platform: Platform::Wgl(wgl),
+            width,
+            height,
+        })
+    }
+
+    #[cfg(not(windows))]
     fn egl(gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
         let egl = EglHeadless::new(gl)?;
         let gpu = Gpu::new(egl.glow_context());
+        crate::platform::require_gl21(&gpu.caps)?;
         if !gpu.caps.fbo {
             return Err(Error::Unsupported(format!(
                 "EGL headless renders into a framebuffer object, and this {} driver has none; \
@@ -78,6 +132,7 @@ impl Headless {
         })
     }
 
+    #[cfg(not(windows))]
     fn osmesa(gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
         let mut errors = Vec::new();
         let candidates: Vec<OsMesaProfile> = gl
@@ -94,6 +149,7 @@ impl Headless {
             match OsMesaContext::new(profile, width, height) {
                 Ok(ctx) => {
                     let gpu = Gpu::new(ctx.glow_context());
+                    crate::platform::require_gl21(&gpu.caps)?;
                     check_size(&gpu, width, height)?;
                     return Ok(Headless {
                         msaa: None,
@@ -176,24 +232,30 @@ impl Headless {
     /// renderbuffer is depth24-stencil8 where the driver has packed depth-stencil.
     pub(crate) fn stencil_bits(&self) -> u32 {
         match self.platform {
+            #[cfg(not(windows))]
             Platform::OsMesa(_) => 8,
-            Platform::Egl(_) if self.gpu.caps.depth_stencil => 8,
-            Platform::Egl(_) => 0,
+            _ if self.gpu.caps.depth_stencil => 8,
+            _ => 0,
         }
     }
 
     pub fn backend_name(&self) -> &'static str {
         match self.platform {
+            #[cfg(not(windows))]
             Platform::Egl(_) => "egl",
+            #[cfg(not(windows))]
             Platform::OsMesa(_) => "osmesa",
+            #[cfg(windows)]
+            Platform::Wgl(_) => "wgl",
         }
     }
 
     /// The rendered frame, top row first.
     pub fn read(&self) -> Rgba {
         let data = match &self.platform {
+            #[cfg(not(windows))]
             Platform::OsMesa(ctx) => ctx.read_rgba(&self.gpu.gl),
-            Platform::Egl(_) => {
+            _ => {
                 if let (Some(ms), Some(f)) = (&self.msaa, &self.fbo) {
                     ms.resolve_into(f);
                 }

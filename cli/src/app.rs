@@ -27,9 +27,10 @@ use winit::window::{Window, WindowId};
 /// Pixels of a touchpad scroll that count as one wheel notch.
 const PIXELS_PER_NOTCH: f64 = 40.0;
 
-/// Whether a display server is reachable (X11 or Wayland).
+/// Whether a display server is reachable (X11 or Wayland). Windows always has its desktop.
 pub fn display_available() -> bool {
-    std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty())
+    cfg!(windows)
+        || std::env::var_os("DISPLAY").is_some_and(|d| !d.is_empty())
         || std::env::var_os("WAYLAND_DISPLAY").is_some_and(|d| !d.is_empty())
 }
 
@@ -120,6 +121,7 @@ impl App<'_> {
         let window = WindowContext::new(event_loop, attributes, self.args.context.gl)?;
         glview::native_hooks();
         let gpu = Gpu::new(window.glow_context());
+        glview::platform::require_gl21(&gpu.caps)?;
         let mut renderer = match self.prepared.take() {
             Some(clusters) => Renderer::prepared(&gpu, scene, clusters)?,
             None => Renderer::new(&gpu, scene)?,

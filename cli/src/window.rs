@@ -1,6 +1,9 @@
 //! A window with a current GL context on its surface (winit + glutin, through glutin-winit's
 //! `finalize_window`), for the event loop in `app`.
 //!
+//! On Windows the one platform is WGL, whose display loads its extension functions through a
+//! window: there the window is made first and handed to the display.
+//!
 //! Every platform display (GLX, then EGL) is tried with every candidate context of the request
 //! in order; the first pair that makes a context current wins, and a failure lists every
 //! attempt. This is the same chain glutin-winit's `DisplayBuilder` runs, written out because
@@ -30,18 +33,28 @@ pub struct WindowContext {
     context: PossiblyCurrentContext,
     display: Display,
     pub window: Window,
-    /// "glx" or "egl".
+    /// "glx", "egl" or "wgl".
     pub platform: &'static str,
 }
 
-fn preferences() -> Vec<(&'static str, DisplayApiPreference)> {
-    vec![
-        (
-            "glx",
-            DisplayApiPreference::Glx(Box::new(winit::platform::x11::register_xlib_error_hook)),
-        ),
-        ("egl", DisplayApiPreference::Egl),
-    ]
+/// The platform displays tried, in order.
+#[cfg(not(windows))]
+const PLATFORMS: &[&str] = &["glx", "egl"];
+#[cfg(windows)]
+const PLATFORMS: &[&str] = &["wgl"];
+
+/// The display of one platform; WGL's takes the window made for it.
+fn preference(name: &str, _window: Option<RawWindowHandle>) -> DisplayApiPreference {
+    #[cfg(not(windows))]
+    if name == "glx" {
+        return DisplayApiPreference::Glx(Box::new(winit::platform::x11::register_xlib_error_hook));
+    }
+    #[cfg(windows)]
+    let _ = name;
+    #[cfg(windows)]
+    return DisplayApiPreference::Wgl(_window);
+    #[cfg(not(windows))]
+    DisplayApiPreference::Egl
 }
 
 fn api_of(request: GlRequest) -> Api {
@@ -100,9 +113,27 @@ impl WindowContext {
             .map_err(|e| Error::Context(format!("window: no display handle: {e}")))?
             .as_raw();
         let mut tried = Vec::new();
-        for (name, preference) in preferences() {
-            // SAFETY: the handle comes from the live event loop, which outlives the display.
-            let display = match unsafe { Display::new(raw_display, preference) } {
+        for &name in PLATFORMS {
+            // WGL's display needs its window first; the others make it from their config.
+            let early = if cfg!(windows) {
+                match event_loop.create_window(attributes.clone().with_visible(false)) {
+                    Ok(w) => Some(w),
+                    Err(e) => {
+                        tried.push(format!("{name}: cannot create the window: {e}"));
+                        continue;
+                    }
+                }
+            } else {
+                None
+            };
+            let early_handle = early
+                .as_ref()
+                .and_then(|w| w.window_handle().ok())
+                .map(|h| h.as_raw());
+            // SAFETY: the handles come from the live event loop and window, which outlive
+            // the display (field order in WindowContext).
+            let display = match unsafe { Display::new(raw_display, preference(name, early_handle)) }
+            {
                 Ok(d) => d,
                 Err(e) => {
                     tried.push(format!("{name}: {e}"));
@@ -117,12 +148,15 @@ impl WindowContext {
                 }
             };
             let attrs = attributes.clone().with_visible(false);
-            let window = match glutin_winit::finalize_window(event_loop, attrs, &config) {
-                Ok(w) => w,
-                Err(e) => {
-                    tried.push(format!("{name}: cannot create the window: {e}"));
-                    continue;
-                }
+            let window = match early {
+                Some(w) => w,
+                None => match glutin_winit::finalize_window(event_loop, attrs, &config) {
+                    Ok(w) => w,
+                    Err(e) => {
+                        tried.push(format!("{name}: cannot create the window: {e}"));
+                        continue;
+                    }
+                },
             };
             let surface = match create_surface(&display, &config, &window) {
                 Ok(s) => s,

@@ -1,9 +1,38 @@
-//! Context creation: EGL headless (device platform, surfaceless), OSMesa (loaded at run time)
-//! and, for the binary's window (winit + glutin-winit), the attributes of a context request. Each gives a `glow::Context`; the same
+//! Context creation: on Linux EGL headless (device platform, surfaceless) and OSMesa (loaded
+//! at run time), on Windows WGL on a hidden window; and, for the binary's window (winit +
+//! glutin-winit), the attributes of a context request. Each gives a `glow::Context`; the same
 //! renderer draws in all of them.
+#[cfg(not(windows))]
 pub(crate) mod egl;
+#[cfg(not(windows))]
 pub(crate) mod osmesa;
 pub mod turbojpeg;
+#[cfg(windows)]
+pub(crate) mod wgl;
+
+use crate::gpu::Caps;
+use crate::{Error, Result};
+
+/// glview draws with OpenGL 2.1 at least (GLSL 1.20). A context below it is refused with
+/// what it is, and on Windows with the usual cure: a PC without a GL driver gets Microsoft's
+/// GDI renderer, OpenGL 1.1 only, and Mesa's llvmpipe for Windows (mesa-dist-win's
+/// `opengl32.dll` and `libgallium_wgl.dll` beside glview.exe) gives it GL 4.5 in software.
+pub fn require_gl21(caps: &Caps) -> Result<()> {
+    if caps.embedded || (caps.major, caps.minor) >= (2, 1) {
+        return Ok(());
+    }
+    let cure = if cfg!(windows) {
+        "; this PC has no usable OpenGL driver (Windows' own is OpenGL 1.1): install the \
+         graphics vendor's driver, or put Mesa's llvmpipe (opengl32.dll and \
+         libgallium_wgl.dll from mesa-dist-win) beside glview.exe (docs/windows.md)"
+    } else {
+        ""
+    };
+    Err(Error::Unsupported(format!(
+        "glview needs OpenGL 2.1 or later; this context is OpenGL {} ({}){cure}",
+        caps.version, caps.renderer
+    )))
+}
 
 pub use crate::options::context::{Backend, GlRequest};
 

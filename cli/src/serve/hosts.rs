@@ -83,17 +83,28 @@ fn without_port(host: &str) -> &str {
     }
 }
 
-/// `localhost` and this machine's host name: as given, its first label, and its mDNS
-/// `.local` name.
-fn machine_names() -> Vec<String> {
-    let mut names = vec!["localhost".to_string()];
+/// This machine's host name, as the system gives it.
+#[cfg(unix)]
+fn host_name() -> Option<String> {
     let mut buf = [0u8; 256];
     // SAFETY: gethostname writes at most buf.len() bytes into the buffer given.
     let ok = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) } == 0;
     let end = buf.iter().position(|&b| b == 0).unwrap_or(0);
-    if let Some(name) = ok
-        .then(|| std::str::from_utf8(&buf[..end]).ok())
+    ok.then(|| std::str::from_utf8(&buf[..end]).ok().map(str::to_string))
         .flatten()
+}
+
+/// This machine's NetBIOS name (what Windows' `hostname` prints).
+#[cfg(windows)]
+fn host_name() -> Option<String> {
+    std::env::var("COMPUTERNAME").ok()
+}
+
+/// `localhost` and this machine's host name: as given, its first label, and its mDNS
+/// `.local` name.
+fn machine_names() -> Vec<String> {
+    let mut names = vec!["localhost".to_string()];
+    if let Some(name) = host_name()
         .map(|n| n.trim_end_matches('.').to_ascii_lowercase())
         .filter(|n| !n.is_empty())
     {

@@ -237,7 +237,13 @@ fn start_network(listener: TcpListener, shared: Arc<conn::Shared>) -> Result<()>
 }
 
 /// Idle connections cost a descriptor each: the soft limit goes up to the hard one, so a
+/// thousand of them leave room for the viewers. (Windows has no such limit on sockets.)
+#[cfg(not(unix))]
+fn raise_descriptor_limit() {}
+
+/// Idle connections cost a descriptor each: the soft limit goes up to the hard one, so a
 /// thousand of them leave room for the viewers.
+#[cfg(unix)]
 fn raise_descriptor_limit() {
     let mut lim = libc::rlimit {
         rlim_cur: 0,

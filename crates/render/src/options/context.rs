@@ -30,9 +30,13 @@ impl GlRequest {
 crate::choice! {
     /// Where headless frames are rendered (`--backend`).
     pub enum Backend {
-        /// EGL, then OSMesa.
+        /// EGL, then OSMesa on Linux; WGL on Windows.
         Auto = "auto",
+        /// EGL's device platform, surfaceless (Linux).
         Egl = "egl",
+        /// Mesa's OSMesa, loaded at run time (Linux).
         Osmesa = "osmesa",
+        /// A hidden window's WGL context (Windows).
+        Wgl = "wgl",
     }
 }

@@ -354,8 +354,9 @@ declare_options! {
         /// MESA_GLSL_VERSION_OVERRIDE=120 (and hide extensions with MESA_EXTENSION_OVERRIDE,
         /// e.g. "-GL_ARB_framebuffer_object").
         gl: GlRequest = GlRequest::Auto, "gl" value;
-        /// Headless rendering path: EGL (device platform), OSMesa, or auto (EGL, then
-        /// OSMesa).
+        /// Headless rendering path: on Linux EGL (device platform), OSMesa, or auto (EGL,
+        /// then OSMesa); on Windows WGL on a hidden window (auto). EGL and OSMesa are
+        /// Linux-only, WGL Windows-only.
         backend: Backend = Backend::Auto, "backend" value;
     }
 }

@@ -1,5 +1,6 @@
 //! The mesh cache: a second load of a large, unchanged OBJ skips parsing. Entries live in
-//! `$GLVIEW_CACHE_DIR`, else `$XDG_CACHE_HOME/glview`, else `~/.cache/glview`, one file per
+//! `$GLVIEW_CACHE_DIR`, else `$XDG_CACHE_HOME/glview`, else `~/.cache/glview` (on Windows
+//! `%LOCALAPPDATA%\glview`), one file per
 //! model path. An entry is used only if the file's path, size, modification time and inode,
 //! glview's version, and the size and modification time of every MTL library and texture it
 //! used all match; anything else is a miss and the entry is rewritten. A hit reads only the
@@ -272,6 +273,10 @@ pub fn dir() -> Option<PathBuf> {
     if let Some(d) = std::env::var_os("GLVIEW_CACHE_DIR") {
         return Some(PathBuf::from(d));
     }
+    // Windows keeps per-user caches in %LOCALAPPDATA% (not roamed with the profile).
+    #[cfg(windows)]
+    let base = std::env::var_os("LOCALAPPDATA").map(PathBuf::from)?;
+    #[cfg(not(windows))]
     let base = std::env::var_os("XDG_CACHE_HOME")
         .map(PathBuf::from)
         .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?;
