@@ -8,7 +8,8 @@
 # otherwise Debian's rustc-web unpacked by ../shared/tools/cross-toolchain.sh, whose std is
 # cross-built with -Zbuild-std (docs/windows.md; the recipe and its snags are measured in
 # ../shared/notes/cross-builds.md). Either way the linker is Debian's MinGW gcc, and the .exe
-# needs no MinGW DLL (checked here). Prints the .exe's path last.
+# needs no MinGW DLL (checked here). Prints the .exe's path last. GLVIEW_CROSS=1 takes the
+# cross toolchain even where rustup has the target.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 profile=release
@@ -36,7 +37,7 @@ ln -sf "$(x86_64-w64-mingw32-gcc -print-file-name=libwinpthread.a)" "$static/lib
 # `cargo rustc` gives the search path to the final link only (RUSTFLAGS would rebuild all).
 build=(cargo rustc -p glview-cli --bin glview --target "$target" --profile "$profile")
 link=(-- -L "native=$static")
-if rustup target list --installed 2>/dev/null | grep -qx "$target"; then
+if [ "${GLVIEW_CROSS:-}" != 1 ] && rustup target list --installed 2>/dev/null | grep -qx "$target"; then
   echo "build_windows: rustup's $target" >&2
   "${build[@]}" "${link[@]}"
 else

@@ -11,6 +11,9 @@ pkgs=(
 )
 case "${1:-}" in
   --tests) pkgs+=(xvfb xdotool) ;; # window tests under a virtual X server
+  # glview.exe's build (MinGW's linker and the C++ compiler of meshoptimizer) and its tests
+  # under Wine (scripts/build_windows.sh, scripts/test_windows.sh; docs/windows.md).
+  --windows) pkgs=(gcc-mingw-w64-x86-64 g++-mingw-w64-x86-64 wine wine64 xvfb xdotool) ;;
   # The pages of glview serve (also behind nginx) and glview export (scripts/test_browser.sh);
   # npm installs the export test's pinned SCORM runtime (a node from elsewhere, e.g.
   # NodeSource's, which bundles npm, is used as it is: Debian's npm package would conflict).
@@ -33,4 +36,7 @@ sudo=""
 [ "$(id -u)" -eq 0 ] || sudo="sudo"
 echo "glview: installing ${missing[*]}" >&2
 $sudo apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+# Wine's recommends (fonts, GStreamer, a 32-bit stack) are ~1 GB the tests never use.
+recommends=()
+[ "${1:-}" = --windows ] && recommends=(--no-install-recommends)
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${recommends[@]}" "${missing[@]}" >/dev/null

@@ -8,6 +8,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/deps.sh --browser
+# glview.exe's build and Wine tests, and the wasm32 check: MinGW, Wine, and where rustup has
+# no Windows or wasm32 target (a fresh CI machine) Debian's rustc-web unpacked beside it
+# (../shared/tools/cross-toolchain.sh: ~484 MB, fetched here while the Linux build runs).
+bash scripts/deps.sh --windows
+targets=$(rustup target list --installed 2>/dev/null || true)
+if ! grep -qx x86_64-pc-windows-gnu <<<"$targets" || ! grep -qx wasm32-unknown-unknown <<<"$targets"; then
+  bash "${GLVIEW_SHARED:-../shared}/tools/cross-toolchain.sh" "${GLVIEW_CROSS_DIR:-/opt/glview-cross}" >/dev/null
+fi
 
 venv=target/pyvenv
 if [ ! -x "$venv/bin/python" ]; then

@@ -54,6 +54,21 @@ lib_deps() {
     return 1
   fi
   echo "glview library: $(cargo tree -p glview -e normal --prefix none | sort -u | wc -l) crates, none of clap/winit/indicatif/plotters/shlex"
+  # The crate boundaries are the platform boundaries (docs/design.md, "Layout"): the renderer
+  # holds no context, window or loaded library, the scene crate without `native` no C++.
+  bad=$(cargo tree -p glview-render -e normal --prefix none | awk '{print $1}' |
+    grep -xE 'glview|glutin|glutin-winit|winit|libloading|khronos-egl|meshopt|tokio' | sort -u || true)
+  if [ -n "$bad" ]; then
+    echo "error: glview-render depends on: $bad" >&2
+    return 1
+  fi
+  bad=$(cargo tree -p glview-scene --no-default-features -e normal --prefix none | awk '{print $1}' |
+    grep -xE 'glview|glview-render|glow|glutin|winit|libloading|meshopt' | sort -u || true)
+  if [ -n "$bad" ]; then
+    echo "error: glview-scene without its native feature depends on: $bad" >&2
+    return 1
+  fi
+  echo "glview-render: no glutin/winit/libloading/meshopt; glview-scene (no native): no GL, contexts or C++ (rayon runs on the calling thread in wasm32)"
 }
 step "library dependencies" lib_deps
 # The Python and browser steps' downloads (system packages, the venv's pinned packages, the
@@ -135,3 +150,9 @@ collect 1
 # its pages wait on frames with timeouts.
 step browser bash scripts/test_browser.sh
 collect 0
+# The platforms the labs have: the scene and render crates for wasm32, and glview.exe built
+# (the dev profile: the Wine tests compare pictures, not speed) and held to the Linux binary
+# under Wine. After the timed steps, never beside them: the build takes both cores.
+step "wasm32 check" bash scripts/check_wasm.sh
+step "windows build" bash scripts/build_windows.sh --profile dev
+step "windows (Wine)" bash scripts/test_windows.sh target/x86_64-pc-windows-gnu/debug/glview.exe target/debug/glview
