@@ -2,7 +2,7 @@
 # glview.exe for x86_64-pc-windows-gnu: target/x86_64-pc-windows-gnu/<profile>/glview.exe.
 #
 #   bash scripts/build_windows.sh            # release (what a lab PC gets)
-#   bash scripts/build_windows.sh --profile wine-test   # CI's quicker build for the Wine tests
+#   bash scripts/build_windows.sh --profile wine-test   # CI's quicker, unoptimised build for the Wine tests
 #
 # Uses rustup's target where it is installed (`rustup target add x86_64-pc-windows-gnu`), and
 # otherwise Debian's rustc-web unpacked by ../shared/tools/cross-toolchain.sh, whose std is
@@ -49,7 +49,7 @@ else
   (eval "$env_lines" && "${build[@]}" -Zbuild-std=std,panic_abort "${link[@]}")
 fi
 dir=$profile; [ "$profile" = dev ] && dir=debug
-exe=target/$target/$dir/glview.exe
+exe=${CARGO_TARGET_DIR:-target}/$target/$dir/glview.exe
 [ -f "$exe" ] || { echo "error: $exe was not built" >&2; exit 1; }
 if dlls=$(x86_64-w64-mingw32-objdump -p "$exe" | grep -iE "DLL Name: (libstdc|libgcc|libwinpthread)"); then
   echo "error: $exe needs MinGW's DLLs: $dlls" >&2

@@ -7,7 +7,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 target=wasm32-unknown-unknown
-check=(cargo check --quiet --target "$target" -p glview-scene -p glview-render --no-default-features)
+# The wine-test profile, as scripts/build_windows.sh's CI build: the build scripts and proc
+# macros the cross compiler makes for the host are then made once for both.
+check=(cargo check --quiet --profile wine-test --target "$target" -p glview-scene -p glview-render --no-default-features)
 if [ "${GLVIEW_CROSS:-}" != 1 ] && rustup target list --installed 2>/dev/null | grep -qx "$target"; then
   "${check[@]}"
 else

@@ -2,7 +2,7 @@
 """Pixel comparison of two PNG files, standard library only (zlib), for
 scripts/pictures_unchanged.sh: no Pillow or numpy needed.
 
-    png_diff.py BEFORE.png AFTER.png [--diff-out DIFF.png]
+    png_diff.py BEFORE.png AFTER.png [--diff-out DIFF.png] [--opaque]
 
 prints one line `PIXELS_DIFFERING MAX_DIFF WxH` (WxH of BEFORE; `WxH->W2xH2` when the sizes
 differ, then every pixel counts as differing and MAX_DIFF is 255) and exits 0 when every
@@ -11,6 +11,10 @@ Pixels are compared as RGBA: grey, grey+alpha, RGB and palette images are expand
 where the file has none), so the same picture stored in another colour type still compares
 equal; 16-bit channels compare at 16 bits and MAX_DIFF is then given on the 0..255 scale
 (rounded up). Text chunks (glview.command, ...) and other metadata are ignored.
+
+With --opaque, only RGB is compared, and only where BEFORE's alpha is full: a window's
+screenshot (opaque) against a headless PNG that keeps the glass's alpha
+(scripts/test_windows.sh).
 
 With --diff-out, a picture that differs is written there (RGBA, 8-bit): every differing
 pixel red, brighter the larger its largest channel difference (at least half bright, so a
@@ -205,8 +209,9 @@ class Png:
         return out
 
 
-def compare(before, after):
-    """(pixels differing, max channel difference on the 0..255 scale, per-pixel max list or None)."""
+def compare(before, after, opaque=False):
+    """(pixels differing, max channel difference on the 0..255 scale, per-pixel max list or None).
+    `opaque`: RGB only, where BEFORE's alpha is full."""
     if (before.width, before.height) != (after.width, after.height):
         return before.width * before.height, 255, None
     # Same header and same filtered stream: the same pixels, no need to decode.
@@ -224,9 +229,13 @@ def compare(before, after):
             per_pixel.append(None)
             continue
         row = []
+        full = 65535 if (wide_b or wide_a) else 255
         for i in range(0, len(rb), 4):
+            if opaque and rb[i + 3] != full:
+                row.append(0)
+                continue
             m = max(abs(rb[i] - ra[i]), abs(rb[i + 1] - ra[i + 1]),
-                    abs(rb[i + 2] - ra[i + 2]), abs(rb[i + 3] - ra[i + 3]))
+                    abs(rb[i + 2] - ra[i + 2]), 0 if opaque else abs(rb[i + 3] - ra[i + 3]))
             if m:
                 count += 1
                 worst = max(worst, m)
@@ -274,6 +283,8 @@ def diff_picture(after, per_pixel, wide):
 
 def main(argv):
     args = list(argv)
+    opaque = "--opaque" in args
+    args = [a for a in args if a != "--opaque"]
     diff_out = None
     if "--diff-out" in args:
         i = args.index("--diff-out")
@@ -287,7 +298,7 @@ def main(argv):
         return 2
     try:
         before, after = Png(args[0]), Png(args[1])
-        count, worst, per_pixel = compare(before, after)
+        count, worst, per_pixel = compare(before, after, opaque)
     except (OSError, PngError) as e:
         print(f"png_diff.py: {e}", file=sys.stderr)
         return 2

@@ -151,8 +151,8 @@ collect 1
 step browser bash scripts/test_browser.sh
 collect 0
 # The platforms the labs have: the scene and render crates for wasm32, and glview.exe built
-# (the dev profile: the Wine tests compare pictures, not speed) and held to the Linux binary
+# (unoptimised: the Wine tests compare pictures, not speed) and held to the Linux binary
 # under Wine. After the timed steps, never beside them: the build takes both cores.
 step "wasm32 check" bash scripts/check_wasm.sh
-step "windows build" bash scripts/build_windows.sh --profile dev
-step "windows (Wine)" bash scripts/test_windows.sh target/x86_64-pc-windows-gnu/debug/glview.exe target/debug/glview
+step "windows build" bash scripts/build_windows.sh --profile wine-test
+step "windows (Wine)" bash scripts/test_windows.sh target/x86_64-pc-windows-gnu/wine-test/glview.exe target/debug/glview

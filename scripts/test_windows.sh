@@ -52,9 +52,9 @@ wexe() { wine "$work/bin/glview.exe" "$@"; }
 fails=0
 pass() { echo "ok   $1"; }
 fail() { echo "FAIL $1"; fails=$((fails + 1)); }
-same() { # NAME LINUX.png WINDOWS.png [--opaque]
-  if python3 scripts/png_compare.py same "$3" "$2" ${4:-} >"$work/cmp.txt"; then pass "$1"; else
-    fail "$1: $(cat "$work/cmp.txt")"; fi
+same() { # NAME LINUX.png WINDOWS.png [--opaque]: pixel for pixel (png_diff.py)
+  if python3 scripts/png_diff.py "$2" "$3" ${4:-} >"$work/cmp.txt" 2>&1; then pass "$1"; else
+    fail "$1: $(cat "$work/cmp.txt") (pixels differing, max difference, size)"; fi
 }
 size=(--size 160x120)
 o=$work/out
