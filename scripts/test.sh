@@ -141,6 +141,12 @@ collect() {
 # (seconds: the build step built everything), else the tests would wait for its build.
 background doc bash -c 'sleep 20 && RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p glview --quiet'
 background python bash scripts/test_python.sh
+# The platforms the labs have: the scene and render crates checked for wasm32 and glview.exe
+# built (unoptimised: the Wine tests compare pictures, not speed; scripts/check_wasm.sh,
+# scripts/build_windows.sh). ~5 min of CPU on a fresh machine (the cross compiler builds std
+# for both targets), which at nice 19 fills what the tests and the browser step leave idle.
+# Its own target folder, so its cargo holds no lock the tests' or rustdoc's cargo waits on.
+background platforms bash -c 'export CARGO_TARGET_DIR=target/cross; bash scripts/check_wasm.sh && bash scripts/build_windows.sh --profile wine-test'
 step test cargo test --workspace --no-fail-fast 2>&1
 # The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells
 # equal, different and failed renders apart.
@@ -150,9 +156,7 @@ collect 1
 # its pages wait on frames with timeouts.
 step browser bash scripts/test_browser.sh
 collect 0
-# The platforms the labs have: the scene and render crates for wasm32, and glview.exe built
-# (unoptimised: the Wine tests compare pictures, not speed) and held to the Linux binary
-# under Wine. After the timed steps, never beside them: the build takes both cores.
-step "wasm32 check" bash scripts/check_wasm.sh
-step "windows build" bash scripts/build_windows.sh --profile wine-test
-step "windows (Wine)" bash scripts/test_windows.sh target/x86_64-pc-windows-gnu/wine-test/glview.exe target/debug/glview
+collect 2
+# glview.exe, built in the background above, held to the Linux binary under Wine: alone, as
+# its window test waits on frames.
+step "windows (Wine)" bash scripts/test_windows.sh target/cross/x86_64-pc-windows-gnu/wine-test/glview.exe target/debug/glview
