@@ -37,6 +37,29 @@ step() {
   "$@"
   echo "scripts/test.sh: step '$name' $(( $(date +%s) - t0 )) s"
 }
+# A step in the background at nice 19, its log printed when it is collected.
+background() {
+  local name=$1 log
+  shift
+  log=$(mktemp)
+  (
+    t0=$(date +%s)
+    nice -n 19 "$@"
+    echo "scripts/test.sh: step '$name' (in the background) $(($(date +%s) - t0)) s"
+  ) >"$log" 2>&1 &
+  bg_pids+=("$!")
+  bg_logs+=("$log")
+  bg_names+=("$name")
+}
+# Waits for background step $1 (its index), prints its log, and fails if it failed.
+collect() {
+  local k=$1 rc=0
+  wait "${bg_pids[$k]}" || rc=$?
+  bg_pids[k]=""
+  cat "${bg_logs[$k]}"
+  rm -f "${bg_logs[$k]}"
+  [ "$rc" -eq 0 ] || { echo "error: step '${bg_names[$k]}' failed (above)" >&2; exit "$rc"; }
+}
 step deps bash scripts/deps.sh --tests
 if [ ! -f ../shared/MANIFEST.md ]; then
   echo "error: ../shared (test models and conformance files) is missing beside the repository" >&2
@@ -75,12 +98,29 @@ step "library dependencies" lib_deps
 # SCORM runtime and schemas: scripts/prepare_tests.sh) run in the background beside the Rust
 # build, whose cores they barely use; the test step waits for them.
 prep_log=$(mktemp)
+# Written when prepare ends, failed or not (a finished but unreaped process still answers
+# `kill -0`, so the platforms job below waits for this file instead).
+prep_done=$(mktemp -u)
 (
   t0=$(date +%s)
-  bash scripts/prepare_tests.sh
+  rc=0
+  bash scripts/prepare_tests.sh || rc=$?
+  touch "$prep_done"
   echo "scripts/test.sh: step 'prepare' (in the background) $(($(date +%s) - t0)) s"
+  exit "$rc"
 ) >"$prep_log" 2>&1 &
 prep_pid=$!
+# The platforms the labs have: the scene and render crates checked for wasm32 and glview.exe
+# built (unoptimised: the Wine tests compare pictures, not speed; scripts/check_wasm.sh,
+# scripts/build_windows.sh). ~7.7 min of CPU on a fresh machine (the cross compiler builds
+# std for both targets and its own host build scripts), which at nice 19 takes what the Linux
+# build's serial stretches (one crate's front end at a time), the tests and the browser step
+# leave idle. It starts once `prepare` has unpacked the cross toolchain (that holds apt's
+# lock); in its own target folder, so its cargo holds no lock the build's, the tests' or
+# rustdoc's waits on; without the clippy-driver wrapper (rustup's, with no std source).
+background platforms bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
+  unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
+  bash scripts/check_wasm.sh && bash scripts/build_windows.sh --profile wine-test'
 # Clippy runs inside the test build instead of as `cargo clippy` before it: clippy-driver as
 # the workspace wrapper lints every target `cargo clippy --all-targets` lints (lib, bins, tests,
 # their test builds; the crate has no examples or benches) while compiling them for real, so the
@@ -105,7 +145,7 @@ step "build + clippy -D warnings" cargo build --workspace --all-targets --quiet
 prep_rc=0
 wait "$prep_pid" || prep_rc=$?
 cat "$prep_log"
-rm -f "$prep_log"
+rm -f "$prep_log" "$prep_done"
 [ "$prep_rc" -eq 0 ] || { echo "error: scripts/prepare_tests.sh failed (above)" >&2; exit "$prep_rc"; }
 # The library's docs build without a warning (broken links, bad code blocks; its examples run
 # as doctests in the test step), and the Python package's tests pass: both in the
@@ -115,48 +155,20 @@ rm -f "$prep_log"
 # run) and the Python tests (~40 s) fill it, where they used to run after the tests and
 # beside the browser step, slowing it. Cargo holds its build lock only while it compiles,
 # not while tests run. Their logs are printed once each is collected.
-background() {
-  local name=$1 log
-  shift
-  log=$(mktemp)
-  (
-    t0=$(date +%s)
-    nice -n 19 "$@"
-    echo "scripts/test.sh: step '$name' (in the background) $(($(date +%s) - t0)) s"
-  ) >"$log" 2>&1 &
-  bg_pids+=("$!")
-  bg_logs+=("$log")
-  bg_names+=("$name")
-}
-# Waits for background step $1 (its index), prints its log, and fails if it failed.
-collect() {
-  local k=$1 rc=0
-  wait "${bg_pids[$k]}" || rc=$?
-  bg_pids[k]=""
-  cat "${bg_logs[$k]}"
-  rm -f "${bg_logs[$k]}"
-  [ "$rc" -eq 0 ] || { echo "error: step '${bg_names[$k]}' failed (above)" >&2; exit "$rc"; }
-}
 # rustdoc starts once `cargo test` has found its build fresh and let go of the build lock
 # (seconds: the build step built everything), else the tests would wait for its build.
 background doc bash -c 'sleep 20 && RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p glview --quiet'
 background python bash scripts/test_python.sh
-# The platforms the labs have: the scene and render crates checked for wasm32 and glview.exe
-# built (unoptimised: the Wine tests compare pictures, not speed; scripts/check_wasm.sh,
-# scripts/build_windows.sh). ~5 min of CPU on a fresh machine (the cross compiler builds std
-# for both targets), which at nice 19 fills what the tests and the browser step leave idle.
-# Its own target folder, so its cargo holds no lock the tests' or rustdoc's cargo waits on.
-background platforms bash -c 'export CARGO_TARGET_DIR=target/cross; bash scripts/check_wasm.sh && bash scripts/build_windows.sh --profile wine-test'
 step test cargo test --workspace --no-fail-fast 2>&1
 # The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells
 # equal, different and failed renders apart.
 step "pictures checker self-test" bash scripts/pictures_unchanged.sh --self-test --after-bin target/debug/glview
-collect 1
+collect 2
 # The page of `glview serve` in Debian's Chromium, driven by a pinned Playwright: alone, as
 # its pages wait on frames with timeouts.
 step browser bash scripts/test_browser.sh
+collect 1
 collect 0
-collect 2
 # glview.exe, built in the background above, held to the Linux binary under Wine: alone, as
 # its window test waits on frames.
 step "windows (Wine)" bash scripts/test_windows.sh target/cross/x86_64-pc-windows-gnu/wine-test/glview.exe target/debug/glview

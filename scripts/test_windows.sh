@@ -101,7 +101,35 @@ cp models/box_on_floor.mtl "$o/models dir/"
 wexe "$(win "$o/models dir/Модель ü.obj")" "${size[@]}" -o "$(win "$o/models dir/Bild ä.png")" 2>/dev/null || true
 "$linux" models/box_on_floor.obj "${size[@]}" -o "$o/plain-linux.png"
 same "a path with a space and non-ASCII letters" "$o/plain-linux.png" "$o/models dir/Bild ä.png"
-# 5. The window: it opens, ArrowRight ×2 turns it as --keys does headless, Escape closes it.
+# 5. The other headless modes, through the same hidden WGL window: batch (its pictures
+# pixel-equal), sheet, export with SCORM, and serve answering its page.
+printf '%s --size 160x120 -o %s\n%s --size 160x120 --shading pbr -o %s\n' \
+  "$(win models/box_on_floor.obj)" "$(win "$o/batch-1.png")" "$(win models/box_on_floor.obj)" \
+  "$(win "$o/batch-2.png")" | sed 's/\\/\\\\/g' >"$o/jobs.txt"
+if wexe batch "$(win "$o/jobs.txt")" >/dev/null 2>"$o/batch.err"; then
+  same "batch: phong" "$o/default-phong-linux.png" "$o/batch-1.png"
+  same "batch: pbr" "$o/default-pbr-linux.png" "$o/batch-2.png"
+else fail "batch: $(tail -1 "$o/batch.err")"; fi
+if wexe sheet "$(win models/box_on_floor.obj)" --views 2 --tiers phong,pbr --size 80x60 \
+  -o "$(win "$o/sheet.png")" >/dev/null 2>"$o/sheet.err" && [ -s "$o/sheet.png" ]; then pass "sheet"
+else fail "sheet: $(tail -1 "$o/sheet.err")"; fi
+if wexe export "$(win models/box_on_floor.obj)" --yaw-steps 4 --pitch-steps 1 --size 80x60 \
+  -o "$(win "$o/page.html")" --scorm "$(win "$o/page.zip")" >/dev/null 2>"$o/export.err" &&
+  grep -q "<html" "$o/page.html" && [ -s "$o/page.zip" ]; then pass "export with SCORM"
+else fail "export: $(tail -1 "$o/export.err")"; fi
+port=$((20000 + RANDOM % 20000))
+wexe serve "$(win models/box_on_floor.obj)" --bind "127.0.0.1:$port" --no-token >"$o/serve.out" 2>&1 &
+spid=$!
+ok=
+for _ in $(seq 100); do
+  if curl -sf "http://127.0.0.1:$port/" -o "$o/serve.html" 2>/dev/null; then ok=1; break; fi
+  sleep 0.2
+done
+if [ -n "$ok" ] && grep -qi "<html" "$o/serve.html"; then pass "serve answers its page"
+else fail "serve: $(tail -2 "$o/serve.out")"; fi
+kill "$spid" 2>/dev/null || true
+wait "$spid" 2>/dev/null || true
+# 6. The window: it opens, ArrowRight ×2 turns it as --keys does headless, Escape closes it.
 view=(--size 320x240 --yaw 30 --pitch 15)
 mkdir -p "$o/shots"
 wexe "$(win models/box_on_floor.obj)" "${view[@]}" --stats --screenshot-dir "$(win "$o/shots")" \
@@ -132,6 +160,25 @@ if wid=$(timeout 60 xdotool search --sync --onlyvisible --name "glview" 2>/dev/n
   else fail "no screenshot from the window: $(tail -3 "$o/window.out")"; fi
 else
   fail "no window appeared: $(tail -3 "$o/window.out")"
+  kill "$wpid" 2>/dev/null || true
+fi
+# 7. The window on an emulated GL 2.1 driver: WGL gives the 2.1 context, the first frame comes.
+MESA_GL_VERSION_OVERRIDE=2.1 MESA_GLSL_VERSION_OVERRIDE=120 wine "$work/bin/glview.exe" \
+  "$(win models/box_on_floor.obj)" --size 320x240 --stats >"$o/window21.out" 2>&1 &
+wpid=$!
+if wid=$(timeout 60 xdotool search --sync --onlyvisible --name "glview" 2>/dev/null | head -1) && [ -n "$wid" ]; then
+  for _ in $(seq 50); do grep -q '"frame":1' "$o/window21.out" && break; sleep 0.2; done
+  xdotool windowfocus --sync "$wid" 2>/dev/null || true
+  xdotool key Escape
+  rc=0
+  for _ in $(seq 100); do kill -0 "$wpid" 2>/dev/null || break; sleep 0.2; done
+  kill -0 "$wpid" 2>/dev/null && kill "$wpid"
+  wait "$wpid" || rc=$?
+  if [ "$rc" = 0 ] && grep -q '"frame":1' "$o/window21.out"; then
+    pass "the window on the GL 2.1 override: a frame drawn, Escape closes it"
+  else fail "the window on GL 2.1: exit $rc, $(tail -c 300 "$o/window21.out")"; fi
+else
+  fail "no window appeared on GL 2.1: $(tail -3 "$o/window21.out")"
   kill "$wpid" 2>/dev/null || true
 fi
 echo "test_windows: $fails failed, in $(($(date +%s) - t0)) s"

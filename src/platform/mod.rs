@@ -18,10 +18,24 @@ use crate::{Error, Result};
 /// GDI renderer, OpenGL 1.1 only, and Mesa's llvmpipe for Windows (mesa-dist-win's
 /// `opengl32.dll` and `libgallium_wgl.dll` beside glview.exe) gives it GL 4.5 in software.
 pub fn require_gl21(caps: &Caps) -> Result<()> {
-    if caps.embedded || (caps.major, caps.minor) >= (2, 1) {
+    gl21_floor(
+        (caps.major, caps.minor, caps.embedded),
+        &caps.version,
+        &caps.renderer,
+        cfg!(windows),
+    )
+}
+
+fn gl21_floor(
+    (major, minor, embedded): (u32, u32, bool),
+    version: &str,
+    renderer: &str,
+    windows: bool,
+) -> Result<()> {
+    if embedded || (major, minor) >= (2, 1) {
         return Ok(());
     }
-    let cure = if cfg!(windows) {
+    let cure = if windows {
         "; this PC has no usable OpenGL driver (Windows' own is OpenGL 1.1): install the \
          graphics vendor's driver, or put Mesa's llvmpipe (opengl32.dll and \
          libgallium_wgl.dll from mesa-dist-win) beside glview.exe (docs/windows.md)"
@@ -29,8 +43,7 @@ pub fn require_gl21(caps: &Caps) -> Result<()> {
         ""
     };
     Err(Error::Unsupported(format!(
-        "glview needs OpenGL 2.1 or later; this context is OpenGL {} ({}){cure}",
-        caps.version, caps.renderer
+        "glview needs OpenGL 2.1 or later; this context is OpenGL {version} ({renderer}){cure}"
     )))
 }
 
@@ -77,5 +90,32 @@ pub fn keep_freed_heap() {
                 libc::mallopt(libc::M_TRIM_THRESHOLD, 256 << 20);
             }
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gl21_floor;
+
+    /// GDI's OpenGL 1.1 (a Windows PC without a driver) is refused with the cure named; 2.1,
+    /// later versions and GL ES pass; on Linux the message names no Windows DLL.
+    #[test]
+    fn below_gl21_is_refused_with_the_cure() {
+        let e = gl21_floor((1, 1, false), "1.1.0", "GDI Generic", true)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("OpenGL 1.1.0 (GDI Generic)"), "{e}");
+        assert!(
+            e.contains("mesa-dist-win") && e.contains("opengl32.dll"),
+            "{e}"
+        );
+        assert!(!e.contains('\n'), "one line: {e}");
+        let e = gl21_floor((2, 0, false), "2.0", "old", false)
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("mesa-dist-win"), "{e}");
+        assert!(gl21_floor((2, 1, false), "2.1", "x", true).is_ok());
+        assert!(gl21_floor((4, 5, false), "4.5", "x", true).is_ok());
+        assert!(gl21_floor((2, 0, true), "OpenGL ES 2.0", "x", true).is_ok());
     }
 }

@@ -139,12 +139,12 @@ macro_rules! declare_options {
         /// line, Python keywords, the JSON in a PNG's text.
         ///
         /// ```
-        /// let mut o = glview::Options::default();
+        /// let mut o = glview_render::Options::default();
         /// o.camera.yaw = 45.0;
         /// o.picture.size = (64, 48);
         /// o.validate().unwrap();
         /// let json = serde_json::to_string(&o).unwrap();
-        /// assert_eq!(serde_json::from_str::<glview::Options>(&json).unwrap(), o);
+        /// assert_eq!(serde_json::from_str::<glview_render::Options>(&json).unwrap(), o);
         /// ```
         #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
         #[serde(default, deny_unknown_fields)]

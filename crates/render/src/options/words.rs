@@ -12,9 +12,9 @@ impl Options {
     /// one model path.
     ///
     /// ```
-    /// let o = glview::Options::from_words(["--yaw", "-40", "--light", "head"]).unwrap();
+    /// let o = glview_render::Options::from_words(["--yaw", "-40", "--light", "head"]).unwrap();
     /// assert_eq!(o.camera.yaw, -40.0);
-    /// let e = glview::Options::from_words(["--yaw", "north"]).unwrap_err();
+    /// let e = glview_render::Options::from_words(["--yaw", "north"]).unwrap_err();
     /// assert_eq!(e.on_command_line(), "--yaw: expected a number, got 'north'");
     /// ```
     pub fn from_words<I, T>(words: I) -> Result<Options, OptionError>
@@ -81,10 +81,10 @@ impl Options {
     ///
     /// ```
     /// let kw = serde_json::json!({"yaw": 15, "size": [64, 48], "no_shadows": true});
-    /// let o = glview::Options::from_keywords(kw.as_object().unwrap().iter().map(|(k, v)| (k.as_str(), v))).unwrap();
+    /// let o = glview_render::Options::from_keywords(kw.as_object().unwrap().iter().map(|(k, v)| (k.as_str(), v))).unwrap();
     /// assert_eq!((o.camera.yaw, o.picture.size, o.shadow.enabled), (15.0, (64, 48), false));
     /// let bad = serde_json::json!({"yaw": "north"});
-    /// let e = glview::Options::from_keywords(bad.as_object().unwrap().iter().map(|(k, v)| (k.as_str(), v))).unwrap_err();
+    /// let e = glview_render::Options::from_keywords(bad.as_object().unwrap().iter().map(|(k, v)| (k.as_str(), v))).unwrap_err();
     /// assert_eq!(e.as_keyword(), "yaw: expected a number, got 'north'");
     /// ```
     pub fn from_keywords<'a>(
@@ -128,7 +128,7 @@ impl Options {
 /// when the committed page differs).
 pub fn reference_markdown() -> String {
     let mut md = String::from(
-        "# Options\n\n<!-- Generated from src/options/mod.rs by `glview --options-reference`; \
+        "# Options\n\n<!-- Generated from crates/render/src/options/mod.rs by `glview --options-reference`; \
          a test fails when this file is stale. Do not edit. -->\n\n\
          Every picture option, declared once. The same option is a command-line flag \
          (`--shadow-bias 0.001`), a Python keyword (`shadow_bias=0.001`), a batch line's word, \
