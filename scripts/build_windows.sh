@@ -44,7 +44,7 @@ else
   shared=${GLVIEW_SHARED:-../shared}
   cross_dir=${GLVIEW_CROSS_DIR:-/opt/glview-cross}
   echo "build_windows: no rustup target; Debian's rustc-web through $shared/tools/cross-toolchain.sh" >&2
-  env_lines=$(bash "$shared/tools/cross-toolchain.sh" "$cross_dir")
+  env_lines=$(GLVIEW_SHARED=$shared GLVIEW_CROSS_DIR=$cross_dir bash scripts/cross_env.sh)
   # The exports replace the compiler for this subshell only (the host build keeps rustup's).
   (eval "$env_lines" && "${build[@]}" -Zbuild-std=std,panic_abort "${link[@]}")
 fi

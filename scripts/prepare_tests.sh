@@ -14,7 +14,7 @@ bash scripts/deps.sh --browser
 bash scripts/deps.sh --windows
 targets=$(rustup target list --installed 2>/dev/null || true)
 if ! grep -qx x86_64-pc-windows-gnu <<<"$targets" || ! grep -qx wasm32-unknown-unknown <<<"$targets"; then
-  bash "${GLVIEW_SHARED:-../shared}/tools/cross-toolchain.sh" "${GLVIEW_CROSS_DIR:-/opt/glview-cross}" >/dev/null
+  bash scripts/cross_env.sh >/dev/null
 fi
 
 venv=target/pyvenv

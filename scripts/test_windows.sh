@@ -24,7 +24,7 @@ if [ -n "$missing" ]; then
   $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $missing >/dev/null
 fi
 dll=$cross_dir/wine/bcryptprimitives.dll
-[ -f "$dll" ] || bash "$shared/tools/cross-toolchain.sh" "$cross_dir" >/dev/null
+[ -f "$dll" ] || GLVIEW_SHARED=$shared GLVIEW_CROSS_DIR=$cross_dir bash scripts/cross_env.sh >/dev/null
 work=$(mktemp -d /tmp/glview-wine.XXXXXX)
 xvfb_pid=
 cleanup() {

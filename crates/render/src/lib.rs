@@ -7,6 +7,8 @@
 //! picture), `keys`, the orbit `camera`, `light`s, and `view` (a view's state and the frame
 //! settings its options describe). No window, no context, no file, no clock: the native
 //! library and the browser build give it a `glow::Context`, bytes and the time.
+// Developer docs: links to private items resolve with --document-private-items.
+#![allow(rustdoc::private_intra_doc_links)]
 #![deny(unsafe_code)]
 
 pub mod camera;

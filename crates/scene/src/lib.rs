@@ -3,7 +3,9 @@
 //! format shares (`geometry/`), levels of detail and clusters (`lod/`), the mesh cache
 //! (`cache/`, native builds) and the motion runtime (`motion/`). No GL, no window, no clock:
 //! the renderer, the CPU reference renderer, the browser build and the tests share it. Files
-//! are read through [`load::Resources`]; threads and the disk cache are the `native` feature's.
+//! are read through [`load::resources::Resources`]; threads and the disk cache are the `native` feature's.
+// Developer docs: links to private items resolve with --document-private-items.
+#![allow(rustdoc::private_intra_doc_links)]
 pub mod builtin;
 #[cfg(feature = "native")]
 pub mod cache;

@@ -1,5 +1,5 @@
 //! Where the loaders read files: a model and what it names (MTL libraries, images, glTF
-//! buffers). Natively the file system ([`Files`]); in the browser the files a page fetched,
+//! buffers). Natively the file system (`Files`); in the browser the files a page fetched,
 //! held in memory by name ([`Memory`]). Every read of the scene crate goes through the
 //! [`Resources`] set with [`set`] (the process's file system by default in native builds,
 //! an empty [`Memory`] elsewhere), so the loaders build for wasm32 and never touch a platform.

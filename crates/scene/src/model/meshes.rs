@@ -2,7 +2,7 @@
 //! them. A hit whose large meshes have whole-mesh levels of detail reads, for each such mesh,
 //! only a compact copy of those levels (their vertices and remapped indices: a few MB of an
 //! 85 MB entry) and leaves the full arrays, and the groups' levels, in the entry's second
-//! section (see [`crate::cache`]). The renderer draws a first view from the compact copies
+//! section (see `crate::cache`, native builds). The renderer draws a first view from the compact copies
 //! (`Meshes::first_view`, which never reads); anything else that touches the meshes (the
 //! `Deref` to `Vec<Mesh>`: a CPU user, a draw that needs more than a whole level, a clone)
 //! reads them then, once. So a `Meshes` is never read empty: either its meshes are here, or

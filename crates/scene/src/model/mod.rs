@@ -36,7 +36,7 @@ pub struct Mesh {
     pub generated_normals: usize,
     /// Per-vertex colours (`v x y z r g b`), multiplying the diffuse colour; empty when the
     /// file has none. Display (sRGB-encoded) values whatever the format: glTF's linear
-    /// COLOR_0 is encoded at load (the colour rule, [`model::material::ColourRule`]). Kept beside [`Vertex`] so the vertex layout stays the same.
+    /// COLOR_0 is encoded at load (the colour rule, [`crate::model::material::ColourRule`]). Kept beside [`Vertex`] so the vertex layout stays the same.
     pub colors: Vec<[f32; 3]>,
     /// The alpha of those colours (glTF COLOR_0 as VEC4), one per vertex, multiplying the base
     /// colour's alpha (MASK and BLEND); empty when the file has none or every one is 1.
@@ -49,7 +49,7 @@ pub struct Mesh {
 }
 
 /// The bounding sphere (centre of the box, farthest vertex) the renderer culls a mesh with;
-/// the mesh cache stores it for meshes it keeps compact ([`model::meshes::Compact`]).
+/// the mesh cache stores it for meshes it keeps compact ([`crate::model::meshes::Compact`]).
 pub fn bounding_sphere(vertices: &[Vertex]) -> (Vec3, f32) {
     let center = Bounds::around(vertices.iter().map(|v| Vec3::from(v.position))).center();
     let radius = vertices

@@ -115,7 +115,7 @@ pub enum ColorSpace {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TextureSlot {
     /// The pixels are not serialised: the mesh cache stores each distinct image once and
-    /// sets this from its table ([`crate::cache`]).
+    /// sets this from its table (`crate::cache`).
     #[serde(skip)]
     pub image: Arc<Texture>,
     pub sampler: Sampler,

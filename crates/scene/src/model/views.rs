@@ -157,7 +157,7 @@ fn list(names: &[String]) -> String {
 }
 
 /// The orbit camera's angles looking along `forward` (unit): yaw and pitch in degrees, as
-/// [`crate::camera::OrbitCamera`] places its eye at target + distance · (cos p sin y, sin p,
+/// `glview_render::camera::OrbitCamera` places its eye at target + distance · (cos p sin y, sin p,
 /// cos p cos y), so its view direction is minus that. Looking straight down or up the
 /// direction has no yaw: it is taken from `up`, whose horizontal part is the orbit's
 /// −sin p · (sin y, cos y), so a plan view keeps the file's orientation.

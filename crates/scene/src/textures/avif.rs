@@ -1,6 +1,6 @@
 //! AVIF images (EXT_texture_avif): the container read by `avif-parse` (safe Rust), the size
 //! checked from the AV1 sequence header before anything is decoded, the colour and alpha
-//! streams decoded by libdav1d ([`crate::textures::dav1d`], loaded at run time), and the
+//! streams decoded by libdav1d (`crate::textures::dav1d`, native builds, loaded at run time), and the
 //! planes turned into RGBA8 here: the stream's matrix (BT.601, BT.709, BT.2020, SMPTE 240,
 //! FCC, identity) and range, 8 to 12 bits, chroma upsampled bilinearly from sites at the
 //! centre of each 2×2 (or 2×1) block as libyuv's filter does, alpha un-premultiplied where

@@ -1,7 +1,7 @@
 //! One glTF mesh's primitives read under the transform of a node that instances it: positions,
 //! normals and tangents transformed in f64 (and turned to the up axis asked for), attributes
 //! that are not finite dropped with a warning (normals and tangents are then generated),
-//! lines and points set aside for [`Wire`]; then each triangle primitive made a [`Mesh`]
+//! lines and points set aside for [`Wire`]; then each triangle primitive made a [`crate::Mesh`]
 //! once the scene's origin is known.
 use crate::geometry::prim::{check_range, Prim};
 use crate::loaders::gltf::accessor;
