@@ -7,15 +7,18 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash scripts/deps.sh --browser
-# glview.exe's build and Wine tests, and the wasm32 check: MinGW, Wine, and where rustup has
-# no Windows or wasm32 target (a fresh CI machine) Debian's rustc-web unpacked beside it
-# (../shared/tools/cross-toolchain.sh: ~484 MB, fetched here while the Linux build runs).
+# First glview.exe's build and Wine tests and the wasm32 check: MinGW, Wine, and where rustup
+# has no Windows or wasm32 target (a fresh CI machine) Debian's rustc-web unpacked beside it
+# (../shared/tools/cross-toolchain.sh: ~484 MB, fetched while the Linux build runs). Then
+# GLVIEW_CROSS_READY (a file scripts/test.sh names) tells its platforms job to start, before
+# the browser step's packages, which it does not need.
 bash scripts/deps.sh --windows
 targets=$(rustup target list --installed 2>/dev/null || true)
-if ! grep -qx x86_64-pc-windows-gnu <<<"$targets" || ! grep -qx wasm32-unknown-unknown <<<"$targets"; then
+if [ "${GLVIEW_CROSS:-}" = 1 ] || ! grep -qx x86_64-pc-windows-gnu <<<"$targets" || ! grep -qx wasm32-unknown-unknown <<<"$targets"; then
   bash scripts/cross_env.sh >/dev/null
 fi
+[ -z "${GLVIEW_CROSS_READY:-}" ] || touch "$GLVIEW_CROSS_READY"
+bash scripts/deps.sh --browser
 
 venv=target/pyvenv
 if [ ! -x "$venv/bin/python" ]; then

@@ -98,13 +98,14 @@ step "library dependencies" lib_deps
 # SCORM runtime and schemas: scripts/prepare_tests.sh) run in the background beside the Rust
 # build, whose cores they barely use; the test step waits for them.
 prep_log=$(mktemp)
-# Written when prepare ends, failed or not (a finished but unreaped process still answers
-# `kill -0`, so the platforms job below waits for this file instead).
+# Written when prepare has the cross toolchain ready, or when it ends, failed or not (a
+# finished but unreaped process still answers `kill -0`, so the platforms job below waits
+# for this file instead).
 prep_done=$(mktemp -u)
 (
   t0=$(date +%s)
   rc=0
-  bash scripts/prepare_tests.sh || rc=$?
+  GLVIEW_CROSS_READY=$prep_done bash scripts/prepare_tests.sh || rc=$?
   touch "$prep_done"
   echo "scripts/test.sh: step 'prepare' (in the background) $(($(date +%s) - t0)) s"
   exit "$rc"
@@ -115,8 +116,8 @@ prep_pid=$!
 # scripts/build_windows.sh). ~7.7 min of CPU on a fresh machine (the cross compiler builds
 # std for both targets and its own host build scripts), which at nice 19 takes what the Linux
 # build's serial stretches (one crate's front end at a time), the tests and the browser step
-# leave idle. It starts once `prepare` has unpacked the cross toolchain (that holds apt's
-# lock); in its own target folder, so its cargo holds no lock the build's, the tests' or
+# leave idle. It starts once `prepare` has unpacked the cross toolchain and installed MinGW
+# (that holds apt's lock; the browser's packages come after, and the job needs no apt); in its own target folder, so its cargo holds no lock the build's, the tests' or
 # rustdoc's waits on; without the clippy-driver wrapper (rustup's, with no std source).
 background platforms bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
   unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
