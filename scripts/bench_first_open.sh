@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Issue #30's targets: the 2M-triangle sphere (glview bench --lod writes it) to a 1280x720
 # PNG, each round interleaved: a first open with an empty mesh cache (time to the PNG and to
-# the process's end), a cold --no-cache run, a cached run, and f3d under Xvfb; medians of 3.
+# the process's end), a cold --no-cache run, a cached run, a cold run without levels of detail
+# (--lod off), and f3d under Xvfb; medians of 3 and their ratios to f3d's.
 # Needs a release build, f3d and Xvfb. Usage: scripts/bench_first_open.sh [MODEL]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,8 +24,12 @@ for _ in 1 2 3; do
   echo "first_exit $(echo "$e - $s" | bc)"
   echo "cold $(t "$glview" "$model" -o "$work/c.png" --size 1280x720 --no-cache)"
   echo "cached $(t "$glview" "$model" -o "$work/h.png" --size 1280x720)"
+  echo "cold_lod_off $(t "$glview" "$model" -o "$work/n.png" --size 1280x720 --no-cache --lod off)"
   echo "f3d $(t env DISPLAY=:97 f3d --output "$work/f.png" --resolution 1280,720 "$model")"
 done >"$work/runs.txt"
-for w in first_png first_exit cold cached f3d; do
-  echo "$w $(grep "^$w " "$work/runs.txt" | cut -d' ' -f2 | sort -n | sed -n 2p) s (median of 3)"
+median() { grep "^$1 " "$work/runs.txt" | cut -d' ' -f2 | sort -n | sed -n 2p; }
+f3d=$(median f3d)
+for w in first_png first_exit cold cold_lod_off cached f3d; do
+  m=$(median "$w")
+  echo "$w $m s (median of 3), $(echo "scale=3; $m / $f3d" | bc)x f3d"
 done

@@ -89,15 +89,7 @@ impl Headless {
         }
         let wgl = WglHeadless::new(gl, width, height)?;
         let gpu = Gpu::new(wgl.glow_context());
-        crate::platform::require_gl21(&gpu.caps)?;
-        if !gpu.caps.fbo {
-            return Err(Error::Unsupported(format!(
-                "headless WGL renders into a framebuffer object, and this {} driver has none",
-                gpu.caps.version
-            )));
-        }
-        check_size(&gpu, width, height)?;
-        let fbo = Framebuffer::color_depth(&gpu, width, height)?;
+        let fbo = fbo_target(&gpu, width, height, "headless WGL", "")?;
         Ok(Headless {
             msaa: None,
             fbo: Some(fbo),
@@ -112,16 +104,13 @@ impl Headless {
     fn egl(gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
         let egl = EglHeadless::new(gl)?;
         let gpu = Gpu::new(egl.glow_context());
-        crate::platform::require_gl21(&gpu.caps)?;
-        if !gpu.caps.fbo {
-            return Err(Error::Unsupported(format!(
-                "EGL headless renders into a framebuffer object, and this {} driver has none; \
-                 use --backend osmesa",
-                gpu.caps.version
-            )));
-        }
-        check_size(&gpu, width, height)?;
-        let fbo = Framebuffer::color_depth(&gpu, width, height)?;
+        let fbo = fbo_target(
+            &gpu,
+            width,
+            height,
+            "EGL headless",
+            "; use --backend osmesa",
+        )?;
         Ok(Headless {
             msaa: None,
             fbo: Some(fbo),
@@ -271,6 +260,21 @@ impl Headless {
             data,
         }
     }
+}
+
+/// The framebuffer object a surfaceless (EGL) or hidden-window (WGL) context renders into:
+/// refused below GL 2.1, without framebuffer objects (`instead` says what to use then) or
+/// past the driver's sizes.
+fn fbo_target(gpu: &GpuRef, w: u32, h: u32, what: &str, instead: &str) -> Result<Framebuffer> {
+    crate::platform::require_gl21(&gpu.caps)?;
+    if !gpu.caps.fbo {
+        return Err(Error::Unsupported(format!(
+            "{what} renders into a framebuffer object, and this {} driver has none{instead}",
+            gpu.caps.version
+        )));
+    }
+    check_size(gpu, w, h)?;
+    Framebuffer::color_depth(gpu, w, h)
 }
 
 fn check_size(gpu: &Gpu, w: u32, h: u32) -> Result<()> {
