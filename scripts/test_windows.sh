@@ -129,13 +129,31 @@ if [ -n "$ok" ] && grep -qi "<html" "$o/serve.html"; then pass "serve answers it
 else fail "serve: $(tail -2 "$o/serve.out")"; fi
 kill "$spid" 2>/dev/null || true
 wait "$spid" 2>/dev/null || true
+# The id of glview's visible window, waited for up to a minute (empty: none came).
+find_window() { timeout 60 xdotool search --sync --onlyvisible --name "glview" 2>/dev/null | head -1; }
+# Sends Escape to window $1 and waits up to 20 s for process $2 to end: `closed` is its exit
+# code, or "running" when it did not close (it is killed then).
+close_window() {
+  xdotool windowfocus --sync "$1" 2>/dev/null || true
+  xdotool key Escape
+  for _ in $(seq 100); do kill -0 "$2" 2>/dev/null || break; sleep 0.2; done
+  closed=0
+  if kill -0 "$2" 2>/dev/null; then
+    kill "$2"
+    wait "$2" 2>/dev/null || true
+    closed=running
+  else
+    wait "$2" || closed=$?
+  fi
+}
 # 6. The window: it opens, ArrowRight ×2 turns it as --keys does headless, Escape closes it.
 view=(--size 320x240 --yaw 30 --pitch 15)
 mkdir -p "$o/shots"
 wexe "$(win models/box_on_floor.obj)" "${view[@]}" --stats --screenshot-dir "$(win "$o/shots")" \
   >"$o/window.out" 2>&1 &
 wpid=$!
-if wid=$(timeout 60 xdotool search --sync --onlyvisible --name "glview" 2>/dev/null | head -1) && [ -n "$wid" ]; then
+wid=$(find_window)
+if [ -n "$wid" ]; then
   pass "the window opens"
   xdotool windowfocus --sync "$wid" 2>/dev/null || true
   sleep 1
@@ -146,13 +164,12 @@ if wid=$(timeout 60 xdotool search --sync --onlyvisible --name "glview" 2>/dev/n
   xdotool key F12
   for _ in $(seq 50); do ls "$o/shots"/*.png >/dev/null 2>&1 && break; sleep 0.2; done
   sleep 0.5
-  xdotool key Escape
-  rc=0
-  for _ in $(seq 100); do kill -0 "$wpid" 2>/dev/null || break; sleep 0.2; done
-  if kill -0 "$wpid" 2>/dev/null; then fail "Escape did not close the window"; kill "$wpid"; else
-    wait "$wpid" || rc=$?
-    [ "$rc" = 0 ] && pass "Escape closes the window (exit 0)" || fail "the window exited with $rc"
-  fi
+  close_window "$wid" "$wpid"
+  case $closed in
+    0) pass "Escape closes the window (exit 0)" ;;
+    running) fail "Escape did not close the window" ;;
+    *) fail "the window exited with $closed" ;;
+  esac
   shot=$(ls "$o/shots"/*.png 2>/dev/null | head -1)
   "$linux" models/box_on_floor.obj "${view[@]}" --keys "Right Right" -o "$o/keys-linux.png"
   if [ -n "$shot" ]; then same "ArrowRight ×2 in the window = --keys 'Right Right' headless" \
@@ -166,17 +183,13 @@ fi
 MESA_GL_VERSION_OVERRIDE=2.1 MESA_GLSL_VERSION_OVERRIDE=120 wine "$work/bin/glview.exe" \
   "$(win models/box_on_floor.obj)" --size 320x240 --stats >"$o/window21.out" 2>&1 &
 wpid=$!
-if wid=$(timeout 60 xdotool search --sync --onlyvisible --name "glview" 2>/dev/null | head -1) && [ -n "$wid" ]; then
+wid=$(find_window)
+if [ -n "$wid" ]; then
   for _ in $(seq 50); do grep -q '"frame":1' "$o/window21.out" && break; sleep 0.2; done
-  xdotool windowfocus --sync "$wid" 2>/dev/null || true
-  xdotool key Escape
-  rc=0
-  for _ in $(seq 100); do kill -0 "$wpid" 2>/dev/null || break; sleep 0.2; done
-  kill -0 "$wpid" 2>/dev/null && kill "$wpid"
-  wait "$wpid" || rc=$?
-  if [ "$rc" = 0 ] && grep -q '"frame":1' "$o/window21.out"; then
+  close_window "$wid" "$wpid"
+  if [ "$closed" = 0 ] && grep -q '"frame":1' "$o/window21.out"; then
     pass "the window on the GL 2.1 override: a frame drawn, Escape closes it"
-  else fail "the window on GL 2.1: exit $rc, $(tail -c 300 "$o/window21.out")"; fi
+  else fail "the window on GL 2.1: exit $closed, $(tail -c 300 "$o/window21.out")"; fi
 else
   fail "no window appeared on GL 2.1: $(tail -3 "$o/window21.out")"
   kill "$wpid" 2>/dev/null || true

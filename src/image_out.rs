@@ -40,8 +40,6 @@ pub trait RgbaFiles: Sized {
 }
 
 impl RgbaFiles for Rgba {
-    /// Saves as PNG (with `text` chunks) or JPEG (quality 95, no alpha, no text) by the
-    /// extension; refuses other extensions.
     fn save(&self, path: &Path, text: &[(&str, String)]) -> Result<()> {
         match OutputFormat::of(path) {
             Some(OutputFormat::Png) => self.save_png(path, text),
@@ -60,9 +58,6 @@ impl RgbaFiles for Rgba {
         }
     }
 
-    /// The picture as JPEG bytes of `quality` (alpha dropped), and which encoder made them:
-    /// libjpeg-turbo where it is installed (loaded at run time; ~12× faster), else the
-    /// `image` crate's; `GLVIEW_JPEG=image` picks the latter (for measuring the two).
     fn jpeg_bytes(&self, quality: u8) -> Result<(Vec<u8>, &'static str)> {
         let err = |message: String| Error::Image {
             path: "(JPEG in memory)".into(),

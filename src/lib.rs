@@ -2,8 +2,9 @@
 //! options, loading, rendering on every context, comparisons and the Python/serving API.
 //! The command line, the window and the tools are the `glview-cli` crate.
 //!
-//! This is the native library: contexts (EGL, GLX, OSMesa), files, threads and the clock,
-//! around the renderer (`glview-render`, re-exported below) and the scene (`glview-scene`).
+//! This is the native library: contexts (EGL and OSMesa on Linux, WGL on Windows), files,
+//! threads and the clock, around the renderer (`glview-render`, re-exported below) and the
+//! scene (`glview-scene`).
 //! Dependencies point one way: `api`/`headless`/`session` → the renderer → the scene;
 //! `platform` makes the contexts the renderer draws in. Only the renderer's `gpu` and
 //! `platform` contain `unsafe`.
@@ -42,7 +43,11 @@ pub use glview_scene as scene;
 /// its own context (the cli's window) calls it before drawing.
 pub fn native_hooks() {
     static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
-    START.get_or_init(std::time::Instant::now);
-    clock::set(|| START.get().map_or(0.0, |s| s.elapsed().as_secs_f64() * 1e3));
-    pbr::store::set_store(std::sync::Arc::new(ibl_cache::DiskMaps));
+    // Every session and context calls this; the hooks are given once.
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        START.get_or_init(std::time::Instant::now);
+        clock::set(|| START.get().map_or(0.0, |s| s.elapsed().as_secs_f64() * 1e3));
+        pbr::store::set_store(std::sync::Arc::new(ibl_cache::DiskMaps));
+    });
 }

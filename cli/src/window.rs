@@ -43,18 +43,20 @@ const PLATFORMS: &[&str] = &["glx", "egl"];
 #[cfg(windows)]
 const PLATFORMS: &[&str] = &["wgl"];
 
-/// The display of one platform; WGL's takes the window made for it.
+/// The display of one platform (GLX's or EGL's; neither takes a window).
+#[cfg(not(windows))]
 fn preference(name: &str, _window: Option<RawWindowHandle>) -> DisplayApiPreference {
-    #[cfg(not(windows))]
     if name == "glx" {
-        return DisplayApiPreference::Glx(Box::new(winit::platform::x11::register_xlib_error_hook));
+        DisplayApiPreference::Glx(Box::new(winit::platform::x11::register_xlib_error_hook))
+    } else {
+        DisplayApiPreference::Egl
     }
-    #[cfg(windows)]
-    let _ = name;
-    #[cfg(windows)]
-    return DisplayApiPreference::Wgl(_window);
-    #[cfg(not(windows))]
-    DisplayApiPreference::Egl
+}
+
+/// WGL's display, which takes the window made for it.
+#[cfg(windows)]
+fn preference(_name: &str, window: Option<RawWindowHandle>) -> DisplayApiPreference {
+    DisplayApiPreference::Wgl(window)
 }
 
 fn api_of(request: GlRequest) -> Api {
@@ -114,9 +116,11 @@ impl WindowContext {
             .as_raw();
         let mut tried = Vec::new();
         for &name in PLATFORMS {
+            // Shown once a context works.
+            let attrs = attributes.clone().with_visible(false);
             // WGL's display needs its window first; the others make it from their config.
             let early = if cfg!(windows) {
-                match event_loop.create_window(attributes.clone().with_visible(false)) {
+                match event_loop.create_window(attrs.clone()) {
                     Ok(w) => Some(w),
                     Err(e) => {
                         tried.push(format!("{name}: cannot create the window: {e}"));
@@ -147,7 +151,6 @@ impl WindowContext {
                     continue;
                 }
             };
-            let attrs = attributes.clone().with_visible(false);
             let window = match early {
                 Some(w) => w,
                 None => match glutin_winit::finalize_window(event_loop, attrs, &config) {
