@@ -28,8 +28,10 @@ use std::time::{Duration, Instant};
 
 /// Inputs waiting for their scene (the first frame of a model) are bounded.
 const MAX_PENDING: usize = 256;
-/// A frame costing more than this holds its viewer back for the excess while others are
-/// active, so an expensive view takes at most about half the render thread's time.
+/// A frame costing more than this holds its viewer back for twice the excess while others
+/// are active, so an expensive view takes at most about a third of the render thread's time
+/// (half left the cheap viewers too little margin: a frame cannot be cut short, and the one
+/// in progress delays theirs).
 const CHEAP: Duration = Duration::from_millis(40);
 /// A viewer served this recently counts as active.
 const ACTIVE: Duration = Duration::from_secs(1);
@@ -284,7 +286,7 @@ impl Scheduler {
         v.used = start + cost;
         v.served_at = Some(now);
         if others && cost > CHEAP {
-            v.not_before = now + (cost - CHEAP);
+            v.not_before = now + 2 * (cost - CHEAP);
         }
     }
 

@@ -53,10 +53,19 @@ impl Scheduler {
     /// not there, and the inputs that came meanwhile taken.
     pub(super) fn done(&mut self, d: Done) {
         self.turns[d.thread].busy = false;
+        let thread = d.thread;
+        // The job's viewer may have left while it drew: the others' messages that waited
+        // for the thread are taken all the same (returning early left them waiting for good).
+        if self.viewers.contains_key(&d.id) {
+            self.take_back(d);
+        }
+        self.wake_waiting(thread);
+    }
+
+    /// The job's view and outcome back into its viewer (present: checked by the caller).
+    fn take_back(&mut self, d: Done) {
         let still_delay = self.config.still_delay;
-        let Some(v) = self.viewers.get_mut(&d.id) else {
-            return;
-        };
+        let v = self.viewers.get_mut(&d.id).expect("checked by the caller");
         v.rendering = false;
         v.view = *d.view;
         // Inputs that came during the job follow those it did not apply.
@@ -97,11 +106,14 @@ impl Scheduler {
             Some(o) => self.load(d.id, d.thread, *o),
             None => self.charge_frame(d.id, d.cost),
         }
-        // The thread's viewers' messages that waited for the job.
+    }
+
+    /// The messages of `thread`'s viewers that waited for its job.
+    fn wake_waiting(&mut self, thread: usize) {
         let woken: Vec<u64> = self
             .viewers
             .iter_mut()
-            .filter(|(_, v)| v.thread == d.thread && v.woken)
+            .filter(|(_, v)| v.thread == thread && v.woken)
             .map(|(id, v)| {
                 v.woken = false;
                 *id
