@@ -31,7 +31,8 @@ pub use glview_render::passes as render;
 /// The renderer and the view model (`glview-render`), under the paths they had before the
 /// crate split.
 pub use glview_render::{
-    camera, clock, error, frame, gpu, grid, image, keys, light, options, pbr, shader, shading, view,
+    camera, clock, error, frame, gpu, grid, image, keys, light, options, pbr, shader, shading,
+    stereo, view,
 };
 pub use glview_render::{Error, Options, Result};
 /// The scene crate: the model, its loaders, geometry, levels of detail and motion.

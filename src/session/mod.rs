@@ -410,7 +410,14 @@ fn draw(
     outputs: Outputs,
     profile: &mut Profile,
 ) -> Result<Drawn> {
-    let (w, h) = args.picture.size;
+    if args.stereo.mode == crate::stereo::StereoMode::QuadBuffer && args.stereo.eye.is_none() {
+        return Err(crate::Error::Usage(
+            "--stereo quad-buffer shows the eyes in a GL_STEREO window's own buffers, which \
+             a picture has none of: draw --eye left and --eye right, or another mode"
+                .into(),
+        ));
+    }
+    let (w, h) = glview_render::view::settings::output_size(args);
     // SSAA renders k times larger on each axis and box-filters down.
     let k = glview_render::view::settings::ssaa_factor(args);
     let kept = prepare(args, keep, kept, given, (w * k, h * k), profile)?;

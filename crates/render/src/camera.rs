@@ -19,6 +19,16 @@ pub struct OrbitCamera {
     pub ortho_height: Option<f32>,
     /// `--near`: a fixed near plane instead of the one fitted to the bounds.
     pub near: Option<f32>,
+    /// A stereo eye: the camera moved this far along its right axis, target with it, so
+    /// the eyes look in parallel (never toe-in). 0 for a mono view.
+    pub offset: f32,
+    /// Lens shift (`--lens-shift`, Blender's Shift X): the frustum's window moved right by
+    /// this fraction of the picture's width, the picture's content moving left. With
+    /// `offset` it makes an eye's off-axis frustum (`crate::stereo`).
+    pub shift_x: f32,
+    /// The projection's aspect is the viewport's times this: 1, or an eye squeezed into half
+    /// a side-by-side (2) or an over-under (0.5) picture, which the display stretches back.
+    pub squeeze: f32,
 }
 
 /// Camera input, independent of any windowing library.
@@ -45,6 +55,9 @@ impl OrbitCamera {
             fov_y_deg,
             ortho_height: None,
             near: None,
+            offset: 0.0,
+            shift_x: 0.0,
+            squeeze: 1.0,
         };
         c.distance = c.fit_distance(bounds, aspect);
         c
@@ -67,8 +80,33 @@ impl OrbitCamera {
         Vec3::new(p.cos() * y.sin(), p.sin(), p.cos() * y.cos())
     }
 
+    /// Where the camera is: on its orbit, moved by the eye's `offset` along `right`.
     pub fn eye(&self) -> Vec3 {
-        self.target + self.distance * self.direction()
+        self.looked_at() + self.distance * self.direction()
+    }
+
+    /// The camera's right axis (the view's +X).
+    pub fn right(&self) -> Vec3 {
+        self.up().cross(self.direction()).normalize_or(Vec3::X)
+    }
+
+    /// The point the view is centred on: the target, moved with the eye.
+    fn looked_at(&self) -> Vec3 {
+        if self.offset == 0.0 {
+            self.target
+        } else {
+            self.target + self.offset * self.right()
+        }
+    }
+
+    /// The mono camera a stereo eye was made from (no offset, no lens shift): what the
+    /// eyes share, such as the level of detail.
+    pub fn centre(&self) -> OrbitCamera {
+        OrbitCamera {
+            offset: 0.0,
+            shift_x: 0.0,
+            ..*self
+        }
     }
 
     pub fn up(&self) -> Vec3 {
@@ -77,7 +115,7 @@ impl OrbitCamera {
     }
 
     pub fn view(&self) -> Mat4 {
-        Mat4::look_at_rh(self.eye(), self.target, self.up())
+        Mat4::look_at_rh(self.eye(), self.looked_at(), self.up())
     }
 
     /// Near and far planes that hold the whole bounding sphere. Inside the sphere the near
@@ -107,18 +145,24 @@ impl OrbitCamera {
     /// The view's projection with clip planes `near` and `far`: the frame's come from
     /// [`Self::near_far`]; the ground grid reaches further (`render/grid.rs`).
     pub(crate) fn projection_between(&self, aspect: f32, near: f32, far: f32) -> Mat4 {
+        let aspect = aspect * self.squeeze;
         let aspect = if aspect.is_finite() && aspect > 0.0 {
             aspect
         } else {
             1.0
         };
-        match self.ortho_height {
+        let p = match self.ortho_height {
             Some(h) => {
                 let (hh, hw) = (h * 0.5, h * 0.5 * aspect);
                 Mat4::orthographic_rh_gl(-hw, hw, -hh, hh, near, far)
             }
             None => Mat4::perspective_rh_gl(self.fov_y_deg.to_radians(), aspect, near, far),
+        };
+        if self.shift_x == 0.0 {
+            return p;
         }
+        // The window moved right by shift·width: clip x' = x − 2·shift·w (NDC spans 2).
+        Mat4::from_translation(Vec3::new(-2.0 * self.shift_x, 0.0, 0.0)) * p
     }
 
     pub(crate) fn apply(&mut self, m: CameraMove) {

@@ -26,6 +26,7 @@ pub mod passes;
 pub mod pbr;
 pub mod shader;
 pub mod shading;
+pub mod stereo;
 pub mod view;
 
 pub use error::{Error, Result};

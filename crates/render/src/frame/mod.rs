@@ -72,6 +72,8 @@ pub struct FrameSettings {
     pub shadows: ShadowSettings,
     /// Draw light 0's depth map instead of the scene (teaching view).
     pub show_shadow_map: bool,
+    /// Stereo 3D: the eyes drawn and composed (mode off: one picture).
+    pub stereo: crate::stereo::Stereo,
 }
 
 crate::choice! {

@@ -18,6 +18,7 @@ use crate::light::LightOpt;
 use crate::options::context::{Backend, GlRequest};
 use crate::pbr::{Encoding, PrecomputeOn, Tonemap};
 use crate::scene::UpAxis;
+use crate::stereo::{AnaglyphMethod, Eye, Glasses, StereoMode};
 pub use enums::{AaMode, DepthMode, Diffuse, LodMode, Show};
 pub use forms::Form;
 use parse::{at_least, in_range, one_of, positive, positive_or_none, unit_or_none};
@@ -125,6 +126,10 @@ declare_options! {
         ortho: Option<Ortho> = None, "ortho" optional, check = ortho;
         /// A fixed near plane (default: fitted to the model's bounds).
         near: Option<f32> = None, "near" maybe, check = positive_or_none;
+        /// Lens shift (Blender's Shift X): the frustum's window moves right by this
+        /// fraction of the picture's width (the content moves left), an off-axis view such
+        /// as a stereo eye's.
+        lens_shift: f32 = 0.0, "lens-shift" value, check = finite;
         /// glTF: look through the file's camera, by index or name (camera or node): its
         /// place, direction and field of view (perspective: yfov kept, the picture's aspect
         /// used; orthographic: the height 2·ymag) set yaw, pitch, distance, target, fov,
@@ -345,6 +350,29 @@ declare_options! {
         /// a model without an animation, or with one; with --time, around that moment).
         turntable: bool = false, "turntable" flag;
     }
+    /// Stereo 3D (docs/stereo.md): two parallel eyes with off-axis frusta, composed.
+    stereo: StereoView {
+        /// Stereo mode: anaglyph (coloured glasses), side-by-side (each eye squeezed into
+        /// half the width, for 3D TVs), side-by-side-full (each eye at full size: twice as
+        /// wide), over-under (squeezed into half the height), rows, columns, checkerboard
+        /// (interlaced: passive 3D monitors, DLP), quad-buffer (a GL_STEREO window), or off.
+        mode: StereoMode = StereoMode::Off, "stereo" value;
+        /// Anaglyph colours: dubois (least squares), color, half-color or gray.
+        anaglyph: AnaglyphMethod = AnaglyphMethod::Dubois, "anaglyph" value;
+        /// Anaglyph glasses, left eye's filter first: red-cyan, green-magenta or amber-blue.
+        glasses: Glasses = Glasses::RedCyan, "glasses" value;
+        /// Swap the eyes (glasses worn the other way, a monitor's rows the other way).
+        swap_eyes: bool = false, "swap-eyes" flag;
+        /// Draw one eye of the stereo pair as a plain picture, at its size in the mode
+        /// (half the width for side-by-side, half the height for over-under).
+        eye: Option<Eye> = None, "eye" maybe;
+        /// Distance between the eyes in the file's units (default: the convergence
+        /// distance / 30).
+        eye_separation: Option<f32> = None, "eye-separation" maybe, check = positive_or_none;
+        /// Distance from the camera to the screen plane, where the eyes' pictures agree
+        /// (default: the orbit distance, so the target sits on the screen).
+        convergence: Option<f32> = None, "convergence" maybe, check = positive_or_none;
+    }
     /// Which OpenGL context draws.
     context: Context {
         /// Which OpenGL context to create. `2.1` asks for a GL 2.1 compatibility context and
@@ -487,11 +515,44 @@ impl Options {
                 "cannot be used with --env (one environment at a time)",
             ));
         }
+        self.validate_stereo()?;
         if self.load.flat && self.load.crease.is_some() {
             return Err(OptionError::new(
                 "crease",
                 "cannot be used with --flat (flat normals have no crease angle)",
             ));
+        }
+        Ok(())
+    }
+
+    /// Stereo's refusals: what its eyes' single-sampled targets and interlacing cannot do,
+    /// and halves of an odd side.
+    fn validate_stereo(&self) -> Result<(), OptionError> {
+        let mode = self.stereo.mode;
+        if !mode.composed() {
+            return Ok(());
+        }
+        if self.post.aa == AaMode::Msaa {
+            return Err(OptionError::new(
+                "stereo",
+                "each eye is drawn into a single-sampled target: use --aa ssaa or --aa fxaa \
+                 with --stereo",
+            ));
+        }
+        let interlaced = crate::stereo::interlaced_eye(mode, 0, 0).is_some();
+        if interlaced && self.post.aa == AaMode::Ssaa {
+            return Err(OptionError::new(
+                "stereo",
+                format!(
+                    "--aa ssaa would average the {mode} eyes' interlaced pixels together: use \
+                     --aa fxaa"
+                ),
+            ));
+        }
+        if self.stereo.eye.is_none() {
+            if let Some(why) = crate::stereo::size_refusal(mode, self.picture.size) {
+                return Err(OptionError::new("stereo", why));
+            }
         }
         Ok(())
     }

@@ -4,6 +4,7 @@
 //! camera, so exactly the pixels the picture shows are covered. Depth alone (no normals, no
 //! ids) is read from the frame's own depth buffer where it holds the picture's depth, with no
 //! second draw: half the cost of a colour + depth picture (README, Python).
+use super::view::lod_view_proj;
 use super::Renderer;
 use crate::frame::FrameSettings;
 use crate::gpu::framebuffer::{ColorAttachment, Framebuffer};
@@ -158,7 +159,7 @@ impl Renderer {
         // The same levels of detail as the picture's lit pass, so ids and depth cover exactly
         // what it drew.
         let lod_view = crate::scene::lod::clusters::ClusterView::new(proj * view).with_lod(
-            proj * view,
+            lod_view_proj(&s.camera, &self.scene.scene.bounds, aspect),
             width,
             height,
             self.lod.error,

@@ -25,6 +25,7 @@ mod posed;
 pub mod post;
 pub mod programs;
 pub(crate) mod shadow;
+mod stereo;
 mod shadow_rect;
 mod skinning;
 mod slots;
@@ -126,6 +127,8 @@ pub(crate) struct Resources {
     /// KHR_materials_transmission: the copy of the opaque frame with its mip chain, made on
     /// first use at the frame's size ([`pbr_khr::copy_frame`]).
     pub(crate) transmission: Option<crate::gpu::texture::Texture2d>,
+    /// The stereo eyes' targets, made on the first stereo frame.
+    pub(crate) stereo: stereo::StereoState,
 }
 
 impl Resources {
@@ -388,8 +391,22 @@ impl Renderer {
         self.render_viewport(s, target, [0, 0, target.width, target.height])
     }
 
-    /// Draws one frame into a rectangle of `target` (x, y from the bottom left).
+    /// Draws one frame into a rectangle of `target` (x, y from the bottom left): a stereo
+    /// frame's two eyes composed there ([`stereo`]), else one picture.
     pub fn render_viewport(
+        &mut self,
+        s: &FrameSettings,
+        target: &Target,
+        viewport: [u32; 4],
+    ) -> Result<FrameStats> {
+        if s.stereo.mode.composed() {
+            return self.render_stereo(s, target, viewport);
+        }
+        self.render_mono(s, target, viewport)
+    }
+
+    /// One picture into a rectangle of `target`.
+    fn render_mono(
         &mut self,
         s: &FrameSettings,
         target: &Target,

@@ -76,6 +76,7 @@ pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
         ]
     }))
     .chain(post::keys())
+    .chain([super::stereo::key()])
     .chain(variant_keys())
     // Points: disks of gl_PointSize, lit (with normals) or unlit, coloured, both tiers.
     .chain([false, true].into_iter().flat_map(|unlit| {

@@ -72,7 +72,8 @@ impl View {
         let view = s.camera.view();
         let proj = s.camera.projection(&cx.scene.scene.bounds, cx.aspect());
         let (w, h) = (cx.viewport[2], cx.viewport[3]);
-        cx.cull = Some(ClusterView::new(proj * view).with_lod(proj * view, w, h, cx.lod.error));
+        let lod = lod_view_proj(&s.camera, &cx.scene.scene.bounds, cx.aspect());
+        cx.cull = Some(ClusterView::new(proj * view).with_lod(lod, w, h, cx.lod.error));
         let maps = &cx.res.shadow.maps;
         let cube_mask = maps
             .iter()
@@ -208,4 +209,15 @@ pub(crate) fn base_texture(
             .map(Some),
         _ => Ok(None),
     }
+}
+
+/// The view-projection the level of detail is chosen with: the mono camera's (a stereo
+/// eye's without its offset and lens shift), so both eyes draw the same levels.
+pub(crate) fn lod_view_proj(
+    camera: &crate::camera::OrbitCamera,
+    bounds: &crate::scene::Bounds,
+    aspect: f32,
+) -> glam::Mat4 {
+    let c = camera.centre();
+    c.projection(bounds, aspect) * c.view()
 }

@@ -144,6 +144,10 @@ pub(crate) const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../../shaders_gl/post/box.frag"),
     ),
     (
+        "stereo.frag",
+        include_str!("../../../../shaders_gl/post/stereo.frag"),
+    ),
+    (
         "attributes.vert",
         include_str!("../../../../shaders_gl/attributes.vert"),
     ),

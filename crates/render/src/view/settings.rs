@@ -13,6 +13,7 @@ use crate::options::{Diffuse, Options, Ortho, Show};
 use crate::pbr::precompute::IblSettings;
 use crate::pbr::{EnvRequest, EnvSource, OutputParams, PbrParams};
 use crate::scene::Scene;
+use crate::stereo::{Stereo, StereoMode};
 use glam::Vec3;
 
 /// What the options change in a loaded scene (a file's, or one a program passed in): the
@@ -76,6 +77,8 @@ fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
         }
         None => {}
     }
+    camera.shift_x = args.camera.lens_shift;
+    let stereo = stereo_of(args, &mut camera)?;
     let (lights, headlight, kit) = lights(args, scene)?;
     let pbr = PbrParams::from(args);
     let post = &args.post;
@@ -129,8 +132,72 @@ fn derive(args: &Options, scene: &Scene) -> Result<FrameSettings> {
         background: Vec3::from_array(args.background()),
         shadows: ShadowSettings::from(&args.shadow),
         show_shadow_map: args.render.show == Show::ShadowMap,
+        stereo,
     };
     Ok(settings)
+}
+
+/// The frame's stereo from the options, and the camera an `--eye` picture looks through
+/// (`camera` itself otherwise): the eyes' separation and convergence default to the orbit
+/// distance / 30 and the orbit distance.
+fn stereo_of(args: &Options, camera: &mut OrbitCamera) -> Result<Stereo> {
+    let o = &args.stereo;
+    let asked = o.mode != StereoMode::Off || o.eye.is_some();
+    if asked && camera.ortho_height.is_some() {
+        return Err(Error::Usage(
+            "--stereo and --eye need a perspective view: an orthographic one has no parallax \
+             (every depth shifts alike); drop --ortho"
+                .into(),
+        ));
+    }
+    let convergence = o.convergence.unwrap_or(camera.distance);
+    let stereo = Stereo {
+        mode: o.mode,
+        method: o.anaglyph,
+        glasses: o.glasses,
+        swap: o.swap_eyes,
+        separation: o
+            .eye_separation
+            .unwrap_or_else(|| crate::stereo::default_separation(convergence)),
+        convergence,
+        parity: (0, 0),
+    };
+    let Some(eye) = o.eye else {
+        return Ok(stereo);
+    };
+    // One eye as a plain picture: the camera the composed picture's eye has.
+    let eye = if o.swap_eyes { eye.other() } else { eye };
+    let (w, h) = args.picture.size;
+    let layout = crate::stereo::Layout::of(o.mode, w, h);
+    let (ew, eh) = if o.mode == StereoMode::SideBySideFull {
+        (w, h)
+    } else {
+        layout.eye
+    };
+    camera.squeeze = layout.squeeze;
+    let aspect = ew as f32 / eh.max(1) as f32 * layout.squeeze;
+    *camera = crate::stereo::eye_camera(
+        camera,
+        eye,
+        stereo.separation,
+        stereo.convergence,
+        aspect,
+    );
+    Ok(Stereo {
+        mode: StereoMode::Off,
+        ..stereo
+    })
+}
+
+/// The size of the picture `args` draw: `--size`, except side-by-side-full's (twice as
+/// wide) and one `--eye` of a squeezed mode (half the width or height).
+pub fn output_size(args: &Options) -> (u32, u32) {
+    let (mode, size) = (args.stereo.mode, args.picture.size);
+    match args.stereo.eye {
+        Some(_) if mode == StereoMode::SideBySideFull => size,
+        Some(_) => crate::stereo::Layout::of(mode, size.0, size.1).eye,
+        None => crate::stereo::output_size(mode, size),
+    }
 }
 
 /// The default point diameter in mean nearest-neighbour spacings. Measured at 640×480 (the

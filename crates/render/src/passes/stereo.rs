@@ -1,0 +1,180 @@
+//! Stereo frames: each eye drawn as a whole mono frame into a target of its own (with its
+//! own depth and stencil, so the nearest-layer translucency masks each eye as in a mono
+//! frame), then both composed into the output rectangle by one full-screen pass
+//! (`stereo.frag`) that touches neither depth nor stencil — the virtual-globe thesis's
+//! conflict between interlacing and the translucency's stencil mask does not arise.
+//!
+//! Shared by the pair, done once: the shadow maps (kept while the lights are unchanged), the
+//! environment maps, the uploaded scene, the pose, and the level of detail (chosen from the
+//! mono camera, `OrbitCamera::centre`, so the eyes never show different levels).
+//!
+//! Without framebuffer objects (GL 2.1 drivers without FBOs, in a window) each eye is drawn
+//! into the output's own lower-left corner and copied into its texture
+//! (glCopyTexSubImage2D), then composed the same way: every mode works there too.
+use super::{FrameStats, Renderer, Target};
+use crate::frame::FrameSettings;
+use crate::gpu::framebuffer::{ColorAttachment, Framebuffer};
+use crate::gpu::state::RenderState;
+use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
+use crate::gpu::GpuRef;
+use crate::shader::cache::ProgramKey;
+use crate::stereo::{anaglyph_matrices, eye_camera, Eye, Layout, StereoMode};
+use crate::Result;
+
+/// One eye's picture: a texture, with a framebuffer (depth and stencil) where the driver
+/// has framebuffer objects.
+struct EyeTarget {
+    color: Texture2d,
+    fbo: Option<Framebuffer>,
+}
+
+/// The eyes' targets, remade when their size changes.
+#[derive(Default)]
+pub(crate) struct StereoState {
+    eyes: Vec<EyeTarget>,
+}
+
+pub(crate) fn key() -> ProgramKey {
+    ProgramKey::new("stereo", "show_depth.vert", "stereo.frag")
+}
+
+fn mode_code(mode: StereoMode) -> i32 {
+    match mode {
+        StereoMode::SideBySide | StereoMode::SideBySideFull => 1,
+        StereoMode::OverUnder => 2,
+        StereoMode::Rows => 3,
+        StereoMode::Columns => 4,
+        StereoMode::Checkerboard => 5,
+        _ => 0,
+    }
+}
+
+impl EyeTarget {
+    fn new(gpu: &GpuRef, w: u32, h: u32) -> Result<EyeTarget> {
+        let color = Texture2d::new(
+            gpu,
+            TextureFormat::Rgba8,
+            w,
+            h,
+            Pixels::None,
+            Sampling::NEAREST,
+        )?;
+        let fbo = if gpu.caps.fbo {
+            Some(Framebuffer::color_texture(
+                gpu,
+                ColorAttachment::Level(&color, 0),
+                w,
+                h,
+                true,
+            )?)
+        } else {
+            None
+        };
+        Ok(EyeTarget { color, fbo })
+    }
+}
+
+impl Renderer {
+    /// Draws `s`'s stereo frame into `viewport` of `target`: both eyes, then the composite.
+    /// Returns the right eye's stats with the composite's pass added.
+    pub(crate) fn render_stereo(
+        &mut self,
+        s: &FrameSettings,
+        target: &Target,
+        viewport: [u32; 4],
+    ) -> Result<FrameStats> {
+        let st = s.stereo;
+        let layout = Layout::of(st.mode, viewport[2], viewport[3]);
+        let (ew, eh) = layout.eye;
+        let gpu = self.gpu.clone();
+        let stale = self
+            .res
+            .stereo
+            .eyes
+            .first()
+            .is_none_or(|e| (e.color.width, e.color.height) != (ew, eh));
+        if stale {
+            // The old pair goes first: two large targets twice over may not fit.
+            self.res.stereo.eyes.clear();
+            for _ in 0..2 {
+                let e = EyeTarget::new(&gpu, ew, eh)?;
+                self.res.stereo.eyes.push(e);
+            }
+        }
+        let aspect = ew as f32 / eh as f32 * layout.squeeze;
+        let mut eye_settings = s.clone();
+        eye_settings.stereo.mode = StereoMode::Off;
+        let mut stats = FrameStats::default();
+        for (i, eye) in [Eye::Left, Eye::Right].into_iter().enumerate() {
+            let mut camera = s.camera;
+            camera.squeeze = layout.squeeze;
+            eye_settings.camera =
+                eye_camera(&camera, eye, st.separation, st.convergence, aspect);
+            let fbo = self.res.stereo.eyes[i].fbo.as_ref().map(|f| f.raw);
+            stats = match fbo {
+                Some(fbo) => {
+                    let t = Target {
+                        fbo: Some(fbo),
+                        width: ew,
+                        height: eh,
+                    };
+                    self.render_mono(&eye_settings, &t, [0, 0, ew, eh])?
+                }
+                None => {
+                    // Copy path: drawn in the output's corner, copied out.
+                    let corner = [viewport[0], viewport[1], ew, eh];
+                    let stats = self.render_mono(&eye_settings, target, corner)?;
+                    gpu.bind_framebuffer(target.fbo);
+                    let color = &self.res.stereo.eyes[i].color;
+                    color.copy_region_from_framebuffer(0, viewport[0], viewport[1]);
+                    stats
+                }
+            };
+        }
+        self.compose(s, target, viewport, (ew, eh))?;
+        stats.passes.push(format!("stereo({})", st.mode));
+        Ok(stats)
+    }
+
+    /// The composite: every pixel of `viewport` from the eyes' pictures.
+    fn compose(
+        &mut self,
+        s: &FrameSettings,
+        target: &Target,
+        viewport: [u32; 4],
+        (ew, eh): (u32, u32),
+    ) -> Result<()> {
+        let st = s.stereo;
+        let gpu = self.gpu.clone();
+        let p = self.programs.borrow_mut().get(&key())?;
+        p.bind();
+        let (first, second) = if st.swap { (1, 0) } else { (0, 1) };
+        self.res.stereo.eyes[first].color.bind(0);
+        self.res.stereo.eyes[second].color.bind(1);
+        p.set_i32("uLeft", 0);
+        p.set_i32("uRight", 1);
+        p.set_vec2("uEyeSize", glam::Vec2::new(ew as f32, eh as f32));
+        p.set_vec2(
+            "uOrigin",
+            glam::Vec2::new(viewport[0] as f32, viewport[1] as f32),
+        );
+        p.set_vec2(
+            "uOutSize",
+            glam::Vec2::new(viewport[2] as f32, viewport[3] as f32),
+        );
+        p.set_vec2(
+            "uParity",
+            glam::Vec2::new((st.parity.0 % 2) as f32, (st.parity.1 % 2) as f32),
+        );
+        p.set_i32("uMode", mode_code(st.mode));
+        let (l, r) = anaglyph_matrices(st.method, st.glasses);
+        p.set_mat3("uMatLeft", &l);
+        p.set_mat3("uMatRight", &r);
+        gpu.bind_framebuffer(target.fbo);
+        gpu.viewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+        gpu.apply(&RenderState::overlay());
+        self.res.quad(&gpu)?.draw();
+        gpu.apply(&RenderState::default());
+        Ok(())
+    }
+}
