@@ -72,6 +72,7 @@ mod serve_pool;
 mod shaders;
 mod shadows;
 mod stats;
+mod stereo;
 mod stress;
 mod terminator;
 mod texture_upload;

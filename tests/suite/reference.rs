@@ -136,6 +136,7 @@ fn settings(sc: &Scene, yaw: f32, pitch: f32, lights: Vec<Light>, aspect: f32) -
         background: BACKGROUND,
         shadows: ShadowSettings::default(),
         show_shadow_map: false,
+        stereo: Default::default(),
     }
 }
 

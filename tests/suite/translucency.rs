@@ -54,7 +54,7 @@ const MTL: &str =
 
 /// Outer shell (r 1, blue, α 0.4), inner shell (r 0.7, yellow, α 0.5), opaque core (r 0.4,
 /// red); lit by ambient only, so every colour is Ka.
-fn shells(dir: &Path, name: &str, order: &dyn Fn(Vec<String>) -> Vec<String>) -> String {
+pub(crate) fn shells(dir: &Path, name: &str, order: &dyn Fn(Vec<String>) -> Vec<String>) -> String {
     let mut s = format!("mtllib {name}.mtl\n");
     let mut base = 0;
     for (obj, r) in [("outer", 1.0), ("inner", 0.7), ("core", 0.4)] {

@@ -314,7 +314,10 @@ pub fn resolve(s: &FrameSettings) -> std::borrow::Cow<'_, FrameSettings> {
         None => std::borrow::Cow::Borrowed(s),
         Some(color) => {
             let mut r = s.clone();
-            let forward = (s.camera.target - s.camera.eye()).normalize_or(glam::Vec3::NEG_Z);
+            // The mono camera's: a stereo pair's eyes share one headlight (and a mono view's
+            // is computed exactly as before).
+            let c = s.camera.centre();
+            let forward = (c.target - c.eye()).normalize_or(glam::Vec3::NEG_Z);
             r.lights.push(crate::light::Light::new(
                 crate::light::LightKind::Directional(forward),
                 color,
