@@ -118,7 +118,8 @@ impl App<'_> {
         let attributes = Window::default_attributes()
             .with_title(format!("glview — {} — loading", scene.name))
             .with_inner_size(self.size);
-        let window = WindowContext::new(event_loop, attributes, self.args.context.gl)?;
+        let quad = self.args.stereo.mode == glview::stereo::StereoMode::QuadBuffer;
+        let window = WindowContext::new(event_loop, attributes, self.args.context.gl, quad)?;
         glview::native_hooks();
         let gpu = Gpu::new(window.glow_context());
         glview::platform::require_gl21(&gpu.caps)?;
@@ -329,10 +330,15 @@ impl App<'_> {
         // MSAA/SSAA draw offscreen (SSAA k times larger), then into the window.
         let target = live.aa.target(&live.gpu, window)?;
         let k = live.aa.scale();
+        // Interlaced stereo follows the screen's rows and columns: where the window is.
+        let mut settings = self.settings.clone();
+        settings.stereo.parity = screen_parity(&live.window.window);
         let stats = if self.view.compare() {
-            glview::compare::split::draw(&mut live.renderer, &self.settings, &target, w * k, h * k)?
+            glview::compare::split::draw(&mut live.renderer, &settings, &target, w * k, h * k)?
+        } else if settings.stereo.mode == glview::stereo::StereoMode::QuadBuffer {
+            live.renderer.render_quad_buffer(&settings, &target)?
         } else {
-            live.renderer.render(&self.settings, &target)?
+            live.renderer.render(&settings, &target)?
         };
         live.aa.present(&mut live.renderer, &window)?;
         let target = window;
@@ -412,6 +418,8 @@ impl ApplicationHandler for App<'_> {
                 }
                 self.request_redraw();
             }
+            // Moved by one row, an interlaced picture swaps which eye each row shows.
+            WindowEvent::Moved(_) if interlaced(&self.settings) => self.request_redraw(),
             WindowEvent::KeyboardInput {
                 event,
                 is_synthetic: false,
@@ -526,6 +534,20 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
     })
 }
 
+/// The window's top-left pixel on the screen, modulo 2 (column, row): (0, 0) where the
+/// platform does not say (Wayland).
+fn screen_parity(window: &Window) -> (u32, u32) {
+    window
+        .inner_position()
+        .map(|p| (p.x.rem_euclid(2) as u32, p.y.rem_euclid(2) as u32))
+        .unwrap_or((0, 0))
+}
+
+/// Whether the frame interlaces its eyes by screen pixels.
+fn interlaced(s: &FrameSettings) -> bool {
+    glview::stereo::interlaced_eye(s.stereo.mode, 0, 0).is_some()
+}
+
 /// The overlay's picture of `lines` (model, tier, toggles, frame time, the key table; or
 /// the moment's label), light text on a translucent black box.
 fn text_image(lines: &[String]) -> glview::image_out::Rgba {
@@ -569,6 +591,21 @@ fn overlay_lines(s: &FrameSettings, name: &str, compare: bool, ms: f64) -> Vec<S
             on(s.lighting.guides.axes)
         ),
     ];
+    let st = &s.stereo;
+    if st.mode != glview::stereo::StereoMode::Off {
+        lines.push(format!(
+            "stereo {}{}  separation {:.4}  convergence {:.4}{}",
+            st.mode,
+            if st.mode == glview::stereo::StereoMode::Anaglyph {
+                format!(" ({} {})", st.method, st.glasses)
+            } else {
+                String::new()
+            },
+            st.separation,
+            st.convergence,
+            if st.swap { "  eyes swapped" } else { "" }
+        ));
+    }
     let t = &s.lighting.terms;
     let p = &s.lighting.pbr_terms;
     lines.push(format!(

@@ -157,7 +157,12 @@ fn dispatch(args: &Args) -> Result<()> {
         return session::render_headless(args, out);
     }
     if crate::app::display_available() {
+        let quad = args.stereo.mode == glview::stereo::StereoMode::QuadBuffer;
         match crate::app::run_window(args) {
+            // Quad buffers are a window's: a picture instead would not be what was asked.
+            Err(Error::Context(e)) if quad => {
+                return Err(Error::Context(format!("no quad-buffered window: {e}")));
+            }
             Err(Error::Context(e)) => eprintln!("warning: no window ({e}); rendering headless"),
             other => return other,
         }

@@ -70,12 +70,38 @@ fn api_of(request: GlRequest) -> Api {
 /// A single-sampled config (so a screenshot matches a headless render) with a 24-bit depth
 /// buffer (and preferably 8 stencil bits) that can run one of the candidates, preferring one
 /// that runs them all.
-fn pick_config(display: &Display, candidates: &[GlRequest]) -> Result<Config, String> {
+fn pick_config(
+    display: &Display,
+    candidates: &[GlRequest],
+    stereo: bool,
+) -> Result<Config, String> {
     // An empty API set lets EGL list desktop-GL-only and ES-only configs alike.
     let template = ConfigTemplateBuilder::new()
         .with_depth_size(24)
-        .with_api(Api::empty())
-        .build();
+        .with_api(Api::empty());
+    if stereo {
+        // `--stereo quad-buffer`: only configs with left and right back buffers (GLX, WGL;
+        // EGL has none). What the driver offers otherwise is named in the error.
+        // SAFETY: the template holds no raw window handle.
+        let all = unsafe { display.find_configs(template.clone().build()) }
+            .map(|c| c.count())
+            .unwrap_or(0);
+        let template = template.with_stereoscopy(Some(true)).build();
+        // SAFETY: as above.
+        let stereo: Vec<Config> = unsafe { display.find_configs(template) }
+            .map(|c| c.collect())
+            .unwrap_or_default();
+        return stereo
+            .into_iter()
+            .find(|c| c.depth_size() >= 24)
+            .ok_or_else(|| {
+                format!(
+                    "--stereo quad-buffer: the driver offers {all} configs, none with stereo \
+                     (GL_STEREO) buffers; use another --stereo mode"
+                )
+            });
+    }
+    let template = template.build();
     // SAFETY: the template holds no raw window handle.
     let configs: Vec<Config> = unsafe { display.find_configs(template) }
         .map_err(|e| e.to_string())?
@@ -109,6 +135,7 @@ impl WindowContext {
         event_loop: &ActiveEventLoop,
         attributes: WindowAttributes,
         request: GlRequest,
+        stereo: bool,
     ) -> Result<WindowContext> {
         let raw_display = event_loop
             .display_handle()
@@ -144,7 +171,11 @@ impl WindowContext {
                     continue;
                 }
             };
-            let config = match pick_config(&display, request.candidates()) {
+            if stereo && name == "egl" {
+                tried.push("egl: EGL has no stereo (quad-buffer) configs".into());
+                continue;
+            }
+            let config = match pick_config(&display, request.candidates(), stereo) {
                 Ok(c) => c,
                 Err(e) => {
                     tried.push(format!("{name}: {e}"));

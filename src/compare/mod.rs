@@ -109,7 +109,7 @@ pub(crate) fn render_panes_with(
     tiers: &[PaneTier],
     coverage: bool,
 ) -> Result<Panes> {
-    let (w, h) = args.picture.size;
+    let (w, h) = crate::view::settings::output_size(args);
     let (base, _) = crate::session::frame_settings(args, &scene)?;
     let n = tiers.len() as u32;
     let gpu_tiers = tiers.iter().any(|t| matches!(t, PaneTier::Gpu(_)));
@@ -235,7 +235,7 @@ pub fn phong_pbr(
     args: &crate::options::Options,
     numbers: bool,
 ) -> Result<PhongPbr> {
-    let (w, h) = args.picture.size;
+    let (w, h) = crate::view::settings::output_size(args);
     let tiers = [PaneTier::Gpu(Shading::Phong), PaneTier::Gpu(Shading::Pbr)];
     let ((mut images, covered), settings) =
         session.with_renderer(args, (2 * w, h), |hl, renderer| {
@@ -296,7 +296,7 @@ pub fn compare_image(
     crate::session::pose_scene(args, &mut scene)?;
     let name = scene.name.clone();
     let panes = render_panes(args, scene, clusters, &tiers)?;
-    let (w, h) = args.picture.size;
+    let (w, h) = crate::view::settings::output_size(args);
     let labels: Vec<&str> = panes.labels.iter().map(String::as_str).collect();
     let strip = canvas::strip_height(w, &labels);
     let mut out = canvas::blank(w * tiers.len() as u32, h + strip, [24, 24, 28]);

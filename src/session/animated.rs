@@ -169,7 +169,7 @@ pub(super) fn write(
 
 /// The plan of `args`, with their scene loaded and uploaded (kept for the frames).
 fn plan(args: &Options, path: &Path, keep: usize, kept: &mut Option<KeptContext>) -> Result<Plan> {
-    let size = args.picture.size;
+    let size = crate::view::settings::output_size(args);
     let kept = prepare(args, keep, kept, None, size, &mut Profile::default())?;
     let scene = kept.renderers.last().expect("made by prepare").1.scene();
     Plan::new(args, scene, path)
@@ -189,8 +189,14 @@ pub(super) fn frames<W: Write + Seek>(
         path: path.into(),
         message,
     };
-    let mut enc =
-        AnimWriter::new(format, out, args.picture.size, plan.fps, plan.frames).map_err(err)?;
+    let mut enc = AnimWriter::new(
+        format,
+        out,
+        crate::view::settings::output_size(args),
+        plan.fps,
+        plan.frames,
+    )
+    .map_err(err)?;
     let bar = crate::progress::start(
         "frames",
         u64::from(plan.frames),

@@ -35,7 +35,14 @@ const FOV: f64 = 45.0;
 /// The contexts every picture of glview is drawn on: GL 3.3 core, ES 3.0, GL 2.1 (an old
 /// driver emulated), OSMesa, and OSMesa's GL 2.1 without framebuffer objects (the eyes then
 /// go through the copy path).
-const CONTEXTS: &[(&str, &[&str], &[(&str, &str)])] = &[
+/// A context: its name, glview's arguments for it and the environment (Mesa's overrides).
+type Context = (
+    &'static str,
+    &'static [&'static str],
+    &'static [(&'static str, &'static str)],
+);
+
+const CONTEXTS: &[Context] = &[
     ("core", &["--gl", "core", "--backend", "egl"], &[]),
     ("es3", &["--gl", "es3", "--backend", "egl"], &[]),
     ("gl21", &["--gl", "2.1", "--backend", "egl"], GL21),
@@ -97,7 +104,14 @@ fn eyes_are_plain_pictures_through_the_spelled_out_off_axis_cameras() {
                 &format!("{name}-{eye}"),
                 &args(
                     &centred,
-                    &["--eye", eye, "--eye-separation", "0.04", "--convergence", "0.6"],
+                    &[
+                        "--eye",
+                        eye,
+                        "--eye-separation",
+                        "0.04",
+                        "--convergence",
+                        "0.6",
+                    ],
                 ),
                 env,
             );
@@ -128,7 +142,10 @@ fn eyes_are_plain_pictures_through_the_spelled_out_off_axis_cameras() {
                 );
                 assert_close(&dir, &format!("{eye}-defaults"), &plain, &defaults, 0, 0, 0);
                 let mono = render(&dir, "mono", &centred, env);
-                assert!(diff(&mono, &defaults, 0).over > 0, "the eye is the mono view");
+                assert!(
+                    diff(&mono, &defaults, 0).over > 0,
+                    "the eye is the mono view"
+                );
             }
         }
     }
@@ -206,8 +223,18 @@ fn composed_modes_are_exactly_their_eyes() {
         "checkerboard",
     ] {
         let base = args(VIEW, &["--target", "0,0.05,0", "--stereo", mode]);
-        let left = render(&dir, &format!("{mode}-left"), &args(&base, &["--eye", "left"]), &[]);
-        let right = render(&dir, &format!("{mode}-right"), &args(&base, &["--eye", "right"]), &[]);
+        let left = render(
+            &dir,
+            &format!("{mode}-left"),
+            &args(&base, &["--eye", "left"]),
+            &[],
+        );
+        let right = render(
+            &dir,
+            &format!("{mode}-right"),
+            &args(&base, &["--eye", "right"]),
+            &[],
+        );
         let composed = render(&dir, mode, &base, &[]);
         let (w, h) = (composed.width, composed.height);
         let want = if mode == "side-by-side-full" {
@@ -226,12 +253,25 @@ fn composed_modes_are_exactly_their_eyes() {
             &[],
         );
         let expected = rebuilt(mode, &right, &left, w, h);
-        assert_close(&dir, &format!("{mode}-swapped"), &expected, &swapped, 0, 0, 0);
+        assert_close(
+            &dir,
+            &format!("{mode}-swapped"),
+            &expected,
+            &swapped,
+            0,
+            0,
+            0,
+        );
     }
     // The squeezed eye is drawn at the squeezed size: a half-width picture through the
     // full picture's aspect (the display stretches it back).
     let half = crop(
-        &render(&dir, "sbs-again", &args(VIEW, &["--stereo", "side-by-side"]), &[]),
+        &render(
+            &dir,
+            "sbs-again",
+            &args(VIEW, &["--stereo", "side-by-side"]),
+            &[],
+        ),
         0,
         0,
         W / 2,
@@ -270,7 +310,8 @@ fn anaglyphs_are_their_matrices_on_display_values() {
                     let p = &img.data[i * 4..i * 4 + 3];
                     glam::Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / 255.0
                 };
-                let want = (ml * at(&left) + mr * at(&right)).clamp(glam::Vec3::ZERO, glam::Vec3::ONE);
+                let want =
+                    (ml * at(&left) + mr * at(&right)).clamp(glam::Vec3::ZERO, glam::Vec3::ONE);
                 let got = at(&img);
                 worst = worst.max((want - got).abs().max_element());
             }
@@ -354,13 +395,30 @@ fn parallax_is_zero_on_the_screen_plane_and_follows_the_frustum() {
             "--convergence",
             "4",
         ];
-        let l = render(&dir, &format!("z{z}-left"), &args(&view, &["--eye", "left"]), &[]);
-        let r = render(&dir, &format!("z{z}-right"), &args(&view, &["--eye", "right"]), &[]);
-        let (xl, xr) = (centroid_x(&l) - f64::from(W) / 2.0, centroid_x(&r) - f64::from(W) / 2.0);
+        let l = render(
+            &dir,
+            &format!("z{z}-left"),
+            &args(&view, &["--eye", "left"]),
+            &[],
+        );
+        let r = render(
+            &dir,
+            &format!("z{z}-right"),
+            &args(&view, &["--eye", "right"]),
+            &[],
+        );
+        let (xl, xr) = (
+            centroid_x(&l) - f64::from(W) / 2.0,
+            centroid_x(&r) - f64::from(W) / 2.0,
+        );
         let want = (sep * 0.5 / (t * aspect)) * (1.0 / z - 1.0 / conv) * f64::from(W) / 2.0;
         eprintln!("z {z}: left {xl:+.3} px, right {xr:+.3} px, formula ±{want:.3}");
         assert!((xl - want).abs() <= 0.5, "z {z}: left {xl}, formula {want}");
-        assert!((xr + want).abs() <= 0.5, "z {z}: right {xr}, formula {}", -want);
+        assert!(
+            (xr + want).abs() <= 0.5,
+            "z {z}: right {xr}, formula {}",
+            -want
+        );
         if z == DIST {
             assert_close(&dir, "screen-plane", &l, &r, 0, 0, 0);
         }
@@ -391,15 +449,28 @@ fn the_masked_globe_survives_row_interlacing_on_every_context() {
     ];
     for (name, ctx, env) in CONTEXTS {
         let base = args(&view, ctx);
-        let left = render(&dir, &format!("{name}-left"), &args(&base, &["--eye", "left"]), env);
-        let right = render(&dir, &format!("{name}-right"), &args(&base, &["--eye", "right"]), env);
+        let left = render(
+            &dir,
+            &format!("{name}-left"),
+            &args(&base, &["--eye", "left"]),
+            env,
+        );
+        let right = render(
+            &dir,
+            &format!("{name}-right"),
+            &args(&base, &["--eye", "right"]),
+            env,
+        );
         let rows = render(&dir, &format!("{name}-rows"), &base, env);
         let expected = rebuilt("rows", &left, &right, rows.width, rows.height);
         assert_close(&dir, &format!("{name}-rows"), &expected, &rows, 0, 0, 0);
         // The mask held: the eye shows glass over black inside the globe, not the green
         // background (the plain nearest mode lets it through).
         let centre = pixel(&left, 80, 60);
-        assert!(centre[1] < 200, "{name}: the globe's centre shows the background");
+        assert!(
+            centre[1] < 200,
+            "{name}: the globe's centre shows the background"
+        );
     }
 }
 
@@ -413,8 +484,14 @@ fn stereo_refusals_are_one_line_errors() {
         (&["--stereo", "quad-buffer"][..], "GL_STEREO"),
         (&["--stereo", "rows", "--aa", "msaa"][..], "single-sampled"),
         (&["--stereo", "rows", "--aa", "ssaa"][..], "interlaced"),
-        (&["--stereo", "side-by-side", "--size", "321x240"][..], "odd width"),
-        (&["--stereo", "over-under", "--size", "320x241"][..], "odd height"),
+        (
+            &["--stereo", "side-by-side", "--size", "321x240"][..],
+            "odd width",
+        ),
+        (
+            &["--stereo", "over-under", "--size", "320x241"][..],
+            "odd height",
+        ),
         (&["--stereo", "sideways"][..], "possible values"),
     ] {
         let out = std::env::temp_dir().join("glview-stereo-refused.png");

@@ -683,3 +683,81 @@ fn split_view_frames_each_half() {
         assert_close(&dir, &name, &half, &pane, 0, 160 * 240 / 1000, 8);
     }
 }
+
+/// Stereo in the window: rows follow the screen (moved down one row, each row shows the
+/// other eye: the headless picture with the eyes swapped), `T` cycles the modes, `Y` swaps
+/// the eyes, `}` widens the separation; each screenshot equals its headless picture.
+#[test]
+fn stereo_rows_follow_the_screen_and_keys_cycle_the_modes() {
+    let Some((_lock, x)) = setup() else { return };
+    let dir = fresh_dir("window_stereo");
+    let (mut v, win) = open(&x, &dir, &["--stereo", "rows"]);
+    let check = |v: &mut Viewer, name: &str, headless: &[&str]| {
+        let shot = screenshot(&x, v);
+        let mut args = VIEW.to_vec();
+        args.extend_from_slice(headless);
+        let reference = render(&dir, name, &args, &[]);
+        let shot = with_alpha_of(&shot, &reference);
+        assert_close(&dir, name, &shot, &reference, 0, 320 * 240 / 1000, 2);
+        reference
+    };
+    let move_to = |v: &mut Viewer, y: &str| {
+        x.xdotool(&["windowmove", "--sync", &win, "10", y])
+            .expect("xdotool windowmove");
+        v.wait_frame(FRAME);
+        v.drain_for(Duration::from_millis(300));
+    };
+    move_to(&mut v, "20");
+    let even = check(&mut v, "rows-even", &["--stereo", "rows"]);
+    move_to(&mut v, "21");
+    let odd = check(&mut v, "rows-odd", &["--stereo", "rows", "--swap-eyes"]);
+    assert!(
+        diff(&even, &odd, 8).over > 1000,
+        "the row parity changes the picture"
+    );
+    move_to(&mut v, "20");
+    key_to_frame(&x, &mut v, "t");
+    check(&mut v, "columns", &["--stereo", "columns"]);
+    key_to_frame(&x, &mut v, "y");
+    check(
+        &mut v,
+        "columns-swapped",
+        &["--stereo", "columns", "--swap-eyes"],
+    );
+    key_to_frame(&x, &mut v, "braceright");
+    // The default separation (the fitted distance / 30) times 1.25, as glview computes it.
+    let (s, _) = common::settings_for(&[VIEW, &["--stereo", "columns"][..]].concat());
+    let wider = format!("{}", s.stereo.separation * 1.25);
+    check(
+        &mut v,
+        "columns-wider",
+        &[
+            "--stereo",
+            "columns",
+            "--swap-eyes",
+            "--eye-separation",
+            &wider,
+        ],
+    );
+    quit(&mut v, &x, "Escape");
+}
+
+/// `--stereo quad-buffer` where the driver has no stereo configs (Mesa's GLX and EGL on
+/// Xvfb): one line naming what it offered, exit status non-zero, no window left.
+#[test]
+fn quad_buffer_without_stereo_configs_is_a_one_line_error() {
+    let Some((_lock, x)) = setup() else { return };
+    let o = std::process::Command::new(bin())
+        .args(VIEW)
+        .args(["--stereo", "quad-buffer"])
+        .env("DISPLAY", &x.display)
+        .output()
+        .expect("run glview");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "a quad-buffered window opened:\n{err}");
+    assert!(
+        err.contains("none with stereo (GL_STEREO) buffers"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+}

@@ -40,6 +40,14 @@ pub enum Action {
     Step(i8),
     /// glTF: the file's next animation, from its time 0 (`A`).
     CycleAnimation,
+    /// Stereo: off → anaglyph → side-by-side → over-under → rows → columns → checkerboard
+    /// → side-by-side-full → off (`T`).
+    CycleStereo,
+    /// Stereo: swap the eyes (`Y`).
+    SwapEyes,
+    /// Stereo: the eyes' separation times 0.8 (−1) or 1.25 (+1) (`{`, `}`): needs the
+    /// scene (the default separation follows the fitted distance).
+    Separation(i8),
     Screenshot,
     Help,
     Quit,
@@ -173,6 +181,14 @@ pub const KEY_TABLE: &[(&[&str], Action, &str)] = &[
         "glTF: the file's next animation (then all together), from its start",
     ),
     (
+        &["T"],
+        Action::CycleStereo,
+        "stereo: off → anaglyph → side-by-side → over-under → rows → columns → checkerboard → side-by-side-full",
+    ),
+    (&["Y"], Action::SwapEyes, "stereo: swap the eyes"),
+    (&["{"], Action::Separation(-1), "stereo: eye separation ×0.8"),
+    (&["}"], Action::Separation(1), "stereo: eye separation ×1.25"),
+    (
         &["F12"],
         Action::Screenshot,
         "save a screenshot (PNG of the window's framebuffer)",
@@ -237,6 +253,22 @@ pub fn help_text() -> String {
     s
 }
 
+/// The stereo mode `T` goes to after `mode` (quad-buffer is the window's start-up choice,
+/// not in the cycle: it needs a context of its own).
+fn next_stereo(mode: crate::stereo::StereoMode) -> crate::stereo::StereoMode {
+    use crate::stereo::StereoMode::*;
+    match mode {
+        Off | QuadBuffer => Anaglyph,
+        Anaglyph => SideBySide,
+        SideBySide => OverUnder,
+        OverUnder => Rows,
+        Rows => Columns,
+        Columns => Checkerboard,
+        Checkerboard => SideBySideFull,
+        SideBySideFull => Off,
+    }
+}
+
 /// What the caller must do after an action.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Effect {
@@ -265,7 +297,18 @@ pub fn apply(action: Action, o: &mut Options) -> Effect {
         | Action::CycleVariant
         | Action::PlayPause
         | Action::Step(_)
-        | Action::CycleAnimation => return Effect::Camera,
+        | Action::CycleAnimation
+        | Action::Separation(_) => return Effect::Camera,
+        Action::CycleStereo => {
+            // SSAA's box filter would average interlaced rows and columns together.
+            let ssaa = o.post.aa == crate::options::AaMode::Ssaa;
+            let mut next = next_stereo(o.stereo.mode);
+            while ssaa && crate::stereo::interlaced_eye(next, 0, 0).is_some() {
+                next = next_stereo(next);
+            }
+            o.stereo.mode = next;
+        }
+        Action::SwapEyes => o.stereo.swap_eyes = !o.stereo.swap_eyes,
         Action::ToggleShadows => o.shadow.enabled = !o.shadow.enabled,
         Action::ToggleGouraud => {
             o.render.shading = match o.render.shading {

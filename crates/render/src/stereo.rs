@@ -269,9 +269,9 @@ fn dubois(glasses: Glasses) -> (Mat3, Mat3) {
 /// of the screen (a window) or of the picture (a file); None for the other modes.
 pub fn interlaced_eye(mode: StereoMode, col: u64, row: u64) -> Option<Eye> {
     let left = match mode {
-        StereoMode::Rows => row % 2 == 0,
-        StereoMode::Columns => col % 2 == 0,
-        StereoMode::Checkerboard => (row + col) % 2 == 0,
+        StereoMode::Rows => row.is_multiple_of(2),
+        StereoMode::Columns => col.is_multiple_of(2),
+        StereoMode::Checkerboard => (row + col).is_multiple_of(2),
         _ => return None,
     };
     Some(if left { Eye::Left } else { Eye::Right })
@@ -330,10 +330,7 @@ mod tests {
             );
             let got = e.projection_between(aspect, n, f) * e.view();
             let want = proj * view;
-            assert!(
-                got.abs_diff_eq(want, 1e-5),
-                "{eye:?}: {got:?} vs {want:?}"
-            );
+            assert!(got.abs_diff_eq(want, 1e-5), "{eye:?}: {got:?} vs {want:?}");
         }
     }
 
@@ -349,7 +346,10 @@ mod tests {
             eye_camera(&c, Eye::Right, sep, conv, aspect),
         );
         let at = ndc(&l, c.target, aspect);
-        assert!(at.truncate().length() < 1e-5, "left sees the target at {at}");
+        assert!(
+            at.truncate().length() < 1e-5,
+            "left sees the target at {at}"
+        );
         assert!(ndc(&r, c.target, aspect).truncate().length() < 1e-5);
         let t = (c.fov_y_deg.to_radians() * 0.5).tan();
         let forward = (c.target - c.eye()).normalize();
@@ -358,7 +358,11 @@ mod tests {
             let (xl, xr) = (ndc(&l, p, aspect).x, ndc(&r, p, aspect).x);
             let want = (sep * 0.5 / (t * aspect)) * (1.0 / z - 1.0 / conv);
             assert!((xl - want).abs() < 1e-4, "z {z}: left {xl}, formula {want}");
-            assert!((xr + want).abs() < 1e-4, "z {z}: right {xr}, formula {}", -want);
+            assert!(
+                (xr + want).abs() < 1e-4,
+                "z {z}: right {xr}, formula {}",
+                -want
+            );
         }
     }
 
@@ -390,12 +394,12 @@ mod tests {
     fn layouts_and_interlacing() {
         assert_eq!(Layout::of(StereoMode::SideBySide, 640, 480).eye, (320, 480));
         assert_eq!(Layout::of(StereoMode::OverUnder, 640, 480).eye, (640, 240));
-        assert_eq!(output_size(StereoMode::SideBySideFull, (640, 480)), (1280, 480));
-        assert!(size_refusal(StereoMode::SideBySide, (641, 480)).is_some());
         assert_eq!(
-            interlaced_eye(StereoMode::Rows, 5, 0),
-            Some(Eye::Left)
+            output_size(StereoMode::SideBySideFull, (640, 480)),
+            (1280, 480)
         );
+        assert!(size_refusal(StereoMode::SideBySide, (641, 480)).is_some());
+        assert_eq!(interlaced_eye(StereoMode::Rows, 5, 0), Some(Eye::Left));
         assert_eq!(
             interlaced_eye(StereoMode::Checkerboard, 1, 2),
             Some(Eye::Right)

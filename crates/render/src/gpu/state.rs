@@ -197,6 +197,13 @@ impl Gpu {
         unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, fbo) }
     }
 
+    /// Which of the default framebuffer's colour buffers draws go to: `BACK_LEFT` or
+    /// `BACK_RIGHT` of a quad-buffered (GL_STEREO) window, `BACK` otherwise. Desktop GL only.
+    pub(crate) fn draw_buffer(&self, buffer: u32) {
+        // SAFETY: a buffer enum of the bound default framebuffer.
+        unsafe { self.gl.draw_buffer(buffer) }
+    }
+
     pub(crate) fn viewport(&self, x: u32, y: u32, width: u32, height: u32) {
         // SAFETY: no preconditions.
         unsafe {

@@ -108,8 +108,7 @@ impl Renderer {
         for (i, eye) in [Eye::Left, Eye::Right].into_iter().enumerate() {
             let mut camera = s.camera;
             camera.squeeze = layout.squeeze;
-            eye_settings.camera =
-                eye_camera(&camera, eye, st.separation, st.convergence, aspect);
+            eye_settings.camera = eye_camera(&camera, eye, st.separation, st.convergence, aspect);
             let fbo = self.res.stereo.eyes[i].fbo.as_ref().map(|f| f.raw);
             stats = match fbo {
                 Some(fbo) => {
@@ -133,6 +132,32 @@ impl Renderer {
         }
         self.compose(s, target, viewport, (ew, eh))?;
         stats.passes.push(format!("stereo({})", st.mode));
+        Ok(stats)
+    }
+
+    /// A quad-buffered window's frame: each eye drawn whole into its own back buffer
+    /// (`target` is the window's default framebuffer, made with stereo buffers).
+    pub fn render_quad_buffer(&mut self, s: &FrameSettings, target: &Target) -> Result<FrameStats> {
+        let st = s.stereo;
+        let (w, h) = (target.width, target.height);
+        let aspect = w as f32 / h.max(1) as f32;
+        let mut eye_settings = s.clone();
+        eye_settings.stereo.mode = StereoMode::Off;
+        let mut stats = FrameStats::default();
+        for eye in [Eye::Left, Eye::Right] {
+            let shown = if st.swap { eye.other() } else { eye };
+            eye_settings.camera =
+                eye_camera(&s.camera, shown, st.separation, st.convergence, aspect);
+            self.gpu.bind_framebuffer(None);
+            self.gpu.draw_buffer(match eye {
+                Eye::Left => glow::BACK_LEFT,
+                Eye::Right => glow::BACK_RIGHT,
+            });
+            stats = self.render_mono(&eye_settings, target, [0, 0, w, h])?;
+        }
+        self.gpu.bind_framebuffer(None);
+        self.gpu.draw_buffer(glow::BACK);
+        stats.passes.push("stereo(quad-buffer)".into());
         Ok(stats)
     }
 

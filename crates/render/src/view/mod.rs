@@ -126,6 +126,12 @@ impl View {
             Action::PlayPause => self.play_pause(scene.animations())?,
             Action::Step(n) => self.step(i32::from(n), scene.animations())?,
             Action::CycleAnimation => self.next_animation(scene.animations())?,
+            Action::Separation(step) => {
+                // From the separation drawn now (the default follows the fitted distance).
+                let now = crate::frame::FrameSettings::new(&self.options, scene)?.stereo;
+                let factor = if step < 0 { 0.8 } else { 1.25 };
+                self.options.stereo.eye_separation = Some(now.separation * factor);
+            }
             a => return Ok(keys::apply(a, &mut self.options)),
         }
         Ok(Effect::Redraw)

@@ -176,13 +176,7 @@ fn stereo_of(args: &Options, camera: &mut OrbitCamera) -> Result<Stereo> {
     };
     camera.squeeze = layout.squeeze;
     let aspect = ew as f32 / eh.max(1) as f32 * layout.squeeze;
-    *camera = crate::stereo::eye_camera(
-        camera,
-        eye,
-        stereo.separation,
-        stereo.convergence,
-        aspect,
-    );
+    *camera = crate::stereo::eye_camera(camera, eye, stereo.separation, stereo.convergence, aspect);
     Ok(Stereo {
         mode: StereoMode::Off,
         ..stereo
