@@ -261,11 +261,19 @@ class Renderer:
         normals: bool = False,
         ids: bool = False,
         linear: bool = False,
+        eyes: bool = False,
         **options: Any,
-    ) -> Image:
+    ) -> Any:
         """Renders the loaded model (else the ``model`` option, else the built-in scene) with
         these options over the renderer's; ``depth``/``normals``/``ids`` read those buffers
-        back too."""
+        back too. ``eyes=True`` returns the stereo pair instead, ``(left, right)``: each the
+        ``eye=`` picture of the ``stereo=`` mode (at its size there), sharing the upload,
+        shadow and environment maps."""
+        if eyes:
+            if options.get("eye") is not None:
+                raise OptionError("eyes: draws both eyes; it cannot be used with eye=")
+            one = dict(depth=depth, normals=normals, ids=ids, linear=linear)
+            return tuple(self.render(**one, eye=e, **options) for e in ("left", "right"))
         native = self._get()
         out = native.render(self._options(options), depth, normals, ids, linear)
         return Image(
@@ -318,8 +326,9 @@ def render(
     normals: bool = False,
     ids: bool = False,
     linear: bool = False,
+    eyes: bool = False,
     **options: Any,
-) -> Image:
+) -> Any:
     """Renders one picture of ``model`` (a path, arrays, or an object with ``.vertices`` and
     ``.faces``; None: the built-in scene) with the command line's options as keyword
     arguments, e.g. ``render("bunny.obj", size=(640, 480), shading="pbr", no_shadows=True)``.
@@ -331,7 +340,7 @@ def render(
     """
     global _shared
     size = options.pop("size", (1024, 768))
-    outputs = dict(depth=depth, normals=normals, ids=ids, linear=linear)
+    outputs = dict(depth=depth, normals=normals, ids=ids, linear=linear, eyes=eyes)
     if not _shared_lock.acquire(blocking=False):
         with Renderer(size[0], size[1]) as r:
             return _render_in(r, model, size, outputs, options)
@@ -345,7 +354,7 @@ def render(
 
 def _render_in(
     r: Renderer, model: Any, size: Any, outputs: Dict[str, bool], options: Dict[str, Any]
-) -> Image:
+) -> Any:
     """One picture of render() in ``r``, which forgets the last call's model and size."""
     r._defaults = {"size": (int(size[0]), int(size[1]))}
     r._names = ([], [])
