@@ -380,6 +380,11 @@ fn write(args: &Options, path: &Path, keep: usize, kept: &mut Option<KeptContext
                 .into(),
         });
     }
+    if args.stereo.eye.is_none() {
+        if let Some(why) = crate::stereo::size_refusal(args.stereo.mode, args.picture.size) {
+            return Err(crate::Error::Usage(why));
+        }
+    }
     let start = Instant::now();
     if let Some(img) = modes::map_view(args)? {
         return img.save_png(path, &text::map_view_text(args));

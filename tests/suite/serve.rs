@@ -534,3 +534,41 @@ fn osmesa_views_keep_one_size() {
         "{e}"
     );
 }
+
+/// Stereo on the page: the picker's mode is drawn as the command line draws it, pixel for
+/// pixel (T cycles on, Y swaps); a presenter's stereo reaches the followers (the class
+/// shares the mode); a bad or quad-buffer mode is refused by name.
+#[test]
+fn the_stereo_picker_draws_the_command_lines_stereo_and_the_class_shares_it() {
+    let server = Server::start(&["--size", SIZE]);
+    let mut p = server.viewer(&format!("&present={}", server.presenter_key));
+    let mut f = server.viewer("");
+    p.still(None);
+    f.still(None);
+    f.send(json!({"type": "follow", "on": true}));
+    p.send(json!({"type": "stereo", "mode": "rows", "seq": 1}));
+    let (h, png, _) = p.still(Some(1));
+    assert_eq!(h["stereo"], "rows");
+    let rows = cli_png("stereo-rows", &["--stereo", "rows"]);
+    assert_same("stereo-rows", &decode_png(&png), &rows);
+    // The follower ends on the presenter's still.
+    loop {
+        let (hf, img) = f.frame(true);
+        if hf["frame"] == h["frame"] {
+            assert_eq!(decode_png(&img).data, rows.data);
+            assert_eq!(hf["stereo"], "rows");
+            break;
+        }
+    }
+    p.send(json!({"type": "key", "key": "T", "seq": 2}));
+    p.send(json!({"type": "key", "key": "Y", "seq": 3}));
+    let (h, png, _) = p.still(Some(3));
+    assert_eq!(h["stereo"], "columns");
+    let want = cli_png("stereo-columns", &["--stereo", "columns", "--swap-eyes"]);
+    assert_same("stereo-columns", &decode_png(&png), &want);
+    for bad in ["sideways", "quad-buffer"] {
+        p.send(json!({"type": "stereo", "mode": bad}));
+        let e = p.text("error");
+        assert!(e["message"].as_str().unwrap().contains("stereo"), "{e}");
+    }
+}

@@ -66,6 +66,11 @@ pub enum ClientMsg {
         animation: Option<usize>,
         seq: Option<u64>,
     },
+    /// The page's stereo picker: `--stereo`'s modes but quad-buffer (a window's).
+    Stereo {
+        mode: String,
+        seq: Option<u64>,
+    },
     Still,
     Follow {
         on: bool,
@@ -125,6 +130,14 @@ impl ClientMsg {
                     return Err("bad message: fov must be between 0 and 180".into());
                 }
             }
+            ClientMsg::Stereo { mode, .. } => {
+                let m: glview::stereo::StereoMode = mode
+                    .parse()
+                    .map_err(|e: String| format!("bad message: stereo: {}", super::http::clip(&e)))?;
+                if m == glview::stereo::StereoMode::QuadBuffer {
+                    return Err("bad message: stereo: quad-buffer is a window's, not a page's".into());
+                }
+            }
             ClientMsg::Size { width, height }
                 if !(16..=MAX_SIZE).contains(width) || !(16..=MAX_SIZE).contains(height) =>
             {
@@ -147,6 +160,7 @@ impl ClientMsg {
             | ClientMsg::Pick { seq, .. }
             | ClientMsg::Play { seq, .. }
             | ClientMsg::Time { seq, .. }
+            | ClientMsg::Stereo { seq, .. }
             | ClientMsg::Model { seq, .. } => *seq,
             _ => None,
         }

@@ -104,6 +104,7 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
         "tier": tier,
         "shadows": settings.shadows.enabled,
         "bloom": settings.lighting.post.bloom.strength > 0.0,
+        "stereo": p.view.options().stereo.mode.word(),
         "ms": {
             // Drawing to glFinish, then the read-back; the compare view's two panes are
             // timed as one.

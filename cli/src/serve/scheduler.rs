@@ -522,6 +522,14 @@ impl Scheduler {
                 v.view.resize((width, height));
                 v.changed();
             }
+            ClientMsg::Stereo { mode, .. } => {
+                v.leave_class(presenter_view.as_ref());
+                // Checked by ClientMsg::parse.
+                if let Ok(mode) = mode.parse() {
+                    v.view.set_stereo(mode);
+                    v.changed();
+                }
+            }
             ClientMsg::Camera {
                 yaw,
                 pitch,

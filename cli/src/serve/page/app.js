@@ -195,6 +195,7 @@ async function onFrame(buf) {
   if (fromPresenter(h) || shownSeq >= seq) {
     showViews(h.views);
     showMotion(h.motion);
+    showStereo(h.stereo);
   }
   showOverlay(h, bytes.length);
   showDiff(h);
@@ -335,6 +336,18 @@ for (const what of ['camera', 'variant']) {
     sendInput({ type: 'pick', what, index });
     e.target.blur(); // so the keys go to the view again
   });
+}
+
+// ---- stereo 3D (T cycles the modes): the picker sends the mode, the header says the
+// mode drawn (a follower's is the presenter's). ----
+$('stereo').addEventListener('change', (e) => {
+  leaveFollow();
+  sendInput({ type: 'stereo', mode: e.target.value });
+  e.target.blur(); // so the keys go to the view again
+});
+
+function showStereo(mode) {
+  if (typeof mode === 'string' && $('stereo').value !== mode) $('stereo').value = mode;
 }
 
 // ---- the file's animations (Space, '.', ',' and A of the key table) ----

@@ -525,8 +525,9 @@ impl Options {
         Ok(())
     }
 
-    /// Stereo's refusals: what its eyes' single-sampled targets and interlacing cannot do,
-    /// and halves of an odd side.
+    /// Stereo's refusals: what its eyes' single-sampled targets and interlacing cannot do.
+    /// (Halves of an odd side are refused for files only, `Session::write`: a window or a
+    /// page of any size shows them, the last column or row repeating its neighbour.)
     fn validate_stereo(&self) -> Result<(), OptionError> {
         let mode = self.stereo.mode;
         if !mode.composed() {
@@ -548,11 +549,6 @@ impl Options {
                      --aa fxaa"
                 ),
             ));
-        }
-        if self.stereo.eye.is_none() {
-            if let Some(why) = crate::stereo::size_refusal(mode, self.picture.size) {
-                return Err(OptionError::new("stereo", why));
-            }
         }
         Ok(())
     }

@@ -87,6 +87,11 @@ impl View {
         o
     }
 
+    /// Sets the view's stereo mode (`--stereo`; the eyes' separation and swap stay).
+    pub fn set_stereo(&mut self, mode: crate::stereo::StereoMode) {
+        self.options.stereo.mode = mode;
+    }
+
     /// Sets the view's size (the camera keeps its angles; a fitted distance refits).
     pub fn resize(&mut self, size: (u32, u32)) {
         self.options.picture.size = size;
