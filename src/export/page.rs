@@ -13,11 +13,16 @@ const SCRIPT: &str = include_str!("page/page.js");
 pub(crate) fn html(opts: &ExportOptions, grid: &Grid, r: &Rendered, title: &str) -> String {
     let uri = |p: &Vec<u8>| format!("data:{};base64,{}", r.mime, base64(p));
     let command = command_line(opts);
+    // The pictures' own size: side-by-side-full's are twice as wide as --size.
+    let shown_size = {
+        let (w, h) = crate::view::settings::output_size(&opts.options);
+        [w, h]
+    };
     let data = serde_json::json!({
         "title": title,
         "model": r.model,
         "command": command,
-        "size": [opts.options.picture.size.0, opts.options.picture.size.1],
+        "size": shown_size,
         "yaws": grid.yaws,
         "pitches": grid.pitches,
         "start": grid.start(),
@@ -30,7 +35,7 @@ pub(crate) fn html(opts: &ExportOptions, grid: &Grid, r: &Rendered, title: &str)
     // occurs only in strings, where \u003c means the same character.
     let data = data.to_string().replace('<', "\\u003c");
     let caption = opts.caption.as_deref().unwrap_or("");
-    let (w, h) = opts.options.picture.size;
+    let [w, h] = shown_size;
     fill(TEMPLATE, |name| match name {
         "TITLE" => Some(html_escape(title)),
         "CAPTION" => Some(html_escape(caption)),

@@ -52,7 +52,8 @@ pub(crate) fn render(opts: &ExportOptions, grid: &Grid) -> Result<Rendered> {
     if !(1..=100).contains(&opts.quality) {
         return Err(Error::Usage("--quality must be 1 to 100".into()));
     }
-    let (w, _) = opts.options.picture.size;
+    // Each pane is the picture's own width (side-by-side-full's twice --size's).
+    let (w, _) = crate::view::settings::output_size(&opts.options);
     let mut session = crate::session::Session::new();
     let model = session.scene(&opts.options)?.name.clone();
     let bar = crate::progress::start("export", grid.len() as u64, crate::progress::Unit::Items);

@@ -342,3 +342,33 @@ fn bad_export_options_are_one_line_errors() {
         "{err}"
     );
 }
+
+/// A stereo lesson page (`-- --stereo MODE`): its PNG views are `glview -o --stereo MODE`'s,
+/// pixel for pixel, and the page is laid out at the pictures' size (side-by-side-full's
+/// twice as wide).
+#[test]
+fn stereo_views_are_the_stereo_pictures_of_glview_o() {
+    let dir = out_dir("export-stereo");
+    for (mode, width) in [("anaglyph", 96), ("side-by-side-full", 192)] {
+        let (page, data) = export(&dir, mode, &["--png", "--", "--stereo", mode]);
+        assert_eq!(data["size"], serde_json::json!([width, 72]), "{mode}");
+        let html = std::fs::read_to_string(page).unwrap();
+        assert!(
+            html.contains(&format!("width=\"{width}\"")),
+            "{mode}: the page's canvas"
+        );
+        for v in [0, 5] {
+            let (yaw, pitch) = angles(&data, v);
+            let args = [
+                MODEL, "--size", SIZE, "--yaw", &yaw, "--pitch", &pitch, "--stereo", mode,
+            ];
+            let o = render(&dir, &format!("{mode}-v{v}"), &args, &[]);
+            let p = picture(&data, "phong", v);
+            assert_eq!((p.width, p.height), (o.width, o.height), "{mode} view {v}");
+            assert!(
+                p.data == o.data,
+                "{mode} view {v} is not glview -o --stereo's"
+            );
+        }
+    }
+}

@@ -131,11 +131,13 @@ impl ClientMsg {
                 }
             }
             ClientMsg::Stereo { mode, .. } => {
-                let m: glview::stereo::StereoMode = mode
-                    .parse()
-                    .map_err(|e: String| format!("bad message: stereo: {}", super::http::clip(&e)))?;
+                let m: glview::stereo::StereoMode = mode.parse().map_err(|e: String| {
+                    format!("bad message: stereo: {}", super::http::clip(&e))
+                })?;
                 if m == glview::stereo::StereoMode::QuadBuffer {
-                    return Err("bad message: stereo: quad-buffer is a window's, not a page's".into());
+                    return Err(
+                        "bad message: stereo: quad-buffer is a window's, not a page's".into(),
+                    );
                 }
             }
             ClientMsg::Size { width, height }
