@@ -21,6 +21,7 @@ pub mod quality;
 pub mod scenes;
 pub mod serve;
 pub mod sphere;
+pub mod stereo;
 pub mod summary;
 pub mod table;
 pub mod translucency;
@@ -69,6 +70,10 @@ pub struct BenchArgs {
     /// (frames/s, input→frame latency, bytes a frame; docs/serve.md).
     #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
     pub serve: bool,
+    /// Measure stereo frames against mono frames of the same output size, every mode, in
+    /// the window's path (the frame) and the server's (frame and read-back).
+    #[arg(long, conflicts_with_all = ["load", "pbr", "post", "translucency", "frame"])]
+    pub stereo: bool,
     /// With --serve: seconds each scenario runs.
     #[arg(long, default_value_t = 5.0)]
     pub serve_seconds: f64,
@@ -103,6 +108,9 @@ pub struct BenchArgs {
 pub fn run(args: &BenchArgs) -> glview::Result<()> {
     if args.post {
         return post::run_post();
+    }
+    if args.stereo {
+        return stereo::run_stereo(&args.quality.models_dir);
     }
     if args.animated {
         return animated::run_animated(args.animated_model.as_deref());

@@ -76,13 +76,15 @@ impl EyeTarget {
 
 impl Renderer {
     /// Draws `s`'s stereo frame into `viewport` of `target`: both eyes, then the composite.
-    /// Returns the right eye's stats with the composite's pass added.
+    /// Returns the pair's stats: the right eye's passes and shadow, both eyes' draws and
+    /// triangles, and the time of the whole.
     pub(crate) fn render_stereo(
         &mut self,
         s: &FrameSettings,
         target: &Target,
         viewport: [u32; 4],
     ) -> Result<FrameStats> {
+        let start = crate::clock::Mark::now();
         let st = s.stereo;
         let layout = Layout::of(st.mode, viewport[2], viewport[3]);
         let (ew, eh) = layout.eye;
@@ -104,13 +106,13 @@ impl Renderer {
         let aspect = ew as f32 / eh as f32 * layout.squeeze;
         let mut eye_settings = s.clone();
         eye_settings.stereo.mode = StereoMode::Off;
-        let mut stats = FrameStats::default();
+        let mut pair: Option<FrameStats> = None;
         for (i, eye) in [Eye::Left, Eye::Right].into_iter().enumerate() {
             let mut camera = s.camera;
             camera.squeeze = layout.squeeze;
             eye_settings.camera = eye_camera(&camera, eye, st.separation, st.convergence, aspect);
             let fbo = self.res.stereo.eyes[i].fbo.as_ref().map(|f| f.raw);
-            stats = match fbo {
+            let stats = match fbo {
                 Some(fbo) => {
                     let t = Target {
                         fbo: Some(fbo),
@@ -129,9 +131,17 @@ impl Renderer {
                     stats
                 }
             };
+            pair = Some(match pair {
+                None => stats,
+                Some(left) => add_eyes(left, stats),
+            });
         }
         self.compose(s, target, viewport, (ew, eh))?;
+        let mut stats = pair.expect("two eyes");
         stats.passes.push(format!("stereo({})", st.mode));
+        self.gpu.finish();
+        // The pair's time: both eyes and the composite, to glFinish.
+        stats.ms = start.ms();
         Ok(stats)
     }
 
@@ -202,4 +212,12 @@ impl Renderer {
         gpu.apply(&RenderState::default());
         Ok(())
     }
+}
+
+/// The pair's stats: the right eye's, with both eyes' draws, triangles and GPU time.
+fn add_eyes(left: FrameStats, mut right: FrameStats) -> FrameStats {
+    right.draw_calls += left.draw_calls;
+    right.triangles += left.triangles;
+    right.gpu_ms = left.gpu_ms.zip(right.gpu_ms).map(|(l, r)| l + r);
+    right
 }
