@@ -389,6 +389,33 @@ mod tests {
 
     /// The page's keys are the table's (its hello carries them): every name maps back to
     /// its action, and quit, help and the window's screenshot are not among them.
+    /// `T` visits every composed mode once and comes back to mono; under SSAA it skips the
+    /// interlaced ones (the box filter would average their rows together). `Y` swaps.
+    #[test]
+    fn t_cycles_the_stereo_modes_and_y_swaps_the_eyes() {
+        use crate::stereo::StereoMode;
+        let mut o = Options::default();
+        let mut seen = Vec::new();
+        for _ in 0..8 {
+            apply(Action::CycleStereo, &mut o);
+            seen.push(o.stereo.mode);
+        }
+        assert_eq!(seen.last(), Some(&StereoMode::Off));
+        let composed = StereoMode::ALL
+            .iter()
+            .filter(|(m, _, _)| m.composed())
+            .count();
+        assert_eq!(seen.len() - 1, composed, "{seen:?}");
+        o.post.aa = crate::options::AaMode::Ssaa;
+        for _ in 0..8 {
+            apply(Action::CycleStereo, &mut o);
+            assert!(crate::stereo::interlaced_eye(o.stereo.mode, 0, 0).is_none());
+        }
+        apply(Action::SwapEyes, &mut o);
+        assert!(o.stereo.swap_eyes);
+        assert_eq!(parse_keys("T Y { }").unwrap()[3], Action::Separation(1));
+    }
+
     #[test]
     fn remote_table_is_the_key_table() {
         let table = remote_table();

@@ -2,8 +2,9 @@
 //! the built-in scene and the dragon (when present) at 1280×720 — the window's path (the
 //! renderer's frame to glFinish, as the window draws before its swap) and the server's
 //! (`Session::draw`: the frame plus its read-back, as a viewer's still is made before its
-//! encode). Medians of 10 frames after one warm-up; the shadow and environment maps are
-//! kept between frames in both, as in a window or a server. Also what a half-height eye
+//! encode). Mono and stereo frames are drawn in turn (15 each after a warm-up) so a busy
+//! machine slows both alike; medians. The shadow and environment maps are kept between
+//! frames in both, as in a window or a server. Also what a half-height eye
 //! costs (the rows mode drawing each eye at half size would pay that instead).
 use super::median;
 use super::table::{num, Table};
@@ -39,6 +40,7 @@ pub fn run_stereo(models_dir: &Path) -> Result<()> {
         "scene",
         "mode",
         "output",
+        "mono ms",
         "window ms",
         "vs mono",
         "server ms",
@@ -47,49 +49,38 @@ pub fn run_stereo(models_dir: &Path) -> Result<()> {
     for (name, mut args) in scenes {
         args.picture.size = (w, h);
         let scene = glview::session::load_scene(&args)?;
-        let mono_window = window_ms(&args, &scene, None)?;
-        let mono_server = server_ms(&args)?;
-        let mono_size = |m| glview::stereo::output_size(m, (w, h));
-        table.row(vec![
-            name.into(),
-            "mono".into(),
-            format!("{w}x{h}"),
-            num(mono_window, 1),
-            "1.00x".into(),
-            num(mono_server, 1),
-            "1.00x".into(),
-        ]);
         for mode in MODES {
-            let mut o = args.clone();
-            o.stereo.mode = mode;
+            let mut stereo = args.clone();
+            stereo.stereo.mode = mode;
             // Against a mono frame of the same output size (side-by-side-full's is twice as wide).
-            let (ow, oh) = mono_size(mode);
-            let (base_w, base_s) = if (ow, oh) == (w, h) {
-                (mono_window, mono_server)
-            } else {
-                let mut m = args.clone();
-                m.picture.size = (ow, oh);
-                (window_ms(&m, &scene, None)?, server_ms(&m)?)
-            };
-            let win = window_ms(&o, &scene, None)?;
-            let srv = server_ms(&o)?;
+            let (ow, oh) = glview::stereo::output_size(mode, (w, h));
+            let mut mono = args.clone();
+            mono.picture.size = (ow, oh);
+            let (m, s) = window_ms(&mono, &stereo, &scene)?;
+            let (ms, ss) = server_ms(&mono, &stereo)?;
             table.row(vec![
                 name.into(),
                 mode.word().into(),
                 format!("{ow}x{oh}"),
-                num(win, 1),
-                format!("{:.2}x", win / base_w),
-                num(srv, 1),
-                format!("{:.2}x", srv / base_s),
+                num(m, 1),
+                num(s, 1),
+                format!("{:.2}x", s / m),
+                num(ss, 1),
+                format!("{:.2}x", ss / ms),
             ]);
         }
-        let half = window_ms(&args, &scene, Some((w, h / 2)))?;
+        // What one eye at half height costs (rows drawing each eye at half size would pay
+        // this twice instead of a full eye twice).
+        let mut half = args.clone();
+        half.picture.size = (w, h / 2);
+        let (full, halved) = window_ms(&args, &half, &scene)?;
         table.row(vec![
             name.into(),
-            "one eye at half height".into(),
+            "mono at half height".into(),
             format!("{w}x{}", h / 2),
-            num(half, 1),
-            format!("{:.2}x", half / mono_window),
+            num(full, 1),
+            num(halved, 1),
+            format!("{:.2}x", halved / full),
             String::new(),
             String::new(),
         ]);
@@ -98,37 +89,54 @@ pub fn run_stereo(models_dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The renderer's frame to glFinish (the window's path), median of 10; `viewport` draws a
-/// smaller rectangle of the target instead of all of it.
-fn window_ms(
-    args: &Options,
-    scene: &glview::scene::Scene,
-    viewport: Option<(u32, u32)>,
-) -> Result<f64> {
-    let (w, h) = glview::view::settings::output_size(args);
+/// Frames of `a` and `b` drawn in turn, 15 of each after a warm-up, on one context (so a
+/// busy machine slows both alike): the medians, to glFinish (the window's path).
+fn window_ms(a: &Options, b: &Options, scene: &glview::scene::Scene) -> Result<(f64, f64)> {
+    let size = |o: &Options| glview::view::settings::output_size(o);
+    let (w, h) = (size(a).0.max(size(b).0), size(a).1.max(size(b).1));
     let hl = Headless::new(Backend::Auto, GlRequest::Auto, w, h)?;
-    let (s, _) = glview::session::frame_settings(args, scene)?;
     let mut r = Renderer::new(&hl.gpu, scene.clone())?;
-    let rect = viewport.map_or([0, 0, w, h], |(vw, vh)| [0, 0, vw, vh]);
-    r.render_viewport(&s, &hl.target(), rect)?;
-    let times: Vec<f64> = (0..10)
-        .map(|_| r.render_viewport(&s, &hl.target(), rect).map(|st| st.ms))
-        .collect::<Result<_>>()?;
-    Ok(median(&times))
+    let mut sets = Vec::new();
+    for o in [a, b] {
+        let (s, _) = glview::session::frame_settings(o, scene)?;
+        let (ow, oh) = size(o);
+        r.render_viewport(&s, &hl.target(), [0, 0, ow, oh])?;
+        sets.push((s, [0, 0, ow, oh]));
+    }
+    let (mut ta, mut tb) = (Vec::new(), Vec::new());
+    for _ in 0..15 {
+        for (i, (s, rect)) in sets.iter().enumerate() {
+            let ms = r.render_viewport(s, &hl.target(), *rect)?.ms;
+            if i == 0 {
+                ta.push(ms)
+            } else {
+                tb.push(ms)
+            }
+        }
+    }
+    Ok((median(&ta), median(&tb)))
 }
 
-/// `Session::draw` (frame and read-back: the server's still before its encode), median of 10.
-fn server_ms(args: &Options) -> Result<f64> {
+/// `Session::draw` of `a` and `b` in turn (frame and read-back: the server's still before
+/// its encode), 15 of each after a warm-up: the medians.
+fn server_ms(a: &Options, b: &Options) -> Result<(f64, f64)> {
     let mut session = glview::session::Session::new();
     let mut profile = glview::session::Profile::default();
-    session.draw(args, None, Default::default(), &mut profile)?;
-    let times: Vec<f64> = (0..10)
-        .map(|_| {
+    for o in [a, b] {
+        session.draw(o, None, Default::default(), &mut profile)?;
+    }
+    let (mut ta, mut tb) = (Vec::new(), Vec::new());
+    for _ in 0..15 {
+        for (i, o) in [a, b].into_iter().enumerate() {
             let t = Instant::now();
-            session
-                .draw(args, None, Default::default(), &mut profile)
-                .map(|_| t.elapsed().as_secs_f64() * 1e3)
-        })
-        .collect::<Result<_>>()?;
-    Ok(median(&times))
+            session.draw(o, None, Default::default(), &mut profile)?;
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            if i == 0 {
+                ta.push(ms)
+            } else {
+                tb.push(ms)
+            }
+        }
+    }
+    Ok((median(&ta), median(&tb)))
 }

@@ -224,6 +224,32 @@ impl Framebuffer {
         self.resolve_into_raw(None, self.width, self.height);
     }
 
+    /// Copies this framebuffer's colour, pixel for pixel, into rectangle `[x, y, w, h]` of
+    /// `dst` (None: the default framebuffer), which must be this one's size
+    /// (glBlitFramebuffer, nearest: exact).
+    pub(crate) fn blit_to(&self, dst: Option<glow::Framebuffer>, [x, y, w, h]: [u32; 4]) {
+        debug_assert_eq!((w, h), (self.width, self.height));
+        // SAFETY: both framebuffers are complete; the rectangles are the same size.
+        unsafe {
+            let gl = &self.gpu.gl;
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.raw));
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, dst);
+            gl.blit_framebuffer(
+                0,
+                0,
+                w as i32,
+                h as i32,
+                x as i32,
+                y as i32,
+                (x + w) as i32,
+                (y + h) as i32,
+                glow::COLOR_BUFFER_BIT,
+                glow::NEAREST,
+            );
+            gl.bind_framebuffer(glow::FRAMEBUFFER, dst);
+        }
+    }
+
     fn resolve_into_raw(&self, dst: Option<glow::Framebuffer>, width: u32, height: u32) {
         // SAFETY: both framebuffers are complete and of the same size (the caller's).
         unsafe {

@@ -295,6 +295,9 @@ pub struct Renderer {
     frame: u64,
     /// Time each post step (glFinish before and after): `--stats`.
     pub time_post: bool,
+    /// Drawing a stereo pair's first eye: its frame ends without glFinish (the pair's
+    /// end waits once), so the eyes' work is not serialised by a wait between them.
+    pub(crate) first_eye: bool,
     /// Skip clusters of large meshes the view cannot see (default on; `--no-culling` turns
     /// it off, for comparisons: the same picture but for rare silhouette depth ties).
     pub cull_clusters: bool,
@@ -363,6 +366,7 @@ impl Renderer {
             timer: crate::gpu::query::TimerQuery::new(gpu)?,
             frame: 0,
             time_post: false,
+            first_eye: false,
             cull_clusters: true,
             lod: Lod::default(),
             posed,
@@ -402,6 +406,8 @@ impl Renderer {
         if s.stereo.mode.composed() {
             return self.render_stereo(s, target, viewport);
         }
+        // (A failed stereo frame may have left it set.)
+        self.first_eye = false;
         self.render_mono(s, target, viewport)
     }
 
@@ -480,6 +486,10 @@ impl Renderer {
         }
         if let Some(t) = &self.timer {
             t.end();
+        }
+        if self.first_eye {
+            stats.ms = start.ms();
+            return Ok(());
         }
         self.gpu.finish();
         stats.ms = start.ms();

@@ -112,6 +112,7 @@ impl Renderer {
             camera.squeeze = layout.squeeze;
             eye_settings.camera = eye_camera(&camera, eye, st.separation, st.convergence, aspect);
             let fbo = self.res.stereo.eyes[i].fbo.as_ref().map(|f| f.raw);
+            self.first_eye = i == 0;
             let stats = match fbo {
                 Some(fbo) => {
                     let t = Target {
@@ -131,14 +132,34 @@ impl Renderer {
                     stats
                 }
             };
+            self.first_eye = false;
             pair = Some(match pair {
                 None => stats,
                 Some(left) => add_eyes(left, stats),
             });
         }
-        self.compose(s, target, viewport, (ew, eh))?;
+        // Halves are copied (exact, and a fraction of the composite's cost) where the
+        // driver blits; everything else is composed.
+        let blit = gpu.caps.fbo && gpu.caps.major >= 3;
+        let how = match halves(st.mode, viewport, (ew, eh)).filter(|_| blit) {
+            Some(rects) => {
+                let (first, second) = if st.swap { (1, 0) } else { (0, 1) };
+                for (eye, rect) in [(first, rects[0]), (second, rects[1])] {
+                    let fbo = self.res.stereo.eyes[eye]
+                        .fbo
+                        .as_ref()
+                        .expect("blit: an FBO");
+                    fbo.blit_to(target.fbo, rect);
+                }
+                "blit"
+            }
+            None => {
+                self.compose(s, target, viewport, (ew, eh))?;
+                "composite"
+            }
+        };
         let mut stats = pair.expect("two eyes");
-        stats.passes.push(format!("stereo({})", st.mode));
+        stats.passes.push(format!("stereo({}, {how})", st.mode));
         self.gpu.finish();
         // The pair's time: both eyes and the composite, to glFinish.
         stats.ms = start.ms();
@@ -220,4 +241,18 @@ fn add_eyes(left: FrameStats, mut right: FrameStats) -> FrameStats {
     right.triangles += left.triangles;
     right.gpu_ms = left.gpu_ms.zip(right.gpu_ms).map(|(l, r)| l + r);
     right
+}
+
+/// The output rectangles (left eye's place first) of the modes whose eyes are halves of
+/// the output, each the eye's size: the left eye left (side-by-side) or on top (over-under).
+/// None for the others, and for an odd side (the composite repeats the last column or row).
+fn halves(mode: StereoMode, [x, y, w, h]: [u32; 4], (ew, eh): (u32, u32)) -> Option<[[u32; 4]; 2]> {
+    match mode {
+        StereoMode::SideBySide | StereoMode::SideBySideFull if w == 2 * ew => {
+            Some([[x, y, ew, h], [x + ew, y, ew, h]])
+        }
+        // GL counts rows from the bottom: the top half is the upper rectangle.
+        StereoMode::OverUnder if h == 2 * eh => Some([[x, y + eh, w, eh], [x, y, w, eh]]),
+        _ => None,
+    }
 }
