@@ -316,3 +316,36 @@ fn a_moment_is_its_frame() {
     assert_ne!(looked[0], looked[1], "the box moves");
     sheet(&looked, "box-moments.png");
 }
+
+/// A stereo turntable (`--stereo side-by-side-full`, twice as wide): each APNG frame is the
+/// stereo still of its yaw, byte for byte.
+#[test]
+fn stereo_turntable_frames_are_the_stereo_stills() {
+    let path = animated("turn-stereo.apng", &["--stereo", "side-by-side-full"]);
+    let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
+    let mut reader = png::Decoder::new(file).read_info().unwrap();
+    for k in [0, 3] {
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let mut out = reader.next_frame(&mut buf).unwrap();
+        if k == 3 {
+            for _ in 1..3 {
+                out = reader.next_frame(&mut buf).unwrap();
+            }
+        }
+        assert_eq!((out.width, out.height), (128, 48));
+        let yaw = glview::session::turntable_yaw(YAW, k, FRAMES).to_string();
+        let args = [
+            "--size",
+            SIZE,
+            "--yaw",
+            &yaw,
+            "--stereo",
+            "side-by-side-full",
+        ];
+        let still = render(&dir(), &format!("stereo-still-{k}"), &args, &[]);
+        assert!(
+            buf[..out.buffer_size()] == still.data[..],
+            "stereo APNG frame {k} differs from the stereo still"
+        );
+    }
+}

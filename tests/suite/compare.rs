@@ -467,3 +467,36 @@ fn split_view_panes_frame_the_model() {
         "the old framing was not cut off"
     );
 }
+
+/// `--compare` in stereo: each pane is its tier's stereo picture (anaglyph here; the eyes
+/// are drawn into targets of their own, so only the composite's viewport offset can move a
+/// value by one step, as for mono panes).
+#[test]
+fn stereo_panes_equal_the_stereo_pictures() {
+    let dir = out_dir("compare-stereo");
+    let out = dir.join("cmp.png");
+    let base = ["--size", "96x72", "--stereo", "anaglyph"];
+    let mut args = vec!["--compare", "phong,pbr", "-o", out.to_str().unwrap()];
+    args.extend_from_slice(&base);
+    let o = run(&args, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let cmp = Rgba::load_png(&out).unwrap();
+    let strip = cmp.height - 72;
+    for (i, tier) in ["phong", "pbr"].into_iter().enumerate() {
+        let mut a = base.to_vec();
+        a.extend(["--shading", tier]);
+        let alone = render(&dir, tier, &a, &[]);
+        let pane = crop(&cmp, i as u32 * 96, strip, 96, 72);
+        assert_close(&dir, &format!("pane-{tier}"), &pane, &alone, 0, 7, 1);
+        let mono = render(
+            &dir,
+            &format!("{tier}-mono"),
+            &["--size", "96x72", "--shading", tier],
+            &[],
+        );
+        assert!(
+            diff(&pane, &mono, 8).over > 20,
+            "{tier}: the pane is in stereo"
+        );
+    }
+}
