@@ -526,6 +526,8 @@ fn physical_name(code: KeyCode) -> Option<&'static str> {
         KeyCode::KeyZ => "Z",
         KeyCode::KeyX => "X",
         KeyCode::KeyK => "K",
+        KeyCode::KeyT => "T",
+        KeyCode::KeyY => "Y",
         KeyCode::KeyV => "V",
         KeyCode::KeyA => "A",
         KeyCode::Period => ".",
@@ -758,6 +760,8 @@ mod tests {
                     KeyCode::KeyK,
                     KeyCode::KeyV,
                     KeyCode::KeyA,
+                    KeyCode::KeyT,
+                    KeyCode::KeyY,
                 ]
                 .iter()
                 .any(|c| physical_name(*c) == Some(n));

@@ -187,6 +187,21 @@ const POST_AND_OUTPUT: &[&str] = &[
     "--duration",
     "3",
     "--turntable",
+    "--lens-shift",
+    "0.1",
+    "--stereo",
+    "anaglyph",
+    "--anaglyph",
+    "gray",
+    "--glasses",
+    "amber-blue",
+    "--swap-eyes",
+    "--eye",
+    "left",
+    "--eye-separation",
+    "0.1",
+    "--convergence",
+    "3",
 ];
 
 /// One non-default value for every option, set through its words: each spec's setter is
