@@ -120,7 +120,8 @@ impl App<'_> {
             .with_inner_size(self.size);
         let window = WindowContext::new(event_loop, attributes, self.args.context.gl)?;
         glview::native_hooks();
-        let gpu = Gpu::new(window.glow_context());
+        let es2 = self.args.context.gl == glview::platform::GlRequest::Es2;
+        let gpu = Gpu::with_es2_ceiling(window.glow_context(), es2);
         glview::platform::require_gl21(&gpu.caps)?;
         let mut renderer = match self.prepared.take() {
             Some(clusters) => Renderer::prepared(&gpu, scene, clusters)?,

@@ -10,11 +10,32 @@ uniform float uShadowBias;                                // constant bias in [0
 #if SHADOW_STRIDE > 1
 uniform mat3 uEyeToWorld;
 #endif
+#ifndef SHADOW_SAMPLER
+#define SHADOW_SAMPLER sampler2DShadow
+#endif
+
+#ifdef SHADOW_COMPARE_IN_SHADER
+// No shadow samplers (GLSL ES 1.00): what a LINEAR, LEQUAL-comparing depth sampler returns,
+// from four NEAREST lookups of the depth texture compared here and weighted bilinearly.
+float glviewShadowTap(SHADOW_SAMPLER map, vec3 c, vec2 texel) {
+    vec2 t = c.xy / texel - 0.5;
+    vec2 f = fract(t);
+    vec2 b = (floor(t) + 0.5) * texel;
+    float a00 = step(c.z, TEX2D(map, b).r);
+    float a10 = step(c.z, TEX2D(map, b + vec2(texel.x, 0.0)).r);
+    float a01 = step(c.z, TEX2D(map, b + vec2(0.0, texel.y)).r);
+    float a11 = step(c.z, TEX2D(map, b + texel).r);
+    return mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
+}
+#define SHADOW_TAP(map, c, texel) glviewShadowTap(map, c, texel)
+#else
+#define SHADOW_TAP(map, c, texel) SHADOW2D(map, c)
+#endif
 
 // tile: the part of the texture this lookup may read (x0, y0, x1, y1); clamp: keep taps
 // inside it (atlas faces) instead of treating points outside as lit (single maps, whose
 // frustum holds the whole scene).
-float shadowLookup(sampler2DShadow map, vec4 c, vec2 texel, vec4 tile, bool clampToTile) {
+float shadowLookup(SHADOW_SAMPLER map, vec4 c, vec2 texel, vec4 tile, bool clampToTile) {
     if (c.w <= 0.0) return 1.0;
     vec3 q = c.xyz / c.w;
     if (!clampToTile && (q.x < 0.0 || q.x > 1.0 || q.y < 0.0 || q.y > 1.0)) return 1.0;
@@ -23,7 +44,7 @@ float shadowLookup(sampler2DShadow map, vec4 c, vec2 texel, vec4 tile, bool clam
     vec2 lo = tile.xy + 0.5 * texel;
     vec2 hi = tile.zw - 0.5 * texel;
 #if PCF_TAPS == 1
-    return SHADOW2D(map, vec3(clamp(q.xy, lo, hi), q.z));
+    return SHADOW_TAP(map, vec3(clamp(q.xy, lo, hi), q.z), texel);
 #else
 #if PCF_TAPS == 4
     const int N = 2;
@@ -37,7 +58,7 @@ float shadowLookup(sampler2DShadow map, vec4 c, vec2 texel, vec4 tile, bool clam
     for (int i = 0; i < N; ++i) {
         for (int j = 0; j < N; ++j) {
             vec2 o = vec2(start + float(i), start + float(j)) * texel;
-            sum += SHADOW2D(map, vec3(clamp(q.xy + o, lo, hi), q.z));
+            sum += SHADOW_TAP(map, vec3(clamp(q.xy + o, lo, hi), q.z), texel);
         }
     }
     return sum / float(N * N);
@@ -65,7 +86,7 @@ vec3 terminatorLift(int i, vec3 p, vec3 n) {
 }
 
 // Visibility of light i at eye-space point p with unit normal n; cube > 0.5 for an atlas.
-float shadowVisibility(sampler2DShadow map, int i, float cube, vec3 p, vec3 n) {
+float shadowVisibility(SHADOW_SAMPLER map, int i, float cube, vec3 p, vec3 n) {
     p = terminatorLift(i, p, n);
     // Normal offset: look the shadow up a little off the surface, which removes acne on
     // slopes without the large depth bias that would detach shadows from their casters.
@@ -95,14 +116,14 @@ float shadowVisibility(sampler2DShadow map, int i, float cube, vec3 p, vec3 n) {
 }
 
 #if NUM_SHADOWS > 0
-uniform sampler2DShadow uShadowMap0;
+uniform SHADOW_SAMPLER uShadowMap0;
 #endif
 #if NUM_SHADOWS > 1
-uniform sampler2DShadow uShadowMap1;
+uniform SHADOW_SAMPLER uShadowMap1;
 #endif
 #if NUM_SHADOWS > 2
-uniform sampler2DShadow uShadowMap2;
+uniform SHADOW_SAMPLER uShadowMap2;
 #endif
 #if NUM_SHADOWS > 3
-uniform sampler2DShadow uShadowMap3;
+uniform SHADOW_SAMPLER uShadowMap3;
 #endif

@@ -44,7 +44,14 @@ pub type GpuRef = Rc<Gpu>;
 
 impl Gpu {
     pub fn new(gl: glow::Context) -> Rc<Gpu> {
-        let caps = Caps::probe(&gl);
+        Self::with_es2_ceiling(gl, false)
+    }
+
+    /// [`Gpu::new`], held to OpenGL ES 2.0's rules (GLSL ES 1.00, WebGL 1's features) when
+    /// `es2` is set and the context is ES: what `--gl es2` asks for, whatever later ES
+    /// version the driver answered with.
+    pub fn with_es2_ceiling(gl: glow::Context, es2: bool) -> Rc<Gpu> {
+        let caps = Caps::probe(&gl, es2);
         enable_point_sprites(&gl, &caps);
         Rc::new(Gpu {
             gl,
