@@ -14,6 +14,48 @@ uniform mat3 uEyeToWorld;
 #define SHADOW_SAMPLER sampler2DShadow
 #endif
 
+#ifdef CONST_INDEX_ONLY
+// GLSL ES 1.00 (WebGL 1, Appendix A) indexes uniform arrays in a fragment shader by constants
+// and loop indices only: light i's entries are picked by a loop over the lights.
+vec4 glviewShadowLightPos(int i) {
+    vec4 r = vec4(0.0);
+    for (int k = 0; k < NUM_SHADOWS; ++k) {
+        if (k == i) r = uLightPos[k];
+    }
+    return r;
+}
+float glviewShadowNormalOffset(int i) {
+    float r = 0.0;
+    for (int k = 0; k < NUM_SHADOWS; ++k) {
+        if (k == i) r = uShadowNormalOffset[k];
+    }
+    return r;
+}
+vec2 glviewShadowTexel(int i) {
+    vec2 r = vec2(0.0);
+    for (int k = 0; k < NUM_SHADOWS; ++k) {
+        if (k == i) r = uShadowTexel[k];
+    }
+    return r;
+}
+mat4 glviewShadowMatrix(int m) {
+    mat4 r = mat4(0.0);
+    for (int k = 0; k < NUM_SHADOWS * SHADOW_STRIDE; ++k) {
+        if (k == m) r = uShadowMatrix[k];
+    }
+    return r;
+}
+#define SHADOW_LIGHT_POS(i) glviewShadowLightPos(i)
+#define SHADOW_NORMAL_OFFSET(i) glviewShadowNormalOffset(i)
+#define SHADOW_TEXEL(i) glviewShadowTexel(i)
+#define SHADOW_MATRIX(m) glviewShadowMatrix(m)
+#else
+#define SHADOW_LIGHT_POS(i) uLightPos[i]
+#define SHADOW_NORMAL_OFFSET(i) uShadowNormalOffset[i]
+#define SHADOW_TEXEL(i) uShadowTexel[i]
+#define SHADOW_MATRIX(m) uShadowMatrix[m]
+#endif
+
 #ifdef SHADOW_COMPARE_IN_SHADER
 // No shadow samplers (GLSL ES 1.00): what a LINEAR, LEQUAL-comparing depth sampler returns,
 // from four NEAREST lookups of the depth texture compared here and weighted bilinearly.
@@ -80,7 +122,7 @@ vec3 terminatorLift(int i, vec3 p, vec3 n) {
     if (len <= 0.0) return p;
     ng /= len;
     if (dot(ng, n) < 0.0) ng = -ng;
-    vec4 lp = uLightPos[i];
+    vec4 lp = SHADOW_LIGHT_POS(i);
     vec3 l = lp.w == 0.0 ? lp.xyz : normalize(lp.xyz - p);
     return (dot(n, l) > 0.0 && dot(ng, l) <= 0.0) ? p + n * uTerminatorLift : p;
 }
@@ -90,13 +132,13 @@ float shadowVisibility(SHADOW_SAMPLER map, int i, float cube, vec3 p, vec3 n) {
     p = terminatorLift(i, p, n);
     // Normal offset: look the shadow up a little off the surface, which removes acne on
     // slopes without the large depth bias that would detach shadows from their casters.
-    vec4 ps = vec4(p + n * uShadowNormalOffset[i], 1.0);
+    vec4 ps = vec4(p + n * SHADOW_NORMAL_OFFSET(i), 1.0);
     int m = i * SHADOW_STRIDE;
     vec4 tile = vec4(0.0, 0.0, 1.0, 1.0);
 #if SHADOW_STRIDE > 1
     if (cube > 0.5) {
         // The face is the dominant axis of the world-space direction from the light.
-        vec3 d = uEyeToWorld * (ps.xyz - uLightPos[i].xyz);
+        vec3 d = uEyeToWorld * (ps.xyz - SHADOW_LIGHT_POS(i).xyz);
         vec3 a = abs(d);
         float f;
         if (a.x >= a.y && a.x >= a.z) {
@@ -112,7 +154,7 @@ float shadowVisibility(SHADOW_SAMPLER map, int i, float cube, vec3 p, vec3 n) {
         tile = vec4(fx / 3.0, fy / 2.0, (fx + 1.0) / 3.0, (fy + 1.0) / 2.0);
     }
 #endif
-    return shadowLookup(map, uShadowMatrix[m] * ps, uShadowTexel[i], tile, cube > 0.5);
+    return shadowLookup(map, SHADOW_MATRIX(m) * ps, SHADOW_TEXEL(i), tile, cube > 0.5);
 }
 
 #if NUM_SHADOWS > 0

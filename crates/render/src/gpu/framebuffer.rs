@@ -108,6 +108,7 @@ impl Framebuffer {
             let raw = gpu.gl.create_framebuffer().map_err(Error::Unsupported)?;
             gpu.created();
             gpu.gl.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            gpu.record_framebuffer(Some(raw));
             Ok(Framebuffer {
                 gpu: gpu.clone(),
                 raw,
@@ -243,6 +244,7 @@ impl Framebuffer {
                 glow::NEAREST,
             );
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+            self.gpu.record_framebuffer(None);
         }
     }
 
@@ -253,6 +255,7 @@ impl Framebuffer {
                 .gl
                 .bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw))
         }
+        self.gpu.record_framebuffer(Some(self.raw));
     }
 }
 
@@ -260,6 +263,7 @@ impl Drop for Framebuffer {
     fn drop(&mut self) {
         // SAFETY: deleting our own framebuffer once; attachments are dropped after it.
         unsafe { self.gpu.gl.delete_framebuffer(self.raw) };
+        self.gpu.forget_framebuffer(self.raw);
         self.gpu.deleted();
     }
 }

@@ -229,7 +229,7 @@ impl TextureCube {
     pub(crate) fn bind(&self, unit: u32) {
         // SAFETY: binding our own texture to a unit the caller keeps below the driver's limit.
         unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
+            self.gpu.active_unit(unit);
             self.gpu
                 .gl
                 .bind_texture(glow::TEXTURE_CUBE_MAP, Some(self.raw));
@@ -351,10 +351,10 @@ impl Texture2d {
     fn create(gpu: &GpuRef, width: u32, height: u32) -> Result<(Texture2d, Rebind)> {
         // SAFETY: a binding query, then creating and binding a new texture object.
         unsafe {
-            let previous = gpu.gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
+            let previous = gpu.bound_texture_2d();
             let raw = gpu.gl.create_texture().map_err(Error::Unsupported)?;
             gpu.created();
-            gpu.gl.bind_texture(glow::TEXTURE_2D, Some(raw));
+            gpu.bind_texture_2d(Some(raw));
             Ok((
                 Texture2d {
                     gpu: gpu.clone(),
@@ -374,14 +374,11 @@ impl Texture2d {
     /// unit's previous texture back: a parameter change mid-frame (a sampler set on first use
     /// of a material's texture) must not replace what a pass bound there, e.g. a shadow map.
     fn bound(&self) -> Rebind {
-        // SAFETY: a binding query, then binding our own texture.
-        unsafe {
-            let previous = self.gpu.gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-            Rebind {
-                gpu: self.gpu.clone(),
-                previous,
-            }
+        let previous = self.gpu.bound_texture_2d();
+        self.gpu.bind_texture_2d(Some(self.raw));
+        Rebind {
+            gpu: self.gpu.clone(),
+            previous,
         }
     }
 
@@ -533,7 +530,7 @@ impl Texture2d {
         // SAFETY: buf holds the level's w*h RGBA8 texels; PACK_ALIGNMENT 1 makes rows tight.
         unsafe {
             let gl = &self.gpu.gl;
-            gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.bind_texture_2d(Some(self.raw));
             gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
             gl.get_tex_image(
                 glow::TEXTURE_2D,
@@ -582,11 +579,8 @@ impl Texture2d {
     }
 
     pub fn bind(&self, unit: u32) {
-        // SAFETY: binding our own texture to a unit below the driver's limit (we use < 8).
-        unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-        }
+        self.gpu.active_unit(unit);
+        self.gpu.bind_texture_2d(Some(self.raw));
     }
 
     /// Rebuilds the mip chain from level 0 (`glGenerateMipmap`, where the driver has it),
@@ -597,8 +591,8 @@ impl Texture2d {
         }
         // SAFETY: our own texture, level 0 allocated; the driver has glGenerateMipmap.
         unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.active_unit(unit);
+            self.gpu.bind_texture_2d(Some(self.raw));
             self.gpu.gl.generate_mipmap(glow::TEXTURE_2D);
         }
     }
@@ -609,7 +603,7 @@ impl Texture2d {
         // SAFETY: the caller keeps the rectangle inside the framebuffer and, placed at
         // `to`, inside the texture.
         unsafe {
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.bind_texture_2d(Some(self.raw));
             self.gpu.gl.copy_tex_sub_image_2d(
                 glow::TEXTURE_2D,
                 0,
@@ -633,8 +627,8 @@ impl Texture2d {
         // the (single-sampled) read framebuffer. The texture is bound on `unit` (where it is
         // read next, or a unit the next step rebinds), never on whatever unit was active.
         unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.active_unit(unit);
+            self.gpu.bind_texture_2d(Some(self.raw));
             self.gpu.gl.copy_tex_sub_image_2d(
                 glow::TEXTURE_2D,
                 0,
@@ -659,7 +653,7 @@ impl Drop for Rebind {
     fn drop(&mut self) {
         // SAFETY: the previous binding is a live texture (or none) of this context: nothing
         // is deleted while a constructor runs.
-        unsafe { self.gpu.gl.bind_texture(glow::TEXTURE_2D, self.previous) }
+        self.gpu.bind_texture_2d(self.previous);
     }
 }
 
@@ -667,6 +661,7 @@ impl Drop for Texture2d {
     fn drop(&mut self) {
         // SAFETY: deleting our own texture once.
         unsafe { self.gpu.gl.delete_texture(self.raw) };
+        self.gpu.forget_texture(self.raw);
         self.gpu.deleted();
     }
 }

@@ -226,14 +226,6 @@ impl Pass for Pbr {
         if s.shading != Shading::Pbr && attribute == crate::frame::AttributeView::None {
             return Ok(Outcome::Skipped("legacy tier".into()));
         }
-        if cx.gpu.caps.es2 {
-            return Err(Error::Unsupported(format!(
-                "--shading pbr is not drawn on OpenGL ES 2.0 / WebGL 1 ({}): it needs GLSL ES \
-                 3.00's explicit-LOD cube lookups and float or RG16F textures for its light \
-                 maps; use --shading phong (the legacy tier) there",
-                cx.gpu.caps.version
-            )));
-        }
         let units = cx.gpu.caps.max_texture_units;
         if max_levels(units) < 2 {
             return Err(Error::Unsupported(format!(

@@ -195,7 +195,8 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
         }
         // ES 2.0 (WebGL 1) has no shadow samplers: the shadow map is a plain depth texture,
         // compared in the shader (shadow.glsl, SHADOW_COMPARE_IN_SHADER); dFdx is
-        // OES_standard_derivatives', a written depth EXT_frag_depth's.
+        // OES_standard_derivatives', a written depth EXT_frag_depth's; uniform arrays are
+        // indexed by constants and loop indices only (Appendix A, which WebGL enforces).
         (Dialect::Glsl100Es, Stage::Fragment) => {
             "#version 100\n#extension GL_OES_standard_derivatives : enable\n\
              #extension GL_EXT_frag_depth : enable\n#define FRAG_DEPTH gl_FragDepthEXT\n\
@@ -203,7 +204,8 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
              #else\nprecision mediump float;\n#endif\n\
              #define IN varying\n#define FRAG_COLOR gl_FragColor\n\
              #define TEX2D texture2D\n#define TEXCUBE textureCube\n\
-             #define SHADOW_SAMPLER sampler2D\n#define SHADOW_COMPARE_IN_SHADER 1\n"
+             #define SHADOW_SAMPLER sampler2D\n#define SHADOW_COMPARE_IN_SHADER 1\n\
+             #define CONST_INDEX_ONLY 1\n"
         }
         (Dialect::Glsl330, Stage::Vertex) => "#version 330 core\n#define IN in\n#define OUT out\n",
         (Dialect::Glsl330, Stage::Fragment) => {
