@@ -10,8 +10,9 @@
 # as scripts/check_wasm.sh; GLVIEW_CROSS=1 takes the second path even where rustup has it.
 # wasm-bindgen-cli must be the version of the `wasm-bindgen` crate in Cargo.lock (its schema
 # changes between versions): `cargo install`ed into GLVIEW_WEB_TOOLS (default
-# target/web-tools) when missing there (~3 min once). wasm-opt runs where a working binaryen
-# is on PATH or GLVIEW_WASM_OPT names one (Debian's binaryen 108 corrupts wasm-bindgen
+# target/web-tools) when missing there (~3 min once, 7 min on a loaded machine). wasm-opt runs
+# where a working binaryen is in the tools folder (npm's), on PATH, or GLVIEW_WASM_OPT names
+# one (-Oz: ~80 s, 7.1 -> 5.7 MB; Debian's binaryen 108 corrupts wasm-bindgen
 # modules unless they are built for the MVP, so the build is MVP then: -Ctarget-cpu=mvp);
 # without one the step is skipped and said so.
 set -euo pipefail
@@ -35,7 +36,11 @@ if ! { [ -x "$bindgen" ] && "$bindgen" --version | grep -q " $bindgen_version\$"
   echo "build_web: wasm-bindgen-cli installed in $(since "$t0") s"
 fi
 
-wasm_opt=${GLVIEW_WASM_OPT:-$(command -v wasm-opt || true)}
+# npm's binaryen in the tools folder (`npm install --prefix target/web-tools binaryen@132`,
+# ~2 s) before one on PATH.
+npm_opt=$tools/node_modules/.bin/wasm-opt
+[ -x "$npm_opt" ] || npm_opt=""
+wasm_opt=${GLVIEW_WASM_OPT:-${npm_opt:-$(command -v wasm-opt || true)}}
 mvp=0
 if [ -n "$wasm_opt" ] && "$wasm_opt" --version 2>/dev/null | grep -qE 'version (1[01][0-9]|[0-9]{1,2})([^0-9]|$)'; then
   # binaryen <= 119 (Debian 12 has 108): only MVP modules survive it (see the notes).
