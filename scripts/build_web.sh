@@ -41,6 +41,8 @@ fi
 npm_opt=$tools/node_modules/.bin/wasm-opt
 [ -x "$npm_opt" ] || npm_opt=""
 wasm_opt=${GLVIEW_WASM_OPT:-${npm_opt:-$(command -v wasm-opt || true)}}
+# GLVIEW_WASM_OPT=none skips it (a quick rebuild while developing: -Oz takes ~80 s).
+[ "$wasm_opt" = none ] && wasm_opt=
 mvp=0
 if [ -n "$wasm_opt" ] && "$wasm_opt" --version 2>/dev/null | grep -qE 'version (1[01][0-9]|[0-9]{1,2})([^0-9]|$)'; then
   # binaryen <= 119 (Debian 12 has 108): only MVP modules survive it (see the notes).

@@ -62,9 +62,10 @@ def browser():
         b.close()
 
 
-def page_pixels(browser, server, words, webgl=2, keys=()):
-    """The viewer's canvas after its first frame (and after `keys`, pressed on the canvas),
-    as an HxWx4 array, with what drew it and the page's timings."""
+def page_pixels(browser, server, words, webgl=2, keys=(), drag=None, wheel=None):
+    """The viewer's canvas after its first frame (and after `keys` pressed on the canvas, a
+    left-drag by `drag` = (dx, dy) pixels, `wheel` deltaY), as an HxWx4 array, with what
+    drew it and the page's timings."""
     page = browser.new_page()
     errors = []
     page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
@@ -76,6 +77,18 @@ def page_pixels(browser, server, words, webgl=2, keys=()):
     assert state["error"] is None, f"{state['error']}; console: {errors}"
     for k in keys:
         page.keyboard.press(k)
+    box = page.locator("#view").bounding_box()
+    x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
+    if drag:
+        page.mouse.move(x, y)
+        page.mouse.down()
+        page.mouse.move(x + drag[0], y + drag[1], steps=4)
+        page.mouse.up()
+    if wheel:
+        page.mouse.move(x, y)
+        page.mouse.wheel(0, wheel)
+    # Input draws on the next animation frame: wait for two.
+    page.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
     # The canvas's RGBA8, top row first, read by the viewer (glReadPixels), as base64.
     b64 = page.evaluate("""() => {
         const px = glview.viewer.pixels();
@@ -149,6 +162,19 @@ def test_arrow_right_twice_is_yaw_plus_10(browser, server):
     check("webgl2-keys", web, native(turned), PHONG)
     # And it is not the unturned picture.
     assert stats(web, native(SCENE))[0] > 2 * PHONG[0]
+
+
+def test_drag_and_wheel_equal_glview_of_the_views_options(browser, server):
+    # A drag turns the view as the window's does (0.4 degrees a pixel, right turns the model
+    # right: --yaw 25 - 40 * 0.4 = 9); the wheel zooms in. The canvas equals glview -o of
+    # the options the view reports, and those moved the way the window moves them.
+    web, state = page_pixels(browser, server, SCENE, drag=(40, 0), wheel=-100)
+    words = state["options"].split()
+    assert float(words[words.index("--yaw") + 1]) == pytest.approx(9.0), state["options"]
+    assert "--distance" in words, state["options"]
+    size = words.index("--size")
+    assert words[size + 1] == "400x300", state["options"]
+    check("webgl2-drag-wheel", web, native(words), PHONG)
 
 
 def test_webgl1_legacy_tier_equals_glview_on_gl21(browser, server):

@@ -39,7 +39,7 @@ try {
     const name = KEYS[e.key] ?? e.key;
     try {
       if (viewer.key(name)) {
-        viewer.draw();
+        redraw();
       }
       e.preventDefault();
     } catch (err) {
@@ -47,6 +47,45 @@ try {
       if (!String(err).startsWith("unknown key")) fail(err);
     }
   });
+  // Drags and wheel notches add up between frames: one draw per animation frame.
+  let pending = false;
+  const redraw = () => {
+    if (pending) return;
+    pending = true;
+    requestAnimationFrame(() => {
+      pending = false;
+      try {
+        viewer.draw();
+        state.frames = (state.frames ?? 1) + 1;
+      } catch (err) {
+        fail(err);
+      }
+    });
+  };
+  canvas.addEventListener("pointerdown", (e) => {
+    if (e.button === 0) canvas.setPointerCapture(e.pointerId);
+  });
+  canvas.addEventListener("pointermove", (e) => {
+    if (!canvas.hasPointerCapture(e.pointerId) || (e.movementX === 0 && e.movementY === 0)) return;
+    try {
+      viewer.drag(e.movementX, e.movementY);
+      redraw();
+    } catch (err) {
+      fail(err);
+    }
+  });
+  canvas.addEventListener("wheel", (e) => {
+    e.preventDefault();
+    // A notch is ~100 pixels of deltaY (3 lines); scrolling down (deltaY > 0) comes towards
+    // the user: zoom out, as the window's wheel.
+    const per = e.deltaMode === 1 ? 3 : e.deltaMode === 2 ? 1 : 100;
+    try {
+      viewer.wheel(-e.deltaY / per);
+      redraw();
+    } catch (err) {
+      fail(err);
+    }
+  }, { passive: false });
   canvas.focus();
 } catch (e) {
   fail(e);

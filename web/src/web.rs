@@ -168,6 +168,17 @@ impl Viewer {
         self.gpu.finish();
     }
 
+    /// A left-drag of `dx`, `dy` pixels, as the window turns the view (dragging right
+    /// turns the model right). Draw again after it.
+    pub fn drag(&mut self, dx: f32, dy: f32) -> Result<(), JsValue> {
+        self.view.drag(dx, dy, self.renderer.scene()).map_err(js)
+    }
+
+    /// `notches` of the mouse wheel (positive: away from the user, zooms in), as the window.
+    pub fn wheel(&mut self, notches: f32) -> Result<(), JsValue> {
+        self.view.wheel(notches, self.renderer.scene()).map_err(js)
+    }
+
     /// The canvas's pixels as RGBA8, top row first (as glview's PNGs), read back now.
     pub fn pixels(&self) -> Vec<u8> {
         let (w, h) = self.view.picture().picture.size;
