@@ -98,5 +98,5 @@ void main() {
     if (alpha <= 0.0) discard;
     // Blended by the fixed function, or on the RGBM frame in output.glsl over a copy of it.
     FRAG_COLOR = glviewOutputRgba(line.rgb * (a / alpha), alpha);
-    gl_FragDepth = clamp(frameDepth(), 0.0, 1.0);
+    FRAG_DEPTH = clamp(frameDepth(), 0.0, 1.0);
 }

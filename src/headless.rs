@@ -44,7 +44,7 @@ fn osmesa_profile(r: GlRequest) -> Option<OsMesaProfile> {
     match r {
         GlRequest::Core => Some(OsMesaProfile::Core33),
         GlRequest::Gl21 | GlRequest::Auto => Some(OsMesaProfile::Compat21),
-        GlRequest::Es3 => None,
+        GlRequest::Es3 | GlRequest::Es2 => None,
     }
 }
 
@@ -103,7 +103,7 @@ impl Headless {
     #[cfg(not(windows))]
     fn egl(gl: GlRequest, width: u32, height: u32) -> Result<Headless> {
         let egl = EglHeadless::new(gl)?;
-        let gpu = Gpu::new(egl.glow_context());
+        let gpu = Gpu::with_es2_ceiling(egl.glow_context(), gl == GlRequest::Es2);
         let fbo = fbo_target(
             &gpu,
             width,

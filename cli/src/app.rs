@@ -121,7 +121,8 @@ impl App<'_> {
         let quad = self.args.stereo.mode == glview::stereo::StereoMode::QuadBuffer;
         let window = WindowContext::new(event_loop, attributes, self.args.context.gl, quad)?;
         glview::native_hooks();
-        let gpu = Gpu::new(window.glow_context());
+        let es2 = self.args.context.gl == glview::platform::GlRequest::Es2;
+        let gpu = Gpu::with_es2_ceiling(window.glow_context(), es2);
         glview::platform::require_gl21(&gpu.caps)?;
         let mut renderer = match self.prepared.take() {
             Some(clusters) => Renderer::prepared(&gpu, scene, clusters)?,

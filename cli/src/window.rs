@@ -60,10 +60,10 @@ fn preference(_name: &str, window: Option<RawWindowHandle>) -> DisplayApiPrefere
 }
 
 fn api_of(request: GlRequest) -> Api {
-    if request == GlRequest::Es3 {
-        Api::GLES3
-    } else {
-        Api::OPENGL
+    match request {
+        GlRequest::Es3 => Api::GLES3,
+        GlRequest::Es2 => Api::GLES2,
+        _ => Api::OPENGL,
     }
 }
 

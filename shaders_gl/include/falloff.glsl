@@ -7,13 +7,28 @@ uniform vec4 uLightFalloff[NUM_LIGHTS];  // 1/range^2 (0: none), 1: inverse squa
 uniform vec3 uLightSpotDir[NUM_LIGHTS];  // unit, eye space, the way the spot shines (0: no spot)
 
 float glviewFalloff(int i, vec3 p) {
+#ifdef CONST_INDEX_ONLY
+    vec4 f = vec4(0.0);
+    vec4 lightPos = vec4(0.0);
+    vec3 spotDir = vec3(0.0);
+    for (int k = 0; k < NUM_LIGHTS; ++k) {
+        if (k == i) {
+            f = uLightFalloff[k];
+            lightPos = uLightPos[k];
+            spotDir = uLightSpotDir[k];
+        }
+    }
+#else
     vec4 f = uLightFalloff[i];
-    vec3 d = uLightPos[i].xyz - p;
+    vec4 lightPos = uLightPos[i];
+    vec3 spotDir = uLightSpotDir[i];
+#endif
+    vec3 d = lightPos.xyz - p;
     float d2 = dot(d, d);
     float r = d2 * f.x;
     float window = clamp(1.0 - r * r, 0.0, 1.0);
     float inv = f.y > 0.0 ? 1.0 / max(d2, 1e-8) : 1.0;
-    float cd = d2 > 0.0 ? dot(uLightSpotDir[i], -d) * inversesqrt(d2) : 1.0;
+    float cd = d2 > 0.0 ? dot(spotDir, -d) * inversesqrt(d2) : 1.0;
     float a = clamp(cd * f.z + f.w, 0.0, 1.0);
     return window * inv * a * a;
 }

@@ -11,5 +11,5 @@ uniform float uLogDepthOffset;
 
 void glviewLogDepth() {
     float z = log(uLogDepthC * max(vClipW, 0.0) + 1.0) / log(uLogDepthC * uLogDepthFar + 1.0);
-    gl_FragDepth = z + uLogDepthOffset * (fwidth(z) + 1.0 / 16777216.0);
+    FRAG_DEPTH = z + uLogDepthOffset * (fwidth(z) + 1.0 / 16777216.0);
 }

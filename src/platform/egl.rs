@@ -44,10 +44,10 @@ impl EglHeadless {
     }
 
     fn create(display: &Display, request: GlRequest) -> Result<PossiblyCurrentContext, String> {
-        let api = if request == GlRequest::Es3 {
-            Api::GLES3
-        } else {
-            Api::OPENGL
+        let api = match request {
+            GlRequest::Es3 => Api::GLES3,
+            GlRequest::Es2 => Api::GLES2,
+            _ => Api::OPENGL,
         };
         // Surfaceless: no surface type is needed (the default asks for window surfaces).
         let template = ConfigTemplateBuilder::new()

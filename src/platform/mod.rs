@@ -58,6 +58,7 @@ pub fn context_attributes(
     let b = ContextAttributesBuilder::new();
     match request {
         GlRequest::Es3 => b.with_context_api(ContextApi::Gles(Some(Version::new(3, 0)))),
+        GlRequest::Es2 => b.with_context_api(ContextApi::Gles(Some(Version::new(2, 0)))),
         GlRequest::Core => b
             .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
             .with_profile(GlProfile::Core),

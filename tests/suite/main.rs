@@ -18,6 +18,7 @@ mod conformance;
 mod culling;
 mod determinism;
 mod edges;
+mod es2;
 mod export;
 mod fast_parse;
 mod fuzz_format_regressions;

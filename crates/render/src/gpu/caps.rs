@@ -12,6 +12,9 @@ pub enum Dialect {
     Glsl300Es,
     /// GLSL 3.30 (OpenGL 3.3 core).
     Glsl330,
+    /// GLSL ES 1.00 (OpenGL ES 2.0, WebGL 1): the legacy tier only, shadows compared in the
+    /// shader (ES 2.0 has no shadow samplers).
+    Glsl100Es,
 }
 
 impl Dialect {
@@ -20,6 +23,7 @@ impl Dialect {
             Dialect::Glsl120 => "GLSL 1.20",
             Dialect::Glsl300Es => "GLSL ES 3.00",
             Dialect::Glsl330 => "GLSL 3.30",
+            Dialect::Glsl100Es => "GLSL ES 1.00",
         }
     }
 }
@@ -36,6 +40,17 @@ pub struct Caps {
     pub(crate) core_profile: bool,
     pub(crate) glsl: (u32, u32),
     pub dialect: Dialect,
+    /// OpenGL ES 2.0 rules (WebGL 1): unsized texture formats, no draw/read buffer selection,
+    /// no blits or multisampled renderbuffers, shadows compared in the shader. Also set on a
+    /// later ES context asked to behave as ES 2.0 (`--gl es2`: Mesa answers an ES 2.0
+    /// request with its newest ES, which runs every ES 2.0 program unchanged).
+    pub(crate) es2: bool,
+    /// 24-bit depth renderbuffers: everything but ES 2.0 without OES_depth24 (WebGL 1 has
+    /// DEPTH_COMPONENT16 only).
+    pub(crate) depth24: bool,
+    /// Screen-space derivatives (dFdx, fwidth): everything but ES 2.0 without
+    /// OES_standard_derivatives.
+    pub(crate) derivatives: bool,
     /// Framebuffer objects: GL >= 3.0, ES, ARB_ or EXT_framebuffer_object.
     pub fbo: bool,
     pub(crate) vao: bool,
@@ -97,31 +112,93 @@ fn parse_version(s: &str) -> Option<(u32, u32)> {
     Some((major, minor))
 }
 
+/// The context's version and dialect: the first facts [`Caps::probe`] reads.
+struct Level {
+    major: u32,
+    minor: u32,
+    embedded: bool,
+    es2: bool,
+    core_profile: bool,
+    glsl_version: String,
+    glsl: (u32, u32),
+    dialect: Dialect,
+}
+
+impl Level {
+    /// `es2_ceiling` holds an ES 3.x context to ES 2.0 (its version then reads 2.0).
+    fn probe(gl: &glow::Context, es2_ceiling: bool) -> Level {
+        let v = gl.version();
+        let embedded = v.is_embedded;
+        let es2 = embedded && (v.major < 3 || es2_ceiling);
+        let (major, minor) = if es2 && v.major >= 3 {
+            (2, 0)
+        } else {
+            (v.major, v.minor)
+        };
+        // SAFETY: plain queries on a current context.
+        let (glsl_version, profile_mask) = unsafe {
+            let s = gl.get_parameter_string(glow::SHADING_LANGUAGE_VERSION);
+            let core_possible = !embedded && (major, minor) >= (3, 2);
+            let mask = if core_possible {
+                gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK) as u32
+            } else {
+                0
+            };
+            (s, mask)
+        };
+        let glsl = parse_version(&glsl_version).unwrap_or((1, 10));
+        let glsl = (glsl.0, if glsl.1 >= 10 { glsl.1 } else { glsl.1 * 10 });
+        let glsl = if es2 { (1, 0) } else { glsl };
+        let core_profile = profile_mask & glow::CONTEXT_CORE_PROFILE_BIT != 0;
+        let dialect = if es2 {
+            Dialect::Glsl100Es
+        } else if embedded {
+            Dialect::Glsl300Es
+        } else if core_profile {
+            Dialect::Glsl330
+        } else {
+            Dialect::Glsl120
+        };
+        Level {
+            major,
+            minor,
+            embedded,
+            es2,
+            core_profile,
+            glsl_version,
+            glsl,
+            dialect,
+        }
+    }
+}
+
 impl Caps {
-    pub(crate) fn probe(gl: &glow::Context) -> Caps {
+    /// What the current context can do; `es2_ceiling` holds an ES 3.x context to ES 2.0's
+    /// rules (see [`Caps::es2`]).
+    pub(crate) fn probe(gl: &glow::Context, es2_ceiling: bool) -> Caps {
+        let Level {
+            major,
+            minor,
+            embedded,
+            es2,
+            core_profile,
+            glsl_version,
+            glsl,
+            dialect,
+        } = Level::probe(gl, es2_ceiling);
         // SAFETY: plain queries on a current context.
         unsafe {
-            let v = gl.version();
-            let (major, minor, embedded) = (v.major, v.minor, v.is_embedded);
             let ext = gl.supported_extensions();
-            let has = |names: &[&str]| names.iter().any(|n| ext.contains(*n));
-            let glsl_version = gl.get_parameter_string(glow::SHADING_LANGUAGE_VERSION);
-            let glsl = parse_version(&glsl_version).unwrap_or((1, 10));
-            let glsl = (glsl.0, if glsl.1 >= 10 { glsl.1 } else { glsl.1 * 10 });
-            let desktop_at_least = |a: u32, b: u32| !embedded && (major, minor) >= (a, b);
-            let es3 = embedded && major >= 3;
-            let core_profile = desktop_at_least(3, 2)
-                && gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK) as u32
-                    & glow::CONTEXT_CORE_PROFILE_BIT
-                    != 0;
-            let dialect = if embedded {
-                Dialect::Glsl300Es
-            } else if core_profile {
-                Dialect::Glsl330
-            } else {
-                Dialect::Glsl120
+            // WebGL names its extensions without the "GL_" prefix.
+            let has = |names: &[&str]| {
+                names.iter().any(|n| {
+                    ext.contains(*n) || n.strip_prefix("GL_").is_some_and(|s| ext.contains(s))
+                })
             };
-            let fbo = es3
+            let desktop_at_least = |a: u32, b: u32| !embedded && (major, minor) >= (a, b);
+            let es3 = embedded && !es2;
+            // Framebuffer objects are core in ES 2.0.
+            let fbo = embedded
                 || desktop_at_least(3, 0)
                 || has(&["GL_ARB_framebuffer_object", "GL_EXT_framebuffer_object"]);
             let mut vp = [0i32; 2];
@@ -168,6 +245,9 @@ impl Caps {
                 core_profile,
                 glsl,
                 dialect,
+                es2,
+                depth24: !es2 || has(&["GL_OES_depth24"]),
+                derivatives: !es2 || has(&["GL_OES_standard_derivatives"]),
                 fbo,
                 vao: es3
                     || desktop_at_least(3, 0)
@@ -176,14 +256,20 @@ impl Caps {
                 // ARB_shadow), so they are not always listed as extensions.
                 depth_texture: es3
                     || desktop_at_least(1, 4)
-                    || has(&["GL_ARB_depth_texture", "GL_OES_depth_texture"]),
-                shadow_compare: es3
-                    || desktop_at_least(1, 4)
-                    || has(&["GL_ARB_shadow", "GL_EXT_shadow_samplers"]),
+                    || has(&[
+                        "GL_ARB_depth_texture",
+                        "GL_OES_depth_texture",
+                        "GL_WEBGL_depth_texture",
+                    ]),
+                // ES 2.0's shadow lookups compare in the shader (WebGL 1 has no shadow
+                // samplers): the depth texture keeps no compare mode there.
+                shadow_compare: !es2 && (es3 || desktop_at_least(1, 4) || has(&["GL_ARB_shadow"])),
                 float_textures: es3 || desktop_at_least(3, 0) || has(&["GL_ARB_texture_float"]),
-                texture_lod: es3
-                    || glsl >= (1, 30)
-                    || has(&["GL_ARB_shader_texture_lod", "GL_EXT_shader_texture_lod"]),
+                // GLSL ES 1.00 spells explicit-LOD lookups texture2DLodEXT: not used there.
+                texture_lod: !es2
+                    && (es3
+                        || glsl >= (1, 30)
+                        || has(&["GL_ARB_shader_texture_lod", "GL_EXT_shader_texture_lod"])),
                 uint_indices: !embedded || es3 || has(&["GL_OES_element_index_uint"]),
                 instancing: es3 || desktop_at_least(3, 3),
                 cube_shadow: es3 || (!embedded && glsl >= (1, 30)),
@@ -196,7 +282,8 @@ impl Caps {
                     || desktop_at_least(3, 0)
                     || (has(&["GL_ARB_texture_float"]) && has(&["GL_ARB_half_float_pixel"])),
                 rg_textures: es3 || desktop_at_least(3, 0) || has(&["GL_ARB_texture_rg"]),
-                srgb_textures: es3 || desktop_at_least(2, 1) || has(&["GL_EXT_texture_sRGB"]),
+                srgb_textures: !es2
+                    && (es3 || desktop_at_least(2, 1) || has(&["GL_EXT_texture_sRGB"])),
                 seamless_cube: desktop_at_least(3, 2) || has(&["GL_ARB_seamless_cube_map"]),
                 depth_stencil: es3
                     || desktop_at_least(3, 0)
@@ -220,6 +307,12 @@ impl Caps {
         }
     }
 
+    /// Whether shadow maps can be drawn and looked up: depth textures, compared by the
+    /// sampler or, on ES 2.0, in the shader.
+    pub(crate) fn shadow_maps(&self) -> bool {
+        self.depth_texture && (self.shadow_compare || self.es2)
+    }
+
     /// One line per fact, for `glview --info`.
     pub fn report(&self) -> String {
         let yes = |b: bool| if b { "yes" } else { "no" };
@@ -239,7 +332,9 @@ impl Caps {
             self.dialect.name(),
             self.renderer,
             self.vendor,
-            if self.embedded {
+            if self.es2 {
+                "ES, held to ES 2.0's rules"
+            } else if self.embedded {
                 "ES"
             } else if self.core_profile {
                 "core"

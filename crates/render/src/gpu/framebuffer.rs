@@ -23,10 +23,6 @@ impl Drop for Renderbuffer {
     }
 }
 
-fn renderbuffer(gpu: &GpuRef, format: u32, w: u32, h: u32) -> Result<Renderbuffer> {
-    renderbuffer_ms(gpu, format, w, h, 0)
-}
-
 fn renderbuffer_ms(
     gpu: &GpuRef,
     format: u32,
@@ -58,6 +54,40 @@ fn renderbuffer_ms(
     }
 }
 
+/// The depth renderbuffer of a colour target, attached to the bound framebuffer: with stencil
+/// where the driver has packed depth-stencil (the nearest-layer translucency masks the
+/// background with it), 24-bit depth where it can (ES 2.0 without OES_depth24: 16-bit).
+fn depth_renderbuffer(gpu: &GpuRef, w: u32, h: u32, samples: u32) -> Result<Renderbuffer> {
+    let stencil = gpu.caps.depth_stencil;
+    let format = if stencil {
+        glow::DEPTH24_STENCIL8
+    } else if gpu.caps.depth24 {
+        glow::DEPTH_COMPONENT24
+    } else {
+        glow::DEPTH_COMPONENT16
+    };
+    let d = renderbuffer_ms(gpu, format, w, h, samples)?;
+    // ES 2.0 has no DEPTH_STENCIL_ATTACHMENT: OES_packed_depth_stencil attaches the one
+    // buffer at both points.
+    let points: &[u32] = match (stencil, gpu.caps.es2) {
+        (false, _) => &[glow::DEPTH_ATTACHMENT],
+        (true, false) => &[glow::DEPTH_STENCIL_ATTACHMENT],
+        (true, true) => &[glow::DEPTH_ATTACHMENT, glow::STENCIL_ATTACHMENT],
+    };
+    for &point in points {
+        // SAFETY: attaching our renderbuffer to the bound framebuffer.
+        unsafe {
+            gpu.gl.framebuffer_renderbuffer(
+                glow::FRAMEBUFFER,
+                point,
+                glow::RENDERBUFFER,
+                Some(d.raw),
+            );
+        }
+    }
+    Ok(d)
+}
+
 pub struct Framebuffer {
     gpu: GpuRef,
     pub raw: glow::Framebuffer,
@@ -78,6 +108,7 @@ impl Framebuffer {
             let raw = gpu.gl.create_framebuffer().map_err(Error::Unsupported)?;
             gpu.created();
             gpu.gl.bind_framebuffer(glow::FRAMEBUFFER, Some(raw));
+            gpu.record_framebuffer(Some(raw));
             Ok(Framebuffer {
                 gpu: gpu.clone(),
                 raw,
@@ -110,40 +141,25 @@ impl Framebuffer {
     /// resolve with [`Framebuffer::resolve_into`].
     pub fn color_depth_samples(gpu: &GpuRef, w: u32, h: u32, samples: u32) -> Result<Framebuffer> {
         let mut fb = Self::create(gpu, w, h)?;
+        // RGBA8 (OES_rgb8_rgba8's same enum on ES 2.0).
         let color = renderbuffer_ms(gpu, glow::RGBA8, w, h, samples)?;
-        let stencil = gpu.caps.depth_stencil;
-        let depth_format = if stencil {
-            glow::DEPTH24_STENCIL8
-        } else {
-            glow::DEPTH_COMPONENT24
-        };
-        let depth = renderbuffer_ms(gpu, depth_format, w, h, samples)?;
-        // SAFETY: attaching our renderbuffers to the bound framebuffer.
+        // SAFETY: attaching our renderbuffer to the bound framebuffer.
         unsafe {
-            let gl = &gpu.gl;
-            gl.framebuffer_renderbuffer(
+            gpu.gl.framebuffer_renderbuffer(
                 glow::FRAMEBUFFER,
                 glow::COLOR_ATTACHMENT0,
                 glow::RENDERBUFFER,
                 Some(color.raw),
             );
-            gl.framebuffer_renderbuffer(
-                glow::FRAMEBUFFER,
-                if stencil {
-                    glow::DEPTH_STENCIL_ATTACHMENT
-                } else {
-                    glow::DEPTH_ATTACHMENT
-                },
-                glow::RENDERBUFFER,
-                Some(depth.raw),
-            );
         }
+        let depth = depth_renderbuffer(gpu, w, h, samples)?;
         fb._attachments = vec![color, depth];
         fb.check()?;
         Ok(fb)
     }
 
-    /// A depth-only target writing into `depth` (no colour: draw and read buffers NONE).
+    /// A depth-only target writing into `depth` (no colour: draw and read buffers NONE; ES
+    /// 2.0 has no buffer selection, and a framebuffer without colour needs none there).
     pub(crate) fn depth_only(gpu: &GpuRef, depth: &Texture2d) -> Result<Framebuffer> {
         let fb = Self::create(gpu, depth.width, depth.height)?;
         // SAFETY: attaching a live depth texture; DrawBuffers(NONE) exists in every context
@@ -157,8 +173,10 @@ impl Framebuffer {
                 Some(depth.raw),
                 0,
             );
-            gl.draw_buffers(&[glow::NONE]);
-            gl.read_buffer(glow::NONE);
+            if !gpu.caps.es2 {
+                gl.draw_buffers(&[glow::NONE]);
+                gl.read_buffer(glow::NONE);
+            }
         }
         fb.check()?;
         Ok(fb)
@@ -188,25 +206,8 @@ impl Framebuffer {
             );
         }
         if depth {
-            // With stencil where the driver has packed depth-stencil (the nearest-layer
-            // translucency masks the background with it).
-            let stencil = gpu.caps.depth_stencil;
-            let (format, point) = if stencil {
-                (glow::DEPTH24_STENCIL8, glow::DEPTH_STENCIL_ATTACHMENT)
-            } else {
-                (glow::DEPTH_COMPONENT24, glow::DEPTH_ATTACHMENT)
-            };
-            let d = renderbuffer(gpu, format, width, height)?;
-            // SAFETY: attaching our renderbuffer to the bound framebuffer.
-            unsafe {
-                gpu.gl.framebuffer_renderbuffer(
-                    glow::FRAMEBUFFER,
-                    point,
-                    glow::RENDERBUFFER,
-                    Some(d.raw),
-                );
-            }
-            fb._attachments.push(d);
+            fb._attachments
+                .push(depth_renderbuffer(gpu, width, height, 0)?);
         }
         fb.check()?;
         Ok(fb)
@@ -269,6 +270,7 @@ impl Framebuffer {
                 glow::NEAREST,
             );
             gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+            self.gpu.record_framebuffer(None);
         }
     }
 
@@ -279,6 +281,7 @@ impl Framebuffer {
                 .gl
                 .bind_framebuffer(glow::FRAMEBUFFER, Some(self.raw))
         }
+        self.gpu.record_framebuffer(Some(self.raw));
     }
 }
 
@@ -286,6 +289,7 @@ impl Drop for Framebuffer {
     fn drop(&mut self) {
         // SAFETY: deleting our own framebuffer once; attachments are dropped after it.
         unsafe { self.gpu.gl.delete_framebuffer(self.raw) };
+        self.gpu.forget_framebuffer(self.raw);
         self.gpu.deleted();
     }
 }

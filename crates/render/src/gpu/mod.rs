@@ -28,6 +28,20 @@ pub struct Gpu {
     state: Cell<Option<state::RenderState>>,
     /// Image textures uploaded since the last [`Gpu::take_texture_costs`], for `--stats`.
     texture_costs: RefCell<Vec<TextureCost>>,
+    /// What this layer bound where (see [`Bound`]).
+    bound: RefCell<Bound>,
+}
+
+/// The active texture unit, each unit's 2D texture and the framebuffer, as this layer bound
+/// them. glow's binding queries panic on WebGL when nothing is bound (it looks the null up
+/// as one of its objects), so in the browser this record answers them; natively the driver
+/// is asked, as before. Every binding goes through this layer there (the web crate makes no
+/// GL call of its own).
+#[derive(Default)]
+struct Bound {
+    unit: u32,
+    textures_2d: Vec<(u32, glow::Texture)>,
+    framebuffer: Option<glow::Framebuffer>,
 }
 
 /// What one image texture cost to upload: mipmaps, format conversion and the GL calls, up to
@@ -44,7 +58,14 @@ pub type GpuRef = Rc<Gpu>;
 
 impl Gpu {
     pub fn new(gl: glow::Context) -> Rc<Gpu> {
-        let caps = Caps::probe(&gl);
+        Self::with_es2_ceiling(gl, false)
+    }
+
+    /// [`Gpu::new`], held to OpenGL ES 2.0's rules (GLSL ES 1.00, WebGL 1's features) when
+    /// `es2` is set and the context is ES: what `--gl es2` asks for, whatever later ES
+    /// version the driver answered with.
+    pub fn with_es2_ceiling(gl: glow::Context, es2: bool) -> Rc<Gpu> {
+        let caps = Caps::probe(&gl, es2);
         enable_point_sprites(&gl, &caps);
         Rc::new(Gpu {
             gl,
@@ -52,6 +73,7 @@ impl Gpu {
             live: Cell::new(0),
             state: Cell::new(None),
             texture_costs: RefCell::new(Vec::new()),
+            bound: RefCell::new(Bound::default()),
         })
     }
 
@@ -75,6 +97,59 @@ impl Gpu {
     /// The image textures uploaded since the last call, in upload order.
     pub fn take_texture_costs(&self) -> Vec<TextureCost> {
         self.texture_costs.take()
+    }
+
+    pub(crate) fn active_unit(&self, unit: u32) {
+        // SAFETY: selecting a texture unit the caller keeps below the driver's limit.
+        unsafe { self.gl.active_texture(glow::TEXTURE0 + unit) };
+        self.bound.borrow_mut().unit = unit;
+    }
+
+    /// Binds `t` (a live texture of this context, or none) as the active unit's 2D texture.
+    pub(crate) fn bind_texture_2d(&self, t: Option<glow::Texture>) {
+        // SAFETY: t is None or a live 2D texture of this context (the callers' own).
+        unsafe { self.gl.bind_texture(glow::TEXTURE_2D, t) };
+        let mut b = self.bound.borrow_mut();
+        let unit = b.unit;
+        b.textures_2d.retain(|(u, _)| *u != unit);
+        if let Some(t) = t {
+            b.textures_2d.push((unit, t));
+        }
+    }
+
+    /// The active unit's 2D texture.
+    pub(crate) fn bound_texture_2d(&self) -> Option<glow::Texture> {
+        if cfg!(target_arch = "wasm32") {
+            let b = self.bound.borrow();
+            b.textures_2d
+                .iter()
+                .find(|(u, _)| *u == b.unit)
+                .map(|(_, t)| *t)
+        } else {
+            // SAFETY: a binding query on the current context.
+            unsafe { self.gl.get_parameter_texture(glow::TEXTURE_BINDING_2D) }
+        }
+    }
+
+    /// A deleted texture is bound nowhere any more (GL unbinds it from every unit).
+    pub(crate) fn forget_texture(&self, t: glow::Texture) {
+        self.bound.borrow_mut().textures_2d.retain(|(_, b)| *b != t);
+    }
+
+    pub(crate) fn record_framebuffer(&self, f: Option<glow::Framebuffer>) {
+        self.bound.borrow_mut().framebuffer = f;
+    }
+
+    /// A deleted framebuffer that was bound leaves the default one bound.
+    pub(crate) fn forget_framebuffer(&self, f: glow::Framebuffer) {
+        let mut b = self.bound.borrow_mut();
+        if b.framebuffer == Some(f) {
+            b.framebuffer = None;
+        }
+    }
+
+    pub(crate) fn recorded_framebuffer(&self) -> Option<glow::Framebuffer> {
+        self.bound.borrow().framebuffer
     }
 
     /// Checks `glGetError` once, at a pass boundary (never after every call: it stalls).

@@ -187,14 +187,21 @@ impl Gpu {
     }
 
     /// The framebuffer bound now (None: the default one), to bind back after a pass.
+    /// In the browser from this layer's record (glow's query panics there on the default
+    /// framebuffer; see `Bound`).
     pub(crate) fn bound_framebuffer(&self) -> Option<glow::Framebuffer> {
-        // SAFETY: a plain query on the current context.
-        unsafe { self.gl.get_parameter_framebuffer(glow::FRAMEBUFFER_BINDING) }
+        if cfg!(target_arch = "wasm32") {
+            self.recorded_framebuffer()
+        } else {
+            // SAFETY: a plain query on the current context.
+            unsafe { self.gl.get_parameter_framebuffer(glow::FRAMEBUFFER_BINDING) }
+        }
     }
 
     pub fn bind_framebuffer(&self, fbo: Option<glow::Framebuffer>) {
         // SAFETY: fbo is None or a live framebuffer of this context.
         unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, fbo) }
+        self.record_framebuffer(fbo);
     }
 
     /// Which of the default framebuffer's colour buffers draws go to: `BACK_LEFT` or

@@ -41,11 +41,23 @@ impl TextureFormat {
 
     /// (internal format, format, type) for `glTexImage2D`. ES 3.0 wants sized internal formats
     /// paired with matching types; desktop GL accepts the same pairs.
-    fn gl(self, pixels: &Pixels) -> (u32, u32, u32) {
+    fn gl(self, pixels: &Pixels, caps: &Caps) -> (u32, u32, u32) {
         let ty = |default| match pixels {
             Pixels::F32(_) => glow::FLOAT,
             _ => default,
         };
+        // ES 2.0 (WebGL 1) has unsized internal formats only, equal to the format.
+        match (self, caps.es2) {
+            (TextureFormat::Rgba8, true) => return (glow::RGBA, glow::RGBA, glow::UNSIGNED_BYTE),
+            (TextureFormat::Depth24, true) => {
+                return (
+                    glow::DEPTH_COMPONENT,
+                    glow::DEPTH_COMPONENT,
+                    glow::UNSIGNED_INT,
+                )
+            }
+            _ => {}
+        }
         match self {
             TextureFormat::Rgba8 => (glow::RGBA8, glow::RGBA, glow::UNSIGNED_BYTE),
             TextureFormat::Srgb8A8 => (glow::SRGB8_ALPHA8, glow::RGBA, glow::UNSIGNED_BYTE),
@@ -84,7 +96,7 @@ impl Sampling {
 }
 
 unsafe fn tex_image(
-    gl: &glow::Context,
+    gpu: &super::Gpu,
     target: u32,
     level: i32,
     format: TextureFormat,
@@ -92,7 +104,8 @@ unsafe fn tex_image(
     h: u32,
     pixels: Pixels,
 ) {
-    let (internal, fmt, ty) = format.gl(&pixels);
+    let gl = &gpu.gl;
+    let (internal, fmt, ty) = format.gl(&pixels, &gpu.caps);
     let data = match pixels {
         Pixels::U8(d) => Some(d),
         Pixels::F32(d) => Some(bytemuck::cast_slice(d)),
@@ -123,14 +136,10 @@ pub enum MipSource {
 }
 
 /// Levels 1.. of the bound 2D texture, each RGBA8 data of its size.
-unsafe fn upload_levels(
-    gl: &glow::Context,
-    format: TextureFormat,
-    levels: &[super::mipmaps::Level],
-) {
+unsafe fn upload_levels(gpu: &super::Gpu, format: TextureFormat, levels: &[super::mipmaps::Level]) {
     for (i, (w, h, data)) in levels.iter().enumerate() {
         tex_image(
-            gl,
+            gpu,
             glow::TEXTURE_2D,
             i as i32 + 1,
             format,
@@ -197,7 +206,7 @@ impl TextureCube {
             gl.bind_texture(glow::TEXTURE_CUBE_MAP, Some(raw));
             for (i, face) in faces.into_iter().enumerate() {
                 tex_image(
-                    gl,
+                    gpu,
                     glow::TEXTURE_CUBE_MAP_POSITIVE_X + i as u32,
                     0,
                     format,
@@ -220,7 +229,7 @@ impl TextureCube {
     pub(crate) fn bind(&self, unit: u32) {
         // SAFETY: binding our own texture to a unit the caller keeps below the driver's limit.
         unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
+            self.gpu.active_unit(unit);
             self.gpu
                 .gl
                 .bind_texture(glow::TEXTURE_CUBE_MAP, Some(self.raw));
@@ -276,9 +285,9 @@ impl Texture2d {
         // SAFETY: the caller's data holds width*height texels of the format's channels; each
         // CPU level holds its own w*h RGBA8 texels.
         unsafe {
-            tex_image(&gpu.gl, glow::TEXTURE_2D, 0, format, width, height, pixels);
+            tex_image(gpu, glow::TEXTURE_2D, 0, format, width, height, pixels);
             match &cpu_chain {
-                Some(levels) => upload_levels(&gpu.gl, format, levels),
+                Some(levels) => upload_levels(gpu, format, levels),
                 None if mipmaps => gpu.gl.generate_mipmap(glow::TEXTURE_2D),
                 None => {}
             }
@@ -313,7 +322,7 @@ impl Texture2d {
         // SAFETY: each level's data holds w*h texels of the format's channels.
         unsafe {
             for (i, (w, h, px)) in levels.iter().enumerate() {
-                tex_image(&gpu.gl, glow::TEXTURE_2D, i as i32, format, *w, *h, *px);
+                tex_image(gpu, glow::TEXTURE_2D, i as i32, format, *w, *h, *px);
             }
             let gl = &gpu.gl;
             gl.tex_parameter_i32(
@@ -342,10 +351,10 @@ impl Texture2d {
     fn create(gpu: &GpuRef, width: u32, height: u32) -> Result<(Texture2d, Rebind)> {
         // SAFETY: a binding query, then creating and binding a new texture object.
         unsafe {
-            let previous = gpu.gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
+            let previous = gpu.bound_texture_2d();
             let raw = gpu.gl.create_texture().map_err(Error::Unsupported)?;
             gpu.created();
-            gpu.gl.bind_texture(glow::TEXTURE_2D, Some(raw));
+            gpu.bind_texture_2d(Some(raw));
             Ok((
                 Texture2d {
                     gpu: gpu.clone(),
@@ -365,14 +374,11 @@ impl Texture2d {
     /// unit's previous texture back: a parameter change mid-frame (a sampler set on first use
     /// of a material's texture) must not replace what a pass bound there, e.g. a shadow map.
     fn bound(&self) -> Rebind {
-        // SAFETY: a binding query, then binding our own texture.
-        unsafe {
-            let previous = self.gpu.gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-            Rebind {
-                gpu: self.gpu.clone(),
-                previous,
-            }
+        let previous = self.gpu.bound_texture_2d();
+        self.gpu.bind_texture_2d(Some(self.raw));
+        Rebind {
+            gpu: self.gpu.clone(),
+            previous,
         }
     }
 
@@ -430,9 +436,9 @@ impl Texture2d {
         unsafe {
             let gl = &gpu.gl;
             let level0 = Pixels::U8(rgba);
-            tex_image(gl, glow::TEXTURE_2D, 0, format, width, height, level0);
+            tex_image(gpu, glow::TEXTURE_2D, 0, format, width, height, level0);
             match &levels {
-                Some(levels) => upload_levels(gl, format, levels),
+                Some(levels) => upload_levels(gpu, format, levels),
                 None if mipmaps => gl.generate_mipmap(glow::TEXTURE_2D),
                 None => {}
             }
@@ -457,10 +463,16 @@ impl Texture2d {
         // SAFETY: allocating storage for the bound texture with no initial data.
         unsafe {
             let gl = &gpu.gl;
+            // ES 2.0 (OES/WEBGL_depth_texture) takes the unsized format only.
+            let internal = if gpu.caps.es2 {
+                glow::DEPTH_COMPONENT
+            } else {
+                glow::DEPTH_COMPONENT24
+            };
             gl.tex_image_2d(
                 glow::TEXTURE_2D,
                 0,
-                glow::DEPTH_COMPONENT24 as i32,
+                internal as i32,
                 width as i32,
                 height as i32,
                 0,
@@ -468,18 +480,27 @@ impl Texture2d {
                 glow::UNSIGNED_INT,
                 glow::PixelUnpackData::Slice(None),
             );
-            gl.tex_parameter_i32(
-                glow::TEXTURE_2D,
-                glow::TEXTURE_COMPARE_MODE,
-                glow::COMPARE_REF_TO_TEXTURE as i32,
-            );
-            gl.tex_parameter_i32(
-                glow::TEXTURE_2D,
-                glow::TEXTURE_COMPARE_FUNC,
-                glow::LEQUAL as i32,
-            );
+            if gpu.caps.shadow_compare {
+                gl.tex_parameter_i32(
+                    glow::TEXTURE_2D,
+                    glow::TEXTURE_COMPARE_MODE,
+                    glow::COMPARE_REF_TO_TEXTURE as i32,
+                );
+                gl.tex_parameter_i32(
+                    glow::TEXTURE_2D,
+                    glow::TEXTURE_COMPARE_FUNC,
+                    glow::LEQUAL as i32,
+                );
+            }
         }
-        t.params(glow::LINEAR, glow::LINEAR, glow::CLAMP_TO_EDGE);
+        // Compared in the shader (ES 2.0): four NEAREST lookups make the bilinear weights
+        // that LINEAR filtering gives a comparing sampler.
+        let filter = if gpu.caps.shadow_compare {
+            glow::LINEAR
+        } else {
+            glow::NEAREST
+        };
+        t.params(filter, filter, glow::CLAMP_TO_EDGE);
         Ok(t)
     }
 
@@ -501,7 +522,7 @@ impl Texture2d {
     /// Level `level` as RGBA8 bytes (row 0 first), on desktop GL (glGetTexImage); None on ES,
     /// which cannot read a texture back. For tests of the mipmap chain.
     pub fn read_level(&self, level: u32) -> Option<(u32, u32, Vec<u8>)> {
-        if self.gpu.caps.dialect == super::Dialect::Glsl300Es {
+        if self.gpu.caps.embedded {
             return None;
         }
         let (w, h) = ((self.width >> level).max(1), (self.height >> level).max(1));
@@ -509,7 +530,7 @@ impl Texture2d {
         // SAFETY: buf holds the level's w*h RGBA8 texels; PACK_ALIGNMENT 1 makes rows tight.
         unsafe {
             let gl = &self.gpu.gl;
-            gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.bind_texture_2d(Some(self.raw));
             gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
             gl.get_tex_image(
                 glow::TEXTURE_2D,
@@ -524,6 +545,9 @@ impl Texture2d {
 
     /// Switches between comparison (for lighting) and raw depth reads (for `--show shadow-map`).
     pub fn set_compare(&self, on: bool) {
+        if !self.gpu.caps.shadow_compare {
+            return;
+        }
         let mode = if on {
             glow::COMPARE_REF_TO_TEXTURE
         } else {
@@ -555,11 +579,8 @@ impl Texture2d {
     }
 
     pub fn bind(&self, unit: u32) {
-        // SAFETY: binding our own texture to a unit below the driver's limit (we use < 8).
-        unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
-        }
+        self.gpu.active_unit(unit);
+        self.gpu.bind_texture_2d(Some(self.raw));
     }
 
     /// Rebuilds the mip chain from level 0 (`glGenerateMipmap`, where the driver has it),
@@ -570,8 +591,8 @@ impl Texture2d {
         }
         // SAFETY: our own texture, level 0 allocated; the driver has glGenerateMipmap.
         unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.active_unit(unit);
+            self.gpu.bind_texture_2d(Some(self.raw));
             self.gpu.gl.generate_mipmap(glow::TEXTURE_2D);
         }
     }
@@ -582,7 +603,7 @@ impl Texture2d {
         // SAFETY: the caller keeps the rectangle inside the framebuffer and, placed at
         // `to`, inside the texture.
         unsafe {
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.bind_texture_2d(Some(self.raw));
             self.gpu.gl.copy_tex_sub_image_2d(
                 glow::TEXTURE_2D,
                 0,
@@ -606,8 +627,8 @@ impl Texture2d {
         // the (single-sampled) read framebuffer. The texture is bound on `unit` (where it is
         // read next, or a unit the next step rebinds), never on whatever unit was active.
         unsafe {
-            self.gpu.gl.active_texture(glow::TEXTURE0 + unit);
-            self.gpu.gl.bind_texture(glow::TEXTURE_2D, Some(self.raw));
+            self.gpu.active_unit(unit);
+            self.gpu.bind_texture_2d(Some(self.raw));
             self.gpu.gl.copy_tex_sub_image_2d(
                 glow::TEXTURE_2D,
                 0,
@@ -632,7 +653,7 @@ impl Drop for Rebind {
     fn drop(&mut self) {
         // SAFETY: the previous binding is a live texture (or none) of this context: nothing
         // is deleted while a constructor runs.
-        unsafe { self.gpu.gl.bind_texture(glow::TEXTURE_2D, self.previous) }
+        self.gpu.bind_texture_2d(self.previous);
     }
 }
 
@@ -640,6 +661,7 @@ impl Drop for Texture2d {
     fn drop(&mut self) {
         // SAFETY: deleting our own texture once.
         unsafe { self.gpu.gl.delete_texture(self.raw) };
+        self.gpu.forget_texture(self.raw);
         self.gpu.deleted();
     }
 }

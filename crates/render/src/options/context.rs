@@ -12,6 +12,9 @@ crate::choice! {
         Es3 = "es3",
         /// OpenGL 3.3 core (GLSL 3.30).
         Core = "core",
+        /// OpenGL ES 2.0 (GLSL ES 1.00), WebGL 1's features: the legacy tier, shadows
+        /// compared in the shader. A later ES context is held to ES 2.0's rules.
+        Es2 = "es2",
     }
 }
 
@@ -23,6 +26,7 @@ impl GlRequest {
             GlRequest::Gl21 => &[GlRequest::Gl21],
             GlRequest::Es3 => &[GlRequest::Es3],
             GlRequest::Core => &[GlRequest::Core],
+            GlRequest::Es2 => &[GlRequest::Es2],
         }
     }
 }

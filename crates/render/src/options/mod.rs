@@ -380,7 +380,9 @@ declare_options! {
         /// newest compatibility version, so every extension stays available; to see what an
         /// old GL 2.1 driver gives, also set MESA_GL_VERSION_OVERRIDE=2.1
         /// MESA_GLSL_VERSION_OVERRIDE=120 (and hide extensions with MESA_EXTENSION_OVERRIDE,
-        /// e.g. "-GL_ARB_framebuffer_object").
+        /// e.g. "-GL_ARB_framebuffer_object"). `es2` draws what WebGL 1 draws: an ES context
+        /// held to OpenGL ES 2.0's rules (GLSL ES 1.00, the legacy tier only), whatever later
+        /// ES version the driver answers with.
         gl: GlRequest = GlRequest::Auto, "gl" value;
         /// Headless rendering path: on Linux EGL (device platform), OSMesa, or auto (EGL,
         /// then OSMesa); on Windows WGL on a hidden window (auto). EGL and OSMesa are

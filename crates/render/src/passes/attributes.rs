@@ -246,7 +246,7 @@ impl Renderer {
         stencil: bool,
     ) -> Option<Vec<f32>> {
         let gpu = &self.gpu;
-        if gpu.caps.dialect == crate::gpu::Dialect::Glsl300Es
+        if gpu.caps.embedded
             || s.lighting.translucency.log_depth
             || !self.scene.scene.wire.is_empty()
         {

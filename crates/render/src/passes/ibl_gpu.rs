@@ -17,8 +17,11 @@ use std::f64::consts::PI;
 /// Why this context cannot compute the maps, if it cannot.
 pub fn unsupported(gpu: &GpuRef) -> Option<String> {
     let c = &gpu.caps;
-    if c.dialect == Dialect::Glsl120 {
-        Some("GLSL 1.20 has no texelFetch/textureLod in fragment shaders".into())
+    if matches!(c.dialect, Dialect::Glsl120 | Dialect::Glsl100Es) {
+        Some(format!(
+            "{} has no texelFetch/textureLod in fragment shaders",
+            c.dialect.name()
+        ))
     } else if !c.fbo || !c.float_render || !c.half_float_textures {
         Some("no float render targets".into())
     } else {

@@ -117,7 +117,7 @@ fn skip_reason(gpu: &GpuRef, s: &FrameSettings) -> Option<&'static str> {
         Some("off (no lights)")
     } else if s.lighting.shadow_casters == 0 {
         Some("off (--shadow-lights 0)")
-    } else if !caps.depth_texture || !caps.shadow_compare {
+    } else if !caps.shadow_maps() {
         Some("off (no depth textures or shadow compare: shadows off)")
     } else {
         None

@@ -267,7 +267,7 @@ impl SceneGpu {
         uploaded += bytes;
         gpu.check_error("upload")?;
         let caps = &gpu.caps;
-        if !caps.depth_texture || !caps.shadow_compare {
+        if !caps.shadow_maps() {
             log::warn!(
                 "{}: no depth textures or shadow compare: shadows off",
                 caps.version

@@ -1,6 +1,6 @@
 //! Shader assembly: a dialect header (`#version` plus a few macros), feature `#define`s, then
 //! the body from `shaders_gl/` with `#include "x.glsl"` resolved. One body serves GLSL 1.20,
-//! GLSL ES 3.00 and GLSL 3.30. Sources are compiled into the binary.
+//! GLSL ES 3.00, GLSL 3.30 and GLSL ES 1.00 (WebGL 1). Sources are compiled into the binary.
 use crate::gpu::Dialect;
 
 pub mod cache;
@@ -182,7 +182,7 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
         (Dialect::Glsl120, Stage::Fragment) => {
             "#version 120\n#define IN varying\n#define FRAG_COLOR gl_FragColor\n\
              #define TEX2D texture2D\n#define TEXCUBE textureCube\n\
-             #define SHADOW2D(s, c) shadow2D(s, c).r\n"
+             #define SHADOW2D(s, c) shadow2D(s, c).r\n#define FRAG_DEPTH gl_FragDepth\n"
         }
         (Dialect::Glsl300Es, Stage::Vertex) => {
             "#version 300 es\nprecision highp float;\n#define IN in\n#define OUT out\n"
@@ -192,13 +192,31 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
              #else\nprecision mediump float;\n#endif\nprecision highp sampler2DShadow;\n\
              #define IN in\nout vec4 glviewFragColor;\n#define FRAG_COLOR glviewFragColor\n\
              #define TEX2D texture\n#define TEXCUBE texture\n\
-             #define SHADOW2D(s, c) texture(s, c)\n"
+             #define SHADOW2D(s, c) texture(s, c)\n#define FRAG_DEPTH gl_FragDepth\n"
+        }
+        (Dialect::Glsl100Es, Stage::Vertex) => {
+            "#version 100\nprecision highp float;\n#define IN attribute\n#define OUT varying\n"
+        }
+        // ES 2.0 (WebGL 1) has no shadow samplers: the shadow map is a plain depth texture,
+        // compared in the shader (shadow.glsl, SHADOW_COMPARE_IN_SHADER); dFdx is
+        // OES_standard_derivatives', a written depth EXT_frag_depth's; uniform arrays are
+        // indexed by constants and loop indices only (Appendix A, which WebGL enforces).
+        (Dialect::Glsl100Es, Stage::Fragment) => {
+            "#version 100\n#extension GL_OES_standard_derivatives : enable\n\
+             #extension GL_EXT_frag_depth : enable\n#define FRAG_DEPTH gl_FragDepthEXT\n\
+             #ifdef GL_FRAGMENT_PRECISION_HIGH\nprecision highp float;\n\
+             #else\nprecision mediump float;\n#endif\n\
+             #define IN varying\n#define FRAG_COLOR gl_FragColor\n\
+             #define TEX2D texture2D\n#define TEXCUBE textureCube\n\
+             #define SHADOW_SAMPLER sampler2D\n#define SHADOW_COMPARE_IN_SHADER 1\n\
+             #define CONST_INDEX_ONLY 1\n"
         }
         (Dialect::Glsl330, Stage::Vertex) => "#version 330 core\n#define IN in\n#define OUT out\n",
         (Dialect::Glsl330, Stage::Fragment) => {
             "#version 330 core\n#define IN in\nout vec4 glviewFragColor;\n\
              #define FRAG_COLOR glviewFragColor\n#define TEX2D texture\n\
-             #define TEXCUBE texture\n#define SHADOW2D(s, c) texture(s, c)\n"
+             #define TEXCUBE texture\n#define SHADOW2D(s, c) texture(s, c)\n\
+             #define FRAG_DEPTH gl_FragDepth\n"
         }
     }
 }

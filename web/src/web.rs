@@ -1,0 +1,220 @@
+//! The page's viewer: a canvas, its WebGL context as a `glow::Context`, the built-in scene
+//! uploaded once, and a [`View`] steered by the window's key names. A picture is `glview -o`
+//! with the same options: the same option words, frame settings, passes and shader bodies;
+//! only the rasteriser differs (the browser's, e.g. SwiftShader, against llvmpipe).
+use glview_render::frame::FrameSettings;
+use glview_render::gpu::{Gpu, GpuRef};
+use glview_render::keys::{self, Effect};
+use glview_render::passes::{Renderer, Target};
+use glview_render::scene::geometry::normals::Creases;
+use glview_render::scene::model::material::TextureOptions;
+use glview_render::scene::LoadOptions;
+use glview_render::view::settings::{adjust_scene, env_request};
+use glview_render::view::View;
+use glview_render::Options;
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+use web_sys::WebGlRenderingContext;
+use web_sys::{HtmlCanvasElement, WebGl2RenderingContext, WebGlContextAttributes};
+
+/// Milliseconds from the page's clock: the renderer's time (`--stats`' durations).
+fn now() -> f64 {
+    web_sys::window()
+        .and_then(|w| w.performance())
+        .map_or(0.0, |p| p.now())
+}
+
+fn js(e: impl std::fmt::Display) -> JsValue {
+    JsValue::from_str(&e.to_string())
+}
+
+/// Panics reach the console with their message (wasm32's default is an opaque trap).
+fn panic_to_console() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        std::panic::set_hook(Box::new(|info| {
+            web_sys::console::error_1(&JsValue::from_str(&format!("glview: {info}")));
+        }));
+    });
+}
+
+/// What the headless target is: single-sampled RGBA8 with depth and stencil, opaque. The
+/// drawing buffer is kept after compositing so that a test (or a screenshot) can read it.
+fn attributes() -> WebGlContextAttributes {
+    let a = WebGlContextAttributes::new();
+    a.set_alpha(false);
+    a.set_antialias(false);
+    a.set_depth(true);
+    a.set_stencil(true);
+    a.set_premultiplied_alpha(false);
+    a.set_preserve_drawing_buffer(true);
+    a
+}
+
+/// The canvas's context: WebGL 2 unless `webgl` is 1 or the browser has none, then WebGL 1.
+/// Returns the context and which WebGL it is.
+fn context(canvas: &HtmlCanvasElement, webgl: u32) -> Result<(glow::Context, u32), JsValue> {
+    let attrs = attributes();
+    if webgl != 1 {
+        if let Some(c) = canvas.get_context_with_context_options("webgl2", &attrs)? {
+            let gl: WebGl2RenderingContext = c.dyn_into()?;
+            return Ok((glow::Context::from_webgl2_context(gl), 2));
+        }
+    }
+    match canvas.get_context_with_context_options("webgl", &attrs)? {
+        Some(c) => {
+            let gl: WebGlRenderingContext = c.dyn_into()?;
+            Ok((glow::Context::from_webgl1_context(gl), 1))
+        }
+        None => Err(js("this browser gives the canvas no WebGL context")),
+    }
+}
+
+/// The loader's options from the picture's (as the native library's `load_options`, without
+/// the mesh cache: a browser has no disk).
+fn load_options(o: &Options) -> LoadOptions {
+    LoadOptions {
+        textures: TextureOptions {
+            allow_outside_paths: false,
+            max_dimension: 0,
+        },
+        progress: None,
+        cache: false,
+        honor_transparency: o.load.honor_transparency,
+        creases: match (o.load.flat, o.load.crease) {
+            (true, _) => Creases::Flat,
+            (false, Some(d)) => Creases::Angle(d),
+            (false, None) => Creases::default(),
+        },
+        up: o.load.up,
+        texture: None,
+        scene: o.load.scene.clone(),
+        variant: o.load.variant.clone(),
+    }
+}
+
+/// glview on one canvas.
+#[wasm_bindgen]
+pub struct Viewer {
+    view: View,
+    renderer: Renderer,
+    gpu: GpuRef,
+    webgl: u32,
+    frames: u64,
+}
+
+#[wasm_bindgen]
+impl Viewer {
+    /// A viewer of the built-in scene on `canvas`, with `words` the options of `glview -o`
+    /// ("--size 400x300 --yaw 25 --shading pbr"; the canvas takes `--size`). `webgl`: 1
+    /// forces WebGL 1; anything else takes WebGL 2 where the browser has it.
+    #[wasm_bindgen(constructor)]
+    pub fn new(canvas: HtmlCanvasElement, words: &str, webgl: u32) -> Result<Viewer, JsValue> {
+        panic_to_console();
+        glview_render::clock::set(now);
+        let options = Options::from_words(words.split_whitespace()).map_err(js)?;
+        if options.load.model.is_some() {
+            return Err(js(
+                "the browser build draws the built-in scene only (a model's bytes do not travel yet)",
+            ));
+        }
+        let (w, h) = options.picture.size;
+        canvas.set_width(w);
+        canvas.set_height(h);
+        let (gl, webgl) = context(&canvas, webgl)?;
+        // WebGL 1 reports "WebGL 1.0 (OpenGL ES 2.0 ...)": the ES 2.0 rules follow from it.
+        let gpu = Gpu::new(gl);
+        let mut scene = glview_render::scene::builtin::load(&load_options(&options)).map_err(js)?;
+        adjust_scene(&options, &mut scene).map_err(js)?;
+        let mut renderer = Renderer::new(&gpu, scene).map_err(js)?;
+        renderer.set_environment(env_request(&options).map_err(js)?);
+        let settled = View::settled(&options, renderer.scene()).map_err(js)?;
+        Ok(Viewer {
+            view: View::new(settled),
+            renderer,
+            gpu,
+            webgl,
+            frames: 0,
+        })
+    }
+
+    /// Draws the view; the frame's milliseconds (to the end of the GL calls, not of the
+    /// browser's rasterising: read the pixels or wait a frame for that).
+    pub fn draw(&mut self) -> Result<f64, JsValue> {
+        let options = self.view.picture();
+        let settings = FrameSettings::new(&options, self.renderer.scene()).map_err(js)?;
+        let (width, height) = options.picture.size;
+        let target = Target {
+            fbo: None,
+            width,
+            height,
+        };
+        let stats = self.renderer.render(&settings, &target).map_err(js)?;
+        self.frames += 1;
+        Ok(stats.ms)
+    }
+
+    /// A key of the window, by its name there ("Right", "Up", "P", "S", "+"; see `glview
+    /// --help`). Returns whether the picture may have changed (draw again); an unknown name
+    /// is an error.
+    pub fn key(&mut self, name: &str) -> Result<bool, JsValue> {
+        let action = keys::action_for(name).ok_or_else(|| js(format!("unknown key {name:?}")))?;
+        let effect = self.view.act(action, self.renderer.scene()).map_err(js)?;
+        Ok(effect == Effect::Redraw)
+    }
+
+    /// Waits for the GL calls so far to finish (glFinish): a frame's end, for timings.
+    pub fn finish(&self) {
+        self.gpu.finish();
+    }
+
+    /// A left-drag of `dx`, `dy` pixels, as the window turns the view (dragging right
+    /// turns the model right). Draw again after it.
+    pub fn drag(&mut self, dx: f32, dy: f32) -> Result<(), JsValue> {
+        self.view.drag(dx, dy, self.renderer.scene()).map_err(js)
+    }
+
+    /// `notches` of the mouse wheel (positive: away from the user, zooms in), as the window.
+    pub fn wheel(&mut self, notches: f32) -> Result<(), JsValue> {
+        self.view.wheel(notches, self.renderer.scene()).map_err(js)
+    }
+
+    /// The canvas's pixels as RGBA8, top row first (as glview's PNGs), read back now.
+    pub fn pixels(&self) -> Vec<u8> {
+        let (w, h) = self.view.picture().picture.size;
+        self.gpu.bind_framebuffer(None);
+        self.gpu.read_rgba(w, h)
+    }
+
+    /// What drew: the WebGL version, GL_VERSION, the renderer and the GLSL dialect, as JSON.
+    pub fn info(&self) -> String {
+        let c = &self.gpu.caps;
+        format!(
+            "{{\"webgl\":{},\"version\":{:?},\"renderer\":{:?},\"dialect\":{:?},\"frames\":{}}}",
+            self.webgl,
+            c.version,
+            c.renderer,
+            c.dialect.name(),
+            self.frames
+        )
+    }
+
+    /// Compiles and links every program the renderer can ask for in this context (what
+    /// `glview --compile-shaders` does natively): their count, or the first one the browser's
+    /// compiler refuses, with its log and numbered source.
+    pub fn compile_all(&self) -> Result<u32, JsValue> {
+        let mut cache = glview_render::shader::cache::ProgramCache::new(&self.gpu);
+        let es2 = self.gpu.caps.dialect == glview_render::gpu::Dialect::Glsl100Es;
+        let max_lights = glview_render::light::MAX_LIGHTS as u8;
+        let keys = glview_render::passes::programs::keys_for(es2, max_lights);
+        for key in &keys {
+            cache.get(key).map_err(js)?;
+        }
+        Ok(keys.len() as u32)
+    }
+
+    /// The options of the current view as `glview -o` words (what the keys led to).
+    pub fn options(&self) -> String {
+        self.view.picture().to_words().join(" ")
+    }
+}
