@@ -420,7 +420,9 @@ impl ApplicationHandler for App<'_> {
                 self.request_redraw();
             }
             // Moved by one row, an interlaced picture swaps which eye each row shows.
-            WindowEvent::Moved(_) if interlaced(&self.settings) => self.request_redraw(),
+            WindowEvent::Moved(_) if self.settings.stereo.mode.interlaced() => {
+                self.request_redraw()
+            }
             WindowEvent::KeyboardInput {
                 event,
                 is_synthetic: false,
@@ -544,11 +546,6 @@ fn screen_parity(window: &Window) -> (u32, u32) {
         .inner_position()
         .map(|p| (p.x.rem_euclid(2) as u32, p.y.rem_euclid(2) as u32))
         .unwrap_or((0, 0))
-}
-
-/// Whether the frame interlaces its eyes by screen pixels.
-fn interlaced(s: &FrameSettings) -> bool {
-    glview::stereo::interlaced_eye(s.stereo.mode, 0, 0).is_some()
 }
 
 /// The overlay's picture of `lines` (model, tier, toggles, frame time, the key table; or

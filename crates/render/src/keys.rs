@@ -303,7 +303,7 @@ pub fn apply(action: Action, o: &mut Options) -> Effect {
             // SSAA's box filter would average interlaced rows and columns together.
             let ssaa = o.post.aa == crate::options::AaMode::Ssaa;
             let mut next = next_stereo(o.stereo.mode);
-            while ssaa && crate::stereo::interlaced_eye(next, 0, 0).is_some() {
+            while ssaa && next.interlaced() {
                 next = next_stereo(next);
             }
             o.stereo.mode = next;
@@ -409,7 +409,7 @@ mod tests {
         o.post.aa = crate::options::AaMode::Ssaa;
         for _ in 0..8 {
             apply(Action::CycleStereo, &mut o);
-            assert!(crate::stereo::interlaced_eye(o.stereo.mode, 0, 0).is_none());
+            assert!(!o.stereo.mode.interlaced());
         }
         apply(Action::SwapEyes, &mut o);
         assert!(o.stereo.swap_eyes);

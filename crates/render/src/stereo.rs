@@ -83,6 +83,11 @@ impl StereoMode {
     pub fn composed(self) -> bool {
         !matches!(self, StereoMode::Off | StereoMode::QuadBuffer)
     }
+
+    /// The modes that interlace the eyes by pixels (rows, columns, checkerboard).
+    pub fn interlaced(self) -> bool {
+        interlaced_eye(self, 0, 0).is_some()
+    }
 }
 
 /// What a frame's stereo is: the mode and, for its eyes, the separation and convergence
@@ -163,6 +168,17 @@ impl Layout {
             eye: (eye.0.max(1), eye.1.max(1)),
             squeeze,
         }
+    }
+}
+
+impl Layout {
+    /// `centre`'s camera for `eye` drawn into this layout's eye: squeezed as the mode
+    /// squeezes it, its off-axis frustum for the eye's projection aspect.
+    pub fn eye_camera(&self, centre: &OrbitCamera, eye: Eye, stereo: &Stereo) -> OrbitCamera {
+        let mut camera = *centre;
+        camera.squeeze = self.squeeze;
+        let aspect = self.eye.0 as f32 / self.eye.1 as f32 * self.squeeze;
+        eye_camera(&camera, eye, stereo.separation, stereo.convergence, aspect)
     }
 }
 

@@ -542,8 +542,7 @@ impl Options {
                  with --stereo",
             ));
         }
-        let interlaced = crate::stereo::interlaced_eye(mode, 0, 0).is_some();
-        if interlaced && self.post.aa == AaMode::Ssaa {
+        if mode.interlaced() && self.post.aa == AaMode::Ssaa {
             return Err(OptionError::new(
                 "stereo",
                 format!(

@@ -295,9 +295,6 @@ pub struct Renderer {
     frame: u64,
     /// Time each post step (glFinish before and after): `--stats`.
     pub time_post: bool,
-    /// Drawing a stereo pair's first eye: its frame ends without glFinish (the pair's
-    /// end waits once), so the eyes' work is not serialised by a wait between them.
-    pub(crate) first_eye: bool,
     /// Skip clusters of large meshes the view cannot see (default on; `--no-culling` turns
     /// it off, for comparisons: the same picture but for rare silhouette depth ties).
     pub cull_clusters: bool,
@@ -366,7 +363,6 @@ impl Renderer {
             timer: crate::gpu::query::TimerQuery::new(gpu)?,
             frame: 0,
             time_post: false,
-            first_eye: false,
             cull_clusters: true,
             lod: Lod::default(),
             posed,
@@ -406,17 +402,17 @@ impl Renderer {
         if s.stereo.mode.composed() {
             return self.render_stereo(s, target, viewport);
         }
-        // (A failed stereo frame may have left it set.)
-        self.first_eye = false;
-        self.render_mono(s, target, viewport)
+        self.render_mono(s, target, viewport, true)
     }
 
-    /// One picture into a rectangle of `target`.
+    /// One picture into a rectangle of `target`; `wait`: end with glFinish (a stereo pair's
+    /// first eye does not, so the eyes' work is not serialised by a wait between them).
     fn render_mono(
         &mut self,
         s: &FrameSettings,
         target: &Target,
         viewport: [u32; 4],
+        wait: bool,
     ) -> Result<FrameStats> {
         let start = crate::clock::Mark::now();
         let s = &*crate::frame::resolve(s);
@@ -474,20 +470,25 @@ impl Renderer {
         stats.mesh_bytes_uploaded = self.scene.uploaded.get();
         stats.meshes_completed = self.scene.completed.get();
         stats.mesh_bytes_read_later = self.scene.scene.meshes.bytes_read_later();
-        self.finish_frame(start, &mut stats)?;
+        self.finish_frame(start, &mut stats, wait)?;
         Ok(stats)
     }
 
     /// Ends the frame: checks for GL errors (debug builds), stops the timer query, waits
     /// for the GPU (glFinish) and records the frame's wall and GPU times in `stats`.
-    fn finish_frame(&self, start: crate::clock::Mark, stats: &mut FrameStats) -> Result<()> {
+    fn finish_frame(
+        &self,
+        start: crate::clock::Mark,
+        stats: &mut FrameStats,
+        wait: bool,
+    ) -> Result<()> {
         if cfg!(debug_assertions) {
             self.gpu.check_error("frame")?;
         }
         if let Some(t) = &self.timer {
             t.end();
         }
-        if self.first_eye {
+        if !wait {
             stats.ms = start.ms();
             return Ok(());
         }

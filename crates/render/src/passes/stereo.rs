@@ -18,7 +18,7 @@ use crate::gpu::state::RenderState;
 use crate::gpu::texture::{Pixels, Sampling, Texture2d, TextureFormat};
 use crate::gpu::GpuRef;
 use crate::shader::cache::ProgramKey;
-use crate::stereo::{anaglyph_matrices, eye_camera, Eye, Layout, StereoMode};
+use crate::stereo::{anaglyph_matrices, Eye, Layout, StereoMode};
 use crate::Result;
 
 /// One eye's picture: a texture, with a framebuffer (depth and stencil) where the driver
@@ -103,16 +103,16 @@ impl Renderer {
                 self.res.stereo.eyes.push(e);
             }
         }
-        let aspect = ew as f32 / eh as f32 * layout.squeeze;
         let mut eye_settings = s.clone();
         eye_settings.stereo.mode = StereoMode::Off;
         let mut pair: Option<FrameStats> = None;
+        // Target 0 holds what the left eye's place shows: the right eye when swapped, so
+        // the blit and the composite never swap.
         for (i, eye) in [Eye::Left, Eye::Right].into_iter().enumerate() {
-            let mut camera = s.camera;
-            camera.squeeze = layout.squeeze;
-            eye_settings.camera = eye_camera(&camera, eye, st.separation, st.convergence, aspect);
+            let shown = if st.swap { eye.other() } else { eye };
+            eye_settings.camera = layout.eye_camera(&s.camera, shown, &st);
             let fbo = self.res.stereo.eyes[i].fbo.as_ref().map(|f| f.raw);
-            self.first_eye = i == 0;
+            let wait = i == 1;
             let stats = match fbo {
                 Some(fbo) => {
                     let t = Target {
@@ -120,19 +120,18 @@ impl Renderer {
                         width: ew,
                         height: eh,
                     };
-                    self.render_mono(&eye_settings, &t, [0, 0, ew, eh])?
+                    self.render_mono(&eye_settings, &t, [0, 0, ew, eh], wait)?
                 }
                 None => {
                     // Copy path: drawn in the output's corner, copied out.
                     let corner = [viewport[0], viewport[1], ew, eh];
-                    let stats = self.render_mono(&eye_settings, target, corner)?;
+                    let stats = self.render_mono(&eye_settings, target, corner, wait)?;
                     gpu.bind_framebuffer(target.fbo);
                     let color = &self.res.stereo.eyes[i].color;
                     color.copy_region_from_framebuffer(0, viewport[0], viewport[1]);
                     stats
                 }
             };
-            self.first_eye = false;
             pair = Some(match pair {
                 None => stats,
                 Some(left) => add_eyes(left, stats),
@@ -143,8 +142,7 @@ impl Renderer {
         let blit = gpu.caps.fbo && gpu.caps.major >= 3;
         let how = match halves(st.mode, viewport, (ew, eh)).filter(|_| blit) {
             Some(rects) => {
-                let (first, second) = if st.swap { (1, 0) } else { (0, 1) };
-                for (eye, rect) in [(first, rects[0]), (second, rects[1])] {
+                for (eye, rect) in rects.into_iter().enumerate() {
                     let fbo = self.res.stereo.eyes[eye]
                         .fbo
                         .as_ref()
@@ -171,23 +169,27 @@ impl Renderer {
     pub fn render_quad_buffer(&mut self, s: &FrameSettings, target: &Target) -> Result<FrameStats> {
         let st = s.stereo;
         let (w, h) = (target.width, target.height);
-        let aspect = w as f32 / h.max(1) as f32;
+        let layout = Layout::of(StereoMode::QuadBuffer, w, h);
         let mut eye_settings = s.clone();
         eye_settings.stereo.mode = StereoMode::Off;
-        let mut stats = FrameStats::default();
+        let mut pair: Option<FrameStats> = None;
         for eye in [Eye::Left, Eye::Right] {
             let shown = if st.swap { eye.other() } else { eye };
-            eye_settings.camera =
-                eye_camera(&s.camera, shown, st.separation, st.convergence, aspect);
+            eye_settings.camera = layout.eye_camera(&s.camera, shown, &st);
             self.gpu.bind_framebuffer(None);
             self.gpu.draw_buffer(match eye {
                 Eye::Left => glow::BACK_LEFT,
                 Eye::Right => glow::BACK_RIGHT,
             });
-            stats = self.render_mono(&eye_settings, target, [0, 0, w, h])?;
+            let stats = self.render_mono(&eye_settings, target, [0, 0, w, h], true)?;
+            pair = Some(match pair {
+                None => stats,
+                Some(left) => add_eyes(left, stats),
+            });
         }
         self.gpu.bind_framebuffer(None);
         self.gpu.draw_buffer(glow::BACK);
+        let mut stats = pair.expect("two eyes");
         stats.passes.push("stereo(quad-buffer)".into());
         Ok(stats)
     }
@@ -204,9 +206,8 @@ impl Renderer {
         let gpu = self.gpu.clone();
         let p = self.programs.borrow_mut().get(&key())?;
         p.bind();
-        let (first, second) = if st.swap { (1, 0) } else { (0, 1) };
-        self.res.stereo.eyes[first].color.bind(0);
-        self.res.stereo.eyes[second].color.bind(1);
+        self.res.stereo.eyes[0].color.bind(0);
+        self.res.stereo.eyes[1].color.bind(1);
         p.set_i32("uLeft", 0);
         p.set_i32("uRight", 1);
         p.set_vec2("uEyeSize", glam::Vec2::new(ew as f32, eh as f32));

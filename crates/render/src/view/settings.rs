@@ -167,16 +167,8 @@ fn stereo_of(args: &Options, camera: &mut OrbitCamera) -> Result<Stereo> {
     };
     // One eye as a plain picture: the camera the composed picture's eye has.
     let eye = if o.swap_eyes { eye.other() } else { eye };
-    let (w, h) = args.picture.size;
-    let layout = crate::stereo::Layout::of(o.mode, w, h);
-    let (ew, eh) = if o.mode == StereoMode::SideBySideFull {
-        (w, h)
-    } else {
-        layout.eye
-    };
-    camera.squeeze = layout.squeeze;
-    let aspect = ew as f32 / eh.max(1) as f32 * layout.squeeze;
-    *camera = crate::stereo::eye_camera(camera, eye, stereo.separation, stereo.convergence, aspect);
+    let (w, h) = crate::stereo::output_size(o.mode, args.picture.size);
+    *camera = crate::stereo::Layout::of(o.mode, w, h).eye_camera(camera, eye, &stereo);
     Ok(Stereo {
         mode: StereoMode::Off,
         ..stereo
@@ -186,11 +178,11 @@ fn stereo_of(args: &Options, camera: &mut OrbitCamera) -> Result<Stereo> {
 /// The size of the picture `args` draw: `--size`, except side-by-side-full's (twice as
 /// wide) and one `--eye` of a squeezed mode (half the width or height).
 pub fn output_size(args: &Options) -> (u32, u32) {
-    let (mode, size) = (args.stereo.mode, args.picture.size);
+    let mode = args.stereo.mode;
+    let (w, h) = crate::stereo::output_size(mode, args.picture.size);
     match args.stereo.eye {
-        Some(_) if mode == StereoMode::SideBySideFull => size,
-        Some(_) => crate::stereo::Layout::of(mode, size.0, size.1).eye,
-        None => crate::stereo::output_size(mode, size),
+        Some(_) => crate::stereo::Layout::of(mode, w, h).eye,
+        None => (w, h),
     }
 }
 
