@@ -7,20 +7,10 @@ use crate::common;
 use common::*;
 use glview::image_out::Rgba;
 
-/// The parity test's picture (as tests/suite/parity.rs): shadows, glass, the saucer's
-/// specular highlight.
-const ARGS: &[&str] = &[
-    "--size",
-    "400x300",
-    "--yaw",
-    "25",
-    "--pitch",
-    "20",
-    "--shadow-size",
-    "1024",
-    "--backend",
-    "egl",
-];
+/// The parity test's picture (shadows, glass, the saucer's specular highlight), on EGL.
+fn args() -> Vec<&'static str> {
+    [super::parity::ARGS, &["--backend", "egl"]].concat()
+}
 
 /// An honest ES 2.0 context (GL_VERSION "OpenGL ES 2.0 Mesa", GLSL ES 1.0.16).
 const ES2: &[(&str, &str)] = &[("MESA_GLES_VERSION_OVERRIDE", "2.0")];
@@ -45,7 +35,7 @@ pub fn stats(a: &Rgba, b: &Rgba) -> (f64, u8, f64) {
 #[test]
 fn es2_draws_the_legacy_tier_as_gl21_does() {
     let dir = out_dir("es2");
-    let with = |gl: &'static str| [ARGS, &["--gl", gl]].concat();
+    let with = |gl: &'static str| [&args()[..], &["--gl", gl]].concat();
     let gl21 = render(&dir, "gl21", &with("2.1"), GL21);
     let held = render(&dir, "es2-held", &with("es2"), &[]);
     let honest = render(&dir, "es2", &with("es2"), ES2);
@@ -86,11 +76,11 @@ fn es2_shadows_are_drawn_not_dropped() {
     // The shadow compared in the shader is a shadow: without it the saucer under the
     // holder is lit, and that is far from the picture with it.
     let dir = out_dir("es2-shadows");
-    let on = render(&dir, "on", &[ARGS, &["--gl", "es2"]].concat(), ES2);
+    let on = render(&dir, "on", &[&args()[..], &["--gl", "es2"]].concat(), ES2);
     let off = render(
         &dir,
         "off",
-        &[ARGS, &["--gl", "es2", "--no-shadows"]].concat(),
+        &[&args()[..], &["--gl", "es2", "--no-shadows"]].concat(),
         ES2,
     );
     let (mean, _, over) = stats(&on, &off);

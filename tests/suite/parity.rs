@@ -4,7 +4,7 @@ use crate::common;
 use common::*;
 use glview::image_out::RgbaFiles;
 
-const ARGS: &[&str] = &[
+pub(crate) const ARGS: &[&str] = &[
     "--size",
     "400x300",
     "--yaw",
