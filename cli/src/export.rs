@@ -1,6 +1,6 @@
 //! `glview export MODEL -o lesson.html [--scorm lesson.zip]`: the command line of the
 //! library's lesson page (glview::export), whose options it fills.
-use glview::export::{ExportOptions, DEFAULT_QUALITY};
+use glview::export::{ExportOptions, Live, DEFAULT_QUALITY};
 use glview::options::{Bytes, OptionValue};
 use std::path::PathBuf;
 
@@ -41,6 +41,17 @@ pub struct ExportCommand {
     /// Also write the page as a SCORM 1.2 package (a zip any LMS imports) here.
     #[arg(long, value_name = "FILE.zip")]
     pub scorm: Option<PathBuf>,
+    /// Draw live in the browser (glview's renderer compiled to wasm, the model's files and
+    /// the environment maps in the page), the pictures kept as the fallback (docs/web.md).
+    #[arg(long)]
+    pub live: bool,
+    /// As --live without the pictures: a smaller page that shows nothing without WebGL.
+    #[arg(long, conflicts_with = "live")]
+    pub live_only: bool,
+    /// The browser build's folder for --live (default: $GLVIEW_WEB_DIR, else target/web
+    /// beside the executable's folder); `bash scripts/build_web.sh` makes it.
+    #[arg(long, value_name = "DIR")]
+    pub web_dir: Option<PathBuf>,
     /// Any view options of glview after `--` (yaw and pitch of the first view, lights, ...).
     #[arg(last = true)]
     pub view_options: Vec<String>,
@@ -73,6 +84,12 @@ impl ExportCommand {
             caption: self.caption.clone(),
             max_size: self.max_size,
             scorm: self.scorm.clone(),
+            live: match (self.live, self.live_only) {
+                (_, true) => Live::Only,
+                (true, false) => Live::Live,
+                (false, false) => Live::Off,
+            },
+            web_dir: self.web_dir.clone(),
         })
     }
 

@@ -5,7 +5,8 @@
 pub use glview_render::image::canvas;
 pub mod diff;
 pub mod sheet;
-pub mod split;
+/// The window's and the browser's `C` view (in the render crate, which both draw with).
+pub use crate::view::split;
 
 use crate::frame::{FrameSettings, Shading};
 use crate::image_out::Rgba;

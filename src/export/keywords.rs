@@ -7,7 +7,8 @@ use serde_json::Value;
 
 impl ExportOptions {
     /// `options` (the picture's) with the export's keywords of `export` (a JSON object:
-    /// yaw_steps, pitch_steps, pitch_step, quality, png, title, caption, max_size, scorm);
+    /// yaw_steps, pitch_steps, pitch_step, quality, png, title, caption, max_size, scorm,
+    /// live (True, False or "only"), web_dir);
     /// an unknown keyword or a value of the wrong kind is a usage error naming it.
     pub fn with_keywords(options: Options, export: &Value) -> Result<ExportOptions> {
         let mut o = ExportOptions {
@@ -40,10 +41,19 @@ impl ExportOptions {
                 "caption" => o.caption = Some(text()?),
                 "max_size" => o.max_size = Some(v.as_u64().ok_or_else(|| bad("bytes"))?),
                 "scorm" => o.scorm = Some(text()?.into()),
+                "live" => {
+                    o.live = match (v.as_bool(), v.as_str()) {
+                        (Some(true), _) => super::Live::Live,
+                        (Some(false), _) => super::Live::Off,
+                        (_, Some("only")) => super::Live::Only,
+                        _ => return Err(bad("True, False or \"only\"")),
+                    }
+                }
+                "web_dir" => o.web_dir = Some(text()?.into()),
                 _ => {
                     return Err(Error::Usage(format!(
                         "export: unknown option {k:?} (yaw_steps, pitch_steps, pitch_step, \
-                         quality, png, title, caption, max_size, scorm, and the picture's)"
+                         quality, png, title, caption, max_size, scorm, live, web_dir, and the picture's)"
                     )))
                 }
             }

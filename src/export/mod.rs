@@ -6,12 +6,14 @@
 //! the command line) because Python's `glview.export` writes the same page.
 mod grid;
 mod keywords;
+mod live;
 mod page;
 mod render;
 pub mod scorm;
 pub mod zip;
 
 pub use grid::Grid;
+pub use live::Live;
 
 use crate::options::Options;
 use crate::{Error, Result};
@@ -42,6 +44,11 @@ pub struct ExportOptions {
     pub max_size: Option<u64>,
     /// Also write the page as a SCORM 1.2 package (zip) here.
     pub scorm: Option<PathBuf>,
+    /// Whether the page draws live in the browser (`--live`, `--live-only`).
+    pub live: Live,
+    /// The browser build's folder for `live` (default: `$GLVIEW_WEB_DIR`, else `web/` beside
+    /// the executable's folder, i.e. `target/web`).
+    pub web_dir: Option<PathBuf>,
 }
 
 /// JPEG quality by measurement on the bunny at 640×480 (scripts/export_quality.py,
@@ -65,6 +72,8 @@ impl Default for ExportOptions {
             caption: None,
             max_size: None,
             scorm: None,
+            live: Live::Off,
+            web_dir: None,
         }
     }
 }
@@ -89,16 +98,22 @@ pub fn build(opts: &ExportOptions) -> Result<Export> {
     let rendered = render::render(opts, &grid)?;
     let picture_bytes = rendered.bytes();
     let title = opts.title.clone().unwrap_or_else(|| rendered.model.clone());
-    let html = page::html(opts, &grid, &rendered, &title);
+    let live = match opts.live {
+        Live::Off => None,
+        Live::Live | Live::Only => Some(live::payload(opts)?),
+    };
+    let html = page::html(opts, &grid, &rendered, &title, live.as_ref());
     let views = grid.len();
-    let summary = format!(
-        "{views} views x 2 tiers of {} at {}x{}, {} pictures, page {:.2} MB",
-        rendered.model,
-        opts.options.picture.size.0,
-        opts.options.picture.size.1,
-        if opts.png { "PNG" } else { "JPEG" },
-        html.len() as f64 / 1e6
-    );
+    let (w, h) = opts.options.picture.size;
+    let pictures = match opts.live {
+        Live::Only => "no pictures".to_string(),
+        _ => format!("{views} views x 2 tiers of {} at {w}x{h}, {} pictures", rendered.model, if opts.png { "PNG" } else { "JPEG" }),
+    };
+    let drawn = live.as_ref().map_or(String::new(), |l| {
+        let [r, m, e] = l.bytes.map(|b| b as f64 / 1e6);
+        format!(", drawn live (gzipped: renderer {r:.2} MB, model {m:.2} MB, maps {e:.2} MB)")
+    });
+    let summary = format!("{pictures}{drawn}, page {:.2} MB", html.len() as f64 / 1e6);
     Ok(Export {
         html,
         views,

@@ -2,15 +2,25 @@
 //! grid, every picture as a data URI, the numbers) is one JSON block the script reads; the
 //! page has a Content-Security-Policy that allows no request at all, so it opens the same
 //! from disk, from an LMS, or offline.
+use super::live::Payload;
 use super::render::Rendered;
 use super::{ExportOptions, Grid};
 
 const TEMPLATE: &str = include_str!("page/page.html");
 const STYLE: &str = include_str!("page/page.css");
 const SCRIPT: &str = include_str!("page/page.js");
+/// The live page's script (modern JS: it runs only where WebAssembly does; page.js, ES5,
+/// keeps the turntable working in every browser).
+const LIVE_SCRIPT: &str = include_str!("page/live.js");
 
-/// The page of a rendered grid.
-pub(crate) fn html(opts: &ExportOptions, grid: &Grid, r: &Rendered, title: &str) -> String {
+/// The page of a rendered grid, drawing live with `live`.
+pub(crate) fn html(
+    opts: &ExportOptions,
+    grid: &Grid,
+    r: &Rendered,
+    title: &str,
+    live: Option<&Payload>,
+) -> String {
     let uri = |p: &Vec<u8>| format!("data:{};base64,{}", r.mime, base64(p));
     let command = command_line(opts);
     // The pictures' own size: side-by-side-full's are twice as wide as --size.
@@ -30,6 +40,7 @@ pub(crate) fn html(opts: &ExportOptions, grid: &Grid, r: &Rendered, title: &str)
         "phong": r.phong.iter().map(uri).collect::<Vec<_>>(),
         "pbr": r.pbr.iter().map(uri).collect::<Vec<_>>(),
         "numbers": r.numbers,
+        "live": live.map(|l| &l.data),
     });
     // Inside a <script> element only `<` can end it early (`</script>`, `<!--`); in JSON it
     // occurs only in strings, where \u003c means the same character.
@@ -46,6 +57,14 @@ pub(crate) fn html(opts: &ExportOptions, grid: &Grid, r: &Rendered, title: &str)
         "STYLE" => Some(STYLE.to_string()),
         "SCRIPT" => Some(SCRIPT.to_string()),
         "DATA" => Some(data.clone()),
+        // WebAssembly compiles only where the policy says so.
+        "WASM_CSP" => Some(if live.is_some() { " 'wasm-unsafe-eval'" } else { "" }.into()),
+        "LIVE" => Some(live.map_or(String::new(), |l| {
+            // The glue is wasm-bindgen's own text; `</script` cannot occur in it unescaped
+            // (it is code, not data), checked anyway.
+            let glue = l.glue.replace("</script", "<\\/script");
+            format!("<script>{glue}</script>\n<script>{LIVE_SCRIPT}</script>")
+        })),
         _ => None,
     })
 }
@@ -116,7 +135,7 @@ fn html_escape(s: &str) -> String {
 }
 
 /// Standard base64 (RFC 4648, padded), as data URIs take it.
-fn base64(bytes: &[u8]) -> String {
+pub(crate) fn base64(bytes: &[u8]) -> String {
     const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
     for chunk in bytes.chunks(3) {

@@ -1,5 +1,6 @@
-//! The page's viewer: a canvas, its WebGL context as a `glow::Context`, the built-in scene
-//! uploaded once, and a [`View`] steered by the window's key names. A picture is `glview -o`
+//! The page's viewer: a canvas, its WebGL context as a `glow::Context`, a scene (the built-in
+//! one, or a model from the files the page hands over: [`Inputs`]) uploaded once, and a
+//! [`View`] steered by the window's key names. A picture is `glview -o`
 //! with the same options: the same option words, frame settings, passes and shader bodies;
 //! only the rasteriser differs (the browser's, e.g. SwiftShader, against llvmpipe).
 use glview_render::frame::FrameSettings;
@@ -8,6 +9,8 @@ use glview_render::keys::{self, Effect};
 use glview_render::passes::{Renderer, Target};
 use glview_render::scene::geometry::normals::Creases;
 use glview_render::scene::model::material::TextureOptions;
+use glview_render::pbr::store::{bytes as map_bytes, set_store, Given};
+use glview_render::scene::load::resources::{self, Memory};
 use glview_render::scene::LoadOptions;
 use glview_render::view::settings::{adjust_scene, env_request};
 use glview_render::view::View;
@@ -40,8 +43,11 @@ fn panic_to_console() {
 
 /// What the headless target is: single-sampled RGBA8 with depth and stencil, opaque. The
 /// drawing buffer is kept after compositing so that a test (or a screenshot) can read it.
-fn attributes() -> WebGlContextAttributes {
+/// With `caveat`, the browser is asked for no context where it would be slow
+/// (`failIfMajorPerformanceCaveat`: a software rasteriser, a blocklisted GPU).
+fn attributes(caveat: bool) -> WebGlContextAttributes {
     let a = WebGlContextAttributes::new();
+    a.set_fail_if_major_performance_caveat(caveat);
     a.set_alpha(false);
     a.set_antialias(false);
     a.set_depth(true);
@@ -53,8 +59,12 @@ fn attributes() -> WebGlContextAttributes {
 
 /// The canvas's context: WebGL 2 unless `webgl` is 1 or the browser has none, then WebGL 1.
 /// Returns the context and which WebGL it is.
-fn context(canvas: &HtmlCanvasElement, webgl: u32) -> Result<(glow::Context, u32), JsValue> {
-    let attrs = attributes();
+fn context(
+    canvas: &HtmlCanvasElement,
+    webgl: u32,
+    caveat: bool,
+) -> Result<(glow::Context, u32), JsValue> {
+    let attrs = attributes(caveat);
     if webgl != 1 {
         if let Some(c) = canvas.get_context_with_context_options("webgl2", &attrs)? {
             let gl: WebGl2RenderingContext = c.dyn_into()?;
@@ -66,6 +76,9 @@ fn context(canvas: &HtmlCanvasElement, webgl: u32) -> Result<(glow::Context, u32
             let gl: WebGlRenderingContext = c.dyn_into()?;
             Ok((glow::Context::from_webgl1_context(gl), 1))
         }
+        None if caveat => Err(js(
+            "the browser offers WebGL only with a major performance caveat (software drawing or a blocklisted GPU)",
+        )),
         None => Err(js("this browser gives the canvas no WebGL context")),
     }
 }
@@ -93,12 +106,50 @@ fn load_options(o: &Options) -> LoadOptions {
     }
 }
 
+/// What a page hands a viewer beside its options: the model's files by path (the bytes the
+/// loader reads from disk natively: the model, its MTL libraries, images, glTF buffers, an
+/// HDR environment), the precomputed environment maps (`glview export --live` ships the
+/// native ones, so the page computes none), and whether a slow context is refused.
+#[wasm_bindgen]
+#[derive(Default)]
+pub struct Inputs {
+    files: Memory,
+    maps: Option<glview_render::pbr::precompute::IblData>,
+    caveat: bool,
+}
+
+#[wasm_bindgen]
+impl Inputs {
+    #[wasm_bindgen(constructor)]
+    pub fn new() -> Inputs {
+        Inputs::default()
+    }
+
+    /// Holds `bytes` as the file `path` (absolute, `/`-separated, as the options name it).
+    pub fn file(&mut self, path: &str, bytes: Vec<u8>) {
+        self.files.insert(path, bytes);
+    }
+
+    /// The environment maps as `pbr::store::bytes` wrote them; an error for anything else.
+    pub fn maps(&mut self, bytes: &[u8]) -> Result<(), JsValue> {
+        let d = map_bytes::decode(bytes).ok_or_else(|| js("the environment maps given are not glview's maps (pbr::store::bytes)"))?;
+        self.maps = Some(d);
+        Ok(())
+    }
+
+    /// Refuse a context the browser would draw slowly (`failIfMajorPerformanceCaveat`).
+    pub fn refuse_slow_context(&mut self, on: bool) {
+        self.caveat = on;
+    }
+}
+
 /// glview on one canvas.
 #[wasm_bindgen]
 pub struct Viewer {
     view: View,
     renderer: Renderer,
     gpu: GpuRef,
+    canvas: HtmlCanvasElement,
     webgl: u32,
     frames: u64,
 }
@@ -110,21 +161,44 @@ impl Viewer {
     /// forces WebGL 1; anything else takes WebGL 2 where the browser has it.
     #[wasm_bindgen(constructor)]
     pub fn new(canvas: HtmlCanvasElement, words: &str, webgl: u32) -> Result<Viewer, JsValue> {
+        let words = words.split_whitespace().map(String::from).collect();
+        Viewer::open(canvas, words, webgl, Inputs::default())
+    }
+
+    /// A viewer of what `words` name (one option word an element, so a path may hold
+    /// spaces: a model among `inputs`' files, or the built-in scene) on `canvas`, as
+    /// [`Viewer::new`]. Every viewer of a page reads the files and maps of the last one
+    /// opened (the loaders' and the renderer's stores are the page's).
+    pub fn open(
+        canvas: HtmlCanvasElement,
+        words: Vec<String>,
+        webgl: u32,
+        inputs: Inputs,
+    ) -> Result<Viewer, JsValue> {
         panic_to_console();
         glview_render::clock::set(now);
-        let options = Options::from_words(words.split_whitespace()).map_err(js)?;
-        if options.load.model.is_some() {
-            return Err(js(
-                "the browser build draws the built-in scene only (a model's bytes do not travel yet)",
-            ));
+        let options = Options::from_words(words).map_err(js)?;
+        let Inputs {
+            files,
+            maps,
+            caveat,
+        } = inputs;
+        resources::set(std::sync::Arc::new(files));
+        if let Some(d) = maps {
+            // Once per page (the renderer's store is set once): a compare's viewers share it.
+            set_store(std::sync::Arc::new(Given(d)));
         }
         let (w, h) = options.picture.size;
         canvas.set_width(w);
         canvas.set_height(h);
-        let (gl, webgl) = context(&canvas, webgl)?;
+        let (gl, webgl) = context(&canvas, webgl, caveat)?;
         // WebGL 1 reports "WebGL 1.0 (OpenGL ES 2.0 ...)": the ES 2.0 rules follow from it.
         let gpu = Gpu::new(gl);
-        let mut scene = glview_render::scene::builtin::load(&load_options(&options)).map_err(js)?;
+        let load = load_options(&options);
+        let mut scene = match &options.load.model {
+            Some(path) => glview_render::scene::load::load(path, &load).map_err(js)?,
+            None => glview_render::scene::builtin::load(&load).map_err(js)?,
+        };
         adjust_scene(&options, &mut scene).map_err(js)?;
         let mut renderer = Renderer::new(&gpu, scene).map_err(js)?;
         renderer.set_environment(env_request(&options).map_err(js)?);
@@ -133,15 +207,26 @@ impl Viewer {
             view: View::new(settled),
             renderer,
             gpu,
+            canvas,
             webgl,
             frames: 0,
         })
     }
 
+    /// Sizes the canvas and the view (the camera keeps its angles). Draw again after it.
+    pub fn resize(&mut self, width: u32, height: u32) {
+        let (w, h) = (width.max(1), height.max(1));
+        self.canvas.set_width(w);
+        self.canvas.set_height(h);
+        self.view.resize((w, h));
+    }
+
     /// Draws the view; the frame's milliseconds (to the end of the GL calls, not of the
     /// browser's rasterising: read the pixels or wait a frame for that).
     pub fn draw(&mut self) -> Result<f64, JsValue> {
-        let options = self.view.picture();
+        // The whole canvas: with `C` both tiers side by side, each framed for its half (the
+        // window's split view).
+        let options = self.view.options().clone();
         let settings = FrameSettings::new(&options, self.renderer.scene()).map_err(js)?;
         let (width, height) = options.picture.size;
         let target = Target {
@@ -149,7 +234,13 @@ impl Viewer {
             width,
             height,
         };
-        let stats = self.renderer.render(&settings, &target).map_err(js)?;
+        let stats = if self.view.compare() {
+            let r = &mut self.renderer;
+            glview_render::view::split::draw(r, &settings, &target, width, height)
+        } else {
+            self.renderer.render(&settings, &target)
+        }
+        .map_err(js)?;
         self.frames += 1;
         Ok(stats.ms)
     }
@@ -160,12 +251,15 @@ impl Viewer {
     pub fn key(&mut self, name: &str) -> Result<bool, JsValue> {
         let action = keys::action_for(name).ok_or_else(|| js(format!("unknown key {name:?}")))?;
         let effect = self.view.act(action, self.renderer.scene()).map_err(js)?;
-        Ok(effect == Effect::Redraw)
+        Ok(matches!(effect, Effect::Redraw | Effect::Compare))
     }
 
-    /// Waits for the GL calls so far to finish (glFinish): a frame's end, for timings.
+    /// Waits for the GL calls so far to finish: a frame's end, for timings. WebGL's
+    /// `finish()` need not wait (Chromium's returns at once), so one pixel is read back.
     pub fn finish(&self) {
         self.gpu.finish();
+        self.gpu.bind_framebuffer(None);
+        let _ = self.gpu.read_rgba(1, 1);
     }
 
     /// A left-drag of `dx`, `dy` pixels, as the window turns the view (dragging right
@@ -181,7 +275,7 @@ impl Viewer {
 
     /// The canvas's pixels as RGBA8, top row first (as glview's PNGs), read back now.
     pub fn pixels(&self) -> Vec<u8> {
-        let (w, h) = self.view.picture().picture.size;
+        let (w, h) = self.view.options().picture.size;
         self.gpu.bind_framebuffer(None);
         self.gpu.read_rgba(w, h)
     }
@@ -211,6 +305,37 @@ impl Viewer {
             cache.get(key).map_err(js)?;
         }
         Ok(keys.len() as u32)
+    }
+
+    /// The view's yaw in degrees (the page's record of the directions a student has seen).
+    pub fn yaw(&self) -> f32 {
+        self.view.options().camera.yaw
+    }
+
+    /// The view's pitch in degrees.
+    pub fn pitch(&self) -> f32 {
+        self.view.options().camera.pitch
+    }
+
+    /// Whether the view shows Phong | PBR side by side (`C`).
+    pub fn compare(&self) -> bool {
+        self.view.compare()
+    }
+
+    /// Draws `tier` ("phong", "gouraud", "pbr"), one pane (the page's tier buttons).
+    pub fn set_shading(&mut self, tier: &str) -> Result<(), JsValue> {
+        self.view.set_shading(tier.parse().map_err(js)?);
+        Ok(())
+    }
+
+    /// Phong | PBR side by side, or one pane (the page's compare button; `C` toggles it).
+    pub fn set_compare(&mut self, on: bool) {
+        self.view.set_compare(on);
+    }
+
+    /// The shading tier drawn: "phong", "gouraud" or "pbr" (`P` cycles them).
+    pub fn shading(&self) -> String {
+        self.view.options().render.shading.word().to_string()
     }
 
     /// The options of the current view as `glview -o` words (what the keys led to).

@@ -1,7 +1,9 @@
 // glview export: the lesson page's script. Plain ES5, no modules and no request: it reads
 // the grid and pictures from the JSON block and swaps pictures as the student turns the
 // model. View v is yaw column v % yaws.length and pitch row floor(v / yaws.length); the
-// current one is in #view's data-view (the browser tests read it).
+// current one is in #view's data-view (the browser tests read it). On a live page
+// (`glview export --live`) live.js takes the controls over once it draws (window.glviewLive)
+// and reports the directions and tiers seen through window.glviewLesson.
 (function () {
   'use strict';
   var data = JSON.parse(document.getElementById('glview-data').textContent);
@@ -22,8 +24,11 @@
   function fmt(x, digits) { return x.toFixed(digits); }
 
   function show() {
+    if (window.glviewLive) return;
     var v = state.pitch * NY + state.yaw;
     var tierA = state.compare ? 'phong' : state.tier;
+    // A live-only page has no pictures: until it draws there is nothing to show.
+    if (data.phong.length === 0) return;
     picA.src = data[tierA][v];
     picA.alt = (tierA === 'phong' ? 'Phong' : 'PBR') + ' view';
     $('label-a').innerHTML = tierA === 'phong' ? 'Phong' : 'PBR';
@@ -68,6 +73,7 @@
 
   // Keys as the glview window: ArrowRight increases yaw, ArrowUp increases pitch.
   view.addEventListener('keydown', function (e) {
+    if (window.glviewLive) return;
     var k = e.key || e.keyIdentifier, code = e.keyCode;
     var moves = {
       ArrowRight: [1, 0], Right: [1, 0], ArrowLeft: [-1, 0], Left: [-1, 0],
@@ -90,7 +96,11 @@
   // Drags as the window's: dragging right turns the model right (yaw decreases by
   // dragDegPerPixel per pixel), dragging down raises the eye; one view per grid step.
   var drag = null;
-  function start(x, y) { drag = { x: x, y: y }; view.className = 'dragging'; }
+  function start(x, y) {
+    if (window.glviewLive) return;
+    drag = { x: x, y: y };
+    view.className = 'dragging';
+  }
   function move(x, y) {
     if (!drag) return;
     var k = data.dragDegPerPixel;
@@ -124,6 +134,7 @@
   }
   // The wheel scales the picture (the grid has one distance): away from the user zooms in.
   view.addEventListener('wheel', function (e) {
+    if (window.glviewLive) return;
     zoom(e.deltaY < 0 ? 1 : -1);
     e.preventDefault();
   });
@@ -211,6 +222,15 @@
       }
     };
   }
+
+  // What live.js reports through: yaw column `column` (0 to NY - 1) seen in `tier`
+  // ('phong', 'pbr' or 'both').
+  window.glviewLesson = {
+    visit: function (column, tier) {
+      state.yaw = ((column % NY) + NY) % NY;
+      lms.visit(state.yaw, tier);
+    }
+  };
 
   reset();
   show();

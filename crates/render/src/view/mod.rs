@@ -7,6 +7,7 @@ pub mod file_camera;
 pub mod moment;
 mod play;
 pub mod settings;
+pub mod split;
 
 use crate::camera::{CameraMove, ZOOM_STEP};
 use crate::error::Result;
@@ -90,6 +91,18 @@ impl View {
     /// Sets the view's stereo mode (`--stereo`; the eyes' separation and swap stay).
     pub fn set_stereo(&mut self, mode: crate::stereo::StereoMode) {
         self.options.stereo.mode = mode;
+    }
+
+    /// Sets the view's shading tier (`--shading`; a page's Phong and PBR buttons), leaving
+    /// the side-by-side view.
+    pub fn set_shading(&mut self, shading: crate::frame::Shading) {
+        self.options.render.shading = shading;
+        self.compare = false;
+    }
+
+    /// Shows Phong | PBR side by side, or not (the `C` key toggles it).
+    pub fn set_compare(&mut self, on: bool) {
+        self.compare = on;
     }
 
     /// Sets the view's size (the camera keeps its angles; a fitted distance refits).

@@ -150,6 +150,54 @@ impl Resources for Memory {
     }
 }
 
+/// Another source, with every file read through it kept: what a page must be handed to load
+/// the same scene (`glview export --live` loads the model once through one).
+pub struct Recording {
+    inner: Arc<dyn Resources>,
+    read: std::sync::Mutex<HashMap<PathBuf, Arc<[u8]>>>,
+}
+
+impl Recording {
+    pub fn new(inner: Arc<dyn Resources>) -> Recording {
+        Recording {
+            inner,
+            read: Default::default(),
+        }
+    }
+
+    /// The files read so far, by the path they were asked by, the longest read of each.
+    pub fn files(&self) -> Vec<(PathBuf, Arc<[u8]>)> {
+        let read = self.read.lock().unwrap_or_else(|e| e.into_inner());
+        let mut out: Vec<_> = read.iter().map(|(p, b)| (p.clone(), b.clone())).collect();
+        out.sort_by(|a, b| a.0.cmp(&b.0));
+        out
+    }
+}
+
+impl Resources for Recording {
+    fn kind(&self, path: &Path) -> std::io::Result<Kind> {
+        self.inner.kind(path)
+    }
+
+    fn read(&self, path: &Path, limit: u64) -> std::io::Result<Vec<u8>> {
+        let bytes = self.inner.read(path, limit)?;
+        let mut read = self.read.lock().unwrap_or_else(|e| e.into_inner());
+        let known = read.get(path).map_or(0, |b| b.len());
+        if bytes.len() >= known {
+            read.insert(path.to_path_buf(), bytes.as_slice().into());
+        }
+        Ok(bytes)
+    }
+
+    fn canonical(&self, path: &Path) -> std::io::Result<PathBuf> {
+        self.inner.canonical(path)
+    }
+
+    fn names(&self, dir: &Path) -> std::io::Result<Vec<String>> {
+        self.inner.names(dir)
+    }
+}
+
 static CURRENT: RwLock<Option<Arc<dyn Resources>>> = RwLock::new(None);
 
 /// Makes `r` where every later load reads its files (a browser page's fetched files).
@@ -176,6 +224,22 @@ pub fn current() -> Arc<dyn Resources> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_recording_keeps_what_was_read_and_passes_everything_through() {
+        let mut m = Memory::default();
+        m.insert("/m/a.obj", b"v 0 0 0".to_vec());
+        m.insert("/m/b.mtl", b"newmtl x".to_vec());
+        let r = Recording::new(Arc::new(m));
+        assert_eq!(r.read(Path::new("/m/a.obj"), 3).unwrap(), b"v 0");
+        assert_eq!(r.read(Path::new("/m/a.obj"), 99).unwrap(), b"v 0 0 0");
+        assert_eq!(r.read(Path::new("/m/a.obj"), 1).unwrap(), b"v");
+        assert!(r.read(Path::new("/m/none"), 9).is_err());
+        assert_eq!(r.kind(Path::new("/m")).unwrap(), Kind::Dir);
+        let files = r.files();
+        assert_eq!(files.len(), 1, "only what was read");
+        assert_eq!((&*files[0].0, &*files[0].1), (Path::new("/m/a.obj"), &b"v 0 0 0"[..]));
+    }
 
     #[test]
     fn memory_files_resolve_like_a_file_system_without_links() {

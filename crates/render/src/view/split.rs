@@ -3,7 +3,7 @@
 //! a model off at a half's sides (the half is narrower than the window).
 use crate::camera::OrbitCamera;
 use crate::frame::{FrameSettings, Shading};
-use crate::render::{FrameStats, Renderer, Target};
+use crate::passes::{FrameStats, Renderer, Target};
 use crate::scene::Bounds;
 use crate::Result;
 

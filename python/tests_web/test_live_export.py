@@ -1,0 +1,206 @@
+"""`glview export --live`'s lesson page (src/export/page/live.js): glview's renderer, a model's
+files (the Khronos Avocado: a .gltf, its .bin and three PNG textures) and the environment maps
+inside one HTML file, opened from disk in Debian's Chromium with every request that is not the
+file aborted. The canvas is held to `glview -o` with the same options (test_viewer.py's
+bounds and measure), and the page falls back to its pictures where it cannot draw.
+Run by scripts/test_web.sh."""
+import base64
+import json
+import os
+import re
+import subprocess
+
+import numpy as np
+import pytest
+
+from test_viewer import CHROMIUM, FLAGS, GL21, GLVIEW, PBR, PHONG, ROOT, WEB, check, native, stats
+
+MODEL = ROOT.parent / "shared" / "gltf-samples" / "Avocado" / "Avocado.gltf"
+SIZE = (320, 240)
+YAWS = 8
+VIEW = ["--yaw", "30", "--pitch", "15", "--shadow-size", "1024"]
+
+
+@pytest.fixture(scope="module")
+def lesson(tmp_path_factory):
+    assert MODEL.exists(), f"{MODEL} is missing (../shared)"
+    d = tmp_path_factory.mktemp("live")
+    page = d / "lesson.html"
+    r = subprocess.run([GLVIEW, "export", str(MODEL), "-o", str(page), "--live", "--png",
+                        "--web-dir", str(WEB), "--size", f"{SIZE[0]}x{SIZE[1]}",
+                        "--yaw-steps", str(YAWS), "--pitch-steps", "1", "--", *VIEW],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    print(r.stderr.strip())
+    html = page.read_text(encoding="utf-8")
+    m = re.search(r'<script type="application/json" id="glview-data">(.*?)</script>', html, re.S)
+    return {"page": page, "data": json.loads(m.group(1)), "size": len(html)}
+
+
+def launch(playwright, extra=()):
+    return playwright.chromium.launch(executable_path=CHROMIUM, headless=True,
+                                      args=[*FLAGS, *extra])
+
+
+def open_page(browser, lesson, query=""):
+    """The page from disk, offline: (page, context, errors)."""
+    context = browser.new_context(viewport={"width": 1000, "height": 900})
+    context.requests = []
+
+    def route(r):
+        context.requests.append(r.request.url)
+        r.continue_() if r.request.url.startswith("file:") else r.abort()
+
+    context.route("**/*", route)
+    page = context.new_page()
+    errors = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.goto(lesson["page"].as_uri() + query)
+    page.wait_for_function("() => ['live', 'images'].includes(document.getElementById('view')"
+                           ".getAttribute('data-mode'))", timeout=120_000)
+    return page, context, errors
+
+
+def close(page, context, errors):
+    outside = [u for u in context.requests if not u.startswith(("file:", "data:"))]
+    context.close()
+    assert not outside, f"the page asked for {outside}"
+    assert not errors, f"the page reported: {errors}"
+
+
+def canvas(page):
+    b64 = page.evaluate("""async () => {
+        await new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)));
+        const px = glviewLive.viewer.pixels();
+        let s = "";
+        for (let i = 0; i < px.length; i += 0x8000) {
+            s += String.fromCharCode.apply(null, px.subarray(i, i + 0x8000));
+        }
+        return [btoa(s), document.getElementById('live-canvas').width];
+    }""")
+    w = b64[1]
+    return np.frombuffer(base64.b64decode(b64[0]), np.uint8).reshape(SIZE[1], w, 4)
+
+
+def words(*more):
+    return [str(MODEL), "--size", f"{SIZE[0]}x{SIZE[1]}", *VIEW, *more]
+
+
+@pytest.fixture(scope="module")
+def chromium():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        yield p
+
+
+def test_live_page_draws_both_tiers_the_compare_and_the_keys_as_glview(chromium, lesson):
+    b = launch(chromium)
+    page, context, errors = open_page(b, lesson, "?glview=live")
+    view = page.locator("#view")
+    assert view.get_attribute("data-mode") == "live", view.get_attribute("data-why")
+    timings = page.evaluate("glviewLive.timings")
+    print(f"live page ({lesson['size'] / 1e6:.2f} MB): renderer ready {timings['ready_ms']:.0f} ms,"
+          f" first frame {timings['first_frame_ms']:.0f} ms, then {timings['frame_ms']:.0f} ms"
+          f" a frame; {page.locator('#mode').inner_text()}")
+    check("live-phong", canvas(page), native(words()), PHONG)
+    page.get_by_role("button", name="PBR").click()
+    pbr = canvas(page)
+    assert view.get_attribute("data-tier") == "pbr"
+    check("live-pbr", pbr, native(words("--shading", "pbr")), PBR)
+    # Side by side: each half is its tier's picture at the page's size (split view framing).
+    page.get_by_role("button", name="Compare side by side").click()
+    both = canvas(page)
+    assert both.shape[1] == 2 * SIZE[0]
+    check("live-compare-phong", np.ascontiguousarray(both[:, :SIZE[0]]), native(words()), PHONG)
+    check("live-compare-pbr", np.ascontiguousarray(both[:, SIZE[0]:]),
+          native(words("--shading", "pbr")), PBR)
+    page.get_by_role("button", name="Phong").click()
+    view.focus()
+    page.keyboard.press("ArrowRight")
+    page.keyboard.press("ArrowRight")
+    turned = canvas(page)
+    assert view.get_attribute("data-yaw") == "40.00"
+    ref = native([w if w != "30" else "40" for w in words()])
+    check("live-keys", turned, ref, PHONG)
+    assert stats(turned, native(words()))[0] > 2 * PHONG[0], "the keys turned nothing"
+    close(page, context, errors)
+    b.close()
+
+
+def test_live_page_on_webgl1_draws_the_legacy_tier_as_gl21(chromium, lesson):
+    b = launch(chromium)
+    page, context, errors = open_page(b, lesson, "?glview=live&webgl=1")
+    assert page.locator("#view").get_attribute("data-mode") == "live"
+    assert page.evaluate("glviewLive.info.dialect") == "GLSL ES 1.00"
+    check("live-webgl1", canvas(page), native([*words(), "--gl", "2.1"], GL21), PHONG)
+    close(page, context, errors)
+    b.close()
+
+
+def test_live_scorm_progress_is_a_full_turn_and_both_tiers(chromium, lesson):
+    b = launch(chromium)
+    page, context, errors = open_page(b, lesson, "?glview=live")
+    view = page.locator("#view")
+    view.focus()
+    # 5 degrees a key: a full turn is 72 presses; every 45-degree column is passed.
+    for _ in range(71):
+        page.keyboard.press("ArrowRight")
+    page.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    assert view.get_attribute("data-seen") == f"{YAWS}/{YAWS},1/2"
+    assert view.get_attribute("data-complete") == "false"
+    page.get_by_role("button", name="PBR").click()
+    page.evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+    assert view.get_attribute("data-complete") == "true"
+    close(page, context, errors)
+    b.close()
+
+
+def test_without_webgl_or_on_a_software_context_the_page_shows_its_pictures(chromium, lesson):
+    # Frames slower than the rule's bound (here made 0 ms) keep the turntable, and so does
+    # a browser without WebGL; the page says which. Both still turn and complete. (This
+    # Chromium's SwiftShader is not refused by failIfMajorPerformanceCaveat: the page draws
+    # on it, and the speed rule is what judges it.)
+    for extra, query, why in [((), "?slow-ms=0", "a frame took"),
+                              (("--disable-3d-apis",), "", "no WebGL context")]:
+        b = launch(chromium, extra)
+        page, context, errors = open_page(b, lesson, query)
+        view = page.locator("#view")
+        assert view.get_attribute("data-mode") == "images"
+        assert why in view.get_attribute("data-why"), view.get_attribute("data-why")
+        assert page.locator("#pic-a").is_visible()
+        assert why in page.locator("#mode").inner_text()
+        view.focus()
+        for _ in range(YAWS - 1):
+            page.keyboard.press("ArrowRight")
+        page.get_by_role("button", name="PBR").click()
+        assert view.get_attribute("data-complete") == "true"
+        close(page, context, errors)
+        b.close()
+
+
+def test_a_live_only_page_is_smaller_and_names_what_it_lacks(chromium, lesson, tmp_path):
+    page_file = tmp_path / "only.html"
+    r = subprocess.run([GLVIEW, "export", str(MODEL), "-o", str(page_file), "--live-only",
+                        "--web-dir", str(WEB), "--size", f"{SIZE[0]}x{SIZE[1]}",
+                        "--yaw-steps", str(YAWS), "--pitch-steps", "1", "--", *VIEW],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    size = page_file.stat().st_size
+    print(f"live-only page {size / 1e6:.2f} MB, live page {lesson['size'] / 1e6:.2f} MB")
+    assert size < lesson["size"]
+    b = launch(chromium, ("--disable-3d-apis",))
+    page, context, errors = open_page(b, {"page": page_file})
+    assert "cannot here" in page.locator("#mode").inner_text()
+    close(page, context, errors)
+    b.close()
+
+
+def test_export_live_without_the_browser_build_is_one_line(tmp_path):
+    r = subprocess.run([GLVIEW, "export", "-o", str(tmp_path / "x.html"), "--live",
+                        "--web-dir", str(tmp_path), "--yaw-steps", "2", "--pitch-steps", "1",
+                        "--size", "32x24"], capture_output=True, text=True)
+    assert r.returncode != 0
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and "scripts/build_web.sh" in lines[0], r.stderr

@@ -1,0 +1,140 @@
+//! `glview export --live`: the lesson page carries glview's renderer (the browser build,
+//! `scripts/build_web.sh`), the model's files and the precomputed environment maps, and
+//! draws live where the browser can; the turntable's pictures stay as its fallback (not with
+//! `--live-only`). Everything is gzipped and base64'd into the page's JSON: the page unpacks
+//! it with the browser's `DecompressionStream`, so it still makes no request.
+use super::ExportOptions;
+use crate::options::Options;
+use crate::scene::load::resources::{self, Recording};
+use crate::{Error, Result};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Whether the page draws live.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Live {
+    /// The turntable's pictures only (the page of before).
+    #[default]
+    Off,
+    /// Live where the browser can, the pictures otherwise.
+    Live,
+    /// Live only: no pictures (a smaller page; without WebGL it says why and shows nothing).
+    Only,
+}
+
+/// Where the model's files sit in the page (the teacher's folders are not the page's).
+const LESSON: &str = "/lesson";
+
+/// What the page's live script is handed (gzipped, base64): the viewer's options as words,
+/// the files by the paths those words name, the maps, the wasm; and the wasm-bindgen glue.
+pub(crate) struct Payload {
+    pub(crate) data: serde_json::Value,
+    pub(crate) glue: String,
+    /// Bytes of the wasm, the model's files and the maps, gzipped (before base64).
+    pub(crate) bytes: [u64; 3],
+}
+
+/// The browser build's folder: `web_dir`, else `$GLVIEW_WEB_DIR`, else `web/` beside the
+/// executable's folder (`target/web` for `target/debug/glview`).
+fn web_dir(given: Option<&Path>) -> Result<PathBuf> {
+    let dir = given
+        .map(Path::to_path_buf)
+        .or_else(|| std::env::var_os("GLVIEW_WEB_DIR").map(PathBuf::from))
+        .or_else(|| {
+            let exe = std::env::current_exe().ok()?;
+            Some(exe.parent()?.parent()?.join("web"))
+        })
+        .unwrap_or_else(|| PathBuf::from("target/web"));
+    if dir.join("glview_web_bg.wasm").is_file() && dir.join("no-modules/glview_web.js").is_file() {
+        Ok(dir)
+    } else {
+        Err(Error::Usage(format!(
+            "--live needs the browser build in {} (glview_web_bg.wasm, no-modules/glview_web.js): \
+             run `bash scripts/build_web.sh`, or name its folder with --web-dir",
+            dir.display()
+        )))
+    }
+}
+
+fn gzip(bytes: &[u8]) -> Vec<u8> {
+    let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    // Writing to a Vec cannot fail.
+    let _ = e.write_all(bytes);
+    e.finish().unwrap_or_default()
+}
+
+/// The files loading `options`' model reads (the model, its MTL libraries, images, glTF
+/// buffers), by their paths under `dir`, the model's folder.
+fn model_files(options: &Options, model: &Path) -> Result<Vec<(PathBuf, Arc<[u8]>)>> {
+    let before = resources::current();
+    let recording = Arc::new(Recording::new(before.clone()));
+    resources::set(recording.clone());
+    let mut load = crate::session::settings::load_options(options, None);
+    // Through the loader itself: a cache hit would read no file.
+    load.cache = false;
+    let loaded = crate::scene::load::load(model, &load);
+    resources::set(before);
+    loaded?;
+    Ok(recording.files())
+}
+
+/// The payload of `opts`' page; an error when the browser build is missing or the model's
+/// files reach outside its folder.
+pub(crate) fn payload(opts: &ExportOptions) -> Result<Payload> {
+    let dir = web_dir(opts.web_dir.as_deref())?;
+    let read = |p: PathBuf| std::fs::read(&p).map_err(|e| Error::io(&p, e));
+    let wasm = gzip(&read(dir.join("glview_web_bg.wasm"))?);
+    let glue = String::from_utf8_lossy(&read(dir.join("no-modules/glview_web.js"))?).into_owned();
+    let mut words_of = opts.options.clone();
+    let mut files = Vec::new();
+    if let Some(model) = &opts.options.load.model {
+        let model = std::path::absolute(model).map_err(|e| Error::io(model, e))?;
+        let folder = model.parent().unwrap_or(Path::new("/")).to_path_buf();
+        for (path, bytes) in model_files(&opts.options, &model)? {
+            let rel = path.strip_prefix(&folder).map_err(|_| {
+                Error::Usage(format!(
+                    "--live: {} reads {}, outside its folder: a page holds the model's folder only",
+                    model.display(),
+                    path.display()
+                ))
+            })?;
+            files.push((Path::new(LESSON).join(rel), bytes));
+        }
+        words_of.load.model = Some(Path::new(LESSON).join(model.file_name().unwrap_or_default()));
+    }
+    if let Some(env) = &opts.options.pbr.env {
+        let page_path = Path::new("/environment").join(env.file_name().unwrap_or_default());
+        files.push((page_path.clone(), read(env.clone())?.into()));
+        words_of.pbr.env = Some(page_path);
+    }
+    // The native maps (read from the disk store, else computed as a native picture would),
+    // so the page computes none: the PBR tier's ~5 s in the browser.
+    let request = crate::view::settings::env_request(&opts.options)?;
+    let (maps, _) = crate::render::ibl::load_or_compute(&request)?;
+    let maps = gzip(&crate::pbr::store::bytes::encode_half(&maps));
+    let b64 = super::page::base64;
+    let mut bytes = [wasm.len() as u64, 0, maps.len() as u64];
+    let files: Vec<serde_json::Value> = files
+        .iter()
+        .map(|(p, b)| {
+            let z = gzip(b);
+            bytes[1] += z.len() as u64;
+            serde_json::json!({ "path": p.to_string_lossy().replace('\\', "/"), "gz": b64(&z) })
+        })
+        .collect();
+    let data = serde_json::json!({
+        "words": words_of.to_words(),
+        "files": files,
+        "maps": b64(&maps),
+        "wasm": b64(&wasm),
+        "only": opts.live == Live::Only,
+        "slowFrameMs": SLOW_FRAME_MS,
+    });
+    Ok(Payload { data, glue, bytes })
+}
+
+/// A live page whose frames take longer than this (the median of the first few, after the
+/// first) shows the turntable instead: below 10 frames a second a drag lags the hand
+/// visibly, and the pictures turn at once. docs/web.md has the measurement.
+pub(crate) const SLOW_FRAME_MS: f64 = 100.0;

@@ -1,0 +1,188 @@
+// glview export --live: draws the lesson with glview's own renderer (wasm, WebGL 2 or 1) where
+// the browser can, else leaves the turntable's pictures (page.js) in place and says why. The
+// renderer, the model's files and the environment maps are in the JSON block, gzipped and
+// base64'd: unpacked with DecompressionStream, so the page still makes no request.
+// ?glview=images shows the pictures; ?glview=live draws even on a slow (software) context;
+// ?webgl=1 forces WebGL 1; ?slow-ms=N sets the speed rule's bound (the tests' way to a slow
+// machine). What happened is on #view: data-mode ("live", "images",
+// "starting"), data-why; window.glviewLive holds the viewer while it draws.
+(async function () {
+  'use strict';
+  const data = JSON.parse(document.getElementById('glview-data').textContent);
+  const live = data.live;
+  const $ = (id) => document.getElementById(id);
+  const view = $('view'), mode = $('mode');
+  const query = new URLSearchParams(location.search);
+  const ask = query.get('glview');
+  const NY = data.yaws.length, YAW_STEP = 360 / NY;
+  const started = performance.now();
+
+  function images(why) {
+    view.setAttribute('data-mode', 'images');
+    view.setAttribute('data-why', why);
+    mode.textContent = live.only
+      ? 'This page draws the model in the browser, and cannot here: ' + why + '.'
+      : 'Pre-rendered views (' + NY + ' directions): ' + why + '.';
+  }
+
+  async function unpack(b64) {
+    const text = atob(b64);
+    const bytes = new Uint8Array(text.length);
+    for (let i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
+    const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip'));
+    return new Uint8Array(await new Response(stream).arrayBuffer());
+  }
+
+  if (ask === 'images') return images('asked for by the address (?glview=images)');
+  if (typeof WebAssembly !== 'object') return images('this browser runs no WebAssembly');
+  if (typeof DecompressionStream !== 'function') {
+    return images('this browser cannot unpack the renderer (no DecompressionStream)');
+  }
+  const probe = document.createElement('canvas');
+  if (!(probe.getContext('webgl2') || probe.getContext('webgl'))) {
+    return images('this browser gives the page no WebGL context (disabled, blocklisted or missing)');
+  }
+  view.setAttribute('data-mode', 'starting');
+  mode.textContent = 'Starting the renderer…';
+  let viewer, canvas;
+  try {
+    const packed = [live.wasm, live.maps].concat(live.files.map((f) => f.gz));
+    const [wasm, maps, ...files] = await Promise.all(packed.map(unpack));
+    await wasm_bindgen({ module_or_path: wasm });
+    const inputs = new wasm_bindgen.Inputs();
+    live.files.forEach((f, i) => inputs.file(f.path, files[i]));
+    inputs.maps(maps);
+    inputs.refuse_slow_context(ask !== 'live');
+    canvas = document.createElement('canvas');
+    canvas.id = 'live-canvas';
+    viewer = wasm_bindgen.Viewer.open(canvas, live.words, query.get('webgl') === '1' ? 1 : 2, inputs);
+  } catch (e) {
+    return images('the renderer did not start (' + String(e && e.message || e) + ')');
+  }
+  // The first frame compiles the programs; the next ones are what a drag costs.
+  const timings = { ready_ms: performance.now() - started };
+  try {
+    viewer.draw();
+    viewer.finish();
+    timings.first_frame_ms = performance.now() - started;
+    const frames = [];
+    for (let i = 0; i < 3; i++) {
+      const t = performance.now();
+      viewer.draw();
+      viewer.finish();
+      frames.push(performance.now() - t);
+    }
+    frames.sort((a, b) => a - b);
+    timings.frame_ms = frames[1];
+  } catch (e) {
+    return images('the renderer failed to draw (' + String(e && e.message || e) + ')');
+  }
+  const slow = query.has('slow-ms') ? Number(query.get('slow-ms')) : live.slowFrameMs;
+  if (timings.frame_ms > slow && ask !== 'live') {
+    viewer.free();
+    return images('a frame took ' + timings.frame_ms.toFixed(1) + ' ms here (over ' +
+      slow + ' ms: the pictures turn faster)');
+  }
+
+  // Drawing: the canvas takes the first pane's place and the controls.
+  const info = JSON.parse(viewer.info());
+  const [w, h] = data.size;
+  const frameA = $('pic-a').parentNode;
+  $('pic-a').hidden = true;
+  $('pic-b').hidden = true;
+  $('pane-b').hidden = true;
+  frameA.appendChild(canvas);
+  window.glviewLive = { viewer, info, timings };
+  view.setAttribute('data-mode', 'live');
+  view.setAttribute('data-why', '');
+  mode.textContent = 'Drawn live in this browser: ' + info.version + ', ' + info.dialect +
+    ' (first frame ' + timings.first_frame_ms.toFixed(0) + ' ms, then ' +
+    timings.frame_ms.toFixed(0) + ' ms a frame).';
+  $('numbers').hidden = true;
+
+  let column = 0, pending = false;
+  function columnOf(yaw) {
+    return Math.round((yaw - data.yaws[0]) / YAW_STEP);
+  }
+  // Every column between the last one seen and this one (a fast drag skips none).
+  function record() {
+    const c = columnOf(viewer.yaw());
+    const tier = viewer.compare() ? 'both' : viewer.shading() === 'pbr' ? 'pbr' : 'phong';
+    const step = Math.sign(c - column);
+    for (let k = column; k !== c; k += step) window.glviewLesson.visit(k, tier);
+    window.glviewLesson.visit(c, tier);
+    column = c;
+  }
+  function show() {
+    const compare = viewer.compare();
+    const width = compare ? 2 * w : w;
+    if (canvas.width !== width) viewer.resize(width, h);
+    viewer.draw();
+    $('label-a').textContent = compare ? 'Phong | PBR' : viewer.shading() === 'pbr' ? 'PBR' : 'Phong';
+    view.setAttribute('data-yaw', viewer.yaw().toFixed(2));
+    view.setAttribute('data-pitch', viewer.pitch().toFixed(2));
+    view.setAttribute('data-tier', viewer.shading());
+    view.setAttribute('data-compare', String(compare));
+    $('tier-phong').setAttribute('aria-pressed', String(!compare && viewer.shading() !== 'pbr'));
+    $('tier-pbr').setAttribute('aria-pressed', String(!compare && viewer.shading() === 'pbr'));
+    $('compare').setAttribute('aria-pressed', String(compare));
+    $('where').textContent = 'yaw ' + viewer.yaw().toFixed(0) + '°, pitch ' +
+      viewer.pitch().toFixed(0) + '°';
+    record();
+  }
+  function redraw() {
+    if (pending) return;
+    pending = true;
+    requestAnimationFrame(() => {
+      pending = false;
+      try {
+        show();
+      } catch (e) {
+        mode.textContent = 'The renderer failed: ' + String(e && e.message || e);
+      }
+    });
+  }
+  function act(f) {
+    return () => {
+      f();
+      redraw();
+    };
+  }
+  $('tier-phong').onclick = act(() => viewer.set_shading('phong'));
+  $('tier-pbr').onclick = act(() => viewer.set_shading('pbr'));
+  $('compare').onclick = act(() => viewer.set_compare(!viewer.compare()));
+  $('zoom-in').onclick = act(() => viewer.key('+'));
+  $('zoom-out').onclick = act(() => viewer.key('-'));
+  $('reset').onclick = act(() => viewer.key('R'));
+
+  // The window's keys, by its names (glview --help).
+  const KEYS = { ArrowLeft: 'Left', ArrowRight: 'Right', ArrowUp: 'Up', ArrowDown: 'Down', ' ': 'Space' };
+  view.addEventListener('keydown', (e) => {
+    if (e.ctrlKey || e.altKey || e.metaKey) return;
+    try {
+      if (viewer.key(KEYS[e.key] || e.key)) redraw();
+      e.preventDefault();
+    } catch (err) {
+      // A key the window does not have is the browser's.
+    }
+  });
+  view.addEventListener('pointerdown', (e) => {
+    if (e.button !== 0) return;
+    view.setPointerCapture(e.pointerId);
+    view.focus();
+    e.preventDefault();
+  });
+  view.addEventListener('pointermove', (e) => {
+    if (!view.hasPointerCapture(e.pointerId) || (e.movementX === 0 && e.movementY === 0)) return;
+    viewer.drag(e.movementX, e.movementY);
+    redraw();
+  });
+  view.addEventListener('wheel', (e) => {
+    e.preventDefault();
+    // A notch is ~100 pixels of deltaY; down (deltaY > 0) zooms out, as the window's wheel.
+    const per = e.deltaMode === 1 ? 3 : e.deltaMode === 2 ? 1 : 100;
+    viewer.wheel(-e.deltaY / per);
+    redraw();
+  }, { passive: false });
+  show();
+})();
