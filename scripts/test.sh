@@ -122,6 +122,13 @@ prep_pid=$!
 background platforms bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
   unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
   bash scripts/check_wasm.sh && bash scripts/build_windows.sh --profile wine-test'
+# The browser build (scripts/build_web.sh, docs/web.md): wasm-bindgen-cli installed unoptimised
+# (~80 s of CPU), then glview-web for wasm32 in the same unoptimised profile and target folder
+# as glview.exe (~120 s of CPU; the host's build scripts are shared), bound without wasm-opt.
+# Beside the platforms job at the same nice level, for the same idle cycles.
+background web bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
+  unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
+  GLVIEW_CROSS=1 GLVIEW_WASM_OPT=none bash scripts/build_web.sh --profile wine-test'
 # Clippy runs inside the test build instead of as `cargo clippy` before it: clippy-driver as
 # the workspace wrapper lints every target `cargo clippy --all-targets` lints (lib, bins, tests,
 # their test builds; the crate has no examples or benches) while compiling them for real, so the
@@ -159,7 +166,7 @@ step test cargo test --workspace --no-fail-fast 2>&1
 # The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells
 # equal, different and failed renders apart.
 step "pictures checker self-test" bash scripts/pictures_unchanged.sh --self-test --after-bin target/debug/glview
-collect 1
+collect 2
 # The page of `glview serve` in Debian's Chromium, driven by a pinned Playwright: alone, as
 # its pages wait on frames with timeouts.
 step browser bash scripts/test_browser.sh
@@ -167,3 +174,7 @@ collect 0
 # glview.exe, built in the background above, held to the Linux binary under Wine: alone, as
 # its window test waits on frames.
 step "windows (Wine)" bash scripts/test_windows.sh target/cross/x86_64-pc-windows-gnu/wine-test/glview.exe target/debug/glview
+# glview's renderer in the browser, built in the background above: the viewer page and the
+# live lesson page of `glview export --live` in Chromium against `glview -o` (python/tests_web).
+collect 1
+step "web (Chromium)" bash scripts/test_web.sh

@@ -107,7 +107,11 @@ pub fn build(opts: &ExportOptions) -> Result<Export> {
     let (w, h) = opts.options.picture.size;
     let pictures = match opts.live {
         Live::Only => "no pictures".to_string(),
-        _ => format!("{views} views x 2 tiers of {} at {w}x{h}, {} pictures", rendered.model, if opts.png { "PNG" } else { "JPEG" }),
+        _ => format!(
+            "{views} views x 2 tiers of {} at {w}x{h}, {} pictures",
+            rendered.model,
+            if opts.png { "PNG" } else { "JPEG" }
+        ),
     };
     let drawn = live.as_ref().map_or(String::new(), |l| {
         let [r, m, e] = l.bytes.map(|b| b as f64 / 1e6);

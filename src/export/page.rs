@@ -58,7 +58,14 @@ pub(crate) fn html(
         "SCRIPT" => Some(SCRIPT.to_string()),
         "DATA" => Some(data.clone()),
         // WebAssembly compiles only where the policy says so.
-        "WASM_CSP" => Some(if live.is_some() { " 'wasm-unsafe-eval'" } else { "" }.into()),
+        "WASM_CSP" => Some(
+            if live.is_some() {
+                " 'wasm-unsafe-eval'"
+            } else {
+                ""
+            }
+            .into(),
+        ),
         "LIVE" => Some(live.map_or(String::new(), |l| {
             // The glue is wasm-bindgen's own text; `</script` cannot occur in it unescaped
             // (it is code, not data), checked anyway.

@@ -65,7 +65,11 @@ pub(crate) fn render(opts: &ExportOptions, grid: &Grid) -> Result<Rendered> {
         numbers: Vec::with_capacity(grid.len()),
     };
     // A live-only page has no pictures: the scene was loaded for its name (and its errors).
-    let views = if opts.live == super::Live::Only { 0 } else { grid.len() };
+    let views = if opts.live == super::Live::Only {
+        0
+    } else {
+        grid.len()
+    };
     for v in 0..views {
         let mut o = opts.options.clone();
         (o.camera.yaw, o.camera.pitch) = grid.angles(v);

@@ -7,10 +7,10 @@ use glview_render::frame::FrameSettings;
 use glview_render::gpu::{Gpu, GpuRef};
 use glview_render::keys::{self, Effect};
 use glview_render::passes::{Renderer, Target};
-use glview_render::scene::geometry::normals::Creases;
-use glview_render::scene::model::material::TextureOptions;
 use glview_render::pbr::store::{bytes as map_bytes, set_store, Given};
+use glview_render::scene::geometry::normals::Creases;
 use glview_render::scene::load::resources::{self, Memory};
+use glview_render::scene::model::material::TextureOptions;
 use glview_render::scene::LoadOptions;
 use glview_render::view::settings::{adjust_scene, env_request};
 use glview_render::view::View;
@@ -132,7 +132,9 @@ impl Inputs {
 
     /// The environment maps as `pbr::store::bytes` wrote them; an error for anything else.
     pub fn maps(&mut self, bytes: &[u8]) -> Result<(), JsValue> {
-        let d = map_bytes::decode(bytes).ok_or_else(|| js("the environment maps given are not glview's maps (pbr::store::bytes)"))?;
+        let d = map_bytes::decode(bytes).ok_or_else(|| {
+            js("the environment maps given are not glview's maps (pbr::store::bytes)")
+        })?;
         self.maps = Some(d);
         Ok(())
     }

@@ -159,8 +159,8 @@ pub mod bytes {
 mod tests {
     use super::bytes::{decode, encode, encode_half};
     use super::*;
-    use crate::pbr::precompute::{compute, IblSettings};
     use crate::pbr::env::Environment;
+    use crate::pbr::precompute::{compute, IblSettings};
 
     fn small() -> IblData {
         let s = IblSettings {
@@ -179,7 +179,10 @@ mod tests {
         let d = small();
         let b = encode(&d);
         let back = decode(&b).expect("decodes");
-        assert_eq!((back.irradiance, back.specular, back.lut), (d.irradiance.clone(), d.specular.clone(), d.lut.clone()));
+        assert_eq!(
+            (back.irradiance, back.specular, back.lut),
+            (d.irradiance.clone(), d.specular.clone(), d.lut.clone())
+        );
         assert_eq!(back.settings, d.settings);
         assert!(decode(&b[..b.len() - 4]).is_none(), "short body");
         let mut long = b.clone();
@@ -203,7 +206,12 @@ mod tests {
             }
         }
         assert_eq!(back.lut.texels[5], d.lut.texels[5].map(round));
-        assert!(halfs.len() < full.len() * 6 / 10, "{} vs {}", halfs.len(), full.len());
+        assert!(
+            halfs.len() < full.len() * 6 / 10,
+            "{} vs {}",
+            halfs.len(),
+            full.len()
+        );
         assert!(decode(&halfs[..halfs.len() - 2]).is_none());
     }
 

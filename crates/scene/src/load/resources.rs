@@ -238,7 +238,10 @@ mod tests {
         assert_eq!(r.kind(Path::new("/m")).unwrap(), Kind::Dir);
         let files = r.files();
         assert_eq!(files.len(), 1, "only what was read");
-        assert_eq!((&*files[0].0, &*files[0].1), (Path::new("/m/a.obj"), &b"v 0 0 0"[..]));
+        assert_eq!(
+            (&*files[0].0, &*files[0].1),
+            (Path::new("/m/a.obj"), &b"v 0 0 0"[..])
+        );
     }
 
     #[test]
