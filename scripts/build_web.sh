@@ -100,6 +100,11 @@ else
   echo "build_web: wasm-opt skipped: no binaryen on PATH (GLVIEW_WASM_OPT names one; Debian's 108 needs the MVP build it makes then)"
 fi
 cp web/page/* "$out/"
+# What must never be in the browser build (scripts/check_wasm.sh's guard: CI's wasm32 check is
+# this build, which compiles everything that check checks).
+bad=$(cargo tree --target "$target" -p glview-web -e normal --prefix none 2>/dev/null |
+  awk '{print $1}' | grep -xE 'glutin|libloading|winit|meshopt|khronos-egl|glview|tokio' | sort -u || true)
+[ -z "$bad" ] || { echo "error: the wasm32 build of glview-web depends on: $bad" >&2; exit 1; }
 gz=$(gzip -9 -c "$bg" | wc -c)
 echo "build_web: $bg: raw $raw bytes${opt:+, after wasm-opt $opt}, gzipped $gz"
 echo "build_web: serve $out over HTTP (a module cannot load from file://) and open index.html"

@@ -111,9 +111,8 @@ prep_done=$(mktemp -u)
   exit "$rc"
 ) >"$prep_log" 2>&1 &
 prep_pid=$!
-# The platforms the labs have: the scene and render crates checked for wasm32 and glview.exe
-# built (unoptimised: the Wine tests compare pictures, not speed; scripts/check_wasm.sh,
-# scripts/build_windows.sh). ~7.7 min of CPU on a fresh machine (the cross compiler builds
+# The platforms the labs have: glview.exe built (unoptimised: the Wine tests compare
+# pictures, not speed; scripts/build_windows.sh; the wasm32 build is the `web` job's below). ~7.7 min of CPU on a fresh machine (the cross compiler builds
 # std for both targets and its own host build scripts), which at nice 19 takes what the Linux
 # build's serial stretches (one crate's front end at a time), the tests and the browser step
 # leave idle. It starts once `prepare` has unpacked the cross toolchain and installed MinGW
@@ -121,11 +120,15 @@ prep_pid=$!
 # rustdoc's waits on; without the clippy-driver wrapper (rustup's, with no std source).
 background platforms bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
   unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
-  bash scripts/check_wasm.sh && bash scripts/build_windows.sh --profile wine-test'
+  bash scripts/build_windows.sh --profile wine-test'
 # The browser build (scripts/build_web.sh, docs/web.md): wasm-bindgen-cli installed unoptimised
 # (~80 s of CPU), then glview-web for wasm32 in the same unoptimised profile and target folder
 # as glview.exe (~120 s of CPU; the host's build scripts are shared), bound without wasm-opt.
-# Beside the platforms job at the same nice level, for the same idle cycles.
+# It is also CI's wasm32 check: it compiles the scene (without `native`) and render crates
+# that scripts/check_wasm.sh checks, and guards the same dependency tree; check_wasm.sh's
+# rustdoc pass (-D warnings) is left to developers, as the library's `cargo doc` is (the
+# check it needs was ~2 min of CPU this job could not spare). Beside the platforms job at
+# the same nice level, for the same idle cycles.
 background web bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
   unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
   GLVIEW_CROSS=1 GLVIEW_WASM_OPT=none bash scripts/build_web.sh --profile wine-test'
@@ -157,10 +160,10 @@ rm -f "$prep_log" "$prep_done"
 [ "$prep_rc" -eq 0 ] || { echo "error: scripts/prepare_tests.sh failed (above)" >&2; exit "$prep_rc"; }
 # The Python package's tests, in the background beside the Rust tests, niced so that the tests
 # come first: the Rust tests keep about a quarter of the two cores idle (tests waiting on
-# sockets, timeouts and child processes). The scene and render crates' docs are checked
-# (-D warnings) by the platforms job from its wasm32 check's metadata; the native library's
-# `cargo doc` re-checked every dependency (~2 min of CPU) and is left to developers
-# (docs/testing.md), to keep CI within its 15 minutes.
+# sockets, timeouts and child processes). Docs with -D warnings (scripts/check_wasm.sh for the
+# scene and render crates, `cargo doc -p glview` for the library) each re-check every
+# dependency (~2 min of CPU) and are left to developers (docs/testing.md), to keep CI within
+# its 15 minutes.
 background python bash scripts/test_python.sh
 step test cargo test --workspace --no-fail-fast 2>&1
 # The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells

@@ -91,8 +91,14 @@ pub(crate) fn payload(opts: &ExportOptions) -> Result<Payload> {
     if let Some(model) = &opts.options.load.model {
         let model = std::path::absolute(model).map_err(|e| Error::io(model, e))?;
         let folder = model.parent().unwrap_or(Path::new("/")).to_path_buf();
+        // The loader reads some files by their resolved path (a glTF's buffers, under a
+        // folder reached through a link): both spellings of the folder are the model's.
+        let resolved = std::fs::canonicalize(&folder).unwrap_or_else(|_| folder.clone());
         for (path, bytes) in model_files(&opts.options, &model)? {
-            let rel = path.strip_prefix(&folder).map_err(|_| {
+            let rel = path
+                .strip_prefix(&folder)
+                .or_else(|_| path.strip_prefix(&resolved));
+            let rel = rel.map_err(|_| {
                 Error::Usage(format!(
                     "--live: {} reads {}, outside its folder: a page holds the model's folder only",
                     model.display(),

@@ -372,3 +372,100 @@ fn stereo_views_are_the_stereo_pictures_of_glview_o() {
         }
     }
 }
+
+/// `--live`'s page carries what the export's loader read (renamed under /lesson/, through a
+/// linked folder too), the options naming them, the maps and the browser build's bytes, all
+/// gzipped: each unpacks to exactly what it was. The browser's side is
+/// python/tests_web/test_live_export.py (scripts/test_web.sh).
+#[test]
+fn live_pages_carry_the_models_files_the_maps_and_the_renderer() {
+    at_repo();
+    let dir = out_dir("export_live");
+    let web = dir.join("web");
+    std::fs::create_dir_all(web.join("no-modules")).unwrap();
+    std::fs::write(web.join("glview_web_bg.wasm"), b"\0asm-not-really").unwrap();
+    std::fs::write(web.join("no-modules/glview_web.js"), b"let wasm_bindgen;").unwrap();
+    let avocado = shared().join("gltf-samples/Avocado");
+    let link = dir.join("linked");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&avocado, &link).unwrap();
+    let model = link.join("Avocado.gltf");
+    let page = dir.join("live.html");
+    let args = [
+        "export",
+        model.to_str().unwrap(),
+        "-o",
+        page.to_str().unwrap(),
+        "--live",
+        "--web-dir",
+        web.to_str().unwrap(),
+        "--size",
+        "64x48",
+        "--yaw-steps",
+        "2",
+        "--pitch-steps",
+        "1",
+    ];
+    let o = run(&args, &[]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(
+        html.contains("'wasm-unsafe-eval'"),
+        "the policy lets the renderer compile"
+    );
+    assert!(html.contains("let wasm_bindgen;"), "the glue is inlined");
+    let data = page_data(&html);
+    let live = &data["live"];
+    let gunzip = |s: &serde_json::Value| {
+        let mut out = Vec::new();
+        let z = base64_decode(s.as_str().unwrap());
+        std::io::Read::read_to_end(&mut flate2::read::GzDecoder::new(&z[..]), &mut out).unwrap();
+        out
+    };
+    assert_eq!(gunzip(&live["wasm"]), b"\0asm-not-really");
+    let mut names = Vec::new();
+    for f in live["files"].as_array().unwrap() {
+        let path = f["path"].as_str().unwrap();
+        let name = path.strip_prefix("/lesson/").expect("under /lesson/");
+        assert_eq!(
+            gunzip(&f["gz"]),
+            std::fs::read(avocado.join(name)).unwrap(),
+            "{name}"
+        );
+        names.push(name.to_string());
+    }
+    names.sort();
+    let mut expected: Vec<String> = std::fs::read_dir(&avocado)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".gltf") || n.ends_with(".bin") || n.ends_with(".png"))
+        .filter(|n| !n.starts_with("reference"))
+        .collect();
+    expected.sort();
+    assert_eq!(names, expected, "the files the loader reads, no more");
+    let words: Vec<&str> = live["words"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap())
+        .collect();
+    assert!(words.contains(&"/lesson/Avocado.gltf"), "{words:?}");
+    let maps = glview::pbr::store::bytes::decode(&gunzip(&live["maps"])).expect("maps decode");
+    assert_eq!(
+        maps.specular.first().map(|c| c.size),
+        Some(128),
+        "the default --ibl-size"
+    );
+    // Without the browser build: one line that says how to make it.
+    let none = dir.join("none");
+    std::fs::create_dir_all(&none).unwrap();
+    let mut bad = args.to_vec();
+    bad[6] = none.to_str().unwrap();
+    let o = run(&bad, &[]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    assert!(err.contains("scripts/build_web.sh"), "{err}");
+}
