@@ -484,12 +484,17 @@ def export(
     caption: Optional[str] = None,
     max_size: Optional[int] = None,
     scorm: "str | os.PathLike[str] | None" = None,
+    live: "bool | str" = False,
+    web_dir: "str | os.PathLike[str] | None" = None,
     **options: Any,
 ) -> Dict[str, Any]:
     """``glview export MODEL -o PATH``: the lesson page (one self-contained HTML file of
     turntable views, Phong and PBR, docs/export.md) and with ``scorm`` its SCORM 1.2
-    package. ``size`` is each picture's (default 640×480); the other keywords are the
-    picture's options. Returns what the page cost: views, bytes, picture_bytes, title."""
+    package. ``live=True`` (``--live``) also carries glview's renderer, which draws the
+    model live where the browser can; ``live="only"`` leaves the pictures out; ``web_dir``
+    names the browser build (docs/web.md). ``size`` is each picture's (default 640×480);
+    the other keywords are the picture's options. Returns what the page cost: views, bytes,
+    picture_bytes, title."""
     options = {"size": (640, 480), **options}
     own = {
         "yaw_steps": yaw_steps,
@@ -501,6 +506,8 @@ def export(
         "caption": caption,
         "max_size": max_size,
         "scorm": None if scorm is None else os.fspath(scorm),
+        "live": live,
+        "web_dir": None if web_dir is None else os.fspath(web_dir),
     }
     out = _native.export(_path_options(model, options), os.fspath(path), json.dumps(own))
     return json.loads(out)

@@ -63,3 +63,23 @@ def test_scorm_manifest_has_the_structure_scorm_12_requires(bunny, tmp_path):
         assert r.get("href") in names
         assert {f.get("href") for f in r.findall(f"{CP}file")} <= names
     assert "index.html" in names
+
+
+def test_live_export_is_the_command_lines_and_names_a_missing_build(bunny, cli, tmp_path):
+    # A stand-in browser build: the page carries its bytes (the browser's side is
+    # python/tests_web). Python's live page is the command line's, byte for byte.
+    web = tmp_path / "web"
+    (web / "no-modules").mkdir(parents=True)
+    (web / "glview_web_bg.wasm").write_bytes(b"\0asm stand-in")
+    (web / "no-modules" / "glview_web.js").write_text("let wasm_bindgen;")
+    page = tmp_path / "py.html"
+    glview.export(bunny, page, yaw_steps=2, pitch_steps=1, size=(32, 24), live=True, web_dir=web)
+    cli("export", bunny, "-o", tmp_path / "cli.html", "--yaw-steps", "2", "--pitch-steps", "1",
+        "--size", "32x24", "--live", "--web-dir", web)
+    assert page.read_bytes() == (tmp_path / "cli.html").read_bytes()
+    assert b"'wasm-unsafe-eval'" in page.read_bytes()
+    with pytest.raises(glview.GlviewError, match="build_web.sh"):
+        glview.export(bunny, tmp_path / "x.html", yaw_steps=2, pitch_steps=1, live="only",
+                      web_dir=tmp_path)
+    with pytest.raises(glview.GlviewError, match="live"):
+        glview.export(bunny, tmp_path / "x.html", live="sometimes")

@@ -204,3 +204,69 @@ def test_export_live_without_the_browser_build_is_one_line(tmp_path):
     assert r.returncode != 0
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "scripts/build_web.sh" in lines[0], r.stderr
+
+
+def animated_avocado(folder):
+    """The Avocado with an animation of its one node: a turn about +Y, a quarter each second
+    for two seconds (LINEAR rotation keys), its keys in a second buffer (a data URI)."""
+    import shutil
+    import struct
+
+    src = MODEL.parent
+    for name in ["Avocado.bin", "Avocado_baseColor.png", "Avocado_normal.png",
+                 "Avocado_roughnessMetallic.png"]:
+        shutil.copy(src / name, folder / name)
+    doc = json.loads(MODEL.read_text())
+    times = [0.0, 1.0, 2.0]
+    half = [0.0, 0.25, 0.5]  # turns: 0, 90, 180 degrees; a quaternion's half angle
+    import math
+    quats = [(0.0, math.sin(math.pi * h), 0.0, math.cos(math.pi * h)) for h in half]
+    data = struct.pack("<3f", *times) + b"".join(struct.pack("<4f", *q) for q in quats)
+    doc["buffers"].append({"uri": "data:application/octet-stream;base64," +
+                           base64.b64encode(data).decode(), "byteLength": len(data)})
+    b = len(doc["buffers"]) - 1
+    views = len(doc["bufferViews"])
+    doc["bufferViews"] += [{"buffer": b, "byteOffset": 0, "byteLength": 12},
+                           {"buffer": b, "byteOffset": 12, "byteLength": 48}]
+    acc = len(doc["accessors"])
+    doc["accessors"] += [
+        {"bufferView": views, "componentType": 5126, "count": 3, "type": "SCALAR",
+         "min": [0.0], "max": [2.0]},
+        {"bufferView": views + 1, "componentType": 5126, "count": 3, "type": "VEC4"}]
+    doc["nodes"][0].pop("rotation", None)
+    doc["animations"] = [{"name": "Turn", "channels": [
+        {"sampler": 0, "target": {"node": 0, "path": "rotation"}}],
+        "samplers": [{"input": acc, "output": acc + 1, "interpolation": "LINEAR"}]}]
+    path = folder / "Turning.gltf"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+def test_a_moment_and_playing_in_the_live_page(chromium, tmp_path):
+    # --time 0.5 given to the export is the page's first picture, as glview -o --time 0.5;
+    # Space plays it: the time runs on with the page's clock and the picture follows.
+    model = animated_avocado(tmp_path)
+    page_file = tmp_path / "turning.html"
+    r = subprocess.run([GLVIEW, "export", str(model), "-o", str(page_file), "--live-only",
+                        "--web-dir", str(WEB), "--size", f"{SIZE[0]}x{SIZE[1]}",
+                        "--yaw-steps", "2", "--pitch-steps", "1", "--", *VIEW, "--time", "0.5"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    b = launch(chromium)
+    page, context, errors = open_page(b, {"page": page_file}, "?glview=live")
+    view = page.locator("#view")
+    assert view.get_attribute("data-mode") == "live", view.get_attribute("data-why")
+    at = [str(model), "--size", f"{SIZE[0]}x{SIZE[1]}", *VIEW]
+    still = canvas(page)
+    check("live-time-0.5", still, native([*at, "--time", "0.5"]), PHONG)
+    assert stats(still, native([*at, "--time", "0"]))[0] > 2 * PHONG[0], "--time posed nothing"
+    view.focus()
+    page.keyboard.press("Space")
+    page.wait_for_function("() => Number(document.getElementById('view').getAttribute('data-time')) > 0.9",
+                           timeout=20_000)
+    page.keyboard.press("Space")
+    paused = canvas(page)
+    t = float(view.get_attribute("data-time"))
+    check(f"live-paused-at-{t}", paused, native([*at, "--time", f"{t}"]), PHONG)
+    close(page, context, errors)
+    b.close()

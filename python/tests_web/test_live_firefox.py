@@ -108,8 +108,15 @@ async def run(address, url):
                "phong": await b.eval(context, PIXELS)}
         await b.eval(context, "(document.getElementById('tier-pbr').click(), true)")
         out["pbr"] = await b.eval(context, PIXELS)
-        await b.eval(context, "(document.getElementById('tier-phong').click(), true)")
-        await b.eval(context, "(glviewLive.viewer.key('Right'), glviewLive.viewer.key('Right'), true)")
+        await b.eval(context, "(document.getElementById('tier-phong').click(),"
+                     " document.getElementById('view').focus(), true)")
+        right = "\ue014"  # WebDriver's ArrowRight, pressed twice on the focused view
+        await b.call("input.performActions", context=context, actions=[{
+            "type": "key", "id": "keyboard", "actions": [
+                {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right},
+                {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right}]}])
+        await b.wait_for(context, "document.getElementById('view').getAttribute('data-yaw')"
+                         " === '40.00'", until)
         out["keys"] = await b.eval(context, PIXELS)
         await b.call("session.end")
         return out

@@ -77,6 +77,11 @@ mod tests {
         assert_eq!((o.yaw_steps, o.pitch_steps, o.png), (8, 5, true));
         assert_eq!(o.title.as_deref(), Some("T"));
         assert_eq!(o.scorm, Some("x.zip".into()));
+        let live = |v| ExportOptions::with_keywords(Options::default(), &json!({"live": v}));
+        assert_eq!(live(json!(true)).unwrap().live, super::super::Live::Live);
+        assert_eq!(live(json!("only")).unwrap().live, super::super::Live::Only);
+        assert_eq!(live(json!(false)).unwrap().live, super::super::Live::Off);
+        assert!(live(json!("yes")).is_err());
         for bad in [
             json!({"yaw_steps": -1}),
             json!({"quality": 300}),

@@ -229,6 +229,9 @@ impl Viewer {
         // The whole canvas: with `C` both tiers side by side, each framed for its half (the
         // window's split view).
         let options = self.view.options().clone();
+        // The view's moment (`--time`, a playing animation), posed once per change.
+        let at = glview_render::view::moment(&options, self.renderer.scene()).map_err(js)?;
+        self.renderer.pose(at).map_err(js)?;
         let settings = FrameSettings::new(&options, self.renderer.scene()).map_err(js)?;
         let (width, height) = options.picture.size;
         let target = Target {
@@ -312,6 +315,23 @@ impl Viewer {
     /// The view's yaw in degrees (the page's record of the directions a student has seen).
     pub fn yaw(&self) -> f32 {
         self.view.options().camera.yaw
+    }
+
+    /// Whether the view's animation plays (Space): the page draws every animation frame then.
+    pub fn playing(&self) -> bool {
+        self.view.playing()
+    }
+
+    /// A playing view's time moved on by `seconds` (the page's clock between two frames);
+    /// nothing when paused.
+    pub fn advance(&mut self, seconds: f64) -> Result<(), JsValue> {
+        let all = self.renderer.scene().animations().to_vec();
+        self.view.advance(seconds, &all).map_err(js)
+    }
+
+    /// The moment shown (`--time`), or none: the static pose.
+    pub fn time(&self) -> Option<f32> {
+        self.view.options().motion.time
     }
 
     /// The view's pitch in degrees.

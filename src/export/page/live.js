@@ -123,6 +123,8 @@
     view.setAttribute('data-pitch', viewer.pitch().toFixed(2));
     view.setAttribute('data-tier', viewer.shading());
     view.setAttribute('data-compare', String(compare));
+    const time = viewer.time();
+    view.setAttribute('data-time', time === undefined ? '' : String(time));
     $('tier-phong').setAttribute('aria-pressed', String(!compare && viewer.shading() !== 'pbr'));
     $('tier-pbr').setAttribute('aria-pressed', String(!compare && viewer.shading() === 'pbr'));
     $('compare').setAttribute('aria-pressed', String(compare));
@@ -130,13 +132,23 @@
       viewer.pitch().toFixed(0) + '°';
     record();
   }
+  // One draw per animation frame; while the animation plays (Space), every frame, the
+  // view's time moved on by the page's clock.
+  let last = null;
   function redraw() {
     if (pending) return;
     pending = true;
-    requestAnimationFrame(() => {
+    requestAnimationFrame((t) => {
       pending = false;
       try {
+        if (viewer.playing()) {
+          if (last !== null) viewer.advance((t - last) / 1000);
+          last = t;
+        } else {
+          last = null;
+        }
         show();
+        if (viewer.playing()) redraw();
       } catch (e) {
         mode.textContent = 'The renderer failed: ' + String(e && e.message || e);
       }
