@@ -116,6 +116,16 @@ def test_live_page_draws_both_tiers_the_compare_and_the_keys_as_glview(chromium,
     check("live-compare-phong", np.ascontiguousarray(both[:, :SIZE[0]]), native(words()), PHONG)
     check("live-compare-pbr", np.ascontiguousarray(both[:, SIZE[0]:]),
           native(words("--shading", "pbr")), PBR)
+    # The difference numbers, computed in the page over the model's pixels, against the
+    # export's own (`--diff phong,pbr`'s, view 0): the two rasterisers' pictures differ by
+    # ~0.13/255 on average, so the numbers agree to a fraction of that.
+    page.wait_for_function("() => window.glviewLive.numbers !== undefined", timeout=20_000)
+    got, ref = page.evaluate("glviewLive.numbers"), lesson["data"]["numbers"][0]
+    print(f"live compare numbers: {got}; export's: {ref}")
+    assert abs(got["mean"] - ref["mean"]) <= 0.3 and abs(got["p99"] - ref["p99"]) <= 2
+    assert abs(got["over_8"] - ref["over_8"]) <= 0.005
+    assert abs(got["pixels"] - ref["pixels"]) <= 0.01 * ref["pixels"]
+    assert page.locator("#numbers").is_visible()
     page.get_by_role("button", name="Phong").click()
     view.focus()
     page.keyboard.press("ArrowRight")

@@ -223,6 +223,37 @@ impl Viewer {
         self.view.resize((w, h));
     }
 
+    /// Where the model covers each pixel of the view (1, else 0), top row first: the view
+    /// drawn once more with a transparent background into an offscreen target, alpha read
+    /// back (the native compare's coverage, `--diff`'s "model" pixels). The canvas keeps
+    /// its picture.
+    pub fn coverage(&mut self) -> Result<Vec<u8>, JsValue> {
+        let options = self.view.options().clone();
+        let (width, height) = options.picture.size;
+        let at = glview_render::view::moment(&options, self.renderer.scene()).map_err(js)?;
+        self.renderer.pose(at).map_err(js)?;
+        let mut settings = FrameSettings::new(&options, self.renderer.scene()).map_err(js)?;
+        settings.lighting.post.transparent = true;
+        let fb = glview_render::gpu::framebuffer::Framebuffer::color_depth(&self.gpu, width, height)
+            .map_err(js)?;
+        let target = Target {
+            fbo: Some(fb.raw),
+            width,
+            height,
+        };
+        if self.view.compare() {
+            let r = &mut self.renderer;
+            glview_render::view::split::draw(r, &settings, &target, width, height)
+        } else {
+            self.renderer.render(&settings, &target)
+        }
+        .map_err(js)?;
+        self.gpu.bind_framebuffer(Some(fb.raw));
+        let px = self.gpu.read_rgba(width, height);
+        self.gpu.bind_framebuffer(None);
+        Ok(px.chunks_exact(4).map(|p| u8::from(p[3] > 0)).collect())
+    }
+
     /// Draws the view; the frame's milliseconds (to the end of the GL calls, not of the
     /// browser's rasterising: read the pixels or wait a frame for that).
     pub fn draw(&mut self) -> Result<f64, JsValue> {
