@@ -280,3 +280,26 @@ def test_a_moment_and_playing_in_the_live_page(chromium, tmp_path):
     check(f"live-paused-at-{t}", paused, native([*at, "--time", f"{t}"]), PHONG)
     close(page, context, errors)
     b.close()
+
+
+def test_an_environment_file_travels_with_the_page(chromium, tmp_path):
+    # --env's HDR goes into the page (/environment/NAME) beside its maps: the PBR tier over
+    # the studio HDR equals glview -o's. Bound: PBR's, with the share over 8/255 at 0.5 %:
+    # the HDR's background has sharp bright lights whose edges the rasterisers filter apart
+    # (measured 0.18, p99 2, 0.26 %).
+    hdr = ROOT.parent / "shared" / "hdr" / "studio_small_03_1k.hdr"
+    page_file = tmp_path / "env.html"
+    r = subprocess.run([GLVIEW, "export", "-o", str(page_file), "--live-only", "--web-dir",
+                        str(WEB), "--size", f"{SIZE[0]}x{SIZE[1]}", "--yaw-steps", "2",
+                        "--pitch-steps", "1", "--", "--env", str(hdr)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    b = launch(chromium)
+    page, context, errors = open_page(b, {"page": page_file}, "?glview=live")
+    assert page.locator("#view").get_attribute("data-mode") == "live"
+    page.get_by_role("button", name="PBR").click()
+    web = canvas(page)
+    ref = native(["--size", f"{SIZE[0]}x{SIZE[1]}", "--env", str(hdr), "--shading", "pbr"])
+    check("live-env-pbr", web, ref, (PBR[0], PBR[1], 0.005))
+    close(page, context, errors)
+    b.close()

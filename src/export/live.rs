@@ -31,7 +31,8 @@ const LESSON: &str = "/lesson";
 pub(crate) struct Payload {
     pub(crate) data: serde_json::Value,
     pub(crate) glue: String,
-    /// Bytes of the wasm, the model's files and the maps, gzipped (before base64).
+    /// Bytes of the wasm, the files (the model's, an environment) and the maps, gzipped
+    /// (before base64).
     pub(crate) bytes: [u64; 3],
 }
 

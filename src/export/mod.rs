@@ -115,7 +115,7 @@ pub fn build(opts: &ExportOptions) -> Result<Export> {
     };
     let drawn = live.as_ref().map_or(String::new(), |l| {
         let [r, m, e] = l.bytes.map(|b| b as f64 / 1e6);
-        format!(", drawn live (gzipped: renderer {r:.2} MB, model {m:.2} MB, maps {e:.2} MB)")
+        format!(", drawn live (gzipped: renderer {r:.2} MB, files {m:.2} MB, maps {e:.2} MB)")
     });
     let summary = format!("{pictures}{drawn}, page {:.2} MB", html.len() as f64 / 1e6);
     Ok(Export {

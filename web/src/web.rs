@@ -234,8 +234,9 @@ impl Viewer {
         self.renderer.pose(at).map_err(js)?;
         let mut settings = FrameSettings::new(&options, self.renderer.scene()).map_err(js)?;
         settings.lighting.post.transparent = true;
-        let fb = glview_render::gpu::framebuffer::Framebuffer::color_depth(&self.gpu, width, height)
-            .map_err(js)?;
+        let fb =
+            glview_render::gpu::framebuffer::Framebuffer::color_depth(&self.gpu, width, height)
+                .map_err(js)?;
         let target = Target {
             fbo: Some(fb.raw),
             width,
