@@ -303,3 +303,49 @@ def test_an_environment_file_travels_with_the_page(chromium, tmp_path):
     check("live-env-pbr", web, ref, (PBR[0], PBR[1], 0.005))
     close(page, context, errors)
     b.close()
+
+
+def viewed_avocado(folder):
+    """The Avocado with a camera (a node 0.2 m out on +Z, looking at it along -Z) and a
+    KHR_materials_variants variant "Red" (a plain red material)."""
+    import shutil
+
+    for name in ["Avocado.bin", "Avocado_baseColor.png", "Avocado_normal.png",
+                 "Avocado_roughnessMetallic.png"]:
+        shutil.copy(MODEL.parent / name, folder / name)
+    doc = json.loads(MODEL.read_text())
+    doc["cameras"] = [{"type": "perspective", "name": "Front",
+                       "perspective": {"yfov": 0.5, "znear": 0.01, "zfar": 10.0}}]
+    doc["nodes"].append({"name": "FrontNode", "camera": 0, "translation": [0.0, 0.03, 0.2]})
+    doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+    doc["materials"].append({"name": "Red", "pbrMetallicRoughness": {
+        "baseColorFactor": [0.8, 0.05, 0.05, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.5}})
+    doc["extensionsUsed"] = ["KHR_materials_variants"]
+    doc["extensions"] = {"KHR_materials_variants": {"variants": [{"name": "Red"}]}}
+    doc["meshes"][0]["primitives"][0]["extensions"] = {
+        "KHR_materials_variants": {"mappings": [{"material": 1, "variants": [0]}]}}
+    path = folder / "Viewed.gltf"
+    path.write_text(json.dumps(doc))
+    return path
+
+
+@pytest.mark.parametrize("choice", [["--camera", "Front"], ["--variant", "Red"]])
+def test_a_file_camera_and_a_variant_in_the_live_page(chromium, tmp_path, choice):
+    # The file's camera and material variant, given to the export, are the page's first
+    # picture, as glview -o --camera / --variant draws them.
+    model = viewed_avocado(tmp_path)
+    page_file = tmp_path / "viewed.html"
+    r = subprocess.run([GLVIEW, "export", str(model), "-o", str(page_file), "--live-only",
+                        "--web-dir", str(WEB), "--size", f"{SIZE[0]}x{SIZE[1]}",
+                        "--yaw-steps", "2", "--pitch-steps", "1", "--", *VIEW, *choice],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    b = launch(chromium)
+    page, context, errors = open_page(b, {"page": page_file}, "?glview=live")
+    assert page.locator("#view").get_attribute("data-mode") == "live"
+    web = canvas(page)
+    at = [str(model), "--size", f"{SIZE[0]}x{SIZE[1]}", *VIEW]
+    check(f"live{choice[0]}", web, native([*at, *choice]), PHONG)
+    assert stats(web, native(at))[0] > 2 * PHONG[0], f"{choice} changed nothing"
+    close(page, context, errors)
+    b.close()
