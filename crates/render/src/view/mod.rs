@@ -407,6 +407,13 @@ mod tests {
         assert!(v.compare());
         assert_eq!(v.picture().picture.size, (160, 240));
         assert_eq!(v.options().picture.size, (320, 240));
+        // A page's buttons: a tier shows one pane; compare on and off as C does.
+        v.set_shading(crate::frame::Shading::Pbr);
+        assert!(!v.compare() && v.options().render.shading == crate::frame::Shading::Pbr);
+        v.set_compare(true);
+        assert!(v.compare() && v.picture().picture.size == (160, 240));
+        v.set_compare(false);
+        assert_eq!(v.picture().picture.size, (320, 240));
     }
 
     #[test]
