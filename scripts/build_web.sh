@@ -47,6 +47,9 @@ if ! { [ -x "$bindgen" ] && "$bindgen" --version | grep -q " $bindgen_version\$"
   cargo install --quiet --debug --root "$tools" --version "=$bindgen_version" wasm-bindgen-cli
   echo "build_web: wasm-bindgen-cli installed in $(since "$t0") s"
 fi
+# GLVIEW_WEB_TOOLS_ONLY=1: only the tools (CI installs them before the cross toolchain is
+# unpacked, which the build needs and they do not).
+[ "${GLVIEW_WEB_TOOLS_ONLY:-}" = 1 ] && exit 0
 
 # npm's binaryen in the tools folder (`npm install --prefix target/web-tools binaryen@132`,
 # ~2 s) before one on PATH.

@@ -122,15 +122,16 @@ background platforms bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && b
   unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
   bash scripts/build_windows.sh --profile wine-test'
 # The browser build (scripts/build_web.sh, docs/web.md): wasm-bindgen-cli installed unoptimised
-# (~80 s of CPU), then glview-web for wasm32 in the same unoptimised profile and target folder
+# (~80 s of CPU) at once (it needs no cross toolchain), then glview-web for wasm32 in the same unoptimised profile and target folder
 # as glview.exe (~120 s of CPU; the host's build scripts are shared), bound without wasm-opt.
 # It is also CI's wasm32 check: it compiles the scene (without `native`) and render crates
 # that scripts/check_wasm.sh checks, and guards the same dependency tree; check_wasm.sh's
 # rustdoc pass (-D warnings) is left to developers, as the library's `cargo doc` is (the
 # check it needs was ~2 min of CPU this job could not spare). Beside the platforms job at
 # the same nice level, for the same idle cycles.
-background web bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
-  unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
+background web bash -c 'unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
+  GLVIEW_WEB_TOOLS_ONLY=1 bash scripts/build_web.sh
+  for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
   GLVIEW_CROSS=1 GLVIEW_WASM_OPT=none bash scripts/build_web.sh --profile wine-test'
 # Clippy runs inside the test build instead of as `cargo clippy` before it: clippy-driver as
 # the workspace wrapper lints every target `cargo clippy --all-targets` lints (lib, bins, tests,
