@@ -26,6 +26,7 @@ finish() {
     cat "${bg_logs[$k]}"
     rm -f "${bg_logs[$k]}"
   done
+  [ -z "${prep_done:-}" ] || rm -f "$prep_done"
   echo "scripts/test.sh: $(( $(date +%s) - start )) s (exit $rc)"
 }
 trap finish EXIT
@@ -157,7 +158,9 @@ step "build + clippy -D warnings" cargo build --workspace --all-targets --quiet
 prep_rc=0
 wait "$prep_pid" || prep_rc=$?
 cat "$prep_log"
-rm -f "$prep_log" "$prep_done"
+# prep_done stays until the end (finish): the web job looks for it after installing its tools,
+# which can end after this point.
+rm -f "$prep_log"
 [ "$prep_rc" -eq 0 ] || { echo "error: scripts/prepare_tests.sh failed (above)" >&2; exit "$prep_rc"; }
 # The Python package's tests, in the background beside the Rust tests, niced so that the tests
 # come first: the Rust tests keep about a quarter of the two cores idle (tests waiting on
