@@ -7,9 +7,8 @@
 use crate::image_out::Rgba;
 use serde::Serialize;
 
-/// A pixel counts as wrong when some channel is off by more than this (of 255): the
-/// threshold the peers use (Filament accepts 5/255; 8/255 ignores rounding).
-pub const WRONG_THRESHOLD: u8 = 8;
+use glview_render::image::differences::Differences;
+pub use glview_render::image::differences::WRONG_THRESHOLD;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct ImageError {
@@ -52,40 +51,17 @@ pub fn compare(image: &Rgba, reference: &Rgba, ignore: &[bool]) -> crate::Result
     } else {
         image
     };
-    let n = (image.width as usize) * (image.height as usize);
-    let mut histogram = [0u64; 256];
-    let mut sum = 0u64;
-    for (a, b) in image
-        .data
-        .chunks_exact(4)
-        .zip(reference.data.chunks_exact(4))
-    {
-        let mut worst = 0u8;
-        for c in 0..3 {
-            let d = a[c].abs_diff(b[c]);
-            sum += u64::from(d);
-            worst = worst.max(d);
-        }
-        histogram[worst as usize] += 1;
-    }
-    let percentile = |q: f64| {
-        let rank = (q * n as f64).ceil().max(1.0) as u64;
-        let mut seen = 0;
-        for (value, count) in histogram.iter().enumerate() {
-            seen += count;
-            if seen >= rank {
-                return value as f64;
-            }
-        }
-        255.0
-    };
-    let wrong: u64 = histogram[usize::from(WRONG_THRESHOLD) + 1..].iter().sum();
-    let max = histogram.iter().rposition(|&c| c > 0).unwrap_or(0) as f64;
+    let d = Differences::of(
+        image
+            .data
+            .chunks_exact(4)
+            .zip(reference.data.chunks_exact(4)),
+    );
     Ok(ImageError {
-        mae: sum as f64 / (3 * n.max(1)) as f64,
-        p99: percentile(0.99),
-        max,
-        wrong: wrong as f64 / n.max(1) as f64,
+        mae: d.mean(),
+        p99: d.percentile(0.99),
+        max: d.max(),
+        wrong: d.wrong(),
         ssim: ssim(image, reference)?,
     })
 }

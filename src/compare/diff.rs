@@ -2,9 +2,10 @@
 use super::canvas;
 use crate::image_out::Rgba;
 use crate::image_out::RgbaFiles;
-use crate::metrics::{compare, ImageError, WRONG_THRESHOLD};
+use crate::metrics::{compare, ImageError};
 use crate::options::Options;
 use crate::{Error, Result};
+use glview_render::image::differences::Differences;
 use std::path::{Path, PathBuf};
 
 /// The numbers of a comparison, in 0–255 units where they are errors.
@@ -55,34 +56,13 @@ pub(crate) fn over_pixels(a: &Rgba, b: &Rgba, covered: &[bool]) -> Result<Option
     }
     let ignore: Vec<bool> = covered.iter().map(|c| !c).collect();
     let ssim = compare(a, b, &ignore)?.ssim;
-    let mut histogram = [0u64; 256];
-    let mut sum = 0u64;
-    for ((p, q), _) in a
-        .data
-        .chunks_exact(4)
-        .zip(b.data.chunks_exact(4))
-        .zip(covered)
-        .filter(|(_, &c)| c)
-    {
-        let d = [0, 1, 2].map(|c| p[c].abs_diff(q[c]));
-        sum += d.iter().map(|&v| u64::from(v)).sum::<u64>();
-        histogram[usize::from(d.into_iter().max().unwrap_or(0))] += 1;
-    }
-    let rank = (0.99 * n as f64).ceil().max(1.0) as u64;
-    let mut seen = 0;
-    let p99 = histogram
-        .iter()
-        .position(|&c| {
-            seen += c;
-            seen >= rank
-        })
-        .unwrap_or(255);
-    let over: u64 = histogram[usize::from(WRONG_THRESHOLD) + 1..].iter().sum();
+    let pairs = a.data.chunks_exact(4).zip(b.data.chunks_exact(4));
+    let d = Differences::of(pairs.zip(covered).filter(|(_, &c)| c).map(|(p, _)| p));
     Ok(Some(DiffNumbers {
-        mean: sum as f64 / (3 * n) as f64,
-        max: histogram.iter().rposition(|&c| c > 0).unwrap_or(0) as f64,
-        p99: p99 as f64,
-        over_8: over as f64 / n as f64,
+        mean: d.mean(),
+        max: d.max(),
+        p99: d.percentile(0.99),
+        over_8: d.wrong(),
         one_minus_ssim: (1.0 - ssim).max(0.0),
     }))
 }

@@ -5,6 +5,7 @@
 //! only the rasteriser differs (the browser's, e.g. SwiftShader, against llvmpipe).
 use glview_render::frame::FrameSettings;
 use glview_render::gpu::{Gpu, GpuRef};
+use glview_render::image::differences::Differences;
 use glview_render::keys::{self, Effect};
 use glview_render::passes::{Renderer, Target};
 use glview_render::pbr::store::{bytes as map_bytes, set_store, Given};
@@ -156,6 +157,30 @@ pub struct Viewer {
     frames: u64,
 }
 
+impl Viewer {
+    /// The view into `target`, with a transparent background where asked (coverage): the
+    /// whole target, with `C` both tiers side by side, each framed for its half (the
+    /// window's split view), at the view's moment (`--time`, a playing animation; posed
+    /// once per change).
+    fn render_view(
+        &mut self,
+        target: &Target,
+        transparent: bool,
+    ) -> glview_render::Result<glview_render::passes::FrameStats> {
+        let options = self.view.options();
+        let at = glview_render::view::moment(options, self.renderer.scene())?;
+        self.renderer.pose(at)?;
+        let mut settings = FrameSettings::new(options, self.renderer.scene())?;
+        settings.lighting.post.transparent = transparent;
+        if self.view.compare() {
+            let (w, h) = (target.width, target.height);
+            glview_render::view::split::draw(&mut self.renderer, &settings, target, w, h)
+        } else {
+            self.renderer.render(&settings, target)
+        }
+    }
+}
+
 #[wasm_bindgen]
 impl Viewer {
     /// A viewer of the built-in scene on `canvas`, with `words` the options of `glview -o`
@@ -223,61 +248,60 @@ impl Viewer {
         self.view.resize((w, h));
     }
 
-    /// Where the model covers each pixel of the view (1, else 0), top row first: the view
-    /// drawn once more with a transparent background into an offscreen target, alpha read
-    /// back (the native compare's coverage, `--diff`'s "model" pixels). The canvas keeps
-    /// its picture.
-    pub fn coverage(&mut self) -> Result<Vec<u8>, JsValue> {
-        let options = self.view.options().clone();
-        let (width, height) = options.picture.size;
-        let at = glview_render::view::moment(&options, self.renderer.scene()).map_err(js)?;
-        self.renderer.pose(at).map_err(js)?;
-        let mut settings = FrameSettings::new(&options, self.renderer.scene()).map_err(js)?;
-        settings.lighting.post.transparent = true;
+    /// The split view's difference numbers over the model's pixels, as `glview --diff
+    /// phong,pbr`'s "model" ones (without SSIM), as JSON `{mean, p99, over_8, pixels}`; null
+    /// where neither half covers a pixel. Coverage is the view drawn once more with a
+    /// transparent background into an offscreen target (as the native compare's); the
+    /// canvas keeps its picture. An error outside the split view.
+    pub fn compare_numbers(&mut self) -> Result<String, JsValue> {
+        if !self.view.compare() {
+            return Err(js("the difference numbers are the split view's (C)"));
+        }
+        let (width, height) = self.view.options().picture.size;
         let fb =
             glview_render::gpu::framebuffer::Framebuffer::color_depth(&self.gpu, width, height)
                 .map_err(js)?;
-        let target = Target {
+        let offscreen = Target {
             fbo: Some(fb.raw),
             width,
             height,
         };
-        if self.view.compare() {
-            let r = &mut self.renderer;
-            glview_render::view::split::draw(r, &settings, &target, width, height)
-        } else {
-            self.renderer.render(&settings, &target)
-        }
-        .map_err(js)?;
+        self.render_view(&offscreen, true).map_err(js)?;
         self.gpu.bind_framebuffer(Some(fb.raw));
-        let px = self.gpu.read_rgba(width, height);
-        self.gpu.bind_framebuffer(None);
-        Ok(px.chunks_exact(4).map(|p| u8::from(p[3] > 0)).collect())
+        let cover = self.gpu.read_rgba(width, height);
+        let px = self.pixels();
+        // Pixel i of the left half and its twin in the right one.
+        let half = (width / 2) as usize;
+        let pair = |i: usize| {
+            let (y, x) = (i / half, i % half);
+            let (l, r) = (y * width as usize + x, y * width as usize + x + half);
+            let covered = cover[4 * l + 3] > 0 || cover[4 * r + 3] > 0;
+            covered.then(|| (&px[4 * l..4 * l + 4], &px[4 * r..4 * r + 4]))
+        };
+        let d = Differences::of((0..half * height as usize).filter_map(pair));
+        Ok(if d.pixels() == 0 {
+            "null".into()
+        } else {
+            format!(
+                "{{\"mean\":{},\"p99\":{},\"over_8\":{},\"pixels\":{}}}",
+                d.mean(),
+                d.percentile(0.99),
+                d.wrong(),
+                d.pixels()
+            )
+        })
     }
 
     /// Draws the view; the frame's milliseconds (to the end of the GL calls, not of the
     /// browser's rasterising: read the pixels or wait a frame for that).
     pub fn draw(&mut self) -> Result<f64, JsValue> {
-        // The whole canvas: with `C` both tiers side by side, each framed for its half (the
-        // window's split view).
-        let options = self.view.options().clone();
-        // The view's moment (`--time`, a playing animation), posed once per change.
-        let at = glview_render::view::moment(&options, self.renderer.scene()).map_err(js)?;
-        self.renderer.pose(at).map_err(js)?;
-        let settings = FrameSettings::new(&options, self.renderer.scene()).map_err(js)?;
-        let (width, height) = options.picture.size;
-        let target = Target {
+        let (width, height) = self.view.options().picture.size;
+        let canvas = Target {
             fbo: None,
             width,
             height,
         };
-        let stats = if self.view.compare() {
-            let r = &mut self.renderer;
-            glview_render::view::split::draw(r, &settings, &target, width, height)
-        } else {
-            self.renderer.render(&settings, &target)
-        }
-        .map_err(js)?;
+        let stats = self.render_view(&canvas, false).map_err(js)?;
         self.frames += 1;
         Ok(stats.ms)
     }

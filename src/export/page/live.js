@@ -100,43 +100,13 @@
     timings.frame_ms.toFixed(0) + ' ms a frame).';
   $('numbers').hidden = true;
 
-  // The compare's numbers over the model's pixels, as `glview --diff phong,pbr`'s "model"
-  // ones (src/compare/diff.rs, over_pixels): per pixel the largest channel difference;
-  // mean over the three channels, the 99th percentile (rank ceil(0.99 n)), the share over
-  // 8/255; a pixel is the model's where either half covers it.
-  function numbers() {
-    const px = viewer.pixels(), cover = viewer.coverage();
-    const W = 2 * w, histogram = new Array(256).fill(0);
-    let n = 0, sum = 0;
-    for (let y = 0; y < h; y++) {
-      for (let x = 0; x < w; x++) {
-        const a = y * W + x, b = a + w;
-        if (!cover[a] && !cover[b]) continue;
-        let max = 0;
-        for (let c = 0; c < 3; c++) {
-          const d = Math.abs(px[4 * a + c] - px[4 * b + c]);
-          sum += d;
-          if (d > max) max = d;
-        }
-        histogram[max]++;
-        n++;
-      }
-    }
-    if (n === 0) return null;
-    const rank = Math.max(1, Math.ceil(0.99 * n));
-    let seen = 0, p99 = 255, over = 0;
-    for (let v = 0; v < 256; v++) {
-      seen += histogram[v];
-      if (seen >= rank) { p99 = v; break; }
-    }
-    for (let v = 9; v < 256; v++) over += histogram[v];
-    return { mean: sum / (3 * n), p99: p99, over_8: over / n, pixels: n };
-  }
+  // The compare's numbers over the model's pixels, measured on this page's pictures by the
+  // renderer (`--diff phong,pbr`'s "model" figures: the same code).
   function showNumbers() {
     const on = viewer.compare();
     $('numbers').hidden = !on;
     if (!on) return;
-    const m = numbers();
+    const m = JSON.parse(viewer.compare_numbers());
     window.glviewLive.numbers = m;
     $('n-mean').textContent = m ? m.mean.toFixed(2) + '/255' : '–';
     $('n-p99').textContent = m ? m.p99.toFixed(0) + '/255' : '–';

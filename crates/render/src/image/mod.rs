@@ -1,6 +1,7 @@
 //! Pictures as the renderer reads them back and draws over them: RGBA8, top row first, and
 //! their PNG encoding (in memory: writing a file is the caller's); [`canvas`] draws labels.
 pub mod canvas;
+pub mod differences;
 
 /// An RGBA8 image, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
