@@ -169,9 +169,7 @@ impl Layout {
             squeeze,
         }
     }
-}
 
-impl Layout {
     /// `centre`'s camera for `eye` drawn into this layout's eye: squeezed as the mode
     /// squeezes it, its off-axis frustum for the eye's projection aspect.
     pub fn eye_camera(&self, centre: &OrbitCamera, eye: Eye, stereo: &Stereo) -> OrbitCamera {

@@ -88,8 +88,7 @@ pub mod bytes {
         let mut out = magic.to_vec();
         out.extend(serde_json::to_vec(&h).unwrap_or_default());
         out.push(b'\n');
-        let mut body = Vec::new();
-        let mut push = |v: f32| put(&mut body, v);
+        let mut push = |v: f32| put(&mut out, v);
         for c in std::iter::once(&d.irradiance).chain(&d.specular) {
             for f in &c.faces {
                 for t in f {
@@ -100,7 +99,6 @@ pub mod bytes {
         for t in &d.lut.texels {
             t.iter().for_each(|&v| push(v));
         }
-        out.extend(body);
         out
     }
 
