@@ -73,13 +73,15 @@ class Bidi:
             await asyncio.sleep(0.05)
 
 
-def start_firefox(profile):
-    """Firefox headless with a fresh profile; returns it and its BiDi address (read from
-    its stderr: port 0 makes it pick a free one)."""
+def start_firefox(profile, display=None):
+    """Firefox with a fresh profile, headless or on X display `display`; returns it and its
+    BiDi address (read from its stderr: port 0 makes it pick a free one)."""
+    args = ["--headless"] if display is None else []
+    env = dict(os.environ) if display is None else {**os.environ, "DISPLAY": display}
     proc = subprocess.Popen(
-        [FIREFOX, "--headless", "--no-remote", "--profile", profile,
+        [FIREFOX, *args, "--no-remote", "--profile", profile,
          "--remote-debugging-port", "0", "--width", "800", "--height", "600", "about:blank"],
-        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     until = time.monotonic() + 20
     lines = []
     while time.monotonic() < until:
@@ -95,6 +97,16 @@ def start_firefox(profile):
     proc.kill()
     proc.wait()
     pytest.fail("firefox-esr printed no BiDi address:\n" + "".join(lines))
+
+
+def stop(proc):
+    """Ends `proc` (Firefox, Xvfb): politely, then for certain."""
+    proc.terminate()
+    try:
+        proc.wait(timeout=5)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
 
 
 async def smoke(address, url):
@@ -143,11 +155,6 @@ def test_firefox_esr_loads_draws_and_turns(glview_bin):  # noqa: F811 (the fixtu
         asyncio.run(asyncio.wait_for(smoke(address, server.url), DEADLINE))
     finally:
         if firefox is not None:
-            firefox.terminate()
-            try:
-                firefox.wait(timeout=5)
-            except subprocess.TimeoutExpired:
-                firefox.kill()
-                firefox.wait()
+            stop(firefox)
         server.stop()
         shutil.rmtree(profile, ignore_errors=True)

@@ -7,12 +7,10 @@ shows its pictures, as it should), on Xvfb it gets WebGL 2 on llvmpipe through G
 import asyncio
 import base64
 import os
-import re
 import shutil
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 
 import numpy as np
@@ -22,7 +20,7 @@ from test_live_export import SIZE, lesson, words  # noqa: F401 (a fixture)
 from test_viewer import ROOT, check, native
 
 sys.path.insert(0, str(ROOT / "python" / "tests_browser"))
-from test_serve_firefox import FIREFOX, Bidi  # noqa: E402
+from test_serve_firefox import FIREFOX, Bidi, start_firefox, stop  # noqa: E402
 
 DEADLINE = 120.0
 # Firefox draws with the same llvmpipe as `glview -o`: measured Phong identical, PBR mean
@@ -51,38 +49,6 @@ def start_xvfb():
         proc.kill()
         pytest.fail("Xvfb printed no display number")
     return proc, ":" + number
-
-
-def start_firefox(profile, display):
-    """Firefox on `display` with a fresh profile; returns it and its BiDi address."""
-    proc = subprocess.Popen(
-        [FIREFOX, "--no-remote", "--profile", profile, "--remote-debugging-port", "0",
-         "--width", "1000", "--height", "800", "about:blank"],
-        env={**os.environ, "DISPLAY": display}, stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE, text=True)
-    until = time.monotonic() + 30
-    lines = []
-    while time.monotonic() < until:
-        line = proc.stderr.readline()
-        if not line:
-            break
-        lines.append(line)
-        m = re.search(r"WebDriver BiDi listening on (ws://\S+)", line)
-        if m:
-            threading.Thread(target=proc.stderr.read, daemon=True).start()
-            return proc, m.group(1)
-    proc.kill()
-    proc.wait()
-    pytest.fail("firefox-esr printed no BiDi address:\n" + "".join(lines))
-
-
-def stop(proc):
-    proc.terminate()
-    try:
-        proc.wait(timeout=5)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        proc.wait()
 
 
 def image(b64):
