@@ -38,7 +38,7 @@ pub(crate) struct Payload {
 
 /// The browser build's folder: `web_dir`, else `$GLVIEW_WEB_DIR`, else `web/` beside the
 /// executable's folder (`target/web` for `target/debug/glview`).
-fn web_dir(given: Option<&Path>) -> Result<PathBuf> {
+pub fn web_dir(given: Option<&Path>) -> Result<PathBuf> {
     let dir = given
         .map(Path::to_path_buf)
         .or_else(|| std::env::var_os("GLVIEW_WEB_DIR").map(PathBuf::from))
@@ -51,7 +51,7 @@ fn web_dir(given: Option<&Path>) -> Result<PathBuf> {
         Ok(dir)
     } else {
         Err(Error::Usage(format!(
-            "--live needs the browser build in {} (glview_web_bg.wasm, no-modules/glview_web.js): \
+            "the browser build is not in {} (glview_web_bg.wasm, no-modules/glview_web.js): \
              run `bash scripts/build_web.sh`, or name its folder with --web-dir",
             dir.display()
         )))
@@ -80,22 +80,37 @@ fn model_files(options: &Options, model: &Path) -> Result<Vec<(PathBuf, Arc<[u8]
     Ok(recording.files())
 }
 
-/// The payload of `opts`' page; an error when the browser build is missing or the model's
-/// files reach outside its folder.
-pub(crate) fn payload(opts: &ExportOptions) -> Result<Payload> {
-    let dir = web_dir(opts.web_dir.as_deref())?;
-    let read = |p: PathBuf| std::fs::read(&p).map_err(|e| Error::io(&p, e));
-    let wasm = gzip(&read(dir.join("glview_web_bg.wasm"))?);
-    let glue = String::from_utf8_lossy(&read(dir.join("no-modules/glview_web.js"))?).into_owned();
-    let mut words_of = opts.options.clone();
+/// The page's names for `options`' files (the teacher's folders are not the page's): the
+/// model under `/lesson/`, an `--env` HDR under `/environment/`. What [`scene`]'s files
+/// are called, and what a view's options name when a page draws them.
+pub fn page_paths(options: &Options) -> Options {
+    let mut o = options.clone();
+    if let Some(model) = &options.load.model {
+        o.load.model = Some(Path::new(LESSON).join(model.file_name().unwrap_or_default()));
+    }
+    if let Some(env) = &options.pbr.env {
+        o.pbr.env = Some(Path::new("/environment").join(env.file_name().unwrap_or_default()));
+    }
+    o
+}
+
+/// What a page that draws `options` needs beside the renderer, as JSON: the options as
+/// words (with [`page_paths`]), the files those name (the model's, read as the loader reads
+/// them, and an environment's) and the precomputed maps, each gzipped and base64'd; and the
+/// gzipped bytes of the files and of the maps. An error when the model's files reach outside
+/// its folder.
+pub fn scene(options: &Options) -> Result<(serde_json::Value, [u64; 2])> {
+    let read = |p: &Path| std::fs::read(p).map_err(|e| Error::io(p, e));
+    let paged = page_paths(options);
     let mut files = Vec::new();
-    if let Some(model) = &opts.options.load.model {
+    if let (Some(model), Some(page_model)) = (&options.load.model, &paged.load.model) {
         let model = std::path::absolute(model).map_err(|e| Error::io(model, e))?;
         let folder = model.parent().unwrap_or(Path::new("/")).to_path_buf();
         // The loader reads some files by their resolved path (a glTF's buffers, under a
         // folder reached through a link): both spellings of the folder are the model's.
         let resolved = std::fs::canonicalize(&folder).unwrap_or_else(|_| folder.clone());
-        for (path, bytes) in model_files(&opts.options, &model)? {
+        let lesson = page_model.parent().unwrap_or(Path::new(LESSON));
+        for (path, bytes) in model_files(options, &model)? {
             let rel = path
                 .strip_prefix(&folder)
                 .or_else(|_| path.strip_prefix(&resolved));
@@ -106,39 +121,51 @@ pub(crate) fn payload(opts: &ExportOptions) -> Result<Payload> {
                     path.display()
                 ))
             })?;
-            files.push((Path::new(LESSON).join(rel), bytes));
+            files.push((lesson.join(rel), bytes));
         }
-        words_of.load.model = Some(Path::new(LESSON).join(model.file_name().unwrap_or_default()));
     }
-    if let Some(env) = &opts.options.pbr.env {
-        let page_path = Path::new("/environment").join(env.file_name().unwrap_or_default());
-        files.push((page_path.clone(), read(env.clone())?.into()));
-        words_of.pbr.env = Some(page_path);
+    if let (Some(env), Some(page_env)) = (&options.pbr.env, &paged.pbr.env) {
+        files.push((page_env.clone(), read(env)?.into()));
     }
     // The native maps (read from the disk store, else computed as a native picture would),
     // so the page computes none: the PBR tier's ~5 s in the browser.
-    let request = crate::view::settings::env_request(&opts.options)?;
+    let request = crate::view::settings::env_request(options)?;
     let (maps, _) = crate::render::ibl::load_or_compute(&request)?;
     let maps = gzip(&crate::pbr::store::bytes::encode_half(&maps));
     let b64 = super::page::base64;
-    let mut bytes = [wasm.len() as u64, 0, maps.len() as u64];
+    let mut bytes = [0, maps.len() as u64];
     let files: Vec<serde_json::Value> = files
         .iter()
         .map(|(p, b)| {
             let z = gzip(b);
-            bytes[1] += z.len() as u64;
+            bytes[0] += z.len() as u64;
             serde_json::json!({ "path": p.to_string_lossy().replace('\\', "/"), "gz": b64(&z) })
         })
         .collect();
     let data = serde_json::json!({
-        "words": words_of.to_words(),
+        "words": paged.to_words(),
         "files": files,
         "maps": b64(&maps),
-        "wasm": b64(&wasm),
-        "only": opts.live == Live::Only,
-        "slowFrameMs": SLOW_FRAME_MS,
     });
-    Ok(Payload { data, glue, bytes })
+    Ok((data, bytes))
+}
+
+/// The payload of `opts`' page; an error when the browser build is missing or the model's
+/// files reach outside its folder.
+pub(crate) fn payload(opts: &ExportOptions) -> Result<Payload> {
+    let dir = web_dir(opts.web_dir.as_deref())?;
+    let read = |p: PathBuf| std::fs::read(&p).map_err(|e| Error::io(&p, e));
+    let wasm = gzip(&read(dir.join("glview_web_bg.wasm"))?);
+    let glue = String::from_utf8_lossy(&read(dir.join("no-modules/glview_web.js"))?).into_owned();
+    let (mut data, [files, maps]) = scene(&opts.options)?;
+    data["wasm"] = super::page::base64(&wasm).into();
+    data["only"] = (opts.live == Live::Only).into();
+    data["slowFrameMs"] = SLOW_FRAME_MS.into();
+    Ok(Payload {
+        data,
+        glue,
+        bytes: [wasm.len() as u64, files, maps],
+    })
 }
 
 /// A live page whose frames take longer than this (the median of the first few, after the

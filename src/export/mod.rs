@@ -6,7 +6,7 @@
 //! the command line) because Python's `glview.export` writes the same page.
 mod grid;
 mod keywords;
-mod live;
+pub mod live;
 mod page;
 mod render;
 pub mod scorm;
@@ -14,6 +14,7 @@ pub mod zip;
 
 pub use grid::Grid;
 pub use live::Live;
+pub use page::START_SCRIPT;
 
 use crate::options::Options;
 use crate::{Error, Result};

@@ -12,6 +12,8 @@ const SCRIPT: &str = include_str!("page/page.js");
 /// The live page's script (modern JS: it runs only where WebAssembly does; page.js, ES5,
 /// keeps the turntable working in every browser).
 const LIVE_SCRIPT: &str = include_str!("page/live.js");
+/// What the live page and `glview serve`'s local mode share: the renderer's start.
+pub const START_SCRIPT: &str = include_str!("page/start.js");
 
 /// The page of a rendered grid, drawing live with `live`.
 pub(crate) fn html(
@@ -47,7 +49,8 @@ pub(crate) fn html(
     let data = data.to_string().replace('<', "\\u003c");
     let caption = opts.caption.as_deref().unwrap_or("");
     let [w, h] = shown_size;
-    fill(TEMPLATE, |name| match name {
+    fill(TEMPLATE, |name| {
+        match name {
         "TITLE" => Some(html_escape(title)),
         "CAPTION" => Some(html_escape(caption)),
         "MODEL" => Some(html_escape(&r.model)),
@@ -70,9 +73,12 @@ pub(crate) fn html(
             // The glue is wasm-bindgen's own text; `</script` cannot occur in it unescaped
             // (it is code, not data), checked anyway.
             let glue = l.glue.replace("</script", "<\\/script");
-            format!("<script>{glue}</script>\n<script>{LIVE_SCRIPT}</script>")
+            format!(
+                "<script>{glue}</script>\n<script>{START_SCRIPT}</script>\n<script>{LIVE_SCRIPT}</script>"
+            )
         })),
         _ => None,
+    }
     })
 }
 

@@ -15,7 +15,6 @@
   const query = new URLSearchParams(location.search);
   const ask = query.get('glview');
   const NY = data.yaws.length, YAW_STEP = 360 / NY;
-  const started = performance.now();
 
   function images(why) {
     view.setAttribute('data-mode', 'images');
@@ -25,67 +24,21 @@
       : 'Pre-rendered views (' + NY + ' directions): ' + why + '.';
   }
 
-  async function unpack(b64) {
-    const text = atob(b64);
-    const bytes = new Uint8Array(text.length);
-    for (let i = 0; i < text.length; i++) bytes[i] = text.charCodeAt(i);
-    const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('gzip'));
-    return new Uint8Array(await new Response(stream).arrayBuffer());
-  }
-
   if (ask === 'images') return images('asked for by the address (?glview=images)');
-  if (typeof WebAssembly !== 'object') return images('this browser runs no WebAssembly');
-  if (typeof DecompressionStream !== 'function') {
-    return images('this browser cannot unpack the renderer (no DecompressionStream)');
-  }
-  const probe = document.createElement('canvas');
-  if (!(probe.getContext('webgl2') || probe.getContext('webgl'))) {
-    return images('this browser gives the page no WebGL context (disabled, blocklisted or missing)');
-  }
+  const cannot = glviewCannot();
+  if (cannot) return images(cannot);
   view.setAttribute('data-mode', 'starting');
   mode.textContent = 'Starting the renderer…';
-  let viewer, canvas;
-  try {
-    const packed = [live.wasm, live.maps].concat(live.files.map((f) => f.gz));
-    const [wasm, maps, ...files] = await Promise.all(packed.map(unpack));
-    await wasm_bindgen({ module_or_path: wasm });
-    const inputs = new wasm_bindgen.Inputs();
-    live.files.forEach((f, i) => inputs.file(f.path, files[i]));
-    inputs.maps(maps);
-    inputs.refuse_slow_context(ask !== 'live');
-    canvas = document.createElement('canvas');
-    canvas.id = 'live-canvas';
-    viewer = wasm_bindgen.Viewer.open(canvas, live.words, query.get('webgl') === '1' ? 1 : 2, inputs);
-  } catch (e) {
-    return images('the renderer did not start (' + String(e && e.message || e) + ')');
-  }
-  // The first frame compiles the programs; the next ones are what a drag costs.
-  const timings = { ready_ms: performance.now() - started };
-  try {
-    viewer.draw();
-    viewer.finish();
-    timings.first_frame_ms = performance.now() - started;
-    const frames = [];
-    for (let i = 0; i < 3; i++) {
-      const t = performance.now();
-      viewer.draw();
-      viewer.finish();
-      frames.push(performance.now() - t);
-    }
-    frames.sort((a, b) => a - b);
-    timings.frame_ms = frames[1];
-  } catch (e) {
-    return images('the renderer failed to draw (' + String(e && e.message || e) + ')');
-  }
-  const slow = query.has('slow-ms') ? Number(query.get('slow-ms')) : live.slowFrameMs;
-  if (timings.frame_ms > slow && ask !== 'live') {
-    viewer.free();
-    return images('a frame took ' + timings.frame_ms.toFixed(1) + ' ms here (over ' +
-      slow + ' ms: the pictures turn faster)');
-  }
+  const slowMs = query.has('slow-ms') ? Number(query.get('slow-ms')) : live.slowFrameMs;
+  const started = await glviewStart({
+    wasm: { b64: live.wasm }, scene: live, webgl: query.get('webgl') === '1' ? 1 : 2,
+    force: ask === 'live', slowMs,
+  });
+  if (started.why) return images(started.why);
+  const { viewer, canvas, info, timings } = started;
+  canvas.id = 'live-canvas';
 
   // Drawing: the canvas takes the first pane's place and the controls.
-  const info = JSON.parse(viewer.info());
   const [w, h] = data.size;
   const frameA = $('pic-a').parentNode;
   $('pic-a').hidden = true;
