@@ -155,6 +155,21 @@ pub struct Viewer {
     canvas: HtmlCanvasElement,
     webgl: u32,
     frames: u64,
+    /// The load options the scene was loaded with: a view whose load options move on (`V`,
+    /// a variant picked; a class's state) loads it again from the page's files.
+    loaded: glview_render::options::Load,
+}
+
+/// The scene `options` name, from the page's files (the built-in one without a model), as
+/// `glview -o` loads it.
+fn load_scene(options: &Options) -> Result<glview_render::scene::Scene, JsValue> {
+    let load = load_options(options);
+    let mut scene = match &options.load.model {
+        Some(path) => glview_render::scene::load::load(path, &load).map_err(js)?,
+        None => glview_render::scene::builtin::load(&load).map_err(js)?,
+    };
+    adjust_scene(options, &mut scene).map_err(js)?;
+    Ok(scene)
 }
 
 impl Viewer {
@@ -163,6 +178,28 @@ impl Viewer {
     /// window's split view), at the view's moment (`--time`, a playing animation; posed
     /// once per change).
     fn render_view(
+        &mut self,
+        target: &Target,
+        transparent: bool,
+    ) -> Result<glview_render::passes::FrameStats, JsValue> {
+        self.reload_if_needed()?;
+        self.render_loaded(target, transparent).map_err(js)
+    }
+
+    /// Loads the scene again when the view's load options are no longer the scene's.
+    fn reload_if_needed(&mut self) -> Result<(), JsValue> {
+        if self.view.options().load == self.loaded {
+            return Ok(());
+        }
+        let options = self.view.options().clone();
+        let mut renderer = Renderer::new(&self.gpu, load_scene(&options)?).map_err(js)?;
+        renderer.set_environment(env_request(&options).map_err(js)?);
+        self.renderer = renderer;
+        self.loaded = options.load;
+        Ok(())
+    }
+
+    fn render_loaded(
         &mut self,
         target: &Target,
         transparent: bool,
@@ -221,13 +258,7 @@ impl Viewer {
         let (gl, webgl) = context(&canvas, webgl, caveat)?;
         // WebGL 1 reports "WebGL 1.0 (OpenGL ES 2.0 ...)": the ES 2.0 rules follow from it.
         let gpu = Gpu::new(gl);
-        let load = load_options(&options);
-        let mut scene = match &options.load.model {
-            Some(path) => glview_render::scene::load::load(path, &load).map_err(js)?,
-            None => glview_render::scene::builtin::load(&load).map_err(js)?,
-        };
-        adjust_scene(&options, &mut scene).map_err(js)?;
-        let mut renderer = Renderer::new(&gpu, scene).map_err(js)?;
+        let mut renderer = Renderer::new(&gpu, load_scene(&options)?).map_err(js)?;
         renderer.set_environment(env_request(&options).map_err(js)?);
         let settled = View::settled(&options, renderer.scene()).map_err(js)?;
         Ok(Viewer {
@@ -237,6 +268,7 @@ impl Viewer {
             canvas,
             webgl,
             frames: 0,
+            loaded: options.load,
         })
     }
 
@@ -266,7 +298,7 @@ impl Viewer {
             width,
             height,
         };
-        self.render_view(&offscreen, true).map_err(js)?;
+        self.render_view(&offscreen, true)?;
         self.gpu.bind_framebuffer(Some(fb.raw));
         let cover = self.gpu.read_rgba(width, height);
         let px = self.pixels();
@@ -301,7 +333,7 @@ impl Viewer {
             width,
             height,
         };
-        let stats = self.render_view(&canvas, false).map_err(js)?;
+        let stats = self.render_view(&canvas, false)?;
         self.frames += 1;
         Ok(stats.ms)
     }
@@ -419,5 +451,26 @@ impl Viewer {
     /// The options of the current view as `glview -o` words (what the keys led to).
     pub fn options(&self) -> String {
         self.view.picture().to_words().join(" ")
+    }
+
+    /// The view as JSON (`View`'s serde form: options, home camera, compare, playing): what
+    /// `glview serve` sends a page that draws itself (the paths are the page's).
+    pub fn view_json(&self) -> String {
+        serde_json::to_string(&self.view).unwrap_or_default()
+    }
+
+    /// Takes the view `json` (as [`Viewer::view_json`] writes it: a presenter's, or the
+    /// server's record of this page's) but keeps this canvas's size; a model other than the
+    /// one loaded is an error (the page loads that one's files first). Draw again after it.
+    pub fn set_view(&mut self, json: &str) -> Result<(), JsValue> {
+        let mut view: View =
+            serde_json::from_str(json).map_err(|e| js(format!("not a view: {e}")))?;
+        if view.options().load.model != self.loaded.model {
+            return Err(js("the view is of another model than the one loaded"));
+        }
+        view.resize(self.view.options().picture.size);
+        self.view = view;
+        self.reload_if_needed()?;
+        self.view.settle_keys(self.renderer.scene()).map_err(js)
     }
 }

@@ -55,8 +55,9 @@ impl View {
     }
 
     /// Replays `--keys` into the options (once, before the first action: until then every
-    /// picture replays them, which draws the same), so later keys act on their result.
-    fn settle_keys(&mut self, scene: &Scene) -> Result<()> {
+    /// picture replays them, which draws the same), so later keys act on their result. A
+    /// view taken from elsewhere (a page given the server's) is settled before it is drawn.
+    pub fn settle_keys(&mut self, scene: &Scene) -> Result<()> {
         let Some(k) = self.options.camera.keys.take() else {
             return Ok(());
         };
