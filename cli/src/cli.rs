@@ -270,6 +270,15 @@ pub struct ServeCommand {
     /// Viewers at once from one address (one student's script cannot take every place).
     #[arg(long, default_value_t = 8)]
     pub max_viewers_per_address: usize,
+    /// The browser build (`bash scripts/build_web.sh`) for local mode, where a page that
+    /// can draw renders the view itself and the server sends it only the view's state
+    /// (default: `$GLVIEW_WEB_DIR`, else `web/` beside the executable's folder; without one
+    /// every page gets the stream). docs/serve.md, "Local mode".
+    #[arg(long, conflicts_with = "stream_only")]
+    pub web_dir: Option<PathBuf>,
+    /// Stream every page's frames (no local mode).
+    #[arg(long)]
+    pub stream_only: bool,
     #[command(flatten)]
     pub opts: PictureArgs,
 }

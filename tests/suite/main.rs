@@ -69,6 +69,7 @@ mod serve;
 mod serve_audit;
 mod serve_client;
 mod serve_load;
+mod serve_local;
 mod serve_pool;
 mod shaders;
 mod shadows;

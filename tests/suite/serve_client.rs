@@ -37,6 +37,9 @@ impl Server {
                 &["--bind", "127.0.0.1:0"][..]
             })
             .args(args)
+            // Local mode only where a test gives a browser build (`--web-dir`): the one
+            // scripts/build_web.sh may be writing meanwhile is no test's.
+            .env("GLVIEW_WEB_DIR", "/nonexistent/glview-web")
             .envs(env.iter().copied())
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())

@@ -16,6 +16,9 @@ use std::time::Duration;
 
 const PAGE: &str = include_str!("page/index.html");
 const APP_JS: &str = include_str!("page/app.js");
+/// Local mode: the page drawing the view itself (only fetched where the server has the
+/// browser build); its renderer's start is the live lesson page's.
+const LOCAL_JS: &str = include_str!("page/local.js");
 const STYLE: &str = include_str!("page/style.css");
 
 /// What every connection shares.
@@ -41,6 +44,8 @@ pub struct Shared {
     pub viewers: AtomicUsize,
     pub next_id: AtomicU64,
     pub presenter_online: Arc<AtomicBool>,
+    /// The browser build and the scenes of local mode (None: every page gets the stream).
+    pub web: Option<Arc<super::web::Web>>,
     per_address: Mutex<HashMap<IpAddr, usize>>,
     viewers_per_address: Mutex<HashMap<IpAddr, usize>>,
 }
@@ -82,6 +87,7 @@ impl Shared {
             viewers: AtomicUsize::new(0),
             next_id: AtomicU64::new(1),
             presenter_online,
+            web: None,
             per_address: Mutex::new(HashMap::new()),
             viewers_per_address: Mutex::new(HashMap::new()),
         }
@@ -166,7 +172,7 @@ pub async fn accept(listener: tokio::net::TcpListener, shared: Arc<Shared>) {
             let slot = Arc::new(slot);
             let service = service_fn(move |req| {
                 let (shared, slot) = (shared.clone(), slot.clone());
-                async move { Ok::<_, std::convert::Infallible>(handle(req, &shared, slot)) }
+                async move { Ok::<_, std::convert::Infallible>(handle(req, &shared, slot).await) }
             });
             let conn = http1::Builder::new()
                 .timer(TokioTimer::new())
@@ -182,7 +188,7 @@ pub async fn accept(listener: tokio::net::TcpListener, shared: Arc<Shared>) {
 }
 
 /// Answers one request.
-fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) -> Answer {
+async fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) -> Answer {
     let Some(r) = Request::of(&req) else {
         return http::text(400, "the path is not UTF-8");
     };
@@ -218,6 +224,11 @@ fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) 
             page(&r, shared),
         ),
         "/app.js" => file("text/javascript; charset=utf-8", APP_JS),
+        "/local.js" => file("text/javascript; charset=utf-8", LOCAL_JS),
+        "/start.js" => file(
+            "text/javascript; charset=utf-8",
+            glview::export::START_SCRIPT,
+        ),
         "/style.css" => file("text/css; charset=utf-8", STYLE),
         "/models" => {
             let body = serde_json::json!({
@@ -229,6 +240,16 @@ fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) 
             http::respond(200, "application/json", &[], Bytes::from(body.to_string()))
         }
         "/ws" => upgrade(req, &r, shared, slot),
+        // Local mode's: the browser build and a model's scene (404 without the build).
+        "/scene" => match &shared.web {
+            Some(web) => web.scene(r.param("model")).await,
+            None => http::text(404, "this server streams only: it has no browser build"),
+        },
+        p if p.starts_with("/web/") => shared
+            .web
+            .as_ref()
+            .and_then(|w| w.file(p))
+            .unwrap_or_else(|| http::text(404, "not found")),
         _ => http::text(404, "not found"),
     }
 }
@@ -238,8 +259,11 @@ fn handle(req: hyper::Request<Incoming>, shared: &Arc<Shared>, slot: Arc<Slot>) 
 fn page(r: &Request, shared: &Shared) -> Bytes {
     match (&shared.token, r.param("token")) {
         (Some(t), Some(_)) => Bytes::from(
-            PAGE.replace("\"app.js\"", &format!("\"app.js?token={t}\""))
-                .replace("\"style.css\"", &format!("\"style.css?token={t}\"")),
+            ["app.js", "local.js", "start.js", "style.css"]
+                .iter()
+                .fold(PAGE.to_string(), |page, f| {
+                    page.replace(&format!("\"{f}\""), &format!("\"{f}?token={t}\""))
+                }),
         ),
         _ => Bytes::from(PAGE),
     }

@@ -13,6 +13,7 @@ mod queues;
 mod render;
 mod scheduler;
 mod socket;
+mod web;
 
 use crate::cli::ServeCommand;
 use glview::{Error, Result};
@@ -121,6 +122,7 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         models: models.clone(),
         encoders: Arc::new(encoders()?),
         events: events.clone(),
+        drawn: Default::default(),
     });
     let (pool, fixed_size) = pool::Pool::start(threads, &first, cmd.keep_scenes, &pool_shared)?;
     let token = if cmd.no_token {
@@ -159,6 +161,8 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
             shared.cookie_site = "SameSite=None; Secure";
         }
     }
+    shared.web = local_mode(cmd, &base, &models)?;
+    let draws_local = shared.web.is_some();
     let shared = Arc::new(shared);
     let query = token.map(|t| format!("?token={t}")).unwrap_or_default();
     let sep = if query.is_empty() { '?' } else { '&' };
@@ -196,9 +200,30 @@ pub fn run(cmd: &ServeCommand) -> Result<()> {
         drag_quality: cmd.drag_quality,
         fixed_size,
         max_size: base.picture.size,
+        local: draws_local,
     };
     scheduler::Scheduler::new(pool, base, models, config, presenter_online, events).run(&rx);
     Ok(())
+}
+
+/// The browser build for local mode: `--web-dir`'s (an error when it is not there), else
+/// the one `glview export --live` would find, when it is there; none with `--stream-only`.
+fn local_mode(
+    cmd: &ServeCommand,
+    base: &glview::Options,
+    models: &Arc<models::Models>,
+) -> Result<Option<Arc<web::Web>>> {
+    if cmd.stream_only {
+        return Ok(None);
+    }
+    match web::Web::open(cmd.web_dir.as_deref(), base, models.clone()) {
+        Ok(w) => Ok(Some(Arc::new(w))),
+        Err(e) if cmd.web_dir.is_some() => Err(e),
+        Err(e) => {
+            log::warn!("local mode is off (every page gets the stream): {e}");
+            Ok(None)
+        }
+    }
 }
 
 /// The encoders: a pool of their own, because a model's load fills rayon's global pool

@@ -77,6 +77,9 @@ pub struct Shared {
     pub models: Arc<Models>,
     pub encoders: Arc<rayon::ThreadPool>,
     pub events: Sender<Event>,
+    /// Pictures drawn by every render thread so far (a state has none): in each frame's
+    /// header, so a class in local mode can see that the server draws nothing for it.
+    pub drawn: std::sync::atomic::AtomicU64,
 }
 
 impl Pool {
@@ -279,9 +282,16 @@ fn draw_and_encode(thread: usize, session: &mut Session, job: &Job, shared: &Sha
     drawn.header["seq"] = job.seq.into();
     drawn.header["presenter"] = job.presenter.into();
     drawn.header["thread"] = thread.into();
+    use std::sync::atomic::Ordering::Relaxed;
+    let pictures = if job.kind == Kind::State {
+        shared.drawn.load(Relaxed)
+    } else {
+        shared.drawn.fetch_add(1, Relaxed) + 1
+    };
+    drawn.header["drawn"] = pictures.into();
     let (events, id, frame) = (shared.events.clone(), job.id, job.frame);
     let still = job.kind == Kind::Still;
-    shared.encoders.spawn(move || {
+    let finish = move || {
         let bytes = encode(drawn)
             .map(|(header, image)| frame_bytes(&header, &image).into())
             .map_err(|e| e.to_string());
@@ -291,6 +301,12 @@ fn draw_and_encode(thread: usize, session: &mut Session, job: &Job, shared: &Sha
             still,
             bytes,
         });
-    });
+    };
+    // A state has nothing to encode: sent from here, without a worker's turn.
+    if job.kind == Kind::State {
+        finish();
+    } else {
+        shared.encoders.spawn(finish);
+    }
     Outcome::Drawn
 }

@@ -4,6 +4,9 @@ use super::queues::{Inbox, Outbox};
 use serde::Deserialize;
 use std::sync::Arc;
 
+/// The protocol's version, in the hello: 2 added local mode (`local`, state frames).
+pub const PROTOCOL: u32 = 2;
+
 /// Client messages are small JSON objects: anything larger is refused.
 pub const MAX_MESSAGE: usize = 4096;
 /// The largest view a client may ask for, per axis.
@@ -73,6 +76,11 @@ pub enum ClientMsg {
     },
     Still,
     Follow {
+        on: bool,
+    },
+    /// The page draws the view itself (local mode): from now on its frames carry the view's
+    /// state and no picture; `false` asks for the stream again.
+    Local {
         on: bool,
     },
     Ping,
@@ -226,6 +234,15 @@ pub fn error_json(message: &str, closing: bool) -> String {
     serde_json::json!({"type": "error", "message": message, "closing": closing}).to_string()
 }
 
+/// A frame without its image: what a page that draws the view itself is sent (the
+/// header's `state`; a frame that has no image is itself).
+pub fn state_only(frame: &tungstenite::Bytes) -> tungstenite::Bytes {
+    let n = frame
+        .get(..4)
+        .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize);
+    frame.slice(..(4 + n).min(frame.len()))
+}
+
 /// A binary frame: a little-endian u32 header length, the JSON header, the image.
 pub fn frame_bytes(header: &serde_json::Value, image: &[u8]) -> Vec<u8> {
     let h = header.to_string();
@@ -254,6 +271,10 @@ mod tests {
                 ..
             })
         ));
+        assert_eq!(
+            ClientMsg::parse(r#"{"type":"local","on":true}"#),
+            Ok(ClientMsg::Local { on: true })
+        );
         assert!(matches!(
             ClientMsg::parse(r#"{"type":"pick","what":"variant","index":null,"seq":4}"#),
             Ok(ClientMsg::Pick {
@@ -281,10 +302,25 @@ mod tests {
             r#"{"type":"time","seconds":"1"}"#,
             r#"{"type":"time","seconds":1,"animation":-1}"#,
             r#"{"type":"play","on":1}"#,
+            r#"{"type":"local"}"#,
+            r#"{"type":"local","on":true,"wasm":"x"}"#,
             r#"[1,2]"#,
         ] {
             let e = ClientMsg::parse(bad).unwrap_err();
             assert!(e.starts_with("bad message"), "{bad}: {e}");
         }
+    }
+
+    #[test]
+    fn a_state_is_the_frame_without_its_image() {
+        let header = serde_json::json!({"frame": 3, "state": {"compare": false}});
+        let whole: tungstenite::Bytes = frame_bytes(&header, b"\x89PNG image bytes").into();
+        let state = state_only(&whole);
+        let n = u32::from_le_bytes(state[..4].try_into().unwrap()) as usize;
+        assert_eq!(state.len(), 4 + n);
+        let back: serde_json::Value = serde_json::from_slice(&state[4..]).unwrap();
+        assert_eq!(back, header);
+        assert_eq!(state_only(&state), state);
+        assert_eq!(state_only(&tungstenite::Bytes::new()).len(), 0);
     }
 }

@@ -13,6 +13,8 @@ pub enum Kind {
     Preview { scale: f32, quality: u8 },
     /// Full size, lossless.
     Still,
+    /// No picture: the view's state only, for a page that draws it itself (local mode).
+    State,
 }
 
 pub struct Picture<'a> {
@@ -42,7 +44,8 @@ pub fn options_for(view: &View, kind: Kind) -> glview::Options {
 pub struct Drawn {
     /// Without the scheduler's fields and the encoder's.
     pub header: serde_json::Value,
-    image: glview::image_out::Rgba,
+    /// None for [`Kind::State`].
+    image: Option<glview::image_out::Rgba>,
     text: Vec<(&'static str, String)>,
     kind: Kind,
 }
@@ -56,7 +59,12 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
     let t = Instant::now();
     let mut profile = Profile::default();
     let still = p.kind == Kind::Still;
-    let (image, text, diff, command, settings) = if p.view.compare() {
+    let (image, text, diff, command, settings) = if p.kind == Kind::State {
+        let scene = session.scene(&o)?;
+        let (settings, _) = glview::view::settings::frame_settings(&o, scene)?;
+        let command = p.models.scrub(&glview::repro::command_line(&o));
+        (None, Vec::new(), None, command, settings)
+    } else if p.view.compare() {
         let pair = glview::compare::phong_pbr(session, &o, still)?;
         let command = format!(
             "{} --compare phong,pbr",
@@ -72,7 +80,7 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
             v["model_pixels"] = pixels.into();
             v
         });
-        (pair.image, text, diff, command, pair.settings)
+        (Some(pair.image), text, diff, command, pair.settings)
     } else {
         let drawn = session.draw(&o, None, Outputs::default(), &mut profile)?;
         let command = p.models.scrub(&glview::repro::command_line(&o));
@@ -85,7 +93,7 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
         } else {
             Vec::new()
         };
-        (drawn.image, text, None, command, drawn.settings)
+        (Some(drawn.image), text, None, command, drawn.settings)
     };
     let draw_ms = ms(t);
     // What the overlay shows: the settings the picture was drawn with.
@@ -94,10 +102,11 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
     } else {
         settings.shading.to_string()
     };
+    let (width, height) = image.as_ref().map_or(view, |i| (i.width, i.height));
     let header = serde_json::json!({
         "still": p.kind == Kind::Still,
-        "width": image.width,
-        "height": image.height,
+        "width": width,
+        "height": height,
         "view": [view.0, view.1],
         "model": p.models.name_of(p.view.options().load.model.as_deref()),
         "compare": p.view.compare(),
@@ -119,6 +128,10 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
         "camera": camera_json(&p.view.options().camera),
         "views": views,
         "motion": motion,
+        // The view itself, for a page that draws it (local mode): its options with the
+        // page's paths for the files the scene request gave it (`/scene`), never the
+        // server's.
+        "state": page_view(p.view),
     });
     Ok(Drawn {
         header,
@@ -128,15 +141,26 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
     })
 }
 
-/// Encodes a drawn frame (off the render thread): its full header and image bytes.
+/// `view` as a page that draws it takes it ([`Kind::State`]'s `state`): the paths in its
+/// options are the page's (`glview::export::live::page_paths`).
+fn page_view(view: &View) -> serde_json::Value {
+    let mut v = serde_json::to_value(view).unwrap_or_default();
+    let paged = glview::export::live::page_paths(view.options());
+    v["options"] = serde_json::to_value(paged).unwrap_or_default();
+    v
+}
+
+/// Encodes a drawn frame (off the render thread, but a state's: there is nothing to
+/// encode): its full header and image bytes.
 pub fn encode(d: Drawn) -> glview::Result<(serde_json::Value, Vec<u8>)> {
     let t = Instant::now();
-    let (bytes, format, encoder) = match d.kind {
-        Kind::Still => (d.image.png_bytes(&d.text), "png", "png"),
-        Kind::Preview { quality, .. } => {
-            let (b, encoder) = d.image.jpeg_bytes(quality)?;
+    let (bytes, format, encoder) = match (d.kind, d.image) {
+        (Kind::Still, Some(image)) => (image.png_bytes(&d.text), "png", "png"),
+        (Kind::Preview { quality, .. }, Some(image)) => {
+            let (b, encoder) = image.jpeg_bytes(quality)?;
             (b, "jpeg", encoder)
         }
+        _ => (Vec::new(), "none", "none"),
     };
     let mut header = d.header;
     header["format"] = format.into();

@@ -14,7 +14,7 @@ mod loads;
 
 use super::models::Models;
 use super::pool::Pool;
-use super::protocol::{error_json, ClientMsg, Event, Outgoing};
+use super::protocol::{error_json, state_only, ClientMsg, Event, Outgoing, PROTOCOL};
 use super::queues::{Inbox, Outbox};
 use super::render::{options_for, Kind};
 use glview::keys;
@@ -44,6 +44,8 @@ pub struct Config {
     pub fixed_size: bool,
     /// `--size`: the largest view a viewer may ask for.
     pub max_size: (u32, u32),
+    /// Pages that can draw may do so (the browser build is served: local mode).
+    pub local: bool,
 }
 
 struct Viewer {
@@ -52,6 +54,9 @@ struct Viewer {
     view: View,
     presenter: bool,
     following: bool,
+    /// Its page draws the view itself (local mode): it is sent the view's state, and a
+    /// picture is drawn for it only when a streaming follower needs one.
+    local: bool,
     /// Inputs not yet applied (they need the scene: applied just before a frame).
     pending: Vec<ClientMsg>,
     /// The latest input's sequence number, echoed in the frame that shows it.
@@ -92,7 +97,14 @@ struct Viewer {
 }
 
 impl Viewer {
+    /// Sends a frame (its state only, to a page that draws), or owes it until the one in
+    /// flight is acknowledged.
     fn send_frame(&mut self, id: u64, frame: &tungstenite::Bytes) {
+        let frame = &if self.local {
+            state_only(frame)
+        } else {
+            frame.clone()
+        };
         if self.in_flight.is_none() {
             self.in_flight = Some(id);
             self.out.push(Outgoing::Frame(frame.clone()));
@@ -217,13 +229,26 @@ impl Scheduler {
         !(v.following && self.presenter.is_some_and(|p| p != id))
     }
 
+    /// Whether `id`'s frames need a picture: it streams, or it presents to a follower that
+    /// streams (a page that draws itself gets the view's state: nothing is drawn for it).
+    fn needs_pictures(&self, id: u64, v: &Viewer) -> bool {
+        !v.local
+            || (self.presenter == Some(id)
+                && self.viewers.values().any(|f| f.following && !f.local))
+    }
+
     /// When `v` wants a frame next (None: it waits for an ack, input, or its presenter).
+    /// A page that draws itself is sent a state when its view changed, never a playing
+    /// view's frames or a still: it plays and draws on its own.
     fn due_at(&self, id: u64, v: &Viewer) -> Option<Instant> {
         if v.in_flight.is_some() || v.encoding || v.loading || v.rendering || !self.draws_own(id) {
             return None;
         }
+        let pictures = self.needs_pictures(id, v);
         let at = if v.dirty {
             v.not_before
+        } else if !pictures {
+            return None;
         } else if v.view.playing() {
             // A playing view's next frame, at most `--fps` a second (and after the last
             // one is acknowledged: the page's pace bounds it too).
@@ -351,6 +376,9 @@ impl Scheduler {
         }
         let hello = serde_json::json!({
             "type": "hello",
+            "protocol": PROTOCOL,
+            // The browser build is here: a page that can draw may (docs/serve.md, "Local mode").
+            "local": self.config.local,
             "models": self.models.names(),
             "model": self.models.first().0,
             "size": [options.picture.size.0, options.picture.size.1],
@@ -368,6 +396,7 @@ impl Scheduler {
             view: View::new(options),
             presenter,
             following: false,
+            local: false,
             pending: Vec::new(),
             seq: None,
             dirty: true,
@@ -468,26 +497,8 @@ impl Scheduler {
                     }
                 }
             }
-            ClientMsg::Follow { on } => {
-                v.following = on && !v.presenter;
-                match (&presenter_view, v.following) {
-                    (Some(pv), false) => {
-                        // Leaving: orbit on from the class's view.
-                        v.view = pv.clone();
-                        v.changed();
-                    }
-                    (Some(_), true) => {
-                        let last = self
-                            .presenter
-                            .and_then(|p| self.viewers[&p].last_frame.clone());
-                        let v = self.viewers.get_mut(&id).expect("present");
-                        if let Some((fid, f)) = last {
-                            v.send_frame(fid, &f);
-                        }
-                    }
-                    (None, _) => {}
-                }
-            }
+            ClientMsg::Local { on } => self.set_local(id, on),
+            ClientMsg::Follow { on } => self.set_following(id, on, presenter_view),
             ClientMsg::Still => {
                 let p = self.presenter.filter(|&p| p != id && v.following);
                 // A follower's still is the presenter's: the last one, or one drawn now.
@@ -573,6 +584,63 @@ impl Scheduler {
                 v.changed();
             }
             ClientMsg::Ping => {}
+        }
+    }
+
+    /// `id` follows the presenter (`on`) or leaves the class, orbiting on from its view
+    /// (`presenter_view`: the online presenter's, when it is not `id`).
+    fn set_following(&mut self, id: u64, on: bool, presenter_view: Option<View>) {
+        let v = self.viewers.get_mut(&id).expect("checked by the caller");
+        v.following = on && !v.presenter;
+        match (presenter_view, v.following) {
+            (Some(pv), false) => {
+                v.view = pv;
+                v.changed();
+            }
+            (Some(_), true) => {
+                let streams = !v.local;
+                let p = self.presenter.expect("online");
+                if let Some((fid, f)) = self.viewers[&p].last_frame.clone() {
+                    self.viewers
+                        .get_mut(&id)
+                        .expect("present")
+                        .send_frame(fid, &f);
+                }
+                // A presenter drawing itself drew no picture: one now, for this page.
+                let pv = self.viewers.get_mut(&p).expect("present");
+                if streams && pv.local {
+                    pv.changed();
+                }
+            }
+            (None, _) => {}
+        }
+    }
+
+    /// `id`'s page draws the view itself (`on`: local mode) or takes the stream again.
+    fn set_local(&mut self, id: u64, on: bool) {
+        let v = self.viewers.get_mut(&id).expect("checked by the caller");
+        if on && !self.config.local {
+            return v
+                .error("this server has no browser build (--web-dir): the page keeps the stream");
+        }
+        v.local = on;
+        // The state (or, back to the stream, a picture) now.
+        v.changed();
+        let following = v.following;
+        let Some(p) = self.presenter.filter(|&p| p != id && following) else {
+            return;
+        };
+        if on {
+            // A follower drawing now: the class's view at once (its state).
+            if let Some((fid, f)) = self.viewers[&p].last_frame.clone() {
+                self.viewers
+                    .get_mut(&id)
+                    .expect("present")
+                    .send_frame(fid, &f);
+            }
+        } else {
+            // A follower back on the stream: the presenter's next frame is a picture.
+            self.viewers.get_mut(&p).expect("present").changed();
         }
     }
 

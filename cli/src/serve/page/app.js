@@ -1,6 +1,7 @@
 // glview serve's page: one WebSocket to the server (protocol: docs/serve.md). The server
 // renders; this page only draws the frames it gets, acknowledges each one (so at most one
-// is in flight) and sends input. Vanilla JS, no build step.
+// is in flight) and sends input. Where the browser can draw, local.js draws the view here
+// instead and the frames carry only its state (local mode). Vanilla JS, no build step.
 'use strict';
 
 const $ = (id) => document.getElementById(id);
@@ -73,6 +74,7 @@ function status(text, isError) {
 function setViewSize(w, h) {
   if (w === viewW && h === viewH) return;
   viewW = w; viewH = h;
+  Local.resize(w, h);
   // Pixel size and CSS size equal: one image pixel per CSS pixel. Not scaled by
   // devicePixelRatio, so a still on screen is the PNG's pixels as they are.
   canvas.width = w; canvas.height = h;
@@ -139,6 +141,10 @@ function onText(m) {
     $('follow-label').hidden = !!m.presenter;
     setPresenterOnline(m.presenter_online);
     openLink(m);
+    Local.start(m, canvas, (gl) => {
+      pointerEvents(gl);
+      send({ type: 'local', on: true });
+    });
     if (params.get('follow') === '1' && !m.presenter) $('follow').checked = true;
     if ($('follow').checked && m.presenter_online) send({ type: 'follow', on: true });
   } else if (m.type === 'presenter') {
@@ -163,15 +169,22 @@ async function onFrame(buf) {
   const h = JSON.parse(new TextDecoder().decode(new Uint8Array(buf, 4, n)));
   const bytes = new Uint8Array(buf, 4 + n);
   const type = h.format === 'png' ? 'image/png' : 'image/jpeg';
-  try {
-    const bitmap = await createImageBitmap(new Blob([bytes], { type }));
-    if (h.view) setViewSize(h.view[0], h.view[1]);
-    // Interactive frames are smaller than the view: scaled up. A still is drawn 1:1.
-    ctx.drawImage(bitmap, 0, 0, viewW, viewH);
-    bitmap.close();
+  if (Local.L.active) {
+    // Drawn here: the view's state is taken when it shows every input sent from here.
+    await Local.frame(h, fromPresenter(h) || (h.seq || 0) >= seq);
     window.glview.frames += 1;
-  } catch (err) {
-    status('cannot draw frame ' + h.frame + ': ' + err, true);
+    window.glview.localFrames = (window.glview.localFrames || 0) + 1;
+  } else if (bytes.length) {
+    try {
+      const bitmap = await createImageBitmap(new Blob([bytes], { type }));
+      if (h.view) setViewSize(h.view[0], h.view[1]);
+      // Interactive frames are smaller than the view: scaled up. A still is drawn 1:1.
+      ctx.drawImage(bitmap, 0, 0, viewW, viewH);
+      bitmap.close();
+      window.glview.frames += 1;
+    } catch (err) {
+      status('cannot draw frame ' + h.frame + ': ' + err, true);
+    }
   }
   // A presenter's frame on a follower's page carries the presenter's seq, not ours.
   if (!fromPresenter(h) && typeof h.seq === 'number' && h.seq > shownSeq) {
@@ -419,6 +432,8 @@ function stillIsCurrent() {
 }
 
 $('save').addEventListener('click', () => {
+  const h = window.glview.last;
+  if (Local.L.active) return Local.save('glview-' + String(h && h.model || 'scene').replace(/[^\w.-]+/g, '_') + '.png');
   if (stillIsCurrent() && window.glview.lastStill) download();
   else { saveWanted = true; send({ type: 'still' }); }
 });
@@ -455,6 +470,7 @@ const serverKeys = new Map(); // upper-cased key name -> the table's spelling
 
 function key(name) {
   leaveFollow();
+  Local.input((v) => v.key(name));
   if (!CAMERA_KEYS.has(name.toUpperCase())) stateKeys.push(name);
   sendInput({ type: 'key', key: name });
 }
@@ -492,12 +508,17 @@ function queueFlush() {
     if (dx || dy) {
       dragX -= dx; dragY -= dy;
       leaveFollow();
+      Local.input((v) => v.drag(dx, dy));
       sendInput({ type: 'drag', dx, dy });
     }
     if (notches) {
       const n = Math.round(notches * 100) / 100;
       notches = 0;
-      if (n) { leaveFollow(); sendInput({ type: 'wheel', notches: n }); }
+      if (n) {
+        leaveFollow();
+        Local.input((v) => v.wheel(n));
+        sendInput({ type: 'wheel', notches: n });
+      }
     }
   });
 }
@@ -507,16 +528,23 @@ function distance() {
   return Math.hypot(a.x - b.x, a.y - b.y);
 }
 
-canvas.addEventListener('pointerdown', (e) => {
-  if (e.pointerType === 'mouse' && e.button !== 0) return;
-  canvas.setPointerCapture(e.pointerId);
-  pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
-  if (pointers.size === 2) pinchDist = distance();
-  canvas.focus();
-  e.preventDefault();
-});
+// The stream's canvas has them from the start; local mode's canvas gets them when it shows.
+function pointerEvents(el) {
+  el.addEventListener('pointerdown', (e) => {
+    if (e.pointerType === 'mouse' && e.button !== 0) return;
+    el.setPointerCapture(e.pointerId);
+    pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+    if (pointers.size === 2) pinchDist = distance();
+    el.focus();
+    e.preventDefault();
+  });
+  el.addEventListener('pointermove', pointerMove);
+  el.addEventListener('pointerup', pointerUp);
+  el.addEventListener('pointercancel', pointerUp);
+  el.addEventListener('wheel', wheel, { passive: false });
+}
 
-canvas.addEventListener('pointermove', (e) => {
+function pointerMove(e) {
   const p = pointers.get(e.pointerId);
   if (!p) return;
   const dx = e.clientX - p.x, dy = e.clientY - p.y;
@@ -530,23 +558,22 @@ canvas.addEventListener('pointermove', (e) => {
     pinchDist = d;
   }
   queueFlush();
-});
+}
 
 function pointerUp(e) {
   pointers.delete(e.pointerId);
   pinchDist = pointers.size === 2 ? distance() : 0;
 }
-canvas.addEventListener('pointerup', pointerUp);
-canvas.addEventListener('pointercancel', pointerUp);
 
-canvas.addEventListener('wheel', (e) => {
+function wheel(e) {
   e.preventDefault(); // the page must not scroll
   // Away from the user (deltaY < 0) zooms in. A mouse notch is 100 pixels in Chromium and
   // 3 lines in Firefox; a touchpad gives fractions.
   const per = e.deltaMode === 1 ? 3 : e.deltaMode === 2 ? 1 : 100;
   notches += -e.deltaY / per;
   queueFlush();
-}, { passive: false });
+}
+pointerEvents(canvas);
 
 // ---- what is on screen ----
 
@@ -565,7 +592,9 @@ function showOverlay(h, nbytes) {
     'options   ' + (h.command || '–'),
     'frame     ' + ms(t.draw) + ' draw (' + ms(t.render) + ' render, ' + ms(t.read) + ' read) + ' + ms(t.encode) + ' encode ms',
     'round     ' + (roundTrip === null ? '–' : roundTrip.toFixed(0) + ' ms (input to drawn)'),
-    'image     ' + kind + ' ' + size + ', ' + (nbytes / 1024).toFixed(1) + ' KiB',
+    Local.L.active
+      ? 'drawn     here: ' + Local.L.info.version + ', ' + ms(Local.L.last_ms) + ' ms; the server drew ' + h.drawn + ' pictures in all'
+      : 'image     ' + kind + ' ' + size + ', ' + (nbytes / 1024).toFixed(1) + ' KiB',
   ].concat(h.motion && h.motion.time !== null
     ? ['time      ' + h.motion.time.toFixed(3) + ' s, animation ' + h.motion.animation + (h.motion.playing ? ', playing' : ', paused')]
     : []).join('\n');

@@ -13,6 +13,7 @@ impl Scheduler {
         let frame = self.next_frame;
         self.next_frame += 1;
         let (drag_scale, drag_quality) = (self.config.drag_scale, self.config.drag_quality);
+        let pictures = self.needs_pictures(id, &self.viewers[&id]);
         let v = self.viewers.get_mut(&id).expect("ready");
         // A playing view moves on by the time since its last frame; its frames are
         // previews, and the still follows once it pauses.
@@ -23,7 +24,9 @@ impl Scheduler {
             v.played_at = Some(now);
             v.changed();
         }
-        let kind = if v.dirty && !v.fresh {
+        let kind = if !pictures {
+            Kind::State
+        } else if v.dirty && !v.fresh {
             Kind::Preview {
                 scale: drag_scale,
                 quality: drag_quality,
@@ -78,7 +81,8 @@ impl Scheduler {
         match d.outcome {
             Outcome::Drawn => {
                 (v.dirty, v.fresh) = (false, false);
-                if d.kind == Kind::Still {
+                // A state owes no still: the page draws its own.
+                if matches!(d.kind, Kind::Still | Kind::State) {
                     v.still_owed = false;
                 }
             }

@@ -34,7 +34,13 @@ impl Scheduler {
                 // A panic must still answer: its viewers would wait for ever, and its
                 // slot of MAX_LOADS stay taken.
                 let load_it = std::panic::AssertUnwindSafe(|| {
-                    let load = || Box::new(Prepared::load(&options));
+                    let load = || {
+                        // Not while a page's scene is recorded (`serve::web::LOADING`).
+                        let _shared = crate::serve::web::LOADING
+                            .read()
+                            .unwrap_or_else(|e| e.into_inner());
+                        Box::new(Prepared::load(&options))
+                    };
                     match loader_pool() {
                         Some(pool) => pool.install(load),
                         None => load(),
