@@ -57,11 +57,12 @@ def glview_bin() -> str:
 
 
 class Server:
-    """`glview serve` as a subprocess; its stdout is drained by a thread (so it never blocks)."""
+    """`glview serve` as a subprocess; its stdout is drained by a thread (so it never blocks).
+    The stream's (`--stream-only`): local mode is python/tests_web/test_serve_local.py's."""
 
     def __init__(self, glview_bin, *args):
         self.proc = subprocess.Popen(
-            [glview_bin, "serve", "--bind", "127.0.0.1:0", *args],
+            [glview_bin, "serve", "--bind", "127.0.0.1:0", "--stream-only", *args],
             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         self.lines = queue.Queue()
         self.output = []

@@ -110,3 +110,64 @@ def test_firefox_esr_draws_the_live_page_as_glview(lesson):  # noqa: F811 (the f
     check("firefox-pbr", image(got["pbr"]), native(words("--shading", "pbr")), SAME_RASTERISER)
     turned = [w if w != "30" else "40" for w in words()]
     check("firefox-keys", image(got["keys"]), native(turned), SAME_RASTERISER)
+
+
+async def run_serve(address, url):
+    """glview serve's page in local mode: its canvas before and after ArrowRight ×2."""
+    import websockets
+
+    until = time.monotonic() + DEADLINE
+    pixels = PIXELS.replace("glviewLive.viewer", "glview.local.viewer")
+    async with websockets.connect(address + "/session", max_size=None) as ws:
+        b = Bidi(ws)
+        await b.call("session.new", capabilities={"alwaysMatch": {}})
+        context = (await b.call("browsingContext.getTree"))["contexts"][0]["context"]
+        await b.call("browsingContext.navigate", context=context, url=url, wait="complete")
+        mode = await b.wait_for(context, "(() => { const m = document.getElementById('mode')"
+                                ".dataset.mode; return ['local', 'stream'].includes(m) && m; })()",
+                                until)
+        why = await b.eval(context, "document.getElementById('mode').dataset.why")
+        assert mode == "local", f"Firefox did not draw the served view: {why}"
+        out = {"mode": await b.eval(context, "document.getElementById('mode').title"),
+               "phong": await b.eval(context, pixels)}
+        await b.eval(context, "(document.getElementById('local-view').focus(), true)")
+        right = "\ue014"
+        await b.call("input.performActions", context=context, actions=[{
+            "type": "key", "id": "keyboard", "actions": [
+                {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right},
+                {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right}]}])
+        await b.wait_for(context, "glview.sent >= 2 && glview.shown >= glview.sent", until)
+        out["keys"] = await b.eval(context, pixels)
+        out["drawn_by_server"] = await b.eval(context, "String(glview.last.format)")
+        await b.call("session.end")
+        return out
+
+
+def test_firefox_esr_draws_glview_serve_in_local_mode():
+    from test_serve_local import MODEL, SIZE as SERVE_SIZE, VIEW, serve_process
+
+    if not os.path.exists(FIREFOX):
+        if os.environ.get("CI") == "true":
+            pytest.fail(f"{FIREFOX} is missing (scripts/deps.sh --browser installs it)")
+        pytest.skip(f"{FIREFOX} is missing (scripts/deps.sh --browser installs it)")
+    assert SERVE_SIZE == SIZE
+    profile = tempfile.mkdtemp(prefix="glview-firefox-")
+    server, urls = serve_process()
+    xvfb, display = start_xvfb()
+    firefox = None
+    try:
+        firefox, address = start_firefox(profile, display)
+        got = asyncio.run(asyncio.wait_for(run_serve(address, urls["open"] + "&glview=local"),
+                                           DEADLINE))
+    finally:
+        if firefox is not None:
+            stop(firefox)
+        stop(xvfb)
+        stop(server)
+        shutil.rmtree(profile, ignore_errors=True)
+    print(f"firefox serve: {got['mode']}")
+    assert got["drawn_by_server"] == "none", "the server sent Firefox's local page pictures"
+    served = [str(MODEL), "--size", f"{SIZE[0]}x{SIZE[1]}", *VIEW]
+    check("firefox-serve-local", image(got["phong"]), native(served), SAME_RASTERISER)
+    turned = [w if w != "30" else "40" for w in served]
+    check("firefox-serve-local-keys", image(got["keys"]), native(turned), SAME_RASTERISER)

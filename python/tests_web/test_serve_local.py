@@ -11,15 +11,15 @@ import numpy as np
 import pytest
 
 from test_live_export import launch
-from test_viewer import GLVIEW, PBR, PHONG, ROOT, WEB, check, native, stats
+from test_viewer import GL21, GLVIEW, PBR, PHONG, ROOT, WEB, check, native, stats
 
 MODEL = ROOT.parent / "shared" / "gltf-samples" / "Avocado" / "Avocado.gltf"
 SIZE = (320, 240)
 VIEW = ["--yaw", "30", "--pitch", "15", "--shadow-size", "1024"]
 
 
-@pytest.fixture(scope="module")
-def server():
+def serve_process():
+    """`glview serve MODEL` with the browser build: (process, {"open": url, "presenter": url})."""
     assert MODEL.exists(), f"{MODEL} is missing (../shared)"
     p = subprocess.Popen([GLVIEW, "serve", str(MODEL), "--bind", "127.0.0.1:0", "--web-dir",
                           str(WEB), "--size", f"{SIZE[0]}x{SIZE[1]}", *VIEW],
@@ -32,6 +32,12 @@ def server():
         if "presenter" in urls:
             break
     assert "presenter" in urls, "glview serve printed no address"
+    return p, urls
+
+
+@pytest.fixture(scope="module")
+def server():
+    p, urls = serve_process()
     yield urls
     p.kill()
     p.wait()
@@ -85,7 +91,7 @@ def test_pages_draw_the_class_themselves_and_the_server_draws_nothing(chromium, 
     for page in (presenter, follower):
         mode = page.locator("#mode")
         assert mode.get_attribute("data-mode") == "local", mode.get_attribute("data-why")
-    print(f"serve local: {presenter.locator('#mode').inner_text()}; timings "
+    print(f"serve local: {presenter.locator('#mode').get_attribute('title')}; timings "
           f"{presenter.evaluate('glview.local.timings')}")
     check("serve-local-phong", canvas(follower), native(words()), PHONG)
     # Its frames are states now (the ones before, while its renderer started, pictures).
@@ -130,5 +136,16 @@ def test_without_webgl_the_page_keeps_the_stream(chromium, server):
     assert "WebGL" in mode.get_attribute("data-why"), mode.get_attribute("data-why")
     page.wait_for_function("() => glview.frames > 0 && glview.last.format === 'png'")
     assert page.locator("#view").is_visible()
+    assert not errors, errors
+    b.close()
+
+
+def test_webgl1_pages_draw_the_legacy_tier_locally(chromium, server):
+    b = launch(chromium)
+    page, errors = open_page(b, server["open"] + "&glview=local&webgl=1")
+    mode = page.locator("#mode")
+    assert mode.get_attribute("data-mode") == "local", mode.get_attribute("data-why")
+    assert page.evaluate("glview.local.info.webgl") == 1
+    check("serve-local-webgl1", canvas(page), native(words(), GL21), PHONG)
     assert not errors, errors
     b.close()

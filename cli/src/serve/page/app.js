@@ -595,7 +595,7 @@ function showOverlay(h, nbytes) {
     Local.L.active
       ? 'drawn     here: ' + Local.L.info.version + ', ' + ms(Local.L.last_ms) + ' ms; the server drew ' + h.drawn + ' pictures in all'
       : 'image     ' + kind + ' ' + size + ', ' + (nbytes / 1024).toFixed(1) + ' KiB',
-  ].concat(h.motion && h.motion.time !== null
+  ].concat(!Local.L.active && Local.L.said ? [Local.L.said] : []).concat(h.motion && h.motion.time !== null
     ? ['time      ' + h.motion.time.toFixed(3) + ' s, animation ' + h.motion.animation + (h.motion.playing ? ', playing' : ', paused')]
     : []).join('\n');
 }

@@ -3,7 +3,7 @@
 // itself; the server then sends only the view's state (each frame's header `state`, no
 // picture). The page's own drags, wheel and keys are drawn at once and sent as before; the
 // server's state, when it shows every input sent (or is the presenter's), is taken as it is.
-// Elsewhere the stream goes on, and #mode says why (data-mode "stream" | "starting" |
+// Elsewhere the stream goes on, and #mode says why (data-mode "connecting" | "stream" | "starting" |
 // "local", data-why). ?glview=stream keeps the stream; ?glview=local draws even on a slow
 // context; ?webgl=1 forces WebGL 1; ?slow-ms=N sets the speed rule's bound.
 'use strict';
@@ -16,12 +16,15 @@ const Local = (function () {
   const L = { active: false, viewer: null, canvas: null, model: null, info: null, timings: null };
   let stage = null, flat = null, pending = false, last = null, numbersTimer = 0;
 
+  // The bar says which in a word (a narrow frame keeps one line); its title and the overlay
+  // say the rest.
   function mode(m, why, text) {
     const el = document.getElementById('mode');
     el.dataset.mode = m;
     el.dataset.why = why || '';
-    el.textContent = text;
-    el.title = why || text;
+    el.textContent = m === 'local' ? 'drawn here' : m === 'stream' ? 'streamed' : 'starting…';
+    el.title = text;
+    L.said = text;
   }
 
   function stream(why) {
