@@ -1,6 +1,7 @@
 //! `glview serve` under attack from loopback (issue 40): an honest viewer dragging at 10
 //! inputs a second keeps at least half its frame rate while another client floods messages,
-//! reads slowly, asks for an expensive view, or holds 1,000 idle connections; the server's
+//! reads slowly, asks for an expensive view, holds 1,000 idle connections, or downloads local
+//! mode's renderer and scene while flipping in and out of it; the server's
 //! memory stays under 1 GiB and comes back within 100 MiB; a page load is answered within 1 s
 //! throughout. Each attack runs 3 s (the whole test ~20 s). With
 //! `GLVIEW_SERVE_BIN=/path/to/glview` it measures another build (the table in docs/serve.md).
@@ -245,11 +246,48 @@ fn idle(run: &Run) {
     }
 }
 
+/// Local mode's downloads and state messages: the renderer (8 MiB here) and the scene asked
+/// for again and again, and a viewer flipping between local mode and the stream (each flip
+/// a state or a picture) as fast as the socket takes it.
+fn local_mode(run: &Run) {
+    let mut c = run.attacker();
+    let t = &run.server.token;
+    let mut on = false;
+    while !run.stop.load(Ordering::Relaxed) {
+        for _ in 0..50 {
+            on = !on;
+            let m = json!({"type": "local", "on": on}).to_string();
+            let _ = c.ws.send(Message::text(m));
+        }
+        let _ = run.server.get(&format!("/scene?token={t}"));
+        let _ = run.server.get(&format!("/web/glview_web_bg.wasm?token={t}"));
+    }
+}
+
+/// A browser build of `bytes` random bytes (random: gzip leaves it as large), for the load
+/// test's downloads.
+fn web_dir_of(bytes: usize) -> std::path::PathBuf {
+    let dir = super::common::out_dir("serve_load").join("web");
+    std::fs::create_dir_all(dir.join("no-modules")).unwrap();
+    let mut wasm = b"\0asm\x01\0\0\0".to_vec();
+    let mut x = 0x9e37_79b9_7f4a_7c15u64;
+    wasm.extend((0..bytes).map(|_| {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x as u8
+    }));
+    std::fs::write(dir.join("glview_web_bg.wasm"), wasm).unwrap();
+    std::fs::write(dir.join("no-modules/glview_web.js"), "var wasm_bindgen;\n").unwrap();
+    dir
+}
+
 #[test]
 fn one_client_cannot_stall_the_class() {
     // CI runs small views; `GLVIEW_LOAD_SIZE=1024x768` measures the default size.
     let size = std::env::var("GLVIEW_LOAD_SIZE").unwrap_or_else(|_| "320x240".into());
-    let server = Server::start(&["--size", &size]);
+    let web = web_dir_of(8 << 20);
+    let server = Server::start(&["--size", &size, "--web-dir", web.to_str().unwrap()]);
     let run = Run {
         server: &server,
         stop: AtomicBool::new(false),
@@ -265,11 +303,12 @@ fn one_client_cannot_stall_the_class() {
         let t = Instant::now();
         std::thread::sleep(Duration::from_secs(2));
         let base = run.fps_since(t);
-        let attacks: [(&str, Attack); 4] = [
+        let attacks: [(&str, Attack); 5] = [
             ("message flood", flood),
             ("slow reader", slow_reader),
             ("expensive view", expensive),
             ("1,000 idle connections", idle),
+            ("local-mode downloads and flips", local_mode),
         ];
         for (name, attack) in attacks {
             rows.push((name, base, run.measure(attack)));
