@@ -260,7 +260,9 @@ fn local_mode(run: &Run) {
             let _ = c.ws.send(Message::text(m));
         }
         let _ = run.server.get(&format!("/scene?token={t}"));
-        let _ = run.server.get(&format!("/web/glview_web_bg.wasm?token={t}"));
+        let _ = run
+            .server
+            .get(&format!("/web/glview_web_bg.wasm?token={t}"));
     }
 }
 
