@@ -349,3 +349,25 @@ def test_a_file_camera_and_a_variant_in_the_live_page(chromium, tmp_path, choice
     assert stats(web, native(at))[0] > 2 * PHONG[0], f"{choice} changed nothing"
     close(page, context, errors)
     b.close()
+
+
+def test_v_draws_the_files_next_variant_in_the_live_page(chromium, tmp_path):
+    # V (the window's next variant) is a load option: the page's renderer loads the scene
+    # again from the page's files, and draws what glview -o --variant 0 draws.
+    model = viewed_avocado(tmp_path)
+    page_file = tmp_path / "variants.html"
+    r = subprocess.run([GLVIEW, "export", str(model), "-o", str(page_file), "--live-only",
+                        "--web-dir", str(WEB), "--size", f"{SIZE[0]}x{SIZE[1]}",
+                        "--yaw-steps", "2", "--pitch-steps", "1", "--", *VIEW],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    b = launch(chromium)
+    page, context, errors = open_page(b, {"page": page_file}, "?glview=live")
+    page.locator("#view").focus()
+    page.keyboard.press("v")
+    web = canvas(page)
+    at = [str(model), "--size", f"{SIZE[0]}x{SIZE[1]}", *VIEW]
+    check("live-key-v", web, native([*at, "--variant", "0"]), PHONG)
+    assert stats(web, native(at))[0] > 2 * PHONG[0], "V changed nothing"
+    close(page, context, errors)
+    b.close()

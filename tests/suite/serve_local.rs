@@ -26,8 +26,12 @@ fn fake_web_dir() -> PathBuf {
 }
 
 fn local_server(extra: &[&str]) -> Server {
+    sized_server(SIZE, extra)
+}
+
+fn sized_server(size: &str, extra: &[&str]) -> Server {
     let web = fake_web_dir();
-    let mut args = vec!["--size", SIZE, "--web-dir", web.to_str().unwrap()];
+    let mut args = vec!["--size", size, "--web-dir", web.to_str().unwrap()];
     args.extend_from_slice(extra);
     Server::start(&args)
 }
@@ -58,19 +62,53 @@ fn local_viewer(server: &Server, query: &str) -> super::serve_client::Client {
     }
 }
 
-#[test]
-fn a_local_class_follows_the_presenter_and_costs_no_pictures() {
-    let server = local_server(&["--max-viewers-per-address", "64", "--max-viewers", "64"]);
-    let mut p = local_viewer(&server, &format!("&present={}", server.presenter_key));
-    let mut followers: Vec<_> = (0..FOLLOWERS).map(|_| local_viewer(&server, "")).collect();
+/// What a class did while the presenter dragged.
+struct Class {
+    /// Each input's lag, sorted: from the presenter's frame showing it to a follower's.
+    lags: Vec<f64>,
+    /// Pictures the server drew meanwhile.
+    drawn: u64,
+    /// The server's CPU, in cores.
+    cpu: f64,
+    /// The presenter's frames, and every follower's last one.
+    presenter_frames: usize,
+    last: Value,
+    followers_last: Vec<Value>,
+}
+
+impl Class {
+    fn lag(&self, q: f64) -> f64 {
+        self.lags[((self.lags.len() - 1) as f64 * q) as usize]
+    }
+}
+
+/// A presenter and [`FOLLOWERS`] followers, all local or all streaming, with views of
+/// `size`; the presenter drags [`INPUTS`] times at 30 Hz, every frame acknowledged at once
+/// as a page does.
+fn class(local: bool, size: &str) -> Class {
+    let server = sized_server(
+        size,
+        &["--max-viewers-per-address", "64", "--max-viewers", "64"],
+    );
+    let join = |query: &str| {
+        if local {
+            local_viewer(&server, query)
+        } else {
+            let mut c = server.viewer(query);
+            c.still(None);
+            c
+        }
+    };
+    let mut p = join(&format!("&present={}", server.presenter_key));
+    let mut followers: Vec<_> = (0..FOLLOWERS).map(|_| join("")).collect();
     for f in &mut followers {
         f.send(json!({"type": "follow", "on": true}));
     }
-    // The presenter's state before the class moves: its count of pictures drawn.
+    // The presenter's frame before the class moves: the count of pictures drawn.
     p.send(json!({"type": "key", "key": "S", "seq": 1}));
     let before = loop {
         let h = frame(&mut p);
-        if h["seq"] == 1 {
+        if h["seq"] == 1 && (local || h["still"] == true) {
             break h;
         }
     };
@@ -86,7 +124,10 @@ fn a_local_class_follows_the_presenter_and_costs_no_pictures() {
             s.spawn(move || loop {
                 match f.next_within(Duration::from_secs(20)) {
                     Some(Got::Frame(h, img)) => {
-                        assert!(img.is_empty(), "a local follower was sent a picture");
+                        assert!(
+                            !local || img.is_empty(),
+                            "a local follower was sent a picture"
+                        );
                         f.send(json!({"type": "ack", "frame": h["frame"]}));
                         let seq = h["seq"].as_u64().unwrap_or(0);
                         log.lock().unwrap().push((seq, Instant::now(), h));
@@ -111,54 +152,96 @@ fn a_local_class_follows_the_presenter_and_costs_no_pictures() {
                 next += Duration::from_millis(33);
             }
             if let Some(Got::Frame(h, img)) = p.next_within(Duration::from_millis(5)) {
-                assert!(img.is_empty(), "a local presenter was sent a picture");
+                assert!(
+                    !local || img.is_empty(),
+                    "a local presenter was sent a picture"
+                );
                 p.send(json!({"type": "ack", "frame": h["frame"]}));
                 own.push((h["seq"].as_u64().unwrap(), Instant::now(), h));
             }
             assert!(
-                start.elapsed() < Duration::from_secs(30),
-                "the presenter's states stopped"
+                start.elapsed() < Duration::from_secs(60),
+                "the presenter's frames stopped"
             );
         }
     });
     let secs = start.elapsed().as_secs_f64();
-    let (_, _, last) = own.last().unwrap();
-    // Each input's lag: from the presenter's state showing it to a follower's.
+    let cpu = (server.cpu_ticks() - cpu_before) as f64 / 100.0 / secs;
     let mut lags = Vec::new();
+    let mut followers_last = Vec::new();
     for log in &arrivals {
         let log = log.lock().unwrap();
-        let (_, _, h) = log.last().unwrap();
-        assert_eq!(
-            h["state"], last["state"],
-            "a follower ended on another view"
-        );
-        assert_eq!(h["presenter"], true);
+        followers_last.push(log.last().unwrap().2.clone());
         for (seq, at, _) in own.iter() {
             let reached = log.iter().find(|(s, _, _)| s >= seq).expect("reached");
             lags.push(reached.1.saturating_duration_since(*at).as_secs_f64() * 1e3);
         }
     }
     lags.sort_by(f64::total_cmp);
-    let pct = |q: f64| lags[((lags.len() - 1) as f64 * q) as usize];
-    let drawn_after = last["drawn"].as_u64().unwrap();
-    let cpu = (server.cpu_ticks() - cpu_before) as f64 / 100.0 / secs;
+    let last = own.last().unwrap().2.clone();
+    let c = Class {
+        lags,
+        drawn: last["drawn"].as_u64().unwrap() - drawn_before,
+        cpu,
+        presenter_frames: own.len(),
+        last,
+        followers_last,
+    };
     println!(
-        "local class: {FOLLOWERS} followers, {} presenter states in {secs:.2} s; follower lag \
+        "{} class at {size}: {FOLLOWERS} followers, {} presenter frames in {secs:.2} s; follower lag \
          median {:.2} ms, p95 {:.2} ms, max {:.2} ms; pictures drawn {}; server CPU {:.1} % of a core",
-        own.len(),
-        pct(0.5),
-        pct(0.95),
-        pct(1.0),
-        drawn_after - drawn_before,
-        cpu * 100.0
+        if local { "local" } else { "streaming" },
+        c.presenter_frames,
+        c.lag(0.5),
+        c.lag(0.95),
+        c.lag(1.0),
+        c.drawn,
+        c.cpu * 100.0
     );
-    assert_eq!(
-        drawn_after, drawn_before,
-        "the server drew for a class that draws itself"
-    );
+    c
+}
+
+#[test]
+fn a_local_class_follows_the_presenter_and_costs_no_pictures() {
+    let c = class(true, SIZE);
+    for h in &c.followers_last {
+        assert_eq!(
+            h["state"], c.last["state"],
+            "a follower ended on another view"
+        );
+        assert_eq!(h["presenter"], true);
+    }
+    assert_eq!(c.drawn, 0, "the server drew for a class that draws itself");
     // One frame at 60 Hz: the followers' states leave in the same turn as the presenter's.
-    assert!(pct(0.5) < 1000.0 / 60.0, "median lag {:.1} ms", pct(0.5));
-    assert!(last["state"]["options"]["camera"]["yaw"].as_f64().unwrap() != 0.0);
+    assert!(
+        c.lag(0.5) < 1000.0 / 60.0,
+        "median lag {:.1} ms",
+        c.lag(0.5)
+    );
+    assert!(
+        c.last["state"]["options"]["camera"]["yaw"]
+            .as_f64()
+            .unwrap()
+            != 0.0
+    );
+}
+
+/// The benchmark (docs/benchmarks.md): the same class streaming and local, side by side,
+/// at serve's default size. `cargo test -p glview-cli --test suite serve_local::bench --
+/// --ignored --nocapture`.
+#[test]
+#[ignore]
+fn bench_a_class_streaming_and_local() {
+    let (stream, local) = (class(false, "1024x768"), class(true, "1024x768"));
+    println!(
+        "server CPU for the class: streaming {:.1} %, local {:.1} % of a core ({:.0}× less); \
+         pictures {} vs {}",
+        stream.cpu * 100.0,
+        local.cpu * 100.0,
+        stream.cpu / local.cpu.max(1e-9),
+        stream.drawn,
+        local.drawn
+    );
 }
 
 /// A streaming follower of a local presenter gets pictures (drawn for it alone); the

@@ -1,7 +1,7 @@
 //! What crosses the socket (docs/serve.md, "Protocol") and what the connections tell the
 //! render thread.
 use super::queues::{Inbox, Outbox};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// The protocol's version, in the hello: 2 added local mode (`local`, state frames).
@@ -229,9 +229,43 @@ pub enum Event {
     },
 }
 
+/// The server's text messages (docs/serve.md, "Protocol"); its frames are binary
+/// ([`frame_bytes`]).
+#[derive(Debug, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum ServerMsg<'a> {
+    /// First, on every socket.
+    Hello {
+        /// [`PROTOCOL`].
+        protocol: u32,
+        /// The browser build is here: a page that can draw may (local mode).
+        local: bool,
+        models: Vec<String>,
+        model: &'a str,
+        size: [u32; 2],
+        presenter: bool,
+        presenter_online: bool,
+        max_size: [u32; 2],
+        resizable: bool,
+        /// The window's key table less quit, help and screenshot.
+        keys: serde_json::Value,
+    },
+    /// The socket stays open unless `closing`.
+    Error { message: &'a str, closing: bool },
+    /// The presenter came or went.
+    Presenter { online: bool },
+}
+
+impl ServerMsg<'_> {
+    pub fn text(&self) -> String {
+        // Strings, numbers and a JSON value: serialising cannot fail.
+        serde_json::to_string(self).unwrap_or_default()
+    }
+}
+
 /// An `error` message's text.
 pub fn error_json(message: &str, closing: bool) -> String {
-    serde_json::json!({"type": "error", "message": message, "closing": closing}).to_string()
+    ServerMsg::Error { message, closing }.text()
 }
 
 /// A frame without its image: what a page that draws the view itself is sent (the
@@ -322,5 +356,16 @@ mod tests {
         assert_eq!(back, header);
         assert_eq!(state_only(&state), state);
         assert_eq!(state_only(&tungstenite::Bytes::new()).len(), 0);
+    }
+
+    #[test]
+    fn server_messages_are_tagged_objects() {
+        let e: serde_json::Value = serde_json::from_str(&error_json("full", true)).unwrap();
+        assert_eq!(
+            e,
+            serde_json::json!({"type": "error", "message": "full", "closing": true})
+        );
+        let p = ServerMsg::Presenter { online: false }.text();
+        assert_eq!(p, r#"{"type":"presenter","online":false}"#);
     }
 }

@@ -14,7 +14,7 @@ mod loads;
 
 use super::models::Models;
 use super::pool::Pool;
-use super::protocol::{error_json, state_only, ClientMsg, Event, Outgoing, PROTOCOL};
+use super::protocol::{error_json, state_only, ClientMsg, Event, Outgoing, ServerMsg, PROTOCOL};
 use super::queues::{Inbox, Outbox};
 use super::render::{options_for, Kind};
 use glview::keys;
@@ -374,21 +374,19 @@ impl Scheduler {
                 o.error("the presenter's key opened another page: this one is an ordinary viewer");
             }
         }
-        let hello = serde_json::json!({
-            "type": "hello",
-            "protocol": PROTOCOL,
-            // The browser build is here: a page that can draw may (docs/serve.md, "Local mode").
-            "local": self.config.local,
-            "models": self.models.names(),
-            "model": self.models.first().0,
-            "size": [options.picture.size.0, options.picture.size.1],
-            "presenter": presenter,
-            "presenter_online": self.presenter.is_some() || presenter,
-            "max_size": [self.config.max_size.0, self.config.max_size.1],
-            "resizable": !self.config.fixed_size,
-            "keys": keys::remote_table(),
-        });
-        out.push(Outgoing::Text(hello.to_string()));
+        let hello = ServerMsg::Hello {
+            protocol: PROTOCOL,
+            local: self.config.local,
+            models: self.models.names(),
+            model: self.models.first().0,
+            size: [options.picture.size.0, options.picture.size.1],
+            presenter,
+            presenter_online: self.presenter.is_some() || presenter,
+            max_size: [self.config.max_size.0, self.config.max_size.1],
+            resizable: !self.config.fixed_size,
+            keys: keys::remote_table(),
+        };
+        out.push(Outgoing::Text(hello.text()));
         let thread = self.place(options.load.model.as_deref(), None);
         let v = Viewer {
             out,
@@ -452,7 +450,7 @@ impl Scheduler {
     fn set_presenter_online(&self, online: bool) {
         self.presenter_online
             .store(online, std::sync::atomic::Ordering::Relaxed);
-        let note = serde_json::json!({"type": "presenter", "online": online}).to_string();
+        let note = ServerMsg::Presenter { online }.text();
         for v in self.viewers.values() {
             v.out.push(Outgoing::Text(note.clone()));
         }
