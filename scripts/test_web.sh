@@ -14,4 +14,4 @@ bash scripts/prepare_tests.sh
 venv=target/pyvenv
 echo "scripts/test_web.sh: $(/usr/bin/chromium --version 2>/dev/null), playwright $("$venv/bin/python" -c 'import importlib.metadata as m; print(m.version("playwright"))')"
 GLVIEW_BIN="${GLVIEW_BIN:-$PWD/target/debug/glview}" \
-  "$venv/bin/python" -m pytest -q -s -p no:cacheprovider python/tests_web "$@"
+  "$venv/bin/python" -m pytest -q -s -p no:cacheprovider --durations=8 python/tests_web "$@"

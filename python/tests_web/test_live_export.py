@@ -42,10 +42,13 @@ def launch(playwright, extra=()):
                                       args=[*FLAGS, *extra])
 
 
-def open_page(browser, lesson, query=""):
-    """The page from disk, offline: (page, context, errors)."""
+def open_page(browser, lesson, query="", init=None):
+    """The page from disk, offline: (page, context, errors); `init`: a script run before the
+    page's own."""
     context = browser.new_context(viewport={"width": 1000, "height": 900})
     context.requests = []
+    if init:
+        context.add_init_script(init)
 
     def route(r):
         context.requests.append(r.request.url)
@@ -171,7 +174,7 @@ def test_without_webgl_or_on_a_software_context_the_page_shows_its_pictures(chro
     # Frames slower than the rule's bound (here made 0 ms) keep the turntable, and so does
     # a browser without WebGL; the page says which. Both still turn and complete. (This
     # Chromium's SwiftShader is not refused by failIfMajorPerformanceCaveat: the page draws
-    # on it, and the speed rule is what judges it.)
+    # on it, and the speed rule is what judges it; a refusal is the next test's.)
     for extra, query, why in [((), "?slow-ms=0", "a frame took"),
                               (("--disable-3d-apis",), "", "no WebGL context")]:
         b = launch(chromium, extra)
@@ -188,6 +191,32 @@ def test_without_webgl_or_on_a_software_context_the_page_shows_its_pictures(chro
         assert view.get_attribute("data-complete") == "true"
         close(page, context, errors)
         b.close()
+
+
+# A browser that refuses a slow context: what Chrome does on a blocklisted GPU or a
+# software rasteriser when failIfMajorPerformanceCaveat is asked (this Chromium does not, on
+# SwiftShader): getContext answers null to the caveat's request.
+REFUSES_SLOW = """(() => {
+  const get = HTMLCanvasElement.prototype.getContext;
+  HTMLCanvasElement.prototype.getContext = function (kind, attrs) {
+    if (attrs && attrs.failIfMajorPerformanceCaveat) return null;
+    return get.call(this, kind, attrs);
+  };
+})()"""
+
+
+def test_a_context_refused_as_slow_shows_the_pictures_unless_asked_for_live(chromium, lesson):
+    b = launch(chromium)
+    page, context, errors = open_page(b, lesson, "", REFUSES_SLOW)
+    view = page.locator("#view")
+    assert view.get_attribute("data-mode") == "images"
+    assert "major performance caveat" in view.get_attribute("data-why")
+    assert page.locator("#pic-a").is_visible()
+    close(page, context, errors)
+    page, context, errors = open_page(b, lesson, "?glview=live", REFUSES_SLOW)
+    assert page.locator("#view").get_attribute("data-mode") == "live"
+    close(page, context, errors)
+    b.close()
 
 
 def test_a_live_only_page_is_smaller_and_names_what_it_lacks(chromium, lesson, tmp_path):

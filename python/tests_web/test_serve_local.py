@@ -52,7 +52,12 @@ def chromium():
 
 
 def open_page(browser, url):
-    page = browser.new_page(viewport={"width": 1000, "height": 900})
+    """`url` in a new page of `browser` (or of a browser context): (page, errors)."""
+    if hasattr(browser, "add_init_script"):
+        page = browser.new_page()
+        page.set_viewport_size({"width": 1000, "height": 900})
+    else:
+        page = browser.new_page(viewport={"width": 1000, "height": 900})
     errors = []
     page.on("pageerror", lambda e: errors.append(str(e)))
     page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
@@ -125,6 +130,22 @@ def test_pages_draw_the_class_themselves_and_the_server_draws_nothing(chromium, 
     assert state["yaw"] != 40.0, state
     assert follower.evaluate("glview.last.drawn") == drawn
     assert not p_errors and not f_errors, (p_errors, f_errors)
+    b.close()
+
+
+def test_a_context_refused_as_slow_keeps_the_stream(chromium, server):
+    from test_live_export import REFUSES_SLOW
+
+    b = launch(chromium)
+    context = b.new_context(viewport={"width": 1000, "height": 900})
+    context.add_init_script(REFUSES_SLOW)
+    page, errors = open_page(context, server["open"])
+    mode = page.locator("#mode")
+    assert mode.get_attribute("data-mode") == "stream"
+    assert "major performance caveat" in mode.get_attribute("data-why")
+    page.wait_for_function("() => glview.frames > 0")
+    page, errors = open_page(context, server["open"] + "&glview=local")
+    assert page.locator("#mode").get_attribute("data-mode") == "local"
     b.close()
 
 
