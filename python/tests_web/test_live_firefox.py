@@ -55,15 +55,29 @@ def image(b64):
     return np.frombuffer(base64.b64decode(b64), np.uint8).reshape(SIZE[1], SIZE[0], 4)
 
 
+async def opened(b, url):
+    """A BiDi session's first browsing context, at `url`."""
+    await b.call("session.new", capabilities={"alwaysMatch": {}})
+    context = (await b.call("browsingContext.getTree"))["contexts"][0]["context"]
+    await b.call("browsingContext.navigate", context=context, url=url, wait="complete")
+    return context
+
+
+async def right_twice(b, context):
+    right = "\ue014"  # WebDriver's ArrowRight, pressed twice on the focused element
+    await b.call("input.performActions", context=context, actions=[{
+        "type": "key", "id": "keyboard", "actions": [
+            {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right},
+            {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right}]}])
+
+
 async def run(address, url):
     import websockets
 
     until = time.monotonic() + DEADLINE
     async with websockets.connect(address + "/session", max_size=None) as ws:
         b = Bidi(ws)
-        await b.call("session.new", capabilities={"alwaysMatch": {}})
-        context = (await b.call("browsingContext.getTree"))["contexts"][0]["context"]
-        await b.call("browsingContext.navigate", context=context, url=url, wait="complete")
+        context = await opened(b, url)
         mode = await b.wait_for(context, "(() => { const m = document.getElementById('view')"
                                 ".getAttribute('data-mode'); return ['live', 'images'].includes(m)"
                                 " && m; })()", until)
@@ -76,11 +90,7 @@ async def run(address, url):
         out["pbr"] = await b.eval(context, PIXELS)
         await b.eval(context, "(document.getElementById('tier-phong').click(),"
                      " document.getElementById('view').focus(), true)")
-        right = "\ue014"  # WebDriver's ArrowRight, pressed twice on the focused view
-        await b.call("input.performActions", context=context, actions=[{
-            "type": "key", "id": "keyboard", "actions": [
-                {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right},
-                {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right}]}])
+        await right_twice(b, context)
         await b.wait_for(context, "document.getElementById('view').getAttribute('data-yaw')"
                          " === '40.00'", until)
         out["keys"] = await b.eval(context, PIXELS)
@@ -120,9 +130,7 @@ async def run_serve(address, url):
     pixels = PIXELS.replace("glviewLive.viewer", "glview.local.viewer")
     async with websockets.connect(address + "/session", max_size=None) as ws:
         b = Bidi(ws)
-        await b.call("session.new", capabilities={"alwaysMatch": {}})
-        context = (await b.call("browsingContext.getTree"))["contexts"][0]["context"]
-        await b.call("browsingContext.navigate", context=context, url=url, wait="complete")
+        context = await opened(b, url)
         mode = await b.wait_for(context, "(() => { const m = document.getElementById('mode')"
                                 ".dataset.mode; return ['local', 'stream'].includes(m) && m; })()",
                                 until)
@@ -131,11 +139,7 @@ async def run_serve(address, url):
         out = {"mode": await b.eval(context, "document.getElementById('mode').title"),
                "phong": await b.eval(context, pixels)}
         await b.eval(context, "(document.getElementById('local-view').focus(), true)")
-        right = "\ue014"
-        await b.call("input.performActions", context=context, actions=[{
-            "type": "key", "id": "keyboard", "actions": [
-                {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right},
-                {"type": "keyDown", "value": right}, {"type": "keyUp", "value": right}]}])
+        await right_twice(b, context)
         await b.wait_for(context, "glview.sent >= 2 && glview.shown >= glview.sent", until)
         out["keys"] = await b.eval(context, pixels)
         out["drawn_by_server"] = await b.eval(context, "String(glview.last.format)")

@@ -104,19 +104,14 @@
   }
   // One draw per animation frame; while the animation plays (Space), every frame, the
   // view's time moved on by the page's clock.
-  let last = null;
+  const clock = { last: null };
   function redraw() {
     if (pending) return;
     pending = true;
     requestAnimationFrame((t) => {
       pending = false;
       try {
-        if (viewer.playing()) {
-          if (last !== null) viewer.advance((t - last) / 1000);
-          last = t;
-        } else {
-          last = null;
-        }
+        glviewAdvance(viewer, t, clock);
         show();
         if (viewer.playing()) redraw();
       } catch (e) {

@@ -14,6 +14,17 @@ window.glviewUnpack = async function (b64) {
   return new Uint8Array(await new Response(stream).arrayBuffer());
 };
 
+// A playing view's time moved on by the page's clock between two animation frames (`t`, from
+// requestAnimationFrame); `clock.last` is the previous frame's (null: none yet, or paused).
+window.glviewAdvance = function (viewer, t, clock) {
+  if (viewer.playing()) {
+    if (clock.last !== null) viewer.advance((t - clock.last) / 1000);
+    clock.last = t;
+  } else {
+    clock.last = null;
+  }
+};
+
 // Why this browser cannot draw here (null: it may try): checked before anything is fetched.
 window.glviewCannot = function () {
   if (typeof WebAssembly !== 'object') return 'this browser runs no WebAssembly';

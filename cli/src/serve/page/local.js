@@ -14,7 +14,8 @@ const Local = (function () {
   const ask = params.get('glview');
   const token = params.get('token') ? '?token=' + encodeURIComponent(params.get('token')) : '';
   const L = { active: false, viewer: null, canvas: null, model: null, info: null, timings: null };
-  let stage = null, flat = null, pending = false, last = null, numbersTimer = 0;
+  let stage = null, flat = null, pending = false, numbersTimer = 0;
+  const clock = { last: null };
 
   // The bar says which in a word (a narrow frame keeps one line); its title and the overlay
   // say the rest.
@@ -110,12 +111,7 @@ const Local = (function () {
       pending = false;
       const v = L.viewer;
       try {
-        if (v.playing()) {
-          if (last !== null) v.advance((t - last) / 1000);
-          last = t;
-        } else {
-          last = null;
-        }
+        glviewAdvance(v, t, clock);
         L.last_ms = v.draw();
         window.glview.drawn = (window.glview.drawn || 0) + 1;
         if (v.playing()) redraw();
