@@ -585,6 +585,16 @@ impl Scheduler {
         }
     }
 
+    /// The presenter `p`'s newest frame to follower `id` (as its page takes frames).
+    fn send_last_frame(&mut self, p: u64, id: u64) {
+        if let Some((fid, f)) = self.viewers[&p].last_frame.clone() {
+            self.viewers
+                .get_mut(&id)
+                .expect("present")
+                .send_frame(fid, &f);
+        }
+    }
+
     /// `id` follows the presenter (`on`) or leaves the class, orbiting on from its view
     /// (`presenter_view`: the online presenter's, when it is not `id`).
     fn set_following(&mut self, id: u64, on: bool, presenter_view: Option<View>) {
@@ -598,12 +608,7 @@ impl Scheduler {
             (Some(_), true) => {
                 let streams = !v.local;
                 let p = self.presenter.expect("online");
-                if let Some((fid, f)) = self.viewers[&p].last_frame.clone() {
-                    self.viewers
-                        .get_mut(&id)
-                        .expect("present")
-                        .send_frame(fid, &f);
-                }
+                self.send_last_frame(p, id);
                 // A presenter drawing itself drew no picture: one now, for this page.
                 let pv = self.viewers.get_mut(&p).expect("present");
                 if streams && pv.local {
@@ -630,12 +635,7 @@ impl Scheduler {
         };
         if on {
             // A follower drawing now: the class's view at once (its state).
-            if let Some((fid, f)) = self.viewers[&p].last_frame.clone() {
-                self.viewers
-                    .get_mut(&id)
-                    .expect("present")
-                    .send_frame(fid, &f);
-            }
+            self.send_last_frame(p, id);
         } else {
             // A follower back on the stream: the presenter's next frame is a picture.
             self.viewers.get_mut(&p).expect("present").changed();
