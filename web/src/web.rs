@@ -172,6 +172,13 @@ fn load_scene(options: &Options) -> Result<glview_render::scene::Scene, JsValue>
     Ok(scene)
 }
 
+/// A renderer of the scene `options` name, with the environment they ask for.
+fn renderer_for(gpu: &GpuRef, options: &Options) -> Result<Renderer, JsValue> {
+    let mut renderer = Renderer::new(gpu, load_scene(options)?).map_err(js)?;
+    renderer.set_environment(env_request(options).map_err(js)?);
+    Ok(renderer)
+}
+
 impl Viewer {
     /// The view into `target`, with a transparent background where asked (coverage): the
     /// whole target, with `C` both tiers side by side, each framed for its half (the
@@ -192,9 +199,7 @@ impl Viewer {
             return Ok(());
         }
         let options = self.view.options().clone();
-        let mut renderer = Renderer::new(&self.gpu, load_scene(&options)?).map_err(js)?;
-        renderer.set_environment(env_request(&options).map_err(js)?);
-        self.renderer = renderer;
+        self.renderer = renderer_for(&self.gpu, &options)?;
         self.loaded = options.load;
         Ok(())
     }
@@ -258,8 +263,7 @@ impl Viewer {
         let (gl, webgl) = context(&canvas, webgl, caveat)?;
         // WebGL 1 reports "WebGL 1.0 (OpenGL ES 2.0 ...)": the ES 2.0 rules follow from it.
         let gpu = Gpu::new(gl);
-        let mut renderer = Renderer::new(&gpu, load_scene(&options)?).map_err(js)?;
-        renderer.set_environment(env_request(&options).map_err(js)?);
+        let renderer = renderer_for(&gpu, &options)?;
         let settled = View::settled(&options, renderer.scene()).map_err(js)?;
         Ok(Viewer {
             view: View::new(settled),
