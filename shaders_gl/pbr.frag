@@ -435,9 +435,12 @@ vec3 pbrIblTransmitted(PbrSurface s, PbrTransmission t) {
 // Light i through the surface (the Sample Viewer's punctual BTDF): the light's direction
 // from where the ray leaves, mirrored to the viewer's side, in a GGX lobe of the roughness
 // scaled by the ior; no cosine and no shadow map (the surface would shadow itself), as there.
-vec3 pbrTransmittedLight(int i, vec3 l, PbrSurface s, PbrTransmission t) {
+// The light's uniforms come as values: GLSL ES 1.00 (Appendix A) indexes uniform arrays by
+// loop indices only, and a parameter is not one.
+vec3 pbrTransmittedLight(vec4 lightPos, vec3 lightColor, vec3 l, PbrSurface s,
+                         PbrTransmission t) {
     vec3 lt = l;
-    if (uLightPos[i].w != 0.0) lt = glviewSafeNormalize(uLightPos[i].xyz - t.exitPos);
+    if (lightPos.w != 0.0) lt = glviewSafeNormalize(lightPos.xyz - t.exitPos);
     vec3 lm = glviewSafeNormalize(lt - 2.0 * s.n * dot(lt, s.n));
     vec3 ht = glviewSafeNormalize(lm + s.v);
     float nlm = max(dot(s.n, lm), 1e-4);
@@ -447,7 +450,7 @@ vec3 pbrTransmittedLight(int i, vec3 l, PbrSurface s, PbrTransmission t) {
 #ifdef KHR_VOLUME
     bt *= t.attenuation;
 #endif
-    return t.weight * (1.0 - s.metallic) * uTermsA.x * uLightColor[i] * GLVIEW_PI * bt;
+    return t.weight * (1.0 - s.metallic) * uTermsA.x * lightColor * GLVIEW_PI * bt;
 }
 #endif
 #endif
@@ -552,11 +555,12 @@ void pbrAddCoatLight(vec3 l, float shadow, vec3 lightColor, PbrSurface s, PbrCoa
 #endif
 
 #if NUM_LIGHTS > 0
-// The unit direction from the fragment towards light i (0 when the fragment is at the light).
-vec3 pbrToLight(int i) {
-    vec3 l = uLightPos[i].xyz;
-    if (uLightPos[i].w != 0.0) {
-        vec3 d = uLightPos[i].xyz - vEyePos;
+// The unit direction from the fragment towards the light at lightPos (uLightPos[i], given by
+// value for ES 1.00's indexing rule; 0 when the fragment is at the light).
+vec3 pbrToLight(vec4 lightPos) {
+    vec3 l = lightPos.xyz;
+    if (lightPos.w != 0.0) {
+        vec3 d = lightPos.xyz - vEyePos;
         float len = length(d);
         l = len > 0.0 ? d / len : vec3(0.0);
     }
@@ -655,7 +659,7 @@ void main() {
     vis[3] = shadowVisibility(uShadowMap3, 3, SHADOW_CUBE3, vEyePos, s.geomN);
 #endif
     for (int i = 0; i < NUM_LIGHTS; ++i) {
-        vec3 l = pbrToLight(i);
+        vec3 l = pbrToLight(uLightPos[i]);
         float shadow = mix(1.0, vis[i], uTermsB.y);
 #ifdef FALLOFF
         float fall = glviewFalloff(i, vEyePos);
@@ -664,7 +668,7 @@ void main() {
         float fall = 1.0;
 #endif
 #ifdef KHR_TRANSMISSION
-        color += fall * pbrTransmittedLight(i, l, s, t);
+        color += fall * pbrTransmittedLight(uLightPos[i], uLightColor[i], l, s, t);
 #endif
         pbrAddDirectLight(l, shadow, uLightColor[i], s, color);
 #ifdef KHR_SHEEN

@@ -170,8 +170,21 @@ unsafe fn sampler_params(gl: &glow::Context, target: u32, s: Sampling) {
     gl.tex_parameter_i32(target, glow::TEXTURE_MAG_FILTER, mag as i32);
     gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_S, wrap as i32);
     gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_T, wrap as i32);
-    if target == glow::TEXTURE_CUBE_MAP {
-        gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_R, wrap as i32);
+}
+
+/// A cube map's sampling: a 2D texture's, and the third wrap, which ES 2.0 (WebGL 1) does
+/// not have (TEXTURE_WRAP_R is GL 1.2's and ES 3.0's; WebGL 1 answers INVALID_ENUM) and
+/// does not need: a cube lookup never wraps, whatever R says.
+unsafe fn cube_sampler_params(gpu: &super::Gpu, s: Sampling) {
+    let gl = &gpu.gl;
+    sampler_params(gl, glow::TEXTURE_CUBE_MAP, s);
+    if !gpu.caps.es2 {
+        let wrap = if s.repeat {
+            glow::REPEAT
+        } else {
+            glow::CLAMP_TO_EDGE
+        };
+        gl.tex_parameter_i32(glow::TEXTURE_CUBE_MAP, glow::TEXTURE_WRAP_R, wrap as i32);
     }
 }
 
@@ -218,7 +231,7 @@ impl TextureCube {
             if sampling.mipmaps {
                 gl.generate_mipmap(glow::TEXTURE_CUBE_MAP);
             }
-            sampler_params(gl, glow::TEXTURE_CUBE_MAP, sampling);
+            cube_sampler_params(gpu, sampling);
             Ok(TextureCube {
                 gpu: gpu.clone(),
                 raw,
