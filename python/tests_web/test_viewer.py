@@ -192,14 +192,18 @@ def test_webgl2_pbr_equals_glview(browser, server):
     check("webgl2-pbr", web, native(words), PBR)
 
 
-def test_webgl1_refuses_pbr_in_one_line(browser, server):
-    page = browser.new_page()
-    page.goto(f"{server}/index.html?options=--size+64x48+--shading+pbr&webgl=1")
-    page.wait_for_function("window.glview && (window.glview.ready || window.glview.error)",
-                           timeout=60_000)
-    err = page.evaluate("glview.error")
-    page.close()
-    assert err and err.startswith("--shading pbr is not drawn on OpenGL ES 2.0 / WebGL 1"), err
+def test_webgl1_pbr_equals_glview_on_gl21(browser, server):
+    # WebGL 1's PBR tier is GL 2.1's: one cube per roughness (no explicit-LOD lookups),
+    # RGBM8 maps and a byte-split BRDF table (no float textures), sRGB decoded in the shader.
+    words = [*SCENE, "--shading", "pbr"]
+    web, state = page_pixels(browser, server, words, webgl=1)
+    assert state["info"]["webgl"] == 1 and state["info"]["dialect"] == "GLSL ES 1.00", state
+    # Against native ES 2.0 (the same RGBM maps and in-shader sRGB): only the rasterisers
+    # differ, as in the WebGL 2 row. Against the GL 2.1 override the maps' encoding adds its
+    # rounding too (native ES 2.0 against GL 2.1: mean 0.20, tests/suite/es2.rs): measured
+    # mean 0.282, p99 2, 0.097 %, held to the sum of the two rows' bounds.
+    check("webgl1-pbr", web, native([*words, "--gl", "es2", "--backend", "egl"]), PBR)
+    check("webgl1-pbr-gl21", web, native([*words, "--gl", "2.1"], GL21), (0.6, 3, 0.0025))
 
 
 def native_program_count(gl):
@@ -215,8 +219,8 @@ def native_program_count(gl):
 def test_every_program_compiles_in_the_browser(browser, server, webgl, dialect, gl):
     # ANGLE holds GLSL ES 1.00 to Appendix A (uniform arrays indexed by constants and loop
     # indices only), which Mesa does not: only the browser's compiler proves the WebGL 1 path.
-    # The count is glview --compile-shaders' on the matching native context (--gl es2: without
-    # the PBR tier's programs), so a program added natively is one the browser must compile.
+    # The count is glview --compile-shaders' on the matching native context (the PBR tier's
+    # programs too), so a program added natively is one the browser must compile.
     count = native_program_count(gl)
     page = browser.new_page()
     page.goto(f"{server}/index.html?options=--size+64x48&webgl={webgl}")

@@ -12,8 +12,8 @@ pub enum Dialect {
     Glsl300Es,
     /// GLSL 3.30 (OpenGL 3.3 core).
     Glsl330,
-    /// GLSL ES 1.00 (OpenGL ES 2.0, WebGL 1): the legacy tier only, shadows compared in the
-    /// shader (ES 2.0 has no shadow samplers).
+    /// GLSL ES 1.00 (OpenGL ES 2.0, WebGL 1): both tiers (PBR as GL 2.1 draws it), shadows
+    /// compared in the shader (ES 2.0 has no shadow samplers).
     Glsl100Es,
 }
 

@@ -12,8 +12,8 @@ crate::choice! {
         Es3 = "es3",
         /// OpenGL 3.3 core (GLSL 3.30).
         Core = "core",
-        /// OpenGL ES 2.0 (GLSL ES 1.00), WebGL 1's features: the legacy tier, shadows
-        /// compared in the shader. A later ES context is held to ES 2.0's rules.
+        /// OpenGL ES 2.0 (GLSL ES 1.00), WebGL 1's features: both tiers (PBR as on GL 2.1),
+        /// shadows compared in the shader. A later ES context is held to ES 2.0's rules.
         Es2 = "es2",
     }
 }

@@ -381,7 +381,7 @@ declare_options! {
         /// old GL 2.1 driver gives, also set MESA_GL_VERSION_OVERRIDE=2.1
         /// MESA_GLSL_VERSION_OVERRIDE=120 (and hide extensions with MESA_EXTENSION_OVERRIDE,
         /// e.g. "-GL_ARB_framebuffer_object"). `es2` draws what WebGL 1 draws: an ES context
-        /// held to OpenGL ES 2.0's rules (GLSL ES 1.00, the legacy tier only), whatever later
+        /// held to OpenGL ES 2.0's rules (GLSL ES 1.00; PBR as on GL 2.1), whatever later
         /// ES version the driver answers with.
         gl: GlRequest = GlRequest::Auto, "gl" value;
         /// Headless rendering path: on Linux EGL (device platform), OSMesa, or auto (EGL,

@@ -30,16 +30,6 @@ impl FramePlan {
         target: &Target,
         stats: &mut FrameStats,
     ) -> Result<FramePlan> {
-        // Refused before any pass: the environment's upload (the background pass) would
-        // already fail on WebGL 1.
-        if s.shading == crate::frame::Shading::Pbr && gpu.caps.es2 {
-            return Err(crate::Error::Unsupported(format!(
-                "--shading pbr is not drawn on OpenGL ES 2.0 / WebGL 1 ({}): it needs GLSL ES \
-                 3.00's explicit-LOD cube lookups and float or RG16F textures for its light \
-                 maps; use --shading phong (the legacy tier) there",
-                gpu.caps.version
-            )));
-        }
         let post = s.lighting.post;
         let copy = post::copy_path(gpu);
         // `--show bloom` shows the bloom buffer whether or not a strength was given.

@@ -54,17 +54,11 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
     keys
 }
 
-/// [`all_keys`] less the PBR tier's where `es2` (OpenGL ES 2.0 / WebGL 1 refuses that tier,
-/// passes/pbr.rs): every program such a context can be asked for.
-pub fn keys_for(es2: bool, max_lights: u8) -> Vec<ProgramKey> {
-    let keys = all_keys(max_lights);
-    if es2 {
-        keys.into_iter()
-            .filter(|k| k.fragment != "pbr.frag")
-            .collect()
-    } else {
-        keys
-    }
+/// Every program a context can be asked for: [`all_keys`] on every dialect, OpenGL ES 2.0 /
+/// WebGL 1 included (its PBR tier is GL 2.1's: per-roughness cubes, RGBM8 maps). `es2` is
+/// kept for callers that name the context.
+pub fn keys_for(_es2: bool, max_lights: u8) -> Vec<ProgramKey> {
+    all_keys(max_lights)
 }
 
 /// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
