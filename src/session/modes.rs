@@ -80,10 +80,8 @@ pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
 pub fn compile_shaders(args: &Options) -> Result<()> {
     let hl = crate::headless::Headless::new(args.context.backend, args.context.gl, 16, 16)?;
     let mut cache = crate::shader::cache::ProgramCache::new(&hl.gpu);
-    let keys = crate::render::programs::keys_for(
-        hl.gpu.caps.dialect == crate::gpu::Dialect::Glsl100Es,
-        crate::light::MAX_LIGHTS as u8,
-    );
+    // Every dialect, ES 2.0 / WebGL 1 included, is asked for every program.
+    let keys = crate::render::programs::all_keys(crate::light::MAX_LIGHTS as u8);
     let start = std::time::Instant::now();
     for key in &keys {
         cache.get(key)?;

@@ -140,7 +140,7 @@ fn es2_draws_the_pbr_tier_as_gl21_does() {
 #[test]
 fn every_permutation_compiles_in_glsl_es_100() {
     // Every program, the PBR tier's too.
-    let expected = glview::render::programs::keys_for(true, glview::light::MAX_LIGHTS as u8).len();
+    let expected = glview::render::programs::all_keys(glview::light::MAX_LIGHTS as u8).len();
     let o = run(
         &["--compile-shaders", "--gl", "es2", "--backend", "egl"],
         ES2,

@@ -395,9 +395,8 @@ impl Viewer {
     /// compiler refuses, with its log and numbered source.
     pub fn compile_all(&self) -> Result<u32, JsValue> {
         let mut cache = glview_render::shader::cache::ProgramCache::new(&self.gpu);
-        let es2 = self.gpu.caps.dialect == glview_render::gpu::Dialect::Glsl100Es;
         let max_lights = glview_render::light::MAX_LIGHTS as u8;
-        let keys = glview_render::passes::programs::keys_for(es2, max_lights);
+        let keys = glview_render::passes::programs::all_keys(max_lights);
         for key in &keys {
             cache.get(key).map_err(js)?;
         }

@@ -150,7 +150,8 @@ unsafe fn upload_levels(gpu: &super::Gpu, format: TextureFormat, levels: &[super
     }
 }
 
-unsafe fn sampler_params(gl: &glow::Context, target: u32, s: Sampling) {
+unsafe fn sampler_params(gpu: &super::Gpu, target: u32, s: Sampling) {
+    let gl = &gpu.gl;
     let mag = if s.linear {
         glow::LINEAR
     } else {
@@ -170,21 +171,10 @@ unsafe fn sampler_params(gl: &glow::Context, target: u32, s: Sampling) {
     gl.tex_parameter_i32(target, glow::TEXTURE_MAG_FILTER, mag as i32);
     gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_S, wrap as i32);
     gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_T, wrap as i32);
-}
-
-/// A cube map's sampling: a 2D texture's, and the third wrap, which ES 2.0 (WebGL 1) does
-/// not have (TEXTURE_WRAP_R is GL 1.2's and ES 3.0's; WebGL 1 answers INVALID_ENUM) and
-/// does not need: a cube lookup never wraps, whatever R says.
-unsafe fn cube_sampler_params(gpu: &super::Gpu, s: Sampling) {
-    let gl = &gpu.gl;
-    sampler_params(gl, glow::TEXTURE_CUBE_MAP, s);
-    if !gpu.caps.es2 {
-        let wrap = if s.repeat {
-            glow::REPEAT
-        } else {
-            glow::CLAMP_TO_EDGE
-        };
-        gl.tex_parameter_i32(glow::TEXTURE_CUBE_MAP, glow::TEXTURE_WRAP_R, wrap as i32);
+    // ES 2.0 (WebGL 1) has no TEXTURE_WRAP_R (GL 1.2's and ES 3.0's; WebGL 1 answers
+    // INVALID_ENUM) and needs none: a cube lookup never wraps, whatever R says.
+    if target == glow::TEXTURE_CUBE_MAP && !gpu.caps.es2 {
+        gl.tex_parameter_i32(target, glow::TEXTURE_WRAP_R, wrap as i32);
     }
 }
 
@@ -231,7 +221,7 @@ impl TextureCube {
             if sampling.mipmaps {
                 gl.generate_mipmap(glow::TEXTURE_CUBE_MAP);
             }
-            cube_sampler_params(gpu, sampling);
+            sampler_params(gpu, glow::TEXTURE_CUBE_MAP, sampling);
             Ok(TextureCube {
                 gpu: gpu.clone(),
                 raw,
@@ -305,7 +295,7 @@ impl Texture2d {
                 None => {}
             }
             sampler_params(
-                &gpu.gl,
+                gpu,
                 glow::TEXTURE_2D,
                 Sampling {
                     mipmaps,
@@ -344,7 +334,7 @@ impl Texture2d {
                 levels.len() as i32 - 1,
             );
             sampler_params(
-                gl,
+                gpu,
                 glow::TEXTURE_2D,
                 Sampling {
                     linear: true,

@@ -54,13 +54,6 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
     keys
 }
 
-/// Every program a context can be asked for: [`all_keys`] on every dialect, OpenGL ES 2.0 /
-/// WebGL 1 included (its PBR tier is GL 2.1's: per-roughness cubes, RGBM8 maps). `es2` is
-/// kept for callers that name the context.
-pub fn keys_for(_es2: bool, max_lights: u8) -> Vec<ProgramKey> {
-    all_keys(max_lights)
-}
-
 /// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
 pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
     vec![
