@@ -201,10 +201,15 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
         // compared in the shader (shadow.glsl, SHADOW_COMPARE_IN_SHADER); dFdx is
         // OES_standard_derivatives', a written depth EXT_frag_depth's; uniform arrays are
         // indexed by constants and loop indices only (Appendix A, which WebGL enforces).
+        // Samplers are highp where floats are: ES 1.00's default for them is lowp, and Mesa
+        // then returns a depth texel at half-float precision (2^-11 steps near depth 1: a
+        // point light's atlas, its depths crowded there, came out shadowed all over) and the
+        // BRDF table's low byte is lost under the high byte's rounding.
         (Dialect::Glsl100Es, Stage::Fragment) => {
             "#version 100\n#extension GL_OES_standard_derivatives : enable\n\
              #extension GL_EXT_frag_depth : enable\n#define FRAG_DEPTH gl_FragDepthEXT\n\
              #ifdef GL_FRAGMENT_PRECISION_HIGH\nprecision highp float;\n\
+             precision highp sampler2D;\nprecision highp samplerCube;\n\
              #else\nprecision mediump float;\n#endif\n\
              #define IN varying\n#define FRAG_COLOR gl_FragColor\n\
              #define TEX2D texture2D\n#define TEXCUBE textureCube\n\
