@@ -10,6 +10,18 @@ uniform float uShadowBias;                                // constant bias in [0
 #if SHADOW_STRIDE > 1
 uniform mat3 uEyeToWorld;
 #endif
+#ifdef SHADOW_PACKED
+// No depth textures: the map is RGBA8 holding packed depth, compared here as ES 2.0's are.
+#include "packdepth.glsl"
+#ifndef SHADOW_COMPARE_IN_SHADER
+#define SHADOW_COMPARE_IN_SHADER 1
+#endif
+#undef SHADOW_SAMPLER
+#define SHADOW_SAMPLER sampler2D
+#define SHADOW_DEPTH(map, uv) glviewUnpackDepth(TEX2D(map, uv))
+#else
+#define SHADOW_DEPTH(map, uv) TEX2D(map, uv).r
+#endif
 #ifndef SHADOW_SAMPLER
 #define SHADOW_SAMPLER sampler2DShadow
 #endif
@@ -63,10 +75,10 @@ float glviewShadowTap(SHADOW_SAMPLER map, vec3 c, vec2 texel) {
     vec2 t = c.xy / texel - 0.5;
     vec2 f = fract(t);
     vec2 b = (floor(t) + 0.5) * texel;
-    float a00 = step(c.z, TEX2D(map, b).r);
-    float a10 = step(c.z, TEX2D(map, b + vec2(texel.x, 0.0)).r);
-    float a01 = step(c.z, TEX2D(map, b + vec2(0.0, texel.y)).r);
-    float a11 = step(c.z, TEX2D(map, b + texel).r);
+    float a00 = step(c.z, SHADOW_DEPTH(map, b));
+    float a10 = step(c.z, SHADOW_DEPTH(map, b + vec2(texel.x, 0.0)));
+    float a01 = step(c.z, SHADOW_DEPTH(map, b + vec2(0.0, texel.y)));
+    float a11 = step(c.z, SHADOW_DEPTH(map, b + texel));
     return mix(mix(a00, a10, f.x), mix(a01, a11, f.x), f.y);
 }
 #define SHADOW_TAP(map, c, texel) glviewShadowTap(map, c, texel)

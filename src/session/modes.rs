@@ -80,14 +80,20 @@ pub fn render_reference(args: &Options, path: &Path) -> Result<()> {
 pub fn compile_shaders(args: &Options) -> Result<()> {
     let hl = crate::headless::Headless::new(args.context.backend, args.context.gl, 16, 16)?;
     let mut cache = crate::shader::cache::ProgramCache::new(&hl.gpu);
-    // Every dialect, ES 2.0 / WebGL 1 included, is asked for every program.
-    let keys = crate::render::programs::all_keys(crate::light::MAX_LIGHTS as u8);
+    // Every dialect, ES 2.0 / WebGL 1 included, is asked for every program it can draw.
+    let (keys, skipped) =
+        crate::render::programs::keys_for(&hl.gpu.caps, crate::light::MAX_LIGHTS as u8);
     let start = std::time::Instant::now();
     for key in &keys {
         cache.get(key)?;
     }
+    let skipped = if skipped > 0 {
+        format!(" ({skipped} that write depth skipped: no EXT_frag_depth)")
+    } else {
+        String::new()
+    };
     println!(
-        "compiled and linked {} programs for {} ({}) in {:.1} s",
+        "compiled and linked {} programs for {} ({}) in {:.1} s{skipped}",
         keys.len(),
         hl.gpu.caps.dialect.name(),
         hl.gpu.caps.version,

@@ -157,6 +157,122 @@ fn es2_point_light_atlas_as_gl21() {
     assert_close(&dir, "gl21-vs-es2", &gl21, &es2, 8, 60, 32);
 }
 
+/// ES 2.0 without OES_depth_texture (WebGL 1 without WEBGL_depth_texture). Mesa cannot hide
+/// that one alone: disabling it turns off every extension Mesa always has (87 → 48 here),
+/// EXT_frag_depth, OES_depth24 and OES_packed_depth_stencil among them, so this is an older
+/// device still: 16-bit depth buffers and no written depth.
+pub const ES2_NO_DEPTH_TEXTURES: &[(&str, &str)] = &[
+    ("MESA_GLES_VERSION_OVERRIDE", "2.0"),
+    ("MESA_EXTENSION_OVERRIDE", "-GL_OES_depth_texture"),
+];
+
+#[test]
+fn es2_without_depth_textures_packs_depth_into_rgba8() {
+    let o = run(
+        &["--info", "--gl", "es2", "--backend", "egl"],
+        ES2_NO_DEPTH_TEXTURES,
+    );
+    let info = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        info.contains("depth textures: no")
+            && info.contains("shadow maps: depth packed into RGBA8"),
+        "{info}"
+    );
+    // The packed map holds the depth to about 2^-24, as a 24-bit depth texture: the same
+    // shadows. Measured (Mesa 22.3.6 llvmpipe) against ES 2.0 with depth textures: the
+    // directional key light 2 pixels over 8/255 (max 25), PBR 1 (max 40), a point light's
+    // atlas 324 (0.27 %, max 226). The atlas's are a one-pixel ring where the holder stands
+    // on the saucer: without EXT_frag_depth the map's depth test runs on the 16-bit buffer
+    // with the rasteriser's offset, and the nearest caster there is not always a depth
+    // texture's (with EXT_frag_depth, which WebGL 1 has, the shader writes the offset depth
+    // it packs: test_viewer.py's WebGL 1 case, and equal to GL 2.1's atlas on llvmpipe). A
+    // lost shadow moves over 900 pixels by more than 8/255 (the --no-shadows check below:
+    // PBR's image-based light is not shadowed, so its key light's shadow moves least).
+    let dir = out_dir("es2-packed");
+    let cases: [(&str, &[&str], usize, u8); 3] = [
+        ("directional", &[], 60, 64),
+        ("pbr", &["--shading", "pbr"], 60, 64),
+        ("point", &["--light", "point:0,1.5,0"], 720, 255),
+    ];
+    for (name, extra, max_over, hard_max) in cases {
+        let with = |more: &[&'static str]| [&args()[..], &["--gl", "es2"], extra, more].concat();
+        let depth = render(&dir, &format!("{name}-depth"), &with(&[]), ES2);
+        let packed = render(
+            &dir,
+            &format!("{name}-packed"),
+            &with(&[]),
+            ES2_NO_DEPTH_TEXTURES,
+        );
+        let (mean, p99, over) = stats(&depth, &packed);
+        eprintln!(
+            "es2 packed vs depth textures ({name}): mean {mean:.4}, p99 {p99}, share > 8/255 {:.4} %",
+            over * 100.0
+        );
+        assert!(mean < 0.6 && p99 <= 1, "{name}: mean {mean}, p99 {p99}");
+        assert_close(
+            &dir,
+            &format!("{name}-depth-vs-packed"),
+            &depth,
+            &packed,
+            8,
+            max_over,
+            hard_max,
+        );
+        let off = render(
+            &dir,
+            &format!("{name}-off"),
+            &with(&["--no-shadows"]),
+            ES2_NO_DEPTH_TEXTURES,
+        );
+        let (mean, _, over) = stats(&packed, &off);
+        assert!(
+            mean > 0.1 && over > 0.005,
+            "{name}: packed shadows change too little: mean {mean}, share {over}"
+        );
+    }
+}
+
+#[test]
+fn without_frag_depth_the_grid_is_refused_and_the_rest_compiles() {
+    let png = out_dir("es2-no-frag-depth").join("grid.png");
+    let o = run(
+        &[
+            "-o",
+            png.to_str().unwrap(),
+            "--grid",
+            "--gl",
+            "es2",
+            "--backend",
+            "egl",
+        ],
+        ES2_NO_DEPTH_TEXTURES,
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.lines()
+            .any(|l| l.starts_with("error: --grid writes each fragment's depth")),
+        "{err}"
+    );
+    let all = glview::render::programs::all_keys(glview::light::MAX_LIGHTS as u8).len();
+    let o = run(
+        &["--compile-shaders", "--gl", "es2", "--backend", "egl"],
+        ES2_NO_DEPTH_TEXTURES,
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // "compiled and linked N programs … (M that write depth skipped: no EXT_frag_depth)"
+    let words: Vec<&str> = out.split_whitespace().collect();
+    let number = |i: usize| words[i].trim_start_matches('(').parse::<usize>().ok();
+    let compiled = (1..words.len()).find(|&i| words[i - 1] == "linked");
+    let skipped = (0..words.len().saturating_sub(1)).find(|&i| words[i + 1] == "that");
+    let (compiled, skipped) = (
+        compiled.and_then(number).unwrap_or_else(|| panic!("{out}")),
+        skipped.and_then(number).unwrap_or_else(|| panic!("{out}")),
+    );
+    assert!(skipped > 0 && compiled + skipped == all, "{out}");
+}
+
 #[test]
 fn every_permutation_compiles_in_glsl_es_100() {
     // Every program, the PBR tier's too.

@@ -175,9 +175,45 @@ fn a_moved_caster_redraws_only_its_part_of_the_shadow_map() {
         ("gl33", GlRequest::Core),
         ("es3", GlRequest::Es3),
         ("gl21", GlRequest::Gl21),
+        ("es2", GlRequest::Es2),
     ] {
         moved_caster(name, request);
     }
+}
+
+/// The same on ES 2.0 without depth textures (WebGL 1 without WEBGL_depth_texture): the map
+/// is packed RGBA8, its moved rectangles cleared to white (depth 1 and more). Run in a child
+/// process: Mesa reads its overrides once, when the first context is made.
+#[test]
+fn a_moved_caster_redraws_only_its_part_of_a_packed_shadow_map() {
+    let o = std::process::Command::new(std::env::current_exe().unwrap())
+        .args([
+            "motion_render::moved_caster_packed_child",
+            "--exact",
+            "--ignored",
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
+        .envs(super::es2::ES2_NO_DEPTH_TEXTURES.iter().copied())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && out.contains("1 passed"),
+        "{out}\n{err}"
+    );
+}
+
+#[test]
+#[ignore = "run by a_moved_caster_redraws_only_its_part_of_a_packed_shadow_map"]
+fn moved_caster_packed_child() {
+    let hl = Headless::new(Backend::Egl, GlRequest::Es2, 16, 16).expect("EGL context");
+    let info = hl.gpu.caps.report();
+    assert!(info.contains("shadow maps: depth packed"), "{info}");
+    drop(hl);
+    moved_caster("es2-packed", GlRequest::Es2);
 }
 
 fn moved_caster(name: &str, request: GlRequest) {

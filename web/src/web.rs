@@ -377,15 +377,17 @@ impl Viewer {
         self.gpu.read_rgba(w, h)
     }
 
-    /// What drew: the WebGL version, GL_VERSION, the renderer and the GLSL dialect, as JSON.
+    /// What drew: the WebGL version, GL_VERSION, the renderer, the GLSL dialect and how
+    /// shadow maps are kept (depth textures, or packed into RGBA8 without them), as JSON.
     pub fn info(&self) -> String {
         let c = &self.gpu.caps;
         format!(
-            "{{\"webgl\":{},\"version\":{:?},\"renderer\":{:?},\"dialect\":{:?},\"frames\":{}}}",
+            "{{\"webgl\":{},\"version\":{:?},\"renderer\":{:?},\"dialect\":{:?},\"shadow_maps\":{:?},\"frames\":{}}}",
             self.webgl,
             c.version,
             c.renderer,
             c.dialect.name(),
+            c.shadow_store(),
             self.frames
         )
     }
@@ -396,7 +398,7 @@ impl Viewer {
     pub fn compile_all(&self) -> Result<u32, JsValue> {
         let mut cache = glview_render::shader::cache::ProgramCache::new(&self.gpu);
         let max_lights = glview_render::light::MAX_LIGHTS as u8;
-        let keys = glview_render::passes::programs::all_keys(max_lights);
+        let (keys, _) = glview_render::passes::programs::keys_for(&self.gpu.caps, max_lights);
         for key in &keys {
             cache.get(key).map_err(js)?;
         }

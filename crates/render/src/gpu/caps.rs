@@ -51,6 +51,9 @@ pub struct Caps {
     /// Screen-space derivatives (dFdx, fwidth): everything but ES 2.0 without
     /// OES_standard_derivatives.
     pub(crate) derivatives: bool,
+    /// A fragment shader can write its depth (gl_FragDepth): everything but ES 2.0 without
+    /// EXT_frag_depth.
+    pub(crate) frag_depth: bool,
     /// Framebuffer objects: GL >= 3.0, ES, ARB_ or EXT_framebuffer_object.
     pub fbo: bool,
     pub(crate) vao: bool,
@@ -248,6 +251,7 @@ impl Caps {
                 es2,
                 depth24: !es2 || has(&["GL_OES_depth24"]),
                 derivatives: !es2 || has(&["GL_OES_standard_derivatives"]),
+                frag_depth: !es2 || has(&["GL_EXT_frag_depth"]),
                 fbo,
                 vao: es3
                     || desktop_at_least(3, 0)
@@ -308,9 +312,29 @@ impl Caps {
     }
 
     /// Whether shadow maps can be drawn and looked up: depth textures, compared by the
-    /// sampler or, on ES 2.0, in the shader.
+    /// sampler or, on ES 2.0, in the shader; or, without depth textures, depth packed into
+    /// RGBA8 ([`Caps::packed_shadow`]).
     pub(crate) fn shadow_maps(&self) -> bool {
-        self.depth_texture && (self.shadow_compare || self.es2)
+        self.depth_texture && (self.shadow_compare || self.es2) || self.packed_shadow()
+    }
+
+    /// Shadow maps without depth textures (WebGL 1 without WEBGL_depth_texture): the light's
+    /// depth is written into an RGBA8 colour texture, 8 bits a channel (`packdepth.glsl`),
+    /// and compared in the shader as ES 2.0's depth textures are. Needs framebuffer objects
+    /// (ES 2.0 core) to draw into the texture.
+    pub(crate) fn packed_shadow(&self) -> bool {
+        !self.depth_texture && self.fbo
+    }
+
+    /// How shadow maps are kept, for `--info` and the web page's info.
+    pub fn shadow_store(&self) -> &'static str {
+        if self.depth_texture && (self.shadow_compare || self.es2) {
+            "depth textures"
+        } else if self.packed_shadow() {
+            "depth packed into RGBA8 (no depth textures)"
+        } else {
+            "none"
+        }
     }
 
     /// One line per fact, for `glview --info`.
@@ -319,7 +343,7 @@ impl Caps {
         format!(
             "GL_VERSION: {}\nGLSL: {} (dialect {})\nrenderer: {} ({})\nprofile: {}\n\
              framebuffer objects: {}\nvertex array objects: {}\ndepth textures: {}\n\
-             shadow compare: {}\nfloat textures: {}\nexplicit-LOD lookups: {}\n\
+             shadow compare: {}\nshadow maps: {}\nfloat textures: {}\nexplicit-LOD lookups: {}\n\
              32-bit indices: {}\ninstanced arrays: {}\ncube shadow lookups: {}\ntimer queries: {}\n\
              max texture size: {}\ntexture units: {}\n16-bit float textures: {}\n\
              RG textures: {}\nsRGB textures: {}\nseamless cube maps: {}\n\
@@ -345,6 +369,7 @@ impl Caps {
             yes(self.vao),
             yes(self.depth_texture),
             yes(self.shadow_compare),
+            self.shadow_store(),
             yes(self.float_textures),
             yes(self.texture_lod),
             yes(self.uint_indices),

@@ -160,7 +160,7 @@ impl Framebuffer {
 
     /// A depth-only target writing into `depth` (no colour: draw and read buffers NONE; ES
     /// 2.0 has no buffer selection, and a framebuffer without colour needs none there).
-    pub(crate) fn depth_only(gpu: &GpuRef, depth: &Texture2d) -> Result<Framebuffer> {
+    fn depth_only(gpu: &GpuRef, depth: &Texture2d) -> Result<Framebuffer> {
         let fb = Self::create(gpu, depth.width, depth.height)?;
         // SAFETY: attaching a live depth texture; DrawBuffers(NONE) exists in every context
         // that has FBOs (GL 2.0+, ES 3.0).
@@ -180,6 +180,23 @@ impl Framebuffer {
         }
         fb.check()?;
         Ok(fb)
+    }
+
+    /// The target a shadow map is drawn into: depth-only into a depth texture or, where
+    /// there are none ([`super::Caps::packed_shadow`]), colour into the packed-depth RGBA8
+    /// texture with a depth renderbuffer for the nearest surface.
+    pub(crate) fn shadow(gpu: &GpuRef, map: &Texture2d) -> Result<Framebuffer> {
+        if gpu.caps.packed_shadow() {
+            Self::color_texture(
+                gpu,
+                ColorAttachment::Level(map, 0),
+                map.width,
+                map.height,
+                true,
+            )
+        } else {
+            Self::depth_only(gpu, map)
+        }
     }
 
     /// A colour target drawing into one level of a 2D texture or one face (and level) of a

@@ -507,6 +507,20 @@ impl Texture2d {
         Ok(t)
     }
 
+    /// A shadow map where there are no depth textures ([`Caps::packed_shadow`]): RGBA8 holding
+    /// the light's depth packed 8 bits a channel, read with NEAREST lookups and compared in the
+    /// shader (filtering would blend the packed bytes, not the depths).
+    pub(crate) fn packed_depth(gpu: &GpuRef, width: u32, height: u32) -> Result<Texture2d> {
+        Texture2d::new(
+            gpu,
+            TextureFormat::Rgba8,
+            width,
+            height,
+            Pixels::None,
+            Sampling::NEAREST,
+        )
+    }
+
     /// Linear or nearest filtering (no mipmaps).
     pub fn set_filter(&self, linear: bool) {
         let f = if linear { glow::LINEAR } else { glow::NEAREST } as i32;
@@ -548,7 +562,7 @@ impl Texture2d {
 
     /// Switches between comparison (for lighting) and raw depth reads (for `--show shadow-map`).
     pub fn set_compare(&self, on: bool) {
-        if !self.gpu.caps.shadow_compare {
+        if !self.gpu.caps.shadow_compare || self.gpu.caps.packed_shadow() {
             return;
         }
         let mode = if on {

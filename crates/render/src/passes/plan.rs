@@ -37,6 +37,15 @@ impl FramePlan {
         if copy && bloom {
             bloom = copy_path_bloom(gpu, scene, s, target, stats);
         }
+        let guides = s.lighting.guides;
+        if !gpu.caps.frag_depth && (guides.grid || s.lighting.translucency.log_depth) {
+            return Err(crate::Error::Unsupported(format!(
+                "{} writes each fragment's depth (gl_FragDepth), which {} has not \
+                 (ES 2.0 without EXT_frag_depth)",
+                if guides.grid { "--grid" } else { "--depth log" },
+                gpu.caps.version
+            )));
+        }
         if post.linear_out && copy {
             return Err(crate::Error::Unsupported(format!(
                 "float linear colour needs float render targets (GL 3.0, ES 3.0 with \

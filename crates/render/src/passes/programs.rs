@@ -54,6 +54,28 @@ pub fn all_keys(max_lights: u8) -> Vec<ProgramKey> {
     keys
 }
 
+/// The keys of [`all_keys`] this context can compile, and how many it cannot: programs that
+/// write a fragment's depth (the grid, log depth) need `gl_FragDepth`, which ES 2.0 has only
+/// with EXT_frag_depth (the frame refuses them there: [`super::plan`]).
+pub fn keys_for(caps: &crate::gpu::Caps, max_lights: u8) -> (Vec<ProgramKey>, usize) {
+    let all = all_keys(max_lights);
+    let total = all.len();
+    let keys: Vec<ProgramKey> = all
+        .into_iter()
+        .filter(|k| caps.frag_depth || !writes_depth(k))
+        .collect();
+    let skipped = total - keys.len();
+    (keys, skipped)
+}
+
+/// Whether a program writes its fragments' depth (FRAG_DEPTH).
+fn writes_depth(k: &ProgramKey) -> bool {
+    k.name == grid::key().name
+        || k.flags
+            .iter()
+            .any(|f| f.define == "LOG_DEPTH" && f.value != 0)
+}
+
 /// Programs that exist once regardless of lights and materials (for `--compile-shaders`).
 pub(crate) fn fixed_programs() -> Vec<ProgramKey> {
     vec![

@@ -331,9 +331,13 @@ fn allocate_maps(cx: &mut FrameCx, casters: &[Light], size: u32) -> Result<Vec<S
         let (texture, fbo) = match kept {
             Some(m) => (m.texture, m.fbo),
             None => {
-                let texture = Texture2d::depth(&gpu, w, h)?;
+                let texture = if gpu.caps.packed_shadow() {
+                    Texture2d::packed_depth(&gpu, w, h)?
+                } else {
+                    Texture2d::depth(&gpu, w, h)?
+                };
                 let fbo = if use_fbo {
-                    Some(Framebuffer::depth_only(&gpu, &texture)?)
+                    Some(Framebuffer::shadow(&gpu, &texture)?)
                 } else {
                     None
                 };
@@ -364,18 +368,21 @@ fn draw_map(
 ) -> Result<()> {
     let gpu = cx.gpu.clone();
     let target = cx.target;
-    // The map's framebuffer has no colour buffer; on the copy path the light's view is
-    // drawn into the target, whose colour must not change.
+    let packed = gpu.caps.packed_shadow();
+    // The map's framebuffer has no colour buffer (or, packed, its colour is the depth); on
+    // the copy path the light's view is drawn into the target, whose colour must not change.
     let state = RenderState {
-        polygon_offset: offset,
+        polygon_offset: if shader_offset(&gpu) { None } else { offset },
         color_write: map.fbo.is_some(),
         ..Default::default()
     };
     gpu.apply(&state);
+    // Packed, "nothing drawn here" is depth 1 or more: white unpacks to 1 + 1/255 + ….
+    let clear = packed.then_some([1.0; 4]);
     if let Some(fbo) = &map.fbo {
         fbo.bind();
         if rects.is_none() {
-            gpu.clear(None);
+            gpu.clear_rgba(clear);
         }
     } else {
         gpu.bind_target(target.fbo, target.width, target.height);
@@ -399,11 +406,12 @@ fn draw_map(
                 if map.fbo.is_none() {
                     gpu.clear(None);
                 }
-                draw_casters(cx, vp, &state)?;
+                draw_casters(cx, vp, &state, offset)?;
             }
             Some(rects) => {
                 for r in rects {
-                    redraw_rect(cx, vp, &state, [at.0 + r[0], at.1 + r[1], r[2], r[3]])?;
+                    let r = [at.0 + r[0], at.1 + r[1], r[2], r[3]];
+                    redraw_rect(cx, vp, &state, r, clear, offset)?;
                 }
             }
         }
@@ -417,21 +425,37 @@ fn draw_map(
     Ok(())
 }
 
-/// Clears rectangle `r` of the bound map and draws every caster again inside it, with
-/// view `vp`.
-fn redraw_rect(cx: &mut FrameCx, vp: &Mat4, state: &RenderState, r: [u32; 4]) -> Result<()> {
+/// Clears rectangle `r` of the bound map (its colour to `clear` where the map is packed
+/// depth) and draws every caster again inside it, with view `vp`.
+fn redraw_rect(
+    cx: &mut FrameCx,
+    vp: &Mat4,
+    state: &RenderState,
+    r: [u32; 4],
+    clear: Option<[f32; 4]>,
+    offset: Option<(f32, f32)>,
+) -> Result<()> {
     let gpu = cx.gpu.clone();
-    gpu.clear_rect(r, None);
+    gpu.clear_rect(r, clear);
     gpu.scissor(Some(r));
-    let drawn = draw_casters(cx, vp, state);
+    let drawn = draw_casters(cx, vp, state, offset);
     gpu.scissor(None);
     drawn
 }
 
 /// Draws every shadow-casting mesh with the light's view-projection `vp`. MASK materials
 /// draw with the cut-out program (their base texture bound); everything else with the plain
-/// one, which is bound again only when the program changes.
-fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> {
+/// one, which is bound again only when the program changes. `offset` (slope factor, units)
+/// is the polygon offset packed depth adds itself.
+fn draw_casters(
+    cx: &mut FrameCx,
+    vp: &Mat4,
+    state: &RenderState,
+    offset: Option<(f32, f32)>,
+) -> Result<()> {
+    let (factor, units) = offset
+        .filter(|_| shader_offset(cx.gpu))
+        .unwrap_or((0.0, 0.0));
     let mut current: Option<ProgramKey> = None;
     for i in 0..cx.scene.meshes.len() {
         if !cx.scene.meshes[i].casts_shadow() {
@@ -448,6 +472,7 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
             let p = cx.program(&key)?;
             p.bind();
             p.set_mat4("uLightMvp", vp);
+            p.set_vec2("uPolygonOffset", glam::Vec2::new(factor, units));
             p.set_i32("uDiffuseMap", super::units::BASE_UNIT as i32);
             current = Some(key);
         }
@@ -467,6 +492,14 @@ fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> 
         super::cull::draw(cx, i, state)?;
     }
     Ok(())
+}
+
+/// Whether depth.frag adds the polygon offset itself (and writes the depth it tests):
+/// packed depth where the shader can write depth. Whether gl_FragCoord.z includes the
+/// rasteriser's offset differs between drivers (llvmpipe's does); without EXT_frag_depth the
+/// rasteriser's is all there is.
+fn shader_offset(gpu: &GpuRef) -> bool {
+    gpu.caps.packed_shadow() && gpu.caps.frag_depth
 }
 
 /// The pass entry of `--stats`: how many maps, their projections, size and path.

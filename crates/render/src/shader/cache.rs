@@ -173,7 +173,12 @@ impl ProgramCache {
         }
         let start = crate::clock::Mark::now();
         let dialect = self.gpu.caps.dialect;
-        let defines = key.defines();
+        let mut defines = key.defines();
+        // A fact of the context, not of the key: every program on it keeps shadow maps the
+        // one way (shadow.glsl, depth.frag, show_depth.frag).
+        if self.gpu.caps.packed_shadow() {
+            defines.push(("SHADOW_PACKED", "1".into()));
+        }
         let p = Rc::new(Program::new(
             &self.gpu,
             &key.label(),

@@ -144,6 +144,10 @@ pub(crate) const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../../shaders_gl/post/box.frag"),
     ),
     (
+        "packdepth.glsl",
+        include_str!("../../../../shaders_gl/include/packdepth.glsl"),
+    ),
+    (
         "stereo.frag",
         include_str!("../../../../shaders_gl/post/stereo.frag"),
     ),
@@ -182,7 +186,7 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
         (Dialect::Glsl120, Stage::Fragment) => {
             "#version 120\n#define IN varying\n#define FRAG_COLOR gl_FragColor\n\
              #define TEX2D texture2D\n#define TEXCUBE textureCube\n\
-             #define SHADOW2D(s, c) shadow2D(s, c).r\n#define FRAG_DEPTH gl_FragDepth\n"
+             #define SHADOW2D(s, c) shadow2D(s, c).r\n#define FRAG_DEPTH gl_FragDepth\n#define HAS_FRAG_DEPTH 1\n"
         }
         (Dialect::Glsl300Es, Stage::Vertex) => {
             "#version 300 es\nprecision highp float;\n#define IN in\n#define OUT out\n"
@@ -192,7 +196,7 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
              #else\nprecision mediump float;\n#endif\nprecision highp sampler2DShadow;\n\
              #define IN in\nout vec4 glviewFragColor;\n#define FRAG_COLOR glviewFragColor\n\
              #define TEX2D texture\n#define TEXCUBE texture\n\
-             #define SHADOW2D(s, c) texture(s, c)\n#define FRAG_DEPTH gl_FragDepth\n"
+             #define SHADOW2D(s, c) texture(s, c)\n#define FRAG_DEPTH gl_FragDepth\n#define HAS_FRAG_DEPTH 1\n"
         }
         (Dialect::Glsl100Es, Stage::Vertex) => {
             "#version 100\nprecision highp float;\n#define IN attribute\n#define OUT varying\n"
@@ -208,6 +212,7 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
         (Dialect::Glsl100Es, Stage::Fragment) => {
             "#version 100\n#extension GL_OES_standard_derivatives : enable\n\
              #extension GL_EXT_frag_depth : enable\n#define FRAG_DEPTH gl_FragDepthEXT\n\
+             #ifdef GL_EXT_frag_depth\n#define HAS_FRAG_DEPTH 1\n#endif\n\
              #ifdef GL_FRAGMENT_PRECISION_HIGH\nprecision highp float;\n\
              precision highp sampler2D;\nprecision highp samplerCube;\n\
              #else\nprecision mediump float;\n#endif\n\
@@ -221,7 +226,7 @@ pub(crate) fn header(dialect: Dialect, stage: Stage) -> &'static str {
             "#version 330 core\n#define IN in\nout vec4 glviewFragColor;\n\
              #define FRAG_COLOR glviewFragColor\n#define TEX2D texture\n\
              #define TEXCUBE texture\n#define SHADOW2D(s, c) texture(s, c)\n\
-             #define FRAG_DEPTH gl_FragDepth\n"
+             #define FRAG_DEPTH gl_FragDepth\n#define HAS_FRAG_DEPTH 1\n"
         }
     }
 }
