@@ -275,6 +275,43 @@ fn a_streaming_follower_of_a_local_presenter_gets_pictures() {
     assert!(h["command"].as_str().unwrap().contains("--yaw 35"), "{h}");
 }
 
+/// A page on the stream is sent pictures without the view's state (~3 KB a frame); a
+/// streaming presenter's frames carry it from the moment a follower draws itself (one
+/// frame serves the presenter and its class), and that follower gets the presenter's view
+/// as state.
+#[test]
+fn the_state_goes_only_to_pages_that_draw() {
+    let server = local_server(&[]);
+    let mut p = server.viewer(&format!("&present={}", server.presenter_key));
+    let (h, img, _) = p.still(None);
+    assert!(!img.is_empty() && h["state"].is_null(), "{h}");
+    let mut f = local_viewer(&server, "");
+    f.send(json!({"type": "follow", "on": true}));
+    // Following: the presenter's last frame comes (its picture had no state to take).
+    while f.frame(true).0["presenter"] != true {}
+    p.send(json!({"type": "key", "key": "Right", "seq": 3}));
+    // The presenter's own frames carry it now (the same frame goes to the class); it
+    // acknowledges them, as its page does: its next frame waits for that.
+    let h = loop {
+        let (h, _) = p.frame(true);
+        if h["seq"] == 3 {
+            break h;
+        }
+    };
+    assert!(h["state"].is_object(), "{h}");
+    // The follower takes the presenter's frames: a state, turned by the key.
+    let h = loop {
+        let (h, img) = f.frame(true);
+        if h["presenter"] == true && h["seq"] == 3 {
+            assert!(img.is_empty() || h["state"].is_object(), "{h}");
+            if h["state"].is_object() {
+                break h;
+            }
+        }
+    };
+    assert_eq!(h["state"]["options"]["camera"]["yaw"], 35.0, "{h}");
+}
+
 /// The build and the scenes are served behind the token, named by the model list only; a
 /// server without a build says so in the hello and on the socket.
 #[test]

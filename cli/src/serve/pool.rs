@@ -30,6 +30,8 @@ pub struct Job {
     /// Seconds the wall clock moved since the view's time last did (a playing view's
     /// frame; 0 otherwise).
     pub advance: f64,
+    /// The header carries the view's state (a page, or a follower, draws it).
+    pub state: bool,
 }
 
 /// What a render thread is asked to do.
@@ -269,6 +271,7 @@ fn draw_and_encode(thread: usize, session: &mut Session, job: &Job, shared: &Sha
         view: &job.view,
         models: &shared.models,
         kind: job.kind,
+        state: job.state,
     };
     let mut drawn = match draw(session, &picture) {
         Ok(d) => d,

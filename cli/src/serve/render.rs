@@ -23,6 +23,8 @@ pub struct Picture<'a> {
     /// command and the PNG text (relative to the served folder, as the viewer's names are).
     pub models: &'a super::models::Models,
     pub kind: Kind,
+    /// The header carries the view's state, for a page that draws it.
+    pub state: bool,
 }
 
 fn ms(t: Instant) -> f64 {
@@ -128,11 +130,14 @@ pub fn draw(session: &mut Session, p: &Picture) -> glview::Result<Drawn> {
         "camera": camera_json(&p.view.options().camera),
         "views": views,
         "motion": motion,
-        // The view itself, for a page that draws it (local mode): its options with the
-        // page's paths for the files the scene request gave it (`/scene`), never the
-        // server's.
-        "state": page_view(p.view),
     });
+    // The view itself, for a page that draws it (local mode): its options with the page's
+    // paths for the files the scene request gave it (`/scene`), never the server's. A page
+    // on the stream is not sent it.
+    let mut header = header;
+    if p.state {
+        header["state"] = page_view(p.view);
+    }
     Ok(Drawn {
         header,
         image,

@@ -231,6 +231,31 @@ impl Scheduler {
 
     /// Whether `id`'s frames need a picture: it streams, or it presents to a follower that
     /// streams (a page that draws itself gets the view's state: nothing is drawn for it).
+    /// Whether `id`'s frames carry the view's state (`state` in the header, ~3 KB): for a page
+    /// that draws itself, and for a presenter's frames while a follower draws itself. A page
+    /// on the stream has no use for it.
+    fn needs_state(&self, id: u64, v: &Viewer) -> bool {
+        v.local
+            || (self.presenter == Some(id) && self.viewers.values().any(|f| f.following && f.local))
+    }
+
+    /// Whether the presenter's frames carry the state now (see [`Self::needs_state`]).
+    fn class_has_state(&self) -> bool {
+        self.presenter
+            .is_some_and(|p| self.needs_state(p, &self.viewers[&p]))
+    }
+
+    /// A follower that draws itself joined a class whose frames had no state: the
+    /// presenter draws one now, for it (the last frame it was sent has none to take).
+    fn state_for_class(&mut self, had_state: bool) {
+        if had_state || !self.class_has_state() {
+            return;
+        }
+        if let Some(pv) = self.presenter.and_then(|p| self.viewers.get_mut(&p)) {
+            pv.changed();
+        }
+    }
+
     fn needs_pictures(&self, id: u64, v: &Viewer) -> bool {
         !v.local
             || (self.presenter == Some(id)
@@ -598,6 +623,7 @@ impl Scheduler {
     /// `id` follows the presenter (`on`) or leaves the class, orbiting on from its view
     /// (`presenter_view`: the online presenter's, when it is not `id`).
     fn set_following(&mut self, id: u64, on: bool, presenter_view: Option<View>) {
+        let had_state = self.class_has_state();
         let v = self.viewers.get_mut(&id).expect("checked by the caller");
         v.following = on && !v.presenter;
         match (presenter_view, v.following) {
@@ -614,6 +640,7 @@ impl Scheduler {
                 if streams && pv.local {
                     pv.changed();
                 }
+                self.state_for_class(had_state);
             }
             (None, _) => {}
         }
@@ -621,6 +648,7 @@ impl Scheduler {
 
     /// `id`'s page draws the view itself (`on`: local mode) or takes the stream again.
     fn set_local(&mut self, id: u64, on: bool) {
+        let had_state = self.class_has_state();
         let v = self.viewers.get_mut(&id).expect("checked by the caller");
         if on && !self.config.local {
             return v
@@ -634,8 +662,10 @@ impl Scheduler {
             return;
         };
         if on {
-            // A follower drawing now: the class's view at once (its state).
+            // A follower drawing now: the class's view at once (its state), or, where the
+            // class's frames had none, the presenter's next frame.
             self.send_last_frame(p, id);
+            self.state_for_class(had_state);
         } else {
             // A follower back on the stream: the presenter's next frame is a picture.
             self.viewers.get_mut(&p).expect("present").changed();

@@ -14,6 +14,7 @@ impl Scheduler {
         self.next_frame += 1;
         let (drag_scale, drag_quality) = (self.config.drag_scale, self.config.drag_quality);
         let pictures = self.needs_pictures(id, &self.viewers[&id]);
+        let state = self.needs_state(id, &self.viewers[&id]);
         let v = self.viewers.get_mut(&id).expect("ready");
         // A playing view moves on by the time since its last frame; its frames are
         // previews, and the still follows once it pauses.
@@ -44,6 +45,7 @@ impl Scheduler {
             presenter: v.presenter,
             out: v.out.clone(),
             advance,
+            state,
         };
         (v.rendering, v.encoding) = (true, true);
         self.turns[thread].busy = true;
