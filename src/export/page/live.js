@@ -132,34 +132,27 @@
   $('zoom-out').onclick = act(() => viewer.key('-'));
   $('reset').onclick = act(() => viewer.key('R'));
 
-  // The window's keys, by its names (glview --help).
-  const KEYS = { ArrowLeft: 'Left', ArrowRight: 'Right', ArrowUp: 'Up', ArrowDown: 'Down', ' ': 'Space' };
+  // The window's keys, by its names (glview --help); drags, pinches and the wheel as the
+  // serve page takes them (start.js), one draw per animation frame.
   view.addEventListener('keydown', (e) => {
-    if (e.ctrlKey || e.altKey || e.metaKey) return;
+    const name = glviewKeyName(e);
+    if (name === null) return;
     try {
-      if (viewer.key(KEYS[e.key] || e.key)) redraw();
+      if (viewer.key(name)) redraw();
       e.preventDefault();
     } catch (err) {
       // A key the window does not have is the browser's.
     }
   });
-  view.addEventListener('pointerdown', (e) => {
-    if (e.button !== 0) return;
-    view.setPointerCapture(e.pointerId);
-    view.focus();
-    e.preventDefault();
+  glviewPointer(view, {
+    drag: (dx, dy) => {
+      viewer.drag(dx, dy);
+      redraw();
+    },
+    wheel: (n) => {
+      viewer.wheel(n);
+      redraw();
+    },
   });
-  view.addEventListener('pointermove', (e) => {
-    if (!view.hasPointerCapture(e.pointerId) || (e.movementX === 0 && e.movementY === 0)) return;
-    viewer.drag(e.movementX, e.movementY);
-    redraw();
-  });
-  view.addEventListener('wheel', (e) => {
-    e.preventDefault();
-    // A notch is ~100 pixels of deltaY; down (deltaY > 0) zooms out, as the window's wheel.
-    const per = e.deltaMode === 1 ? 3 : e.deltaMode === 2 ? 1 : 100;
-    viewer.wheel(-e.deltaY / per);
-    redraw();
-  }, { passive: false });
   show();
 })();

@@ -2,7 +2,7 @@
 // glview serve's local mode share. It checks the browser, opens a Viewer on the files given,
 // draws the first frames and applies the speed rule. Classic script (wasm-bindgen's
 // no-modules glue, loaded before it, defines wasm_bindgen): it defines glviewUnpack and
-// glviewStart.
+// glviewStart, and the input both pages take (glviewKeyName, glviewPointer).
 'use strict';
 
 // Bytes from base64 of gzip (the pages' and the scene request's packing).
@@ -88,4 +88,81 @@ window.glviewStart = async function (o) {
     };
   }
   return { viewer, canvas, info: JSON.parse(viewer.info()), timings };
+};
+
+// The window's name (glview --help's key table) of a key pressed, or null for the browser's
+// own shortcuts (Ctrl+R, Ctrl+-): the names differ from the browser's for these.
+const GLVIEW_KEY_NAMES = {
+  ArrowLeft: 'Left', ArrowRight: 'Right', ArrowUp: 'Up', ArrowDown: 'Down', '=': 'Plus',
+  ' ': 'Space',
+};
+window.glviewKeyName = function (e) {
+  if (e.ctrlKey || e.metaKey || e.altKey) return null;
+  return GLVIEW_KEY_NAMES[e.key] || e.key;
+};
+
+// One pointer drags, two touching pointers pinch, the wheel zooms, on element `el`; movement
+// is summed and handed on at most once per animation frame (one draw, or one message, per
+// frame): on.drag(dx, dy) in whole pixels (the remainder waits for the next frame),
+// on.wheel(notches) (away from the user and fingers apart zoom in; a mouse notch is 100
+// pixels in Chromium and 3 lines in Firefox, a touchpad gives fractions; one notch per factor
+// 1.1 of two fingers' distance).
+window.glviewPointer = function (el, on) {
+  const pointers = new Map(); // pointerId -> {x, y}
+  let dragX = 0, dragY = 0, notches = 0, pinchDist = 0, queued = false;
+  const distance = () => {
+    const [a, b] = [...pointers.values()];
+    return Math.hypot(a.x - b.x, a.y - b.y);
+  };
+  const flush = () => {
+    queued = false;
+    const dx = Math.round(dragX), dy = Math.round(dragY);
+    if (dx || dy) {
+      dragX -= dx; dragY -= dy;
+      on.drag(dx, dy);
+    }
+    const n = Math.round(notches * 100) / 100;
+    notches = 0;
+    if (n) on.wheel(n);
+  };
+  const queue = () => {
+    if (!queued) {
+      queued = true;
+      requestAnimationFrame(flush);
+    }
+  };
+  const up = (e) => {
+    pointers.delete(e.pointerId);
+    pinchDist = pointers.size === 2 ? distance() : 0;
+  };
+  el.addEventListener('pointerdown', (e) => {
+    if (e.pointerType === 'mouse' && e.button !== 0) return;
+    el.setPointerCapture(e.pointerId);
+    pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
+    if (pointers.size === 2) pinchDist = distance();
+    el.focus();
+    e.preventDefault();
+  });
+  el.addEventListener('pointermove', (e) => {
+    const p = pointers.get(e.pointerId);
+    if (!p) return;
+    const dx = e.clientX - p.x, dy = e.clientY - p.y;
+    p.x = e.clientX; p.y = e.clientY;
+    if (pointers.size === 1) {
+      dragX += dx; dragY += dy;
+    } else if (pointers.size === 2) {
+      const d = distance();
+      if (pinchDist > 0 && d > 0) notches += Math.log(d / pinchDist) / Math.log(1.1);
+      pinchDist = d;
+    }
+    queue();
+  });
+  el.addEventListener('pointerup', up);
+  el.addEventListener('pointercancel', up);
+  el.addEventListener('wheel', (e) => {
+    e.preventDefault(); // the page must not scroll
+    const per = e.deltaMode === 1 ? 3 : e.deltaMode === 2 ? 1 : 100;
+    notches += -e.deltaY / per;
+    queue();
+  }, { passive: false });
 };

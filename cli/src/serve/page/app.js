@@ -460,12 +460,8 @@ function leaveFollow() {
 
 // ---- keys ----
 
-// The browser's names of keys whose name in glview's key table differs. Which keys there
-// are comes from the server (its hello message carries the table: one list of keys).
-const KEY_NAMES = {
-  ArrowLeft: 'Left', ArrowRight: 'Right', ArrowUp: 'Up', ArrowDown: 'Down', '=': 'Plus',
-  ' ': 'Space',
-};
+// Which keys there are comes from the server (its hello message carries the table: one list
+// of keys); the browser's names of them, glviewKeyName's (start.js, the live page's too).
 const serverKeys = new Map(); // upper-cased key name -> the table's spelling
 
 function key(name) {
@@ -477,10 +473,11 @@ function key(name) {
 
 document.addEventListener('keydown', (e) => {
   // Leave the browser's own shortcuts (Ctrl+R, Ctrl+-) and the picker's keys alone.
-  if (e.ctrlKey || e.metaKey || e.altKey) return;
+  const browserName = glviewKeyName(e);
+  if (browserName === null) return;
   if (e.target instanceof HTMLSelectElement) return;
   if (e.target instanceof HTMLInputElement && e.target.type === 'range') return;
-  const name = serverKeys.get((KEY_NAMES[e.key] || e.key).toUpperCase());
+  const name = serverKeys.get(browserName.toUpperCase());
   if (e.key === 'h' || e.key === 'H') {
     overlayOn = !overlayOn; // local only: the server's picture has no overlay
     $('overlay').hidden = !overlayOn;
@@ -491,87 +488,26 @@ document.addEventListener('keydown', (e) => {
   }
 });
 
-// ---- pointer: one pointer drags, two touching pointers pinch ----
-// Movement is summed and sent at most once per animation frame: the server draws only the
-// latest view anyway, and fewer messages keep the socket quiet.
+// ---- pointer: one pointer drags, two touching pointers pinch (start.js's glviewPointer,
+// the live page's too). Movement is handed on at most once per animation frame: the server
+// draws only the latest view anyway, and fewer messages keep the socket quiet.
 
-const pointers = new Map(); // pointerId -> {x, y}
-let dragX = 0, dragY = 0, notches = 0, pinchDist = 0, flushQueued = false;
-
-function queueFlush() {
-  if (flushQueued) return;
-  flushQueued = true;
-  requestAnimationFrame(() => {
-    flushQueued = false;
-    // Whole pixels go out; the remainder waits for the next frame.
-    const dx = Math.round(dragX), dy = Math.round(dragY);
-    if (dx || dy) {
-      dragX -= dx; dragY -= dy;
-      leaveFollow();
-      Local.input((v) => v.drag(dx, dy));
-      sendInput({ type: 'drag', dx, dy });
-    }
-    if (notches) {
-      const n = Math.round(notches * 100) / 100;
-      notches = 0;
-      if (n) {
-        leaveFollow();
-        Local.input((v) => v.wheel(n));
-        sendInput({ type: 'wheel', notches: n });
-      }
-    }
-  });
-}
-
-function distance() {
-  const [a, b] = [...pointers.values()];
-  return Math.hypot(a.x - b.x, a.y - b.y);
-}
+const pointerInput = {
+  drag: (dx, dy) => {
+    leaveFollow();
+    Local.input((v) => v.drag(dx, dy));
+    sendInput({ type: 'drag', dx, dy });
+  },
+  wheel: (n) => {
+    leaveFollow();
+    Local.input((v) => v.wheel(n));
+    sendInput({ type: 'wheel', notches: n });
+  },
+};
 
 // The stream's canvas has them from the start; local mode's canvas gets them when it shows.
 function pointerEvents(el) {
-  el.addEventListener('pointerdown', (e) => {
-    if (e.pointerType === 'mouse' && e.button !== 0) return;
-    el.setPointerCapture(e.pointerId);
-    pointers.set(e.pointerId, { x: e.clientX, y: e.clientY });
-    if (pointers.size === 2) pinchDist = distance();
-    el.focus();
-    e.preventDefault();
-  });
-  el.addEventListener('pointermove', pointerMove);
-  el.addEventListener('pointerup', pointerUp);
-  el.addEventListener('pointercancel', pointerUp);
-  el.addEventListener('wheel', wheel, { passive: false });
-}
-
-function pointerMove(e) {
-  const p = pointers.get(e.pointerId);
-  if (!p) return;
-  const dx = e.clientX - p.x, dy = e.clientY - p.y;
-  p.x = e.clientX; p.y = e.clientY;
-  if (pointers.size === 1) {
-    dragX += dx; dragY += dy;
-  } else if (pointers.size === 2) {
-    // Fingers apart = zoom in: one notch per factor 1.1 of their distance.
-    const d = distance();
-    if (pinchDist > 0 && d > 0) notches += Math.log(d / pinchDist) / Math.log(1.1);
-    pinchDist = d;
-  }
-  queueFlush();
-}
-
-function pointerUp(e) {
-  pointers.delete(e.pointerId);
-  pinchDist = pointers.size === 2 ? distance() : 0;
-}
-
-function wheel(e) {
-  e.preventDefault(); // the page must not scroll
-  // Away from the user (deltaY < 0) zooms in. A mouse notch is 100 pixels in Chromium and
-  // 3 lines in Firefox; a touchpad gives fractions.
-  const per = e.deltaMode === 1 ? 3 : e.deltaMode === 2 ? 1 : 100;
-  notches += -e.deltaY / per;
-  queueFlush();
+  glviewPointer(el, pointerInput);
 }
 pointerEvents(canvas);
 
