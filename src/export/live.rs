@@ -66,8 +66,13 @@ fn gzip(bytes: &[u8]) -> Vec<u8> {
 }
 
 /// The files loading `options`' model reads (the model, its MTL libraries, images, glTF
-/// buffers), by their paths under `dir`, the model's folder.
-fn model_files(options: &Options, model: &Path) -> Result<Vec<(PathBuf, Arc<[u8]>)>> {
+/// buffers), by their paths under `dir`, the model's folder; and the model as scene bytes
+/// where a page can take them instead ([`scene_bytes`]).
+fn model_files(
+    options: &Options,
+    model: &Path,
+    renames: &[(&Path, &Path)],
+) -> Result<(Files, Prepared)> {
     let before = resources::current();
     let recording = Arc::new(Recording::new(before.clone()));
     resources::set(recording.clone());
@@ -76,9 +81,38 @@ fn model_files(options: &Options, model: &Path) -> Result<Vec<(PathBuf, Arc<[u8]
     load.cache = false;
     let loaded = crate::scene::load::load(model, &load);
     resources::set(before);
-    loaded?;
-    Ok(recording.files())
+    let scene = loaded?;
+    Ok((recording.files(), scene_bytes(&load, scene, renames)))
 }
+
+/// A model's scene bytes (`cache::to_bytes`: parsed, normals made, levels of detail and
+/// clusters built, textures decoded) for a page to read instead of the model's files, so the
+/// browser computes none of it; None where the page needs the files: a scene that moves (the
+/// mesh cache holds no rig either), one with material variants (`V` loads the file again),
+/// load options the cache does not take.
+type Prepared = Option<Vec<u8>>;
+
+/// Files by path, with their bytes.
+type Files = Vec<(PathBuf, Arc<[u8]>)>;
+
+fn scene_bytes(
+    load: &crate::scene::load::options::LoadOptions,
+    mut scene: crate::scene::Scene,
+    renames: &[(&Path, &Path)],
+) -> Prepared {
+    if !load.cacheable() || scene.motion.is_some() || !scene.views.variants.is_empty() {
+        return None;
+    }
+    let clusters = crate::scene::lod::clusters::prepare(&mut scene);
+    crate::scene::cache::to_bytes((&scene, &clusters), renames).ok()
+}
+
+/// Scene bytes are sent where, gzipped, they are at most this many times the model's files
+/// gzipped. Measured (gzip -9): the 200k dragon's OBJ 2.22 MB, its scene bytes 5.25 MB
+/// (2.4×: normals, levels of detail, clusters); the Avocado's PNGs 8.28 MB, its decoded
+/// RGBA8 8.9 MB (1.1×); JPEG-textured models grow far more (DamagedHelmet's 3.7 MB GLB
+/// decodes to 84 MB of pixels), and keep their files. docs/web.md has the table.
+const SCENE_BYTES_MAX_RATIO: u64 = 3;
 
 /// The page's names for `options`' files (the teacher's folders are not the page's): the
 /// model under `/lesson/`, an `--env` HDR under `/environment/`. What [`scene`]'s files
@@ -103,6 +137,7 @@ pub fn scene(options: &Options) -> Result<(serde_json::Value, [u64; 2])> {
     let read = |p: &Path| std::fs::read(p).map_err(|e| Error::io(p, e));
     let paged = page_paths(options);
     let mut files = Vec::new();
+    let mut model_bytes = None;
     if let (Some(model), Some(page_model)) = (&options.load.model, &paged.load.model) {
         let model = std::path::absolute(model).map_err(|e| Error::io(model, e))?;
         let folder = model.parent().unwrap_or(Path::new("/")).to_path_buf();
@@ -110,7 +145,11 @@ pub fn scene(options: &Options) -> Result<(serde_json::Value, [u64; 2])> {
         // folder reached through a link): both spellings of the folder are the model's.
         let resolved = std::fs::canonicalize(&folder).unwrap_or_else(|_| folder.clone());
         let lesson = page_model.parent().unwrap_or(Path::new(LESSON));
-        for (path, bytes) in model_files(options, &model)? {
+        // The scene bytes name the model's folder as the page does.
+        let renames = [(folder.as_path(), lesson), (resolved.as_path(), lesson)];
+        let (read_files, prepared) = model_files(options, &model, &renames)?;
+        model_bytes = prepared;
+        for (path, bytes) in read_files {
             let rel = path
                 .strip_prefix(&folder)
                 .or_else(|_| path.strip_prefix(&resolved));
@@ -124,6 +163,7 @@ pub fn scene(options: &Options) -> Result<(serde_json::Value, [u64; 2])> {
             files.push((lesson.join(rel), bytes));
         }
     }
+    let model_files = files.len();
     if let (Some(env), Some(page_env)) = (&options.pbr.env, &paged.pbr.env) {
         files.push((page_env.clone(), read(env)?.into()));
     }
@@ -133,20 +173,35 @@ pub fn scene(options: &Options) -> Result<(serde_json::Value, [u64; 2])> {
     let (maps, _) = crate::render::ibl::load_or_compute(&request)?;
     let maps = gzip(&crate::pbr::store::bytes::encode_half(&maps));
     let b64 = super::page::base64;
-    let mut bytes = [0, maps.len() as u64];
-    let files: Vec<serde_json::Value> = files
+    let mut zipped: Vec<(&PathBuf, Vec<u8>)> = files.iter().map(|(p, b)| (p, gzip(b))).collect();
+    let of_model: u64 = zipped[..model_files]
         .iter()
-        .map(|(p, b)| {
-            let z = gzip(b);
+        .map(|(_, z)| z.len() as u64)
+        .sum();
+    // The scene's bytes in place of the model's files, where they are not much larger.
+    let prepared = model_bytes
+        .map(|b| gzip(&b))
+        .filter(|z| (z.len() as u64) <= of_model.saturating_mul(SCENE_BYTES_MAX_RATIO));
+    if prepared.is_some() {
+        zipped.drain(..model_files);
+    }
+    let mut bytes = [0, maps.len() as u64];
+    let files: Vec<serde_json::Value> = zipped
+        .iter()
+        .map(|(p, z)| {
             bytes[0] += z.len() as u64;
-            serde_json::json!({ "path": p.to_string_lossy().replace('\\', "/"), "gz": b64(&z) })
+            serde_json::json!({ "path": p.to_string_lossy().replace('\\', "/"), "gz": b64(z) })
         })
         .collect();
-    let data = serde_json::json!({
+    let mut data = serde_json::json!({
         "words": paged.to_words(),
         "files": files,
         "maps": b64(&maps),
     });
+    if let Some(z) = prepared {
+        bytes[0] += z.len() as u64;
+        data["prepared"] = b64(&z).into();
+    }
     Ok((data, bytes))
 }
 

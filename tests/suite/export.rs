@@ -373,12 +373,12 @@ fn stereo_views_are_the_stereo_pictures_of_glview_o() {
     }
 }
 
-/// `--live`'s page carries what the export's loader read (renamed under /lesson/, through a
-/// linked folder too), the options naming them, the maps and the browser build's bytes, all
-/// gzipped: each unpacks to exactly what it was. The browser's side is
-/// python/tests_web/test_live_export.py (scripts/test_web.sh).
+/// `--live`'s page carries the model as scene bytes (what the export's loader made of it,
+/// through a linked folder too, named under /lesson/), the options naming it, the maps and
+/// the browser build's bytes, all gzipped: each unpacks to what it was. The browser's side
+/// is python/tests_web/test_live_export.py (scripts/test_web.sh).
 #[test]
-fn live_pages_carry_the_models_files_the_maps_and_the_renderer() {
+fn live_pages_carry_the_scene_bytes_the_maps_and_the_renderer() {
     at_repo();
     let dir = out_dir("export_live");
     let web = dir.join("web");
@@ -423,26 +423,45 @@ fn live_pages_carry_the_models_files_the_maps_and_the_renderer() {
         out
     };
     assert_eq!(gunzip(&live["wasm"]), b"\0asm-not-really");
-    let mut names = Vec::new();
-    for f in live["files"].as_array().unwrap() {
-        let path = f["path"].as_str().unwrap();
-        let name = path.strip_prefix("/lesson/").expect("under /lesson/");
-        assert_eq!(
-            gunzip(&f["gz"]),
-            std::fs::read(avocado.join(name)).unwrap(),
-            "{name}"
+    // The Avocado travels as scene bytes (its decoded textures gzip to about its PNGs:
+    // SCENE_BYTES_MAX_RATIO), not as its files: the scene glview loads, with its textures,
+    // named under /lesson/ and nowhere by the teacher's folders (the link's or its target's).
+    assert!(
+        live["files"].as_array().unwrap().is_empty(),
+        "{}",
+        live["files"]
+    );
+    let (scene, _) = glview::scene::cache::from_bytes(gunzip(&live["prepared"]))
+        .expect("the scene bytes read back");
+    let native = glview::scene::load::load(&model, &Default::default()).unwrap();
+    let triangles =
+        |s: &glview::scene::Scene| -> usize { s.meshes.iter().map(|m| m.indices.len() / 3).sum() };
+    assert_eq!(triangles(&scene), triangles(&native));
+    let textures = scene
+        .materials
+        .iter()
+        .flat_map(|m| m.slots())
+        .flatten()
+        .count();
+    assert_eq!(
+        textures,
+        native
+            .materials
+            .iter()
+            .flat_map(|m| m.slots())
+            .flatten()
+            .count()
+    );
+    assert!(textures > 0);
+    let bytes = String::from_utf8_lossy(&gunzip(&live["prepared"])).into_owned();
+    for folder in [&avocado, &link] {
+        assert!(
+            !bytes.contains(folder.to_str().unwrap()),
+            "the scene bytes name {}",
+            folder.display()
         );
-        names.push(name.to_string());
     }
-    names.sort();
-    let mut expected: Vec<String> = std::fs::read_dir(&avocado)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".gltf") || n.ends_with(".bin") || n.ends_with(".png"))
-        .filter(|n| !n.starts_with("reference"))
-        .collect();
-    expected.sort();
-    assert_eq!(names, expected, "the files the loader reads, no more");
+    assert!(bytes.contains("/lesson/"), "its textures are the page's");
     let words: Vec<&str> = live["words"]
         .as_array()
         .unwrap()
@@ -468,4 +487,46 @@ fn live_pages_carry_the_models_files_the_maps_and_the_renderer() {
         "{err}"
     );
     assert!(err.contains("scripts/build_web.sh"), "{err}");
+}
+
+/// A model whose scene bytes would outgrow its files (here a triangle and its MTL: the bytes'
+/// header alone is larger) travels as its files, exactly those the loader read.
+#[test]
+fn live_pages_carry_small_models_as_their_files() {
+    at_repo();
+    let dir = out_dir("export_live_small");
+    let web = dir.join("web");
+    std::fs::create_dir_all(web.join("no-modules")).unwrap();
+    std::fs::write(web.join("glview_web_bg.wasm"), b"\0asm-not-really").unwrap();
+    std::fs::write(web.join("no-modules/glview_web.js"), b"let wasm_bindgen;").unwrap();
+    let obj = "mtllib tri.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(dir.join("tri.obj"), obj).unwrap();
+    std::fs::write(dir.join("tri.mtl"), "newmtl a\nKd 1 0 0\n").unwrap();
+    let page = dir.join("live.html");
+    let o = run(
+        &[
+            "export",
+            dir.join("tri.obj").to_str().unwrap(),
+            "-o",
+            page.to_str().unwrap(),
+            "--live-only",
+            "--web-dir",
+            web.to_str().unwrap(),
+            "--size",
+            "64x48",
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let data = page_data(&std::fs::read_to_string(&page).unwrap());
+    let live = &data["live"];
+    assert!(live["prepared"].is_null(), "{}", live["prepared"]);
+    let mut paths: Vec<&str> = live["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["path"].as_str().unwrap())
+        .collect();
+    paths.sort_unstable();
+    assert_eq!(paths, ["/lesson/tri.mtl", "/lesson/tri.obj"]);
 }

@@ -116,8 +116,15 @@ fn load_options(o: &Options) -> LoadOptions {
 pub struct Inputs {
     files: Memory,
     maps: Option<glview_render::pbr::precompute::IblData>,
+    /// The model as scene bytes (`cache::to_bytes`), in place of its files.
+    prepared: Option<Prepared>,
     caveat: bool,
 }
+
+type Prepared = (
+    glview_render::scene::Scene,
+    Vec<Option<glview_render::scene::lod::clusters::Clusters>>,
+);
 
 #[wasm_bindgen]
 impl Inputs {
@@ -137,6 +144,17 @@ impl Inputs {
             js("the environment maps given are not glview's maps (pbr::store::bytes)")
         })?;
         self.maps = Some(d);
+        Ok(())
+    }
+
+    /// The model the options name as scene bytes (`glview export --live`'s and serve's
+    /// `prepared`: parsed, normals made, levels of detail built, textures decoded), read in
+    /// place of its files; an error for bytes that are not such a scene of this glview.
+    pub fn prepared(&mut self, bytes: Vec<u8>) -> Result<(), JsValue> {
+        let p = glview_render::scene::cache::from_bytes(bytes).ok_or_else(|| {
+            js("the scene given is not a scene of this glview's (cache::to_bytes), or is damaged")
+        })?;
+        self.prepared = Some(p);
         Ok(())
     }
 
@@ -175,6 +193,18 @@ fn load_scene(options: &Options) -> Result<glview_render::scene::Scene, JsValue>
 /// A renderer of the scene `options` name, with the environment they ask for.
 fn renderer_for(gpu: &GpuRef, options: &Options) -> Result<Renderer, JsValue> {
     let mut renderer = Renderer::new(gpu, load_scene(options)?).map_err(js)?;
+    renderer.set_environment(env_request(options).map_err(js)?);
+    Ok(renderer)
+}
+
+/// A renderer of scene bytes read for `options`' model, as a native mesh cache hit makes one.
+fn prepared_renderer(
+    gpu: &GpuRef,
+    options: &Options,
+    (mut scene, clusters): Prepared,
+) -> Result<Renderer, JsValue> {
+    adjust_scene(options, &mut scene).map_err(js)?;
+    let mut renderer = Renderer::prepared(gpu, scene, clusters).map_err(js)?;
     renderer.set_environment(env_request(options).map_err(js)?);
     Ok(renderer)
 }
@@ -250,6 +280,7 @@ impl Viewer {
         let Inputs {
             files,
             maps,
+            prepared,
             caveat,
         } = inputs;
         resources::set(std::sync::Arc::new(files));
@@ -263,7 +294,10 @@ impl Viewer {
         let (gl, webgl) = context(&canvas, webgl, caveat)?;
         // WebGL 1 reports "WebGL 1.0 (OpenGL ES 2.0 ...)": the ES 2.0 rules follow from it.
         let gpu = Gpu::new(gl);
-        let renderer = renderer_for(&gpu, &options)?;
+        let renderer = match prepared.filter(|_| options.load.model.is_some()) {
+            Some(p) => prepared_renderer(&gpu, &options, p)?,
+            None => renderer_for(&gpu, &options)?,
+        };
         let settled = View::settled(&options, renderer.scene()).map_err(js)?;
         Ok(Viewer {
             view: View::new(settled),

@@ -1,13 +1,12 @@
 //! glview's scene: the model (meshes, materials, bounds, cameras, lights, motion), loaded from
 //! OBJ/MTL, STL, PLY and glTF by a loader per format (`loaders/`), with the geometry every
 //! format shares (`geometry/`), levels of detail and clusters (`lod/`), the mesh cache
-//! (`cache/`, native builds) and the motion runtime (`motion/`). No GL, no window, no clock:
+//! (`cache/`: on disk in native builds, and scene bytes for the browser) and the motion runtime (`motion/`). No GL, no window, no clock:
 //! the renderer, the CPU reference renderer, the browser build and the tests share it. Files
 //! are read through [`load::resources::Resources`]; threads and the disk cache are the `native` feature's.
 // Developer docs: links to private items resolve with --document-private-items.
 #![allow(rustdoc::private_intra_doc_links)]
 pub mod builtin;
-#[cfg(feature = "native")]
 pub mod cache;
 pub mod error;
 pub mod generate;

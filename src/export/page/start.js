@@ -38,7 +38,7 @@ window.glviewCannot = function () {
   return null;
 };
 
-// Starts a viewer. o: { wasm (a URL, or {b64}: packed as the pages pack files), scene: {words, files: [{path, gz}], maps},
+// Starts a viewer. o: { wasm (a URL, or {b64}: packed as the pages pack files), scene: {words, files: [{path, gz}], maps, prepared (the model as scene bytes, optional)},
 // webgl (1 forces WebGL 1), force (draw even on a slow context: no
 // failIfMajorPerformanceCaveat, no speed rule), slowMs (the rule's bound: the median of three
 // frames after the first) }. Resolves to {viewer, canvas, info, timings}, or {why}: the
@@ -48,13 +48,15 @@ window.glviewStart = async function (o) {
   let viewer, canvas;
   try {
     const s = o.scene;
-    const packed = [s.maps].concat(s.files.map((f) => f.gz));
-    const [maps, ...files] = await Promise.all(packed.map(glviewUnpack));
+    const packed = [s.maps, s.prepared || ''].concat(s.files.map((f) => f.gz));
+    const [maps, prepared, ...files] = await Promise.all(packed.map((b) => b ? glviewUnpack(b) : null));
     const wasm = typeof o.wasm === 'string' ? o.wasm : await glviewUnpack(o.wasm.b64);
     await wasm_bindgen({ module_or_path: wasm });
     const inputs = new wasm_bindgen.Inputs();
     s.files.forEach((f, i) => inputs.file(f.path, files[i]));
     inputs.maps(maps);
+    // The model as scene bytes, where the page has them instead of its files.
+    if (prepared) inputs.prepared(prepared);
     inputs.refuse_slow_context(!o.force);
     canvas = document.createElement('canvas');
     viewer = wasm_bindgen.Viewer.open(canvas, s.words, o.webgl === 1 ? 1 : 2, inputs);

@@ -29,6 +29,9 @@
 //! model is read again. On the 2M-triangle sphere the first section is 7 MB of 92.
 //! Everything a format can give is stored, so every format is cached, textures included: a
 //! hit decodes no image either (a glTF's JPEGs and PNGs cost more than its meshes).
+// Without the `native` feature (wasm32) only scene bytes are read ([`from_bytes`]): the disk
+// entries' writer and its bounds go unused there.
+#![cfg_attr(not(feature = "native"), allow(dead_code))]
 use crate::lod::clusters::Clusters;
 use crate::model::material::{Material, Texture, TextureOptions};
 use serde::{Deserialize, Serialize};
@@ -392,6 +395,94 @@ pub fn put_in(
 ) -> std::io::Result<()> {
     let entry = entry_path(dir, path).ok_or_else(|| std::io::Error::other("no canonical path"))?;
     let canonical = path.canonicalize()?;
+    let origin = Origin {
+        file: stamp(&canonical).ok_or_else(|| std::io::Error::other("no mtime"))?,
+        hash: bytes.map(content_hash),
+        textures,
+        dependencies: scene.dependencies.iter().filter_map(|d| stamp(d)).collect(),
+    };
+    std::fs::create_dir_all(dir)?;
+    // Written beside the entry and renamed: a reader never sees half a file.
+    let tmp = entry.with_extension(format!("tmp{}", std::process::id()));
+    {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
+        let written = write_entry(&mut w, origin, max_bytes, (scene, clusters), &|j| j);
+        if written.is_err() {
+            drop(w);
+            let _ = std::fs::remove_file(&tmp);
+            return written;
+        }
+        std::io::Write::flush(&mut w)?;
+    }
+    std::fs::rename(&tmp, &entry)?;
+    evict(dir, max_bytes, &entry)
+}
+
+/// Where an entry's scene came from: what a hit validates (none of it for scene bytes).
+struct Origin {
+    file: Stamp,
+    hash: Option<u128>,
+    textures: TextureOptions,
+    dependencies: Vec<Stamp>,
+}
+
+/// The scene as bytes in the entry's format, for a reader with no disk (the browser build:
+/// `glview export --live`, `glview serve`'s local mode), which [`from_bytes`] reads back:
+/// parsed, normals made, levels of detail and clusters built, textures decoded. No file's
+/// stamp is in it, and every path under a `renames` folder (the model's, as the writer's
+/// disk has it) is written under its page folder instead (textures, warnings, notes): the
+/// page is not told where the model sits.
+pub fn to_bytes(
+    (scene, clusters): (&Scene, &[Option<Clusters>]),
+    renames: &[(&Path, &Path)],
+) -> std::io::Result<Vec<u8>> {
+    let origin = Origin {
+        file: Stamp {
+            path: PathBuf::new(),
+            size: 0,
+            mtime_ns: 0,
+            inode: 0,
+        },
+        hash: None,
+        textures: TextureOptions {
+            allow_outside_paths: false,
+            max_dimension: 0,
+        },
+        dependencies: Vec::new(),
+    };
+    let mut out = Vec::new();
+    let rename = |json: Vec<u8>| -> Vec<u8> {
+        let mut text = String::from_utf8_lossy(&json).into_owned();
+        for (from, to) in renames {
+            // As the JSON spells them (a Windows path's backslashes escaped).
+            let spell = |p: &Path| serde_json::to_string(p).unwrap_or_default();
+            let (from, to) = (spell(from), spell(to));
+            let trim = |s: &str| s.trim_matches('"').to_string();
+            if from.len() > 2 {
+                text = text.replace(&trim(&from), &trim(&to));
+            }
+        }
+        text.into_bytes()
+    };
+    write_entry(&mut out, origin, u64::MAX, (scene, clusters), &rename)?;
+    Ok(out)
+}
+
+/// A scene [`to_bytes`] wrote; None for anything else (wrong magic, format or glview
+/// version, a length or hash that does not match: nothing is trusted unchecked).
+pub fn from_bytes(bytes: Vec<u8>) -> Option<Prepared> {
+    read::decode_bytes(bytes)
+}
+
+/// Writes the entry of `scene`: magic, header (as `header` rewrites its JSON), both
+/// sections; an error past `max_bytes`.
+fn write_entry(
+    out: &mut impl std::io::Write,
+    origin: Origin,
+    max_bytes: u64,
+    (scene, clusters): (&Scene, &[Option<Clusters>]),
+    header_json: &dyn Fn(Vec<u8>) -> Vec<u8>,
+) -> std::io::Result<()> {
     let (table, slot_refs) = image_table(scene);
     let compacts: Vec<Option<Compact>> = scene
         .meshes
@@ -415,11 +506,11 @@ pub fn put_in(
     let header = Header {
         format: FORMAT,
         glview: env!("CARGO_PKG_VERSION").into(),
-        file: stamp(&canonical).ok_or_else(|| std::io::Error::other("no mtime"))?,
-        hash: bytes.map(content_hash),
-        allow_outside_paths: textures.allow_outside_paths,
-        max_dimension: textures.max_dimension,
-        dependencies: scene.dependencies.iter().filter_map(|d| stamp(d)).collect(),
+        file: origin.file,
+        hash: origin.hash,
+        allow_outside_paths: origin.textures.allow_outside_paths,
+        max_dimension: origin.textures.max_dimension,
+        dependencies: origin.dependencies,
         name: scene.name.clone(),
         materials: scene.materials.clone(),
         textures: table
@@ -476,23 +567,14 @@ pub fn put_in(
         rest_len,
         rest_hash,
     };
-    let json = serde_json::to_vec(&header).map_err(std::io::Error::other)?;
-    std::fs::create_dir_all(dir)?;
-    // Written beside the entry and renamed: a reader never sees half a file.
-    let tmp = entry.with_extension(format!("tmp{}", std::process::id()));
-    {
-        use std::io::Write;
-        let mut w = std::io::BufWriter::new(std::fs::File::create(&tmp)?);
-        w.write_all(MAGIC)?;
-        w.write_all(&(json.len() as u64).to_le_bytes())?;
-        w.write_all(&json)?;
-        for p in first.iter().chain(&rest) {
-            w.write_all(p)?;
-        }
-        w.flush()?;
+    let json = header_json(serde_json::to_vec(&header).map_err(std::io::Error::other)?);
+    out.write_all(MAGIC)?;
+    out.write_all(&(json.len() as u64).to_le_bytes())?;
+    out.write_all(&json)?;
+    for p in first.iter().chain(&rest) {
+        out.write_all(p)?;
     }
-    std::fs::rename(&tmp, &entry)?;
-    evict(dir, max_bytes, &entry)
+    Ok(())
 }
 
 /// The payload's parts in file order, borrowed: hashed, then written, never copied into one

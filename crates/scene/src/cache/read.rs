@@ -26,8 +26,42 @@ pub(super) fn decode(
     textures: TextureOptions,
 ) -> Option<Prepared> {
     let header = read_header(&mut file, path, bytes, textures)?;
+    decode_payload(Box::new(file), header, Some((path.to_path_buf(), textures)))
+}
+
+/// Reads scene bytes ([`super::to_bytes`]): the header checked for its magic, format, glview
+/// version and lengths (there is no file to stamp), then the payload as an entry's.
+pub(super) fn decode_bytes(bytes: Vec<u8>) -> Option<Prepared> {
+    let len = bytes.len() as u64;
+    let mut r = std::io::Cursor::new(bytes);
+    let (header, json_len) = read_json(&mut r, len)?;
+    let fits = header.format == FORMAT
+        && header.glview == env!("CARGO_PKG_VERSION")
+        && Some(len)
+            == (12 + json_len)
+                .checked_add(header.first_len)
+                .and_then(|n| n.checked_add(header.rest_len));
+    if !fits {
+        return None;
+    }
+    // The second section is checked now, not when the meshes are first used: there is no
+    // model to read again, and a lazy failure would have nothing to stand in for it.
+    let rest_at = usize::try_from(12 + json_len + header.first_len).ok()?;
+    if content_hash(&r.get_ref()[rest_at..]) != header.rest_hash {
+        return None;
+    }
+    decode_payload(Box::new(r), header, None)
+}
+
+/// The payload after a validated header; `model` is what is read again if the second
+/// section fails its hash (None for scene bytes: then that is an error).
+fn decode_payload(
+    source: Box<dyn Source>,
+    header: Header,
+    model: Option<(std::path::PathBuf, TextureOptions)>,
+) -> Option<Prepared> {
     let mut payload = Payload {
-        file,
+        file: source,
         hasher: xxhash_rust::xxh3::Xxh3::new(),
         left: header.first_len,
     };
@@ -74,8 +108,7 @@ pub(super) fn decode(
                 .iter()
                 .map(|c| c.as_ref().map(|c| c.lod.index_count))
                 .collect(),
-            model: path.to_path_buf(),
-            textures,
+            model,
         };
         Meshes::deferred(firsts, Box::new(rest))
     };
@@ -117,20 +150,8 @@ fn read_header(
     bytes: Option<&[u8]>,
     textures: TextureOptions,
 ) -> Option<Header> {
-    use std::io::Read;
     let file_len = file.metadata().ok()?.len();
-    let mut head = [0u8; 12];
-    file.read_exact(&mut head).ok()?;
-    if &head[..4] != MAGIC {
-        return None;
-    }
-    let json_len = u64::from_le_bytes(head[4..].try_into().ok()?);
-    if json_len > file_len.saturating_sub(12) {
-        return None;
-    }
-    let mut json = vec![0u8; usize::try_from(json_len).ok()?];
-    file.read_exact(&mut json).ok()?;
-    let header: Header = serde_json::from_slice(&json).ok()?;
+    let (header, json_len) = read_json(file, file_len)?;
     let canonical = path.canonicalize().ok()?;
     let valid = header.format == FORMAT
         && header.glview == env!("CARGO_PKG_VERSION")
@@ -148,6 +169,26 @@ fn read_header(
                 .and_then(|n| n.checked_add(header.rest_len));
     valid.then_some(header)
 }
+
+/// The magic, the header's length and the header, from a source of `total` bytes.
+fn read_json(r: &mut impl std::io::Read, total: u64) -> Option<(Header, u64)> {
+    let mut head = [0u8; 12];
+    r.read_exact(&mut head).ok()?;
+    if &head[..4] != MAGIC {
+        return None;
+    }
+    let json_len = u64::from_le_bytes(head[4..].try_into().ok()?);
+    if json_len > total.saturating_sub(12) {
+        return None;
+    }
+    let mut json = vec![0u8; usize::try_from(json_len).ok()?];
+    r.read_exact(&mut json).ok()?;
+    Some((serde_json::from_slice(&json).ok()?, json_len))
+}
+
+/// What an entry's payload is read from: its file, or scene bytes in memory.
+trait Source: std::io::Read + std::io::Seek + Send {}
+impl<T: std::io::Read + std::io::Seek + Send> Source for T {}
 
 /// Each mesh's first-view part in header order: its compact copy where the header has one,
 /// else its arrays. None if any is short or inconsistent.
@@ -340,23 +381,24 @@ struct RestOfEntry {
     /// Per mesh, its levels' index count when it has clusters.
     levels: Vec<Option<usize>>,
     /// Read again, whole, if the section fails its hash: the same scene (loading is
-    /// deterministic), at a cold load's cost.
-    model: std::path::PathBuf,
-    textures: TextureOptions,
+    /// deterministic), at a cold load's cost; None for scene bytes (nothing to read again).
+    model: Option<(std::path::PathBuf, TextureOptions)>,
 }
 
 impl Rest for RestOfEntry {
     fn read(self: Box<Self>, first: Vec<Option<Mesh>>) -> Result<Full, String> {
-        let (model, textures, count) = (self.model.clone(), self.textures, self.metas.len());
+        let (model, count) = (self.model.clone(), self.metas.len());
         let t = web_time::Instant::now();
         if let Some(full) = self.read_section(first) {
             log::debug!(
-                "{}: the meshes' full arrays read from the mesh cache in {:.0} ms",
-                model.display(),
+                "the meshes' full arrays read from the mesh cache in {:.0} ms",
                 t.elapsed().as_secs_f64() * 1e3
             );
             return Ok(full);
         }
+        let Some((model, textures)) = model else {
+            return Err("the scene's bytes are corrupt past their first section".into());
+        };
         log::warn!(
             "{}: the mesh cache entry is corrupt past its first section: the model is read again",
             model.display()
@@ -425,7 +467,7 @@ fn reload(model: &Path, textures: TextureOptions, count: usize) -> Result<Full, 
 
 /// The entry's payload being read: what is left of its stated length, and its running hash.
 struct Payload {
-    file: std::fs::File,
+    file: Box<dyn Source>,
     hasher: xxhash_rust::xxh3::Xxh3,
     left: u64,
 }

@@ -113,3 +113,65 @@ fn least_recently_used_entries_are_evicted_first() {
     assert!(!exists(1));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Scene bytes (the browser's: `glview export --live`, serve's local mode) read back as the
+/// scene they were made of, its compact first section and levels included; any truncation or
+/// flipped byte is refused (None), never a panic, and never a lazy failure later: the second
+/// section is checked when the bytes are read.
+#[test]
+fn scene_bytes_read_back_as_the_scene_and_refuse_damage() {
+    // A wavy 120x120 grid (28,800 triangles): over the cluster threshold, so the bytes carry
+    // clusters and levels.
+    let n = 120;
+    let mut obj = String::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, z) = (i as f32 / n as f32, j as f32 / n as f32);
+            obj.push_str(&format!(
+                "v {x} {} {z}\n",
+                0.05 * (9.0 * x).sin() * (7.0 * z).cos()
+            ));
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            let (b, c, d) = (a + 1, a + n + 1, a + n + 2);
+            obj.push_str(&format!("f {a} {c} {b}\nf {b} {c} {d}\n"));
+        }
+    }
+    let p = Path::new("grid.obj");
+    let mut scene = load_bytes(p, obj.as_bytes(), &LoadOptions::default()).unwrap();
+    let clusters = crate::lod::clusters::prepare(&mut scene);
+    assert!(clusters.iter().any(Option::is_some), "no clusters to carry");
+    let bytes = to_bytes((&scene, &clusters), &[]).unwrap();
+    let (back, back_clusters) = from_bytes(bytes.clone()).expect("reads back");
+    assert_eq!(back.meshes.len(), scene.meshes.len());
+    for (a, b) in back.meshes.iter().zip(scene.meshes.iter()) {
+        assert!(a.vertices == b.vertices && a.indices == b.indices);
+    }
+    assert_eq!(back.bounds, scene.bounds);
+    let levels = |c: &[Option<Clusters>]| -> Vec<usize> {
+        c.iter().flatten().map(|c| c.lod.index_count).collect()
+    };
+    assert_eq!(levels(&back_clusters), levels(&clusters));
+    let step = bytes.len() / 97 + 1;
+    for n in (0..bytes.len()).step_by(step) {
+        assert!(
+            from_bytes(bytes[..n].to_vec()).is_none(),
+            "truncated to {n}"
+        );
+    }
+    for i in (0..bytes.len()).step_by(step) {
+        let mut b = bytes.clone();
+        b[i] ^= 0x10;
+        // A flip in the header's JSON may still parse to an equal header; then the scene
+        // is the same one.
+        if let Some((s, _)) = from_bytes(b) {
+            assert!(
+                s.meshes[0].indices == scene.meshes[0].indices,
+                "flip at {i}"
+            );
+        }
+    }
+}

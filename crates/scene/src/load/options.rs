@@ -32,7 +32,7 @@ impl LoadOptions {
     /// A chosen scene or variant is not it: the entry holds the default scene with its
     /// default materials, and those choices load the file (variant files are small; a
     /// cache of every scene and every variant's materials would multiply the entry).
-    pub(crate) fn cacheable(&self) -> bool {
+    pub fn cacheable(&self) -> bool {
         !self.honor_transparency
             && self.creases == Creases::default()
             && self.up == UpAxis::PosY

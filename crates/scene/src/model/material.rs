@@ -336,7 +336,7 @@ impl Material {
 
     #[cfg_attr(not(feature = "native"), allow(dead_code))]
     /// As [`Material::slots_mut`], read only.
-    pub(crate) fn slots(&self) -> [&Option<TextureSlot>; 19] {
+    pub fn slots(&self) -> [&Option<TextureSlot>; 19] {
         let [a, b, c, d, e, f, g, h, i, j, k, l] = &self.khr.maps;
         [
             &self.base_color_texture,
