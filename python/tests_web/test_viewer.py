@@ -202,6 +202,8 @@ def test_drag_and_wheel_equal_glview_of_the_views_options(browser, server):
 def test_webgl1_legacy_tier_equals_glview_on_gl21(browser, server):
     web, state = page_pixels(browser, server, SCENE, webgl=1)
     assert state["info"]["webgl"] == 1 and state["info"]["dialect"] == "GLSL ES 1.00", state
+    # OES_vertex_array_object where present (SwiftShader's WebGL 1 has it).
+    assert state["info"]["vertex_arrays"] is True, state
     check("webgl1-phong", web, native([*SCENE, "--gl", "2.1"], GL21), PHONG)
 
 

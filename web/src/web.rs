@@ -411,17 +411,19 @@ impl Viewer {
         self.gpu.read_rgba(w, h)
     }
 
-    /// What drew: the WebGL version, GL_VERSION, the renderer, the GLSL dialect and how
-    /// shadow maps are kept (depth textures, or packed into RGBA8 without them), as JSON.
+    /// What drew: the WebGL version, GL_VERSION, the renderer, the GLSL dialect, how shadow
+    /// maps are kept (depth textures, or packed into RGBA8 without them) and whether vertex
+    /// array objects are used (WebGL 1: OES_vertex_array_object), as JSON.
     pub fn info(&self) -> String {
         let c = &self.gpu.caps;
         format!(
-            "{{\"webgl\":{},\"version\":{:?},\"renderer\":{:?},\"dialect\":{:?},\"shadow_maps\":{:?},\"frames\":{}}}",
+            "{{\"webgl\":{},\"version\":{:?},\"renderer\":{:?},\"dialect\":{:?},\"shadow_maps\":{:?},\"vertex_arrays\":{},\"frames\":{}}}",
             self.webgl,
             c.version,
             c.renderer,
             c.dialect.name(),
             c.shadow_store(),
+            c.vertex_arrays(),
             self.frames
         )
     }

@@ -105,6 +105,21 @@ pub struct Caps {
     pub(crate) extension_count: usize,
 }
 
+/// Vertex array objects before GL 3.0 / ES 3.0 (ES 2.0 and WebGL 1: OES_; glow calls
+/// whichever the context has).
+const VAO_EXTENSIONS: &[&str] = &[
+    "GL_ARB_vertex_array_object",
+    "GL_APPLE_vertex_array_object",
+    "GL_OES_vertex_array_object",
+];
+
+/// Depth textures before GL 1.4 / ES 3.0 (WebGL 1: WEBGL_depth_texture).
+const DEPTH_TEXTURE_EXTENSIONS: &[&str] = &[
+    "GL_ARB_depth_texture",
+    "GL_OES_depth_texture",
+    "GL_WEBGL_depth_texture",
+];
+
 fn parse_version(s: &str) -> Option<(u32, u32)> {
     let start = s.find(|c: char| c.is_ascii_digit())?;
     let mut it = s[start..].split(|c: char| !c.is_ascii_digit());
@@ -253,18 +268,10 @@ impl Caps {
                 derivatives: !es2 || has(&["GL_OES_standard_derivatives"]),
                 frag_depth: !es2 || has(&["GL_EXT_frag_depth"]),
                 fbo,
-                vao: es3
-                    || desktop_at_least(3, 0)
-                    || has(&["GL_ARB_vertex_array_object", "GL_APPLE_vertex_array_object"]),
+                vao: es3 || desktop_at_least(3, 0) || has(VAO_EXTENSIONS),
                 // Depth textures and shadow comparison are core since GL 1.4 (ARB_depth_texture,
                 // ARB_shadow), so they are not always listed as extensions.
-                depth_texture: es3
-                    || desktop_at_least(1, 4)
-                    || has(&[
-                        "GL_ARB_depth_texture",
-                        "GL_OES_depth_texture",
-                        "GL_WEBGL_depth_texture",
-                    ]),
+                depth_texture: es3 || desktop_at_least(1, 4) || has(DEPTH_TEXTURE_EXTENSIONS),
                 // ES 2.0's shadow lookups compare in the shader (WebGL 1 has no shadow
                 // samplers): the depth texture keeps no compare mode there.
                 shadow_compare: !es2 && (es3 || desktop_at_least(1, 4) || has(&["GL_ARB_shadow"])),
@@ -324,6 +331,12 @@ impl Caps {
     /// (ES 2.0 core) to draw into the texture.
     pub(crate) fn packed_shadow(&self) -> bool {
         !self.depth_texture && self.fbo
+    }
+
+    /// Whether meshes keep their attribute bindings in vertex array objects (else they are
+    /// bound per draw): for the web page's info.
+    pub fn vertex_arrays(&self) -> bool {
+        self.vao
     }
 
     /// How shadow maps are kept, for `--info` and the web page's info.
