@@ -72,6 +72,31 @@ pub fn run(args: &[&str], env: &[(&str, &str)]) -> Output {
 /// A plain picture with no special environment is rendered in this process by the shared
 /// fixture (one context, one program cache); anything else runs the binary.
 /// `glview --repro PNG -o OUT`: the picture drawn again from its PNG text.
+/// Runs the ignored test `name` (`module::test`) of this test binary in a child process
+/// with `env` (Mesa reads its overrides once, when a process makes its first context) and
+/// fails unless it passed.
+pub fn run_child_test(name: &str, env: &[(&str, &str)]) {
+    let o = std::process::Command::new(std::env::current_exe().unwrap())
+        .args([
+            name,
+            "--exact",
+            "--ignored",
+            "--nocapture",
+            "--test-threads",
+            "1",
+        ])
+        .envs(env.iter().copied())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    let out = String::from_utf8_lossy(&o.stdout);
+    eprintln!("{err}");
+    assert!(
+        o.status.success() && out.contains("1 passed"),
+        "{out}\n{err}"
+    );
+}
+
 pub fn repro(png: &Path, out: &Path) -> Output {
     run(
         &[

@@ -373,6 +373,15 @@ fn stereo_views_are_the_stereo_pictures_of_glview_o() {
     }
 }
 
+/// A stand-in for the browser build in `dir/web`: the export reads it, nothing runs it.
+fn fake_web_dir(dir: &Path) -> PathBuf {
+    let web = dir.join("web");
+    std::fs::create_dir_all(web.join("no-modules")).unwrap();
+    std::fs::write(web.join("glview_web_bg.wasm"), b"\0asm-not-really").unwrap();
+    std::fs::write(web.join("no-modules/glview_web.js"), b"let wasm_bindgen;").unwrap();
+    web
+}
+
 /// `--live`'s page carries the model as scene bytes (what the export's loader made of it,
 /// through a linked folder too, named under /lesson/), the options naming it, the maps and
 /// the browser build's bytes, all gzipped: each unpacks to what it was. The browser's side
@@ -381,10 +390,7 @@ fn stereo_views_are_the_stereo_pictures_of_glview_o() {
 fn live_pages_carry_the_scene_bytes_the_maps_and_the_renderer() {
     at_repo();
     let dir = out_dir("export_live");
-    let web = dir.join("web");
-    std::fs::create_dir_all(web.join("no-modules")).unwrap();
-    std::fs::write(web.join("glview_web_bg.wasm"), b"\0asm-not-really").unwrap();
-    std::fs::write(web.join("no-modules/glview_web.js"), b"let wasm_bindgen;").unwrap();
+    let web = fake_web_dir(&dir);
     let avocado = shared().join("gltf-samples/Avocado");
     let link = dir.join("linked");
     let _ = std::fs::remove_file(&link);
@@ -495,10 +501,7 @@ fn live_pages_carry_the_scene_bytes_the_maps_and_the_renderer() {
 fn live_pages_carry_small_models_as_their_files() {
     at_repo();
     let dir = out_dir("export_live_small");
-    let web = dir.join("web");
-    std::fs::create_dir_all(web.join("no-modules")).unwrap();
-    std::fs::write(web.join("glview_web_bg.wasm"), b"\0asm-not-really").unwrap();
-    std::fs::write(web.join("no-modules/glview_web.js"), b"let wasm_bindgen;").unwrap();
+    let web = fake_web_dir(&dir);
     let obj = "mtllib tri.mtl\nusemtl a\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     std::fs::write(dir.join("tri.obj"), obj).unwrap();
     std::fs::write(dir.join("tri.mtl"), "newmtl a\nKd 1 0 0\n").unwrap();

@@ -186,23 +186,9 @@ fn a_moved_caster_redraws_only_its_part_of_the_shadow_map() {
 /// process: Mesa reads its overrides once, when the first context is made.
 #[test]
 fn a_moved_caster_redraws_only_its_part_of_a_packed_shadow_map() {
-    let o = std::process::Command::new(std::env::current_exe().unwrap())
-        .args([
-            "motion_render::moved_caster_packed_child",
-            "--exact",
-            "--ignored",
-            "--nocapture",
-            "--test-threads",
-            "1",
-        ])
-        .envs(super::es2::ES2_NO_DEPTH_TEXTURES.iter().copied())
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    let out = String::from_utf8_lossy(&o.stdout);
-    assert!(
-        o.status.success() && out.contains("1 passed"),
-        "{out}\n{err}"
+    run_child_test(
+        "motion_render::moved_caster_packed_child",
+        super::es2::ES2_NO_DEPTH_TEXTURES,
     );
 }
 

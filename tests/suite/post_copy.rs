@@ -112,25 +112,7 @@ fn m_args(m: &str) -> Vec<&str> {
 /// the environment before the context is made.
 #[test]
 fn a_bright_pixel_gives_the_gaussian_on_the_copy_path() {
-    let o = std::process::Command::new(std::env::current_exe().unwrap())
-        .args([
-            "post_copy::gaussian_child",
-            "--exact",
-            "--ignored",
-            "--nocapture",
-            "--test-threads",
-            "1",
-        ])
-        .envs(GL21_NO_FBO.iter().copied())
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    let out = String::from_utf8_lossy(&o.stdout);
-    eprintln!("{err}");
-    assert!(
-        o.status.success() && out.contains("1 passed"),
-        "{out}\n{err}"
-    );
+    run_child_test("post_copy::gaussian_child", GL21_NO_FBO);
 }
 
 #[test]
