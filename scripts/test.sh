@@ -38,14 +38,14 @@ step() {
   "$@"
   echo "scripts/test.sh: step '$name' $(( $(date +%s) - t0 )) s"
 }
-# A step in the background at nice 19 ($BG_NICE if set), its log printed when it is collected.
+# A step in the background at nice 19, its log printed when it is collected.
 background() {
   local name=$1 log
   shift
   log=$(mktemp)
   (
     t0=$(date +%s)
-    nice -n "${BG_NICE:-19}" "$@"
+    nice -n 19 "$@"
     echo "scripts/test.sh: step '$name' (in the background) $(($(date +%s) - t0)) s"
   ) >"$log" 2>&1 &
   bg_pids+=("$!")
@@ -130,16 +130,8 @@ background platforms bash -c 'for _ in $(seq 600); do [ -e '"$prep_done"' ] && b
 # rustdoc pass (-D warnings) is left to developers, as the library's `cargo doc` is (the
 # check it needs was ~2 min of CPU this job could not spare). Beside the platforms job at
 # the same nice level, for the same idle cycles.
-# wasm-bindgen-cli's install (~80 s of CPU, host only) at the build's own priority, at once:
-# at nice 19 beside the build it took 593 s, and the wasm build (then the last step) waited
-# for it; in cargo install's own temporary folder, so it holds no lock the platforms job waits
-# on. The web job waits for its file.
-tools_done=$(mktemp -u)
-BG_NICE=0 background web-tools bash -c 'unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; rc=0
-  GLVIEW_WEB_TOOLS_ONLY=1 bash scripts/build_web.sh || rc=$?
-  touch '"$tools_done"'; exit $rc'
 background web bash -c 'unset RUSTC_WORKSPACE_WRAPPER CLIPPY_ARGS; export CARGO_TARGET_DIR=target/cross
-  for _ in $(seq 1200); do [ -e '"$tools_done"' ] && break; sleep 1; done
+  GLVIEW_WEB_TOOLS_ONLY=1 bash scripts/build_web.sh
   for _ in $(seq 600); do [ -e '"$prep_done"' ] && break; sleep 1; done
   GLVIEW_CROSS=1 GLVIEW_WASM_OPT=none bash scripts/build_web.sh --profile wine-test'
 # Clippy runs inside the test build instead of as `cargo clippy` before it: clippy-driver as
@@ -181,7 +173,7 @@ step test cargo test --workspace --no-fail-fast 2>&1
 # The before/after picture checker of refactors (scripts/pictures_unchanged.sh) still tells
 # equal, different and failed renders apart.
 step "pictures checker self-test" bash scripts/pictures_unchanged.sh --self-test --after-bin target/debug/glview
-collect 3
+collect 2
 # The page of `glview serve` in Debian's Chromium, driven by a pinned Playwright: alone, as
 # its pages wait on frames with timeouts.
 step browser bash scripts/test_browser.sh
@@ -195,5 +187,4 @@ step "windows (Wine)" bash scripts/test_windows.sh target/cross/x86_64-pc-window
 # server, keep both cores busy (the every-program compiles are single-threaded): 210 s → 131 s
 # here on an idle machine.
 collect 1
-collect 2
 step "web (Chromium)" bash scripts/test_web.sh -n 2
