@@ -190,21 +190,22 @@ fn load_scene(options: &Options) -> Result<glview_render::scene::Scene, JsValue>
     Ok(scene)
 }
 
-/// A renderer of the scene `options` name, with the environment they ask for.
-fn renderer_for(gpu: &GpuRef, options: &Options) -> Result<Renderer, JsValue> {
-    let mut renderer = Renderer::new(gpu, load_scene(options)?).map_err(js)?;
-    renderer.set_environment(env_request(options).map_err(js)?);
-    Ok(renderer)
-}
-
-/// A renderer of scene bytes read for `options`' model, as a native mesh cache hit makes one.
-fn prepared_renderer(
+/// A renderer of the scene `options` name, with the environment they ask for: from the
+/// model's scene bytes where the page gave them (as a native mesh cache hit makes one), else
+/// loaded from its files.
+fn renderer_for(
     gpu: &GpuRef,
     options: &Options,
-    (mut scene, clusters): Prepared,
+    prepared: Option<Prepared>,
 ) -> Result<Renderer, JsValue> {
-    adjust_scene(options, &mut scene).map_err(js)?;
-    let mut renderer = Renderer::prepared(gpu, scene, clusters).map_err(js)?;
+    let mut renderer = match prepared {
+        Some((mut scene, clusters)) => {
+            adjust_scene(options, &mut scene).map_err(js)?;
+            Renderer::prepared(gpu, scene, clusters)
+        }
+        None => Renderer::new(gpu, load_scene(options)?),
+    }
+    .map_err(js)?;
     renderer.set_environment(env_request(options).map_err(js)?);
     Ok(renderer)
 }
@@ -229,7 +230,7 @@ impl Viewer {
             return Ok(());
         }
         let options = self.view.options().clone();
-        self.renderer = renderer_for(&self.gpu, &options)?;
+        self.renderer = renderer_for(&self.gpu, &options, None)?;
         self.loaded = options.load;
         Ok(())
     }
@@ -294,10 +295,8 @@ impl Viewer {
         let (gl, webgl) = context(&canvas, webgl, caveat)?;
         // WebGL 1 reports "WebGL 1.0 (OpenGL ES 2.0 ...)": the ES 2.0 rules follow from it.
         let gpu = Gpu::new(gl);
-        let renderer = match prepared.filter(|_| options.load.model.is_some()) {
-            Some(p) => prepared_renderer(&gpu, &options, p)?,
-            None => renderer_for(&gpu, &options)?,
-        };
+        let prepared = prepared.filter(|_| options.load.model.is_some());
+        let renderer = renderer_for(&gpu, &options, prepared)?;
         let settled = View::settled(&options, renderer.scene()).map_err(js)?;
         Ok(Viewer {
             view: View::new(settled),

@@ -322,7 +322,12 @@ impl Caps {
     /// sampler or, on ES 2.0, in the shader; or, without depth textures, depth packed into
     /// RGBA8 ([`Caps::packed_shadow`]).
     pub(crate) fn shadow_maps(&self) -> bool {
-        self.depth_texture && (self.shadow_compare || self.es2) || self.packed_shadow()
+        self.depth_texture_shadows() || self.packed_shadow()
+    }
+
+    /// Shadow maps in depth textures: compared by the sampler, or in the shader on ES 2.0.
+    fn depth_texture_shadows(&self) -> bool {
+        self.depth_texture && (self.shadow_compare || self.es2)
     }
 
     /// Shadow maps without depth textures (WebGL 1 without WEBGL_depth_texture): the light's
@@ -341,7 +346,7 @@ impl Caps {
 
     /// How shadow maps are kept, for `--info` and the web page's info.
     pub fn shadow_store(&self) -> &'static str {
-        if self.depth_texture && (self.shadow_compare || self.es2) {
+        if self.depth_texture_shadows() {
             "depth textures"
         } else if self.packed_shadow() {
             "depth packed into RGBA8 (no depth textures)"

@@ -188,19 +188,18 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
         size,
         slope_bias: s.shadows.slope_bias,
     };
-    let offset = Some((s.shadows.slope_bias, s.shadows.slope_bias));
     if cx.res.shadow.key.as_ref() == Some(&key) {
         let moved = std::mem::take(&mut cx.res.shadow.moved);
         if moved.is_empty() {
             cx.stats.shadow = format!("reused ({} map(s))", cx.res.shadow.maps.len());
             return Ok(Outcome::Skipped(cx.stats.shadow.clone()));
         }
-        return update_moved(cx, &moved, offset);
+        return update_moved(cx, &moved);
     }
     let gpu = cx.gpu.clone();
     let maps = allocate_maps(cx, casters, size)?;
     for map in &maps {
-        draw_map(cx, map, offset, None)?;
+        draw_map(cx, map, None)?;
     }
     cx.cull = None;
     gpu.apply(&RenderState::default());
@@ -218,7 +217,7 @@ fn run(cx: &mut FrameCx) -> Result<Outcome> {
 /// rectangles cover half of it or more is drawn whole: llvmpipe clears a whole depth
 /// texture on a fast path and a scissored rectangle on a slow one (CesiumMan's 2,048² map,
 /// its rectangle all but the whole: +2 ms a frame), and a whole draw gives the same depths.
-fn update_moved(cx: &mut FrameCx, moved: &[Bounds], offset: Option<(f32, f32)>) -> Result<Outcome> {
+fn update_moved(cx: &mut FrameCx, moved: &[Bounds]) -> Result<Outcome> {
     let gpu = cx.gpu.clone();
     let maps = std::mem::take(&mut cx.res.shadow.maps);
     let (mut texels, mut whole) = (0u64, 0u64);
@@ -237,10 +236,10 @@ fn update_moved(cx: &mut FrameCx, moved: &[Bounds], offset: Option<(f32, f32)>) 
         whole += all;
         if area * 2 >= all {
             texels += all;
-            draw_map(cx, map, offset, None)
+            draw_map(cx, map, None)
         } else {
             texels += area;
-            draw_map(cx, map, offset, Some(&rects))
+            draw_map(cx, map, Some(&rects))
         }
     });
     cx.res.shadow.maps = maps;
@@ -360,29 +359,21 @@ fn allocate_maps(cx: &mut FrameCx, casters: &[Light], size: u32) -> Result<Vec<S
 /// through the map's FBO or, on the copy path, into the target and copied from there.
 /// With `rects` (per view), only those rectangles are cleared and drawn (every caster
 /// again in each: where rectangles overlap the last draws the same depths).
-fn draw_map(
-    cx: &mut FrameCx,
-    map: &ShadowMap,
-    offset: Option<(f32, f32)>,
-    rects: Option<&[Vec<[u32; 4]>]>,
-) -> Result<()> {
+fn draw_map(cx: &mut FrameCx, map: &ShadowMap, rects: Option<&[Vec<[u32; 4]>]>) -> Result<()> {
     let gpu = cx.gpu.clone();
     let target = cx.target;
-    let packed = gpu.caps.packed_shadow();
     // The map's framebuffer has no colour buffer (or, packed, its colour is the depth); on
     // the copy path the light's view is drawn into the target, whose colour must not change.
     let state = RenderState {
-        polygon_offset: if shader_offset(&gpu) { None } else { offset },
+        polygon_offset: (!shader_offset(&gpu)).then(|| polygon_offset(cx.settings)),
         color_write: map.fbo.is_some(),
         ..Default::default()
     };
     gpu.apply(&state);
-    // Packed, "nothing drawn here" is depth 1 or more: white unpacks to 1 + 1/255 + ….
-    let clear = packed.then_some([1.0; 4]);
     if let Some(fbo) = &map.fbo {
         fbo.bind();
         if rects.is_none() {
-            gpu.clear_rgba(clear);
+            gpu.clear_rgba(clear_colour(&gpu));
         }
     } else {
         gpu.bind_target(target.fbo, target.width, target.height);
@@ -406,12 +397,11 @@ fn draw_map(
                 if map.fbo.is_none() {
                     gpu.clear(None);
                 }
-                draw_casters(cx, vp, &state, offset)?;
+                draw_casters(cx, vp, &state)?;
             }
             Some(rects) => {
                 for r in rects {
-                    let r = [at.0 + r[0], at.1 + r[1], r[2], r[3]];
-                    redraw_rect(cx, vp, &state, r, clear, offset)?;
+                    redraw_rect(cx, vp, &state, [at.0 + r[0], at.1 + r[1], r[2], r[3]])?;
                 }
             }
         }
@@ -425,37 +415,27 @@ fn draw_map(
     Ok(())
 }
 
-/// Clears rectangle `r` of the bound map (its colour to `clear` where the map is packed
-/// depth) and draws every caster again inside it, with view `vp`.
-fn redraw_rect(
-    cx: &mut FrameCx,
-    vp: &Mat4,
-    state: &RenderState,
-    r: [u32; 4],
-    clear: Option<[f32; 4]>,
-    offset: Option<(f32, f32)>,
-) -> Result<()> {
+/// Clears rectangle `r` of the bound map (and its colour, where the map is packed depth) and
+/// draws every caster again inside it, with view `vp`.
+fn redraw_rect(cx: &mut FrameCx, vp: &Mat4, state: &RenderState, r: [u32; 4]) -> Result<()> {
     let gpu = cx.gpu.clone();
-    gpu.clear_rect(r, clear);
+    gpu.clear_rect(r, clear_colour(&gpu));
     gpu.scissor(Some(r));
-    let drawn = draw_casters(cx, vp, state, offset);
+    let drawn = draw_casters(cx, vp, state);
     gpu.scissor(None);
     drawn
 }
 
 /// Draws every shadow-casting mesh with the light's view-projection `vp`. MASK materials
 /// draw with the cut-out program (their base texture bound); everything else with the plain
-/// one, which is bound again only when the program changes. `offset` (slope factor, units)
-/// is the polygon offset packed depth adds itself.
-fn draw_casters(
-    cx: &mut FrameCx,
-    vp: &Mat4,
-    state: &RenderState,
-    offset: Option<(f32, f32)>,
-) -> Result<()> {
-    let (factor, units) = offset
-        .filter(|_| shader_offset(cx.gpu))
-        .unwrap_or((0.0, 0.0));
+/// one, which is bound again only when the program changes; packed depth's programs are
+/// given the polygon offset they add themselves ([`shader_offset`]).
+fn draw_casters(cx: &mut FrameCx, vp: &Mat4, state: &RenderState) -> Result<()> {
+    let (factor, units) = if shader_offset(cx.gpu) {
+        polygon_offset(cx.settings)
+    } else {
+        (0.0, 0.0)
+    };
     let mut current: Option<ProgramKey> = None;
     for i in 0..cx.scene.meshes.len() {
         if !cx.scene.meshes[i].casts_shadow() {
@@ -492,6 +472,17 @@ fn draw_casters(
         super::cull::draw(cx, i, state)?;
     }
     Ok(())
+}
+
+/// The maps' polygon offset (slope factor, units): the slope-scaled bias of the settings.
+fn polygon_offset(s: &FrameSettings) -> (f32, f32) {
+    (s.shadows.slope_bias, s.shadows.slope_bias)
+}
+
+/// What a map's colour is cleared to: packed depth's "nothing drawn here", white, which
+/// unpacks to just over 1; None where the map has no colour to clear.
+fn clear_colour(gpu: &GpuRef) -> Option<[f32; 4]> {
+    gpu.caps.packed_shadow().then_some([1.0; 4])
 }
 
 /// Whether depth.frag adds the polygon offset itself (and writes the depth it tests):

@@ -35,13 +35,7 @@ pub(super) fn decode_bytes(bytes: Vec<u8>) -> Option<Prepared> {
     let len = bytes.len() as u64;
     let mut r = std::io::Cursor::new(bytes);
     let (header, json_len) = read_json(&mut r, len)?;
-    let fits = header.format == FORMAT
-        && header.glview == env!("CARGO_PKG_VERSION")
-        && Some(len)
-            == (12 + json_len)
-                .checked_add(header.first_len)
-                .and_then(|n| n.checked_add(header.rest_len));
-    if !fits {
+    if !this_glviews(&header, json_len, len) {
         return None;
     }
     // The second section is checked now, not when the meshes are first used: there is no
@@ -153,8 +147,7 @@ fn read_header(
     let file_len = file.metadata().ok()?.len();
     let (header, json_len) = read_json(file, file_len)?;
     let canonical = path.canonicalize().ok()?;
-    let valid = header.format == FORMAT
-        && header.glview == env!("CARGO_PKG_VERSION")
+    let valid = this_glviews(&header, json_len, file_len)
         && stamp(&canonical).as_ref() == Some(&header.file)
         && bytes.is_none_or(|b| header.hash == Some(content_hash(b)))
         && header.allow_outside_paths == textures.allow_outside_paths
@@ -162,12 +155,19 @@ fn read_header(
         && header
             .dependencies
             .iter()
-            .all(|d| stamp(&d.path).as_ref() == Some(d))
-        && Some(file_len)
+            .all(|d| stamp(&d.path).as_ref() == Some(d));
+    valid.then_some(header)
+}
+
+/// Whether `header` is this glview's, of this cache format, and its sections' lengths add up
+/// to the `total` bytes there are (after the 12-byte head and `json_len` of header).
+fn this_glviews(header: &Header, json_len: u64, total: u64) -> bool {
+    header.format == FORMAT
+        && header.glview == env!("CARGO_PKG_VERSION")
+        && Some(total)
             == (12 + json_len)
                 .checked_add(header.first_len)
-                .and_then(|n| n.checked_add(header.rest_len));
-    valid.then_some(header)
+                .and_then(|n| n.checked_add(header.rest_len))
 }
 
 /// The magic, the header's length and the header, from a source of `total` bytes.
